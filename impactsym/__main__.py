@@ -1,0 +1,5 @@
+"""``python -m impactsym`` runs the command-line interface."""
+
+from impactsym.cli import main
+
+raise SystemExit(main())

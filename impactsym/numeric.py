@@ -1,0 +1,136 @@
+"""The bridge from finished SymPy expressions to fast NumPy code, and vectorized roots.
+
+Two pieces live here and nowhere else:
+
+* :func:`lambdify` turns an expression into a NumPy function with a fixed argument
+  order, common-subexpression elimination and a docstring that lists the arguments
+  and the formula;
+* :func:`bracketed_newton` polishes many roots at once, each inside its own sign-change
+  bracket, with Newton steps that fall back to bisection whenever they would leave the
+  bracket (so it converges for every point, even near a double root).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+import sympy as sp
+
+ArrayFunction = Callable[..., np.ndarray]
+
+
+def lambdify(
+    args: Sequence[sp.Symbol], expr: sp.Expr, *, name: str, doc: str = ""
+) -> ArrayFunction:
+    """Compile ``expr`` into a broadcasting NumPy function of ``args`` (in that order).
+
+    The result always has the broadcast shape of the arguments, also where the
+    expression does not depend on all of them, and its docstring names the
+    arguments and shows the expression.
+
+    >>> x, y = sp.symbols("x y")
+    >>> fn = lambdify([x, y], sp.exp(-x) * sp.cos(y), name="damped_cos")
+    >>> float(fn(0.0, np.pi))
+    -1.0
+    >>> fn(np.zeros(3), 0.0).shape
+    (3,)
+    >>> print(fn.__doc__.splitlines()[0])
+    damped_cos(x, y)
+    """
+    args = list(args)
+    free = expr.free_symbols - set(args)
+    if free:
+        names = ", ".join(sorted(str(s) for s in free))
+        raise ValueError(f"expression for {name!r} has symbols not among the arguments: {names}")
+    compiled = sp.lambdify(args, expr, modules="numpy", cse=True, docstring_limit=0)
+
+    def function(*values: np.ndarray) -> np.ndarray:
+        if len(values) != len(args):
+            raise TypeError(f"{name}() takes {len(args)} arguments ({signature}), got {len(values)}")
+        with np.errstate(over="ignore", under="ignore"):
+            out = compiled(*values)
+        shape = np.broadcast_shapes(*(np.shape(v) for v in values))
+        return np.broadcast_to(np.asarray(out, dtype=np.float64), shape)
+
+    signature = ", ".join(str(a) for a in args)
+    function.__name__ = name
+    function.__qualname__ = name
+    function.__doc__ = f"{name}({signature})\n\n{doc}\n\nComputes ``{sp.sstr(expr)}``.".replace(
+        "\n\n\n", "\n\n"
+    )
+    function.expr = expr  # type: ignore[attr-defined]
+    function.args = tuple(args)  # type: ignore[attr-defined]
+    return function
+
+
+def bracketed_newton(
+    g: ArrayFunction,
+    dg: ArrayFunction,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    params: Sequence[np.ndarray] = (),
+    *,
+    rtol: float = 4e-16,
+    max_iter: int = 200,
+) -> np.ndarray:
+    """Solve ``g(x, *params) = 0`` elementwise for ``x`` in ``[lo, hi]``.
+
+    Every bracket must hold a sign change (``g(lo) * g(hi) <= 0``). Newton steps use
+    ``dg``; a step that would leave the current bracket is replaced by bisection,
+    and the bracket shrinks every iteration, so each element converges. Only the
+    elements not yet converged are evaluated.
+
+    Parameters
+    ----------
+    g, dg
+        Function and its derivative in ``x``, called as ``g(x, *params)`` on
+        1-D arrays.
+    lo, hi
+        Bracket ends, broadcastable with ``params``.
+    params
+        Extra arrays passed to ``g`` and ``dg``, one value per root.
+    rtol
+        Relative tolerance on the step (absolute near ``x = 0``).
+    max_iter
+        Iteration limit; more is an error, not a silent result.
+
+    >>> root = bracketed_newton(lambda x, c: x**2 - c, lambda x, c: 2 * x,
+    ...                         np.zeros(2), np.full(2, 3.0), [np.array([2.0, 4.0])])
+    >>> root.tolist() == [float(np.sqrt(2.0)), 2.0]
+    True
+    """
+    shape = np.broadcast_shapes(np.shape(lo), np.shape(hi), *(np.shape(p) for p in params))
+    lo = np.broadcast_to(np.asarray(lo, dtype=np.float64), shape).ravel().copy()
+    hi = np.broadcast_to(np.asarray(hi, dtype=np.float64), shape).ravel().copy()
+    params = [np.broadcast_to(np.asarray(p, dtype=np.float64), shape).ravel() for p in params]
+    if lo.size == 0:
+        return lo.reshape(shape)
+    with np.errstate(all="ignore"):
+        g_lo = g(lo, *params)
+        g_hi = g(hi, *params)
+    if np.any(g_lo * g_hi > 0) or not np.all(np.isfinite(g_lo) & np.isfinite(g_hi)):
+        raise ValueError("bracketed_newton needs a finite sign change in every bracket")
+    rising = g_lo < g_hi
+    x = 0.5 * (lo + hi)
+    x = np.where(g_lo == 0, lo, np.where(g_hi == 0, hi, x))
+    active = np.flatnonzero((g_lo != 0) & (g_hi != 0))
+    for _ in range(max_iter):
+        if active.size == 0:
+            return x.reshape(shape)
+        p = [q[active] for q in params]
+        xa, la, ha = x[active], lo[active], hi[active]
+        with np.errstate(all="ignore"):
+            gx = g(xa, *p)
+            step = gx / dg(xa, *p)
+        below = (gx < 0) == rising[active]
+        la = np.where(below, xa, la)
+        ha = np.where(below, ha, xa)
+        new = xa - step
+        bisect = ~((new > la) & (new < ha))  # also catches NaN steps
+        new = np.where(bisect, 0.5 * (la + ha), new)
+        scale = np.maximum(np.abs(new), 1.0) * rtol
+        done = (gx == 0) | (~bisect & (np.abs(new - xa) <= scale)) | (ha - la <= scale)
+        x[active], lo[active], hi[active] = np.where(gx == 0, xa, new), la, ha
+        active = active[~done]
+    raise RuntimeError(f"bracketed_newton: {active.size} roots did not converge in {max_iter} steps")
