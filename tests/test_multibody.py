@@ -1,0 +1,345 @@
+"""Tests of the multibody reduction (paper section 3): limits, units, interfaces, bad input,
+and the reduced model against a full nonlinear SciPy simulation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+from mb_systems import FullSimulation, bar_system, pendulum_kane
+from sympy.physics import mechanics as me
+
+from impactsym.multibody import ReducedContact, latex_formulas, reduce_contact
+from impactsym.results.multibody import double_pendulum, falling_bar
+
+x, v = sp.symbols("x v")
+m, k, d, F = sp.symbols("m k d F", positive=True)
+
+
+def particle(M=1.0, force=0.0, kk=1.0, dd=0.0, speed=1.0, **kw):
+    return reduce_contact(
+        sp.Matrix([[M]]), sp.Matrix([force]), x, [x], [v], {x: 0, v: speed}, kk, dd, **kw
+    )
+
+
+# ---------------------------------------------------------------------------------
+# limits: the single particle is section 2 exactly
+# ---------------------------------------------------------------------------------
+@pytest.mark.parametrize("projection", ["impulse", "normal"])
+def test_single_particle_reduces_exactly_to_section_2(projection):
+    v0 = sp.Symbol("v0", positive=True)
+    r = reduce_contact(
+        sp.Matrix([[m]]), sp.Matrix([F]), x, [x], [v], {x: 0, v: v0}, k, d, projection=projection
+    )
+    assert (r.m_eff, r.d_eff, r.c_eff, r.load, r.v0) == (m, d, k, F, v0)
+    assert sp.simplify(r.D - d / (2 * sp.sqrt(k * m))) == 0
+    assert sp.simplify(r.f - F / (d * v0)) == 0
+    assert sp.simplify(r.omega0 - sp.sqrt(k / m)) == 0
+    assert r.is_symbolic
+
+
+def test_particle_with_dynamicsymbols_gives_numbers():
+    q = me.dynamicsymbols("q")
+    r = reduce_contact(
+        sp.Matrix([[2.0]]), sp.Matrix([3.0]), q, [q], [q.diff()], {q: 0.0, q.diff(): 0.5}, 8.0, 1.0
+    )
+    assert (r.m_eff, r.d_eff, r.c_eff, r.load, r.v0) == (2.0, 1.0, 8.0, 3.0, 0.5)
+    assert isinstance(r.m_eff, float)
+    np.testing.assert_allclose([r.D, r.f], [1.0 / (2 * 4.0), 3.0 / (1.0 * 0.5)], rtol=1e-15)
+
+
+def test_own_spring_and_damper_add_to_penalty_and_load_is_the_pressing_force():
+    # m x'' = F - c x' - s x - (k x + d x'): the reduced oscillator is exactly
+    # m x'' + (d + c) x' + (k + s) x = F; F(v0) = F - c v0 would count c twice.
+    c, s, v0 = sp.symbols("c s v0", positive=True)
+    r = reduce_contact(
+        sp.Matrix([[m]]), sp.Matrix([F - c * v - s * x]), x, [x], [v], {x: 0, v: v0}, k, d
+    )
+    assert (r.d_eff, r.c_eff, r.load) == (d + c, k + s, F)
+
+
+def test_bar_effective_mass_from_impulse_momentum():
+    # Impulse P up at the end: dv_y = P/m, d(omega) = -P (L/2) cos(theta) / J, so the end's
+    # normal velocity changes by P (1/m + (L/2)^2 cos^2 / J) = P (1 + 3 cos^2) / m.
+    L, th0 = sp.symbols("L theta0", positive=True)
+    X, Y, TH, VX, VY, OM = sp.symbols("X Y TH VX VY OM")
+    M = sp.diag(m, m, m * L**2 / 12)
+    at = {X: 0, Y: L / 2 * sp.sin(th0), TH: th0, VX: 0, VY: -v, OM: 0}
+    r = reduce_contact(
+        M, sp.Matrix([0, 0, 0]), L / 2 * sp.sin(TH) - Y, [X, Y, TH], [VX, VY, OM], at, k, d
+    )
+    assert sp.simplify(r.m_eff - m / (1 + 3 * sp.cos(th0) ** 2)) == 0
+    # upright bar: the normal passes through the centre of mass, m~ = m
+    assert sp.simplify(r.subs({th0: sp.pi / 2}).m_eff - m) == 0
+
+
+def test_curvature_term_enters_the_load():
+    # pendulum tip (mass m, length l) hitting the floor y = -h without gravity: the only
+    # normal load is the centripetal acceleration -l cos(q) q'^2 of the tip, m~ = m/sin^2 q
+    q, u = sp.symbols("q u")
+    arm, q0, u0 = 0.8, 0.6, -2.0  # swinging towards the floor
+    h = arm * np.cos(q0)
+    r = reduce_contact(
+        sp.Matrix([[m * arm**2]]),
+        sp.Matrix([0]),
+        arm * sp.cos(q) - h,
+        [q],
+        [u],
+        {q: q0, u: u0},
+        k,
+        d,
+    )
+    m_tilde = m / np.sin(q0) ** 2
+    assert float(sp.simplify(r.m_eff / m_tilde)) == pytest.approx(1.0, rel=1e-12)
+    assert float(r.load / (-m_tilde * arm * np.cos(q0) * u0**2)) == pytest.approx(1.0, rel=1e-12)
+    assert r.v0 == pytest.approx(-arm * np.sin(q0) * u0, rel=1e-12)
+
+
+def test_impulse_projection_matches_high_frequency_compliance():
+    # For M q'' + C q' + K q = n lambda the compliance n^T (M s^2 + C s + K)^{-1} n is
+    # eps^2/m~ - eps^3 Delta_d/m~^2 + ... (eps = 1/s) for the exact reduction: the impulse
+    # projection reproduces the eps^3 term (and eps^4 with C = 0), the paper's does not.
+    eps = sp.Symbol("epsilon")
+    M = sp.Matrix([[3, 1, 0], [1, 2, 1], [0, 1, 4]])
+    C = sp.Matrix([[2, -1, 0], [-1, 3, 1], [0, 1, 1]])
+    K = sp.Matrix([[5, 2, 0], [2, 4, -1], [0, -1, 3]])
+    n = sp.Matrix([1, 2, -1])
+    q = sp.symbols("q0:3")
+    u = sp.symbols("u0:3")
+    at = {**dict.fromkeys(q, 0), **dict(zip(u, [1, 1, 1], strict=True))}
+    g = (n.T * sp.Matrix(q))[0]
+
+    def reduced_series(damping, stiffness, projection):
+        force = -damping * sp.Matrix(u) - stiffness * sp.Matrix(q)
+        r = reduce_contact(M, force, g, q, u, at, 1, 0, projection=projection)
+        mm, dd, cc = r.m_eff, r.delta_d, r.delta_c  # eps^2 / (mm + dd eps + cc eps^2)
+        return {2: 1 / mm, 3: -dd / mm**2, 4: dd**2 / mm**3 - cc / mm**2}
+
+    def exact_series(damping, stiffness):
+        A = M + damping * eps + stiffness * eps**2
+        G = sp.expand((n.T * A.adjugate() * n)[0]) / sp.expand(A.det()) * eps**2
+        return sp.series(G, eps, 0, 5).removeO()
+
+    for order, damping, stiffness in ((3, C, K), (4, 0 * C, K)):
+        exact = exact_series(damping, stiffness).coeff(eps, order)
+        impulse = reduced_series(damping, stiffness, "impulse")[order]
+        paper = reduced_series(damping, stiffness, "normal")[order]
+        assert float(impulse) == pytest.approx(float(exact), rel=1e-12)
+        assert abs(float(paper - exact)) > 1e-2 * abs(float(exact))
+
+
+# ---------------------------------------------------------------------------------
+# interfaces: sympy.physics.mechanics models, numeric arrays, vectorized penalties
+# ---------------------------------------------------------------------------------
+@pytest.mark.parametrize("projection", ["impulse", "normal"])
+@pytest.mark.parametrize(
+    ("model", "example"), [(bar_system, falling_bar), (pendulum_kane, double_pendulum)]
+)
+def test_mechanics_models_reduce_like_hand_written_matrices(model, example, projection):
+    # System (bar) and KanesMethod (pendulum) models against the matrices of the examples
+    mod, ex = model(), example()
+    a = reduce_contact(mod.model, mod.g, mod.at(0.3), 1e4, 5.0, projection=projection)
+    b = ex.reduce(1e4, 5.0, 0.3, projection=projection)
+    for name in ("m_eff", "d_eff", "c_eff", "load", "v0"):
+        assert getattr(a, name) == pytest.approx(getattr(b, name), rel=1e-12, abs=1e-12)
+
+
+def test_kanes_method_with_generalized_speeds_other_than_qdot():
+    # particle on a line with q' = 2 u: M = 4 m in u; the normal speed is 2 u, m~ = m
+    q, u = me.dynamicsymbols("q u")
+    N = me.ReferenceFrame("N")
+    P = me.Point("P")
+    P.set_vel(N, 2 * u * N.x)
+    kane = me.KanesMethod(N, [q], [u], kd_eqs=[q.diff() - 2 * u])
+    kane.kanes_equations([me.Particle("p", P, m)], [(P, F * N.x)])
+    r = reduce_contact(kane, q, {q: 0, u: v}, k, d)
+    assert (sp.simplify(r.m_eff), r.load, r.v0) == (m, F, 2 * v)
+
+
+def test_lagranges_method_model():
+    q = me.dynamicsymbols("q")
+    N = me.ReferenceFrame("N")
+    P = me.Point("P")
+    P.set_vel(N, q.diff() * N.x)
+    p = me.Particle("p", P, m)
+    p.potential_energy = 0
+    lag = me.LagrangesMethod(me.Lagrangian(N, p), [q], forcelist=[(P, F * N.x)], frame=N)
+    lag.form_lagranges_equations()
+    r = reduce_contact(lag, q, {q: 0, q.diff(): v}, k, d)
+    assert (r.m_eff, r.load, r.v0) == (m, F, v)
+
+
+def test_numeric_arrays_and_a_numeric_normal_work():
+    X = sp.symbols("X0:2")
+    U = sp.symbols("U0:2")
+    M = np.array([[2.0, 0.5], [0.5, 1.0]])
+    n0 = np.array([1.0, 1.0])
+    r = reduce_contact(M, np.array([1.0, 0.0]), n0, X, U, {U[0]: 1.0, U[1]: 0.0}, 100.0, 1.0)
+    assert r.m_eff == pytest.approx(1 / (n0 @ np.linalg.solve(M, n0)), rel=1e-14)
+    assert r.load == pytest.approx(r.m_eff * n0 @ np.linalg.solve(M, [1.0, 0.0]), rel=1e-14)
+    assert r.v0 == 1.0
+    assert np.allclose(r.direction, r.m_eff * np.linalg.solve(M, n0), rtol=1e-14)
+
+
+def test_vectorized_penalty_parameters():
+    r = particle(M=2.0, force=1.0, kk=np.array([8.0, 32.0]), dd=np.array([[1.0], [2.0]]))
+    assert r.D.shape == (2, 2)
+    assert np.allclose(r.omega0, [2.0, 4.0])
+    assert np.allclose(r.D, np.array([[1.0], [2.0]]) / (2 * np.sqrt(2 * np.array([8.0, 32.0]))))
+
+
+def test_symbolic_reduction_substitutes_to_numbers():
+    r = reduce_contact(sp.Matrix([[m]]), sp.Matrix([F]), x, [x], [v], {x: 0, v: 2}, k, d)
+    num = r.subs({m: 1, F: 3, k: 100, d: 2})
+    assert not num.is_symbolic
+    assert (num.m_eff, num.load, num.omega0, num.D, num.f) == (1.0, 3.0, 10.0, 0.1, 0.75)
+    with pytest.raises(TypeError, match="symbolic"):
+        r.contact_time("force")
+    assert sp.latex(r.equation)
+
+
+# ---------------------------------------------------------------------------------
+# units: scaling tests
+# ---------------------------------------------------------------------------------
+@pytest.mark.parametrize("projection", ["impulse", "normal"])
+def test_scaling_all_masses_scales_effective_parameters(projection):
+    # masses, forces, dampers, springs and penalties times s: m~, d~, c~, F_n times s;
+    # D, f, omega0 unchanged
+    s = 7.0
+    base = double_pendulum()
+    heavy = double_pendulum(
+        masses=(s * 1.0, s * 0.5),
+        joint_stiffness=(s * 50.0, s * 20.0),
+        joint_damping=(s * 1.0, s * 0.5),
+    )
+    a = base.reduce(1e4, 30.0, 0.4, projection=projection)
+    b = heavy.reduce(s * 1e4, s * 30.0, 0.4, projection=projection)
+    for name in ("m_eff", "d_eff", "c_eff", "load"):
+        assert getattr(b, name) == pytest.approx(s * getattr(a, name), rel=1e-12)
+    for name in ("D", "f", "omega0", "v0"):
+        assert getattr(b, name) == pytest.approx(getattr(a, name), rel=1e-12)
+
+
+def test_changing_the_length_unit_leaves_the_impulse_reduction_invariant():
+    # the bar in centimetres: lengths, speeds and g times 100, rotational drag times 1e4;
+    # k [N/m = kg/s^2] and d [kg/s] keep their numbers. Physical results must not change.
+    metre = falling_bar()
+    cm = falling_bar(length=100.0, gravity=981.0, rotational_drag=2.0e4)
+    a = metre.reduce(2e4, 40.0, 0.3)
+    b = cm.reduce(2e4, 40.0, 30.0)
+    for name in ("m_eff", "d_eff", "c_eff", "D", "f", "omega0"):
+        assert getattr(b, name) == pytest.approx(getattr(a, name), rel=1e-12)
+    assert b.load == pytest.approx(100 * a.load, rel=1e-12)  # force in kg cm / s^2
+
+
+def test_paper_projection_depends_on_the_length_unit():
+    # n0^T n0 adds 1 (y) and (L/2 cos theta)^2 (theta): the paper's eq. (5) projection is
+    # not unit-consistent, its effective damping changes with metres vs centimetres
+    a = falling_bar().reduce(2e4, 40.0, 0.3, projection="normal")
+    b = falling_bar(length=100.0, gravity=981.0, rotational_drag=2.0e4).reduce(
+        2e4, 40.0, 30.0, projection="normal"
+    )
+    assert abs(b.d_eff / a.d_eff - 1) > 0.05
+
+
+# ---------------------------------------------------------------------------------
+# bad input
+# ---------------------------------------------------------------------------------
+def test_singular_mass_matrix_is_refused():
+    X, U = sp.symbols("X0:2"), sp.symbols("U0:2")
+    with pytest.raises(ValueError, match=r"mass matrix M.*(singular|positive definite)"):
+        reduce_contact(
+            np.array([[1.0, 1.0], [1.0, 1.0]]),
+            [0.0, 0.0],
+            X[0],
+            X,
+            U,
+            {X[0]: 0.0, U[0]: 1.0, U[1]: 0.0},
+            1.0,
+            0.0,
+        )
+
+
+def test_symbolic_singular_mass_matrix_is_refused():
+    X, U = sp.symbols("X0:2"), sp.symbols("U0:2")
+    with pytest.raises(ValueError, match="singular"):
+        reduce_contact(sp.Matrix([[m, m], [m, m]]), [0, 0], X[0], X, U, {X[0]: 0, U[0]: 1}, k, d)
+
+
+def test_vanishing_normal_is_refused():
+    q, u = sp.symbols("q u")
+    with pytest.raises(ValueError, match="normal n0"):
+        reduce_contact(sp.Matrix([[1.0]]), [0.0], q**2, [q], [u], {q: 0.0, u: 1.0}, 1.0, 0.0)
+
+
+def test_gap_not_closed_at_the_impact_state_is_refused():
+    with pytest.raises(ValueError, match=r"g must vanish.*g\(q0\) = -0.001"):
+        reduce_contact(sp.Matrix([[1.0]]), [0.0], x - 0.001, [x], [v], {x: 0.0, v: 1.0}, 1, 0)
+    h = sp.Symbol("h", positive=True)
+    with pytest.raises(ValueError, match="g must vanish"):
+        reduce_contact(sp.Matrix([[1.0]]), [0.0], x - h, [x], [v], {x: 0, v: 1}, 1, 0)
+    # within the tolerance it is accepted
+    reduce_contact(sp.Matrix([[1.0]]), [0.0], x - 1e-12, [x], [v], {x: 0.0, v: 1.0}, 1, 0)
+
+
+@pytest.mark.parametrize(
+    ("kk", "dd", "name"),
+    [
+        (-1.0, 0.0, "k"),
+        (0.0, 0.0, "k"),
+        (1.0, -0.5, "d"),
+        (np.array([1.0, -1.0]), 0.0, "k"),
+        (sp.Symbol("kn", negative=True), 0, "k"),
+        (1.0, float("nan"), "d"),
+    ],
+)
+def test_negative_penalty_parameters_are_refused(kk, dd, name):
+    with pytest.raises(ValueError, match=rf"^{name} must"):
+        particle(kk=kk, dd=dd)
+
+
+def test_penalty_parameters_of_the_wrong_type_are_refused():
+    with pytest.raises(TypeError, match=r"^k must"):
+        particle(kk="stiff")
+
+
+def test_mismatched_shapes_are_refused():
+    X, U = sp.symbols("X0:3"), sp.symbols("U0:3")
+    at = {X[0]: 0, U[0]: 1, U[1]: 0, U[2]: 0}
+    with pytest.raises(ValueError, match="M must be 3 x 3"):
+        reduce_contact(sp.eye(2), [0, 0, 0], X[0], X, U, at, 1, 0)
+    with pytest.raises(ValueError, match="F must be 3 x 1"):
+        reduce_contact(sp.eye(3), [0, 0], X[0], X, U, at, 1, 0)
+    with pytest.raises(ValueError, match="F must be a column"):
+        reduce_contact(sp.eye(3), sp.Matrix([[0, 0, 0]]), X[0], X, U, at, 1, 0)
+    with pytest.raises(ValueError, match="qd must have as many entries as q"):
+        reduce_contact(sp.eye(3), [0, 0, 0], X[0], X, U[:2], at, 1, 0)
+    with pytest.raises(ValueError, match="numeric normal g must have 3 entries"):
+        reduce_contact(sp.eye(3), [0, 0, 0], [1.0, 0.0], X, U, at, 1, 0)
+
+
+def test_other_bad_input_is_refused_with_the_argument_named():
+    with pytest.raises(ValueError, match="projection must be one of"):
+        particle(projection="tangent")
+    with pytest.raises(TypeError, match="at must be a dict"):
+        reduce_contact(sp.Matrix([[1]]), [0], x, [x], [v], [(x, 0)], 1, 0)
+    with pytest.raises(TypeError, match=r"takes \(M, F, g, q, qd, at, k, d\)"):
+        reduce_contact(sp.Matrix([[1]]), [0], x, [x], [v], {x: 0, v: 1}, 1)
+    with pytest.raises(ValueError, match=r"v0 .* must be > 0"):
+        particle(speed=-1.0)
+    X, U = sp.symbols("X0:2"), sp.symbols("U0:2")
+    with pytest.raises(ValueError, match="must be symmetric"):
+        reduce_contact(
+            np.array([[2.0, 1.0], [0.0, 2.0]]),
+            [0, 0],
+            X[0],
+            X,
+            U,
+            {X[0]: 0, U[0]: 1, U[1]: 0},
+            1,
+            0,
+        )
+    with pytest.raises(TypeError, match="q must hold symbols"):
+        reduce_contact(sp.Matrix([[1]]), [0], x, [1.0], [v], {x: 0, v: 1}, 1, 0)
+    with pytest.raises(ValueError, match="call form_eoms"):
+        reduce_contact(me.System(), x, {}, 1, 0)
