@@ -48,7 +48,7 @@ def lambdify(
     def function(*values: np.ndarray) -> np.ndarray:
         if len(values) != len(args):
             raise TypeError(f"{name}() takes {len(args)} arguments ({signature}), got {len(values)}")
-        with np.errstate(over="ignore", under="ignore"):
+        with np.errstate(all="ignore"):  # Piecewise evaluates every branch
             out = compiled(*values)
         shape = np.broadcast_shapes(*(np.shape(v) for v in values))
         return np.broadcast_to(np.asarray(out, dtype=np.float64), shape)

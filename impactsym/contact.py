@@ -1,0 +1,349 @@
+r"""Spring-damper contact (paper section 2): fast vectorized numbers.
+
+Contact times, coefficients of restitution and the stick/release boundary, computed
+from the closed forms of :mod:`impactsym.oscillator` (lambdified once, on first use).
+
+The first root of :math:`g(\tau, D, f)` is bracketed without any time sampling: the
+closed-form ridge time :math:`\tau_r(D, f)` is the first local minimum of ``g``; the
+body sticks when :math:`g(\tau_r) \ge 0` (later minima lie higher, and without a
+minimum ``g`` decays monotonically to :math:`2Df \ge 0`); otherwise ``g`` falls
+monotonically from the preceding maximum (or from impact) to :math:`\tau_r`, and a
+safeguarded Newton iteration polishes the root in that bracket. Near-tangent, almost
+sticking cases are therefore never missed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+
+import numpy as np
+import sympy as sp
+
+from impactsym import oscillator
+from impactsym.numeric import bracketed_newton, lambdify
+from impactsym.oscillator import D, f, tau
+from impactsym.validation import check_condition, finish, real_array
+
+ArrayLike = float | np.ndarray
+
+
+def _aux(regime: str, damping: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Auxiliary arguments of the numeric forms, computed without cancellation."""
+    if regime == "underdamped":
+        return (np.sqrt((1.0 - damping) * (1.0 + damping)),)
+    if regime == "critical":
+        return ()
+    spread = np.sqrt((damping - 1.0) * (damping + 1.0))
+    return spread, damping + spread
+
+
+class _PiecewiseInD:
+    """A numeric form evaluated regime by regime (masks on D), as one NumPy function."""
+
+    def __init__(self, name: str, with_tau: bool, critical_separate: bool) -> None:
+        self.name = name
+        self.critical_separate = critical_separate
+        regimes = oscillator.REGIMES if critical_separate else ("underdamped", "overdamped")
+        leading = (tau, D, f) if with_tau else (D, f)
+        self.functions = {
+            r: lambdify(
+                leading + oscillator.NUMERIC_AUX[r],
+                sp.sympify(oscillator.spring_damper(r).numeric_forms[name]),
+                name=f"{name}_{r}",
+            )
+            for r in regimes
+        }
+
+    def __call__(self, *args: np.ndarray) -> np.ndarray:
+        damping = args[-2]
+        if self.critical_separate:
+            masks = {"underdamped": damping < 1, "critical": damping == 1, "overdamped": damping > 1}
+        else:  # the under-damped form is valid at D = 1 (sinc at omega = 0)
+            masks = {"underdamped": damping <= 1, "overdamped": damping > 1}
+        out = np.empty(np.broadcast_shapes(*(np.shape(a) for a in args)))
+        for regime, mask in masks.items():
+            if mask.any():
+                sub = [a[mask] for a in args]
+                out[mask] = self.functions[regime](*sub, *_aux(regime, sub[-2]))
+        return out
+
+
+@dataclass(frozen=True)
+class _Kernels:
+    g: _PiecewiseInD
+    g_dot: _PiecewiseInD
+    ridge: _PiecewiseInD
+    ridge_exists: _PiecewiseInD
+    boundary_slope: _PiecewiseInD
+
+
+@cache
+def _kernels(condition: str) -> _Kernels:
+    return _Kernels(
+        g=_PiecewiseInD(f"g_{condition}", with_tau=True, critical_separate=False),
+        g_dot=_PiecewiseInD(f"g_dot_{condition}", with_tau=True, critical_separate=False),
+        ridge=_PiecewiseInD(f"ridge_{condition}", with_tau=False, critical_separate=True),
+        ridge_exists=_PiecewiseInD(f"ridge_exists_{condition}", with_tau=False, critical_separate=True),
+        boundary_slope=_PiecewiseInD(f"g_D_{condition}", with_tau=True, critical_separate=False),
+    )
+
+
+@cache
+def _z_dot() -> _PiecewiseInD:
+    return _PiecewiseInD("z_dot", with_tau=True, critical_separate=False)
+
+
+def _ridge_minimum(condition: str, damping: np.ndarray, force: np.ndarray):
+    """Ridge time, whether it exists, and G = min of g there (2Df where it does not)."""
+    k = _kernels(condition)
+    exists = k.ridge_exists(damping, force) > 0.5
+    ridge = np.where(exists, k.ridge(damping, force), np.inf)
+    minimum = 2.0 * damping * force  # the infimum of g when it has no local minimum
+    if exists.any():
+        minimum[exists] = k.g(ridge[exists], damping[exists], force[exists])
+    return ridge, exists, minimum
+
+
+def _contact_time(condition: str, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
+    """Contact time on flat arrays (no validation)."""
+    ridge, _, minimum = _ridge_minimum(condition, damping, force)
+    release = minimum < 0
+    result = np.full(damping.shape, np.inf)
+    if release.any():
+        d, fr, hi = damping[release], force[release], ridge[release]
+        lo = np.zeros_like(hi)  # g decreases from impact, or from the preceding maximum:
+        under = d < 1
+        half_period = np.pi / np.sqrt((1.0 - d[under]) * (1.0 + d[under]))
+        lo[under] = np.maximum(hi[under] - half_period, 0.0)
+        k = _kernels(condition)
+        result[release] = bracketed_newton(k.g, k.g_dot, lo, hi, [d, fr])
+    return result
+
+
+def _inputs(condition: str, **arrays: object) -> tuple[list[np.ndarray], tuple[int, ...], bool]:
+    check_condition(condition)
+    checked = [real_array(name, value, lower=0.0) for name, value in arrays.items()]
+    shape = np.broadcast_shapes(*(a.shape for a, _ in checked))
+    flat = [np.broadcast_to(a, shape).ravel() for a, _ in checked]
+    return flat, shape, all(s for _, s in checked)
+
+
+def contact_time(D: ArrayLike, f: ArrayLike, condition: str = "force") -> ArrayLike:
+    r"""Normalized contact time :math:`\tau_c(D, f)` of the spring-damper contact.
+
+    The first sign change in :math:`\tau > 0` of :math:`g = z` (position condition) or
+    :math:`g = 2Dz' + z` (force condition), where
+    :math:`z'' + 2Dz' + z = 2Df,\ z(0) = 0,\ z'(0) = 1` (paper section 2).
+
+    Parameters
+    ----------
+    D : float or array_like
+        Lehr's damping ratio, ``>= 0``.
+    f : float or array_like
+        Pressing force over damper force at impact, ``>= 0``.
+    condition : {"force", "position"}
+        How contact ends: the contact force vanishes, or the penetration.
+
+    Returns
+    -------
+    float or ndarray
+        :math:`\tau_c = \omega_0 t_c`, broadcast over ``D`` and ``f``; ``inf`` where the
+        body sticks.
+
+    Examples
+    --------
+    Without damping every contact lasts half a period. A critically damped body
+    without pressing force has the contact force :math:`(2 - \tau) e^{-\tau}`, so it
+    releases at :math:`\tau_c = 2` under the force condition, while its penetration
+    :math:`\tau e^{-\tau}` never returns to zero:
+
+    >>> contact_time(0.0, 1.0)
+    3.141592653589793
+    >>> round(contact_time(1.0, 0.0), 12)
+    2.0
+    >>> contact_time(1.0, 0.0, condition="position")
+    inf
+    """
+    (damping, force), shape, scalar = _inputs(condition, D=D, f=f)
+    return finish(_contact_time(condition, damping, force).reshape(shape), scalar)
+
+
+def restitution(D: ArrayLike, f: ArrayLike, condition: str = "force") -> ArrayLike:
+    r"""Coefficient of restitution :math:`e = -z'(\tau_c)`; ``0.0`` where the body sticks.
+
+    Parameters are those of :func:`contact_time`.
+
+    Examples
+    --------
+    >>> restitution(0.0, 2.0)
+    1.0
+    >>> round(restitution(1.0, 0.0), 12)  # z'(2) = -exp(-2) for D = 1, f = 0
+    0.135335283237
+    """
+    (damping, force), shape, scalar = _inputs(condition, D=D, f=f)
+    tau_c = _contact_time(condition, damping, force)
+    e = np.zeros(damping.shape)
+    release = np.isfinite(tau_c)
+    if release.any():
+        e[release] = -_z_dot()(tau_c[release], damping[release], force[release])
+    return finish(e.reshape(shape), scalar)
+
+
+#: Damping ratio beyond which the bracket search for the force boundary gives up.
+_D_SEARCH_LIMIT = 1e150
+
+
+def stick_boundary(f: ArrayLike, condition: str = "force") -> ArrayLike:
+    r"""Damping ratio :math:`D^*(f)` at which sticking begins for pressing force ``f``.
+
+    The body releases for :math:`D < D^*` and sticks for :math:`D > D^*`. :math:`D^*`
+    is the root in ``D`` of the boundary equation :math:`G(D, f) = g(\tau_r(D, f), D, f)
+    = 0` (the implicit curve of the paper's Fig. 1b), found by safeguarded Newton
+    iteration with the envelope derivative :math:`\partial G/\partial D = \partial g/
+    \partial D` at :math:`\tau_r`.
+
+    Limits at :math:`f = 0`: under the position condition :math:`D^* = 1` (an
+    under-damped body always comes back out, a critically or over-damped one creeps
+    back to :math:`z = 0` without crossing); under the force condition
+    :math:`D^* = \infty` (without pressing force the contact force always becomes
+    tensile first), and :math:`D^*(f) \to \infty` as :math:`f \to 0`.
+
+    Parameters
+    ----------
+    f : float or array_like
+        Normalized pressing force, ``>= 0``.
+    condition : {"force", "position"}
+
+    Returns
+    -------
+    float or ndarray
+        :math:`D^*(f)`, broadcast like ``f``.
+
+    Examples
+    --------
+    >>> stick_boundary(0.0, "position"), stick_boundary(0.0, "force")
+    (1.0, inf)
+    >>> d_star = stick_boundary(0.5, "position")
+    >>> bool(contact_time(d_star - 1e-6, 0.5, "position") < float("inf"))
+    True
+    >>> contact_time(d_star + 1e-6, 0.5, "position")
+    inf
+    """
+    (force,), shape, scalar = _inputs(condition, f=f)
+    result = np.full(force.shape, 1.0 if condition == "position" else np.inf)
+    pressed = force > 0
+    if pressed.any():
+        fr = force[pressed]
+        k = _kernels(condition)
+
+        def minimum(damping: np.ndarray, fv: np.ndarray) -> np.ndarray:
+            return _ridge_minimum(condition, damping, fv)[2]
+
+        def slope(damping: np.ndarray, fv: np.ndarray) -> np.ndarray:
+            ridge, exists, _ = _ridge_minimum(condition, damping, fv)
+            out = 2.0 * fv  # d(2Df)/dD where g has no minimum
+            out[exists] = k.boundary_slope(ridge[exists], damping[exists], fv[exists])
+            return out
+
+        hi = np.ones_like(fr)  # position: G(1, f) = 2f > 0, D* < 1
+        if condition == "force":
+            low = minimum(hi, fr) < 0
+            while low.any():
+                hi[low] *= 4.0
+                if hi.max() > _D_SEARCH_LIMIT:
+                    raise ValueError(f"f = {float(fr[low].min())!r} is too small to locate D*")
+                low[low] = minimum(hi[low], fr[low]) < 0
+        result[pressed] = bracketed_newton(minimum, slope, np.zeros_like(fr), hi, [fr])
+    return finish(result.reshape(shape), scalar)
+
+
+@dataclass(frozen=True)
+class PhysicalContact:
+    r"""A spring-damper impact in physical units, with its normalized description.
+
+    Attributes
+    ----------
+    D, f, omega0
+        Lehr's damping, normalized pressing force :math:`F/(d v_0)` (``inf`` for
+        :math:`d = 0 < F`), natural frequency :math:`\sqrt{k/m}`.
+    tau_c, t_c
+        Normalized and physical contact time :math:`t_c = \tau_c/\omega_0` (``inf``:
+        sticking).
+    e
+        Coefficient of restitution (``0.0`` when sticking).
+    condition
+        The contact condition used.
+    """
+
+    D: ArrayLike
+    f: ArrayLike
+    omega0: ArrayLike
+    tau_c: ArrayLike
+    t_c: ArrayLike
+    e: ArrayLike
+    condition: str
+
+    @property
+    def sticks(self) -> bool | np.ndarray:
+        """Whether the body sticks (never releases)."""
+        stuck = np.isinf(self.t_c)
+        return bool(stuck) if np.ndim(stuck) == 0 else stuck
+
+
+def physical_contact(
+    m: ArrayLike,
+    k: ArrayLike,
+    d: ArrayLike,
+    v0: ArrayLike,
+    F: ArrayLike = 0.0,
+    condition: str = "force",
+) -> PhysicalContact:
+    r"""Contact time and restitution of a body of mass ``m`` hitting a spring ``k`` and
+    damper ``d`` at speed ``v0`` under a pressing force ``F`` (any consistent units).
+
+    .. math::  \omega_0 = \sqrt{k/m},\quad D = \frac{d}{2\sqrt{km}},\quad
+               f = \frac{F}{d v_0},\quad t_c = \tau_c(D, f)/\omega_0.
+
+    For an undamped contact with pressing force (:math:`d = 0 < F`), where the paper's
+    :math:`f` is infinite, :math:`z'' + z = b` with the static penetration
+    :math:`b = 2Df = F/(\sqrt{km} v_0)` is solved in closed form:
+    :math:`\tau_c = 2\pi - 2\arctan(1/b)`, :math:`e = 1`.
+
+    Examples
+    --------
+    >>> c = physical_contact(m=2.0, k=800.0, d=0.0, v0=1.0)
+    >>> c.omega0, round(c.t_c, 12) == round(float(np.pi) / 20.0, 12), c.e
+    (20.0, True, 1.0)
+    >>> physical_contact(m=1.0, k=1.0, d=4.0, v0=1.0, F=1.0).sticks
+    True
+    """
+    check_condition(condition)
+    values = {
+        name: real_array(name, value, lower=0.0, strict=strict)
+        for name, value, strict in (("m", m, True), ("k", k, True), ("d", d, False),
+                                    ("v0", v0, True), ("F", F, False))
+    }
+    scalar = all(s for _, s in values.values())
+    mass, stiffness, damping, speed, load = np.broadcast_arrays(*(a for a, _ in values.values()))
+    omega0 = np.sqrt(stiffness / mass)
+    D_ = damping / (2.0 * np.sqrt(stiffness * mass))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f_ = np.where(load > 0, load / (damping * speed), 0.0)
+    undamped_pressed = (damping == 0) & (load > 0)
+    finite = ~undamped_pressed
+    tau_c, e = np.empty(D_.shape), np.empty(D_.shape)
+    tau_c[finite] = contact_time(D_[finite], f_[finite], condition)
+    e[finite] = restitution(D_[finite], f_[finite], condition)
+    static = load[undamped_pressed] / (np.sqrt(stiffness * mass)[undamped_pressed] * speed[undamped_pressed])
+    tau_c[undamped_pressed] = 2.0 * np.pi - 2.0 * np.arctan2(1.0, static)
+    e[undamped_pressed] = 1.0
+    return PhysicalContact(
+        D=finish(D_, scalar),
+        f=finish(f_, scalar),
+        omega0=finish(omega0, scalar),
+        tau_c=finish(tau_c, scalar),
+        t_c=finish(tau_c / omega0, scalar),
+        e=finish(e, scalar),
+        condition=condition,
+    )
