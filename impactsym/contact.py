@@ -58,7 +58,11 @@ class _PiecewiseInD:
     def __call__(self, *args: np.ndarray) -> np.ndarray:
         damping = args[-2]
         if self.critical_separate:
-            masks = {"underdamped": damping < 1, "critical": damping == 1, "overdamped": damping > 1}
+            masks = {
+                "underdamped": damping < 1,
+                "critical": damping == 1,
+                "overdamped": damping > 1,
+            }
         else:  # the under-damped form is valid at D = 1 (sinc at omega = 0)
             masks = {"underdamped": damping <= 1, "overdamped": damping > 1}
         out = np.empty(np.broadcast_shapes(*(np.shape(a) for a in args)))
@@ -72,20 +76,47 @@ class _PiecewiseInD:
 @dataclass(frozen=True)
 class _Kernels:
     g: _PiecewiseInD
-    g_dot: _PiecewiseInD
+    oscillation: _PiecewiseInD
+    oscillation_dot: _PiecewiseInD
     ridge: _PiecewiseInD
     ridge_exists: _PiecewiseInD
     boundary_slope: _PiecewiseInD
 
+    def scaled_g(self, t: np.ndarray, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
+        """g exp(c tau) = oscillation + 2Df exp(c tau): the sign of g without underflow."""
+        return self.oscillation(t, damping, force) + _static_part(t, damping, force)
+
+    def scaled_g_dot(self, t: np.ndarray, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
+        """d/dtau of :meth:`scaled_g`."""
+        rate = _decay_rate(damping)
+        return self.oscillation_dot(t, damping, force) + rate * _static_part(t, damping, force)
+
+
+def _decay_rate(damping: np.ndarray) -> np.ndarray:
+    """Decay rate c of the slowest mode: D (D <= 1) or 1/mu = D - sqrt(D^2 - 1)."""
+    over = np.maximum(damping, 1.0)
+    return np.where(damping <= 1, damping, 1.0 / (over + np.sqrt((over - 1.0) * (over + 1.0))))
+
+
+def _static_part(t: np.ndarray, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
+    static = 2.0 * damping * force
+    with np.errstate(over="ignore", invalid="ignore"):
+        grown = static * np.exp(_decay_rate(damping) * t)
+    return np.where(static > 0, grown, 0.0)  # no 0 * inf
+
 
 @cache
 def _kernels(condition: str) -> _Kernels:
+    def piece(name: str, with_tau: bool = True, critical: bool = False) -> _PiecewiseInD:
+        return _PiecewiseInD(f"{name}_{condition}", with_tau=with_tau, critical_separate=critical)
+
     return _Kernels(
-        g=_PiecewiseInD(f"g_{condition}", with_tau=True, critical_separate=False),
-        g_dot=_PiecewiseInD(f"g_dot_{condition}", with_tau=True, critical_separate=False),
-        ridge=_PiecewiseInD(f"ridge_{condition}", with_tau=False, critical_separate=True),
-        ridge_exists=_PiecewiseInD(f"ridge_exists_{condition}", with_tau=False, critical_separate=True),
-        boundary_slope=_PiecewiseInD(f"g_D_{condition}", with_tau=True, critical_separate=False),
+        g=piece("g"),
+        oscillation=piece("g_oscillation"),
+        oscillation_dot=piece("g_oscillation_dot"),
+        ridge=piece("ridge", with_tau=False, critical=True),
+        ridge_exists=piece("ridge_exists", with_tau=False, critical=True),
+        boundary_slope=piece("g_D"),
     )
 
 
@@ -107,17 +138,19 @@ def _ridge_minimum(condition: str, damping: np.ndarray, force: np.ndarray):
 
 def _contact_time(condition: str, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
     """Contact time on flat arrays (no validation)."""
-    ridge, _, minimum = _ridge_minimum(condition, damping, force)
-    release = minimum < 0
+    k = _kernels(condition)
+    exists = k.ridge_exists(damping, force) > 0.5
+    release = exists.copy()
+    ridge = k.ridge(damping[exists], force[exists])
+    release[exists] = k.scaled_g(ridge, damping[exists], force[exists]) < 0
     result = np.full(damping.shape, np.inf)
     if release.any():
-        d, fr, hi = damping[release], force[release], ridge[release]
+        d, fr, hi = damping[release], force[release], ridge[release[exists]]
         lo = np.zeros_like(hi)  # g decreases from impact, or from the preceding maximum:
         under = d < 1
         half_period = np.pi / np.sqrt((1.0 - d[under]) * (1.0 + d[under]))
         lo[under] = np.maximum(hi[under] - half_period, 0.0)
-        k = _kernels(condition)
-        result[release] = bracketed_newton(k.g, k.g_dot, lo, hi, [d, fr])
+        result[release] = bracketed_newton(k.scaled_g, k.scaled_g_dot, lo, hi, [d, fr])
     return result
 
 
@@ -321,8 +354,13 @@ def physical_contact(
     check_condition(condition)
     values = {
         name: real_array(name, value, lower=0.0, strict=strict)
-        for name, value, strict in (("m", m, True), ("k", k, True), ("d", d, False),
-                                    ("v0", v0, True), ("F", F, False))
+        for name, value, strict in (
+            ("m", m, True),
+            ("k", k, True),
+            ("d", d, False),
+            ("v0", v0, True),
+            ("F", F, False),
+        )
     }
     scalar = all(s for _, s in values.values())
     mass, stiffness, damping, speed, load = np.broadcast_arrays(*(a for a, _ in values.values()))
@@ -335,7 +373,9 @@ def physical_contact(
     tau_c, e = np.empty(D_.shape), np.empty(D_.shape)
     tau_c[finite] = contact_time(D_[finite], f_[finite], condition)
     e[finite] = restitution(D_[finite], f_[finite], condition)
-    static = load[undamped_pressed] / (np.sqrt(stiffness * mass)[undamped_pressed] * speed[undamped_pressed])
+    static = load[undamped_pressed] / (
+        np.sqrt(stiffness * mass)[undamped_pressed] * speed[undamped_pressed]
+    )
     tau_c[undamped_pressed] = 2.0 * np.pi - 2.0 * np.arctan2(1.0, static)
     e[undamped_pressed] = 1.0
     return PhysicalContact(

@@ -81,25 +81,31 @@ def _to_mu(expr: sp.Expr) -> sp.Expr:
     is done exactly; the factor :math:`\mu - 1` is then written as
     :math:`2\sigma\mu/(\mu+1)`, which stays accurate as :math:`D \to 1`.
     """
-    in_mu = sp.factor(sp.together(expr.subs({D: (mu**2 + 1) / (2 * mu), sigma: (mu**2 - 1) / (2 * mu)})))
+    in_mu = sp.factor(
+        sp.together(expr.subs({D: (mu**2 + 1) / (2 * mu), sigma: (mu**2 - 1) / (2 * mu)}))
+    )
     return in_mu.subs(mu - 1, 2 * sigma * mu / (mu + 1))
 
 
-def _numeric_solution(regime: str, b: sp.Expr, y0: sp.Expr, q: sp.Expr) -> sp.Expr:
-    """b + (y0 - b) C + q S with C, S written stably for float evaluation.
+#: Decay rate c of the slowest mode per regime: y = b + exp(-c tau) * oscillation.
+DECAY = {"underdamped": D, "critical": sp.Integer(1), "overdamped": 1 / mu}
 
-    ``q`` is the coefficient of ``S`` (:math:`y_0' + D (y_0 - b)`).
+
+def _numeric_oscillation(regime: str, b: sp.Expr, y0: sp.Expr, q: sp.Expr) -> sp.Expr:
+    """(y - b) exp(c tau) for y = b + (y0 - b) C + q S, written stably for floats.
+
+    ``q`` is the coefficient of ``S`` (:math:`y_0' + D (y_0 - b)`). Scaling the decay
+    out keeps the sign of ``y`` visible where ``exp(-c tau)`` underflows.
     """
     h0 = y0 - b
     if regime == "underdamped":  # sinc keeps S finite at omega = 0 (critical damping)
-        return b + sp.exp(-D * tau) * (h0 * sp.cos(omega * tau) + q * tau * sp.sinc(omega * tau))
+        return h0 * sp.cos(omega * tau) + q * tau * sp.sinc(omega * tau)
     if regime == "critical":
-        return b + sp.exp(-tau) * (h0 + q * tau)
+        return h0 + q * tau
     # h0 C + q S = exp(-tau/mu) [A (1 - E) + h0 E],  E = exp(-2 sigma tau),
     # A = (sigma h0 + q) / (2 sigma) is the coefficient of the slow exponential.
     A = _to_mu(sigma * h0 + q) / (2 * sigma)
-    E = sp.exp(-2 * sigma * tau)
-    return b + sp.exp(-tau / mu) * (-A * expm1(-2 * sigma * tau) + h0 * E)
+    return -A * expm1(-2 * sigma * tau) + h0 * sp.exp(-2 * sigma * tau)
 
 
 def _initial_values(condition: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
@@ -163,9 +169,10 @@ class SpringDamperContact:
             return (b + (h0 + q * tau) * sp.exp(-tau)).subs(D, 1)
         return b + h0 * C + q * S
 
-    def _numeric(self, b: sp.Expr, y0: sp.Expr, y1: sp.Expr) -> sp.Expr:
+    def _numeric(self, b: sp.Expr, y0: sp.Expr, y1: sp.Expr, scaled: bool = False) -> sp.Expr:
         q = sp.expand(y1 + D * (y0 - b))
-        expr = _numeric_solution(self.regime, b, y0, q)
+        oscillation = _numeric_oscillation(self.regime, b, y0, q)
+        expr = oscillation if scaled else b + sp.exp(-DECAY[self.regime] * tau) * oscillation
         return expr.subs(D, 1) if self.regime == "critical" else expr
 
     # -- solution ----------------------------------------------------------------
@@ -231,7 +238,9 @@ class SpringDamperContact:
     @cached_property
     def numeric_forms(self) -> dict[str, sp.Expr]:
         """Stable float forms, keyed ``'z'``, ``'z_dot'``, ``'g_<condition>'``,
-        ``'g_dot_<condition>'``, ``'ridge_<condition>'``, ``'ridge_exists_<condition>'``
+        ``'g_dot_<condition>'``, ``'ridge_<condition>'``, ``'ridge_exists_<condition>'``,
+        ``'g_oscillation_<condition>'`` :math:`= (g - 2Df) e^{c\\tau}` with the decay rate
+        ``c = DECAY[regime]`` and its tau-derivative ``'g_oscillation_dot_<condition>'``,
         and (not for the critical regime) ``'g_D_<condition>'`` = dg/dD.
 
         Their arguments are ``(tau, D, f) + NUMERIC_AUX[regime]``.
@@ -244,6 +253,9 @@ class SpringDamperContact:
             g0, g1, g2 = _initial_values(c)
             forms[f"g_{c}"] = self._numeric(2 * D * f, g0, g1)
             forms[f"g_dot_{c}"] = self._numeric(sp.Integer(0), g1, g2)
+            oscillation = self._numeric(2 * D * f, g0, g1, scaled=True)
+            forms[f"g_oscillation_{c}"] = oscillation
+            forms[f"g_oscillation_dot_{c}"] = sp.diff(oscillation, tau)
             forms[f"ridge_{c}"], forms[f"ridge_exists_{c}"] = self._ridge(c, numeric=True)
             if self.regime != "critical":
                 forms[f"g_D_{c}"] = self._total_D_derivative(forms[f"g_{c}"])
@@ -263,7 +275,7 @@ class SpringDamperContact:
         ``condition``.
 
         >>> SpringDamperContact("critical").latex("z")
-        '2 f + \\left(\\tau \\left(1 - 2 f\\right) - 2 f\\right) e^{- \\tau}'
+        '2 f + \\left(- 2 f + \\tau \\left(1 - 2 f\\right)\\right) e^{- \\tau}'
         """
         if name not in _ATTRIBUTES:
             raise ValueError(f"name must be one of {sorted(_ATTRIBUTES)}, got {name!r}")

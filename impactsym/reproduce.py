@@ -53,8 +53,12 @@ def reproduce(
         progress(f"{prefix} ...")
         step_start = time.perf_counter()
         module = importlib.import_module(module_name)
-        files = module.write(out, quick=quick, progress=lambda msg, p=prefix: progress(f"{p}: {msg}"))
+        files = module.write(
+            out, quick=quick, progress=lambda msg, p=prefix: progress(f"{p}: {msg}")
+        )
         written.extend(files)
         progress(f"{prefix}: {len(files)} files in {time.perf_counter() - step_start:.1f} s")
-    progress(f"wrote {len(written)} files to {out.resolve()} in {time.perf_counter() - start:.1f} s")
+    progress(
+        f"wrote {len(written)} files to {out.resolve()} in {time.perf_counter() - start:.1f} s"
+    )
     return written

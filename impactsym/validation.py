@@ -89,7 +89,9 @@ def real_array(
         if low.any():
             first = float(arr[low].flat[0])
             op = ">" if strict else ">="
-            raise ValueError(f"{name} must be {op} {lower:g}, got {first!r}" + _where(arr, low, is_scalar))
+            raise ValueError(
+                f"{name} must be {op} {lower:g}, got {first!r}" + _where(arr, low, is_scalar)
+            )
     return arr, is_scalar
 
 

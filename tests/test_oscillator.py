@@ -1,0 +1,168 @@
+"""The symbolic derivation of the spring-damper contact (paper section 2)."""
+
+from __future__ import annotations
+
+import mpmath as mp
+import numpy as np
+import pytest
+import sympy as sp
+
+from impactsym.oscillator import (
+    NUMERIC_AUX,
+    REGIMES,
+    D,
+    SpringDamperContact,
+    f,
+    mu,
+    omega,
+    regime_of,
+    sigma,
+    spring_damper,
+    tau,
+)
+
+SAMPLE_D = {
+    "underdamped": [0.0, 0.3, 0.9, 0.999],
+    "critical": [1.0],
+    "overdamped": [1.001, 1.7, 8.0],
+}
+SAMPLE_F = [0.0, 0.2, 1.3]
+
+
+def ode_residual(z: sp.Expr, regime: str) -> sp.Expr:
+    damping = 1 if regime == "critical" else D
+    return z.diff(tau, 2) + 2 * damping * z.diff(tau) + z - 2 * damping * f
+
+
+@pytest.mark.parametrize("regime", REGIMES)
+def test_solution_satisfies_ode_and_initial_conditions(regime):
+    model = spring_damper(regime)
+    assert sp.simplify(ode_residual(model.z, regime)) == 0
+    assert sp.simplify(model.z.subs(tau, 0)) == 0
+    assert sp.simplify(model.z.diff(tau).subs(tau, 0)) == 1
+
+
+@pytest.mark.parametrize("regime", REGIMES)
+def test_derivatives_and_contact_functions_are_consistent(regime):
+    model = spring_damper(regime)
+    damping = 1 if regime == "critical" else D
+    assert sp.simplify(model.z_dot - model.z.diff(tau)) == 0
+    assert sp.simplify(model.g["position"] - model.z) == 0
+    assert sp.simplify(model.g["force"] - (2 * damping * model.z_dot + model.z)) == 0
+    for condition in ("position", "force"):
+        assert sp.simplify(model.g_dot[condition] - model.g[condition].diff(tau)) == 0
+
+
+@pytest.mark.parametrize(
+    ("regime", "damping"), [("underdamped", sp.Rational(1, 3)), ("critical", 1), ("overdamped", 3)]
+)
+def test_solution_agrees_with_sympy_dsolve(regime, damping):
+    x = sp.Function("x")
+    ode = sp.Eq(x(tau).diff(tau, 2) + 2 * damping * x(tau).diff(tau) + x(tau), 2 * damping * f)
+    ics = {x(0): 0, x(tau).diff(tau).subs(tau, 0): 1}
+    reference = sp.dsolve(ode, x(tau), ics=ics).rhs
+    ours = spring_damper(regime).z.subs(D, damping)
+    for t_value, f_value in [("0.7", "0"), ("2.3", "0.4"), ("5.1", "2")]:
+        at = {tau: sp.Rational(t_value), f: sp.Rational(f_value)}
+        assert float(sp.N(ours.subs(at) - reference.subs(at), 30)) == pytest.approx(0, abs=1e-25)
+
+
+def _numeric_value(expr, regime, t_value, d_value, f_value):
+    """Evaluate a numeric form at 40 digits, with its auxiliary symbols."""
+    with mp.workdps(40):
+        d_mp = mp.mpf(d_value)
+        aux = {omega: mp.sqrt(1 - d_mp**2)} if regime == "underdamped" else {}
+        if regime == "overdamped":
+            s = mp.sqrt(d_mp**2 - 1)
+            aux = {sigma: s, mu: d_mp + s}
+        args = [tau, D, f, *NUMERIC_AUX[regime]]
+        fn = sp.lambdify(args, expr, modules="mpmath")
+        return fn(mp.mpf(t_value), d_mp, mp.mpf(f_value), *[aux[a] for a in NUMERIC_AUX[regime]])
+
+
+@pytest.mark.parametrize("regime", REGIMES)
+def test_numeric_forms_equal_display_forms(regime):
+    model = spring_damper(regime)
+    pairs = [("z", model.z), ("z_dot", model.z_dot)]
+    for c in ("position", "force"):
+        pairs += [(f"g_{c}", model.g[c]), (f"g_dot_{c}", model.g_dot[c])]
+    for d_value in SAMPLE_D[regime]:
+        for f_value in SAMPLE_F:
+            for t_value in (0.0, 0.4, 3.0, 17.0):
+                for key, display in pairs:
+                    with mp.workdps(40):
+                        fn = sp.lambdify([tau, D, f], display, modules="mpmath")
+                        expected = fn(mp.mpf(t_value), mp.mpf(d_value), mp.mpf(f_value))
+                    got = _numeric_value(
+                        model.numeric_forms[key], regime, t_value, d_value, f_value
+                    )
+                    assert float(got - expected) == pytest.approx(0, abs=1e-30), (key, d_value)
+
+
+@pytest.mark.parametrize("regime", ["underdamped", "overdamped"])
+def test_numeric_D_derivative_matches_finite_difference(regime):
+    model = spring_damper(regime)
+    for c in ("position", "force"):
+        for d_value in SAMPLE_D[regime][1:]:
+            h = mp.mpf("1e-15")
+            slope = _numeric_value(model.numeric_forms[f"g_D_{c}"], regime, 1.3, d_value, 0.4)
+            with mp.workdps(40):
+                up = _numeric_value(model.numeric_forms[f"g_{c}"], regime, 1.3, d_value + h, 0.4)
+                down = _numeric_value(model.numeric_forms[f"g_{c}"], regime, 1.3, d_value - h, 0.4)
+                assert float(slope - (up - down) / (2 * h)) == pytest.approx(0, abs=1e-20)
+
+
+def _first_local_minimum_by_scan(g_dot, d_value, f_value, t_max=80.0):
+    """First upward sign change of g' on a fine grid (independent of the closed form)."""
+    fn = sp.lambdify(tau, g_dot.subs({D: d_value, f: f_value}), "mpmath")
+    grid = np.linspace(1e-9, t_max, 8001)
+    values = np.array([float(fn(t)) for t in grid])
+    upward = np.flatnonzero((values[:-1] < 0) & (values[1:] >= 0))
+    if upward.size == 0:
+        return None
+    return float(mp.findroot(fn, (grid[upward[0]], grid[upward[0] + 1]), solver="anderson"))
+
+
+@pytest.mark.parametrize("condition", ["position", "force"])
+@pytest.mark.parametrize(
+    ("d_value", "f_value"),
+    [
+        (0.0, 0.5),
+        (0.2, 0.0),
+        (0.2, 0.7),
+        (0.6, 2.0),
+        (0.95, 0.1),
+        (1.0, 0.1),
+        (1.0, 0.0),
+        (1.4, 0.02),
+        (3.0, 0.0),
+        (3.0, 0.5),
+    ],
+)
+def test_ridge_time_is_first_local_minimum(condition, d_value, f_value):
+    model = spring_damper(regime_of(d_value))
+    exists = model.ridge_exists[condition].subs({D: d_value, f: f_value})
+    expected = _first_local_minimum_by_scan(model.g_dot[condition], d_value, f_value)
+    if expected is None:
+        assert not bool(exists)
+    else:
+        assert bool(exists)
+        ridge = float(model.ridge_time[condition].subs({D: d_value, f: f_value}))
+        assert ridge == pytest.approx(expected, rel=1e-12)
+        boundary = float(model.boundary[condition].subs({D: d_value, f: f_value}))
+        at_ridge = float(model.g[condition].subs({D: d_value, f: f_value, tau: expected}))
+        assert boundary == pytest.approx(at_ridge, rel=1e-10, abs=1e-14)
+
+
+def test_latex_forms_and_bad_names():
+    model = SpringDamperContact("underdamped")
+    assert "\\sqrt{1 - D^{2}}" in model.latex("z")
+    assert "\\operatorname{atan}_{2}" in model.latex("ridge_time", "force")
+    with pytest.raises(ValueError, match="condition"):
+        model.latex("g")
+    with pytest.raises(ValueError, match="'speed'"):
+        model.latex("speed")
+    with pytest.raises(ValueError, match="condition must be"):
+        model.latex("g", "pressure")
+    with pytest.raises(ValueError, match="regime must be one of"):
+        SpringDamperContact("critically")
