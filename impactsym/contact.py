@@ -223,6 +223,58 @@ def restitution(D: ArrayLike, f: ArrayLike, condition: str = "force") -> ArrayLi
     return finish(e.reshape(shape), scalar)
 
 
+def contact_surface(
+    D: ArrayLike, f: ArrayLike, condition: str = "force"
+) -> tuple[ArrayLike, ArrayLike, ArrayLike]:
+    r"""The two sheets and the ridge of the implicit surface :math:`g(\tau, D, f) = 0`.
+
+    The paper's Fig. 1a: where the body releases, ``g`` crosses zero downwards at the
+    contact time (lower sheet) and upwards again after its first minimum (upper
+    sheet); both sheets meet along the fold :math:`\partial g/\partial\tau = 0`, at the
+    ridge time :math:`\tau_r(D, f)`, on the stick boundary.
+
+    Returns
+    -------
+    first, second, ridge
+        Lower sheet (the contact time), upper sheet, and ridge time; ``nan`` where
+        the body sticks (no sheet) or where ``g`` has no minimum (no ridge). The upper
+        sheet is ``nan`` also when ``g`` only creeps back to zero (``f = 0``, ``D >= 1``).
+
+    Examples
+    --------
+    >>> first, second, ridge = contact_surface(0.0, 1.0)
+    >>> [round(x / np.pi, 12) for x in (first, second, ridge)]
+    [1.0, 2.0, 1.5]
+    """
+    (damping, force), shape, scalar = _inputs(condition, D=D, f=f)
+    k = _kernels(condition)
+    exists = k.ridge_exists(damping, force) > 0.5
+    ridge = np.full(damping.shape, np.nan)
+    ridge[exists] = k.ridge(damping[exists], force[exists])
+    first = _contact_time(condition, damping, force)
+    release = np.isfinite(first)
+    second = np.full(damping.shape, np.nan)
+    d, fr, lo = damping[release], force[release], ridge[release]
+    hi = np.empty_like(lo)
+    under = d < 1
+    hi[under] = lo[under] + np.pi / np.sqrt((1.0 - d[under]) * (1.0 + d[under]))  # next maximum
+    hi[~under] = 2.0 * lo[~under]  # g rises monotonically towards 2Df: search upwards
+    rising = (~under) & (fr > 0)
+    for _ in range(60):
+        short = rising & ~(k.scaled_g(hi, d, fr) > 0)
+        if not short.any():
+            break
+        hi[short] *= 2.0
+    solvable = under | rising
+    second_release = np.full(d.shape, np.nan)
+    second_release[solvable] = bracketed_newton(
+        k.scaled_g, k.scaled_g_dot, lo[solvable], hi[solvable], [d[solvable], fr[solvable]]
+    )
+    second[release] = second_release
+    first = np.where(release, first, np.nan)
+    return tuple(finish(a.reshape(shape), scalar) for a in (first, second, ridge))
+
+
 #: Damping ratio beyond which the bracket search for the force boundary gives up.
 _D_SEARCH_LIMIT = 1e150
 

@@ -73,7 +73,7 @@ def bracketed_newton(
     hi: np.ndarray,
     params: Sequence[np.ndarray] = (),
     *,
-    rtol: float = 4e-16,
+    rtol: float = 4e-15,
     max_iter: int = 200,
 ) -> np.ndarray:
     """Solve ``g(x, *params) = 0`` elementwise for ``x`` in ``[lo, hi]``.
@@ -132,11 +132,12 @@ def bracketed_newton(
         la = np.where(below, xa, la)
         ha = np.where(below, ha, xa)
         new = xa - step
+        scale = np.maximum(np.abs(xa), 1.0) * rtol
+        converged = np.abs(step) <= scale  # also when rounding puts it on a bracket end
         slow = np.abs(step) > 0.5 * np.abs(step_before_last[active])
-        bisect = ~((new > la) & (new < ha)) | slow  # the comparison also catches NaN
-        new = np.where(bisect, 0.5 * (la + ha), new)
-        scale = np.maximum(np.abs(new), 1.0) * rtol
-        done = (gx == 0) | (~bisect & (np.abs(new - xa) <= scale)) | (ha - la <= scale)
+        bisect = (~((new > la) & (new < ha)) | slow) & ~converged  # NaN steps bisect too
+        new = np.where(bisect, 0.5 * (la + ha), np.clip(new, la, ha))
+        done = (gx == 0) | converged | (ha - la <= scale)
         step_before_last[active] = last_step[active]
         last_step[active] = new - xa
         x[active], lo[active], hi[active] = np.where(gx == 0, xa, new), la, ha

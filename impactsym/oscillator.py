@@ -305,3 +305,54 @@ def regime_of(damping: float) -> str:
     if damping < 1:
         return "underdamped"
     return "critical" if damping == 1 else "overdamped"
+
+
+def latex_formulas() -> list[tuple[str, str, str]]:
+    r"""``(label, caption, LaTeX body)`` of the section-2 results, for documents.
+
+    >>> label, caption, body = latex_formulas()[0]
+    >>> label, body.split(",")[0]
+    ('sd-ode', "z'' + 2 D z' + z = 2 D f")
+    """
+    under = spring_damper("underdamped")
+    over = spring_damper("overdamped")
+    critical = spring_damper("critical")
+    items = [
+        (
+            "sd-ode",
+            "Normalized contact oscillator (paper section 2)",
+            r"z'' + 2 D z' + z = 2 D f, \quad z(0) = 0, \quad z'(0) = 1",
+        ),
+        (
+            "sd-conditions",
+            "Contact functions of the position and force conditions",
+            r"g_\mathrm{position} = z, \qquad g_\mathrm{force} = 2 D z' + z",
+        ),
+        ("sd-z-under", "Solution, under-damped (D < 1)", "z = " + under.latex("z")),
+        ("sd-z-critical", "Solution, critically damped (D = 1)", "z = " + critical.latex("z")),
+        ("sd-z-over", "Solution, over-damped (D > 1)", "z = " + over.latex("z")),
+    ]
+    names = {"underdamped": "D < 1", "critical": "D = 1", "overdamped": "D > 1"}
+    for condition in CONDITIONS:
+        for regime, model in (("underdamped", under), ("critical", critical), ("overdamped", over)):
+            exists = model.ridge_exists[condition]
+            if exists == sp.false:  # no local minimum: the body sticks in this regime
+                continue
+            where = "" if exists == sp.true else f", where ${sp.latex(exists)}$"
+            items.append(
+                (
+                    f"sd-ridge-{condition}-{regime}",
+                    f"Closed-form ridge time, {condition} condition, {names[regime]}{where}",
+                    r"\tau_r = " + model.latex("ridge_time", condition),
+                )
+            )
+            if regime != "critical":
+                items.append(
+                    (
+                        f"sd-boundary-{condition}-{regime}",
+                        f"Stick/release boundary G(D, f) = g(tau_r(D, f), D, f) = 0, "
+                        f"{condition} condition, {names[regime]}",
+                        "0 = " + model.latex("boundary", condition),
+                    )
+                )
+    return items

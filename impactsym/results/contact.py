@@ -1,0 +1,99 @@
+"""Section-2 results for ``impactsym reproduce``: Fig. 1a/1b, maps, tables, formulas."""
+
+from __future__ import annotations
+
+import csv
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from impactsym.contact import contact_time, restitution, stick_boundary
+from impactsym.oscillator import latex_formulas
+
+CONDITIONS = ("position", "force")
+
+
+def save_figure(ax, out: Path, stem: str) -> list[Path]:
+    """Save the figure of ``ax`` as PNG and PDF, close it, return both paths."""
+    import matplotlib.pyplot as plt
+
+    fig = ax.figure
+    fig.tight_layout()
+    paths = [out / f"{stem}.png", out / f"{stem}.pdf"]
+    for path in paths:
+        # a fixed creation date keeps the PDF byte-for-byte reproducible
+        fig.savefig(
+            path, dpi=150, metadata={"CreationDate": None} if path.suffix == ".pdf" else None
+        )
+    plt.close(fig)
+    return paths
+
+
+def write_csv(path: Path, header: list[str], rows) -> Path:
+    with path.open("w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(header)
+        writer.writerows([[f"{v:.17g}" for v in row] for row in rows])
+    return path
+
+
+def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Path]:
+    """Write the spring-damper figures, tables and formulas into ``out``."""
+    from impactsym.plotting import contact as plots
+
+    n_map, n_surface, n_boundary = (60, 25, 60) if quick else (400, 70, 400)
+    files: list[Path] = []
+
+    progress("Fig. 1a: contact-time surface (force condition)")
+    files += save_figure(
+        plots.plot_contact_surface("force", n=n_surface), out, "fig1a_contact_surface_force"
+    )
+    files += save_figure(
+        plots.plot_contact_surface("position", n=n_surface), out, "fig1a_contact_surface_position"
+    )
+
+    progress("Fig. 1b: stick/release boundaries")
+    files += save_figure(plots.plot_stick_boundary(), out, "fig1b_stick_boundary")
+    f = np.concatenate([[0.0], np.geomspace(1e-4, 10.0, n_boundary)])
+    boundary = {c: stick_boundary(f, c) for c in CONDITIONS}
+    files.append(
+        write_csv(
+            out / "stick_boundary.csv",
+            ["f", "D_star_position", "D_star_force"],
+            zip(f, boundary["position"], boundary["force"], strict=True),
+        )
+    )
+
+    for condition in CONDITIONS:
+        progress(f"contact-time and restitution maps ({condition} condition)")
+        files += save_figure(
+            plots.plot_contact_time_map(condition, n=n_map), out, f"contact_time_map_{condition}"
+        )
+        files += save_figure(
+            plots.plot_restitution_map(condition, n=n_map), out, f"restitution_map_{condition}"
+        )
+        D, fg = np.meshgrid(np.linspace(0, 1.5, 31), np.linspace(0, 1.0, 21))
+        tau_c, e = contact_time(D, fg, condition), restitution(D, fg, condition)
+        files.append(
+            write_csv(
+                out / f"contact_times_{condition}.csv",
+                ["D", "f", "tau_c", "e"],
+                zip(D.ravel(), fg.ravel(), tau_c.ravel(), e.ravel(), strict=True),
+            )
+        )
+
+    progress("formulas")
+    path = out / "spring_damper_formulas.json"
+    path.write_text(
+        json.dumps(
+            [
+                {"label": label, "caption": caption, "latex": body}
+                for label, caption, body in latex_formulas()
+            ],
+            indent=1,
+        )
+    )
+    files.append(path)
+    return files
