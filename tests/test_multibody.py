@@ -3,14 +3,21 @@ and the reduced model against a full nonlinear SciPy simulation."""
 
 from __future__ import annotations
 
+import json
+import shutil
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 import sympy as sp
-from mb_systems import FullSimulation, bar_system, pendulum_kane
+from mb_systems import FullSimulation, Model, bar_system, pendulum_kane
+from scipy.integrate import solve_ivp
 from sympy.physics import mechanics as me
 
-from impactsym.multibody import ReducedContact, latex_formulas, reduce_contact
-from impactsym.results.multibody import double_pendulum, falling_bar
+from impactsym.multibody import latex_formulas, reduce_contact
+from impactsym.penalty_design import damping_for_restitution, penalty_for_targets, stick_damping
+from impactsym.results.multibody import double_pendulum, falling_bar, simulate_contact
 
 x, v = sp.symbols("x v")
 m, k, d, F = sp.symbols("m k d F", positive=True)
@@ -343,3 +350,277 @@ def test_other_bad_input_is_refused_with_the_argument_named():
         reduce_contact(sp.Matrix([[1]]), [0], x, [1.0], [v], {x: 0, v: 1}, 1, 0)
     with pytest.raises(ValueError, match="call form_eoms"):
         reduce_contact(me.System(), x, {}, 1, 0)
+
+
+# ---------------------------------------------------------------------------------
+# mapping onto section 2, and the reduced model against the full simulation
+# ---------------------------------------------------------------------------------
+def test_single_particle_contact_equals_its_full_simulation():
+    # m x'' = F - k x - d x' is its own reduction: same contact time as the simulation
+    q, u = me.dynamicsymbols("q u")
+    N = me.ReferenceFrame("N")
+    P = me.Point("P")
+    P.set_vel(N, u * N.x)
+    kane = me.KanesMethod(N, [q], [u], kd_eqs=[q.diff() - u])
+    kane.kanes_equations([me.Particle("p", P, 2.0)], [(P, 3.0 * N.x)])
+    model = Model(kane, q, [q], [u], [0.0], [1.0])
+    sim = FullSimulation(model)
+    for dd, condition in ((4.0, "position"), (4.0, "force"), (0.0, "force"), (60.0, "force")):
+        r = reduce_contact(kane, q, model.at(0.7), 800.0, dd)
+        t_full = sim.contact_time(800.0, dd, 0.7, condition, 1.0)
+        assert r.contact_time(condition) == pytest.approx(t_full, rel=1e-8)
+        assert r.sticks(condition) == (t_full == np.inf)
+
+
+@pytest.mark.parametrize("condition", ["position", "force"])
+def test_reduced_contact_time_is_the_first_root_of_the_reduced_oscillator(condition):
+    # independent check of the section-2 mapping: integrate m~ z'' + d~ z' + c~ z = F_n
+    r = double_pendulum().reduce(4e4, 25.0, 0.2)
+    m_, d_, c_, load = r.m_eff, r.d_eff, r.c_eff, r.load
+
+    def event(_t, y):
+        return y[0] if condition == "position" else c_ * y[0] + d_ * y[1]
+
+    event.terminal, event.direction = True, -1
+    sol = solve_ivp(
+        lambda _t, y: [y[1], (load - d_ * y[1] - c_ * y[0]) / m_],
+        (0, 1.0),
+        [0.0, r.v0],
+        events=event,
+        rtol=1e-12,
+        atol=1e-15,
+        max_step=1e-4,
+    )
+    assert r.contact_time(condition) == pytest.approx(sol.t_events[0][0], rel=1e-7)
+    assert r.restitution(condition) == pytest.approx(-sol.y_events[0][0][1] / r.v0, rel=1e-6)
+    assert r.verdict(condition) == "release"
+
+
+@pytest.mark.parametrize(
+    ("model", "example"), [(bar_system, falling_bar), (pendulum_kane, double_pendulum)]
+)
+def test_numpy_simulation_of_reproduce_matches_scipy(model, example):
+    sim, ex = FullSimulation(model()), example()
+    m_eff = ex.reduce().m_eff
+    omega = np.array([300.0, 1000.0, 300.0])
+    k, d, speed = m_eff * omega**2, 2 * np.array([0.1, 0.05, 0.2]) * m_eff * omega, 0.4
+    for condition in ("position", "force"):
+        ours = simulate_contact(ex, k, d, speed, condition)
+        for i in range(k.size):
+            t_ref = sim.contact_time(k[i], d[i], speed, condition, 40 / omega[i])
+            assert ours.t_c[i] == pytest.approx(t_ref, rel=1e-7)
+
+
+def sweep(model, example, omegas, dampings, forces):
+    """Full (SciPy) and reduced contact times over a (k, d, v) grid."""
+    sim, ex = FullSimulation(model), example
+    m_eff = ex.reduce().m_eff
+    accel = ex.reduce(1.0, 0.0, 1e-9).load / m_eff  # normal acceleration at rest
+    rows = []
+    for omega in omegas:
+        for D in dampings:
+            for f in forces:
+                kk, dd = m_eff * omega**2, 2 * D * m_eff * omega
+                speed = m_eff * accel / (dd * f)
+                if speed > 2.0:
+                    continue
+                for condition in ("position", "force"):
+                    t_full = sim.contact_time(kk, dd, speed, condition, 40 / omega)
+                    red = {
+                        p: ex.reduce(kk, dd, speed, projection=p).contact_time(condition)
+                        for p in ("impulse", "normal")
+                    }
+                    red = {p: (t if t * omega <= 40 else np.inf) for p, t in red.items()}
+                    rows.append((condition, t_full, red))
+    return rows
+
+
+def scores(rows, projection, condition):
+    full = np.array([r[1] for r in rows if r[0] == condition])
+    red = np.array([r[2][projection] for r in rows if r[0] == condition])
+    hits = np.mean(np.isinf(full) == np.isinf(red))
+    both = np.isfinite(full) & np.isfinite(red)
+    return hits, np.abs(red[both] / full[both] - 1), int(both.sum())
+
+
+@pytest.mark.parametrize(
+    ("model", "example"), [(bar_system, falling_bar), (pendulum_kane, double_pendulum)]
+)
+def test_reduced_model_predicts_the_full_simulation(model, example):
+    rows = sweep(
+        model(),
+        example(),
+        omegas=(300.0, 1000.0),
+        dampings=(0.08, 0.3, 1.2),
+        forces=(0.1, 0.6, 2.5),
+    )
+    for condition in ("position", "force"):
+        hits, err, n = scores(rows, "impulse", condition)
+        hits_paper, err_paper, _ = scores(rows, "normal", condition)
+        assert n >= 5
+        assert hits >= 0.9
+        assert np.median(err) < 0.03
+        assert np.max(err) < 0.1
+        # the impulse projection is the better one
+        assert np.median(err) < np.median(err_paper)
+        assert hits >= hits_paper
+
+
+def test_impulse_projection_converges_faster_than_the_paper_projection():
+    # falling bar with drag: contact-time error against omega0 at fixed D, f
+    sim, ex = FullSimulation(bar_system()), falling_bar()
+    m_eff = ex.reduce().m_eff
+    accel = ex.reduce(1.0, 0.0, 1e-9).load / m_eff
+    errors = {"impulse": [], "normal": []}
+    for omega in (300.0, 3000.0):
+        kk, dd = m_eff * omega**2, 2 * 0.15 * m_eff * omega
+        speed = m_eff * accel / (dd * 0.3)
+        t_full = sim.contact_time(kk, dd, speed, "position", 40 / omega)
+        for p in errors:
+            t_red = ex.reduce(kk, dd, speed, projection=p).contact_time("position")
+            errors[p].append(abs(t_red / t_full - 1))
+    for p in errors:
+        assert errors[p][1] < errors[p][0] / 3  # both converge as the contact stiffens
+    assert errors["impulse"][0] < errors["normal"][0] / 3
+    assert errors["impulse"][1] < errors["normal"][1] / 3
+
+
+# ---------------------------------------------------------------------------------
+# penalty design
+# ---------------------------------------------------------------------------------
+@pytest.mark.parametrize("condition", ["position", "force"])
+def test_stick_damping_separates_release_from_sticking(condition):
+    bar = falling_bar().reduce(1.0, 0.0, 0.2)
+    k = np.array([1e4, 1e5, 1e6])
+    d_star = stick_damping(bar, k, condition)
+    assert np.all(np.diff(d_star) > 0)
+    assert not np.any(bar.with_penalty(k, 0.99 * d_star).sticks(condition))
+    assert np.all(bar.with_penalty(k, 1.01 * d_star).sticks(condition))
+
+
+def test_stick_damping_holds_in_the_full_simulation():
+    sim, ex = FullSimulation(bar_system()), falling_bar()
+    kk, speed = 1e5, 0.2
+    omega = np.sqrt(kk / ex.reduce().m_eff)
+    for condition in ("position", "force"):
+        d_star = stick_damping(ex.reduce(1.0, 0.0, speed), kk, condition)
+        assert sim.contact_time(kk, 0.8 * d_star, speed, condition, 40 / omega) < np.inf
+        assert sim.contact_time(kk, 1.25 * d_star, speed, condition, 40 / omega) == np.inf
+
+
+def test_unloaded_particle_never_sticks_under_the_force_condition():
+    assert stick_damping(particle(), 1.0, "force") == np.inf
+    assert stick_damping(particle(M=4.0), 9.0, "position") == pytest.approx(12.0, rel=1e-12)
+
+
+def test_penalty_for_targets_delivers_in_the_full_simulation():
+    ex = falling_bar()
+    reduced = ex.reduce(1.0, 0.0, 0.5)
+    kk, dd = penalty_for_targets(reduced, restitution=0.5, contact_time=2e-3)
+    design = reduced.with_penalty(kk, dd)
+    assert design.restitution("force") == pytest.approx(0.5, rel=1e-9)
+    assert design.contact_time("force") == pytest.approx(2e-3, rel=1e-9)
+    assert dd == pytest.approx(damping_for_restitution(reduced, kk, 0.5), rel=1e-9)
+    full = simulate_contact(ex, kk, dd, 0.5, "force")
+    assert float(full.t_c) == pytest.approx(2e-3, rel=0.02)
+    assert float(full.e) == pytest.approx(0.5, rel=0.02)
+
+
+def test_design_bad_input_is_refused():
+    symbolic = reduce_contact(sp.Matrix([[m]]), [0], x, [x], [v], {x: 0, v: 1}, k, d)
+    with pytest.raises(TypeError, match="symbolic"):
+        stick_damping(symbolic, 1.0)
+    with pytest.raises(TypeError, match="reduced must be a ReducedContact"):
+        stick_damping({"m_eff": 1.0}, 1.0)
+    with pytest.raises(ValueError, match=r"restitution must be a number in \(0, 1\)"):
+        damping_for_restitution(particle(), 1.0, 1.5)
+    own_damper = reduce_contact(sp.Matrix([[1.0]]), [-1.0 * v], x, [x], [v], {x: 0, v: 1}, 1, 0)
+    with pytest.raises(ValueError, match="not reachable"):  # d~ >= 1 > 0.5 sqrt(k m) already
+        damping_for_restitution(own_damper, 1.0, 0.9, "position")
+    with pytest.raises(ValueError, match="^k must"):
+        stick_damping(particle(), -1.0)
+    with pytest.raises(ValueError, match="^condition must"):
+        stick_damping(particle(), 1.0, "gap")
+    with pytest.raises(ValueError, match="^contact_time must"):
+        penalty_for_targets(particle(), restitution=0.5, contact_time=0.0)
+
+
+# ---------------------------------------------------------------------------------
+# presentation: formulas, figures, reproduce
+# ---------------------------------------------------------------------------------
+def test_latex_formulas_compile(tmp_path):
+    formulas = latex_formulas()
+    labels = [label for label, _, _ in formulas]
+    assert len(set(labels)) == len(labels)
+    assert all(body.count("{") == body.count("}") for _, _, body in formulas)
+    if shutil.which("pdflatex") is None:
+        pytest.skip("pdflatex is not installed")
+    doc = ["\\documentclass{article}", "\\usepackage{amsmath}", "\\begin{document}"]
+    for _, caption, body in formulas:
+        doc += [caption, "\\[", body, "\\]"]
+    doc.append("\\end{document}")
+    (tmp_path / "f.tex").write_text("\n".join(doc))
+    run = subprocess.run(
+        ["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "f.tex"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert run.returncode == 0, run.stdout[-2000:]
+
+
+def test_figures_return_their_axes():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from impactsym.plotting.multibody import plot_agreement, plot_convergence, plot_verdict_map
+    from impactsym.results.multibody import agreement_sweep
+
+    agreement = agreement_sweep(
+        falling_bar(),
+        omegas=(300.0,),
+        dampings=(0.1, 1.0),
+        forces=(0.2, 2.0),
+        steps=16,
+        tau_max=25.0,
+    )
+    for plot in (plot_agreement, plot_verdict_map):
+        fig, ax = plt.subplots()
+        assert plot(agreement, "force", ax=ax) is ax
+        plt.close(fig)
+    fig, ax = plt.subplots()
+    assert plot_convergence([1.0, 10.0], {"impulse": [0.1, 0.01]}, ax=ax) is ax
+    plt.close(fig)
+
+
+def test_reproduce_step_writes_its_files_without_scipy(tmp_path):
+    # `impactsym reproduce` must not need SciPy: block it and run the quick step
+    code = (
+        "import sys; sys.modules['scipy'] = None\n"
+        "import matplotlib; matplotlib.use('Agg')\n"
+        "from pathlib import Path\n"
+        "from impactsym.results.multibody import write\n"
+        f"files = write(Path({str(tmp_path)!r}), quick=True, progress=lambda m: None)\n"
+        "print('\\n'.join(sorted(p.name for p in files)))\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr[-3000:]
+    names = set(run.stdout.split())
+    for stem in (
+        "multibody_agreement",
+        "multibody_verdict_map",
+        "multibody_convergence",
+        "multibody_design",
+    ):
+        assert {f"{stem}.png", f"{stem}.pdf"} <= names
+    assert {
+        "multibody_agreement.csv",
+        "multibody_summary.json",
+        "multibody_reduced_equation.tex",
+    } <= names
+    summary = json.loads((tmp_path / "multibody_summary.json").read_text())
+    assert {row["system"] for row in summary["agreement"]} == {"bar", "pendulum"}
+    assert "\\tilde m" in (tmp_path / "multibody_reduced_equation.tex").read_text()

@@ -1,0 +1,188 @@
+"""Figures of the multibody penalty-contact analysis (paper section 3).
+
+Every function takes an optional Matplotlib ``ax`` and returns it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from impactsym.validation import check_condition
+
+_MARKERS = {
+    "impulse": ("o", "C0", "impulse projection $M^{-1} n_0$"),
+    "normal": ("x", "C3", "paper projection $n_0/(n_0^T n_0)$"),
+}
+
+
+def _axes(ax: Any) -> Any:
+    if ax is not None:
+        return ax
+    import matplotlib.pyplot as plt
+
+    return plt.figure(figsize=(5.0, 4.0)).add_subplot()
+
+
+def plot_agreement(agreement: Any, condition: str = "force", ax: Any = None) -> Any:
+    """Normalized contact time of the reduced model against the full simulation.
+
+    One point per sweep case and projection; cases where a model sticks are drawn on
+    the line "stick" beyond the simulated horizon.
+    """
+    check_condition(condition)
+    ax = _axes(ax)
+    omega = np.sqrt(agreement.k / agreement.m_eff)
+    stick = 1.08 * agreement.tau_max
+    full = agreement.t_full[condition] * omega
+    full = np.where(np.isfinite(full), full, stick)
+    for projection, (marker, color, label) in _MARKERS.items():
+        red = agreement.t_reduced[(projection, condition)] * omega
+        red = np.where(np.isfinite(red), red, stick)
+        hits = np.mean((full == stick) == (red == stick))
+        ax.scatter(
+            full,
+            red,
+            marker=marker,
+            color=color,
+            s=18,
+            alpha=0.7,
+            linewidths=1,
+            facecolors="none" if marker == "o" else color,
+            label=f"{label}: verdict {100 * hits:.0f} %",
+        )
+    top = stick * 1.05
+    ax.plot([0, top], [0, top], color="0.5", lw=0.8)
+    ax.axhline(agreement.tau_max, color="0.8", lw=0.8, ls="--")
+    ax.axvline(agreement.tau_max, color="0.8", lw=0.8, ls="--")
+    ax.set_xlim(0, top)
+    ax.set_ylim(0, top)
+    ticks = [t for t in ax.get_xticks() if t < agreement.tau_max]
+    ax.set_xticks([*ticks, stick], [f"{t:g}" for t in ticks] + ["stick"])
+    ax.set_yticks([*ticks, stick], [f"{t:g}" for t in ticks] + ["stick"])
+    ax.set_xlabel(r"full simulation $\sqrt{k/\tilde m}\; t_c$")
+    ax.set_ylabel(r"reduced model $\sqrt{k/\tilde m}\; t_c$")
+    ax.set_title(f"{agreement.example}: {condition} condition")
+    ax.legend(loc="upper left", fontsize="small")
+    return ax
+
+
+def plot_verdict_map(
+    agreement: Any, condition: str = "force", projection: str = "impulse", ax: Any = None
+) -> Any:
+    """Sweep points in the ``(f, D)`` plane of the reduced model, marked by the verdict
+    of the full simulation, over the section-2 stick boundary ``D*(f)``."""
+    check_condition(condition)
+    from impactsym.contact import stick_boundary
+
+    ax = _axes(ax)
+    D, f = agreement.D[projection], agreement.f[projection]
+    stick_full = ~np.isfinite(agreement.t_full[condition])
+    stick_red = ~np.isfinite(agreement.t_reduced[(projection, condition)])
+    ax.scatter(
+        f[~stick_full],
+        D[~stick_full],
+        s=18,
+        facecolors="none",
+        edgecolors="C0",
+        label="full model releases",
+    )
+    ax.scatter(f[stick_full], D[stick_full], s=18, color="C1", label="full model sticks")
+    wrong = stick_full != stick_red
+    if wrong.any():
+        ax.scatter(
+            f[wrong],
+            D[wrong],
+            s=60,
+            marker="x",
+            color="C3",
+            label=f"reduced verdict wrong ({wrong.sum()})",
+        )
+    f_line = np.geomspace(min(f.min(), 1e-2), max(f.max(), 10.0), 200)
+    ax.plot(
+        f_line,
+        stick_boundary(f_line, condition=condition),
+        color="k",
+        lw=1.2,
+        label=r"section 2: $D^*(f)$",
+    )
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_ylim(0.8 * D.min(), 1.25 * D.max())
+    ax.set_xlabel("$f$ (reduced)")
+    ax.set_ylabel("$D$ (reduced)")
+    ax.set_title(f"{agreement.example}: {condition} condition, {projection} projection")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_convergence(
+    omegas: Sequence[float],
+    errors: Mapping[str, Sequence[float]],
+    ax: Any = None,
+    *,
+    title: str = "",
+) -> Any:
+    """Relative contact-time error of the reduced model against ``omega0``, per projection."""
+    ax = _axes(ax)
+    w = np.asarray(omegas, dtype=float)
+    for projection, err in errors.items():
+        marker, color, label = _MARKERS.get(projection, ("s", "C2", projection))
+        ax.loglog(w, np.abs(np.asarray(err, dtype=float)), marker=marker, color=color, label=label)
+    ref = np.abs(np.asarray(next(iter(errors.values())), dtype=float))[0]
+    for order, style in ((1, ":"), (2, "--")):
+        ax.loglog(
+            w,
+            ref * (w[0] / w) ** order,
+            color="0.6",
+            ls=style,
+            lw=0.8,
+            label=rf"$\propto \omega_0^{{-{order}}}$",
+        )
+    ax.set_xlabel(r"$\omega_0 = \sqrt{\tilde c / \tilde m}$ [1/s]")
+    ax.set_ylabel("relative contact-time error")
+    ax.set_title(title)
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_design_region(
+    reduced: Any,
+    k: Any,
+    ax: Any = None,
+    *,
+    conditions: Sequence[str] = ("position", "force"),
+    restitutions: Sequence[float] = (),
+    restitution_condition: str = "force",
+    design: tuple[float, float] | None = None,
+) -> Any:
+    """Admissible penalty parameters of a reduced contact over the stiffnesses ``k``.
+
+    Draws the stick boundary ``d*(k)`` for each condition (release below, stick above),
+    optional iso-restitution curves ``d(k)`` under ``restitution_condition`` and a
+    design point.
+    """
+    from impactsym.penalty_design import damping_for_restitution, stick_damping
+
+    check_condition(restitution_condition)
+    ax = _axes(ax)
+    k = np.asarray(k, dtype=float)
+    for style, condition in zip(("-", "--"), conditions, strict=False):
+        check_condition(condition)
+        d_star = np.asarray(stick_damping(reduced, k, condition), dtype=float)
+        ax.plot(k, d_star, color="k", ls=style, label=f"stick boundary ({condition})")
+    for i, e in enumerate(restitutions):
+        d_e = damping_for_restitution(reduced, k, e, restitution_condition)
+        ax.plot(k, d_e, color=f"C{i}", lw=0.9, label=f"$e = {e:g}$ ({restitution_condition})")
+    if design is not None:
+        ax.plot(*design, marker="*", ms=12, color="C3", ls="none", label="design")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("penalty stiffness $k$")
+    ax.set_ylabel("penalty damping $d$")
+    ax.text(0.97, 0.95, "stick", transform=ax.transAxes, ha="right", va="top")
+    ax.text(0.97, 0.05, "release", transform=ax.transAxes, ha="right", va="bottom")
+    ax.legend(fontsize="small", loc="upper left")
+    return ax
