@@ -13,6 +13,7 @@ Progress = Callable[[str], None]
 #: Analyses in the order they are reproduced: (name, module with a ``write`` function).
 STEPS: tuple[tuple[str, str], ...] = (
     ("spring-damper contact (paper section 2)", "impactsym.results.contact"),
+    ("multibody penalty contact (paper section 3)", "impactsym.results.multibody"),
 )
 
 
