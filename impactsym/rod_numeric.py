@@ -565,11 +565,14 @@ def contact_time(alpha, f, condition="force", kappa=np.inf, *, t_max=None) -> fl
     (``condition="position"``, *Ortsbedingung*). Without such a crossing up to
     ``t_max`` the striker sticks and :math:`t_c = \infty`.
 
-    Each reflection interval :math:`[2m, 2m+2]` is sampled (spacing
-    :math:`\alpha/8`, and a quarter of the fastest contact time scale for finite
-    :math:`\kappa`), the first sign change is bracketed and polished with
-    :func:`impactsym.numeric.bracketed_newton`. Sign changes closer together than the
-    sampling step can be missed.
+    Each reflection interval :math:`[2m, 2m+2]` is sampled on a grid uniform in
+    :math:`\sqrt{\tau}`, fine enough for the Laguerre functions of order :math:`m`,
+    whose phase grows like :math:`2\sqrt{m x}`, :math:`x = 2\tau/\alpha`: right after
+    many reflections the force oscillates on a time scale :math:`\alpha/m` (about 16
+    samples per oscillation; the pole time scale stands in for :math:`\alpha` with
+    finite :math:`\kappa`). The first sign change is bracketed and polished with
+    :func:`impactsym.numeric.bracketed_newton`. Sign changes closer together than
+    the sampling step can be missed.
 
     Parameters
     ----------
@@ -619,13 +622,17 @@ def contact_time(alpha, f, condition="force", kappa=np.inf, *, t_max=None) -> fl
     limit = np.where(rigid, 100.0, 20.0) if horizon is None else np.full(a.size, horizon)
     n_intervals = int(np.ceil(limit.max() / 2.0)) if a.size else 0
     fn = _Pairs("N" if condition == "force" else "y", a, ff, k, n_intervals)
-    step = a / 8.0
+    # sampling grid uniform in sqrt(tau): on interval m the Laguerre functions of
+    # order <= m oscillate with phase ~ 2 sqrt(m x), x = 2 tau / alpha (and the
+    # pole time scale 1/|p| plays the part of alpha for finite kappa)
+    scale = a / 2.0
     if not rigid.all():
         for g, (ag, kg) in enumerate(fn.groups):
             if kg > 0:
                 model = _elastic_model("N", float(ag), float(kg), 1)
                 sel = fn.group == g
-                step[sel] = np.minimum(step[sel], 0.25 / model.fastest)
+                scale[sel] = np.minimum(scale[sel], 0.5 / model.fastest)
+    root_step = np.sqrt(scale) * np.pi / 16.0
     result = np.full(a.size, np.inf)
     active = np.arange(a.size)
     for m in range(n_intervals):
@@ -633,12 +640,13 @@ def contact_time(alpha, f, condition="force", kappa=np.inf, *, t_max=None) -> fl
         if active.size == 0:
             break
         length = np.minimum(2.0, limit[active] - 2.0 * m)
-        n_steps = np.clip(np.ceil(length / step[active]), 16, 4096).astype(np.int64)
+        du = root_step[active] / np.sqrt(m + 1.0)
+        n_steps = np.clip(np.ceil(np.sqrt(length) / du), 16, 8192).astype(np.int64)
         counts = n_steps + 1
         p = np.repeat(active, counts)
         first = np.cumsum(counts) - counts
         k_idx = np.arange(p.size) - np.repeat(first, counts)
-        tau = k_idx * np.repeat(length / n_steps, counts)
+        tau = np.repeat(length, counts) * (k_idx / np.repeat(n_steps, counts)) ** 2
         values = fn(tau, np.full(p.size, m), p)
         hit = (values <= 0) & (k_idx >= (1 if m == 0 else 0))
         position = np.where(hit, np.arange(p.size), p.size)
