@@ -310,6 +310,10 @@ def regime_of(damping: float) -> str:
 def latex_formulas() -> list[tuple[str, str, str]]:
     r"""``(label, caption, LaTeX body)`` of the section-2 results, for documents.
 
+    The boundary equations are written as :math:`0 = g(\tau_r, D, f)` with the
+    closed-form :math:`\tau_r` of the preceding ridge equation (the fully substituted
+    form is :attr:`SpringDamperContact.boundary`).
+
     >>> label, caption, body = latex_formulas()[0]
     >>> label, body.split(",")[0]
     ('sd-ode', "z'' + 2 D z' + z = 2 D f")
@@ -328,11 +332,12 @@ def latex_formulas() -> list[tuple[str, str, str]]:
             "Contact functions of the position and force conditions",
             r"g_\mathrm{position} = z, \qquad g_\mathrm{force} = 2 D z' + z",
         ),
-        ("sd-z-under", "Solution, under-damped (D < 1)", "z = " + under.latex("z")),
-        ("sd-z-critical", "Solution, critically damped (D = 1)", "z = " + critical.latex("z")),
-        ("sd-z-over", "Solution, over-damped (D > 1)", "z = " + over.latex("z")),
+        ("sd-z-under", "Solution, under-damped ($D < 1$)", "z = " + under.latex("z")),
+        ("sd-z-critical", "Solution, critically damped ($D = 1$)", "z = " + critical.latex("z")),
+        ("sd-z-over", "Solution, over-damped ($D > 1$)", "z = " + over.latex("z")),
     ]
-    names = {"underdamped": "D < 1", "critical": "D = 1", "overdamped": "D > 1"}
+    names = {"underdamped": "$D < 1$", "critical": "$D = 1$", "overdamped": "$D > 1$"}
+    tau_r = sp.Symbol("tau_r")
     for condition in CONDITIONS:
         for regime, model in (("underdamped", under), ("critical", critical), ("overdamped", over)):
             exists = model.ridge_exists[condition]
@@ -346,13 +351,12 @@ def latex_formulas() -> list[tuple[str, str, str]]:
                     r"\tau_r = " + model.latex("ridge_time", condition),
                 )
             )
-            if regime != "critical":
-                items.append(
-                    (
-                        f"sd-boundary-{condition}-{regime}",
-                        f"Stick/release boundary G(D, f) = g(tau_r(D, f), D, f) = 0, "
-                        f"{condition} condition, {names[regime]}",
-                        "0 = " + model.latex("boundary", condition),
-                    )
+            items.append(
+                (
+                    f"sd-boundary-{condition}-{regime}",
+                    f"Stick/release boundary $G(D, f) = g(\\tau_r(D, f), D, f) = 0$, {condition} "
+                    f"condition, {names[regime]}, with $\\tau_r$ from the ridge equation above",
+                    "0 = " + sp.latex(model.g[condition].subs(tau, tau_r)),
                 )
+            )
     return items

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import json
 from collections.abc import Callable
 from pathlib import Path
@@ -11,32 +10,25 @@ import numpy as np
 
 from impactsym.contact import contact_time, restitution, stick_boundary
 from impactsym.oscillator import latex_formulas
+from impactsym.results.files import save_figure, write_csv
 
 CONDITIONS = ("position", "force")
 
-
-def save_figure(ax, out: Path, stem: str) -> list[Path]:
-    """Save the figure of ``ax`` as PNG and PDF, close it, return both paths."""
-    import matplotlib.pyplot as plt
-
-    fig = ax.figure
-    fig.tight_layout()
-    paths = [out / f"{stem}.png", out / f"{stem}.pdf"]
-    for path in paths:
-        # a fixed creation date keeps the PDF byte-for-byte reproducible
-        fig.savefig(
-            path, dpi=150, metadata={"CreationDate": None} if path.suffix == ".pdf" else None
-        )
-    plt.close(fig)
-    return paths
-
-
-def write_csv(path: Path, header: list[str], rows) -> Path:
-    with path.open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(header)
-        writer.writerows([[f"{v:.17g}" for v in row] for row in rows])
-    return path
+CAPTIONS = {
+    "fig1a_contact_surface_force": "Paper Fig. 1a: the implicit surface g(tau, D, f) = 0 of the "
+    "force condition; lower sheet = contact time, upper sheet = g rising through zero again; "
+    "they meet along the fold dg/dtau = 0, beyond which the body sticks.",
+    "fig1a_contact_surface_position": "Fig. 1a for the position condition (contact while z > 0).",
+    "fig1b_stick_boundary": "Paper Fig. 1b: the stick/release boundaries D*(f) of both "
+    "conditions; the body releases to the left of a curve and sticks to the right.",
+    "contact_time_map": "Normalized contact time tau_c over the D-f plane; grey where the "
+    "body sticks, black line: stick boundary.",
+    "restitution_map": "Coefficient of restitution e = -z'(tau_c) over the D-f plane; grey "
+    "where the body sticks.",
+    "stick_boundary.csv": "D*(f) for both conditions (f = 0 first: D* = 1 and inf).",
+    "contact_times": "Contact time and restitution on a 31 x 21 grid of (D, f).",
+    "spring_damper_formulas.json": "LaTeX of the section-2 formulas with labels and captions.",
+}
 
 
 def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Path]:

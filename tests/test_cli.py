@@ -1,0 +1,84 @@
+"""The command line: reproduce (quick), latex, export; clear errors and exit codes."""
+
+from __future__ import annotations
+
+import hashlib
+import subprocess
+import sys
+
+import pytest
+
+from impactsym.cli import main
+
+
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("reproduce") / "out"
+    assert main(["reproduce", "--out", str(out), "--quick"]) == 0
+    return out
+
+
+def test_quick_reproduce_writes_every_kind_of_result(quick_run):
+    names = {p.name for p in quick_run.iterdir()}
+    for expected in (
+        "fig1a_contact_surface_force.png",
+        "fig1b_stick_boundary.pdf",
+        "stick_boundary.csv",
+        "formulas.tex",
+        "impactsym_numpy.py",
+        "report.md",
+        "index.html",
+    ):
+        assert expected in names
+    assert any(n.startswith("rod") and n.endswith(".png") for n in names)
+    report = (quick_run / "report.md").read_text()
+    assert "![fig1b_stick_boundary](fig1b_stick_boundary.png)" in report
+    assert "Paper Fig. 1b" in report
+
+
+def test_reproduce_is_deterministic(quick_run, tmp_path):
+    again = tmp_path / "again"
+    assert main(["reproduce", "--out", str(again), "--quick"]) == 0
+
+    def digest(path):
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+
+    first = {p.name: digest(p) for p in quick_run.iterdir()}
+    second = {p.name: digest(p) for p in again.iterdir()}
+    assert first.keys() == second.keys()
+    differing = sorted(n for n in first if first[n] != second[n])
+    assert differing == []
+
+
+def test_reproduce_refuses_to_clobber_without_force(tmp_path, capsys):
+    (tmp_path / "keep.txt").write_text("mine")
+    assert main(["reproduce", "--out", str(tmp_path), "--quick"]) == 2
+    assert "pass --force" in capsys.readouterr().err
+    assert (tmp_path / "keep.txt").exists()
+
+
+def test_latex_prints_one_formula_and_rejects_unknown_names(capsys):
+    assert main(["latex", "sd-ridge-force-critical"]) == 0
+    assert capsys.readouterr().out.strip() == "\\tau_r = \\frac{4 f - 3}{2 f - 1}"
+    assert main(["latex", "--list"]) == 0
+    assert "rod-eq2" in capsys.readouterr().out.split()
+    assert main(["latex", "no-such-formula"]) == 2
+    assert "no formula named" in capsys.readouterr().err
+
+
+def test_export_python_writes_an_importable_module(tmp_path):
+    target = tmp_path / "exported.py"
+    assert main(["export", "python", str(target)]) == 0
+    assert "def contact_function_force" in target.read_text()
+    assert main(["export", "python", str(tmp_path / "missing" / "x.py")]) == 2
+
+
+def test_python_dash_m_entry_point(tmp_path):
+    run = subprocess.run(
+        [sys.executable, "-m", "impactsym", "latex", "sd-ode"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert run.returncode == 0
+    assert run.stdout.startswith("z''")

@@ -1,0 +1,119 @@
+"""Generated LaTeX compiles; the generated NumPy module works without SymPy or impactsym."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from impactsym import contact_time
+from impactsym.contact import _kernels
+from impactsym.export import formula, formula_names, latex_document, python_module
+from impactsym.results.documents import LatexError, compile_latex
+from impactsym.rod import contact_force, displacement
+
+needs_latex = pytest.mark.skipif(
+    shutil.which("pdflatex") is None and not os.environ.get("CI"),
+    reason="pdflatex not installed (CI installs it and runs this test)",
+)
+
+
+@needs_latex
+def test_formulas_document_compiles_with_pdflatex(tmp_path):
+    tex = tmp_path / "formulas.tex"
+    tex.write_text(latex_document())
+    pdf = compile_latex(tex, tmp_path)
+    assert pdf.read_bytes().startswith(b"%PDF")
+    for name in ("rod-eq2", "sd-ridge-force-underdamped", "mb-reduced"):
+        assert f"\\label{{eq:{name}}}" in tex.read_text()
+
+
+@needs_latex
+def test_a_latex_error_is_reported_not_ignored(tmp_path):
+    tex = tmp_path / "broken.tex"
+    tex.write_text("\\documentclass{article}\\begin{document}$\\frac{1}{$\\end{document}\n")
+    with pytest.raises(LatexError, match="pdflatex failed"):
+        compile_latex(tex, tmp_path)
+
+
+def test_every_formula_is_labelled_and_retrievable():
+    names = formula_names()
+    assert len(names) == len(set(names))
+    assert formula("sd-ridge-force-critical") == "\\tau_r = \\frac{4 f - 3}{2 f - 1}"
+    with pytest.raises(ValueError, match="no formula named 'nope'"):
+        formula("nope")
+
+
+PROBE = r"""
+import json, sys
+sys.modules["sympy"] = None      # importing SymPy or impactsym now fails
+sys.modules["impactsym"] = None
+sys.path.insert(0, sys.argv[1])
+import numpy as np
+import impactsym_numpy as m
+points = json.loads(sys.argv[2])
+t, D, f, tau = (np.array(points[k]) for k in ("t", "D", "f", "tau"))
+print(json.dumps({
+    "g_position": m.contact_function_position(tau, D, f).tolist(),
+    "g_force": m.contact_function_force(tau, D, f).tolist(),
+    "ridge_force": np.nan_to_num(m.ridge_time_force(D, f), nan=-1.0).tolist(),
+    "boundary_force": m.boundary_force(D, f).tolist(),
+    "boundary_position": m.boundary_position(D, f).tolist(),
+    "y": m.rod_displacement(t, 2.0, 0.5).tolist(),
+    "N": m.rod_contact_force(t, 0.3, 1.0).tolist(),
+}))
+"""
+
+
+def test_generated_module_runs_without_sympy_and_matches_the_package(tmp_path):
+    (tmp_path / "impactsym_numpy.py").write_text(python_module())
+    rng = np.random.default_rng(3)
+    D = np.concatenate([rng.uniform(0, 3, 30), [0.0, 1.0, 1.0 + 1e-9]])
+    f = rng.uniform(0, 2, D.size)
+    tau = rng.uniform(0, 8, D.size)
+    t = np.linspace(-1, 60, 200)
+    points = {"t": t.tolist(), "D": D.tolist(), "f": f.tolist(), "tau": tau.tolist()}
+    run = subprocess.run(
+        [sys.executable, "-c", PROBE, str(tmp_path), json.dumps(points)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    got = {k: np.array(v) for k, v in json.loads(run.stdout).items()}
+    for condition in ("position", "force"):
+        k = _kernels(condition)
+        np.testing.assert_allclose(got[f"g_{condition}"], k.g(tau, D, f), rtol=1e-13, atol=1e-15)
+    # the sign of the exported boundary function decides sticking as the package does
+    for condition in ("position", "force"):
+        sticks = np.isinf(contact_time(D, f, condition))
+        assert np.array_equal(got[f"boundary_{condition}"] >= 0, sticks)
+    # ridge times: where the package finds a minimum, the exported one is the same time
+    from impactsym.contact import contact_surface
+
+    _, _, ridge = contact_surface(D, f, "force")
+    exported = got["ridge_force"]
+    np.testing.assert_allclose(exported[~np.isnan(ridge)], ridge[~np.isnan(ridge)], rtol=1e-13)
+    assert np.all(exported[np.isnan(ridge)] == -1.0)
+    np.testing.assert_allclose(got["y"], displacement(t, 2.0, 0.5), atol=1e-10)
+    np.testing.assert_allclose(got["N"], contact_force(t, 0.3, 1.0), atol=1e-10)
+
+
+def test_generated_module_is_valid_python_with_docstrings():
+    source = python_module()
+    namespace: dict = {}
+    exec(compile(source, "impactsym_numpy.py", "exec"), namespace)
+    for name in (
+        "contact_function_force",
+        "ridge_time_position",
+        "boundary_force",
+        "rod_displacement",
+        "rod_contact_force",
+    ):
+        doc = namespace[name].__doc__
+        assert doc
+        assert "paper" in doc.lower() or "eq" in doc.lower()
