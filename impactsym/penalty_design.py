@@ -113,8 +113,20 @@ def stick_damping(reduced: ReducedContact, k: Any, condition: str = "force") -> 
         D = D^*\!\left(\frac{\beta(k)}{2D}\right), \qquad
         d^* = 2 D \tilde m \omega_0 - \Delta d .
 
-    ``inf`` where no damping sticks (force condition without load); a negative ``d*``
-    means that the contact sticks already for ``d = 0``.
+    Parameters
+    ----------
+    reduced
+        A numeric reduction of one impact state (its ``k``, ``d`` are not used).
+    k
+        Penalty stiffness (number or array, ``> 0``).
+    condition
+        ``"position"`` or ``"force"``.
+
+    Returns
+    -------
+    float or ndarray
+        ``d*`` for each ``k``: ``inf`` where no damping sticks (force condition without
+        load); negative where the contact sticks already for ``d = 0``.
 
     >>> import sympy as sp
     >>> from impactsym.multibody import reduce_contact
@@ -168,6 +180,23 @@ def damping_for_restitution(
         \frac{F_n}{(d + \Delta d) v_0}\right) = e_{\mathrm{target}},
 
     where ``e`` falls with ``d`` and drops to 0 where the contact sticks.
+
+    Parameters
+    ----------
+    reduced
+        A numeric reduction of one impact state.
+    k
+        Penalty stiffness (number or array, ``> 0``).
+    restitution
+        Target coefficient of restitution in ``(0, 1)``.
+    condition
+        ``"position"`` or ``"force"``.
+
+    Returns
+    -------
+    float or ndarray
+        The damping ``d`` for each ``k``. A target above the restitution at the least
+        damping raises ``ValueError``.
 
     >>> import sympy as sp
     >>> from impactsym.multibody import reduce_contact
@@ -245,6 +274,23 @@ def penalty_for_targets(
 
         e(D, f) = e_{\mathrm{target}}, \qquad
         \frac{\tau_c(D, f)}{\omega_0} = t_{\mathrm{target}} .
+
+    Parameters
+    ----------
+    reduced
+        A numeric reduction of one impact state.
+    restitution
+        Target coefficient of restitution in ``(0, 1)``.
+    contact_time
+        Target physical contact time (``> 0``).
+    condition
+        ``"position"`` or ``"force"``.
+
+    Returns
+    -------
+    (k, d)
+        Penalty stiffness and damping; ``ValueError`` if no stiffness within six
+        decades around ``m~ (pi / t)^2`` meets both targets.
 
     >>> import sympy as sp
     >>> from impactsym.multibody import reduce_contact

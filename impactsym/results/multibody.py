@@ -45,7 +45,11 @@ class MultibodyExample:
     direction: tuple[float, ...]
 
     def at(self, speed: float) -> dict[sp.Symbol, float]:
-        """The impact state for the velocity ``speed * direction``."""
+        """The impact state for the velocity ``speed * direction``.
+
+        >>> falling_bar().at(2.0)[sp.Symbol("v_y")]
+        -2.0
+        """
         state = dict(zip(self.q, self.q0, strict=True))
         state.update({u: speed * c for u, c in zip(self.qd, self.direction, strict=True)})
         return state
@@ -59,7 +63,13 @@ class MultibodyExample:
         projection: str = "impulse",
         simplify: bool = True,
     ) -> ReducedContact:
-        """The reduced contact oscillator at impact speed ``speed``."""
+        """The reduced contact oscillator at impact speed ``speed`` (see
+        :func:`impactsym.multibody.reduce_contact`).
+
+        >>> r = falling_bar().reduce(1e4, 10.0, 0.5)
+        >>> round(r.m_eff, 6), round(r.load, 4)  # 4/13 kg; load: weight and drag, reduced
+        (0.307692, 5.5214)
+        """
         return reduce_contact(
             self.M,
             self.F,
@@ -83,11 +93,17 @@ def falling_bar(
     drag: float = 0.5,
     rotational_drag: float = 2.0,
 ) -> MultibodyExample:
-    """A rigid bar (centre ``x, y``, angle ``theta``) falling onto its lower end.
+    r"""A rigid bar (centre ``x, y``, angle ``theta``) falling onto its lower end.
 
     The end at ``(x, y) - L/2 (cos theta, sin theta)`` hits the ground ``y = 0``; viscous
     drag ``drag * v`` on the centre and ``rotational_drag * theta'`` on the rotation. The
-    bar falls straight down at the impact angle; ``m~ = m / (1 + 3 cos^2 theta)``.
+    bar falls straight down at the impact angle.
+
+    .. math:: \tilde m = \frac{m}{1 + 3\cos^2\vartheta}
+
+    >>> bar = falling_bar()
+    >>> round(bar.reduce().m_eff * 13 / 4, 12)  # theta = 30 degrees: m~ = 4 m / 13
+    1.0
     """
     x, y, th = sp.symbols("x y theta")
     vx, vy, om = sp.symbols("v_x v_y omega")
@@ -111,12 +127,18 @@ def double_pendulum(
     joint_rest: tuple[float, float] = (1.5, 1.382),
     joint_damping: tuple[float, float] = (1.0, 0.5),
 ) -> MultibodyExample:
-    """A double pendulum with elastic, damped joints whose tip strikes a vertical wall.
+    r"""A double pendulum with elastic, damped joints whose tip strikes a vertical wall.
 
     Absolute link angles ``q1, q2`` from the downward vertical, point masses at the
     link ends, torsional springs and dampers at the shoulder (``q1``) and the elbow
     (``q2 - q1``); the wall ``x = l1 sin a1 + l2 sin a2`` is placed where the tip is at
     the impact angles ``a1, a2``. The links swing together (``q1' = q2'``).
+
+    .. math:: g(q) = l_1 \sin q_1 + l_2 \sin q_2 - x_{\mathrm{wall}}
+
+    >>> pendulum = double_pendulum()
+    >>> round(pendulum.reduce().m_eff, 6)  # between the tip mass 0.5 and the total 1.5
+    0.92423
     """
     q1, q2 = sp.symbols("q1 q2")
     u1, u2 = sp.symbols("u1 u2")
@@ -148,7 +170,11 @@ def double_pendulum(
 
 
 def examples() -> tuple[MultibodyExample, MultibodyExample]:
-    """The two systems of the agreement study: :func:`falling_bar`, :func:`double_pendulum`."""
+    """The two systems of the agreement study: :func:`falling_bar`, :func:`double_pendulum`.
+
+    >>> [example.name for example in examples()]
+    ['bar', 'pendulum']
+    """
     return falling_bar(), double_pendulum()
 
 
@@ -324,6 +350,10 @@ def reduce_at_speeds(
 
     The reduction is derived once with a symbolic speed and evaluated on ``speeds``;
     ``k = 1``, ``d = 0`` are placeholders for :meth:`ReducedContact.with_penalty`.
+
+    >>> r = reduce_at_speeds(falling_bar(), [0.1, 1.0])
+    >>> r.v0.tolist()
+    [0.1, 1.0]
     """
     s = sp.Symbol("s", positive=True)
     r = example.reduce(1.0, 0.0, s, projection=projection, simplify=False)
@@ -425,15 +455,24 @@ def agreement_sweep(
     tau_max: float = 40.0,
     steps: int = 50,
 ) -> Agreement:
-    """Sweep ``(k, d, speed)`` and compare the reduced model with the full simulation.
+    r"""Sweep ``(k, d, speed)`` and compare the reduced model with the full simulation.
 
     The grid is set by targets for the reduced oscillator: angular frequencies
     ``omegas`` give ``k = m~ omega^2``, damping ratios ``dampings`` give
     ``d = 2 D m~ omega``, and normalized loads ``forces`` give the impact speed
     ``v = m~ a / (d f)`` (``a`` the normal acceleration of the free system at rest).
     The reduced ``D``, ``f`` then differ from the targets by the system's own forces.
+
+    .. math:: k = \tilde m \omega^2, \quad d = 2 D \tilde m \omega, \quad
+              v = \frac{\tilde m a}{d f}
+
     Grid points with ``v > max_speed`` (in the units of the example's speeds) are left
     out: the reduction is an impact model, not one for large configuration changes.
+
+    >>> a = agreement_sweep(double_pendulum(), omegas=(1000.0,), dampings=(0.1,),
+    ...                     forces=(0.5,), steps=20)
+    >>> [(row["projection"], row["condition"], row["hit_rate"]) for row in a.summary()][:2]
+    [('impulse', 'position', 1.0), ('impulse', 'force', 1.0)]
     """
     m_eff = example.reduce().m_eff
     rest = reduce_at_speeds(example, [1e-9]).load / m_eff
@@ -485,6 +524,10 @@ def convergence_study(
     speed is chosen for the target ``f`` as in :func:`agreement_sweep` (so ``v`` falls as
     ``1/omega``). Returns ``{"omega": ..., "impulse": ..., "normal": ...}`` with the
     signed relative errors ``t_reduced / t_full - 1``.
+
+    >>> conv = convergence_study(double_pendulum(), [1000.0], steps=20)
+    >>> bool(abs(conv["impulse"][0]) < abs(conv["normal"][0]) < 1e-3)
+    True
     """
     check_condition(condition)
     omegas_arr = np.asarray(omegas, dtype=float)
@@ -504,7 +547,7 @@ def convergence_study(
 # ---------------------------------------------------------------------------------
 # the reproduce step
 # ---------------------------------------------------------------------------------
-def design_example(example: MultibodyExample | None = None) -> dict[str, Any]:
+def _design_example(example: MultibodyExample | None = None) -> dict[str, Any]:
     """The worked penalty design: the bar at 0.5 m/s should release with ``e = 0.5``
     after 2 ms under the force condition; the full simulation checks the design."""
     from impactsym.penalty_design import penalty_for_targets, stick_damping
@@ -562,23 +605,24 @@ def write(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
         convergence[example.name] = convergence_study(example, omegas, steps=20 if quick else 50)
 
     def save(fig: Any, stem: str) -> None:
+        fig.tight_layout()  # once for both files (a layout engine would redo it per file)
         for suffix in (".png", ".pdf"):
             path = out / f"{stem}{suffix}"
             fig.savefig(path, dpi=150)
             written.append(path)
         plt.close(fig)
 
-    fig, axes = plt.subplots(2, 2, figsize=(10, 9), layout="constrained")
+    fig, axes = plt.subplots(2, 2, figsize=(10, 9))
     for row, agreement in zip(axes, agreements, strict=True):
         for ax, condition in zip(row, ("position", "force"), strict=True):
             plot_agreement(agreement, condition, ax=ax)
     save(fig, "multibody_agreement")
-    fig, axes = plt.subplots(2, 2, figsize=(10, 9), layout="constrained")
+    fig, axes = plt.subplots(2, 2, figsize=(10, 9))
     for row, agreement in zip(axes, agreements, strict=True):
         for ax, condition in zip(row, ("position", "force"), strict=True):
             plot_verdict_map(agreement, condition, ax=ax)
     save(fig, "multibody_verdict_map")
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), layout="constrained")
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
     for ax, (name, conv) in zip(axes, convergence.items(), strict=True):
         plot_convergence(
             conv["omega"],
@@ -589,9 +633,9 @@ def write(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
     save(fig, "multibody_convergence")
 
     progress("penalty design example")
-    design = design_example()
+    design = _design_example()
     bar = falling_bar().reduce(1.0, 0.0, design["speed"])
-    fig, ax = plt.subplots(figsize=(6, 4.5), layout="constrained")
+    fig, ax = plt.subplots(figsize=(6, 4.5))
     k_line = design["k"] * np.geomspace(0.1, 10.0, 5 if quick else 40)
     plot_design_region(
         bar,
