@@ -44,8 +44,8 @@ def formulas(n_terms: int = 3) -> list[tuple[str, list[Formula]]]:
 def formula(name: str, n_terms: int = 3) -> str:
     r"""The LaTeX body of the formula labelled ``name`` (see :func:`formula_names`).
 
-    >>> formula("sd-conditions")
-    'g_\\mathrm{position} = z, \\qquad g_\\mathrm{force} = 2 D z\' + z'
+    >>> print(formula("sd-conditions"))
+    g_\mathrm{position} = z, \qquad g_\mathrm{force} = 2 D z' + z
     """
     for _, items in formulas(n_terms):
         for label, _, body in items:
