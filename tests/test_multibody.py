@@ -11,6 +11,8 @@ import sys
 import numpy as np
 import pytest
 import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from mb_systems import FullSimulation, Model, bar_system, pendulum_kane
 from scipy.integrate import solve_ivp
 from sympy.physics import mechanics as me
@@ -624,3 +626,69 @@ def test_reproduce_step_writes_its_files_without_scipy(tmp_path):
     summary = json.loads((tmp_path / "multibody_summary.json").read_text())
     assert {row["system"] for row in summary["agreement"]} == {"bar", "pendulum"}
     assert "\\tilde m" in (tmp_path / "multibody_reduced_equation.tex").read_text()
+
+
+# ---------------------------------------------------------------------------------
+# properties over random linear systems
+# ---------------------------------------------------------------------------------
+def random_system(seed, n):
+    rng = np.random.default_rng(seed)
+    A = rng.normal(size=(n, n))
+    M = A @ A.T + n * np.eye(n)
+    C, K = rng.normal(size=(n, n)), rng.normal(size=(n, n))
+    return M, C + C.T, K + K.T, rng.normal(size=n), rng.normal(size=n), rng.normal(size=n)
+
+
+def linear_reduction(M, C, K, F0, normal, u0, projection):
+    n = len(normal)
+    q, u = sp.symbols(f"q0:{n}"), sp.symbols(f"u0:{n}")
+    force = sp.Matrix(F0) - sp.Matrix(C) * sp.Matrix(u) - sp.Matrix(K) * sp.Matrix(q)
+    g = sum(c * s for c, s in zip(normal, q, strict=True))
+    at = {**dict.fromkeys(q, 0.0), **dict(zip(u, u0, strict=True))}
+    return reduce_contact(M, force, g, q, u, at, 1e3, 1.0, projection=projection)
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(2, 3))
+def test_impulse_reduction_is_invariant_under_a_change_of_coordinates(seed, n):
+    # q = T p: M -> T^T M T, C -> T^T C T, K -> T^T K T, F -> T^T F, n0 -> T^T n0, and
+    # p0' = T^-1 q0'. The physics (and every reduced quantity) must not change.
+    M, C, K, F0, normal, u0 = random_system(seed, n)
+    T = np.eye(n) + 0.4 * np.random.default_rng(seed + 1).normal(size=(n, n))
+    u0 = u0 * np.sign(normal @ u0) + normal / np.linalg.norm(normal)  # approach: v0 > 0
+    a = linear_reduction(M, C, K, F0, normal, u0, "impulse")
+    b = linear_reduction(
+        T.T @ M @ T,
+        T.T @ C @ T,
+        T.T @ K @ T,
+        T.T @ F0,
+        T.T @ normal,
+        np.linalg.solve(T, u0),
+        "impulse",
+    )
+    for name in ("m_eff", "d_eff", "c_eff", "load", "v0"):
+        assert getattr(b, name) == pytest.approx(getattr(a, name), rel=1e-9, abs=1e-9)
+    # m~ is the least "mass" x^T M x over the motions x with n0^T x = 1, reached along P
+    x = np.random.default_rng(seed + 2).normal(size=n)
+    x = x / (normal @ x)
+    assert x @ M @ x >= a.m_eff * (1 - 1e-12)
+    assert a.direction @ M @ a.direction == pytest.approx(a.m_eff, rel=1e-12)
+    assert normal @ a.direction == pytest.approx(1.0, rel=1e-12)
+
+
+def test_paper_projection_is_not_invariant_under_a_change_of_coordinates():
+    M, C, K, F0, normal, u0 = random_system(7, 3)
+    u0 = u0 * np.sign(normal @ u0) + normal
+    T = np.diag([1.0, 10.0, 0.1])  # e.g. metres to decimetres in one coordinate
+    a = linear_reduction(M, C, K, F0, normal, u0, "normal")
+    b = linear_reduction(
+        T.T @ M @ T,
+        T.T @ C @ T,
+        T.T @ K @ T,
+        T.T @ F0,
+        T.T @ normal,
+        np.linalg.solve(T, u0),
+        "normal",
+    )
+    assert b.m_eff == pytest.approx(a.m_eff, rel=1e-12)  # the effective mass is invariant
+    assert abs(b.d_eff / a.d_eff - 1) > 1e-3
