@@ -584,6 +584,8 @@ def _from_model(model: Any) -> _System:
     q_items, Q = _dummies(q, "model.q", "Q")
     u_items, U = _dummies(speeds, "model.u", "U")
     rename = dict(zip(u_items, U, strict=True)) | dict(zip(q_items, Q, strict=True))
+    # where a speed is a coordinate rate (u = q'), the impact state may also give q'
+    rename |= {rate: rename[u] for rate, u in kin.items() if u in rename}
     qdot = sp.Matrix([kin[qi.diff(t)] for qi in q_items]) if kin else sp.Matrix(u_items)
     return _System(
         M=sp.Matrix(M).xreplace(kin).xreplace(rename),

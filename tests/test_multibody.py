@@ -151,6 +151,17 @@ def test_mechanics_models_reduce_like_hand_written_matrices(model, example, proj
     b = ex.reduce(1e4, 5.0, 0.3, projection=projection)
     for name in ("m_eff", "d_eff", "c_eff", "load", "v0"):
         assert getattr(a, name) == pytest.approx(getattr(b, name), rel=1e-12, abs=1e-12)
+    # with u = q' the impact state may name the coordinate rates instead of the speeds
+    rates = {qi.diff(): mod.at(0.3)[ui] for qi, ui in zip(mod.q, mod.u, strict=True)}
+    c = reduce_contact(
+        mod.model,
+        mod.g,
+        dict(zip(mod.q, mod.q0, strict=True)) | rates,
+        1e4,
+        5.0,
+        projection=projection,
+    )
+    assert c.v0 == pytest.approx(b.v0, rel=1e-12)
 
 
 def test_kanes_method_with_generalized_speeds_other_than_qdot():
