@@ -32,12 +32,21 @@ from impactsym.laplace import (
     geometric_delay_series,
     invert_delay_series,
 )
-from impactsym.rod_numeric import contact_force, contact_time, displacement, numpy_source
+from impactsym.rod_numeric import (
+    ContactTimeMap,
+    contact_force,
+    contact_time,
+    contact_time_map,
+    displacement,
+    numpy_source,
+)
 
 __all__ = [
+    "ContactTimeMap",
     "RodImpact",
     "contact_force",
     "contact_time",
+    "contact_time_map",
     "displacement",
     "latex_formulas",
     "numpy_source",
@@ -414,27 +423,29 @@ def latex_formulas(n_terms: int = 3) -> list[tuple[str, str, str]]:
                 )
             )
     for name, label in (("Y", "eq2"), ("N", "N-series")):
-        terms = rigid.series(name, n_terms)
-        body = " + ".join(
-            sp.latex(c) + (rf" \Delta^{{{sp.latex(d)}}}" if d != 0 else "") for d, c in terms
-        )
+        body = ""
+        for d, c in rigid.series(name, n_terms):
+            sign = " - " if c.could_extract_minus_sign() else " + "
+            term = sp.latex(-c if sign == " - " else c)
+            term += rf" \Delta^{{{sp.latex(d)}}}" if d != 0 else ""
+            body += (("-" if sign == " - " else "") + term) if not body else sign + term
         caption = (
             "Eq. (2): displacement series of the striker, rigid contact, Delta = exp(-s)."
             if name == "Y"
             else "Contact force series, rigid contact, Delta = exp(-s)."
         )
         out.append((f"rod-{label}", caption, f"{name}(s) = {body} + \\dots"))
-    for name in ("Y", "N"):
+    for name, symbol in (("Y", "y"), ("N", "N")):
         terms = rigid.time_terms(name, n_terms)
         lines = r" \\ ".join(
-            rf"g_{{{k}}}(t) &= {sp.latex(g)} \quad (t \ge {sp.latex(d)})"
+            rf"{symbol}_{{{k}}}(t) &= {sp.latex(g)} \quad (t \ge {sp.latex(d)})"
             for k, (d, g) in enumerate(terms)
         )
         out.append(
             (
                 f"rod-{name}-time-terms",
-                f"First inverted terms of {name}, rigid contact: the quantity is the sum of "
-                "g_k(t - T_k) over arrived terms.",
+                f"First inverted terms of {name}, rigid contact: {symbol}(t) is the sum of "
+                f"{symbol}_k(t - 2k) over the reflections that have arrived (2k <= t).",
                 r"\begin{aligned}" + lines + r"\end{aligned}",
             )
         )

@@ -46,6 +46,7 @@ with mpmath at the precision the bound asks for.
 from __future__ import annotations
 
 import inspect
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -53,7 +54,14 @@ import numpy as np
 from impactsym.numeric import bracketed_newton
 from impactsym.validation import check_condition, finish, real_array
 
-__all__ = ["contact_force", "contact_time", "displacement", "numpy_source"]
+__all__ = [
+    "ContactTimeMap",
+    "contact_force",
+    "contact_time",
+    "contact_time_map",
+    "displacement",
+    "numpy_source",
+]
 
 #: Absolute error allowed for the float path of the finite-stiffness evaluation.
 _TOLERANCE = 1e-12
@@ -668,6 +676,76 @@ def contact_time(alpha, f, condition="force", kappa=np.inf, *, t_max=None) -> fl
             result[pp] = 2.0 * m + root
         active = active[~found]
     return finish(result.reshape(shape), a_scalar and f_scalar and k_scalar)
+
+
+@dataclass(frozen=True)
+class ContactTimeMap:
+    """Contact times of both conditions over an ``alpha``-``f`` grid.
+
+    Attributes
+    ----------
+    alpha, f : numpy.ndarray
+        The grid axes (1-D).
+    force, position : numpy.ndarray
+        Contact times, shape ``(len(f), len(alpha))``; ``inf`` where the striker sticks.
+    kappa, t_max : float
+        Contact stiffness and search horizon used.
+    """
+
+    alpha: np.ndarray
+    f: np.ndarray
+    force: np.ndarray
+    position: np.ndarray
+    kappa: float
+    t_max: float
+
+    @property
+    def ratio(self) -> np.ndarray:
+        """``position / force`` where both release, NaN where either sticks."""
+        both = np.isfinite(self.force) & np.isfinite(self.position)
+        out = np.full(self.force.shape, np.nan)
+        out[both] = self.position[both] / self.force[both]
+        return out
+
+    def rows(self) -> list[tuple[float, ...]]:
+        """``(alpha, f, t_force, t_position, ratio)`` per grid point, for tables."""
+        A, F = np.meshgrid(self.alpha, self.f)
+        columns = (A, F, self.force, self.position, self.ratio)
+        return list(zip(*(c.ravel().tolist() for c in columns), strict=True))
+
+    def plot(self, axes=None):
+        """Maps of both contact times and their ratio (see
+        :func:`impactsym.plotting.rod.plot_contact_time_maps`)."""
+        from impactsym.plotting.rod import plot_contact_time_maps
+
+        return plot_contact_time_maps(self, axes)
+
+
+def contact_time_map(alpha, f, kappa=np.inf, *, t_max=None) -> ContactTimeMap:
+    """Contact times under the force and the position condition on an ``alpha``-``f`` grid.
+
+    The paper's parameter study: :func:`contact_time` for both conditions at every
+    pair of the 1-D axes ``alpha`` and ``f`` (rows: ``f``, columns: ``alpha``).
+
+    Examples
+    --------
+    >>> study = contact_time_map([0.5, 50.0], [0.0])
+    >>> study.force.shape
+    (1, 2)
+    >>> bool(abs(study.ratio[0, 1] - 1) < 0.05)  # heavy striker: the conditions agree
+    True
+    """
+    a_axis, _ = real_array("alpha", alpha, lower=0.0, strict=True)
+    f_axis, _ = real_array("f", f, lower=0.0)
+    a_axis, f_axis = np.atleast_1d(a_axis), np.atleast_1d(f_axis)
+    if a_axis.ndim != 1 or f_axis.ndim != 1:
+        raise ValueError("alpha and f must be 1-D axes of the grid")
+    A, F = np.meshgrid(a_axis, f_axis)
+    horizon = _check_t_max(t_max)
+    times = {c: contact_time(A, F, c, kappa, t_max=horizon) for c in ("force", "position")}
+    if horizon is None:
+        horizon = 100.0 if np.isinf(kappa) else 20.0
+    return ContactTimeMap(a_axis, f_axis, times["force"], times["position"], float(kappa), horizon)
 
 
 # ------------------------------------------------------------ generated module

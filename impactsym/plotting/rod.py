@@ -1,0 +1,185 @@
+"""Figures of the rod impact (paper section 1): time histories and contact-time maps.
+
+Every function takes an optional Matplotlib axes (or a sequence of them) and returns
+it, so figures compose in notebooks and papers.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.colors import LogNorm
+
+from impactsym.rod_numeric import ContactTimeMap, contact_force, contact_time, displacement
+
+QUANTITIES = {
+    "y": (displacement, "position", r"striker displacement $y\,/\,(v_0 L/c)$"),
+    "N": (contact_force, "force", r"contact force $N\,/\,(E A v_0/c)$"),
+}
+
+
+def plot_time_history(
+    cases: Sequence[tuple[float, float]],
+    quantity: str = "N",
+    *,
+    t_max: float = 12.0,
+    kappa: float = np.inf,
+    ax: Axes | None = None,
+    n_points: int = 6001,
+) -> Axes:
+    r"""Time history of :math:`y(t)` or :math:`N(t)` for a few :math:`(\alpha, f)`.
+
+    The persistent-contact solution (:func:`impactsym.rod.displacement`,
+    :func:`impactsym.rod.contact_force`); dotted vertical lines mark the reflection
+    times :math:`t = 2, 4, \dots` (a reflected wave returns to the struck end), and a
+    dot marks the first zero crossing (the contact time of the position condition
+    for ``y``, of the force condition for ``N``).
+
+    Parameters
+    ----------
+    cases
+        ``(alpha, f)`` pairs, one line each.
+    quantity
+        ``"y"`` or ``"N"``.
+    t_max
+        End of the time axis.
+    kappa
+        Contact stiffness (``inf``: rigid).
+    ax
+        Axes to draw into (a new figure if omitted).
+    n_points
+        Time samples per line.
+    """
+    if quantity not in QUANTITIES:
+        raise ValueError(f"quantity must be 'y' or 'N', got {quantity!r}")
+    fn, condition, ylabel = QUANTITIES[quantity]
+    if ax is None:
+        ax = plt.figure(figsize=(7, 4)).add_subplot()
+    for k in range(2, int(t_max) + 1, 2):
+        ax.axvline(k, color="0.6", lw=0.8, ls=":", zorder=0)
+    t = _times(t_max, n_points)
+    for alpha, f in cases:
+        (line,) = ax.plot(t, fn(t, alpha, f, kappa), lw=1.3, label=rf"$\alpha={alpha:g},\ f={f:g}$")
+        tc = contact_time(alpha, f, condition, kappa, t_max=t_max)
+        if np.isfinite(tc):
+            ax.plot([tc], [0.0], "o", color=line.get_color(), ms=5)
+    ax.axhline(0.0, color="k", lw=0.6)
+    ax.set_xlim(0, t_max)
+    ax.set_xlabel(r"time $t\,/\,(L/c)$ (dotted: reflections return)")
+    ax.set_ylabel(ylabel)
+    stiffness = "rigid contact" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
+    ax.set_title(f"Rod impact, persistent contact, {stiffness}; dots: first zero")
+    ax.legend(fontsize="small", loc="best")
+    return ax
+
+
+def _times(t_max: float, n_points: int) -> np.ndarray:
+    """Samples on [0, t_max) plus the left limits at the reflections (sharp jumps)."""
+    t = np.linspace(0.0, t_max, n_points, endpoint=False)
+    return np.union1d(t, np.arange(2.0, t_max + 1e-9, 2.0) - 1e-12)
+
+
+def _pcolor_edges(values: np.ndarray, log: bool) -> np.ndarray:
+    v = np.log(values) if log else values
+    mid = (v[1:] + v[:-1]) / 2 if v.size > 1 else v
+    first = 2 * v[0] - mid[0] if v.size > 1 else v[0] - 0.5
+    last = 2 * v[-1] - mid[-1] if v.size > 1 else v[0] + 0.5
+    edges = np.r_[first, mid, last]
+    return np.exp(edges) if log else edges
+
+
+def plot_contact_time_map(
+    study: ContactTimeMap, condition: str = "force", *, ax: Axes | None = None
+) -> Axes:
+    r"""Contact time of one condition over the :math:`\alpha`-:math:`f` plane.
+
+    Grey cells: the striker sticks (no zero crossing up to ``study.t_max``).
+    """
+    times = {"force": study.force, "position": study.position}[condition]
+    if ax is None:
+        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
+    ae, fe = _pcolor_edges(study.alpha, True), _pcolor_edges(study.f, False)
+    finite = np.where(np.isfinite(times), times, np.nan)
+    mesh = ax.pcolormesh(ae, fe, finite, cmap="viridis", norm=LogNorm(vmin=2.0))
+    ax.figure.colorbar(mesh, ax=ax, label=r"contact time $t_c\,/\,(L/c)$")
+    sticks = np.where(np.isinf(times), 1.0, np.nan)
+    ax.pcolormesh(ae, fe, sticks, cmap="Greys", vmin=0, vmax=2)
+    ax.set_xscale("log")
+    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
+    ax.set_ylabel(r"pressing force $f$")
+    ax.set_title(f"{condition} condition (grey: sticks up to t = {study.t_max:g})")
+    return ax
+
+
+def plot_contact_time_ratio(study: ContactTimeMap, *, ax: Axes | None = None) -> Axes:
+    r"""Ratio of the contact times, position over force condition.
+
+    Near 1 (white) the two conditions agree (colours saturate at 1/4 and 4); markers
+    show where the striker sticks under one condition (``x``: force, ``+``:
+    position) or both (filled square).
+    """
+    if ax is None:
+        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
+    ae, fe = _pcolor_edges(study.alpha, True), _pcolor_edges(study.f, False)
+    mesh = ax.pcolormesh(ae, fe, study.ratio, cmap="RdBu_r", norm=LogNorm(vmin=0.25, vmax=4.0))
+    ax.figure.colorbar(mesh, ax=ax, label=r"$t_c^{\,position} / t_c^{\,force}$")
+    A, F = np.meshgrid(study.alpha, study.f)
+    force_sticks, position_sticks = np.isinf(study.force), np.isinf(study.position)
+    for mask, marker, label in (
+        (force_sticks & ~position_sticks, "x", "sticks (force)"),
+        (position_sticks & ~force_sticks, "+", "sticks (position)"),
+        (force_sticks & position_sticks, "s", "sticks (both)"),
+    ):
+        if mask.any():
+            ax.plot(A[mask], F[mask], marker, color="k", ms=4, ls="none", label=label)
+    if (force_sticks | position_sticks).any():
+        ax.legend(fontsize="small", loc="upper right", framealpha=0.9)
+    ax.set_xscale("log")
+    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
+    ax.set_ylabel(r"pressing force $f$")
+    ax.set_title("contact-time ratio, position / force condition")
+    return ax
+
+
+def plot_contact_time_maps(study: ContactTimeMap, axes: Sequence[Axes] | None = None):
+    """The three maps side by side: force, position, ratio. Returns the axes."""
+    if axes is None:
+        axes = plt.figure(figsize=(16, 4.6)).subplots(1, 3)
+    plot_contact_time_map(study, "force", ax=axes[0])
+    plot_contact_time_map(study, "position", ax=axes[1])
+    plot_contact_time_ratio(study, ax=axes[2])
+    return axes
+
+
+def plot_stiffness_comparison(
+    alpha: float,
+    f: float,
+    kappas: Sequence[float] = (10.0, 100.0, np.inf),
+    quantity: str = "N",
+    *,
+    t_max: float = 8.0,
+    ax: Axes | None = None,
+    n_points: int = 8001,
+) -> Axes:
+    r"""``y`` or ``N`` for several contact stiffnesses :math:`\kappa` (``inf``: rigid)."""
+    if quantity not in QUANTITIES:
+        raise ValueError(f"quantity must be 'y' or 'N', got {quantity!r}")
+    fn, _, ylabel = QUANTITIES[quantity]
+    if ax is None:
+        ax = plt.figure(figsize=(7, 4)).add_subplot()
+    for k in range(2, int(t_max) + 1, 2):
+        ax.axvline(k, color="0.6", lw=0.8, ls=":", zorder=0)
+    t = _times(t_max, n_points)
+    for kappa in kappas:
+        label = "rigid" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
+        ax.plot(t, fn(t, alpha, f, kappa), lw=1.2, label=label)
+    ax.axhline(0.0, color="k", lw=0.6)
+    ax.set_xlim(0, t_max)
+    ax.set_xlabel(r"time $t\,/\,(L/c)$ (dotted: reflections return)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(rf"Contact stiffness, $\alpha = {alpha:g}$, $f = {f:g}$")
+    ax.legend(fontsize="small")
+    return ax

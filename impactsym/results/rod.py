@@ -1,0 +1,96 @@
+"""Section-1 results for ``impactsym reproduce``: rod impact figures, maps, tables, formulas."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from impactsym.results.files import save_figure, write_csv
+
+CASES = ((0.3, 0.0), (2.0, 0.5), (20.0, 0.2))
+
+CAPTIONS = {
+    "rod_time_histories": "Rod impact, rigid contact: striker displacement y(t) and contact "
+    "force N(t) of the persistent-contact solution for three (alpha, f); dotted lines: a "
+    "reflected wave returns to the struck end (t = 2, 4, ...), N jumps by 2 there; dots: "
+    "first zero (contact time, position resp. force condition).",
+    "rod_finite_stiffness": "Contact force with a contact spring kappa = 10, 100 and rigid "
+    "(alpha = 1, f = 0.2): the spring smooths the jumps; when a reflection returns the "
+    "spring force first dips, for a time of order 1/kappa, before it rises.",
+    "rod_contact_time_maps": "Paper section 1 parameter study: contact time of the force "
+    "and the position condition over the alpha-f plane (grey: the striker sticks up to "
+    "t = 100) and their ratio; for large alpha and small f they almost coincide, with "
+    "growing f they differ strongly.",
+    "rod_contact_times.csv": "Contact times of both conditions and their ratio on the "
+    "alpha-f grid of the maps (inf: sticks up to t = 100; ratio nan where one sticks).",
+    "rod_formulas.json": "LaTeX of eq. (1), the closed forms of W, Y, N (rigid and finite "
+    "kappa), eq. (2), the contact force series and the first inverted terms, with labels "
+    "and captions.",
+    "rod_formulas.tex": "The same formulas as LaTeX snippets, one display each.",
+    "rod_series.txt": "The first terms of the delay series of Y (eq. (2)) and of the contact "
+    "force N, and their inverse transforms, in plain text.",
+}
+
+
+def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Path]:
+    """Write the rod figures (PNG and PDF), the contact-time table and the formulas."""
+    import matplotlib.pyplot as plt
+
+    from impactsym.plotting import rod as plots
+    from impactsym.rod import RodImpact, contact_time_map, latex_formulas
+
+    files: list[Path] = []
+
+    progress("time histories with reflection times")
+    axes = plt.figure(figsize=(8, 7.5)).subplots(2, 1, sharex=True)
+    n_points = 801 if quick else 6001
+    plots.plot_time_history(CASES, "y", ax=axes[0], n_points=n_points)
+    plots.plot_time_history(CASES, "N", ax=axes[1], n_points=n_points)
+    axes[0].set_xlabel("")
+    files += save_figure(axes[0], out, "rod_time_histories")
+
+    progress("finite contact stiffness")
+    ax = plots.plot_stiffness_comparison(1.0, 0.2, (10.0, 100.0, np.inf), "N")
+    files += save_figure(ax, out, "rod_finite_stiffness")
+
+    progress("contact-time maps (force and position condition)")
+    alpha = np.geomspace(0.05, 50.0, 9 if quick else 41)
+    f = np.linspace(0.0, 3.0, 7 if quick else 31)
+    study = contact_time_map(alpha, f)
+    files += save_figure(plots.plot_contact_time_maps(study)[0], out, "rod_contact_time_maps")
+    files.append(
+        write_csv(
+            out / "rod_contact_times.csv",
+            ["alpha", "f", "t_force", "t_position", "ratio_position_force"],
+            study.rows(),
+        )
+    )
+
+    progress("formulas")
+    formulas = latex_formulas(3)
+    path = out / "rod_formulas.json"
+    records = [{"label": k, "caption": c, "latex": b} for k, c, b in formulas]
+    path.write_text(json.dumps(records, indent=1))
+    files.append(path)
+    path = out / "rod_formulas.tex"
+    path.write_text(
+        "".join(f"% {label}: {caption}\n\\[\n{body}\n\\]\n\n" for label, caption, body in formulas)
+    )
+    files.append(path)
+    path = out / "rod_series.txt"
+    rod = RodImpact()
+    lines = []
+    for name in ("Y", "N"):
+        lines.append(f"{name}(s) = sum of coefficient * exp(-delay * s), rigid contact:")
+        lines += [f"  delay {d}: {c}" for d, c in rod.series(name, 4)]
+        lines.append(
+            f"{name.lower() if name == 'Y' else name}(t) = sum of g(t - delay) over arrived terms:"
+        )
+        lines += [f"  delay {d}: {g}" for d, g in rod.time_terms(name, 4)]
+        lines.append("")
+    path.write_text("\n".join(lines))
+    files.append(path)
+    return files
