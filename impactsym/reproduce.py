@@ -12,6 +12,7 @@ Progress = Callable[[str], None]
 
 #: Analyses in the order they are reproduced: (name, module with a ``write`` function).
 STEPS: tuple[tuple[str, str], ...] = (
+    ("rod impact (paper section 1)", "impactsym.results.rod"),
     ("spring-damper contact (paper section 2)", "impactsym.results.contact"),
     ("multibody penalty contact (paper section 3)", "impactsym.results.multibody"),
     ("formulas and exported functions", "impactsym.results.documents"),
