@@ -242,6 +242,19 @@ def _series_mul(x: list, y: list, order: int, zero: Any) -> list:
 
 
 def _series_pow(x: list, n: int, order: int, zero: Any, one: Any) -> list:
+    """``x**n`` modulo ``e**order`` (binomial formula for two-term series)."""
+    if len(x) == 2:
+        a, b = x
+        if n == 0:
+            return [one]
+        apow = [one]
+        for _ in range(n):
+            apow.append(_times(apow[-1], a, zero, one))
+        out, bpow = [], one
+        for i in range(min(n, order - 1) + 1):
+            out.append(_times(bpow * math.comb(n, i), apow[n - i], zero, one))
+            bpow = _times(bpow, b, zero, one)
+        return out
     result = [one]
     base = x[:order]
     while n:
@@ -285,13 +298,13 @@ def _shifted(coeffs: list, h: Any, g: Any, order: int, zero: Any, one: Any) -> l
     return out
 
 
-def _rational_parts(F: sp.Expr, s: sp.Symbol) -> tuple[Any, sp.Poly, sp.Expr, list]:
+def _rational_parts(F: sp.Expr, s: sp.Symbol) -> tuple[Any, list, sp.Expr, list]:
     """Split ``F`` into ``numerator * constant / prod(factor**multiplicity)``.
 
-    Returns the common coefficient domain, the numerator polynomial, the constant
-    (free of ``s``) and the distinct irreducible denominator factors (as normalized
-    by ``factor_list``) with multiplicities, all polynomials in ``s`` over that domain.
-    A product of powers is taken apart without expanding it.
+    Returns the common coefficient domain, the numerator as ``(polynomial, power)``
+    factors, the constant (free of ``s``) and the distinct irreducible denominator
+    factors (as normalized by ``factor_list``) with multiplicities, all polynomials in
+    ``s`` over that domain. A product of powers is taken apart without expanding it.
     """
     if not F.is_rational_function(s):
         raise LaplaceInversionError(
@@ -313,12 +326,12 @@ def _rational_parts(F: sp.Expr, s: sp.Symbol) -> tuple[Any, sp.Poly, sp.Expr, li
             f"transform {F} has floating-point coefficients; use exact numbers "
             "(sympy.Rational) so that poles and their orders are exact"
         )
-    numerator = sp.Poly(1, s, domain=domain)
+    numerator: list[tuple[sp.Poly, int]] = []
     den_factors: list[list] = []
     for base, exponent, in_den in parts:
         poly = sp.Poly(base, s, domain=domain)
         if not in_den:
-            numerator = numerator * poly**exponent
+            numerator.append((poly, exponent))
             continue
         lead, irreducible = poly.factor_list()
         constant = constant / lead**exponent
@@ -355,7 +368,7 @@ def _power_factors(F: sp.Expr, s: sp.Symbol) -> tuple[sp.Expr, list] | None:
 
 def _pole_terms(
     domain: Any,
-    numerator: sp.Poly,
+    numerator: list,
     factors: list,
     index: int,
     t: sp.Symbol,
@@ -394,14 +407,19 @@ def _pole_terms(
         )
     order = m
     # numerator and the other factors in the shifted variable e (times powers of g)
-    num = _shifted(numerator.rep.to_list(), h, g, order, z, u)
+    num, exponent = [u], 0
+    for base, power in numerator:
+        shifted = _shifted(base.rep.to_list(), h, g, order, z, u)
+        num = _series_mul(num, _series_pow(shifted, power, order, z, u), order, z)
+        exponent -= base.degree() * power
     rest = [u]
-    exponent = -numerator.degree()
     for k, (other, mult) in enumerate(factors):
-        shifted = _shifted(other.rep.to_list(), h, g, order + 1 if k == index else order, z, u)
         exponent += other.degree() * mult
-        if k == index:
-            shifted = shifted[1:]  # the factor vanishes at the root: divide by e
+        if k == index:  # g**d * factor = c * e * phi(e): keep phi, fold c**(-m) into g
+            shifted = [u] if w is None else [_Quadratic(zero, 2 * one, D), u]
+            exponent -= mult
+        else:
+            shifted = _shifted(other.rep.to_list(), h, g, order, z, u)
         rest = _series_mul(rest, _series_pow(shifted, mult, order, z, u), order, z)
     rest = rest + [z] * (order - len(rest))
     num = num + [z] * (order - len(num))
@@ -421,10 +439,13 @@ def _pole_terms(
             acc = acc - _times(r * scaled[j - i], r0pow[i - 1], z, u)
         scaled.append(acc)
     # denominators: r0 (linear) or its norm (quadratic), as a product of atoms
-    atoms = []
+    atoms = []  # r0 (linear) or its norm (quadratic) is the product of these
     for k, (other, mult) in enumerate(factors):
-        shifted = _shifted(other.rep.to_list(), h, g, 2, z, u)
-        atom = shifted[1] if k == index else shifted[0]
+        if k == index:
+            if w is not None:  # phi(0) = 2 w, norm -4 D
+                atoms.append((-4 * D, mult))
+            continue
+        atom = _shifted(other.rep.to_list(), h, g, 1, z, u)[0]
         atoms.append((atom if w is None else atom.norm(), mult))
     rational = _Rationals(K, constant, atoms, exact_cancel=w is not None)
     if w is None:
@@ -446,7 +467,10 @@ def _pole_terms(
         value = scaled[j] * conj_pow
         k = m - 1 - j
         for part, out in ((value.a, terms_c), (value.b, terms_s)):
-            coeff = rational.expr(2 * part, j + 1, math.factorial(k), g.a, exponent + j - m)
+            # c2**(-m) = 2**m g**(-m): the power of g is in exponent, 2**m here
+            coeff = rational.expr(
+                2 ** (m + 1) * part, j + 1, math.factorial(k), g.a, exponent + j - m
+            )
             out.append(coeff * t**k)
     sigma = sp.together(-c1e / (2 * c2e))
     arg = root * t / (2 * c2e)
@@ -495,6 +519,17 @@ class _Rationals:
 
     def expr(self, x: Any, n: int, integer: int, g: Any = None, power: int = 0) -> sp.Expr:
         K, field = self.K, self.field
+        if not self.poly_ring and getattr(K, "is_PolynomialRing", False):
+            # one fraction: numerator and denominator built in the ring, cancelled once
+            num = K.convert(self.constant.numer) * K.convert(x)
+            den = K.convert(self.constant.denom) * integer
+            for atom, mult in self.atoms:
+                den = den * K.convert(atom) ** (mult * n)
+            if g is not None and power > 0:
+                num = num * K.convert(g) ** power
+            elif g is not None and power < 0:
+                den = den * K.convert(g) ** (-power)
+            return field.to_sympy(field.convert(num) / field.convert(den))
         if not self.poly_ring:
             value = self.constant * field.convert(x) / integer
             for atom, mult in self.atoms:
@@ -601,11 +636,13 @@ def invert_rational(F: Any, s: sp.Symbol, t: sp.Symbol) -> sp.Expr:
         inner, outer = field.one, constant
     terms = []
     total = sum(p.degree() * m for p, m in factors)
-    if numerator.degree() >= total:
-        den = sp.Poly(1, s, domain=domain)
+    if sum(p.degree() * m for p, m in numerator) >= total:
+        den = num = sp.Poly(1, s, domain=domain)
         for p, m in factors:
             den = den * p**m
-        quotient = numerator.to_field().div(den.to_field())[0]
+        for p, m in numerator:
+            num = num * p**m
+        quotient = num.to_field().div(den.to_field())[0]
         for (n,), c in quotient.terms():
             terms.append(constant * c * (sp.DiracDelta(t, n) if n else sp.DiracDelta(t)))
     for index in range(len(factors)):
