@@ -423,9 +423,11 @@ def reduce_contact(
     ``(d~ - d) z' + (c~ - k) z``, a relative error of order ``(d~ - d) / d~``.
 
     Eq. (5) of the paper could not be checked against its print here. What is
-    implemented is the derivation above; against full nonlinear simulations (notebook 03,
-    ``tests/test_multibody.py``) the impulse projection predicts contact times and
-    stick/release verdicts better than the paper's projection in every case tried.
+    implemented is the derivation above. Against full nonlinear simulations (notebook 03,
+    ``tests/test_multibody.py``) the impulse projection gives smaller median contact-time
+    errors and at least as many correct stick/release verdicts as the paper's projection
+    for both example systems and both conditions, and its error falls faster as the
+    contact stiffens.
 
     Examples
     --------
