@@ -21,6 +21,8 @@ _LAZY = {
     "stick_boundary": "impactsym.contact",
     "physical_contact": "impactsym.contact",
     "SpringDamperContact": "impactsym.oscillator",
+    "reduce_contact": "impactsym.multibody",
+    "RodImpact": "impactsym.rod",
 }
 
 __all__ = ["__version__", *_LAZY]
