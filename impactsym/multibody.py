@@ -348,7 +348,12 @@ def reduce_contact(
 
 
 def reduce_contact(
-    *args: Any, projection: str = "impulse", gap_tol: float = 1e-9, simplify: bool = True
+    *args: Any,
+    k: Any = None,
+    d: Any = None,
+    projection: str = "impulse",
+    gap_tol: float = 1e-9,
+    simplify: bool = True,
 ) -> ReducedContact:
     r"""Reduce a multibody penalty contact to the scalar oscillator of paper section 2.
 
@@ -449,6 +454,10 @@ def reduce_contact(
     if projection not in PROJECTIONS:
         raise ValueError(f"projection must be one of {PROJECTIONS}, got {projection!r}")
     tol, _ = real_array("gap_tol", gap_tol, lower=0.0)
+    if (k is None) != (d is None):
+        raise TypeError("give both penalty parameters k and d as keywords, or neither")
+    if k is not None:  # reduce_contact(..., at, k=..., d=...)
+        args = (*args, k, d)
     if args and _is_model(args[0]):
         if len(args) != 5:
             raise TypeError(

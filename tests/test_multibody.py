@@ -703,3 +703,17 @@ def test_paper_projection_is_not_invariant_under_a_change_of_coordinates():
     )
     assert b.m_eff == pytest.approx(a.m_eff, rel=1e-12)  # the effective mass is invariant
     assert abs(b.d_eff / a.d_eff - 1) > 1e-3
+
+
+def test_penalty_parameters_may_be_given_as_keywords():
+    x, v = sp.symbols("x v")
+    args = (sp.Matrix([[2.0]]), sp.Matrix([1.0]), x, [x], [v], {x: 0, v: 1.5})
+    positional = reduce_contact(*args, 50.0, 3.0)
+    keywords = reduce_contact(*args, k=50.0, d=3.0)
+    assert (keywords.D, keywords.f, keywords.omega0) == (
+        positional.D,
+        positional.f,
+        positional.omega0,
+    )
+    with pytest.raises(TypeError, match="both penalty parameters"):
+        reduce_contact(*args, k=50.0)
