@@ -17,3 +17,13 @@ def test_readme_names_the_main_job_and_existing_figure():
     readme = (ROOT / "README.md").read_text()
     assert "```bash\npip install . && impactsym reproduce --out results\n```" in readme
     assert (ROOT / "docs" / "stick_boundary.png").is_file()
+
+
+def test_readme_python_examples_run():
+    readme = (ROOT / "README.md").read_text()
+    blocks = readme.split("```python\n")[1:]
+    examples = [block.split("```")[0] for block in blocks]
+    runnable = [code for code in examples if "from impactsym_numpy" not in code]
+    assert len(runnable) >= 2
+    for code in runnable:
+        exec(compile(code, "README.md", "exec"), {})
