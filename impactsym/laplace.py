@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from functools import lru_cache
 from itertools import product
 from typing import Any
 
@@ -317,7 +318,7 @@ def _rational_parts(F: sp.Expr, s: sp.Symbol) -> tuple[Any, list, sp.Expr, list]
     if factors is None:  # pragma: no cover - cancel always yields polynomial factors
         raise LaplaceInversionError(f"cannot split {F} into polynomial factors in {s}")
     constant, parts = factors
-    polys = [sp.Poly(b, s) for b, _, _ in parts]
+    polys = [_poly(b, s) for b, _, _ in parts]
     domain = polys[0].domain if polys else sp.ZZ
     for p in polys[1:]:
         domain = domain.unify(p.domain)
@@ -329,11 +330,11 @@ def _rational_parts(F: sp.Expr, s: sp.Symbol) -> tuple[Any, list, sp.Expr, list]
     numerator: list[tuple[sp.Poly, int]] = []
     den_factors: list[list] = []
     for base, exponent, in_den in parts:
-        poly = sp.Poly(base, s, domain=domain)
+        poly = _poly(base, s, domain)
         if not in_den:
             numerator.append((poly, exponent))
             continue
-        lead, irreducible = poly.factor_list()
+        lead, irreducible = _factor_list(poly)
         constant = constant / lead**exponent
         for fac, mult in irreducible:
             if fac.degree() == 0:  # pragma: no cover - factor_list puts these in lead
@@ -346,6 +347,17 @@ def _rational_parts(F: sp.Expr, s: sp.Symbol) -> tuple[Any, list, sp.Expr, list]
             else:
                 den_factors.append([fac, mult * exponent])
     return domain, numerator, constant, [(p, m) for p, m in den_factors]
+
+
+@lru_cache(maxsize=4096)
+def _poly(base: sp.Expr, s: sp.Symbol, domain: Any = None) -> sp.Poly:
+    """``base`` as a polynomial in ``s`` (memoized: series terms share their bases)."""
+    return sp.Poly(base, s) if domain is None else sp.Poly(base, s, domain=domain)
+
+
+@lru_cache(maxsize=4096)
+def _factor_list(poly: sp.Poly) -> tuple:
+    return poly.factor_list()
 
 
 def _power_factors(F: sp.Expr, s: sp.Symbol) -> tuple[sp.Expr, list] | None:
