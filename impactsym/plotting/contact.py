@@ -93,8 +93,23 @@ def plot_stick_boundary(
     return ax
 
 
-def _map(values: np.ndarray, D: np.ndarray, f: np.ndarray, ax: Axes, label: str, condition: str):
-    stuck = ~np.isfinite(values) | (values == 0)
+def _map(
+    quantity,
+    label: str,
+    title: str,
+    condition: str,
+    ax: Axes | None,
+    D_max: float,
+    f_max: float,
+    n: int,
+) -> Axes:
+    """Color map of ``quantity(D, f, condition)`` over the D-f plane; grey where it sticks."""
+    check_condition(condition)
+    if ax is None:
+        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
+    D, f = np.meshgrid(np.linspace(0, D_max, n), np.linspace(0, f_max, n))
+    values = quantity(D, f, condition)
+    stuck = np.isinf(contact_time(D, f, condition))
     mesh = ax.pcolormesh(D, f, np.ma.masked_where(stuck, values), shading="auto", cmap="viridis")
     ax.pcolormesh(
         D,
@@ -103,14 +118,15 @@ def _map(values: np.ndarray, D: np.ndarray, f: np.ndarray, ax: Axes, label: str,
         shading="auto",
         cmap=ListedColormap(["0.85"]),
     )
-    d_star, f_line = boundary_curve(condition, float(f.max()))
+    d_star, f_line = boundary_curve(condition, f_max)
     ax.plot(d_star, f_line, color="k", lw=1.5, label="stick boundary")
-    ax.set_xlim(float(D.min()), float(D.max()))
-    ax.set_ylim(float(f.min()), float(f.max()))
+    ax.set_xlim(0, D_max)
+    ax.set_ylim(0, f_max)
     ax.figure.colorbar(mesh, ax=ax, label=label)
     ax.set_xlabel("damping $D$")
     ax.set_ylabel("pressing force $f$")
     ax.legend(loc="upper right", title="grey: sticks")
+    ax.set_title(f"{title}, {LABELS[condition]}")
     return ax
 
 
@@ -122,12 +138,9 @@ def plot_contact_time_map(
     n: int = 300,
 ) -> Axes:
     r"""Normalized contact time :math:`\tau_c(D, f)` over the D-f plane; grey: sticking."""
-    if ax is None:
-        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
-    D, f = np.meshgrid(np.linspace(0, D_max, n), np.linspace(0, f_max, n))
-    _map(contact_time(D, f, condition), D, f, ax, r"contact time $\tau_c$", condition)
-    ax.set_title(f"Contact time, {LABELS[condition]}")
-    return ax
+    return _map(
+        contact_time, r"contact time $\tau_c$", "Contact time", condition, ax, D_max, f_max, n
+    )
 
 
 def plot_restitution_map(
@@ -138,9 +151,6 @@ def plot_restitution_map(
     n: int = 300,
 ) -> Axes:
     """Coefficient of restitution :math:`e(D, f)` over the D-f plane; grey: sticking."""
-    if ax is None:
-        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
-    D, f = np.meshgrid(np.linspace(0, D_max, n), np.linspace(0, f_max, n))
-    _map(restitution(D, f, condition), D, f, ax, "restitution $e$", condition)
-    ax.set_title(f"Coefficient of restitution, {LABELS[condition]}")
-    return ax
+    return _map(
+        restitution, "restitution $e$", "Coefficient of restitution", condition, ax, D_max, f_max, n
+    )
