@@ -154,7 +154,11 @@ class RodImpact:
 
     @cached_property
     def equations(self) -> dict[str, sp.Eq]:
-        """The transformed boundary-value problem, eq. (1)."""
+        """The transformed boundary-value problem, eq. (1).
+
+        >>> RodImpact(10).equations["mass"]
+        Eq(alpha*s**2*Y(s) - alpha - f/s - 10*W(0, s) + 10*Y(s), 0)
+        """
         W, Y = _W(xi, s), _Y(s)
         eqs = {
             "rod": sp.Eq(s**2 * W - sp.Derivative(W, (xi, 2)), 0),
@@ -218,7 +222,11 @@ class RodImpact:
         return self._solution["N"]
 
     def closed_form(self, name: str) -> sp.Expr:
-        """The closed form of ``"W"``, ``"Y"`` or ``"N"``."""
+        """The closed form of ``"W"``, ``"Y"`` or ``"N"``.
+
+        >>> RodImpact().closed_form("N")
+        (alpha*s + f)*cosh(s)/(s*(alpha*s*sinh(s) + cosh(s)))
+        """
         return self._solution[_check_name(name)]
 
     # ------------------------------------------------------------- delay series
@@ -322,7 +330,12 @@ class RodImpact:
         return list(cached[:n_terms])
 
     def time_function(self, name: str, n_terms: int) -> sp.Expr:
-        """The sum of the first ``n_terms`` inverted terms with their Heaviside steps."""
+        """The sum of the first ``n_terms`` inverted terms with their Heaviside steps.
+
+        >>> rod = RodImpact()
+        >>> rod.time_function("N", 2).subs({rod.f: 0, rod.t: 1})
+        exp(-1/alpha)
+        """
         from impactsym.laplace import time_function
 
         return time_function(self.time_terms(name, n_terms), t)
@@ -331,7 +344,11 @@ class RodImpact:
 
     @cached_property
     def latex(self) -> dict[str, str]:
-        """LaTeX of the equations of (1) and of the closed forms ``W``, ``Y``, ``N``."""
+        """LaTeX of the equations of (1) and of the closed forms ``W``, ``Y``, ``N``.
+
+        >>> sorted(RodImpact().latex)
+        ['N', 'W', 'Y', 'contact', 'end', 'fixed end', 'rod']
+        """
         out = {name: sp.latex(eq) for name, eq in self.equations.items()}
         for name in QUANTITIES:
             out[name] = sp.latex(self._solution[name])

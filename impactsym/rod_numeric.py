@@ -48,8 +48,10 @@ from __future__ import annotations
 import inspect
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from impactsym.numeric import bracketed_newton
 from impactsym.validation import check_condition, finish, real_array
@@ -422,7 +424,9 @@ def _evaluate(which: str, t, alpha, f, kappa):
     return finish(out.reshape(shape), scalar)
 
 
-def displacement(t, alpha, f, kappa=np.inf) -> float | np.ndarray:
+def displacement(
+    t: ArrayLike, alpha: ArrayLike, f: ArrayLike, kappa: ArrayLike = np.inf
+) -> float | np.ndarray:
     r"""Striker displacement :math:`y(t)` of the persistent-contact solution.
 
     The sum of the inverted terms of the delay series of :math:`Y(s)` (eq. (2) for
@@ -471,7 +475,9 @@ def displacement(t, alpha, f, kappa=np.inf) -> float | np.ndarray:
     return _evaluate("y", t, alpha, f, kappa)
 
 
-def contact_force(t, alpha, f, kappa=np.inf) -> float | np.ndarray:
+def contact_force(
+    t: ArrayLike, alpha: ArrayLike, f: ArrayLike, kappa: ArrayLike = np.inf
+) -> float | np.ndarray:
     r"""Contact force :math:`N(t)` of the persistent-contact solution.
 
     The sum of the inverted terms of the delay series of
@@ -564,7 +570,14 @@ class _Pairs:
         return self(tau, m, p, derivative=True)
 
 
-def contact_time(alpha, f, condition="force", kappa=np.inf, *, t_max=None) -> float | np.ndarray:
+def contact_time(
+    alpha: ArrayLike,
+    f: ArrayLike,
+    condition: str = "force",
+    kappa: ArrayLike = np.inf,
+    *,
+    t_max: float | None = None,
+) -> float | np.ndarray:
     r"""First zero crossing of the contact force or the displacement after impact.
 
     The contact time :math:`t_c` is the first :math:`t > 0` where the
@@ -690,6 +703,14 @@ class ContactTimeMap:
         Contact times, shape ``(len(f), len(alpha))``; ``inf`` where the striker sticks.
     kappa, t_max : float
         Contact stiffness and search horizon used.
+
+    Examples
+    --------
+    >>> study = contact_time_map([0.1, 30.0], [0.0, 2.0])
+    >>> study.force.shape, bool(np.isinf(study.force[1, 0]))  # alpha=0.1, f=2 sticks
+    ((2, 2), True)
+    >>> study.rows()[1][:2]
+    (30.0, 0.0)
     """
 
     alpha: np.ndarray
@@ -713,7 +734,7 @@ class ContactTimeMap:
         columns = (A, F, self.force, self.position, self.ratio)
         return list(zip(*(c.ravel().tolist() for c in columns), strict=True))
 
-    def plot(self, axes=None):
+    def plot(self, axes: Any = None) -> Any:
         """Maps of both contact times and their ratio (see
         :func:`impactsym.plotting.rod.plot_contact_time_maps`)."""
         from impactsym.plotting.rod import plot_contact_time_maps
@@ -721,7 +742,9 @@ class ContactTimeMap:
         return plot_contact_time_maps(self, axes)
 
 
-def contact_time_map(alpha, f, kappa=np.inf, *, t_max=None) -> ContactTimeMap:
+def contact_time_map(
+    alpha: ArrayLike, f: ArrayLike, kappa: float = np.inf, *, t_max: float | None = None
+) -> ContactTimeMap:
     """Contact times under the force and the position condition on an ``alpha``-``f`` grid.
 
     The paper's parameter study: :func:`contact_time` for both conditions at every

@@ -52,6 +52,13 @@ def plot_time_history(
         Axes to draw into (a new figure if omitted).
     n_points
         Time samples per line.
+
+    Examples
+    --------
+    >>> ax = plot_time_history([(1.0, 0.0)], "N", t_max=4.0, n_points=50)
+    >>> [float(x) for x in ax.get_xlim()]
+    [0.0, 4.0]
+    >>> plt.close(ax.figure)
     """
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be 'y' or 'N', got {quantity!r}")
@@ -97,6 +104,12 @@ def plot_contact_time_map(
     r"""Contact time of one condition over the :math:`\alpha`-:math:`f` plane.
 
     Grey cells: the striker sticks (no zero crossing up to ``study.t_max``).
+
+    >>> from impactsym.rod import contact_time_map
+    >>> ax = plot_contact_time_map(contact_time_map([0.5, 5.0], [0.0, 0.5]), "position")
+    >>> ax.get_xscale()
+    'log'
+    >>> plt.close(ax.figure)
     """
     times = {"force": study.force, "position": study.position}[condition]
     if ax is None:
@@ -120,6 +133,12 @@ def plot_contact_time_ratio(study: ContactTimeMap, *, ax: Axes | None = None) ->
     Near 1 (white) the two conditions agree (colours saturate at 1/4 and 4); markers
     show where the striker sticks under one condition (``x``: force, ``+``:
     position) or both (filled square).
+
+    >>> from impactsym.rod import contact_time_map
+    >>> ax = plot_contact_time_ratio(contact_time_map([0.1, 5.0], [0.0, 2.0]))
+    >>> [line.get_label() for line in ax.lines]
+    ['sticks (both)']
+    >>> plt.close(ax.figure)
     """
     if ax is None:
         ax = plt.figure(figsize=(6, 4.5)).add_subplot()
@@ -145,7 +164,14 @@ def plot_contact_time_ratio(study: ContactTimeMap, *, ax: Axes | None = None) ->
 
 
 def plot_contact_time_maps(study: ContactTimeMap, axes: Sequence[Axes] | None = None):
-    """The three maps side by side: force, position, ratio. Returns the axes."""
+    """The three maps side by side: force, position, ratio. Returns the axes.
+
+    >>> from impactsym.rod import contact_time_map
+    >>> axes = plot_contact_time_maps(contact_time_map([0.5, 5.0], [0.0, 0.5]))
+    >>> len(axes)
+    3
+    >>> plt.close(axes[0].figure)
+    """
     if axes is None:
         axes = plt.figure(figsize=(16, 4.6)).subplots(1, 3)
     plot_contact_time_map(study, "force", ax=axes[0])
@@ -164,7 +190,13 @@ def plot_stiffness_comparison(
     ax: Axes | None = None,
     n_points: int = 8001,
 ) -> Axes:
-    r"""``y`` or ``N`` for several contact stiffnesses :math:`\kappa` (``inf``: rigid)."""
+    r"""``y`` or ``N`` for several contact stiffnesses :math:`\kappa` (``inf``: rigid).
+
+    >>> ax = plot_stiffness_comparison(1.0, 0.2, (50.0, np.inf), t_max=3.0, n_points=100)
+    >>> [line.get_label() for line in ax.lines if not line.get_label().startswith("_")]
+    ['$\\kappa = 50$', 'rigid']
+    >>> plt.close(ax.figure)
+    """
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be 'y' or 'N', got {quantity!r}")
     fn, _, ylabel = QUANTITIES[quantity]
