@@ -268,7 +268,7 @@ def test_agrees_with_numerical_inverse_laplace_up_to_t_5(a, force, k):
         den = lambda x: (a * x**2 + k) * mp.cosh(x) + a * k * x * mp.sinh(x)  # noqa: E731
         N = lambda x: k * (a * x + force) * mp.cosh(x) / (x * den(x))  # noqa: E731
     Y = (lambda x: N(x) * mp.tanh(x) / x) if math.isinf(k) else None
-    for T in (0.9, 3.3, 4.7):
+    for T in (0.9, 4.7):  # before and after the first reflection
         assert abs(_dehoog(N, T) - contact_force(T, a, force, k)) < 1e-10
     if Y is not None:
         assert abs(_dehoog(Y, 4.1) - displacement(4.1, a, force)) < 1e-10
@@ -333,7 +333,7 @@ def test_critical_contact_damping_is_continuous_in_kappa():
 
 
 def test_finite_stiffness_tends_to_rigid_contact():
-    tt = np.linspace(0.0, 20.0, 400)
+    tt = np.linspace(0.0, 20.0, 201)
     away = np.abs(tt / 2 - np.round(tt / 2)) > 0.1  # away from the jumps of the rigid N
     errors_y, errors_N = [], []
     for k in (1e2, 1e3, 1e4):
