@@ -198,13 +198,19 @@ class RodImpact:
         residuals = self.residuals(ansatz, Yv)
         if sp.simplify(residuals.pop("rod")) != 0:  # pragma: no cover - W'' = s^2 W
             raise RuntimeError("the ansatz does not solve the rod equation")
-        solution = sp.solve(list(residuals.values()), [A, B, Yv], dict=True)
+        # the boundary conditions are linear in A, B, Y with coefficients rational in
+        # s, sinh s, cosh s: solve over that field (sinh s, cosh s as symbols)
+        S, C = sp.symbols("S C")
+        hyper = {sp.sinh(s): S, sp.cosh(s): C}
+        equations = [sp.expand(r).xreplace(hyper) for r in residuals.values()]
+        solution = sp.solve(equations, [A, B, Yv], dict=True)
         if len(solution) != 1:  # pragma: no cover - the system is linear and regular
             raise RuntimeError(f"eq. (1) has no unique solution: {solution}")
-        sol = solution[0]
-        W = sp.factor(sol[A]) * sp.sinh(s * (1 - xi)) + sol[B] * sp.cosh(s * (1 - xi))
+        back = {S: sp.sinh(s), C: sp.cosh(s)}
+        sol = {k: sp.factor(v).xreplace(back) for k, v in solution[0].items()}
+        W = sol[A] * sp.sinh(s * (1 - xi)) + sol[B] * sp.cosh(s * (1 - xi))
         N = sp.factor(-sp.diff(W, xi).subs(xi, 0))
-        return {"W": W, "Y": sp.factor(sol[Yv]), "N": N}
+        return {"W": W, "Y": sol[Yv], "N": N}
 
     @property
     def W(self) -> sp.Expr:
