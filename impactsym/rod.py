@@ -73,7 +73,7 @@ def _as_kappa(value: Any) -> sp.Expr:
     if isinstance(value, float):
         if value != value:
             raise ValueError(f"kappa must be > 0, got {value!r}")
-        value = sp.oo if value == float("inf") else sp.Rational(repr(value))
+        value = sp.oo if value == float("inf") else sp.Rational(repr(float(value)))
     try:
         value = sp.sympify(value, strict=True)
     except (sp.SympifyError, TypeError) as exc:

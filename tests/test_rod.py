@@ -208,6 +208,9 @@ def test_rod_impact_rejects_non_numbers():
 
 def test_rod_impact_accepts_float_and_infinite_kappa():
     assert RodImpact(2.5).kappa == sp.Rational(5, 2)
+    assert RodImpact(np.float64(0.1)).kappa == sp.Rational(1, 10)
+    with pytest.raises(ValueError, match="kappa"):
+        RodImpact(sp.Symbol("k", negative=True))
     assert RodImpact(float("inf")).rigid
 
 
