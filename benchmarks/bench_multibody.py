@@ -22,7 +22,7 @@ from mb_systems import FullSimulation, pendulum_kane
 
 from impactsym.multibody import reduce_contact
 from impactsym.penalty_design import penalty_for_targets, stick_damping
-from impactsym.results.multibody import double_pendulum
+from impactsym.penalty_simulation import double_pendulum
 
 
 def timed(fn, *args, **kwargs):
