@@ -55,7 +55,12 @@ def _run(args: argparse.Namespace) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; return the process exit code (non-zero on any failure)."""
+    """Run the command line; return the process exit code (non-zero on any failure).
+
+    >>> main(["latex", "sd-conditions"])
+    g_\\mathrm{position} = z, \\qquad g_\\mathrm{force} = 2 D z' + z
+    0
+    """
     args = build_parser().parse_args(argv)
     try:
         _run(args)

@@ -55,7 +55,12 @@ def formula(name: str, n_terms: int = 3) -> str:
 
 
 def formula_names(n_terms: int = 3) -> list[str]:
-    """Labels of all formulas, in document order."""
+    """Labels of all formulas, in document order.
+
+    >>> names = formula_names()
+    >>> names[0], "mb-reduced" in names
+    ('rod-bvp', True)
+    """
     return [label for _, items in formulas(n_terms) for label, _, _ in items]
 
 
@@ -68,7 +73,12 @@ def _escape_text(text: str) -> str:
 
 
 def latex_document(n_terms: int = 3) -> str:
-    """A standalone LaTeX document (pdflatex + amsmath) with every labelled formula."""
+    """A standalone LaTeX document (pdflatex + amsmath) with every labelled formula.
+
+    >>> document = latex_document()
+    >>> document.splitlines()[0], "{eq:rod-eq2}" in document
+    ('\\\\documentclass[10pt]{article}', True)
+    """
     lines = [
         r"\documentclass[10pt]{article}",
         r"\ifdefined\pdftrailerid \pdftrailerid{} \pdfinfoomitdate=1 \fi % reproducible PDF",
@@ -253,14 +263,25 @@ import numpy as np
 
 
 def write_python_module(path: str | Path) -> Path:
-    """Write :func:`python_module` to ``path``."""
+    """Write :func:`python_module` to ``path``.
+
+    >>> import tempfile, pathlib
+    >>> path = write_python_module(pathlib.Path(tempfile.mkdtemp()) / "m.py")
+    >>> path.read_text().count("def contact_function_")
+    2
+    """
     path = Path(path)
     path.write_text(python_module())
     return path
 
 
 def write_latex_document(path: str | Path, n_terms: int = 3) -> Path:
-    """Write :func:`latex_document` to ``path``."""
+    """Write :func:`latex_document` to ``path``.
+
+    >>> import tempfile, pathlib
+    >>> write_latex_document(pathlib.Path(tempfile.mkdtemp()) / "f.tex").suffix
+    '.tex'
+    """
     path = Path(path)
     path.write_text(latex_document(n_terms))
     return path

@@ -292,7 +292,11 @@ _ATTRIBUTES = {"z", "z_dot", "g", "g_dot", "ridge_time", "ridge_exists", "bounda
 
 @cache
 def spring_damper(regime: str) -> SpringDamperContact:
-    """The (cached) derivation of one damping regime."""
+    """The (cached) derivation of one damping regime.
+
+    >>> spring_damper("critical") is spring_damper("critical")
+    True
+    """
     return SpringDamperContact(regime)
 
 

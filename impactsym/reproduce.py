@@ -24,7 +24,19 @@ class OutputExistsError(FileExistsError):
 
 
 def prepare_output(out: Path, *, force: bool) -> Path:
-    """Create ``out``; refuse a non-empty directory unless ``force`` (then empty it)."""
+    """Create ``out``; refuse a non-empty directory unless ``force`` (then empty it).
+
+    >>> import tempfile
+    >>> out = prepare_output(Path(tempfile.mkdtemp()) / "new", force=False)
+    >>> (out / "x").write_text("1")
+    1
+    >>> prepare_output(out, force=False)
+    Traceback (most recent call last):
+        ...
+    impactsym.reproduce.OutputExistsError: output directory ... is not empty; pass --force ...
+    >>> list(prepare_output(out, force=True).iterdir())
+    []
+    """
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise OutputExistsError(f"output path {str(out)!r} exists and is not a directory")

@@ -103,7 +103,11 @@ def _where(arr: np.ndarray, mask: np.ndarray, is_scalar: bool) -> str:
 
 
 def finish(result: np.ndarray, is_scalar: bool) -> float | np.ndarray:
-    """Return a Python float for scalar input, else the float array."""
+    """Return a Python float for scalar input, else the float array.
+
+    >>> finish(np.asarray(2.0), True), finish(np.arange(2), False)
+    (2.0, array([0., 1.]))
+    """
     if is_scalar:
         return float(result)
     return np.asarray(result, dtype=np.float64)

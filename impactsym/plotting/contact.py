@@ -19,7 +19,12 @@ COLORS = {"position": "tab:blue", "force": "tab:red"}
 
 
 def boundary_curve(condition: str, f_max: float = 2.0, n: int = 400) -> tuple[np.ndarray, ...]:
-    """``(D*, f)`` along the stick boundary for ``0 < f <= f_max`` (log-spaced)."""
+    """``(D*, f)`` along the stick boundary for ``0 < f <= f_max`` (log-spaced).
+
+    >>> d_star, f = boundary_curve("position", f_max=1.0, n=3)
+    >>> f.tolist(), bool(d_star[0] > d_star[-1])
+    ([0.0001, 0.01, 1.0], True)
+    """
     f = np.geomspace(f_max * 1e-4, f_max, n)
     return stick_boundary(f, condition), f
 
@@ -37,6 +42,10 @@ def plot_contact_surface(
     after its first minimum) and the fold between them, where
     :math:`\partial g/\partial\tau = 0` and the surface turns over; beyond it the body
     sticks and the surface has no points.
+
+    >>> ax = plot_contact_surface("force", n=6)
+    >>> ax.get_zlabel()
+    '$\\tau$ with $g(\\tau, D, f) = 0$'
     """
     check_condition(condition)
     if ax is None:
@@ -68,6 +77,10 @@ def plot_stick_boundary(
 
     The pressing force is on a log axis: as ``f -> 0`` the position boundary tends to
     ``D* = 1`` and the force boundary grows without bound (like ``f**(-1/4) / 2``).
+
+    >>> ax = plot_stick_boundary()
+    >>> [line.get_label() for line in ax.get_lines()][:2]
+    ['$D^*(f)$, position condition', '$D^*(f)$, force condition']
     """
     if ax is None:
         ax = plt.figure(figsize=(6, 4.5)).add_subplot()
@@ -137,7 +150,11 @@ def plot_contact_time_map(
     f_max: float = 1.0,
     n: int = 300,
 ) -> Axes:
-    r"""Normalized contact time :math:`\tau_c(D, f)` over the D-f plane; grey: sticking."""
+    r"""Normalized contact time :math:`\tau_c(D, f)` over the D-f plane; grey: sticking.
+
+    >>> plot_contact_time_map("position", n=8).get_title()
+    'Contact time, position condition'
+    """
     return _map(
         contact_time, r"contact time $\tau_c$", "Contact time", condition, ax, D_max, f_max, n
     )
@@ -150,7 +167,11 @@ def plot_restitution_map(
     f_max: float = 1.0,
     n: int = 300,
 ) -> Axes:
-    """Coefficient of restitution :math:`e(D, f)` over the D-f plane; grey: sticking."""
+    """Coefficient of restitution :math:`e(D, f)` over the D-f plane; grey: sticking.
+
+    >>> plot_restitution_map("force", n=8).get_title()
+    'Coefficient of restitution, force condition'
+    """
     return _map(
         restitution, "restitution $e$", "Coefficient of restitution", condition, ax, D_max, f_max, n
     )
