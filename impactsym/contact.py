@@ -125,27 +125,37 @@ def _z_dot() -> _PiecewiseInD:
     return _PiecewiseInD("z_dot", with_tau=True, critical_separate=False)
 
 
-def _ridge_minimum(condition: str, damping: np.ndarray, force: np.ndarray):
-    """Ridge time, whether it exists, and G = min of g there (2Df where it does not)."""
+def _ridge(condition: str, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
+    """Ridge time: the first local minimum of g after impact; NaN where g has none."""
     k = _kernels(condition)
     exists = k.ridge_exists(damping, force) > 0.5
-    ridge = np.where(exists, k.ridge(damping, force), np.inf)
-    minimum = 2.0 * damping * force  # the infimum of g when it has no local minimum
+    ridge = np.full(damping.shape, np.nan)
+    ridge[exists] = k.ridge(damping[exists], force[exists])
+    return ridge
+
+
+def _boundary_value(condition: str, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
+    """G(D, f) = g at the ridge time (the infimum 2Df of g where g has no minimum)."""
+    ridge = _ridge(condition, damping, force)
+    exists = ~np.isnan(ridge)
+    minimum = 2.0 * damping * force
     if exists.any():
-        minimum[exists] = k.g(ridge[exists], damping[exists], force[exists])
-    return ridge, exists, minimum
+        minimum[exists] = _kernels(condition).g(ridge[exists], damping[exists], force[exists])
+    return minimum
 
 
-def _contact_time(condition: str, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
-    """Contact time on flat arrays (no validation)."""
+def _contact_time(
+    condition: str, damping: np.ndarray, force: np.ndarray, ridge: np.ndarray | None = None
+) -> np.ndarray:
+    """Contact time on flat arrays (no validation); ``ridge`` if already computed."""
     k = _kernels(condition)
-    exists = k.ridge_exists(damping, force) > 0.5
+    ridge = _ridge(condition, damping, force) if ridge is None else ridge
+    exists = ~np.isnan(ridge)
     release = exists.copy()
-    ridge = k.ridge(damping[exists], force[exists])
-    release[exists] = k.scaled_g(ridge, damping[exists], force[exists]) < 0
+    release[exists] = k.scaled_g(ridge[exists], damping[exists], force[exists]) < 0
     result = np.full(damping.shape, np.inf)
     if release.any():
-        d, fr, hi = damping[release], force[release], ridge[release[exists]]
+        d, fr, hi = damping[release], force[release], ridge[release]
         lo = np.zeros_like(hi)  # g decreases from impact, or from the preceding maximum:
         under = d < 1
         half_period = np.pi / np.sqrt((1.0 - d[under]) * (1.0 + d[under]))
@@ -248,10 +258,8 @@ def contact_surface(
     """
     (damping, force), shape, scalar = _inputs(condition, D=D, f=f)
     k = _kernels(condition)
-    exists = k.ridge_exists(damping, force) > 0.5
-    ridge = np.full(damping.shape, np.nan)
-    ridge[exists] = k.ridge(damping[exists], force[exists])
-    first = _contact_time(condition, damping, force)
+    ridge = _ridge(condition, damping, force)
+    first = _contact_time(condition, damping, force, ridge)
     release = np.isfinite(first)
     second = np.full(damping.shape, np.nan)
     d, fr, lo = damping[release], force[release], ridge[release]
@@ -323,10 +331,11 @@ def stick_boundary(f: ArrayLike, condition: str = "force") -> ArrayLike:
         k = _kernels(condition)
 
         def minimum(damping: np.ndarray, fv: np.ndarray) -> np.ndarray:
-            return _ridge_minimum(condition, damping, fv)[2]
+            return _boundary_value(condition, damping, fv)
 
         def slope(damping: np.ndarray, fv: np.ndarray) -> np.ndarray:
-            ridge, exists, _ = _ridge_minimum(condition, damping, fv)
+            ridge = _ridge(condition, damping, fv)
+            exists = ~np.isnan(ridge)
             out = 2.0 * fv  # d(2Df)/dD where g has no minimum
             out[exists] = k.boundary_slope(ridge[exists], damping[exists], fv[exists])
             return out
