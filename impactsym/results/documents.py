@@ -3,6 +3,7 @@ LaTeX engine is installed) and the NumPy-only Python module."""
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import tempfile
@@ -48,19 +49,13 @@ def compile_latex(tex: Path, out_dir: Path) -> Path:
                 text=True,
                 check=False,
                 stdin=subprocess.DEVNULL,
-                env={"SOURCE_DATE_EPOCH": "0", "FORCE_SOURCE_DATE": "1", "PATH": _path()},
+                env={**os.environ, "SOURCE_DATE_EPOCH": "0", "FORCE_SOURCE_DATE": "1"},
             )
             if run.returncode != 0:
                 raise LatexError(f"pdflatex failed on {tex.name}:\n{run.stdout[-3000:]}")
         pdf = out_dir / tex.with_suffix(".pdf").name
         shutil.copyfile(Path(work) / pdf.name, pdf)
     return pdf
-
-
-def _path() -> str:
-    import os
-
-    return os.environ.get("PATH", "/usr/bin:/bin")
 
 
 def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Path]:
