@@ -60,6 +60,21 @@ def plot_time_history(
     [0.0, 4.0]
     >>> plt.close(ax.figure)
     """
+    fn, condition, ax, t = _time_axes(quantity, ax, t_max, n_points)
+    for alpha, f in cases:
+        (line,) = ax.plot(t, fn(t, alpha, f, kappa), lw=1.3, label=rf"$\alpha={alpha:g},\ f={f:g}$")
+        tc = contact_time(alpha, f, condition, kappa, t_max=t_max)
+        if np.isfinite(tc):
+            ax.plot([tc], [0.0], "o", color=line.get_color(), ms=5)
+    stiffness = "rigid contact" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
+    ax.set_title(f"Rod impact, persistent contact, {stiffness}; dots: first zero")
+    ax.legend(fontsize="small", loc="best")
+    return ax
+
+
+def _time_axes(quantity: str, ax: Axes | None, t_max: float, n_points: int):
+    """Time function and condition of ``quantity``, the axes framed for a time history
+    (labels, zero line, dotted reflection times), and the sample times."""
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be 'y' or 'N', got {quantity!r}")
     fn, condition, ylabel = QUANTITIES[quantity]
@@ -67,20 +82,11 @@ def plot_time_history(
         ax = plt.figure(figsize=(7, 4)).add_subplot()
     for k in range(2, int(t_max) + 1, 2):
         ax.axvline(k, color="0.6", lw=0.8, ls=":", zorder=0)
-    t = _times(t_max, n_points)
-    for alpha, f in cases:
-        (line,) = ax.plot(t, fn(t, alpha, f, kappa), lw=1.3, label=rf"$\alpha={alpha:g},\ f={f:g}$")
-        tc = contact_time(alpha, f, condition, kappa, t_max=t_max)
-        if np.isfinite(tc):
-            ax.plot([tc], [0.0], "o", color=line.get_color(), ms=5)
     ax.axhline(0.0, color="k", lw=0.6)
     ax.set_xlim(0, t_max)
     ax.set_xlabel(r"time $t\,/\,(L/c)$ (dotted: reflections return)")
     ax.set_ylabel(ylabel)
-    stiffness = "rigid contact" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
-    ax.set_title(f"Rod impact, persistent contact, {stiffness}; dots: first zero")
-    ax.legend(fontsize="small", loc="best")
-    return ax
+    return fn, condition, ax, _times(t_max, n_points)
 
 
 def _times(t_max: float, n_points: int) -> np.ndarray:
@@ -197,21 +203,10 @@ def plot_stiffness_comparison(
     ['$\\kappa = 50$', 'rigid']
     >>> plt.close(ax.figure)
     """
-    if quantity not in QUANTITIES:
-        raise ValueError(f"quantity must be 'y' or 'N', got {quantity!r}")
-    fn, _, ylabel = QUANTITIES[quantity]
-    if ax is None:
-        ax = plt.figure(figsize=(7, 4)).add_subplot()
-    for k in range(2, int(t_max) + 1, 2):
-        ax.axvline(k, color="0.6", lw=0.8, ls=":", zorder=0)
-    t = _times(t_max, n_points)
+    fn, _, ax, t = _time_axes(quantity, ax, t_max, n_points)
     for kappa in kappas:
         label = "rigid" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
         ax.plot(t, fn(t, alpha, f, kappa), lw=1.2, label=label)
-    ax.axhline(0.0, color="k", lw=0.6)
-    ax.set_xlim(0, t_max)
-    ax.set_xlabel(r"time $t\,/\,(L/c)$ (dotted: reflections return)")
-    ax.set_ylabel(ylabel)
     ax.set_title(rf"Contact stiffness, $\alpha = {alpha:g}$, $f = {f:g}$")
     ax.legend(fontsize="small")
     return ax
