@@ -93,9 +93,9 @@ class _Kernels:
 
 
 def _decay_rate(damping: np.ndarray) -> np.ndarray:
-    """Decay rate c of the slowest mode: D (D <= 1) or 1/mu = D - sqrt(D^2 - 1)."""
-    over = np.maximum(damping, 1.0)
-    return np.where(damping <= 1, damping, 1.0 / (over + np.sqrt((over - 1.0) * (over + 1.0))))
+    """Decay rate c of the slowest mode (``oscillator.DECAY``): D for D <= 1, else 1/mu."""
+    mu_ = _aux("overdamped", np.maximum(damping, 1.0))[1]
+    return np.where(damping <= 1, damping, 1.0 / mu_)
 
 
 def _static_part(t: np.ndarray, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
