@@ -220,14 +220,18 @@ class SpringDamperContact:
         return sp.atanh(-s * p0 / q) / s, sp.And(p0 < 0, q + s * p0 > 0)
 
     @cached_property
+    def _display_ridges(self) -> dict[str, tuple[sp.Expr, sp.Boolean]]:
+        return {c: self._ridge(c, numeric=False) for c in CONDITIONS}
+
+    @cached_property
     def ridge_time(self) -> dict[str, sp.Expr]:
         """Closed-form first local minimum tau_r(D, f) of g, from dg/dtau = 0."""
-        return {c: self._ridge(c, numeric=False)[0] for c in CONDITIONS}
+        return {c: ridge for c, (ridge, _) in self._display_ridges.items()}
 
     @cached_property
     def ridge_exists(self) -> dict[str, sp.Boolean]:
         """Where g has a local minimum after impact (always for D < 1)."""
-        return {c: self._ridge(c, numeric=False)[1] for c in CONDITIONS}
+        return {c: exists for c, (_, exists) in self._display_ridges.items()}
 
     @cached_property
     def boundary(self) -> dict[str, sp.Expr]:
@@ -237,25 +241,28 @@ class SpringDamperContact:
     # -- numeric forms ------------------------------------------------------------
     @cached_property
     def numeric_forms(self) -> dict[str, sp.Expr]:
-        """Stable float forms, keyed ``'z'``, ``'z_dot'``, ``'g_<condition>'``,
-        ``'g_dot_<condition>'``, ``'ridge_<condition>'``, ``'ridge_exists_<condition>'``,
+        """Stable float forms, keyed ``'z_dot'``, ``'g_<condition>'`` (``g_position``
+        is ``z``), ``'ridge_<condition>'``, ``'ridge_exists_<condition>'``,
         ``'g_oscillation_<condition>'`` :math:`= (g - 2Df) e^{c\\tau}` with the decay rate
         ``c = DECAY[regime]`` and its tau-derivative ``'g_oscillation_dot_<condition>'``,
         and (not for the critical regime) ``'g_D_<condition>'`` = dg/dD.
 
         Their arguments are ``(tau, D, f) + NUMERIC_AUX[regime]``.
         """
-        forms = {
-            "z": self._numeric(2 * D * f, sp.Integer(0), sp.Integer(1)),
-            "z_dot": self._numeric(sp.Integer(0), sp.Integer(1), 2 * D * f - 2 * D),
-        }
+        forms = {"z_dot": self._numeric(sp.Integer(0), sp.Integer(1), 2 * D * f - 2 * D)}
         for c in CONDITIONS:
             g0, g1, g2 = _initial_values(c)
             forms[f"g_{c}"] = self._numeric(2 * D * f, g0, g1)
-            forms[f"g_dot_{c}"] = self._numeric(sp.Integer(0), g1, g2)
             oscillation = self._numeric(2 * D * f, g0, g1, scaled=True)
             forms[f"g_oscillation_{c}"] = oscillation
-            forms[f"g_oscillation_dot_{c}"] = sp.diff(oscillation, tau)
+            # d/dtau [(g - 2Df) e^{c tau}] = g' e^{c tau} + c (g - 2Df) e^{c tau}; g' is a
+            # homogeneous solution with the same decay (sp.diff of the sinc form cancels)
+            decay = (
+                DECAY[self.regime].subs(D, 1) if self.regime == "critical" else DECAY[self.regime]
+            )
+            forms[f"g_oscillation_dot_{c}"] = (
+                self._numeric(sp.Integer(0), g1, g2, scaled=True) + decay * oscillation
+            )
             forms[f"ridge_{c}"], forms[f"ridge_exists_{c}"] = self._ridge(c, numeric=True)
             if self.regime != "critical":
                 forms[f"g_D_{c}"] = self._total_D_derivative(forms[f"g_{c}"])

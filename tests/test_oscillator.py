@@ -83,9 +83,17 @@ def _numeric_value(expr, regime, t_value, d_value, f_value):
 @pytest.mark.parametrize("regime", REGIMES)
 def test_numeric_forms_equal_display_forms(regime):
     model = spring_damper(regime)
-    pairs = [("z", model.z), ("z_dot", model.z_dot)]
+    damping = 1 if regime == "critical" else D
+    decay = {"underdamped": D, "critical": 1, "overdamped": D - sp.sqrt(D**2 - 1)}[regime]
+    pairs = [("z_dot", model.z_dot)]
     for c in ("position", "force"):
-        pairs += [(f"g_{c}", model.g[c]), (f"g_dot_{c}", model.g_dot[c])]
+        # the oscillation is g with its static part removed and its decay scaled out
+        oscillation = (model.g[c] - 2 * damping * f) * sp.exp(decay * tau)
+        pairs += [
+            (f"g_{c}", model.g[c]),
+            (f"g_oscillation_{c}", oscillation),
+            (f"g_oscillation_dot_{c}", oscillation.diff(tau)),
+        ]
     for d_value in SAMPLE_D[regime]:
         for f_value in SAMPLE_F:
             for t_value in (0.0, 0.4, 3.0, 17.0):
