@@ -219,10 +219,8 @@ def _section2_source() -> str:
             for key, form in (("RIDGE", "ridge"), ("RIDGE_EXISTS", "ridge_exists")):
                 name = f"_{form}_{c}_{regime}"
                 expr = forms[f"{form}_{c}"]
-                if form == "ridge_exists":
-                    expr = sp.Piecewise((1.0, expr), (0.0, True)) + 0 * D
-                else:
-                    expr = expr + 0 * D
+                if form == "ridge_exists":  # a boolean: 1.0 where g has a minimum
+                    expr = sp.Piecewise((1.0, expr), (0.0, True))
                 parts.append(
                     _function_source(
                         name, [D, f, *aux], expr, f"{form} of the {c} condition, {regime} regime."
