@@ -145,3 +145,56 @@ def bracketed_newton(
     raise RuntimeError(
         f"bracketed_newton: {active.size} roots did not converge in {max_iter} steps"
     )
+
+
+def bracketed_illinois(
+    fun: Callable[[np.ndarray, np.ndarray], np.ndarray],
+    lo: np.ndarray,
+    hi: np.ndarray,
+    *,
+    log: bool = False,
+    rtol: float = 1e-13,
+    atol: float = 0.0,
+    max_iter: int = 400,
+) -> np.ndarray:
+    """Solve ``fun(x, index) = 0`` elementwise in ``[lo, hi]``, ``fun(lo) <= 0 < fun(hi)``.
+
+    Derivative-free companion of :func:`bracketed_newton`: the Illinois method
+    (modified regula falsi), in ``x`` or in ``log x``, is superlinear where ``fun`` is
+    smooth and still converges where it jumps. ``fun`` receives the trial points and
+    the flat indices of the elements they belong to; only unconverged elements are
+    evaluated. An element is done when its bracket is narrower than
+    ``max(atol, rtol * |x|)`` (``rtol`` alone in ``log x``) or ``fun`` is exactly zero.
+
+    >>> targets = np.array([2.0, 9.0])
+    >>> root = bracketed_illinois(lambda x, i: x**2 - targets[i], np.ones(2), np.full(2, 4.0))
+    >>> bool(np.abs(root - [np.sqrt(2.0), 3.0]).max() < 1e-12)
+    True
+    """
+    to, back = (np.log, np.exp) if log else (np.asarray, np.asarray)
+    a = to(np.asarray(lo, dtype=float)).ravel().copy()
+    b = to(np.asarray(hi, dtype=float)).ravel().copy()
+    every = np.arange(a.size)
+    fa, fb = fun(back(a), every).astype(float), fun(back(b), every).astype(float)
+    x = np.where(fa == 0, a, b)
+    side = np.zeros(a.size, dtype=int)
+    active = np.flatnonzero(fa != 0)
+    for _ in range(max_iter):
+        if active.size == 0:
+            return back(x)
+        aa, bb, faa, fbb = a[active], b[active], fa[active], fb[active]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            xx = (aa * fbb - bb * faa) / (fbb - faa)
+        xx = np.where(np.isfinite(xx) & (xx > aa) & (xx < bb), xx, 0.5 * (aa + bb))
+        fx = np.asarray(fun(back(xx), active), dtype=float)
+        right = fx > 0  # the root is in [aa, xx]
+        keep = side[active]
+        fa[active] = np.where(right, np.where(keep == 1, 0.5 * faa, faa), fx)
+        fb[active] = np.where(right, fx, np.where(keep == -1, 0.5 * fbb, fbb))
+        a[active], b[active] = np.where(right, aa, xx), np.where(right, xx, bb)
+        side[active] = np.where(right, 1, -1)
+        x[active] = xx
+        scale = 1.0 if log else np.maximum(np.abs(xx), np.finfo(float).tiny)
+        done = (fx == 0) | (b[active] - a[active] <= np.maximum(atol, rtol * scale))
+        active = active[~done]
+    raise RuntimeError(f"bracketed_illinois: {active.size} roots did not converge")

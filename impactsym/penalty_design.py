@@ -18,18 +18,17 @@ and cross the stick/release boundary ``D = D*(f)`` of section 2
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 from impactsym.multibody import ReducedContact
+from impactsym.numeric import bracketed_illinois
 from impactsym.validation import check_condition, finish, real_array
 
 __all__ = ["damping_for_restitution", "penalty_for_targets", "stick_damping"]
 
 #: ``fun(x, index)``: values at ``x`` for the elements ``index`` of the problem
-Residual = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
 def _numeric_reduction(reduced: object) -> ReducedContact:
@@ -63,42 +62,6 @@ def _scales(reduced: ReducedContact, k: np.ndarray) -> tuple[np.ndarray, np.ndar
         )
     m_omega = np.sqrt(c_eff * reduced.m_eff)
     return m_omega, reduced.load / (m_omega * reduced.v0)
-
-
-def _solve(fun: Residual, lo: np.ndarray, hi: np.ndarray, *, log: bool) -> np.ndarray:
-    """Elementwise root of ``fun`` in ``[lo, hi]`` where ``fun(lo) <= 0 < fun(hi)``.
-
-    Illinois (modified regula falsi) in ``x`` or ``log x``: superlinear where ``fun`` is
-    smooth, and still converging where it jumps (the restitution drops to 0 at the
-    stick boundary). Only unconverged elements are evaluated.
-    """
-    to, back = (np.log, np.exp) if log else (np.asarray, np.asarray)
-    a = to(np.asarray(lo, dtype=float)).ravel().copy()
-    b = to(np.asarray(hi, dtype=float)).ravel().copy()
-    every = np.arange(a.size)
-    fa, fb = fun(back(a), every).astype(float), fun(back(b), every).astype(float)
-    x = np.where(fa == 0, a, b)
-    side = np.zeros(a.size, dtype=int)
-    active = np.flatnonzero(fa != 0)
-    for _ in range(400):
-        if active.size == 0:
-            return back(x)
-        aa, bb, faa, fbb = a[active], b[active], fa[active], fb[active]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            xx = (aa * fbb - bb * faa) / (fbb - faa)
-        xx = np.where(np.isfinite(xx) & (xx > aa) & (xx < bb), xx, 0.5 * (aa + bb))
-        fx = np.asarray(fun(back(xx), active), dtype=float)
-        right = fx > 0  # the root is in [aa, xx]
-        keep = side[active]
-        fa[active] = np.where(right, np.where(keep == 1, 0.5 * faa, faa), fx)
-        fb[active] = np.where(right, fx, np.where(keep == -1, 0.5 * fbb, fbb))
-        a[active], b[active] = np.where(right, aa, xx), np.where(right, xx, bb)
-        side[active] = np.where(right, 1, -1)
-        x[active] = xx
-        scale = 1.0 if log else np.maximum(np.abs(xx), np.finfo(float).tiny)
-        done = (fx == 0) | (b[active] - a[active] <= 1e-13 * scale)
-        active = active[~done]
-    raise RuntimeError(f"penalty design: {active.size} roots did not converge")
 
 
 def stick_damping(reduced: ReducedContact, k: Any, condition: str = "force") -> float | np.ndarray:
@@ -162,7 +125,7 @@ def stick_damping(reduced: ReducedContact, k: Any, condition: str = "force") -> 
             if hi.max() > 1e12:
                 raise RuntimeError("stick_damping: no stick boundary below D = 1e12")
             short[short] = excess(hi[short], every[short]) <= 0
-        D_star[loaded] = _solve(excess, lo, hi, log=True)
+        D_star[loaded] = bracketed_illinois(excess, lo, hi, log=True)
     d_star = 2 * D_star * m_omega - red.delta_d
     return finish(d_star.reshape(k_arr.shape), scalar)
 
@@ -254,7 +217,7 @@ def _restitution_damping(
             if np.any(d_hi > 1e12 * m_omega[ok]):
                 raise RuntimeError("damping_for_restitution: e stays above the target")
             short[short] = shortfall(d_hi[short], ok[short]) <= 0
-        d[ok] = _solve(lambda x, i: shortfall(x, ok[i]), d_lo[ok], d_hi, log=False)
+        d[ok] = bracketed_illinois(lambda x, i: shortfall(x, ok[i]), d_lo[ok], d_hi, log=False)
     return d, e_max
 
 
@@ -330,6 +293,6 @@ def penalty_for_targets(
             f"{condition} condition"
         )
     i = change[:1]
-    k = float(_solve(excess, k_grid[i], k_grid[i + 1], log=True)[0])
+    k = float(bracketed_illinois(excess, k_grid[i], k_grid[i + 1], log=True)[0])
     d = float(damping_for_restitution(red, k, e_target, condition))
     return k, d

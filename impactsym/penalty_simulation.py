@@ -17,7 +17,7 @@ import numpy as np
 import sympy as sp
 
 from impactsym.multibody import PROJECTIONS, ReducedContact, reduce_contact
-from impactsym.numeric import lambdify
+from impactsym.numeric import bracketed_illinois, lambdify
 from impactsym.validation import check_condition, real_array
 
 Progress = Callable[[str], None]
@@ -306,7 +306,7 @@ def simulate_contact(
         if crossed.any():
             sel = np.flatnonzero(crossed)
             args = (ha[sel], ka[sel], da[sel], fa[sel])
-            theta, y_c = _locate(eq, y_old[:, sel], *args, c_old[active][sel], c_new[sel])
+            theta, y_c = _locate(eq, y_old[:, sel], *args)
             t_c[active[sel]] = (step + theta) * ha[sel]
             e[active[sel]] = -eq.normal_speed(y_c) / v0[active[sel]]
         y[:, active] = y_new
@@ -315,26 +315,16 @@ def simulate_contact(
     return SimulatedContact(t_c.reshape(shape), e.reshape(shape))
 
 
-def _locate(eq, y0, h, k, d, force, c0, c1) -> tuple[np.ndarray, np.ndarray]:
+def _locate(eq, y0, h, k, d, force) -> tuple[np.ndarray, np.ndarray]:
     """Fraction ``theta`` of the step where the condition crosses zero (Illinois method),
     and the state there."""
-    lo, hi = np.zeros_like(h), np.ones_like(h)
-    f_lo, f_hi = c0.copy(), c1.copy()
-    side = np.zeros(h.size, dtype=int)
-    for _ in range(100):
-        theta = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
-        theta = np.where(np.isfinite(theta), np.clip(theta, lo, hi), 0.5 * (lo + hi))
-        y = _rk4(eq, y0, theta * h, k, d)
-        value = eq.condition(y, k, d, force)
-        upper = value <= 0
-        hi, f_hi = np.where(upper, theta, hi), np.where(upper, value, f_hi)
-        lo, f_lo = np.where(upper, lo, theta), np.where(upper, f_lo, value)
-        f_lo = np.where(upper & (side == 1), 0.5 * f_lo, f_lo)
-        f_hi = np.where(~upper & (side == -1), 0.5 * f_hi, f_hi)
-        side = np.where(upper, 1, -1)
-        if np.all((hi - lo < 1e-13) | (value == 0)):
-            break
-    return theta, y
+
+    def rising(theta: np.ndarray, i: np.ndarray) -> np.ndarray:  # > 0 past the crossing
+        y = _rk4(eq, y0[:, i], theta * h[i], k[i], d[i])
+        return -eq.condition(y, k[i], d[i], force[i])
+
+    theta = bracketed_illinois(rising, np.zeros_like(h), np.ones_like(h), atol=1e-13)
+    return theta, _rk4(eq, y0, theta * h, k, d)
 
 
 # ---------------------------------------------------------------------------------
