@@ -54,7 +54,7 @@ def solve_ivp_contact(d, f, condition):
 
 def boundary_reference(f, condition, guess):
     """30-digit D* from the first minimum of g (g' = 0 polished near the float ridge)."""
-    from impactsym.contact import _kernels
+    from impactsym.contact.api import _kernels
 
     def minimum(d):
         ridge = float(_kernels(condition).ridge(np.array([float(d)]), np.array([f]))[0])

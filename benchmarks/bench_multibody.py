@@ -21,8 +21,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from mb_systems import FullSimulation, pendulum_kane
 
 from impactsym.multibody import reduce_contact
-from impactsym.penalty_design import penalty_for_targets, stick_damping
-from impactsym.penalty_simulation import double_pendulum
+from impactsym.multibody.design import penalty_for_targets, stick_damping
+from impactsym.multibody.simulation import double_pendulum
 
 
 def timed(fn, *args, **kwargs):

@@ -29,8 +29,8 @@ import mpmath as mp
 import numpy as np
 import sympy as sp
 
-from impactsym.laplace import invert_delay_series
 from impactsym.rod import RodImpact, contact_force, displacement
+from impactsym.symbolic.laplace import invert_delay_series
 
 PAIRS = ((0.05, 0.0), (1.0, 0.5), (50.0, 5.0))
 

@@ -17,8 +17,8 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-from impactsym import oscillator
-from impactsym.oscillator import NUMERIC_AUX, D, f, tau
+from impactsym.contact import derivation
+from impactsym.contact.derivation import NUMERIC_AUX, D, f, tau
 
 Formula = tuple[str, str, str]
 
@@ -32,11 +32,12 @@ def formulas(n_terms: int = 3) -> list[tuple[str, list[Formula]]]:
     >>> [title for title, _ in formulas()][1]
     'Spring-damper contact (paper section 2)'
     """
-    from impactsym import multibody, rod
+    from impactsym.multibody import reduction as multibody
+    from impactsym.rod import derivation as rod
 
     return [
         ("Rod impact (paper section 1)", rod.latex_formulas(n_terms)),
-        ("Spring-damper contact (paper section 2)", oscillator.latex_formulas()),
+        ("Spring-damper contact (paper section 2)", derivation.latex_formulas()),
         ("Multibody penalty contact (paper section 3)", multibody.latex_formulas()),
     ]
 
@@ -205,8 +206,8 @@ def _section2_source() -> str:
     parts = [_SECTION2_HEADER]
     for c in ("position", "force"):
         tables = {"G": {}, "RIDGE": {}, "RIDGE_EXISTS": {}}
-        for regime in oscillator.REGIMES:
-            forms = oscillator.spring_damper(regime).numeric_forms
+        for regime in derivation.REGIMES:
+            forms = derivation.spring_damper(regime).numeric_forms
             aux = list(NUMERIC_AUX[regime])
             if regime != "critical":  # the under-damped form covers D = 1
                 name = f"_g_{c}_{regime}"
@@ -241,7 +242,7 @@ def python_module() -> str:
     >>> "import sympy" in source, "def contact_function_force(tau, D, f):" in source
     (False, True)
     """
-    from impactsym.rod_numeric import numpy_source
+    from impactsym.rod.codegen import numpy_source
 
     header = '''"""Formulas of impactsym as plain NumPy functions (generated; needs NumPy only).
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from impactsym import contact_time
-from impactsym.contact import _kernels
+from impactsym.contact.api import _kernels
 from impactsym.export import formula, formula_names, latex_document, python_module
 from impactsym.results.documents import LatexError, compile_latex
 from impactsym.rod import contact_force, displacement

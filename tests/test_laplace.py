@@ -1,4 +1,4 @@
-"""Tests of the delay-series inversion engine, :mod:`impactsym.laplace`."""
+"""Tests of the delay-series inversion engine, :mod:`impactsym.symbolic.laplace`."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from impactsym.laplace import (
+from impactsym.symbolic.laplace import (
     LaplaceInversionError,
     check_delay,
     geometric_delay_series,

@@ -17,9 +17,9 @@ from mb_systems import FullSimulation, Model, bar_system, pendulum_kane
 from scipy.integrate import solve_ivp
 from sympy.physics import mechanics as me
 
-from impactsym.multibody import latex_formulas, reduce_contact
-from impactsym.penalty_design import damping_for_restitution, penalty_for_targets, stick_damping
-from impactsym.penalty_simulation import double_pendulum, falling_bar, simulate_contact
+from impactsym.multibody.design import damping_for_restitution, penalty_for_targets, stick_damping
+from impactsym.multibody.reduction import latex_formulas, reduce_contact
+from impactsym.multibody.simulation import double_pendulum, falling_bar, simulate_contact
 
 x, v = sp.symbols("x v")
 m, k, d, F = sp.symbols("m k d F", positive=True)
@@ -589,7 +589,7 @@ def test_figures_return_their_axes():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from impactsym.penalty_simulation import agreement_sweep
+    from impactsym.multibody.simulation import agreement_sweep
     from impactsym.plotting.multibody import plot_agreement, plot_convergence, plot_verdict_map
 
     agreement = agreement_sweep(

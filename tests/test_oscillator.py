@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from impactsym.oscillator import (
+from impactsym.contact.derivation import (
     NUMERIC_AUX,
     REGIMES,
     D,

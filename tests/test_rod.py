@@ -13,7 +13,6 @@ from hypothesis import strategies as st
 from rod_characteristics import Characteristics
 from scipy.optimize import brentq
 
-from impactsym.laplace import laplace_exp_poly
 from impactsym.rod import (
     RodImpact,
     contact_force,
@@ -22,6 +21,7 @@ from impactsym.rod import (
     latex_formulas,
     numpy_source,
 )
+from impactsym.symbolic.laplace import laplace_exp_poly
 
 s, t, xi = RodImpact.s, RodImpact.t, RodImpact.xi
 alpha, f = RodImpact.alpha, RodImpact.f

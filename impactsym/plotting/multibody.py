@@ -186,7 +186,7 @@ def plot_design_region(
     optional iso-restitution curves ``d(k)`` under ``restitution_condition`` and a
     design point.
     """
-    from impactsym.penalty_design import damping_for_restitution, stick_damping
+    from impactsym.multibody.design import damping_for_restitution, stick_damping
 
     check_condition(restitution_condition)
     ax = _axes(ax)

@@ -13,7 +13,8 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.colors import LogNorm
 
-from impactsym.rod_numeric import ContactTimeMap, contact_force, contact_time, displacement
+from impactsym.rod.api import contact_force, displacement
+from impactsym.rod.contact_times import ContactTimeMap, contact_time
 
 QUANTITIES = {
     "y": (displacement, "position", r"striker displacement $y\,/\,(v_0 L/c)$"),

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from impactsym.contact import contact_time, restitution, stick_boundary
-from impactsym.oscillator import latex_formulas
+from impactsym.contact.derivation import latex_formulas
 from impactsym.results.files import save_figure, write_csv
 
 CONDITIONS = ("position", "force")

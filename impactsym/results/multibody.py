@@ -18,8 +18,8 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from impactsym.multibody import PROJECTIONS, latex_formulas, reduce_contact
-from impactsym.penalty_simulation import (
+from impactsym.multibody.reduction import PROJECTIONS, latex_formulas, reduce_contact
+from impactsym.multibody.simulation import (
     MultibodyExample,
     agreement_sweep,
     convergence_study,
@@ -54,7 +54,7 @@ CAPTIONS = {
 def _design_example(example: MultibodyExample | None = None) -> dict[str, Any]:
     """The worked penalty design: the bar at 0.5 m/s should release with ``e = 0.5``
     after 2 ms under the force condition; the full simulation checks the design."""
-    from impactsym.penalty_design import penalty_for_targets, stick_damping
+    from impactsym.multibody.design import penalty_for_targets, stick_damping
 
     example = falling_bar() if example is None else example
     speed, e_target, t_target, condition = 0.5, 0.5, 2e-3, "force"

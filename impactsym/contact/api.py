@@ -1,7 +1,7 @@
 r"""Spring-damper contact (paper section 2): fast vectorized numbers.
 
 Contact times, coefficients of restitution and the stick/release boundary, computed
-from the closed forms of :mod:`impactsym.oscillator` (lambdified once, on first use).
+from the closed forms of :mod:`impactsym.contact.derivation` (lambdified once, on first use).
 
 The first root of :math:`g(\tau, D, f)` is bracketed without any time sampling: the
 closed-form ridge time :math:`\tau_r(D, f)` is the first local minimum of ``g``; the
@@ -20,9 +20,10 @@ from functools import cache
 import numpy as np
 import sympy as sp
 
-from impactsym import oscillator
-from impactsym.numeric import bracketed_newton, lambdify
-from impactsym.oscillator import D, f, tau
+from impactsym.contact import derivation
+from impactsym.contact.derivation import D, f, tau
+from impactsym.numeric.codegen import lambdify
+from impactsym.numeric.roots import bracketed_newton
 from impactsym.validation import check_condition, finish, real_array
 
 ArrayLike = float | np.ndarray
@@ -44,12 +45,12 @@ class _PiecewiseInD:
     def __init__(self, name: str, with_tau: bool, critical_separate: bool) -> None:
         self.name = name
         self.critical_separate = critical_separate
-        regimes = oscillator.REGIMES if critical_separate else ("underdamped", "overdamped")
+        regimes = derivation.REGIMES if critical_separate else ("underdamped", "overdamped")
         leading = (tau, D, f) if with_tau else (D, f)
         self.functions = {
             r: lambdify(
-                leading + oscillator.NUMERIC_AUX[r],
-                sp.sympify(oscillator.spring_damper(r).numeric_forms[name]),
+                leading + derivation.NUMERIC_AUX[r],
+                sp.sympify(derivation.spring_damper(r).numeric_forms[name]),
                 name=f"{name}_{r}",
             )
             for r in regimes
@@ -93,7 +94,7 @@ class _Kernels:
 
 
 def _decay_rate(damping: np.ndarray) -> np.ndarray:
-    """Decay rate c of the slowest mode (``oscillator.DECAY``): D for D <= 1, else 1/mu."""
+    """Decay rate c of the slowest mode (``derivation.DECAY``): D for D <= 1, else 1/mu."""
     mu_ = _aux("overdamped", np.maximum(damping, 1.0))[1]
     return np.where(damping <= 1, damping, 1.0 / mu_)
 

@@ -14,8 +14,8 @@ an elastic rod fixed at its other end, through a contact spring of stiffness
 :class:`RodImpact` builds and solves it with SymPy, expands the closed forms in
 :math:`\\Delta = e^{-s}` into delay series (the paper's eq. (2) for
 :math:`\\kappa \\to \\infty`) and inverts them term by term with
-:mod:`impactsym.laplace`. The float time functions :func:`displacement`,
-:func:`contact_force` and :func:`contact_time` live in :mod:`impactsym.rod_numeric`
+:mod:`impactsym.symbolic.laplace`. The float time functions :func:`displacement`,
+:func:`contact_force` and :func:`contact_time` live in :mod:`impactsym.rod.api`
 and are re-exported here.
 """
 
@@ -26,31 +26,14 @@ from typing import Any
 
 import sympy as sp
 
-from impactsym.laplace import (
+from impactsym.symbolic.laplace import (
     DelayTerm,
     LaplaceInversionError,
     geometric_delay_series,
     invert_delay_series,
 )
-from impactsym.rod_numeric import (
-    ContactTimeMap,
-    contact_force,
-    contact_time,
-    contact_time_map,
-    displacement,
-    numpy_source,
-)
 
-__all__ = [
-    "ContactTimeMap",
-    "RodImpact",
-    "contact_force",
-    "contact_time",
-    "contact_time_map",
-    "displacement",
-    "latex_formulas",
-    "numpy_source",
-]
+__all__ = ["RodImpact", "latex_formulas"]
 
 s = sp.Symbol("s")
 t = sp.Symbol("t", real=True)
@@ -319,7 +302,7 @@ class RodImpact:
             \\qquad g_k = \\mathcal{L}^{-1}\\{X_k\\},
 
         with ``g`` a SymPy expression in ``t`` (and ``alpha``, ``f``, ``kappa``; for
-        ``W`` also ``xi``). Inverted by :func:`impactsym.laplace.invert_delay_series`.
+        ``W`` also ``xi``). Inverted by :func:`impactsym.symbolic.laplace.invert_delay_series`.
 
         Examples
         --------
@@ -342,7 +325,7 @@ class RodImpact:
         >>> rod.time_function("N", 2).subs({rod.f: 0, rod.t: 1})
         exp(-1/alpha)
         """
-        from impactsym.laplace import time_function
+        from impactsym.symbolic.laplace import time_function
 
         return time_function(self.time_terms(name, n_terms), t)
 

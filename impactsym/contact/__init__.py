@@ -1,0 +1,26 @@
+"""The unilateral spring-damper contact (paper section 2).
+
+* :mod:`~impactsym.contact.derivation` -- SymPy: the normalized solution in every damping
+  regime, the contact functions of both conditions, the ridge and the stick/release
+  boundary (:class:`SpringDamperContact`);
+* :mod:`~impactsym.contact.api` -- vectorized NumPy functions built from those closed forms:
+  :func:`contact_time`, :func:`restitution`, :func:`stick_boundary`,
+  :func:`contact_surface`, and :func:`physical_contact` in physical units.
+"""
+
+from __future__ import annotations
+
+from impactsym._lazy import lazy_names
+
+_NAMES = {
+    "contact_time": "impactsym.contact.api",
+    "restitution": "impactsym.contact.api",
+    "stick_boundary": "impactsym.contact.api",
+    "contact_surface": "impactsym.contact.api",
+    "physical_contact": "impactsym.contact.api",
+    "PhysicalContact": "impactsym.contact.api",
+    "SpringDamperContact": "impactsym.contact.derivation",
+    "regime_of": "impactsym.contact.derivation",
+}
+__all__ = sorted(_NAMES)
+__getattr__, __dir__ = lazy_names(__name__, _NAMES)

@@ -1,0 +1,373 @@
+r"""Spring-damper contact (paper section 2): the derivation with SymPy.
+
+A body hits a unilateral spring-damper contact. While in contact, normalized as in
+``PHYSICS.md`` section 2 (:math:`\tau = \omega_0 t`, :math:`z = x\omega_0/v_0`,
+:math:`D = d/(2\sqrt{km})`, :math:`f = F/(d v_0)`),
+
+.. math::  z'' + 2 D z' + z = 2 D f, \qquad z(0) = 0, \quad z'(0) = 1.
+
+Contact ends at the first sign change of the contact function
+
+.. math::  g_\mathrm{position} = z, \qquad g_\mathrm{force} = 2 D z' + z,
+
+the second being the normalized contact force. Both ``g`` solve the same ODE as
+``z``; ``g'`` solves its homogeneous part. Every solution is therefore written in the
+damped basis :math:`(C, S)` of the regime, with :math:`C(0)=1, C'(0)=-D`, :math:`S(0)=0,
+S'(0)=1`:
+
+.. math::  y(\tau) = 2Df + (y_0 - 2Df)\, C(\tau) + \bigl(y_0' + D (y_0 - 2Df)\bigr) S(\tau).
+
+The *ridge* of the implicit surface :math:`g(\tau, D, f) = 0` is where
+:math:`\partial g/\partial\tau = 0`; its closed-form solution :math:`\tau_r(D, f)` is the
+first local minimum of ``g`` after impact, and :math:`G(D, f) = g(\tau_r, D, f) = 0`
+is the boundary between release (:math:`G < 0`) and sticking (:math:`G \ge 0`).
+
+:class:`SpringDamperContact` exposes every expression twice: in *display form* (the
+symbols ``tau, D, f`` only, as one would print them) and in *numeric form*, the same
+function written so that float evaluation is stable in its whole regime (auxiliary
+symbols ``omega``, ``sigma``, ``mu`` that :mod:`impactsym.contact` computes
+accurately; ``sinc``, ``expm1`` and ``log1p`` instead of differences that cancel).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache, cached_property
+
+import sympy as sp
+from sympy.codegen.cfunctions import expm1, log1p
+
+from impactsym.validation import CONDITIONS, check_condition
+
+tau = sp.Symbol("tau", nonnegative=True)
+D = sp.Symbol("D", nonnegative=True)
+f = sp.Symbol("f", nonnegative=True)
+#: under-damped angular frequency sqrt(1 - D^2) (numeric forms)
+omega = sp.Symbol("omega", nonnegative=True)
+#: over-damped decay spread sqrt(D^2 - 1) (numeric forms)
+sigma = sp.Symbol("sigma", positive=True)
+#: fast over-damped decay rate D + sigma; the slow one is 1/mu (numeric forms)
+mu = sp.Symbol("mu", positive=True)
+
+REGIMES = ("underdamped", "critical", "overdamped")
+
+#: Auxiliary symbols of the numeric forms, per regime, after ``(tau, D, f)``.
+NUMERIC_AUX = {"underdamped": (omega,), "critical": (), "overdamped": (sigma, mu)}
+
+
+@dataclass(frozen=True)
+class _Basis:
+    """Damped basis functions C, S of one regime, in display and numeric form."""
+
+    C: sp.Expr
+    S: sp.Expr
+
+
+def _display_basis(regime: str) -> _Basis:
+    if regime == "underdamped":
+        w = sp.sqrt(1 - D**2)
+        return _Basis(sp.exp(-D * tau) * sp.cos(w * tau), sp.exp(-D * tau) * sp.sin(w * tau) / w)
+    if regime == "critical":
+        return _Basis(sp.exp(-tau), tau * sp.exp(-tau))
+    s = sp.sqrt(D**2 - 1)
+    return _Basis(sp.exp(-D * tau) * sp.cosh(s * tau), sp.exp(-D * tau) * sp.sinh(s * tau) / s)
+
+
+def _to_mu(expr: sp.Expr) -> sp.Expr:
+    r"""Rewrite ``expr`` in (D, sigma) through :math:`\mu = D + \sigma` and factor it.
+
+    With :math:`D = (\mu^2+1)/(2\mu)` and :math:`\sigma = (\mu^2-1)/(2\mu)` the
+    cancellation :math:`D - \sigma = 1/\mu` that ruins float evaluation for large ``D``
+    is done exactly; the factor :math:`\mu - 1` is then written as
+    :math:`2\sigma\mu/(\mu+1)`, which stays accurate as :math:`D \to 1`.
+    """
+    in_mu = sp.factor(
+        sp.together(expr.subs({D: (mu**2 + 1) / (2 * mu), sigma: (mu**2 - 1) / (2 * mu)}))
+    )
+    return in_mu.subs(mu - 1, 2 * sigma * mu / (mu + 1))
+
+
+#: Decay rate c of the slowest mode per regime: y = b + exp(-c tau) * oscillation.
+DECAY = {"underdamped": D, "critical": sp.Integer(1), "overdamped": 1 / mu}
+
+
+def _numeric_oscillation(regime: str, b: sp.Expr, y0: sp.Expr, q: sp.Expr) -> sp.Expr:
+    """(y - b) exp(c tau) for y = b + (y0 - b) C + q S, written stably for floats.
+
+    ``q`` is the coefficient of ``S`` (:math:`y_0' + D (y_0 - b)`). Scaling the decay
+    out keeps the sign of ``y`` visible where ``exp(-c tau)`` underflows.
+    """
+    h0 = y0 - b
+    if regime == "underdamped":  # sinc keeps S finite at omega = 0 (critical damping)
+        return h0 * sp.cos(omega * tau) + q * tau * sp.sinc(omega * tau)
+    if regime == "critical":
+        return h0 + q * tau
+    # h0 C + q S = exp(-tau/mu) [A (1 - E) + h0 E],  E = exp(-2 sigma tau),
+    # A = (sigma h0 + q) / (2 sigma) is the coefficient of the slow exponential.
+    A = _to_mu(sigma * h0 + q) / (2 * sigma)
+    return -A * expm1(-2 * sigma * tau) + h0 * sp.exp(-2 * sigma * tau)
+
+
+def _initial_values(condition: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """g(0), g'(0), g''(0) of the contact function (from the ODE, no solution needed)."""
+    b = 2 * D * f
+    z0, z1 = sp.Integer(0), sp.Integer(1)
+    z2 = b - 2 * D * z1 - z0
+    if condition == "position":
+        g0, g1 = z0, z1
+    else:  # g = 2 D z' + z
+        g0, g1 = 2 * D * z1 + z0, 2 * D * z2 + z1
+    g2 = b - 2 * D * g1 - g0  # g solves the same ODE as z
+    return g0, sp.expand(g1), sp.expand(g2)
+
+
+class SpringDamperContact:
+    r"""Explicit solution, contact functions, ridge time and boundary of one regime.
+
+    Parameters
+    ----------
+    regime : {"underdamped", "critical", "overdamped"}
+        Damping regime: :math:`D < 1`, :math:`D = 1` or :math:`D > 1`.
+
+    Attributes
+    ----------
+    z, z_dot
+        Penetration :math:`z(\tau; D, f)` and its rate (display form).
+    g, g_dot
+        Dicts ``condition -> expression``: contact function and :math:`\partial g/\partial\tau`.
+    ridge_time, ridge_exists
+        Dicts: closed-form first local minimum :math:`\tau_r(D, f)` of ``g`` and the
+        condition (a SymPy boolean) under which that minimum exists.
+    boundary
+        Dict: :math:`G(D, f) = g(\tau_r(D, f), D, f)`; release where :math:`G < 0`.
+
+    Examples
+    --------
+    >>> model = SpringDamperContact("critical")
+    >>> model.z
+    2*f + (-2*f + tau*(1 - 2*f))*exp(-tau)
+    >>> model.ridge_time["force"], model.ridge_exists["force"]
+    ((4*f - 3)/(2*f - 1), (1 - 2*f > 0) & (4*f - 3 < 0))
+    """
+
+    def __init__(self, regime: str) -> None:
+        if regime not in REGIMES:
+            raise ValueError(f"regime must be one of {REGIMES}, got {regime!r}")
+        self.regime = regime
+        self.symbols = (tau, D, f)
+        self._basis = _display_basis(regime)
+
+    def __repr__(self) -> str:
+        return f"SpringDamperContact({self.regime!r})"
+
+    # -- construction ------------------------------------------------------------
+    def _display(self, b: sp.Expr, y0: sp.Expr, y1: sp.Expr) -> sp.Expr:
+        C, S = self._basis.C, self._basis.S
+        h0 = y0 - b
+        q = sp.expand(y1 + D * h0)
+        if self.regime == "critical":
+            return (b + (h0 + q * tau) * sp.exp(-tau)).subs(D, 1)
+        return b + h0 * C + q * S
+
+    def _numeric(self, b: sp.Expr, y0: sp.Expr, y1: sp.Expr, scaled: bool = False) -> sp.Expr:
+        q = sp.expand(y1 + D * (y0 - b))
+        oscillation = _numeric_oscillation(self.regime, b, y0, q)
+        expr = oscillation if scaled else b + sp.exp(-DECAY[self.regime] * tau) * oscillation
+        return expr.subs(D, 1) if self.regime == "critical" else expr
+
+    # -- solution ----------------------------------------------------------------
+    @cached_property
+    def z(self) -> sp.Expr:
+        """Penetration z(tau): the persistent-contact solution (display form)."""
+        return self._display(2 * D * f, sp.Integer(0), sp.Integer(1))
+
+    @cached_property
+    def z_dot(self) -> sp.Expr:
+        """Penetration rate dz/dtau (display form), a homogeneous solution."""
+        return self._display(sp.Integer(0), sp.Integer(1), 2 * D * f - 2 * D)
+
+    @cached_property
+    def g(self) -> dict[str, sp.Expr]:
+        """Contact functions: z (position) and 2 D z' + z (force), display form."""
+        return {c: self._display(2 * D * f, *_initial_values(c)[:2]) for c in CONDITIONS}
+
+    @cached_property
+    def g_dot(self) -> dict[str, sp.Expr]:
+        """Their tau-derivatives dg/dtau (display form)."""
+        return {c: self._display(sp.Integer(0), *_initial_values(c)[1:]) for c in CONDITIONS}
+
+    # -- ridge and boundary --------------------------------------------------------
+    def _ridge(self, condition: str, numeric: bool) -> tuple[sp.Expr, sp.Boolean]:
+        _, p0, p1 = _initial_values(condition)  # g'(0), g''(0)
+        q = sp.expand(p1 + D * p0)  # coefficient of S in g'
+        if self.regime == "underdamped":
+            # g' ~ exp(-D tau) (omega p0 cos + q sin)/omega; the first upward zero of g'
+            w = omega if numeric else sp.sqrt(1 - D**2)
+            theta = sp.Piecewise(
+                (sp.atan2(-w * p0, q), p0 < 0),  # = pi + atan2(w p0, -q) without cancellation
+                (sp.pi + sp.atan2(w * p0, -q), True),
+            )
+            return theta / w, sp.true
+        if self.regime == "critical":
+            p0, q = p0.subs(D, 1), q.subs(D, 1)
+            return sp.cancel(-p0 / q), sp.And(p0 < 0, q > 0)
+        # over-damped: tanh(sigma tau) = -sigma p0 / q, a minimum when p0 < 0 < q + sigma p0
+        if numeric:
+            denominator = _to_mu(q + sigma * p0)
+            ridge = log1p(-2 * sigma * p0 / denominator) / (2 * sigma)
+            return ridge, sp.And(p0 < 0, denominator > 0)
+        s = sp.sqrt(D**2 - 1)
+        return sp.atanh(-s * p0 / q) / s, sp.And(p0 < 0, q + s * p0 > 0)
+
+    @cached_property
+    def _display_ridges(self) -> dict[str, tuple[sp.Expr, sp.Boolean]]:
+        return {c: self._ridge(c, numeric=False) for c in CONDITIONS}
+
+    @cached_property
+    def ridge_time(self) -> dict[str, sp.Expr]:
+        """Closed-form first local minimum tau_r(D, f) of g, from dg/dtau = 0."""
+        return {c: ridge for c, (ridge, _) in self._display_ridges.items()}
+
+    @cached_property
+    def ridge_exists(self) -> dict[str, sp.Boolean]:
+        """Where g has a local minimum after impact (always for D < 1)."""
+        return {c: exists for c, (_, exists) in self._display_ridges.items()}
+
+    @cached_property
+    def boundary(self) -> dict[str, sp.Expr]:
+        """G(D, f) = g(tau_r(D, f), D, f): release where G < 0, sticking where G >= 0."""
+        return {c: self.g[c].subs(tau, self.ridge_time[c]) for c in CONDITIONS}
+
+    # -- numeric forms ------------------------------------------------------------
+    @cached_property
+    def numeric_forms(self) -> dict[str, sp.Expr]:
+        """Stable float forms, keyed ``'z_dot'``, ``'g_<condition>'`` (``g_position``
+        is ``z``), ``'ridge_<condition>'``, ``'ridge_exists_<condition>'``,
+        ``'g_oscillation_<condition>'`` :math:`= (g - 2Df) e^{c\\tau}` with the decay rate
+        ``c = DECAY[regime]`` and its tau-derivative ``'g_oscillation_dot_<condition>'``,
+        and (not for the critical regime) ``'g_D_<condition>'`` = dg/dD.
+
+        Their arguments are ``(tau, D, f) + NUMERIC_AUX[regime]``.
+        """
+        forms = {"z_dot": self._numeric(sp.Integer(0), sp.Integer(1), 2 * D * f - 2 * D)}
+        for c in CONDITIONS:
+            g0, g1, g2 = _initial_values(c)
+            forms[f"g_{c}"] = self._numeric(2 * D * f, g0, g1)
+            oscillation = self._numeric(2 * D * f, g0, g1, scaled=True)
+            forms[f"g_oscillation_{c}"] = oscillation
+            # d/dtau [(g - 2Df) e^{c tau}] = g' e^{c tau} + c (g - 2Df) e^{c tau}; g' is a
+            # homogeneous solution with the same decay (sp.diff of the sinc form cancels)
+            decay = (
+                DECAY[self.regime].subs(D, 1) if self.regime == "critical" else DECAY[self.regime]
+            )
+            forms[f"g_oscillation_dot_{c}"] = (
+                self._numeric(sp.Integer(0), g1, g2, scaled=True) + decay * oscillation
+            )
+            forms[f"ridge_{c}"], forms[f"ridge_exists_{c}"] = self._ridge(c, numeric=True)
+            if self.regime != "critical":
+                forms[f"g_D_{c}"] = self._total_D_derivative(forms[f"g_{c}"])
+        return forms
+
+    def _total_D_derivative(self, expr: sp.Expr) -> sp.Expr:
+        """d expr / dD of a numeric form, through its auxiliary symbols too."""
+        if self.regime == "underdamped":  # omega = sqrt(1 - D^2)
+            return sp.diff(expr, D) - sp.diff(expr, omega) * D / omega
+        # sigma = sqrt(D^2 - 1), mu = D + sigma
+        return sp.diff(expr, D) + (sp.diff(expr, sigma) + sp.diff(expr, mu) * mu / D) * D / sigma
+
+    # -- presentation --------------------------------------------------------------
+    def latex(self, name: str, condition: str | None = None) -> str:
+        r"""LaTeX of the attribute ``name`` (``z``, ``z_dot``, ``g``, ``g_dot``,
+        ``ridge_time``, ``ridge_exists``, ``boundary``); per-condition attributes need
+        ``condition``.
+
+        >>> SpringDamperContact("critical").latex("z")
+        '2 f + \\left(- 2 f + \\tau \\left(1 - 2 f\\right)\\right) e^{- \\tau}'
+        """
+        if name not in _ATTRIBUTES:
+            raise ValueError(f"name must be one of {sorted(_ATTRIBUTES)}, got {name!r}")
+        value = getattr(self, name)
+        if isinstance(value, dict):
+            if condition is None:
+                raise ValueError(f"{name!r} depends on the contact condition; pass condition=")
+            value = value[check_condition(condition)]
+        return sp.latex(value)
+
+
+_ATTRIBUTES = {"z", "z_dot", "g", "g_dot", "ridge_time", "ridge_exists", "boundary"}
+
+
+@cache
+def spring_damper(regime: str) -> SpringDamperContact:
+    """The (cached) derivation of one damping regime.
+
+    >>> spring_damper("critical") is spring_damper("critical")
+    True
+    """
+    return SpringDamperContact(regime)
+
+
+def regime_of(damping: float) -> str:
+    """Name of the damping regime of a numeric ``D``.
+
+    >>> regime_of(0.5), regime_of(1.0), regime_of(2.0)
+    ('underdamped', 'critical', 'overdamped')
+    """
+    if damping < 1:
+        return "underdamped"
+    return "critical" if damping == 1 else "overdamped"
+
+
+def latex_formulas() -> list[tuple[str, str, str]]:
+    r"""``(label, caption, LaTeX body)`` of the section-2 results, for documents.
+
+    The boundary equations are written as :math:`0 = g(\tau_r, D, f)` with the
+    closed-form :math:`\tau_r` of the preceding ridge equation (the fully substituted
+    form is :attr:`SpringDamperContact.boundary`).
+
+    >>> label, caption, body = latex_formulas()[0]
+    >>> label, body.split(",")[0]
+    ('sd-ode', "z'' + 2 D z' + z = 2 D f")
+    """
+    under = spring_damper("underdamped")
+    over = spring_damper("overdamped")
+    critical = spring_damper("critical")
+    items = [
+        (
+            "sd-ode",
+            "Normalized contact oscillator (paper section 2)",
+            r"z'' + 2 D z' + z = 2 D f, \quad z(0) = 0, \quad z'(0) = 1",
+        ),
+        (
+            "sd-conditions",
+            "Contact functions of the position and force conditions",
+            r"g_\mathrm{position} = z, \qquad g_\mathrm{force} = 2 D z' + z",
+        ),
+        ("sd-z-under", "Solution, under-damped ($D < 1$)", "z = " + under.latex("z")),
+        ("sd-z-critical", "Solution, critically damped ($D = 1$)", "z = " + critical.latex("z")),
+        ("sd-z-over", "Solution, over-damped ($D > 1$)", "z = " + over.latex("z")),
+    ]
+    names = {"underdamped": "$D < 1$", "critical": "$D = 1$", "overdamped": "$D > 1$"}
+    tau_r = sp.Symbol("tau_r")
+    for condition in CONDITIONS:
+        for regime, model in (("underdamped", under), ("critical", critical), ("overdamped", over)):
+            exists = model.ridge_exists[condition]
+            if exists == sp.false:  # no local minimum: the body sticks in this regime
+                continue
+            where = "" if exists == sp.true else f", where ${sp.latex(exists)}$"
+            items.append(
+                (
+                    f"sd-ridge-{condition}-{regime}",
+                    f"Closed-form ridge time, {condition} condition, {names[regime]}{where}",
+                    r"\tau_r = " + model.latex("ridge_time", condition),
+                )
+            )
+            items.append(
+                (
+                    f"sd-boundary-{condition}-{regime}",
+                    f"Stick/release boundary $G(D, f) = g(\\tau_r(D, f), D, f) = 0$, {condition} "
+                    f"condition, {names[regime]}, with $\\tau_r$ from the ridge equation above",
+                    "0 = " + sp.latex(model.g[condition].subs(tau, tau_r)),
+                )
+            )
+    return items

@@ -1,0 +1,22 @@
+"""Penalty contacts in multibody systems (paper section 3).
+
+* :mod:`~impactsym.multibody.reduction` -- :func:`reduce_contact`: ``M q'' = F + n lambda``
+  with ``lambda = -d z' - k z`` reduced to one scalar oscillator (:class:`ReducedContact`);
+* :mod:`~impactsym.multibody.design` -- penalty parameters ``k, d`` for a wanted behaviour;
+* :mod:`~impactsym.multibody.simulation` -- example systems and a full NumPy simulation
+  with event location, the judge of the reduction.
+"""
+
+from __future__ import annotations
+
+from impactsym._lazy import lazy_names
+
+_NAMES = {
+    "reduce_contact": "impactsym.multibody.reduction",
+    "ReducedContact": "impactsym.multibody.reduction",
+    "stick_damping": "impactsym.multibody.design",
+    "damping_for_restitution": "impactsym.multibody.design",
+    "penalty_for_targets": "impactsym.multibody.design",
+}
+__all__ = sorted(_NAMES)
+__getattr__, __dir__ = lazy_names(__name__, _NAMES)

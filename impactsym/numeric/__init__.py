@@ -1,0 +1,17 @@
+"""Numeric machinery shared by every analysis.
+
+* :mod:`~impactsym.numeric.roots` -- vectorized bracketed root finders (NumPy only);
+* :mod:`~impactsym.numeric.codegen` -- SymPy expressions to NumPy functions.
+"""
+
+from __future__ import annotations
+
+from impactsym._lazy import lazy_names
+
+_NAMES = {
+    "bracketed_newton": "impactsym.numeric.roots",
+    "bracketed_illinois": "impactsym.numeric.roots",
+    "lambdify": "impactsym.numeric.codegen",
+}
+__all__ = sorted(_NAMES)
+__getattr__, __dir__ = lazy_names(__name__, _NAMES)

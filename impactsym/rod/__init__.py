@@ -1,0 +1,28 @@
+"""An elastic rod, fixed at its far end, struck by a point mass (paper section 1).
+
+* :mod:`~impactsym.rod.derivation` -- SymPy: the Laplace-transformed boundary-value problem
+  (eq. (1)), its closed-form solution, the reflection series in :math:`\\Delta = e^{-s}`
+  (eq. (2)) and their exact term-by-term inversion (:class:`RodImpact`);
+* :mod:`~impactsym.rod.kernel` -- NumPy only: the rigid-contact :math:`y(t)`, :math:`N(t)`;
+* :mod:`~impactsym.rod.elastic` -- mpmath pole data for a finite contact stiffness;
+* :mod:`~impactsym.rod.api` -- :func:`displacement`, :func:`contact_force`;
+* :mod:`~impactsym.rod.contact_times` -- :func:`contact_time`, :func:`contact_time_map`;
+* :mod:`~impactsym.rod.codegen` -- the NumPy-only source that ``impactsym export`` writes.
+"""
+
+from __future__ import annotations
+
+from impactsym._lazy import lazy_names
+
+_NAMES = {
+    "RodImpact": "impactsym.rod.derivation",
+    "latex_formulas": "impactsym.rod.derivation",
+    "displacement": "impactsym.rod.api",
+    "contact_force": "impactsym.rod.api",
+    "contact_time": "impactsym.rod.contact_times",
+    "contact_time_map": "impactsym.rod.contact_times",
+    "ContactTimeMap": "impactsym.rod.contact_times",
+    "numpy_source": "impactsym.rod.codegen",
+}
+__all__ = sorted(_NAMES)
+__getattr__, __dir__ = lazy_names(__name__, _NAMES)

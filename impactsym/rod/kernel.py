@@ -1,0 +1,181 @@
+"""Rigid-contact rod kernel: :math:`y(t)` and :math:`N(t)` in plain NumPy.
+
+Evaluates exactly the inverted series terms whose delay has arrived
+(:meth:`impactsym.rod.RodImpact.time_terms`), arranged so that float64 does not cancel
+catastrophically far out. This module imports nothing but NumPy; its source is what
+:func:`impactsym.rod.codegen.numpy_source` writes into the exported module.
+
+**Rigid contact** (:math:`\\kappa \\to \\infty`). With :math:`x = 2u/\\alpha` and the
+Laguerre functions :math:`E_n(x) = e^{-x/2} L_n(x)`, the inverted terms of the series
+of ``N`` and ``Y`` (eq. (2) of the paper) are
+
+.. math::
+
+    N(t) = f + \\sum_{k \\ge 0} \\bigl[(1+f) E_{k-1}(x_k) + (1-f) E_k(x_k)\\bigr], \\qquad
+    y(t) = t - \\frac{\\alpha}{4} \\sum_{k \\ge 0}
+           \\bigl[(1+f) I_{k-1}(x_k) + (1-f) I_k(x_k)\\bigr],
+
+summed over :math:`2k \\le t`, with :math:`x_k = 2(t - 2k)/\\alpha`,
+:math:`E_{-1} = I_{-1} = 0` and :math:`I_n(x) = \\int_0^x \\int_0^{x'} E_n`. On the
+reflection interval :math:`t = 2m + \\tau`, :math:`0 \\le \\tau < 2`, the Laguerre
+addition theorem :math:`L_n(x + y) = \\sum_{j \\le n} L_{n-j}^{(-1)}(y) L_j(x)`
+collects all arrived terms into one short sum in :math:`x = 2\\tau/\\alpha`,
+
+.. math::
+
+    N(2m + \\tau) = f + \\sum_{j=0}^{m} c_{m-j} E_j(x), \\qquad
+    y(2m + \\tau) = y(2m) + y'(2m^+) \\tau - \\frac{\\alpha}{4}
+                    \\sum_{j=0}^{m} c_{m-j} I_j(x),
+
+:math:`c_d = (1+f) B_{d-1} + (1-f) B_d`, :math:`B_d = \\sum_{i=0}^{d} e^{-y_i/2}
+L^{(-1)}_{d-i}(y_i)`, :math:`y_i = 4i/\\alpha`. :math:`E_j`, :math:`I_j` come from
+stable recurrences (three-term for :math:`E_j`, and
+:math:`I'_j + I'_{j-1} = -2(E_j - E_{j-1})` integrated), all bounded by their
+true size; a point costs :math:`O(m)` operations. This kernel is plain NumPy
+implemented by :func:`_rigid_local`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _rigid_tables(alpha, n_intervals):
+    """Per-alpha coefficient tables of the rigid-contact kernel.
+
+    Returns ``(B, G1, G2)``, each of shape ``(len(alpha), n_intervals + 1)``; column
+    ``d + 1`` holds index ``d`` (column 0 is index -1, zero). With nodes
+    ``y_i = 4 i / alpha``: ``B_d = sum_i A_(d-i)(y_i)`` with
+    ``A_p(y) = exp(-y/2) L_p^(-1)(y) = E_p(y) - E_(p-1)(y)`` (addition theorem),
+    ``G1_d = sum_i I1_(d-i)(y_i)`` and ``G2_d = sum_i I2_(d-i)(y_i)`` (single and
+    double integrals of ``E_n``), used for ``y(2m)`` and ``y'(2m+)``.
+    """
+    alpha = np.asarray(alpha, dtype=np.float64).reshape(-1)
+    K = max(int(n_intervals), 1)
+    nodes = 4.0 * np.arange(K)[None, :] / alpha[:, None]
+    em1 = np.expm1(-0.5 * nodes)
+    E_prev, E = np.zeros_like(nodes), np.exp(-0.5 * nodes)
+    I1, I2 = -2.0 * em1, 2.0 * nodes + 4.0 * em1
+    tabs = np.empty((3, K, *nodes.shape))
+    for n in range(K):
+        if n > 0:
+            E_prev, E = E, ((2 * n - 1 - nodes) * E - (n - 1) * E_prev) / n
+            I1_next = -I1 - 2.0 * (E - E_prev)
+            I2 = -I2 - 2.0 * (I1_next - I1)
+            I1 = I1_next
+        tabs[0, n], tabs[1, n], tabs[2, n] = E - E_prev, I1, I2
+    out = np.zeros((3, alpha.size, K + 1))
+    for i in range(K):  # anti-diagonal sums: order n at node i feeds index n + i
+        out[:, :, i + 1 :] += np.swapaxes(tabs[:, : K - i, :, i], 1, 2)
+    return out[0], out[1], out[2]
+
+
+def _rigid_local(which, m, tau, a_idx, alpha, f, tables, derivative=False):
+    """Rigid-contact ``y`` (``which="y"``) or ``N`` on reflection interval ``m``.
+
+    Evaluates at ``t = 2 m + tau`` (``0 <= tau <= 2``; ``tau = 2`` gives the left
+    limit at ``2 m + 2``) for 1-D arrays ``m`` (int), ``tau`` and ``a_idx`` (row of
+    ``tables`` for each point); ``alpha`` and ``f`` are arrays like ``tau`` or
+    scalars. Returns the value, or the derivative in ``tau`` if ``derivative``.
+    Python loops run over blocks of equal ``(a_idx, m)`` and the Laguerre order
+    ``j``, never over points; with many distinct ``alpha`` the blocks are merged
+    and the coefficients gathered per point.
+    """
+    B, G1, G2 = tables
+    m = np.asarray(m, dtype=np.int64)
+    size = m.size
+    scalar_f = np.ndim(f) == 0
+    # c_(m-j) = (1 + f) B_(m-j-1) + (1 - f) B_(m-j) = Bs + f Bd, likewise for G1, G2
+    Bs, Bd = B[:, :-1] + B[:, 1:], B[:, :-1] - B[:, 1:]
+    if scalar_f:
+        Bs, Bd = Bs + f * Bd, np.zeros_like(Bd)
+    single = np.all(a_idx == a_idx[0])
+    order = np.argsort(-m, kind="stable") if single else np.lexsort((-m, a_idx))
+    ms, rows = m[order], a_idx[order]
+    starts = np.flatnonzero(np.r_[True, (ms[1:] != ms[:-1]) | (rows[1:] != rows[:-1])])
+    if starts.size > max(64, size // 4096):  # many small blocks: one block, gathers
+        order = np.argsort(-m, kind="stable")
+        ms, rows, starts = m[order], a_idx[order], np.zeros(1, dtype=np.int64)
+    ends = np.r_[starts[1:], size]
+    al = alpha if np.ndim(alpha) == 0 else alpha[order]
+    ff = f if scalar_f else f[order]
+    taus = tau[order]
+    x_all = (2.0 / al) * taus
+    acc1, acc2 = np.zeros(size), np.zeros(size)
+    for lo, hi in zip(starts, ends, strict=True):
+        mb, rb = ms[lo:hi], rows[lo:hi]
+        uniform = mb[0] == mb[-1] and rb[0] == rb[-1]
+        mmax = int(mb[0])
+        n_active = np.searchsorted(-mb, -np.arange(mmax + 1), side="right")
+        x = x_all[lo:hi]
+        E_prev, E, tmp = np.zeros(hi - lo), np.exp(-0.5 * x), np.empty(hi - lo)
+        if which == "y":
+            I1 = np.expm1(-0.5 * x)
+            I2 = 2.0 * x + 4.0 * I1
+            I1 *= -2.0
+        else:
+            S = np.zeros(hi - lo)
+        for j in range(mmax + 1):
+            n = n_active[j]
+            a1, a2 = acc1[lo : lo + n], acc2[lo : lo + n]
+            x, E, E_prev, tmp = x[:n], E[:n], E_prev[:n], tmp[:n]
+            if j > 0:  # E_j = ((2j - 1 - x) E_(j-1) - (j - 1) E_(j-2)) / j
+                np.subtract(2 * j - 1, x, out=tmp)
+                tmp *= E
+                E_prev *= -(j - 1)
+                tmp += E_prev
+                tmp *= 1.0 / j
+                E_prev, E, tmp = E, tmp, E_prev
+            if which == "y":
+                I1, I2 = I1[:n], I2[:n]
+                if j > 0:  # I1_j = -I1_(j-1) - 2 (E_j - E_(j-1)); I2 likewise from I1
+                    np.subtract(E, E_prev, out=tmp)
+                    tmp *= -2.0
+                    tmp -= I1  # I1_j
+                    np.subtract(tmp, I1, out=I1)
+                    I1 *= -2.0
+                    I1 -= I2  # I2_j, stored in the old I1 buffer
+                    I1, I2, tmp = tmp, I1, I2
+                term = I1 if derivative else I2
+            elif derivative:
+                S = S[:n]
+                term = -(S + 0.5 * E)
+                S += E
+            else:
+                term = E
+            if uniform:
+                d = mmax - j
+                if Bs[rb[0], d] != 0.0:
+                    a1 += Bs[rb[0], d] * term
+                if not scalar_f:
+                    a2 += Bd[rb[0], d] * term
+            else:
+                d = mb[:n] - j
+                a1 += Bs[rb[:n], d] * term
+                if not scalar_f:
+                    a2 += Bd[rb[:n], d] * term
+    acc = acc1 if scalar_f else acc1 + ff * acc2
+    if which == "y":
+        g1 = G1[rows, ms] + G1[rows, ms + 1] + ff * (G1[rows, ms] - G1[rows, ms + 1])
+        if derivative:
+            res = 1.0 - 0.5 * g1 - 0.5 * acc
+        else:
+            g2 = G2[rows, ms] + G2[rows, ms + 1] + ff * (G2[rows, ms] - G2[rows, ms + 1])
+            res = 2.0 * ms + (1.0 - 0.5 * g1) * taus - 0.25 * al * (g2 + acc)
+    elif derivative:
+        res = (2.0 / al) * acc
+    else:
+        res = ff + acc
+    out = np.empty(size)
+    out[order] = res
+    return out
+
+
+def _rigid_evaluate(which, t, alpha, f):
+    """Rigid-contact ``y`` or ``N`` at flat arrays ``t >= 0``, ``alpha``, ``f``."""
+    m = np.floor(t / 2.0).astype(np.int64)
+    ua, a_idx = np.unique(alpha, return_inverse=True)
+    tables = _rigid_tables(ua, int(m.max()) + 1 if m.size else 1)
+    f_arg = f[0] if f.size and np.all(f == f[0]) else f
+    a_arg = ua[0] if ua.size == 1 else alpha
+    return _rigid_local(which, m, t - 2.0 * m, a_idx.ravel(), a_arg, f_arg, tables)
