@@ -76,8 +76,8 @@ def boundary_reference(f, condition, guess):
 def main() -> None:
     print("impactsym benchmark: spring-damper contact (section 2)")
     D, f = np.meshgrid(np.linspace(0, 1.5, 1000), np.linspace(0, 1, 1000))
-    contact_time(0.3, 0.3, "position")  # build the lambdified kernels once
-    contact_time(0.3, 0.3, "force")
+    contact_time(0.3, 0.3, condition="position")  # build the lambdified kernels once
+    contact_time(0.3, 0.3, condition="force")
     per_point = {}
     for condition in CONDITIONS:
         seconds, grid = best_of(3, contact_time, D, f, condition)
@@ -102,9 +102,9 @@ def main() -> None:
     for condition in CONDITIONS:
         d = rng.uniform(0, 3, 400)
         fr = rng.uniform(0, 2, 400)
-        d_star = stick_boundary(fr, condition)
+        d_star = stick_boundary(fr, condition=condition)
         away = np.abs(d - d_star) > 0.02 * np.minimum(d_star, 1)
-        tau = contact_time(d[away], fr[away], condition)
+        tau = contact_time(d[away], fr[away], condition=condition)
         release = np.isfinite(tau)
         errors = [
             abs(t - float(refine_root(t, di, fi, condition, dps=30))) / t
@@ -117,7 +117,7 @@ def main() -> None:
 
     f_values = np.geomspace(1e-3, 20, 1000)
     for condition in CONDITIONS:
-        stick_boundary(f_values[:2], condition)
+        stick_boundary(f_values[:2], condition=condition)
         seconds, d_star = best_of(5, stick_boundary, f_values, condition)
         check = f_values[::100]
         errors = [

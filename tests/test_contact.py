@@ -46,7 +46,7 @@ def random_points_away_from_boundary(condition: str, count: int, seed: int):
     damping = np.concatenate([rng.uniform(0, 1, count), rng.uniform(1, 4, count // 2)])
     force = rng.uniform(0, 3, damping.size)
     force[::7] = 0.0
-    d_star = stick_boundary(force, condition)
+    d_star = stick_boundary(force, condition=condition)
     keep = np.abs(damping - d_star) > 0.02 * np.minimum(d_star, 1.0)
     return damping[keep], force[keep]
 
@@ -54,8 +54,8 @@ def random_points_away_from_boundary(condition: str, count: int, seed: int):
 @pytest.mark.parametrize("condition", CONDITIONS)
 def test_contact_time_and_restitution_match_ode_integration(condition):
     damping, force = random_points_away_from_boundary(condition, 120, seed=7)
-    tau_c = contact_time(damping, force, condition)
-    e = restitution(damping, force, condition)
+    tau_c = contact_time(damping, force, condition=condition)
+    e = restitution(damping, force, condition=condition)
     assert np.isfinite(tau_c).sum() > 30  # both outcomes
     assert np.isinf(tau_c).sum() > 30
     for d, fr, t, ei in zip(damping, force, tau_c, e, strict=True):
@@ -71,7 +71,7 @@ def test_contact_time_and_restitution_match_ode_integration(condition):
 @pytest.mark.parametrize("condition", CONDITIONS)
 def test_contact_time_matches_40_digit_reference_to_1e_12(condition):
     damping, force = random_points_away_from_boundary(condition, 60, seed=11)
-    tau_c = contact_time(damping, force, condition)
+    tau_c = contact_time(damping, force, condition=condition)
     release = np.isfinite(tau_c)
     for d, fr, t in zip(damping[release], force[release], tau_c[release], strict=True):
         reference = refine_root(t, d, fr, condition)
@@ -94,42 +94,50 @@ def test_contact_time_matches_40_digit_reference_to_1e_12(condition):
 def test_contact_time_is_the_first_root(d, fr, condition):
     reference = first_root(d, fr, condition, t_max=40.0, samples=400)
     if reference is None:  # no sign change in 40 natural time units: sticking
-        assert contact_time(d, fr, condition) == math.inf
+        assert contact_time(d, fr, condition=condition) == math.inf
     else:
-        assert contact_time(d, fr, condition) == pytest.approx(float(reference), rel=1e-13)
+        assert contact_time(d, fr, condition=condition) == pytest.approx(
+            float(reference), rel=1e-13
+        )
 
 
 def test_undamped_limit_is_half_a_period_with_full_rebound():
     for condition in CONDITIONS:
-        assert contact_time(0.0, [0.0, 1.0, 50.0], condition).tolist() == [math.pi] * 3
-        np.testing.assert_allclose(restitution(0.0, [0.0, 7.0], condition), 1.0, rtol=1e-14)
+        assert contact_time(0.0, [0.0, 1.0, 50.0], condition=condition).tolist() == [math.pi] * 3
+        np.testing.assert_allclose(
+            restitution(0.0, [0.0, 7.0], condition=condition), 1.0, rtol=1e-14
+        )
         # weak damping: tau_c -> pi continuously
-        assert contact_time(1e-9, 0.3, condition) == pytest.approx(math.pi, rel=1e-8)
+        assert contact_time(1e-9, 0.3, condition=condition) == pytest.approx(math.pi, rel=1e-8)
 
 
 def test_textbook_results_without_pressing_force():
     damping = np.array([0.01, 0.2, 0.5, 0.8, 0.99])
     w = np.sqrt(1 - damping**2)
     # position: z = exp(-D t) sin(w t)/w returns to zero at pi/w, e = exp(-D pi / w)
-    np.testing.assert_allclose(contact_time(damping, 0.0, "position"), np.pi / w, rtol=1e-13)
     np.testing.assert_allclose(
-        restitution(damping, 0.0, "position"), np.exp(-damping * np.pi / w), rtol=1e-12
+        contact_time(damping, 0.0, condition="position"), np.pi / w, rtol=1e-13
+    )
+    np.testing.assert_allclose(
+        restitution(damping, 0.0, condition="position"), np.exp(-damping * np.pi / w), rtol=1e-12
     )
     # force: 2 D z' + z = 0  <=>  tan(w t) = -2 D w / (1 - 2 D^2)
     expected = (np.pi - np.arctan2(2 * damping * w, 1 - 2 * damping**2)) / w
-    np.testing.assert_allclose(contact_time(damping, 0.0, "force"), expected, rtol=1e-13)
+    np.testing.assert_allclose(contact_time(damping, 0.0, condition="force"), expected, rtol=1e-13)
     # over-damped force condition: exp(2 s t) = (2D^2 - 1 + 2Ds) / (2D^2 - 1 - 2Ds)
     big = np.array([1.5, 3.0, 10.0])
     s = np.sqrt(big**2 - 1)
     ratio = (2 * big**2 - 1 + 2 * big * s) / (2 * big**2 - 1 - 2 * big * s)
-    np.testing.assert_allclose(contact_time(big, 0.0, "force"), np.log(ratio) / (2 * s), rtol=1e-12)
+    np.testing.assert_allclose(
+        contact_time(big, 0.0, condition="force"), np.log(ratio) / (2 * s), rtol=1e-12
+    )
     # critically and over-damped bodies never leave under the position condition
-    assert np.isinf(contact_time([1.0, 2.0, 30.0], 0.0, "position")).all()
+    assert np.isinf(contact_time([1.0, 2.0, 30.0], 0.0, condition="position")).all()
 
 
 def test_large_damping_keeps_full_accuracy():
     for d in (30.0, 1e3):
-        t = contact_time(d, 0.0, "force")
+        t = contact_time(d, 0.0, condition="force")
         assert abs(t - float(refine_root(t, d, 0.0, "force", dps=60))) <= 1e-12 * t
 
 
@@ -164,16 +172,16 @@ def boundary_reference(fr: float, condition: str, guess: float) -> float:
 @pytest.mark.parametrize("condition", CONDITIONS)
 def test_stick_boundary_matches_40_digit_reference(condition):
     for fr in (0.01, 0.5, 10.0):
-        d_star = stick_boundary(fr, condition)
+        d_star = stick_boundary(fr, condition=condition)
         assert abs(d_star - boundary_reference(fr, condition, d_star)) <= 1e-12 * d_star
 
 
 def test_stick_boundary_limits_at_zero_pressing_force():
-    assert stick_boundary(0.0, "position") == 1.0
-    assert stick_boundary(0.0, "force") == math.inf
+    assert stick_boundary(0.0, condition="position") == 1.0
+    assert stick_boundary(0.0, condition="force") == math.inf
     small = np.array([1e-2, 1e-4, 1e-8, 1e-20, 1e-50, 1e-100])
-    position = stick_boundary(small, "position")
-    force = stick_boundary(small, "force")
+    position = stick_boundary(small, condition="position")
+    force = stick_boundary(small, condition="force")
     assert np.all(np.diff(position) > 0)
     assert np.all(position < 1)
     assert np.all(np.diff(force) > 0)
@@ -193,33 +201,35 @@ def test_stick_boundary_limits_at_zero_pressing_force():
     condition=st.sampled_from(CONDITIONS),
 )
 def test_sticks_exactly_beyond_the_boundary(fr, side, rel, condition):
-    d_star = stick_boundary(fr, condition)
+    d_star = stick_boundary(fr, condition=condition)
     d = d_star * (1 + side * rel)
-    tau_c = contact_time(d, fr, condition)
+    tau_c = contact_time(d, fr, condition=condition)
     assert math.isinf(tau_c) == (side > 0)
-    assert (restitution(d, fr, condition) == 0.0) == (side > 0)
+    assert (restitution(d, fr, condition=condition) == 0.0) == (side > 0)
 
 
 @settings(max_examples=40, deadline=None)
 @given(fr=st.floats(0.0, 0.02), eps=st.floats(1e-12, 1e-6))
 def test_force_contact_time_is_continuous_across_critical_damping(fr, eps):
-    at_one = contact_time(1.0, fr, "force")
+    at_one = contact_time(1.0, fr, condition="force")
     assert math.isfinite(at_one)
     for d in (1 - eps, 1 + eps):
-        assert contact_time(d, fr, "force") == pytest.approx(at_one, rel=20 * eps, abs=1e-12)
+        assert contact_time(d, fr, condition="force") == pytest.approx(
+            at_one, rel=20 * eps, abs=1e-12
+        )
 
 
 @settings(max_examples=40, deadline=None)
 @given(d=st.floats(0.0, 20.0), fr=st.floats(0.0, 20.0), condition=st.sampled_from(CONDITIONS))
 def test_contact_time_is_positive_and_restitution_in_unit_interval(d, fr, condition):
-    t = contact_time(d, fr, condition)
-    e = restitution(d, fr, condition)
+    t = contact_time(d, fr, condition=condition)
+    e = restitution(d, fr, condition=condition)
     assert t > 0
     assert 0.0 <= e <= 1.0 + 1e-12
 
 
 def test_position_contact_grows_without_bound_towards_critical_damping():
-    times = contact_time(1 - np.logspace(-2, -10, 5), 0.0, "position")
+    times = contact_time(1 - np.logspace(-2, -10, 5), 0.0, condition="position")
     assert np.all(np.diff(times) > 0)
     assert times[-1] > 1e4
 
@@ -263,7 +273,7 @@ def test_stick_boundary_rejects_bad_input():
     with pytest.raises(ValueError, match="f must be finite"):
         stick_boundary(np.inf)
     with pytest.raises(ValueError, match="condition"):
-        stick_boundary(0.5, "speed")
+        stick_boundary(0.5, condition="speed")
 
 
 def test_physical_contact_scales_with_units():
@@ -271,15 +281,15 @@ def test_physical_contact_scales_with_units():
     assert base.omega0 == pytest.approx(5.0)
     assert pytest.approx(3.0 / (2 * 10.0)) == base.D
     assert base.f == pytest.approx(4.0 / (3.0 * 0.7))
-    assert base.t_c == pytest.approx(contact_time(base.D, base.f) / 5.0, rel=1e-15)
+    assert base.contact_time == pytest.approx(contact_time(base.D, base.f) / 5.0, rel=1e-15)
     # the same impact with time measured in milliseconds (lengths and masses unchanged):
     # k -> k/lam^2, d -> d/lam, v0 -> v0/lam, F -> F/lam^2 leave D, f unchanged, t_c -> lam t_c
     lam = 1e3
     scaled = physical_contact(
         m=2.0, k=50.0 / lam**2, d=3.0 / lam, v0=0.7 / lam, F=4.0 / lam**2, condition="force"
     )
-    assert scaled.t_c == pytest.approx(base.t_c * lam, rel=1e-12)
-    assert scaled.e == pytest.approx(base.e, rel=1e-12)
+    assert scaled.contact_time == pytest.approx(base.contact_time * lam, rel=1e-12)
+    assert scaled.restitution == pytest.approx(base.restitution, rel=1e-12)
 
 
 def test_physical_contact_matches_ode_in_physical_units():
@@ -297,9 +307,9 @@ def test_physical_contact_matches_ode_in_physical_units():
         sol = solve_ivp(
             rhs, (0, 10), [0.0, v0], events=event, rtol=1e-12, atol=1e-14, method="DOP853"
         )
-        result = physical_contact(m, k, d, v0, F, condition)
-        assert result.t_c == pytest.approx(sol.t_events[0][0], rel=1e-8)
-        assert result.e == pytest.approx(-sol.y_events[0][0][1] / v0, rel=1e-7)
+        result = physical_contact(m, k, d, v0, F, condition=condition)
+        assert result.contact_time == pytest.approx(sol.t_events[0][0], rel=1e-8)
+        assert result.restitution == pytest.approx(-sol.y_events[0][0][1] / v0, rel=1e-7)
         assert not result.sticks
 
 
@@ -308,7 +318,7 @@ def test_undamped_contact_with_pressing_force_is_solved_in_closed_form():
     result = physical_contact(m, k, 0.0, v0, F)
     assert result.D == 0.0
     assert result.f == math.inf
-    assert result.e == 1.0
+    assert result.restitution == 1.0
     sol = solve_ivp(
         lambda _t, y: [y[1], (F - k * y[0]) / m],
         (0, 20),
@@ -318,7 +328,7 @@ def test_undamped_contact_with_pressing_force_is_solved_in_closed_form():
         atol=1e-14,
         method="DOP853",
     )
-    assert result.t_c == pytest.approx(sol.t_events[0][1], rel=1e-9)  # [0] is the impact
+    assert result.contact_time == pytest.approx(sol.t_events[0][1], rel=1e-9)  # [0] is the impact
 
 
 def test_physical_contact_broadcasts_and_validates():
@@ -335,4 +345,4 @@ def test_physical_contact_broadcasts_and_validates():
     with pytest.raises(ValueError, match="F must be finite"):
         physical_contact(1.0, 1.0, 1.0, 1.0, np.nan)
     with pytest.raises(ValueError, match="condition"):
-        physical_contact(1.0, 1.0, 1.0, 1.0, 0.0, "none")
+        physical_contact(1.0, 1.0, 1.0, 1.0, 0.0, condition="none")

@@ -90,12 +90,12 @@ def test_generated_module_runs_without_sympy_and_matches_the_package(tmp_path):
         np.testing.assert_allclose(got[f"g_{condition}"], k.g(tau, D, f), rtol=1e-13, atol=1e-15)
     # the sign of the exported boundary function decides sticking as the package does
     for condition in ("position", "force"):
-        sticks = np.isinf(contact_time(D, f, condition))
+        sticks = np.isinf(contact_time(D, f, condition=condition))
         assert np.array_equal(got[f"boundary_{condition}"] >= 0, sticks)
     # ridge times: where the package finds a minimum, the exported one is the same time
     from impactsym.contact import contact_surface
 
-    _, _, ridge = contact_surface(D, f, "force")
+    _, _, ridge = contact_surface(D, f, condition="force")
     exported = got["ridge_force"]
     np.testing.assert_allclose(exported[~np.isnan(ridge)], ridge[~np.isnan(ridge)], rtol=1e-13)
     assert np.all(exported[np.isnan(ridge)] == -1.0)

@@ -421,7 +421,7 @@ def test_numpy_simulation_of_reproduce_matches_scipy(model, example):
         ours = simulate_contact(ex, k, d, speed, condition)
         for i in range(k.size):
             t_ref = sim.contact_time(k[i], d[i], speed, condition, 40 / omega[i])
-            assert ours.t_c[i] == pytest.approx(t_ref, rel=1e-7)
+            assert ours.contact_time[i] == pytest.approx(t_ref, rel=1e-7)
 
 
 def sweep(model, example, omegas, dampings, forces):
@@ -535,8 +535,8 @@ def test_penalty_for_targets_delivers_in_the_full_simulation():
     assert design.contact_time("force") == pytest.approx(2e-3, rel=1e-9)
     assert dd == pytest.approx(damping_for_restitution(reduced, kk, 0.5), rel=1e-9)
     full = simulate_contact(ex, kk, dd, 0.5, "force")
-    assert float(full.t_c) == pytest.approx(2e-3, rel=0.02)
-    assert float(full.e) == pytest.approx(0.5, rel=0.02)
+    assert float(full.contact_time) == pytest.approx(2e-3, rel=0.02)
+    assert float(full.restitution) == pytest.approx(0.5, rel=0.02)
 
 
 def test_design_bad_input_is_refused():
@@ -602,7 +602,7 @@ def test_figures_return_their_axes():
     )
     for plot in (plot_agreement, plot_verdict_map):
         fig, ax = plt.subplots()
-        assert plot(agreement, "force", ax=ax) is ax
+        assert plot(agreement, condition="force", ax=ax) is ax
         plt.close(fig)
     fig, ax = plt.subplots()
     assert plot_convergence([1.0, 10.0], {"impulse": [0.1, 0.01]}, ax=ax) is ax

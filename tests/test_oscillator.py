@@ -165,12 +165,12 @@ def test_ridge_time_is_first_local_minimum(condition, d_value, f_value):
 def test_latex_forms_and_bad_names():
     model = SpringDamperContact("underdamped")
     assert "\\sqrt{1 - D^{2}}" in model.latex("z")
-    assert "\\operatorname{atan}_{2}" in model.latex("ridge_time", "force")
+    assert "\\operatorname{atan}_{2}" in model.latex("ridge_time", condition="force")
     with pytest.raises(ValueError, match="condition"):
         model.latex("g")
     with pytest.raises(ValueError, match="'speed'"):
         model.latex("speed")
     with pytest.raises(ValueError, match="condition must be"):
-        model.latex("g", "pressure")
+        model.latex("g", condition="pressure")
     with pytest.raises(ValueError, match="regime must be one of"):
         SpringDamperContact("critically")

@@ -173,7 +173,7 @@ def _inputs(condition: str, **arrays: object) -> tuple[list[np.ndarray], tuple[i
     return flat, shape, all(s for _, s in checked)
 
 
-def contact_time(D: ArrayLike, f: ArrayLike, condition: str = "force") -> ArrayLike:
+def contact_time(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> ArrayLike:
     r"""Normalized contact time :math:`\tau_c(D, f)` of the spring-damper contact.
 
     The first sign change in :math:`\tau > 0` of :math:`g = z` (position condition) or
@@ -213,7 +213,7 @@ def contact_time(D: ArrayLike, f: ArrayLike, condition: str = "force") -> ArrayL
     return finish(_contact_time(condition, damping, force).reshape(shape), scalar)
 
 
-def restitution(D: ArrayLike, f: ArrayLike, condition: str = "force") -> ArrayLike:
+def restitution(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> ArrayLike:
     r"""Coefficient of restitution :math:`e = -z'(\tau_c)`; ``0.0`` where the body sticks.
 
     Parameters are those of :func:`contact_time`.
@@ -235,7 +235,7 @@ def restitution(D: ArrayLike, f: ArrayLike, condition: str = "force") -> ArrayLi
 
 
 def contact_surface(
-    D: ArrayLike, f: ArrayLike, condition: str = "force"
+    D: ArrayLike, f: ArrayLike, *, condition: str = "force"
 ) -> tuple[ArrayLike, ArrayLike, ArrayLike]:
     r"""The two sheets and the ridge of the implicit surface :math:`g(\tau, D, f) = 0`.
 
@@ -288,7 +288,7 @@ def contact_surface(
 _D_SEARCH_LIMIT = 1e150
 
 
-def stick_boundary(f: ArrayLike, condition: str = "force") -> ArrayLike:
+def stick_boundary(f: ArrayLike, *, condition: str = "force") -> ArrayLike:
     r"""Damping ratio :math:`D^*(f)` at which sticking begins for pressing force ``f``.
 
     The body releases for :math:`D < D^*` and sticks for :math:`D > D^*`. :math:`D^*`
@@ -316,12 +316,12 @@ def stick_boundary(f: ArrayLike, condition: str = "force") -> ArrayLike:
 
     Examples
     --------
-    >>> stick_boundary(0.0, "position"), stick_boundary(0.0, "force")
+    >>> stick_boundary(0.0, condition="position"), stick_boundary(0.0, condition="force")
     (1.0, inf)
-    >>> d_star = stick_boundary(0.5, "position")
-    >>> bool(contact_time(d_star - 1e-6, 0.5, "position") < float("inf"))
+    >>> d_star = stick_boundary(0.5, condition="position")
+    >>> bool(contact_time(d_star - 1e-6, 0.5, condition="position") < float("inf"))
     True
-    >>> contact_time(d_star + 1e-6, 0.5, "position")
+    >>> contact_time(d_star + 1e-6, 0.5, condition="position")
     inf
     """
     (force,), shape, scalar = _inputs(condition, f=f)
@@ -362,10 +362,10 @@ class PhysicalContact:
     D, f, omega0
         Lehr's damping, normalized pressing force :math:`F/(d v_0)` (``inf`` for
         :math:`d = 0 < F`), natural frequency :math:`\sqrt{k/m}`.
-    tau_c, t_c
-        Normalized and physical contact time :math:`t_c = \tau_c/\omega_0` (``inf``:
-        sticking).
-    e
+    normalized_contact_time, contact_time
+        Normalized contact time :math:`\tau_c` and contact time in the caller's time
+        unit (seconds for SI input), :math:`t_c = \tau_c/\omega_0`; ``inf``: sticking.
+    restitution
         Coefficient of restitution (``0.0`` when sticking).
     condition
         The contact condition used.
@@ -374,15 +374,15 @@ class PhysicalContact:
     D: ArrayLike
     f: ArrayLike
     omega0: ArrayLike
-    tau_c: ArrayLike
-    t_c: ArrayLike
-    e: ArrayLike
+    normalized_contact_time: ArrayLike
+    contact_time: ArrayLike
+    restitution: ArrayLike
     condition: str
 
     @property
     def sticks(self) -> bool | np.ndarray:
         """Whether the body sticks (never releases)."""
-        stuck = np.isinf(self.t_c)
+        stuck = np.isinf(self.contact_time)
         return bool(stuck) if np.ndim(stuck) == 0 else stuck
 
 
@@ -392,6 +392,7 @@ def physical_contact(
     d: ArrayLike,
     v0: ArrayLike,
     F: ArrayLike = 0.0,
+    *,
     condition: str = "force",
 ) -> PhysicalContact:
     r"""Contact time and restitution of a body of mass ``m`` hitting a spring ``k`` and
@@ -408,7 +409,7 @@ def physical_contact(
     Examples
     --------
     >>> c = physical_contact(m=2.0, k=800.0, d=0.0, v0=1.0)
-    >>> c.omega0, round(c.t_c, 12) == round(float(np.pi) / 20.0, 12), c.e
+    >>> c.omega0, round(c.contact_time, 12) == round(float(np.pi) / 20.0, 12), c.restitution
     (20.0, True, 1.0)
     >>> physical_contact(m=1.0, k=1.0, d=4.0, v0=1.0, F=1.0).sticks
     True
@@ -433,8 +434,8 @@ def physical_contact(
     undamped_pressed = (damping == 0) & (load > 0)
     finite = ~undamped_pressed
     tau_c, e = np.empty(D_.shape), np.empty(D_.shape)
-    tau_c[finite] = contact_time(D_[finite], f_[finite], condition)
-    e[finite] = restitution(D_[finite], f_[finite], condition)
+    tau_c[finite] = contact_time(D_[finite], f_[finite], condition=condition)
+    e[finite] = restitution(D_[finite], f_[finite], condition=condition)
     static = load[undamped_pressed] / (
         np.sqrt(stiffness * mass)[undamped_pressed] * speed[undamped_pressed]
     )
@@ -444,8 +445,8 @@ def physical_contact(
         D=finish(D_, scalar),
         f=finish(f_, scalar),
         omega0=finish(omega0, scalar),
-        tau_c=finish(tau_c, scalar),
-        t_c=finish(tau_c / omega0, scalar),
-        e=finish(e, scalar),
+        normalized_contact_time=finish(tau_c, scalar),
+        contact_time=finish(tau_c / omega0, scalar),
+        restitution=finish(e, scalar),
         condition=condition,
     )

@@ -276,7 +276,7 @@ class SpringDamperContact:
         return sp.diff(expr, D) + (sp.diff(expr, sigma) + sp.diff(expr, mu) * mu / D) * D / sigma
 
     # -- presentation --------------------------------------------------------------
-    def latex(self, name: str, condition: str | None = None) -> str:
+    def latex(self, name: str, *, condition: str | None = None) -> str:
         r"""LaTeX of the attribute ``name`` (``z``, ``z_dot``, ``g``, ``g_dot``,
         ``ridge_time``, ``ridge_exists``, ``boundary``); per-condition attributes need
         ``condition``.
@@ -359,7 +359,7 @@ def latex_formulas() -> list[tuple[str, str, str]]:
                 (
                     f"sd-ridge-{condition}-{regime}",
                     f"Closed-form ridge time, {condition} condition, {names[regime]}{where}",
-                    r"\tau_r = " + model.latex("ridge_time", condition),
+                    r"\tau_r = " + model.latex("ridge_time", condition=condition),
                 )
             )
             items.append(

@@ -157,6 +157,27 @@ class ReducedContact:
         m, dd, c, load = (sp.sympify(x) for x in (self.m_eff, self.d_eff, self.c_eff, self.load))
         return sp.Eq(m * z.diff(t, 2) + dd * z.diff(t) + c * z, load)
 
+    def latex(self, name: str, *, condition: str | None = None) -> str:
+        """LaTeX of ``equation`` or of one of ``m_eff``, ``d_eff``, ``c_eff``, ``load``, ``v0``.
+
+        ``condition`` is accepted for the common interface of the derivation objects;
+        none of these depends on it, so it must be ``None``.
+
+        >>> m, k = sp.symbols("m k", positive=True)
+        >>> x, v = sp.symbols("x v")
+        >>> r = reduce_contact(sp.Matrix([[m]]), sp.Matrix([0]), x, [x], [v], {x: 0, v: 1}, k, 0)
+        >>> r.latex("m_eff")
+        'm'
+        """
+        if condition is not None:
+            raise ValueError(
+                f"no reduced quantity depends on the contact condition, got {condition!r}"
+            )
+        names = ("equation", "m_eff", "d_eff", "c_eff", "load", "v0")
+        if not isinstance(name, str) or name not in names:
+            raise ValueError(f"name must be one of {names}, got {name!r}")
+        return sp.latex(sp.sympify(getattr(self, name)))
+
     # -- derived objects -----------------------------------------------------------
     def subs(self, values: Mapping[Any, Any]) -> ReducedContact:
         """Substitute ``values`` (a dict symbol -> value) into a symbolic reduction.
@@ -196,7 +217,8 @@ class ReducedContact:
     def contact(self, condition: str = "force") -> Any:
         """The section-2 result (``impactsym.contact.physical_contact``) of the reduction.
 
-        It carries ``D, f, omega0, tau_c, t_c, e, sticks`` for the reduced oscillator.
+        It carries ``D, f, omega0, normalized_contact_time, contact_time, restitution,
+        sticks`` for the reduced oscillator.
 
         >>> x, v = sp.symbols("x v")
         >>> r = reduce_contact(sp.Matrix([[1.0]]), sp.Matrix([1.0]), x, [x], [v], {x: 0, v: 1},
@@ -230,7 +252,7 @@ class ReducedContact:
         >>> round(r.contact_time("position"), 12)  # undamped: half a period, pi
         3.14159265359
         """
-        return _numeric(self.contact(condition).t_c)
+        return _numeric(self.contact(condition).contact_time)
 
     def normalized_contact_time(self, condition: str = "force") -> float | np.ndarray:
         """Contact time ``tau_c = omega0 t_c`` in the units of paper section 2.
@@ -244,7 +266,7 @@ class ReducedContact:
         >>> round(r.normalized_contact_time("force"), 12), round(r.contact_time("force"), 12)
         (2.0, 1.333333333333)
         """
-        return _numeric(self.contact(condition).tau_c)
+        return _numeric(self.contact(condition).normalized_contact_time)
 
     def restitution(self, condition: str = "force") -> float | np.ndarray:
         """Coefficient of restitution ``e = -z'(t_c) / v0`` (``0.0`` when sticking).
@@ -257,7 +279,7 @@ class ReducedContact:
         >>> r.restitution("position")  # the penetration never returns to zero
         0.0
         """
-        return _numeric(self.contact(condition).e)
+        return _numeric(self.contact(condition).restitution)
 
     def sticks(self, condition: str = "force") -> bool | np.ndarray:
         """Whether the reduced contact sticks (verdict ``"stick"``) under ``condition``.

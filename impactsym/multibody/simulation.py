@@ -239,8 +239,8 @@ def _rk4(eq: _Equations, y: np.ndarray, h: np.ndarray, k: np.ndarray, d: np.ndar
 class SimulatedContact:
     """Result of :func:`simulate_contact`: contact time and restitution per case."""
 
-    t_c: np.ndarray  #: contact time (``inf``: still in contact at the horizon)
-    e: np.ndarray  #: ``-g'(t_c) / g'(0)`` (``0.0`` when still in contact)
+    contact_time: np.ndarray  #: contact time (``inf``: still in contact at the horizon)
+    restitution: np.ndarray  #: ``-g'(t_c) / g'(0)`` (``0.0`` when still in contact)
 
 
 def simulate_contact(
@@ -275,7 +275,7 @@ def simulate_contact(
     >>> bar = falling_bar(gravity=0.0, drag=0.0, rotational_drag=0.0)
     >>> sim = simulate_contact(bar, 1e4, 0.0, 0.5, "position")
     >>> omega = np.sqrt(1e4 / bar.reduce().m_eff)
-    >>> round(float(sim.t_c * omega), 2), round(float(sim.e), 2)
+    >>> round(float(sim.contact_time * omega), 2), round(float(sim.restitution), 2)
     (3.13, 1.01)
     """
     k_arr, _ = real_array("k", k, lower=0.0, strict=True)
@@ -480,7 +480,7 @@ def agreement_sweep(
         cond,
         tau_max=tau_max,
         steps=steps,
-    ).t_c
+    ).contact_time
     t_full = {c: t_all[i * k.size : (i + 1) * k.size] for i, c in enumerate(conditions)}
     t_reduced, D_out, f_out, w_out = {}, {}, {}, {}
     for projection in PROJECTIONS:
@@ -524,7 +524,7 @@ def convergence_study(
     k = m_eff * omegas_arr**2
     d = 2 * damping * m_eff * omegas_arr
     speed = m_eff * rest / (d * force)
-    t_full = simulate_contact(example, k, d, speed, condition, steps=steps).t_c
+    t_full = simulate_contact(example, k, d, speed, condition, steps=steps).contact_time
     out = {"omega": omegas_arr}
     for projection in PROJECTIONS:
         red = reduce_at_speeds(example, speed, projection=projection).with_penalty(k, d)

@@ -18,23 +18,26 @@ LABELS = {"position": "position condition", "force": "force condition"}
 COLORS = {"position": "tab:blue", "force": "tab:red"}
 
 
-def boundary_curve(condition: str, f_max: float = 2.0, n: int = 400) -> tuple[np.ndarray, ...]:
+def boundary_curve(
+    *, condition: str, f_max: float = 2.0, n_points: int = 400
+) -> tuple[np.ndarray, ...]:
     """``(D*, f)`` along the stick boundary for ``0 < f <= f_max`` (log-spaced).
 
-    >>> d_star, f = boundary_curve("position", f_max=1.0, n=3)
+    >>> d_star, f = boundary_curve(condition="position", f_max=1.0, n_points=3)
     >>> f.tolist(), bool(d_star[0] > d_star[-1])
     ([0.0001, 0.01, 1.0], True)
     """
-    f = np.geomspace(f_max * 1e-4, f_max, n)
-    return stick_boundary(f, condition), f
+    f = np.geomspace(f_max * 1e-4, f_max, n_points)
+    return stick_boundary(f, condition=condition), f
 
 
 def plot_contact_surface(
+    *,
     condition: str = "force",
     ax: Axes | None = None,
     D_max: float = 1.5,
     f_max: float = 1.0,
-    n: int = 60,
+    n_points: int = 60,
 ) -> Axes:
     r"""Paper's Fig. 1a: the implicit surface :math:`g(\tau, D, f) = 0` over the D-f plane.
 
@@ -43,7 +46,7 @@ def plot_contact_surface(
     :math:`\partial g/\partial\tau = 0` and the surface turns over; beyond it the body
     sticks and the surface has no points.
 
-    >>> ax = plot_contact_surface("force", n=6)
+    >>> ax = plot_contact_surface(condition="force", n_points=6)
     >>> ax.get_zlabel()
     '$\\tau$ with $g(\\tau, D, f) = 0$'
     """
@@ -51,15 +54,16 @@ def plot_contact_surface(
     if ax is None:
         ax = plt.figure(figsize=(7, 5.5)).add_subplot(projection="3d")
     # grid in (s, f) with D = s * min(D*(f), D_max): the sheets end exactly on the fold
+    n = n_points
     f_line = np.linspace(f_max / n, f_max, n)
-    reach = np.minimum(stick_boundary(f_line, condition), D_max)
+    reach = np.minimum(stick_boundary(f_line, condition=condition), D_max)
     s = np.linspace(0.0, 1.0 - 1e-9, n)[:, None]
     D, f = s * reach, np.broadcast_to(f_line, (n, n))
-    first, second, _ = contact_surface(D, f, condition)
+    first, second, _ = contact_surface(D, f, condition=condition)
     ax.plot_surface(D, f, first, color="tab:blue", alpha=0.8, linewidth=0, label="contact time")
     ax.plot_surface(D, f, second, color="tab:orange", alpha=0.6, linewidth=0, label="second root")
     on_fold = reach < D_max
-    _, _, ridge = contact_surface(reach[on_fold], f_line[on_fold], condition)
+    _, _, ridge = contact_surface(reach[on_fold], f_line[on_fold], condition=condition)
     ax.plot(reach[on_fold], f_line[on_fold], ridge, color="k", lw=2.0, label="fold (ridge)")
     ax.set_xlabel("damping $D$")
     ax.set_ylabel("pressing force $f$")
@@ -71,7 +75,7 @@ def plot_contact_surface(
 
 
 def plot_stick_boundary(
-    ax: Axes | None = None, f_range: tuple[float, float] = (1e-3, 10.0), D_max: float = 2.5
+    *, ax: Axes | None = None, f_range: tuple[float, float] = (1e-3, 10.0), D_max: float = 2.5
 ) -> Axes:
     """Paper's Fig. 1b: stick/release boundaries of both conditions in the D-f plane.
 
@@ -87,7 +91,7 @@ def plot_stick_boundary(
     f = np.geomspace(*f_range, 400)
     for condition in ("position", "force"):
         ax.plot(
-            stick_boundary(f, condition),
+            stick_boundary(f, condition=condition),
             f,
             color=COLORS[condition],
             lw=2,
@@ -114,15 +118,15 @@ def _map(
     ax: Axes | None,
     D_max: float,
     f_max: float,
-    n: int,
+    n_points: int,
 ) -> Axes:
     """Color map of ``quantity(D, f, condition)`` over the D-f plane; grey where it sticks."""
     check_condition(condition)
     if ax is None:
         ax = plt.figure(figsize=(6, 4.5)).add_subplot()
-    D, f = np.meshgrid(np.linspace(0, D_max, n), np.linspace(0, f_max, n))
-    values = quantity(D, f, condition)
-    stuck = np.isinf(contact_time(D, f, condition))
+    D, f = np.meshgrid(np.linspace(0, D_max, n_points), np.linspace(0, f_max, n_points))
+    values = quantity(D, f, condition=condition)
+    stuck = np.isinf(contact_time(D, f, condition=condition))
     mesh = ax.pcolormesh(D, f, np.ma.masked_where(stuck, values), shading="auto", cmap="viridis")
     ax.pcolormesh(
         D,
@@ -131,7 +135,7 @@ def _map(
         shading="auto",
         cmap=ListedColormap(["0.85"]),
     )
-    d_star, f_line = boundary_curve(condition, f_max)
+    d_star, f_line = boundary_curve(condition=condition, f_max=f_max)
     ax.plot(d_star, f_line, color="k", lw=1.5, label="stick boundary")
     ax.set_xlim(0, D_max)
     ax.set_ylim(0, f_max)
@@ -144,34 +148,50 @@ def _map(
 
 
 def plot_contact_time_map(
+    *,
     condition: str = "force",
     ax: Axes | None = None,
     D_max: float = 1.5,
     f_max: float = 1.0,
-    n: int = 300,
+    n_points: int = 300,
 ) -> Axes:
     r"""Normalized contact time :math:`\tau_c(D, f)` over the D-f plane; grey: sticking.
 
-    >>> plot_contact_time_map("position", n=8).get_title()
+    >>> plot_contact_time_map(condition="position", n_points=8).get_title()
     'Contact time, position condition'
     """
     return _map(
-        contact_time, r"contact time $\tau_c$", "Contact time", condition, ax, D_max, f_max, n
+        contact_time,
+        r"contact time $\tau_c$",
+        "Contact time",
+        condition,
+        ax,
+        D_max,
+        f_max,
+        n_points,
     )
 
 
 def plot_restitution_map(
+    *,
     condition: str = "force",
     ax: Axes | None = None,
     D_max: float = 1.5,
     f_max: float = 1.0,
-    n: int = 300,
+    n_points: int = 300,
 ) -> Axes:
     """Coefficient of restitution :math:`e(D, f)` over the D-f plane; grey: sticking.
 
-    >>> plot_restitution_map("force", n=8).get_title()
+    >>> plot_restitution_map(condition="force", n_points=8).get_title()
     'Coefficient of restitution, force condition'
     """
     return _map(
-        restitution, "restitution $e$", "Coefficient of restitution", condition, ax, D_max, f_max, n
+        restitution,
+        "restitution $e$",
+        "Coefficient of restitution",
+        condition,
+        ax,
+        D_max,
+        f_max,
+        n_points,
     )

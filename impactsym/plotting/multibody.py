@@ -42,7 +42,7 @@ def _axes(ax: Any) -> Any:
     return plt.figure(figsize=(5.0, 4.0)).add_subplot()
 
 
-def plot_agreement(agreement: Any, condition: str = "force", ax: Any = None) -> Any:
+def plot_agreement(agreement: Any, *, condition: str = "force", ax: Any = None) -> Any:
     """Relative contact-time error of the reduced model against the full simulation.
 
     One point per sweep case that releases in both models, over the reduced damping
@@ -92,7 +92,7 @@ def plot_agreement(agreement: Any, condition: str = "force", ax: Any = None) -> 
 
 
 def plot_verdict_map(
-    agreement: Any, condition: str = "force", projection: str = "impulse", ax: Any = None
+    agreement: Any, *, condition: str = "force", projection: str = "impulse", ax: Any = None
 ) -> Any:
     """Sweep points in the ``(f, D)`` plane of the reduced model, marked by the verdict
     of the full simulation, over the section-2 stick boundary ``D*(f)``."""
@@ -143,8 +143,8 @@ def plot_verdict_map(
 def plot_convergence(
     omegas: Sequence[float],
     errors: Mapping[str, Sequence[float]],
-    ax: Any = None,
     *,
+    ax: Any = None,
     title: str = "",
 ) -> Any:
     """Relative contact-time error of the reduced model against ``omega0``, per projection."""
@@ -173,8 +173,8 @@ def plot_convergence(
 def plot_design_region(
     reduced: Any,
     k: Any,
-    ax: Any = None,
     *,
+    ax: Any = None,
     conditions: Sequence[str] = ("position", "force"),
     restitutions: Sequence[float] = (),
     restitution_condition: str = "force",

@@ -40,16 +40,20 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
 
     progress("Fig. 1a: contact-time surface (force condition)")
     files += save_figure(
-        plots.plot_contact_surface("force", n=n_surface), out, "fig1a_contact_surface_force"
+        plots.plot_contact_surface(condition="force", n_points=n_surface),
+        out,
+        "fig1a_contact_surface_force",
     )
     files += save_figure(
-        plots.plot_contact_surface("position", n=n_surface), out, "fig1a_contact_surface_position"
+        plots.plot_contact_surface(condition="position", n_points=n_surface),
+        out,
+        "fig1a_contact_surface_position",
     )
 
     progress("Fig. 1b: stick/release boundaries")
     files += save_figure(plots.plot_stick_boundary(), out, "fig1b_stick_boundary")
     f = np.concatenate([[0.0], np.geomspace(1e-4, 10.0, n_boundary)])
-    boundary = {c: stick_boundary(f, c) for c in CONDITIONS}
+    boundary = {c: stick_boundary(f, condition=c) for c in CONDITIONS}
     files.append(
         write_csv(
             out / "stick_boundary.csv",
@@ -61,13 +65,17 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     for condition in CONDITIONS:
         progress(f"contact-time and restitution maps ({condition} condition)")
         files += save_figure(
-            plots.plot_contact_time_map(condition, n=n_map), out, f"contact_time_map_{condition}"
+            plots.plot_contact_time_map(condition=condition, n_points=n_map),
+            out,
+            f"contact_time_map_{condition}",
         )
         files += save_figure(
-            plots.plot_restitution_map(condition, n=n_map), out, f"restitution_map_{condition}"
+            plots.plot_restitution_map(condition=condition, n_points=n_map),
+            out,
+            f"restitution_map_{condition}",
         )
         D, fg = np.meshgrid(np.linspace(0, 1.5, 31), np.linspace(0, 1.0, 21))
-        tau_c, e = contact_time(D, fg, condition), restitution(D, fg, condition)
+        tau_c, e = contact_time(D, fg, condition=condition), restitution(D, fg, condition=condition)
         files.append(
             write_csv(
                 out / f"contact_times_{condition}.csv",

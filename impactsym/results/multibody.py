@@ -72,8 +72,8 @@ def _design_example(example: MultibodyExample | None = None) -> dict[str, Any]:
         "k": k,
         "d": d,
         "stick_damping_at_k": float(stick_damping(reduced, k, condition)),
-        "full_contact_time": float(sim.t_c),
-        "full_restitution": float(sim.e),
+        "full_contact_time": float(sim.contact_time),
+        "full_restitution": float(sim.restitution),
     }
 
 
@@ -114,12 +114,12 @@ def write(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
     fig, axes = plt.subplots(2, 2, figsize=(10, 9))
     for row, agreement in zip(axes, agreements, strict=True):
         for ax, condition in zip(row, ("position", "force"), strict=True):
-            plot_agreement(agreement, condition, ax=ax)
+            plot_agreement(agreement, condition=condition, ax=ax)
     save(fig, "multibody_agreement")
     fig, axes = plt.subplots(2, 2, figsize=(10, 9))
     for row, agreement in zip(axes, agreements, strict=True):
         for ax, condition in zip(row, ("position", "force"), strict=True):
-            plot_verdict_map(agreement, condition, ax=ax)
+            plot_verdict_map(agreement, condition=condition, ax=ax)
     save(fig, "multibody_verdict_map")
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
     for ax, (name, conv) in zip(axes, convergence.items(), strict=True):

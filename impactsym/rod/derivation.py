@@ -331,17 +331,23 @@ class RodImpact:
 
     # --------------------------------------------------------------------- LaTeX
 
-    @cached_property
-    def latex(self) -> dict[str, str]:
-        """LaTeX of the equations of (1) and of the closed forms ``W``, ``Y``, ``N``.
+    def latex(self, name: str, *, condition: str | None = None) -> str:
+        r"""LaTeX of an equation of (1) (``rod``, ``fixed end``, ``mass``, ``end``, or
+        ``contact`` for the rigid limit) or of a closed form (``W``, ``Y``, ``N``).
 
-        >>> sorted(RodImpact().latex)
-        ['N', 'W', 'Y', 'contact', 'end', 'fixed end', 'rod']
+        ``condition`` is accepted for the common interface of the derivation objects;
+        no rod formula depends on it, so it must be ``None``.
+
+        >>> RodImpact().latex("Y").startswith(r"\frac{\left(\alpha s + f\right) \sinh")
+        True
         """
-        out = {name: sp.latex(eq) for name, eq in self.equations.items()}
-        for name in QUANTITIES:
-            out[name] = sp.latex(self._solution[name])
-        return out
+        if condition is not None:
+            raise ValueError(f"no rod formula depends on the contact condition, got {condition!r}")
+        names = (*self.equations, *QUANTITIES)
+        if not isinstance(name, str) or name not in names:
+            raise ValueError(f"name must be one of {names}, got {name!r}")
+        expr = self.equations[name] if name in self.equations else self._solution[name]
+        return sp.latex(expr)
 
 
 def _check_name(name: object) -> str:

@@ -1,0 +1,112 @@
+"""The package's architecture: imports run one way and the kernels need no SymPy."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "impactsym"
+
+#: Floors from the ground up; a module may import (at module level) only its own floor
+#: or lower ones. Imports inside functions (``.plot()`` methods, lazy engines) are free.
+FLOORS = [
+    ("impactsym._lazy", "impactsym.validation", "impactsym.numeric", "impactsym.symbolic"),
+    ("impactsym.contact.derivation", "impactsym.rod.derivation", "impactsym.rod.kernel"),
+    ("impactsym.rod.elastic", "impactsym.contact.api", "impactsym.contact.bounce"),
+    ("impactsym.rod.api", "impactsym.rod.contact_times", "impactsym.rod.codegen"),
+    ("impactsym.rod.continuation", "impactsym.multibody", "impactsym.engines"),
+    ("impactsym.plotting", "impactsym.export", "impactsym.results"),
+    ("impactsym.reproduce", "impactsym.cli", "impactsym.__main__"),
+]
+ALIASES = {"oscillator", "laplace", "penalty_design", "penalty_simulation"}
+#: Subpackage ``__init__`` modules hold lazy names only: the ground floor.
+PACKAGES = {"impactsym.contact", "impactsym.rod"}
+
+
+def floor_of(module: str) -> int:
+    if module in PACKAGES:
+        return 0
+    best = None
+    for level, prefixes in enumerate(FLOORS):
+        for prefix in prefixes:
+            matches = module == prefix or module.startswith(prefix + ".")
+            if matches and (best is None or len(prefix) > best[1]):
+                best = (level, len(prefix))
+    if best is None:
+        raise AssertionError(f"{module} has no floor in tests/test_layout.py")
+    return best[0]
+
+
+def module_name(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def top_level_imports(path: Path) -> set[str]:
+    out = set()
+    for node in ast.parse(path.read_text()).body:  # module level only
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            out.add(node.module)
+        elif isinstance(node, ast.Import):
+            out.update(alias.name for alias in node.names)
+    return {m for m in out if m.startswith("impactsym.")}
+
+
+def package_modules() -> list[Path]:
+    return [
+        p
+        for p in sorted(PACKAGE.rglob("*.py"))
+        if p.parent != PACKAGE or (p.stem not in ALIASES and p.stem != "__init__")
+    ]
+
+
+def test_imports_never_run_up_a_floor():
+    upward = []
+    for path in package_modules():
+        name = module_name(path)
+        if name == "impactsym":
+            continue
+        for target in top_level_imports(path):
+            if floor_of(target) > floor_of(name):
+                upward.append(f"{name} -> {target}")
+    assert upward == []
+
+
+def test_kernels_and_root_finders_import_without_sympy():
+    code = (
+        "import sys\n"
+        "for m in ('sympy', 'matplotlib'):\n"
+        "    sys.modules[m] = None  # any import of them now fails\n"
+        "import numpy as np\n"
+        "import impactsym, impactsym.validation, impactsym.numeric.roots, impactsym.rod.kernel\n"
+        "from impactsym.rod.kernel import _rigid_evaluate\n"
+        "one = np.ones(1)\n"
+        "# rigid contact, f = 0: N(t) = exp(-t / alpha) before the first reflection\n"
+        "print(float(_rigid_evaluate('N', 0.5 * one, one, 0.0 * one)[0]))\n"
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, cwd=PACKAGE.parent
+    )
+    assert run.returncode == 0, run.stderr
+    assert float(run.stdout) == pytest.approx(float(__import__("numpy").exp(-0.5)), rel=1e-14)
+
+
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        ("oscillator", "contact.derivation"),
+        ("laplace", "symbolic.laplace"),
+        ("penalty_design", "multibody.design"),
+        ("penalty_simulation", "multibody.simulation"),
+    ],
+)
+def test_former_module_names_are_the_new_modules(old, new):
+    import importlib
+
+    assert importlib.import_module(f"impactsym.{old}") is importlib.import_module(
+        f"impactsym.{new}"
+    )
