@@ -213,8 +213,7 @@ class SpringDamperContact:
     def g_dot(self) -> dict[str, sp.Expr]:
         """Their tau-derivatives dg/dtau (display form)."""
         return {
-            c: self._display(sp.Integer(0), *_initial_values(c, self.start)[1:])
-            for c in CONDITIONS
+            c: self._display(sp.Integer(0), *_initial_values(c, self.start)[1:]) for c in CONDITIONS
         }
 
     # -- ridge and boundary --------------------------------------------------------

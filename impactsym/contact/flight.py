@@ -55,7 +55,7 @@ u = sp.Symbol("u", positive=True)
 x = sp.Symbol("x", nonnegative=True)
 r = sp.Symbol("r", nonnegative=True)
 
-#: below this x the numeric psi uses its Taylor series (the closed form cancels)
+#: below this x the numeric chi uses its Taylor series (the closed form cancels)
 SERIES_BELOW = 1
 
 
@@ -73,9 +73,10 @@ class FreeFlight:
         :math:`2 D u x^2 (r - \psi(x))` with :math:`x = s/(2D)`, :math:`r = 2D^2f/u`.
     arrival_velocity, arrival_deflection
         :math:`v^*` and :math:`z^*` as functions of the root ``x`` and ``u, D, f``.
-    psi_numeric, psi_dot_numeric
-        Float-stable :math:`\psi` and :math:`\psi'`: Taylor series below
-        ``SERIES_BELOW``, ``expm1`` form above.
+    chi, chi_numeric, chi_dot_numeric
+        :math:`\chi(x) = x\psi(x)`, so that the re-contact is the root of
+        :math:`\chi(x) - r x` (same sign as :math:`\psi - r` for :math:`x > 0`), and its
+        float-stable forms: Taylor series below ``SERIES_BELOW``, ``expm1`` form above.
 
     Examples
     --------
@@ -125,16 +126,22 @@ class FreeFlight:
         return sp.series(expr, x, 0, 22).removeO()
 
     @property
-    def psi_numeric(self) -> sp.Expr:
-        """psi for floats: series below SERIES_BELOW, (expm1(-x) + x)/x^2 above."""
-        closed = (expm1(-x) + x) / x**2
-        return sp.Piecewise((self._series(self.psi), x < SERIES_BELOW), (closed, True))
+    def chi(self) -> sp.Expr:
+        """x psi(x) = (x - 1 + exp(-x))/x: the re-contact equation as chi(x) = r x."""
+        return sp.cancel(x * self.psi)
 
     @property
-    def psi_dot_numeric(self) -> sp.Expr:
-        """psi'(x) for floats: (-(2 + x) expm1(-x) - 2x)/x^3 above SERIES_BELOW."""
-        closed = (-(2 + x) * expm1(-x) - 2 * x) / x**3
-        series = self._series(sp.diff(self.psi, x))
+    def chi_numeric(self) -> sp.Expr:
+        """chi for floats: series below SERIES_BELOW, (expm1(-x) + x)/x above (no
+        overflow for any float x, unlike psi' with its x^3)."""
+        closed = (expm1(-x) + x) / x
+        return sp.Piecewise((self._series(self.chi), x < SERIES_BELOW), (closed, True))
+
+    @property
+    def chi_dot_numeric(self) -> sp.Expr:
+        """chi'(x) for floats: (-expm1(-x) - x exp(-x))/x^2 above SERIES_BELOW."""
+        closed = (-expm1(-x) - x * sp.exp(-x)) / x**2
+        series = self._series(sp.diff(self.chi, x))
         return sp.Piecewise((series, x < SERIES_BELOW), (closed, True))
 
 
