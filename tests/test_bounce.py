@@ -242,6 +242,37 @@ def test_recontact_caught_from_behind_against_ode():
     assert rows[1, 4] == pytest.approx(seq.element_deflection[1], rel=1e-7)
 
 
+@pytest.mark.parametrize(("d", "fr"), [(0.3, 0.3), (1.0, 0.02)])
+def test_trajectory_follows_the_ode_through_contact_and_flight(d, fr):
+    seq = bounce_sequence(d, fr, condition="force")
+    t_release, t_back = seq.end[0], seq.start[1]
+    contact = solve_ivp(
+        lambda _t, y: [y[1], 2 * d * fr - 2 * d * y[1] - y[0]],
+        (0, t_release),
+        [0.0, 1.0],
+        dense_output=True,
+        rtol=1e-12,
+        atol=1e-14,
+    )
+    z_c = contact.sol(t_release)
+    flight = solve_ivp(
+        lambda _t, y: [y[1], 2 * d * fr, -y[2] / (2 * d)],
+        (t_release, t_back),
+        [z_c[0], z_c[1], z_c[0]],
+        dense_output=True,
+        rtol=1e-12,
+        atol=1e-14,
+    )
+    in_contact = np.linspace(0, t_release, 7)[1:-1]
+    in_flight = np.linspace(t_release, t_back, 7)[1:-1]
+    z, element = seq.trajectory(np.concatenate([in_contact, in_flight]))
+    np.testing.assert_allclose(z[:5], contact.sol(in_contact)[0], atol=1e-9)
+    np.testing.assert_allclose(element[:5], z[:5], rtol=0)
+    np.testing.assert_allclose(z[5:], flight.sol(in_flight)[0], atol=1e-9)
+    np.testing.assert_allclose(element[5:], flight.sol(in_flight)[2], atol=1e-9)
+    assert (z[5:] < element[5:]).all()  # off the element during the flight
+
+
 # -- position condition: the exact sums and the termination proof -------------------------
 @pytest.mark.parametrize(("d", "fr"), [(0.1, 0.2), (0.05, 0.05), (0.7, 0.02)])
 def test_position_sequence_is_the_exact_sum_of_first_contacts(d, fr):

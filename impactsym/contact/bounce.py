@@ -85,7 +85,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.contact import flight as _flight
-from impactsym.contact.api import _contact_time, _inputs, _z_dot
+from impactsym.contact.api import _contact_time, _inputs, _kernels, _z_dot
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.validation import check_condition, finish, real_array
@@ -105,6 +105,12 @@ def _chi() -> tuple[Any, Any]:
 
 #: a release with 1/2 - r below this is at the fold to rounding: the body stays on
 _TANGENT = 1e-13
+
+
+@cache
+def _restart_z() -> Any:
+    """z(tau; D, f, z0, v0) of a contact started from (z0, v0) (its position function)."""
+    return _kernels("position", True).g
 
 
 def _recontact(ratio: np.ndarray) -> np.ndarray:
@@ -265,6 +271,45 @@ class BounceSequence:
     n_contacts: int
     time_to_rest: float
     sticks: bool
+
+    def trajectory(self, tau: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        r"""Body penetration :math:`z(\tau)` and element deflection :math:`z_e(\tau)`.
+
+        In contact both are the solution of the contact from its initial state
+        (:class:`~impactsym.contact.derivation.SpringDamperRestart`); in flight the body
+        follows :math:`z_c - u s + D f s^2` and the element relaxes as
+        :math:`z_c e^{-s/(2D)}` (:math:`z_c = 0` under the position condition), ``s``
+        the time since the release.
+
+        >>> seq = bounce_sequence(0.0, 0.0, condition="force")
+        >>> z, z_e = seq.trajectory([np.pi / 2, 4.0])
+        >>> np.round(z, 12).tolist(), z_e.tolist()  # sin(tau), then flying off at speed 1
+        ([1.0, -0.85840734641], [1.0, 0.0])
+        """
+        t = real_array("tau", tau, lower=0.0)[0].ravel()
+        i = np.maximum(np.searchsorted(self.start, t, side="right") - 1, 0)
+        contact = t < self.end[i]
+        z, element = np.empty(t.shape), np.empty(t.shape)
+        if contact.any():
+            k = i[contact]
+            z[contact] = _restart_z()(
+                t[contact] - self.start[k],
+                np.full(k.shape, self.D),
+                np.full(k.shape, self.f),
+                self.element_deflection[k],
+                self.arrival_velocity[k],
+            )
+            element[contact] = z[contact]
+        flying = ~contact
+        if flying.any():
+            k = i[flying]
+            s, u = t[flying] - self.end[k], self.departure_speed[k]
+            released = 2.0 * self.D * u if self.condition == "force" else 0.0 * u
+            z[flying] = released - u * s + self.D * self.f * s**2
+            with np.errstate(divide="ignore", over="ignore"):
+                relax = np.exp(-s / (2.0 * self.D)) if self.D > 0 else 0.0 * s
+            element[flying] = released * relax
+        return z, element
 
     def plot(self, ax: Any = None) -> Any:
         """Penetration and element deflection over time (see
