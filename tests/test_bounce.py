@@ -337,6 +337,10 @@ def test_force_sequence_rests_in_finite_time(d, fr):
     assert math.isfinite(seq.time_to_rest)
     assert (np.diff(seq.start) > 0).all()
     assert (seq.element_deflection >= 0).all()
+    # body + element energy at the contact starts never increases
+    energy = 0.5 * seq.arrival_velocity**2 - 2 * d * fr * seq.element_deflection
+    energy += 0.5 * seq.element_deflection**2
+    assert (np.diff(energy) <= 1e-12).all()
     # the contact force at every start is compressive: 2 D v + z > 0
     force = 2 * d * seq.arrival_velocity + seq.element_deflection
     assert (force[1:] > 0).all()

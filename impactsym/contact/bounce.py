@@ -62,8 +62,13 @@ state, :math:`z(0) = z^*`, :math:`z'(0) = v^*`, and its contact time, ridge and 
 are those of :class:`~impactsym.contact.derivation.SpringDamperRestart`. The body can
 meet the element while still moving away (:math:`v^* < 0`, caught from behind); the
 reported ``arrival_speed`` is :math:`|v^*|`, ``arrival_velocity`` keeps the sign.
-Termination is not proven here for this condition; ``max_contacts`` guards it and the
-tests observe it.
+The energy of body and element, :math:`E = \tfrac12 z'^2 - 2Df\,z + \tfrac12 z_e^2`,
+never increases (in contact :math:`E' = -2Dz'^2`; in flight the body's part is conserved
+and the element's spring energy drains through its damper) and is bounded below by
+:math:`-2D^2f^2`, so the sequence settles; that the number of contacts is *finite* is not
+proven here for this condition: ``max_contacts`` guards it, and the tests observe the rest
+for random :math:`D, f`. A release with :math:`1/2 - r < 10^{-13}` is at the fold to
+rounding (the contact force only touches zero) and counts as sticking.
 
 **Special points.** ``f = 0``: the body, once released, never comes back (one contact,
 ``sticks`` False, ``time_to_rest`` inf); a first contact that never ends (position
@@ -489,7 +494,7 @@ def physical_bounce(
     k: float,
     d: float,
     v0: float,
-    F: float,
+    F: float = 0.0,
     *,
     condition: str,
     max_contacts: int = 100,
