@@ -89,7 +89,7 @@ def test_restart_kernel_matches_contact_time_at_the_first_impact():
     force = rng.uniform(0, 1, damping.size)
     start = (np.zeros_like(damping), np.ones_like(damping))
     for condition in ("position", "force"):
-        plain = contact_time(damping, force, condition)
+        plain = contact_time(damping, force, condition=condition)
         restart = _contact_time(condition, damping, force, state=start)
         assert np.array_equal(np.isinf(plain), np.isinf(restart))
         ok = np.isfinite(plain)
@@ -281,10 +281,10 @@ def test_position_sequence_is_the_exact_sum_of_first_contacts(d, fr):
     speed, t, starts = 1.0, 0.0, []
     while True:
         starts.append(t)
-        tau_c = contact_time(d, fr / speed, "position")
+        tau_c = contact_time(d, fr / speed, condition="position")
         if math.isinf(tau_c):
             break
-        speed *= restitution(d, fr / speed, "position")
+        speed *= restitution(d, fr / speed, condition="position")
         t += tau_c + 2 * speed / (2 * d * fr)
     assert seq.n_contacts == len(starts)
     np.testing.assert_allclose(seq.start, starts, rtol=1e-12)
@@ -295,9 +295,9 @@ def test_position_contact_sticks_beyond_the_closed_form_force_bound():
     damping = np.linspace(0.01, 0.99, 50)
     omega = np.sqrt(1 - damping**2)
     bound = 1 / (4 * damping * omega * np.sinh(np.pi * damping / omega))
-    assert np.isinf(contact_time(damping, bound * (1 + 1e-9), "position")).all()
+    assert np.isinf(contact_time(damping, bound * (1 + 1e-9), condition="position")).all()
     # and the bound is not vacuous: somewhat below it the body can release
-    assert np.isfinite(contact_time(damping, bound * 0.3, "position")).any()
+    assert np.isfinite(contact_time(damping, bound * 0.3, condition="position")).any()
 
 
 @settings(max_examples=40, deadline=None)
@@ -319,14 +319,16 @@ def test_first_contact_is_the_section_2_contact(d, fr, condition):
     seq = bounce_sequence(d, fr, condition=condition)
     assert seq.start[0] == 0
     assert seq.arrival_speed[0] == 1
-    tau_c = contact_time(d, fr, condition)
+    tau_c = contact_time(d, fr, condition=condition)
     if math.isinf(tau_c):
         assert math.isinf(seq.end[0])
         assert seq.n_contacts == 1
         assert seq.sticks
     else:
         assert seq.end[0] == pytest.approx(tau_c, rel=1e-14)
-        assert seq.departure_speed[0] == pytest.approx(restitution(d, fr, condition), rel=1e-12)
+        assert seq.departure_speed[0] == pytest.approx(
+            restitution(d, fr, condition=condition), rel=1e-12
+        )
 
 
 @settings(max_examples=40, deadline=None)
@@ -353,7 +355,7 @@ def test_without_pressing_force_the_body_leaves_for_good():
         assert seq.n_contacts == 1
         assert not seq.sticks
         assert math.isinf(seq.time_to_rest)
-        assert seq.departure_speed[0] == restitution(0.2, 0.0, condition)
+        assert seq.departure_speed[0] == restitution(0.2, 0.0, condition=condition)
 
 
 def test_overdamped_without_force_creeps_back_and_counts_as_sticking():

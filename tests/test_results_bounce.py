@@ -53,6 +53,6 @@ def test_map_plot_refuses_what_it_cannot_show():
     from impactsym.contact.bounce import bounce_map
 
     with pytest.raises(ValueError, match="quantity"):
-        plot_bounce_map(bounce_map(np.ones((2, 2)), 0.1, condition="force"), "speed")
+        plot_bounce_map(bounce_map(np.ones((2, 2)), 0.1, condition="force"), quantity="speed")
     with pytest.raises(ValueError, match="2-D"):
         plot_bounce_map(bounce_map([0.1, 0.2], 0.1, condition="force"))

@@ -316,7 +316,7 @@ class BounceSequence:
             element[flying] = released * relax
         return z, element
 
-    def plot(self, ax: Any = None) -> Any:
+    def plot(self, *, ax: Any = None) -> Any:
         """Penetration and element deflection over time (see
         :func:`impactsym.plotting.bounce.plot_bounce_sequence`)."""
         from impactsym.plotting.bounce import plot_bounce_sequence
@@ -360,9 +360,9 @@ def bounce_sequence(
 
     >>> from impactsym.contact import contact_time, restitution
     >>> seq = bounce_sequence(0.1, 0.2, condition="position")
-    >>> bool(seq.end[0] == contact_time(0.1, 0.2, "position"))
+    >>> bool(seq.end[0] == contact_time(0.1, 0.2, condition="position"))
     True
-    >>> bool(seq.departure_speed[0] == restitution(0.1, 0.2, "position"))
+    >>> bool(seq.departure_speed[0] == restitution(0.1, 0.2, condition="position"))
     True
     >>> seq.n_contacts, seq.sticks, round(seq.time_to_rest, 6)
     (8, True, 131.428158)
@@ -420,11 +420,11 @@ class BounceMap:
     sticks: np.ndarray
     condition: str
 
-    def plot(self, quantity: str = "n_contacts", ax: Any = None) -> Any:
+    def plot(self, *, quantity: str = "n_contacts", ax: Any = None) -> Any:
         """Map of ``quantity`` (see :func:`impactsym.plotting.bounce.plot_bounce_map`)."""
         from impactsym.plotting.bounce import plot_bounce_map
 
-        return plot_bounce_map(self, quantity, ax=ax)
+        return plot_bounce_map(self, quantity=quantity, ax=ax)
 
 
 def bounce_map(D: ArrayLike, f: ArrayLike, *, condition: str, max_contacts: int = 100) -> BounceMap:

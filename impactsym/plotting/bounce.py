@@ -27,7 +27,11 @@ QUANTITIES = {
 
 
 def plot_bounce_sequence(
-    seq: BounceSequence, ax: Axes | None = None, tau_max: float | None = None, n: int = 2000
+    seq: BounceSequence,
+    *,
+    ax: Axes | None = None,
+    tau_max: float | None = None,
+    n_points: int = 2000,
 ) -> Axes:
     r"""Body penetration and element deflection over time, contacts shaded.
 
@@ -44,7 +48,7 @@ def plot_bounce_sequence(
     if tau_max is None:
         last = seq.start[-1]
         tau_max = last + max(0.15 * last, 4.0 * np.pi)
-    t = np.linspace(0.0, tau_max, n)
+    t = np.linspace(0.0, tau_max, n_points)
     t = np.union1d(t, np.concatenate([seq.start, seq.end[np.isfinite(seq.end)]]))
     t = t[t <= tau_max]
     z, element = seq.trajectory(t)
@@ -69,7 +73,7 @@ def plot_bounce_sequence(
 
 
 def plot_bounce_sequences(
-    D: float, f: float, axes: Sequence[Axes] | None = None, max_contacts: int = 100
+    D: float, f: float, *, axes: Sequence[Axes] | None = None, max_contacts: int = 100
 ) -> Sequence[Axes]:
     """The sequences of both conditions side by side, on a common time axis.
 
@@ -91,7 +95,7 @@ def plot_bounce_sequences(
 
 
 def plot_bounce_map(
-    result: BounceMap, quantity: str = "n_contacts", ax: Axes | None = None
+    result: BounceMap, *, quantity: str = "n_contacts", ax: Axes | None = None
 ) -> Axes:
     """Number of contacts or time to rest over a D-f grid (``result`` of
     :func:`~impactsym.contact.bounce.bounce_map` on 2-D meshgrid arrays).
@@ -126,7 +130,7 @@ def plot_bounce_map(
         ax.pcolormesh(result.D, result.f, at_once, shading="auto", cmap=ListedColormap(["w"]))
     grey = np.ma.masked_where(rests, np.ones_like(values))
     ax.pcolormesh(result.D, result.f, grey, shading="auto", cmap=ListedColormap(["0.8"]))
-    d_star, f_line = boundary_curve(condition, float(result.f.max()))
+    d_star, f_line = boundary_curve(condition=condition, f_max=float(result.f.max()))
     ax.plot(d_star, f_line, color="k", lw=1.2, label="first contact sticks (right)")
     ax.set_xlim(result.D.min(), result.D.max())
     ax.set_ylim(result.f.min(), result.f.max())

@@ -81,10 +81,12 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
         progress(f"number of contacts and time to rest over D-f ({condition} condition)")
         result = bounce_map(D, f, condition=condition)
         files += save_figure(
-            plots.plot_bounce_map(result, "n_contacts"), out, f"bounce_contacts_map_{condition}"
+            plots.plot_bounce_map(result, quantity="n_contacts"),
+            out,
+            f"bounce_contacts_map_{condition}",
         )
         files += save_figure(
-            plots.plot_bounce_map(result, "time_to_rest"),
+            plots.plot_bounce_map(result, quantity="time_to_rest"),
             out,
             f"bounce_time_to_rest_map_{condition}",
         )
