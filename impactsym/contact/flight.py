@@ -49,6 +49,7 @@ import sympy as sp
 from sympy.codegen.cfunctions import expm1
 
 from impactsym.contact.derivation import D, f
+from impactsym.validation import check_condition
 
 s = sp.Symbol("s", nonnegative=True)
 u = sp.Symbol("u", positive=True)
@@ -122,6 +123,21 @@ class FreeFlight:
         """Element deflection at the re-contact, z_e(2 D x)."""
         return self.element.subs(s, 2 * D * x)
 
+    def latex(self, name: str, *, condition: str | None = None) -> str:
+        r"""LaTeX of the attribute ``name`` (``body``, ``element``, ``gap``, ``psi``,
+        ``reduced_gap``, ``arrival_velocity``, ``arrival_deflection``); the flight is the
+        same for both conditions, so ``condition`` is accepted and ignored (the one
+        ``latex`` signature of the derivation objects).
+
+        >>> FreeFlight().latex("element")
+        '2 D u e^{- \\frac{s}{2 D}}'
+        """
+        if name not in _ATTRIBUTES:
+            raise ValueError(f"name must be one of {sorted(_ATTRIBUTES)}, got {name!r}")
+        if condition is not None:
+            check_condition(condition)
+        return sp.latex(getattr(self, name))
+
     def _series(self, expr: sp.Expr) -> sp.Expr:
         return sp.series(expr, x, 0, 22).removeO()
 
@@ -143,6 +159,17 @@ class FreeFlight:
         closed = (-expm1(-x) - x * sp.exp(-x)) / x**2
         series = self._series(sp.diff(self.chi, x))
         return sp.Piecewise((series, x < SERIES_BELOW), (closed, True))
+
+
+_ATTRIBUTES = {
+    "body",
+    "element",
+    "gap",
+    "psi",
+    "reduced_gap",
+    "arrival_velocity",
+    "arrival_deflection",
+}
 
 
 @cache
