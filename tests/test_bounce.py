@@ -224,6 +224,20 @@ def test_sequence_matches_event_driven_ode(condition, d, fr):
         assert seq.time_to_rest == pytest.approx(rows[-1, 0], rel=1e-6)
 
 
+@pytest.mark.parametrize("condition", ["position", "force"])
+def test_random_sequences_match_event_driven_ode(condition):
+    """20 random (D, f) per condition, D in [0.05, 2], f in [0.02, 1], 15 contacts at most."""
+    rng = np.random.default_rng(10)
+    for d, fr in rng.uniform([0.05, 0.02], [2.0, 1.0], size=(20, 2)):
+        seq = bounce_sequence(d, fr, condition=condition, max_contacts=15)
+        rows, sticks = simulate(d, fr, condition, max_contacts=15)
+        assert (seq.n_contacts, seq.sticks) == (len(rows), sticks), (d, fr)
+        ours = _rows(seq)
+        finite = np.isfinite(rows)
+        assert np.array_equal(finite, np.isfinite(ours))
+        np.testing.assert_allclose(ours[finite], rows[finite], rtol=1e-7, atol=1e-9)
+
+
 def test_near_sticking_sequence_has_more_than_fifty_contacts():
     for condition in ("position", "force"):
         seq = bounce_sequence(0.03, 0.03, condition=condition)
