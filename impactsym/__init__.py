@@ -26,6 +26,7 @@ _NAMES = {
     "restitution": "impactsym.contact.api",
     "stick_boundary": "impactsym.contact.api",
     "physical_contact": "impactsym.contact.api",
+    "bounce_sequence": "impactsym.contact.bounce",
     "SpringDamperContact": "impactsym.contact.derivation",
     "reduce_contact": "impactsym.multibody.reduction",
     "RodImpact": "impactsym.rod.derivation",

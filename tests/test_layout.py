@@ -15,7 +15,12 @@ PACKAGE = Path(__file__).resolve().parents[1] / "impactsym"
 #: or lower ones. Imports inside functions (``.plot()`` methods, lazy engines) are free.
 FLOORS = [
     ("impactsym._lazy", "impactsym.validation", "impactsym.numeric", "impactsym.symbolic"),
-    ("impactsym.contact.derivation", "impactsym.rod.derivation", "impactsym.rod.kernel"),
+    (
+        "impactsym.contact.derivation",
+        "impactsym.contact.flight",
+        "impactsym.rod.derivation",
+        "impactsym.rod.kernel",
+    ),
     ("impactsym.rod.elastic", "impactsym.contact.api", "impactsym.contact.bounce"),
     ("impactsym.rod.api", "impactsym.rod.contact_times", "impactsym.rod.codegen"),
     ("impactsym.rod.continuation", "impactsym.multibody", "impactsym.engines"),

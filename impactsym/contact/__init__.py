@@ -5,7 +5,11 @@
   boundary (:class:`SpringDamperContact`);
 * :mod:`~impactsym.contact.api` -- vectorized NumPy functions built from those closed forms:
   :func:`contact_time`, :func:`restitution`, :func:`stick_boundary`,
-  :func:`contact_surface`, and :func:`physical_contact` in physical units.
+  :func:`contact_surface`, and :func:`physical_contact` in physical units;
+* :mod:`~impactsym.contact.flight` -- SymPy: the free flight after a release and the
+  relaxing element (the re-contact equation);
+* :mod:`~impactsym.contact.bounce` -- the bounce sequence until rest
+  (:func:`bounce_sequence`, :func:`bounce_map`, :func:`physical_bounce`).
 """
 
 from __future__ import annotations
@@ -19,7 +23,12 @@ _NAMES = {
     "contact_surface": "impactsym.contact.api",
     "physical_contact": "impactsym.contact.api",
     "PhysicalContact": "impactsym.contact.api",
+    "bounce_sequence": "impactsym.contact.bounce",
+    "bounce_map": "impactsym.contact.bounce",
+    "physical_bounce": "impactsym.contact.bounce",
+    "BounceSequence": "impactsym.contact.bounce",
     "SpringDamperContact": "impactsym.contact.derivation",
+    "SpringDamperRestart": "impactsym.contact.derivation",
     "regime_of": "impactsym.contact.derivation",
 }
 __all__ = sorted(_NAMES)

@@ -21,7 +21,7 @@ import numpy as np
 import sympy as sp
 
 from impactsym.contact import derivation
-from impactsym.contact.derivation import D, f, tau
+from impactsym.contact.derivation import D, f, tau, v0, z0
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.validation import check_condition, finish, real_array
@@ -40,24 +40,32 @@ def _aux(regime: str, damping: np.ndarray) -> tuple[np.ndarray, ...]:
 
 
 class _PiecewiseInD:
-    """A numeric form evaluated regime by regime (masks on D), as one NumPy function."""
+    """A numeric form evaluated regime by regime (masks on D), as one NumPy function.
 
-    def __init__(self, name: str, with_tau: bool, critical_separate: bool) -> None:
+    Arguments ``([tau,] D, f)``, or ``([tau,] D, f, z0, v0)`` for a contact started from
+    an arbitrary state (``restart``, :class:`impactsym.contact.derivation.SpringDamperRestart`).
+    """
+
+    def __init__(
+        self, name: str, with_tau: bool, critical_separate: bool, restart: bool = False
+    ) -> None:
         self.name = name
         self.critical_separate = critical_separate
         regimes = derivation.REGIMES if critical_separate else ("underdamped", "overdamped")
-        leading = (tau, D, f) if with_tau else (D, f)
+        model = derivation.spring_damper_restart if restart else derivation.spring_damper
+        self.d_index = 1 if with_tau else 0
+        leading = (tau, D, f)[1 - self.d_index :] + ((z0, v0) if restart else ())
         self.functions = {
             r: lambdify(
                 leading + derivation.NUMERIC_AUX[r],
-                sp.sympify(derivation.spring_damper(r).numeric_forms[name]),
+                sp.sympify(model(r).numeric_forms[name]),
                 name=f"{name}_{r}",
             )
             for r in regimes
         }
 
     def __call__(self, *args: np.ndarray) -> np.ndarray:
-        damping = args[-2]
+        damping = args[self.d_index]
         if self.critical_separate:
             masks = {
                 "underdamped": damping < 1,
@@ -70,7 +78,7 @@ class _PiecewiseInD:
         for regime, mask in masks.items():
             if mask.any():
                 sub = [a[mask] for a in args]
-                out[mask] = self.functions[regime](*sub, *_aux(regime, sub[-2]))
+                out[mask] = self.functions[regime](*sub, *_aux(regime, sub[self.d_index]))
         return out
 
 
@@ -83,14 +91,19 @@ class _Kernels:
     ridge_exists: _PiecewiseInD
     boundary_slope: _PiecewiseInD
 
-    def scaled_g(self, t: np.ndarray, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
+    def scaled_g(
+        self, t: np.ndarray, damping: np.ndarray, force: np.ndarray, *state: np.ndarray
+    ) -> np.ndarray:
         """g exp(c tau) = oscillation + 2Df exp(c tau): the sign of g without underflow."""
-        return self.oscillation(t, damping, force) + _static_part(t, damping, force)
+        return self.oscillation(t, damping, force, *state) + _static_part(t, damping, force)
 
-    def scaled_g_dot(self, t: np.ndarray, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
+    def scaled_g_dot(
+        self, t: np.ndarray, damping: np.ndarray, force: np.ndarray, *state: np.ndarray
+    ) -> np.ndarray:
         """d/dtau of :meth:`scaled_g`."""
         rate = _decay_rate(damping)
-        return self.oscillation_dot(t, damping, force) + rate * _static_part(t, damping, force)
+        static = _static_part(t, damping, force)
+        return self.oscillation_dot(t, damping, force, *state) + rate * static
 
 
 def _decay_rate(damping: np.ndarray) -> np.ndarray:
@@ -107,9 +120,13 @@ def _static_part(t: np.ndarray, damping: np.ndarray, force: np.ndarray) -> np.nd
 
 
 @cache
-def _kernels(condition: str) -> _Kernels:
+def _kernels(condition: str, restart: bool = False) -> _Kernels:
+    """Numeric forms of one condition; ``restart``: from an arbitrary state (z0, v0)."""
+
     def piece(name: str, with_tau: bool = True, critical: bool = False) -> _PiecewiseInD:
-        return _PiecewiseInD(f"{name}_{condition}", with_tau=with_tau, critical_separate=critical)
+        return _PiecewiseInD(
+            f"{name}_{condition}", with_tau=with_tau, critical_separate=critical, restart=restart
+        )
 
     return _Kernels(
         g=piece("g"),
@@ -122,16 +139,21 @@ def _kernels(condition: str) -> _Kernels:
 
 
 @cache
-def _z_dot() -> _PiecewiseInD:
-    return _PiecewiseInD("z_dot", with_tau=True, critical_separate=False)
+def _z_dot(restart: bool = False) -> _PiecewiseInD:
+    return _PiecewiseInD("z_dot", with_tau=True, critical_separate=False, restart=restart)
 
 
-def _ridge(condition: str, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
-    """Ridge time: the first local minimum of g after impact; NaN where g has none."""
-    k = _kernels(condition)
-    exists = k.ridge_exists(damping, force) > 0.5
+def _ridge(
+    condition: str, damping: np.ndarray, force: np.ndarray, state: tuple[np.ndarray, ...] = ()
+) -> np.ndarray:
+    """Ridge time: the first local minimum of g after impact; NaN where g has none.
+
+    ``state`` = ``(z0, v0)`` arrays: the contact starts from that state instead.
+    """
+    k = _kernels(condition, bool(state))
+    exists = k.ridge_exists(damping, force, *state) > 0.5
     ridge = np.full(damping.shape, np.nan)
-    ridge[exists] = k.ridge(damping[exists], force[exists])
+    ridge[exists] = k.ridge(damping[exists], force[exists], *(a[exists] for a in state))
     return ridge
 
 
@@ -146,14 +168,23 @@ def _boundary_value(condition: str, damping: np.ndarray, force: np.ndarray) -> n
 
 
 def _contact_time(
-    condition: str, damping: np.ndarray, force: np.ndarray, ridge: np.ndarray | None = None
+    condition: str,
+    damping: np.ndarray,
+    force: np.ndarray,
+    ridge: np.ndarray | None = None,
+    state: tuple[np.ndarray, ...] = (),
 ) -> np.ndarray:
-    """Contact time on flat arrays (no validation); ``ridge`` if already computed."""
-    k = _kernels(condition)
-    ridge = _ridge(condition, damping, force) if ridge is None else ridge
+    """Contact time on flat arrays (no validation); ``ridge`` if already computed.
+
+    ``state`` = ``(z0, v0)`` arrays: the contact starts from ``z(0) = z0, z'(0) = v0``
+    (with ``g(0) > 0``) instead of the first impact's ``(0, 1)``; the same argument holds.
+    """
+    k = _kernels(condition, bool(state))
+    ridge = _ridge(condition, damping, force, state) if ridge is None else ridge
     exists = ~np.isnan(ridge)
     release = exists.copy()
-    release[exists] = k.scaled_g(ridge[exists], damping[exists], force[exists]) < 0
+    at = [a[exists] for a in state]
+    release[exists] = k.scaled_g(ridge[exists], damping[exists], force[exists], *at) < 0
     result = np.full(damping.shape, np.inf)
     if release.any():
         d, fr, hi = damping[release], force[release], ridge[release]
@@ -161,7 +192,8 @@ def _contact_time(
         under = d < 1
         half_period = np.pi / np.sqrt((1.0 - d[under]) * (1.0 + d[under]))
         lo[under] = np.maximum(hi[under] - half_period, 0.0)
-        result[release] = bracketed_newton(k.scaled_g, k.scaled_g_dot, lo, hi, [d, fr])
+        params = [d, fr, *(a[release] for a in state)]
+        result[release] = bracketed_newton(k.scaled_g, k.scaled_g_dot, lo, hi, params)
     return result
 
 

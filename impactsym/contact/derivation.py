@@ -48,6 +48,10 @@ omega = sp.Symbol("omega", nonnegative=True)
 sigma = sp.Symbol("sigma", positive=True)
 #: fast over-damped decay rate D + sigma; the slow one is 1/mu (numeric forms)
 mu = sp.Symbol("mu", positive=True)
+#: state at the start of a contact that begins from an arbitrary state (a re-contact):
+#: penetration = element deflection z(0) and body speed z'(0), in units of the first impact
+z0 = sp.Symbol("z_0", real=True)
+v0 = sp.Symbol("v_0", real=True)
 
 REGIMES = ("underdamped", "critical", "overdamped")
 
@@ -108,10 +112,13 @@ def _numeric_oscillation(regime: str, b: sp.Expr, y0: sp.Expr, q: sp.Expr) -> sp
     return -A * expm1(-2 * sigma * tau) + h0 * sp.exp(-2 * sigma * tau)
 
 
-def _initial_values(condition: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    """g(0), g'(0), g''(0) of the contact function (from the ODE, no solution needed)."""
+def _initial_values(
+    condition: str, start: tuple[sp.Expr, sp.Expr] = (sp.Integer(0), sp.Integer(1))
+) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """g(0), g'(0), g''(0) of the contact function for the initial state ``start`` =
+    (z(0), z'(0)) (from the ODE, no solution needed)."""
     b = 2 * D * f
-    z0, z1 = sp.Integer(0), sp.Integer(1)
+    z0, z1 = start
     z2 = b - 2 * D * z1 - z0
     if condition == "position":
         g0, g1 = z0, z1
@@ -150,6 +157,9 @@ class SpringDamperContact:
     ((4*f - 3)/(2*f - 1), (1 - 2*f > 0) & (4*f - 3 < 0))
     """
 
+    #: initial state (z(0), z'(0)) of the contact: the first impact
+    start: tuple[sp.Expr, sp.Expr] = (sp.Integer(0), sp.Integer(1))
+
     def __init__(self, regime: str) -> None:
         if regime not in REGIMES:
             raise ValueError(f"regime must be one of {REGIMES}, got {regime!r}")
@@ -179,26 +189,36 @@ class SpringDamperContact:
     @cached_property
     def z(self) -> sp.Expr:
         """Penetration z(tau): the persistent-contact solution (display form)."""
-        return self._display(2 * D * f, sp.Integer(0), sp.Integer(1))
+        return self._display(2 * D * f, *self.start)
 
     @cached_property
     def z_dot(self) -> sp.Expr:
         """Penetration rate dz/dtau (display form), a homogeneous solution."""
-        return self._display(sp.Integer(0), sp.Integer(1), 2 * D * f - 2 * D)
+        return self._display(sp.Integer(0), *self._z_dot_start)
+
+    @property
+    def _z_dot_start(self) -> tuple[sp.Expr, sp.Expr]:
+        """z'(0) and z''(0) (from the ODE)."""
+        y0, y1 = self.start
+        return y1, sp.expand(2 * D * f - 2 * D * y1 - y0)
 
     @cached_property
     def g(self) -> dict[str, sp.Expr]:
         """Contact functions: z (position) and 2 D z' + z (force), display form."""
-        return {c: self._display(2 * D * f, *_initial_values(c)[:2]) for c in CONDITIONS}
+        return {
+            c: self._display(2 * D * f, *_initial_values(c, self.start)[:2]) for c in CONDITIONS
+        }
 
     @cached_property
     def g_dot(self) -> dict[str, sp.Expr]:
         """Their tau-derivatives dg/dtau (display form)."""
-        return {c: self._display(sp.Integer(0), *_initial_values(c)[1:]) for c in CONDITIONS}
+        return {
+            c: self._display(sp.Integer(0), *_initial_values(c, self.start)[1:]) for c in CONDITIONS
+        }
 
     # -- ridge and boundary --------------------------------------------------------
     def _ridge(self, condition: str, numeric: bool) -> tuple[sp.Expr, sp.Boolean]:
-        _, p0, p1 = _initial_values(condition)  # g'(0), g''(0)
+        _, p0, p1 = _initial_values(condition, self.start)  # g'(0), g''(0)
         q = sp.expand(p1 + D * p0)  # coefficient of S in g'
         if self.regime == "underdamped":
             # g' ~ exp(-D tau) (omega p0 cos + q sin)/omega; the first upward zero of g'
@@ -249,9 +269,9 @@ class SpringDamperContact:
 
         Their arguments are ``(tau, D, f) + NUMERIC_AUX[regime]``.
         """
-        forms = {"z_dot": self._numeric(sp.Integer(0), sp.Integer(1), 2 * D * f - 2 * D)}
+        forms = {"z_dot": self._numeric(sp.Integer(0), *self._z_dot_start)}
         for c in CONDITIONS:
-            g0, g1, g2 = _initial_values(c)
+            g0, g1, g2 = _initial_values(c, self.start)
             forms[f"g_{c}"] = self._numeric(2 * D * f, g0, g1)
             oscillation = self._numeric(2 * D * f, g0, g1, scaled=True)
             forms[f"g_oscillation_{c}"] = oscillation
@@ -294,6 +314,41 @@ class SpringDamperContact:
         return sp.latex(value)
 
 
+class SpringDamperRestart(SpringDamperContact):
+    r"""The contact of one regime started from an arbitrary state (a re-contact).
+
+    .. math::  z'' + 2 D z' + z = 2 D f, \qquad z(0) = z_0, \quad z'(0) = v_0,
+
+    in the units of the *first* impact (:math:`v_0 = 1, z_0 = 0` is
+    :class:`SpringDamperContact`). Under the force condition a body that re-contacts the
+    relaxing massless element meets it still deflected, :math:`z_0 > 0`, and possibly
+    while still moving away, :math:`v_0 < 0`; the contact force at the start,
+    :math:`g_\mathrm{force}(0) = 2 D v_0 + z_0`, is positive all the same. Everything
+    the parent class derives (solution, contact functions, closed-form ridge time and
+    its existence condition, the stick test :math:`G = g(\tau_r)`, the numeric forms)
+    holds for this start, with the extra arguments ``z0, v0`` after ``(tau, D, f)``.
+
+    Examples
+    --------
+    >>> model = SpringDamperRestart("critical")
+    >>> model.symbols
+    (tau, D, f, z_0, v_0)
+    >>> model.g["force"].subs({z0: 0, v0: 1}) == SpringDamperContact("critical").g["force"]
+    True
+    >>> model.ridge_exists["force"]
+    (-2*f + v_0 + z_0 > 0) & (4*f - 3*v_0 - 2*z_0 < 0)
+    """
+
+    start = (z0, v0)
+
+    def __init__(self, regime: str) -> None:
+        super().__init__(regime)
+        self.symbols = (tau, D, f, z0, v0)
+
+    def __repr__(self) -> str:
+        return f"SpringDamperRestart({self.regime!r})"
+
+
 _ATTRIBUTES = {"z", "z_dot", "g", "g_dot", "ridge_time", "ridge_exists", "boundary"}
 
 
@@ -305,6 +360,16 @@ def spring_damper(regime: str) -> SpringDamperContact:
     True
     """
     return SpringDamperContact(regime)
+
+
+@cache
+def spring_damper_restart(regime: str) -> SpringDamperRestart:
+    """The (cached) derivation of one damping regime from an arbitrary initial state.
+
+    >>> spring_damper_restart("overdamped")
+    SpringDamperRestart('overdamped')
+    """
+    return SpringDamperRestart(regime)
 
 
 def regime_of(damping: float) -> str:

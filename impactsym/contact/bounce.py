@@ -1,0 +1,570 @@
+r"""The bounce sequence of the spring-damper contact until the body rests.
+
+Normalized on the *first* impact (``PHYSICS.md`` section 2: :math:`\tau = \omega_0 t`,
+:math:`z = x\omega_0/v_0`, :math:`f = F/(d v_0)`): a body released from the contact flies
+under the pressing force alone, with acceleration :math:`2Df` towards the contact, hits
+again, and so on until a contact no longer ends (the body sticks).
+
+**Position condition.** Every contact ends at :math:`z = 0` with the element undeformed,
+so every contact starts undeformed. Contact ``n`` at speed :math:`v_n` is the first impact
+seen in the units of :math:`v_n`: the same :math:`\tau`, penetration scaled by
+:math:`v_n` and the effective pressing force :math:`f_n = f/v_n`. Hence, exactly,
+
+.. math::
+
+    v_1 = 1,\qquad v_{n+1} = e(D, f_n)\, v_n,\qquad
+    \tau_{n+1}^\mathrm{start} = \tau_n^\mathrm{start} + \tau_c(D, f_n)
+        + \frac{2 v_{n+1}}{2 D f},
+
+with :math:`\tau_c` and :math:`e` of :func:`~impactsym.contact.api.contact_time` and
+:func:`~impactsym.contact.api.restitution`. The number of contacts is
+:math:`N = \min\{n : \tau_c(D, f/v_n) = \infty\}` and the time to rest the exact finite sum
+
+.. math::  \tau_\mathrm{rest} = \sum_{n=1}^{N-1} \tau_c(D, f_n)
+           + \frac{1}{D f}\sum_{n=2}^{N} v_n .
+
+*It ends* (:math:`N < \infty` for every :math:`D > 0,\ f > 0`):
+
+1. *A large pressing force sticks.* For :math:`D \ge 1` and :math:`f > 0` the first contact
+   sticks already (:func:`~impactsym.contact.api.stick_boundary` is below 1). For
+   :math:`0 < D < 1` write :math:`z = b\,s(\tau) + S(\tau)` with :math:`b = 2Df`, the step
+   response :math:`s = 1 - C - DS` and :math:`S = e^{-D\tau}\sin(\omega\tau)/\omega`,
+   :math:`\omega = \sqrt{1 - D^2}`. Since :math:`s' = S`, ``s`` rises on
+   :math:`[0, \pi/\omega]` where :math:`S > 0`, so :math:`z > 0` there; beyond, ``s`` has
+   its minima at :math:`2k\pi/\omega` and :math:`s \ge 1 - e^{-2\pi D/\omega}`, while
+   :math:`|S| \le e^{-\pi D/\omega}/\omega`. So :math:`z > 0` for all :math:`\tau > 0`
+   (the contact never ends) as soon as
+
+   .. math::  f > f_\mathrm{stick}(D) = \frac{1}{4 D \omega \sinh(\pi D/\omega)} .
+
+2. *Restitution stays below one, uniformly.* Multiplying the contact equation by
+   :math:`z'` gives :math:`\tfrac{d}{d\tau}(\tfrac12 z'^2 + \tfrac12 z^2 - bz) = -2Dz'^2`;
+   a contact starts and ends at :math:`z = 0`, so :math:`e^2 = 1 - 4D\int z'^2 < 1`. At
+   the fold (:math:`G(D, f) \to 0^-`) the contact time tends to the ridge time, where
+   :math:`z' = 0`, so :math:`e \to 0`. Extended by 0 where the body sticks, :math:`e(D,
+   \cdot)` is therefore continuous on the compact :math:`[f, f_\mathrm{stick}(D)]` and
+   below one: :math:`e \le e_\mathrm{max} < 1`.
+3. As long as the body releases, :math:`v_n \le e_\mathrm{max}^{\,n-1}` and
+   :math:`f_n = f/v_n` grows geometrically; it passes :math:`f_\mathrm{stick}(D)` after
+   at most :math:`1 + \log(f_\mathrm{stick}/f)/\log(1/e_\mathrm{max})` contacts. With
+   finitely many contacts, all of finite duration, :math:`\tau_\mathrm{rest} < \infty`.
+
+A constant coefficient of restitution, in contrast, bounces infinitely often (in finite
+time); here the growing :math:`f_n` ends the sequence.
+
+**Force condition.** The contact ends when the force :math:`2Dz' + z` vanishes, with the
+massless element still deflected by :math:`z_c = 2Du` (``u`` the speed of departure). It
+relaxes freely, :math:`z_e' = -z_e/(2D)`, while the body flies, and the body meets it
+again still deflected (:mod:`~impactsym.contact.flight`: the re-contact is the unique root
+of :math:`\psi(x) = 2D^2 f/u`, bracketed by :math:`3 - 6r \le x < 1/r` and solved by
+:func:`~impactsym.numeric.roots.bracketed_newton`). The next contact starts from that
+state, :math:`z(0) = z^*`, :math:`z'(0) = v^*`, and its contact time, ridge and stick test
+are those of :class:`~impactsym.contact.derivation.SpringDamperRestart`. The body can
+meet the element while still moving away (:math:`v^* < 0`, caught from behind); the
+reported ``arrival_speed`` is :math:`|v^*|`, ``arrival_velocity`` keeps the sign.
+The energy of body and element, :math:`E = \tfrac12 z'^2 - 2Df\,z + \tfrac12 z_e^2`,
+never increases (in contact :math:`E' = -2Dz'^2`; in flight the body's part is conserved
+and the element's spring energy drains through its damper) and is bounded below by
+:math:`-2D^2f^2`, so the sequence settles; that the number of contacts is *finite* is not
+proven here for this condition: ``max_contacts`` guards it, and the tests observe the rest
+for random :math:`D, f`. A release with :math:`1/2 - r < 10^{-13}` is at the fold to
+rounding (the contact force only touches zero) and counts as sticking.
+
+**Special points.** ``f = 0``: the body, once released, never comes back (one contact,
+``sticks`` False, ``time_to_rest`` inf); a first contact that never ends (position
+condition, :math:`D \ge 1`: the body creeps back to :math:`z = 0`) counts as sticking at
+time 0. ``D = 0``: without a damper the paper's :math:`f = F/(dv_0)` is infinite for any
+load; for finite ``f`` the pressing force :math:`2Df` vanishes and the body leaves after
+one contact. A flight longer than floats reach (:math:`Df \lesssim 10^{-300}`) counts as
+never coming back. An undamped contact *under a load* is
+:func:`physical_bounce` with ``d = 0``: it bounces for ever with :math:`e = 1`.
+"""
+
+from __future__ import annotations
+
+import numbers
+from dataclasses import dataclass
+from functools import cache
+from typing import Any
+
+import numpy as np
+
+from impactsym.contact import flight as _flight
+from impactsym.contact.api import _contact_time, _inputs, _kernels, _z_dot
+from impactsym.numeric.codegen import lambdify
+from impactsym.numeric.roots import bracketed_newton
+from impactsym.validation import check_condition, finish, real_array
+
+ArrayLike = float | np.ndarray
+
+
+@cache
+def _chi() -> tuple[Any, Any]:
+    """chi(x) = x psi(x) and chi'(x) of the re-contact equation, as NumPy functions."""
+    model = _flight.free_flight()
+    return (
+        lambdify([_flight.x], model.chi_numeric, name="chi"),
+        lambdify([_flight.x], model.chi_dot_numeric, name="chi_dot"),
+    )
+
+
+#: a release with 1/2 - r below this is at the fold to rounding: the body stays on
+_TANGENT = 1e-13
+
+
+@cache
+def _restart_z() -> Any:
+    """z(tau; D, f, z0, v0) of a contact started from (z0, v0) (its position function)."""
+    return _kernels("position", True).g
+
+
+def _recontact(ratio: np.ndarray) -> np.ndarray:
+    r"""Root :math:`x^*` of :math:`\psi(x) = r` for :math:`0 < r < 1/2 - 10^{-13}`.
+
+    Solved as :math:`\chi(x) - r x = x(\psi(x) - r) = 0` in the bracket
+    :math:`[3/2 - 3r,\ 2/r]`: :math:`\psi(x) \ge 1/2 - x/6` puts :math:`\psi` at least
+    :math:`(1/2 - r)/2` above ``r`` at the left end, :math:`\psi(x) < 1/x` puts it
+    below :math:`r/2` at the right end, and :math:`\psi` is strictly decreasing.
+    """
+    chi, chi_dot = _chi()
+    return bracketed_newton(
+        lambda y, q: chi(y) - q * y,
+        lambda y, q: chi_dot(y) - q,
+        1.5 - 3.0 * ratio,
+        2.0 / ratio,
+        [ratio],
+        rtol=1e-15,
+    )
+
+
+@dataclass(frozen=True)
+class _Padded:
+    """Sequences of many points, padded with NaN to (points, max_contacts)."""
+
+    start: np.ndarray
+    end: np.ndarray
+    arrival_velocity: np.ndarray
+    departure_speed: np.ndarray
+    element_deflection: np.ndarray
+    n_contacts: np.ndarray
+    sticks: np.ndarray
+
+    @property
+    def time_to_rest(self) -> np.ndarray:
+        last = np.maximum(self.n_contacts - 1, 0)
+        start = self.start[np.arange(self.n_contacts.size), last]
+        return np.where(self.sticks, start, np.inf)
+
+
+def _sequences(
+    condition: str, damping: np.ndarray, force: np.ndarray, max_contacts: int
+) -> _Padded:
+    """Bounce sequences on flat arrays: a loop over contacts, vectorized over points."""
+    n = damping.size
+    table = {
+        name: np.full((n, max_contacts), np.nan)
+        for name in ("start", "end", "arrival", "departure", "deflection")
+    }
+    t, z, v = np.zeros(n), np.zeros(n), np.ones(n)
+    n_contacts = np.zeros(n, dtype=int)
+    sticks = np.zeros(n, dtype=bool)
+    active = np.arange(n)
+    for k in range(max_contacts):
+        if active.size == 0:
+            break
+        d, fr, za, va = damping[active], force[active], z[active], v[active]
+        table["start"][active, k] = t[active]
+        table["arrival"][active, k] = va
+        table["deflection"][active, k] = za
+        n_contacts[active] = k + 1
+        speed = np.zeros(active.size)  # speed of departure, first-impact units
+        if condition == "position":  # contact k = first impact at speed va, f_k = f/va
+            f_k = fr / va
+            tau_c = _contact_time("position", d, f_k)
+            out = np.isfinite(tau_c)
+            speed[out] = -_z_dot()(tau_c[out], d[out], f_k[out]) * va[out]
+        else:
+            tau_c = _contact_time("force", d, fr, state=(za, va))
+            out = np.isfinite(tau_c)
+            speed[out] = -_z_dot(True)(tau_c[out], d[out], fr[out], za[out], va[out])
+        accel = 2.0 * d * fr
+        ratio = np.zeros(active.size)
+        if condition == "force":  # r = 2 D^2 f / u < 1/2 unless rounding at the fold
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio[out] = d[out] * accel[out] / speed[out]
+            tangent = out & ((speed <= 0) | (ratio >= 0.5 - _TANGENT))
+        else:
+            tangent = out & (speed <= 0)
+        out &= ~tangent  # a release at the fold (to rounding) does not leave the element
+        tau_c[~out], speed[~out] = np.inf, 0.0
+        table["end"][active, k] = t[active] + tau_c
+        table["departure"][active, k] = speed
+        sticks[active[~out]] = True
+        # released and pushed back: there is a next contact, unless the flight is longer
+        # than floats reach (D f below ~1e-300): that body counts as never coming back
+        with np.errstate(all="ignore"):
+            reach = 2.0 * speed / accel if condition == "position" else 2.0 / ratio
+        back = out & (accel > 0) & np.isfinite(reach) & np.isfinite(t[active] + reach)
+        idx, d, u, a = active[back], d[back], speed[back], accel[back]
+        t_release = t[idx] + tau_c[back]
+        if condition == "position":
+            t[idx], v[idx] = t_release + 2.0 * u / a, u
+        else:
+            ratio = ratio[back]
+            x = _recontact(ratio)
+            t[idx] = t_release + 2.0 * d * x
+            v[idx] = u * (2.0 * ratio * x - 1.0)
+            z[idx] = 2.0 * d * u * np.exp(-x)
+        active = idx
+    return _Padded(
+        start=table["start"],
+        end=table["end"],
+        arrival_velocity=table["arrival"],
+        departure_speed=table["departure"],
+        element_deflection=table["deflection"],
+        n_contacts=n_contacts,
+        sticks=sticks,
+    )
+
+
+def _max_contacts(value: object) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"max_contacts must be an integer, got {value!r}")
+    if value < 1:
+        raise ValueError(f"max_contacts must be >= 1, got {value!r}")
+    return int(value)
+
+
+@dataclass(frozen=True)
+class BounceSequence:
+    r"""The contacts of one body until it rests (normalized on the first impact).
+
+    Attributes
+    ----------
+    D, f, condition
+        The model and the contact condition.
+    start, end
+        Start and end :math:`\tau` of every contact (``end`` is ``inf`` for the contact in
+        which the body sticks).
+    arrival_speed, departure_speed
+        Speed at the start and at the end of every contact, over the first impact speed
+        (``departure_speed`` is 0 for the sticking contact).
+    arrival_velocity
+        Body velocity at the start of every contact, positive into the contact (force
+        condition: negative when the relaxing element catches the body from behind).
+    element_deflection
+        Element deflection :math:`z(0)` at the start of every contact (0 under the
+        position condition).
+    n_contacts
+        Number of contacts, the sticking contact included.
+    time_to_rest
+        Start of the sticking contact (``inf`` when the body does not stick).
+    sticks
+        False only when ``max_contacts`` ran out or the body is not pushed back (``f = 0``
+        or ``D = 0``).
+    """
+
+    D: float
+    f: float
+    condition: str
+    start: np.ndarray
+    end: np.ndarray
+    arrival_speed: np.ndarray
+    departure_speed: np.ndarray
+    arrival_velocity: np.ndarray
+    element_deflection: np.ndarray
+    n_contacts: int
+    time_to_rest: float
+    sticks: bool
+
+    def trajectory(self, tau: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        r"""Body penetration :math:`z(\tau)` and element deflection :math:`z_e(\tau)`.
+
+        In contact both are the solution of the contact from its initial state
+        (:class:`~impactsym.contact.derivation.SpringDamperRestart`); in flight the body
+        follows :math:`z_c - u s + D f s^2` and the element relaxes as
+        :math:`z_c e^{-s/(2D)}` (:math:`z_c = 0` under the position condition), ``s``
+        the time since the release.
+
+        >>> seq = bounce_sequence(0.0, 0.0, condition="force")
+        >>> z, z_e = seq.trajectory([np.pi / 2, 4.0])
+        >>> np.round(z, 12).tolist(), z_e.tolist()  # sin(tau), then flying off at speed 1
+        ([1.0, -0.85840734641], [1.0, 0.0])
+        """
+        t = real_array("tau", tau, lower=0.0)[0].ravel()
+        i = np.maximum(np.searchsorted(self.start, t, side="right") - 1, 0)
+        contact = t < self.end[i]
+        z, element = np.empty(t.shape), np.empty(t.shape)
+        if contact.any():
+            k = i[contact]
+            z[contact] = _restart_z()(
+                t[contact] - self.start[k],
+                np.full(k.shape, self.D),
+                np.full(k.shape, self.f),
+                self.element_deflection[k],
+                self.arrival_velocity[k],
+            )
+            element[contact] = z[contact]
+        flying = ~contact
+        if flying.any():
+            k = i[flying]
+            s, u = t[flying] - self.end[k], self.departure_speed[k]
+            released = 2.0 * self.D * u if self.condition == "force" else 0.0 * u
+            z[flying] = released - u * s + self.D * self.f * s**2
+            with np.errstate(divide="ignore", over="ignore"):
+                relax = np.exp(-s / (2.0 * self.D)) if self.D > 0 else 0.0 * s
+            element[flying] = released * relax
+        return z, element
+
+    def plot(self, *, ax: Any = None) -> Any:
+        """Penetration and element deflection over time (see
+        :func:`impactsym.plotting.bounce.plot_bounce_sequence`)."""
+        from impactsym.plotting.bounce import plot_bounce_sequence
+
+        return plot_bounce_sequence(self, ax=ax)
+
+
+def bounce_sequence(
+    D: float, f: float, *, condition: str, max_contacts: int = 100
+) -> BounceSequence:
+    r"""The sequence of contacts and free flights of the spring-damper contact until rest.
+
+    Contact ``n`` follows :math:`z'' + 2Dz' + z = 2Df` from its initial state until its
+    contact function changes sign (``PHYSICS.md`` section 2); in between, the body flies
+    with acceleration :math:`2Df` towards the contact. Under the position condition
+
+    .. math::  v_{n+1} = e(D, f/v_n)\, v_n, \qquad
+               \Delta\tau_\mathrm{flight} = \frac{2 v_{n+1}}{2 D f};
+
+    under the force condition the next contact starts from the still deflected element
+    (see the module docstring for both, and for the proof that the position sequence ends).
+
+    Parameters
+    ----------
+    D : float
+        Lehr's damping ratio, ``>= 0``.
+    f : float
+        Pressing force over the damper force at the first impact, ``>= 0``.
+    condition : {"position", "force"}
+        How each contact ends.
+    max_contacts : int
+        At most this many contacts are computed.
+
+    Returns
+    -------
+    BounceSequence
+
+    Examples
+    --------
+    The first contact is the section-2 contact:
+
+    >>> from impactsym.contact import contact_time, restitution
+    >>> seq = bounce_sequence(0.1, 0.2, condition="position")
+    >>> bool(seq.end[0] == contact_time(0.1, 0.2, condition="position"))
+    True
+    >>> bool(seq.departure_speed[0] == restitution(0.1, 0.2, condition="position"))
+    True
+    >>> seq.n_contacts, seq.sticks, round(seq.time_to_rest, 6)
+    (8, True, 131.428158)
+    >>> float(seq.end[-1]), float(seq.departure_speed[-1])
+    (inf, 0.0)
+    """
+    check_condition(condition)
+    max_contacts = _max_contacts(max_contacts)
+    values = []
+    for name, value in (("D", D), ("f", f)):
+        array, scalar = real_array(name, value, lower=0.0)
+        if not scalar:
+            raise TypeError(f"{name} must be a scalar (use bounce_map for arrays), got {value!r}")
+        values.append(array.reshape(1))
+    padded = _sequences(condition, values[0], values[1], max_contacts)
+    n = int(padded.n_contacts[0])
+    row = {
+        name: np.array(getattr(padded, name)[0, :n])
+        for name in ("start", "end", "departure_speed", "arrival_velocity", "element_deflection")
+    }
+    return BounceSequence(
+        D=float(values[0][0]),
+        f=float(values[1][0]),
+        condition=condition,
+        arrival_speed=np.abs(row["arrival_velocity"]),
+        n_contacts=n,
+        time_to_rest=float(padded.time_to_rest[0]),
+        sticks=bool(padded.sticks[0]),
+        **row,
+    )
+
+
+@dataclass(frozen=True)
+class BounceMap:
+    """Number of contacts and time to rest over arrays of ``(D, f)``.
+
+    Attributes
+    ----------
+    D, f
+        The broadcast inputs.
+    n_contacts
+        Number of contacts, the sticking one included (int array).
+    time_to_rest
+        Start of the sticking contact; ``inf`` where the body does not stick.
+    sticks
+        Whether the body came to rest within ``max_contacts``.
+    condition
+        The contact condition.
+    """
+
+    D: np.ndarray
+    f: np.ndarray
+    n_contacts: np.ndarray
+    time_to_rest: np.ndarray
+    sticks: np.ndarray
+    condition: str
+
+    def plot(self, *, quantity: str = "n_contacts", ax: Any = None) -> Any:
+        """Map of ``quantity`` (see :func:`impactsym.plotting.bounce.plot_bounce_map`)."""
+        from impactsym.plotting.bounce import plot_bounce_map
+
+        return plot_bounce_map(self, quantity=quantity, ax=ax)
+
+
+def bounce_map(D: ArrayLike, f: ArrayLike, *, condition: str, max_contacts: int = 100) -> BounceMap:
+    """Number of contacts and time to rest, vectorized over ``D`` and ``f``.
+
+    The same computation as :func:`bounce_sequence`, one contact after another for all
+    points at once (points that rest drop out).
+
+    Examples
+    --------
+    >>> m = bounce_map([0.05, 0.1, 2.0], 0.2, condition="force")
+    >>> m.n_contacts.tolist(), m.sticks.tolist()
+    ([21, 9, 1], [True, True, True])
+    >>> m.time_to_rest.round(3).tolist()  # D = 2 sticks at the first contact
+    [608.025, 143.756, 0.0]
+    """
+    max_contacts = _max_contacts(max_contacts)
+    (damping, force), shape, _ = _inputs(condition, D=D, f=f)
+    padded = _sequences(condition, damping, force, max_contacts)
+    return BounceMap(
+        D=damping.reshape(shape),
+        f=force.reshape(shape),
+        n_contacts=padded.n_contacts.reshape(shape),
+        time_to_rest=padded.time_to_rest.reshape(shape),
+        sticks=padded.sticks.reshape(shape),
+        condition=condition,
+    )
+
+
+@dataclass(frozen=True)
+class PhysicalBounce:
+    r"""A bounce sequence in physical units (seconds, metres, metres per second).
+
+    Attributes
+    ----------
+    omega0, D, f
+        Natural frequency :math:`\sqrt{k/m}` (rad/s), Lehr's damping, normalized pressing
+        force (``inf`` for :math:`d = 0 < F`).
+    start, end
+        Contact start and end times in seconds.
+    arrival_speed, departure_speed
+        Speeds in metres per second.
+    element_deflection
+        Element deflection at each contact start, metres.
+    time_to_rest
+        Seconds until the sticking contact starts (``inf`` if the body does not stick).
+    n_contacts, sticks, condition
+        As in :class:`BounceSequence`.
+    """
+
+    omega0: float
+    D: float
+    f: float
+    start: np.ndarray
+    end: np.ndarray
+    arrival_speed: np.ndarray
+    departure_speed: np.ndarray
+    element_deflection: np.ndarray
+    time_to_rest: float
+    n_contacts: int
+    sticks: bool
+    condition: str
+
+
+def physical_bounce(
+    m: float,
+    k: float,
+    d: float,
+    v0: float,
+    F: float = 0.0,
+    *,
+    condition: str,
+    max_contacts: int = 100,
+) -> PhysicalBounce:
+    r"""Bounce sequence of a body of mass ``m`` dropped at speed ``v0`` on a spring ``k``
+    and damper ``d`` under a pressing force ``F`` (e.g. its weight :math:`mg`), in SI units.
+
+    .. math::  \omega_0 = \sqrt{k/m},\quad D = \frac{d}{2\sqrt{km}},\quad
+               f = \frac{F}{d v_0},\quad t = \tau/\omega_0,\quad x = z\, v_0/\omega_0 .
+
+    An undamped contact under a load (:math:`d = 0 < F`, :math:`f = \infty`) bounces for
+    ever: every contact starts undeformed at speed :math:`v_0`, lasts
+    :math:`\tau_c = 2\pi - 2\arctan(1/b)` with :math:`b = F/(\sqrt{km}\, v_0)` and
+    returns it with :math:`e = 1` after a flight of :math:`2/b`.
+
+    Examples
+    --------
+    A 10 g part dropped at 0.5 m/s on a 1 kN/m pad damped with 2 N s/m, under its weight:
+
+    >>> b = physical_bounce(0.01, 1e3, 2.0, 0.5, 0.01 * 9.81, condition="force")
+    >>> b.n_contacts, b.sticks, round(b.time_to_rest * 1e3, 3)  # milliseconds
+    (3, True, 70.403)
+    """
+    check_condition(condition)
+    max_contacts = _max_contacts(max_contacts)
+    vals = {}
+    for name, value, strict in (("m", m, True), ("k", k, True), ("d", d, False)):
+        vals[name] = _scalar(name, value, strict)
+    vals["v0"] = _scalar("v0", v0, True)
+    vals["F"] = _scalar("F", F, False)
+    mass, stiffness, damping, speed, load = vals.values()
+    omega0 = float(np.sqrt(stiffness / mass))
+    D_ = damping / (2.0 * np.sqrt(stiffness * mass))
+    length = speed / omega0  # metres per unit of z
+    if damping == 0 and load > 0:
+        b = load / (np.sqrt(stiffness * mass) * speed)
+        tau_c = 2.0 * np.pi - 2.0 * np.arctan2(1.0, b)
+        start = np.arange(max_contacts) * (tau_c + 2.0 / b)
+        ones = np.ones(max_contacts)
+        seq = {
+            "f": np.inf, "start": start, "end": start + tau_c, "arrival": ones,
+            "departure": ones, "deflection": 0.0 * ones, "time_to_rest": np.inf,
+            "n": max_contacts, "sticks": False,
+        }  # fmt: skip
+    else:
+        f_ = load / (damping * speed) if load > 0 else 0.0
+        s = bounce_sequence(D_, f_, condition=condition, max_contacts=max_contacts)
+        seq = {
+            "f": f_, "start": s.start, "end": s.end, "arrival": s.arrival_speed,
+            "departure": s.departure_speed, "deflection": s.element_deflection,
+            "time_to_rest": s.time_to_rest, "n": s.n_contacts, "sticks": s.sticks,
+        }  # fmt: skip
+    return PhysicalBounce(
+        omega0=omega0,
+        D=float(D_),
+        f=float(seq["f"]),
+        start=seq["start"] / omega0,
+        end=seq["end"] / omega0,
+        arrival_speed=seq["arrival"] * speed,
+        departure_speed=seq["departure"] * speed,
+        element_deflection=seq["deflection"] * length,
+        time_to_rest=float(seq["time_to_rest"]) / omega0,
+        n_contacts=int(seq["n"]),
+        sticks=bool(seq["sticks"]),
+        condition=condition,
+    )
+
+
+def _scalar(name: str, value: object, strict: bool) -> float:
+    array, scalar = real_array(name, value, lower=0.0, strict=strict)
+    if not scalar:
+        raise TypeError(f"{name} must be a scalar, got {value!r}")
+    return float(finish(array, True))

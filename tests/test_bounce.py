@@ -1,0 +1,501 @@
+"""The bounce sequence until rest (issue 10, part 1): derivation, kernels, API."""
+
+from __future__ import annotations
+
+import math
+
+import mpmath as mp
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from reference_bounce import simulate
+from scipy.integrate import solve_ivp
+
+from impactsym.contact import bounce_sequence, contact_time, restitution
+from impactsym.contact.api import _contact_time, _z_dot
+from impactsym.contact.bounce import _chi, _recontact, bounce_map, physical_bounce
+from impactsym.contact.derivation import (
+    REGIMES,
+    D,
+    SpringDamperContact,
+    f,
+    spring_damper_restart,
+    tau,
+    v0,
+    z0,
+)
+from impactsym.contact.flight import FreeFlight, r, s, u, x
+
+
+def _rows(seq):
+    return np.c_[
+        seq.start, seq.end, seq.arrival_velocity, seq.departure_speed, seq.element_deflection
+    ]
+
+
+# -- symbolic: the contact from an arbitrary initial state ---------------------------------
+REGIME_POINTS = {
+    "underdamped": sp.Rational(37, 100),
+    "critical": 1,
+    "overdamped": sp.Rational(13, 5),
+}
+
+
+@pytest.mark.parametrize("regime", REGIMES)
+def test_restart_solution_solves_the_contact_equation_from_its_initial_state(regime):
+    model = spring_damper_restart(regime)
+    z = model.z  # symbolic in D (D = 1 substituted in the critical regime)
+    d = D if regime != "critical" else 1
+    residual = sp.diff(z, tau, 2) + 2 * d * sp.diff(z, tau) + z - 2 * d * f
+    assert sp.simplify(residual) == 0
+    assert sp.simplify(z.subs(tau, 0) - z0) == 0
+    assert sp.simplify(sp.diff(z, tau).subs(tau, 0) - v0) == 0
+    z_dot = model.z_dot
+    assert sp.simplify(sp.diff(z, tau) - z_dot) == 0
+
+
+@pytest.mark.parametrize("regime", REGIMES)
+def test_restart_contact_function_and_ridge_at_a_point(regime):
+    """g = 2Dz' + z and dg/dtau = 0 at the closed-form ridge time (numbers, 30 digits)."""
+    model = spring_damper_restart(regime)
+    d = REGIME_POINTS[regime]
+    z_start = sp.Rational(1, 2) if regime == "overdamped" else sp.Rational(1, 10)
+    point = {D: d, f: sp.Rational(1, 20), z0: z_start, v0: sp.Rational(1, 5)}
+    g = model.g["force"].subs(point)
+    z = model.z.subs(point)
+    assert abs(sp.N((g - 2 * d * sp.diff(z, tau) - z).subs(tau, sp.Rational(7, 3)), 30)) < 1e-25
+    assert bool(model.ridge_exists["force"].subs(point))
+    ridge = sp.N(model.ridge_time["force"].subs(point), 30)
+    assert ridge > 0
+    slope = sp.diff(model.g["force"].subs(point), tau).subs(tau, ridge)
+    assert abs(sp.N(slope, 30)) < 1e-25
+
+
+def test_restart_reduces_to_the_first_impact():
+    for regime in REGIMES:
+        start = {z0: 0, v0: 1}
+        plain = SpringDamperContact(regime)
+        restart = spring_damper_restart(regime)
+        for condition in ("position", "force"):
+            difference = restart.g[condition].subs(start) - plain.g[condition]
+            assert sp.simplify(difference) == 0
+
+
+def test_restart_kernel_matches_contact_time_at_the_first_impact():
+    rng = np.random.default_rng(3)
+    damping = np.concatenate([[1.0, 0.0], rng.uniform(0, 3, 400)])
+    force = rng.uniform(0, 1, damping.size)
+    start = (np.zeros_like(damping), np.ones_like(damping))
+    for condition in ("position", "force"):
+        plain = contact_time(damping, force, condition=condition)
+        restart = _contact_time(condition, damping, force, state=start)
+        assert np.array_equal(np.isinf(plain), np.isinf(restart))
+        ok = np.isfinite(plain)
+        np.testing.assert_allclose(restart[ok], plain[ok], rtol=1e-13, atol=1e-13)
+
+
+def _ode_contact(d, fr, z_start, v_start):
+    def release(_t, y):
+        return 2 * d * y[1] + y[0]
+
+    release.terminal, release.direction = True, -1
+    sol = solve_ivp(
+        lambda _t, y: [y[1], 2 * d * fr - 2 * d * y[1] - y[0]],
+        (0, 300),
+        [z_start, v_start],
+        events=release,
+        rtol=1e-12,
+        atol=1e-14,
+        method="DOP853",
+    )
+    if not sol.t_events[0].size:
+        return math.inf, 0.0
+    return sol.t_events[0][0], -sol.y_events[0][0][1]
+
+
+@pytest.mark.parametrize(
+    ("d", "fr", "z_start", "v_start"),
+    [
+        (0.3, 0.2, 0.2, 0.5),  # under-damped, element still deflected
+        (0.3, 0.2, 0.4, -0.1),  # caught from behind: body still moving away
+        (0.6, 0.05, 0.05, 0.3),
+        (1.0, 0.02, 0.1, 0.4),  # critical
+        (1.0, 0.3, 0.1, 0.4),  # critical, sticks
+        (2.5, 0.01, 0.3, 0.2),  # over-damped
+        (2.5, 0.2, 0.3, 0.2),  # over-damped, sticks
+    ],
+)
+def test_contact_time_from_a_deflected_state_against_ode(d, fr, z_start, v_start):
+    arrays = [np.array([value]) for value in (d, fr, z_start, v_start)]
+    tau_c = _contact_time("force", arrays[0], arrays[1], state=tuple(arrays[2:]))[0]
+    expected, speed = _ode_contact(d, fr, z_start, v_start)
+    if math.isinf(expected):
+        assert math.isinf(tau_c)
+        return
+    assert tau_c == pytest.approx(expected, rel=1e-9)
+    departure = -_z_dot(True)(*(np.array([tau_c]), *arrays))[0]
+    assert departure == pytest.approx(speed, rel=1e-8)
+
+
+# -- symbolic and numeric: the free flight ------------------------------------------------
+def test_gap_is_body_minus_relaxing_element_and_reduces_to_psi():
+    flight = FreeFlight()
+    d = sp.Rational(3, 7)
+    assert (
+        sp.simplify(2 * d * sp.diff(flight.element.subs(D, d), s) + flight.element.subs(D, d)) == 0
+    )
+    assert sp.diff(flight.body, s, 2) == 2 * D * f
+    assert flight.body.subs(s, 0) == flight.element.subs(s, 0)  # released together
+    # the body leaves with the element's relaxation speed -u: tangent separation
+    assert sp.simplify((sp.diff(flight.gap, s)).subs(s, 0)) == 0
+    reduced = flight.reduced_gap.subs(r, 2 * D**2 * f / u)
+    assert sp.simplify(flight.gap.subs(s, 2 * D * x) - reduced) == 0
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.floats(0.0, 60.0))
+def test_chi_numeric_matches_the_integral_and_the_bracket_lemma(xv):
+    """chi(x) = x psi(x), psi(x) = int_0^1 (1 - t) exp(-x t) dt (mpmath quadrature)."""
+    chi, chi_dot = _chi()
+    with mp.workdps(30):
+        y = mp.mpf(xv)
+        psi = mp.quad(lambda t: (1 - t) * mp.exp(-y * t), [0, 1])
+        psi_dot = mp.quad(lambda t: -t * (1 - t) * mp.exp(-y * t), [0, 1])
+    assert float(chi(xv)) == pytest.approx(float(y * psi), rel=1e-13, abs=1e-300)
+    assert float(chi_dot(xv)) == pytest.approx(float(psi + y * psi_dot), rel=1e-11)
+    assert float(psi) >= 0.5 - xv / 6  # lower end of the bracket
+    if xv > 0:
+        assert float(psi) < 1 / xv  # upper end of the bracket
+        assert float(psi_dot) < 0  # psi strictly decreasing: the root is unique
+
+
+def test_chi_has_no_overflow_for_huge_arguments():
+    chi, chi_dot = _chi()
+    big = np.array([1e10, 1e200, 1e300])
+    np.testing.assert_allclose(chi(big), 1 - 1 / big, rtol=1e-15)
+    assert np.all(np.isfinite(chi_dot(big)))
+
+
+def test_recontact_root_against_mpmath():
+    """psi(x*) - r at 50 digits over the slope psi'(x*): the error of x* (psi monotone)."""
+    ratio = np.array([1e-300, 1e-9, 1e-3, 0.1, 0.3, 0.45, 0.499, 0.5 - 1e-9])
+    roots = _recontact(ratio)
+    for q, root in zip(ratio, roots, strict=True):
+        with mp.workdps(50):
+            y, q = mp.mpf(root), mp.mpf(q)
+            residual = (y - 1 + mp.exp(-y)) / y**2 - q
+            slope = (2 - y - (2 + y) * mp.exp(-y)) / y**3
+            # near r = 1/2 the float r itself fixes x* = 6 (1/2 - r) + ... only to ~6 ulp(1/2)
+            assert abs(residual / slope) <= 1e-13 * y + 1e-14
+
+
+# -- the sequence against an independent event-driven simulation --------------------------
+CASES = [
+    ("position", 0.1, 0.2),
+    ("position", 0.5, 0.05),
+    ("position", 0.9, 0.01),
+    ("position", 1.0, 0.1),  # critical: sticks at once
+    ("position", 0.03, 0.03),  # 59 contacts
+    ("force", 0.1, 0.2),
+    ("force", 0.26152373, 0.09816179),  # element deflected 370 times the arrival speed
+    ("force", 0.5, 0.05),
+    ("force", 1.0, 0.02),  # critical
+    ("force", 1.1497, 0.01165714),  # over-damped, re-contact
+    ("force", 2.0, 0.01),
+    ("force", 0.03, 0.03),  # 60 contacts
+]
+
+
+@pytest.mark.parametrize(("condition", "d", "fr"), CASES)
+def test_sequence_matches_event_driven_ode(condition, d, fr):
+    seq = bounce_sequence(d, fr, condition=condition)
+    rows, sticks = simulate(d, fr, condition)
+    assert seq.n_contacts == len(rows)
+    assert seq.sticks == sticks
+    ours = _rows(seq)
+    finite = np.isfinite(rows)
+    assert np.array_equal(finite, np.isfinite(ours))
+    scale = np.maximum(np.abs(rows[finite]), 1.0)
+    err = np.abs(ours[finite] - rows[finite]) / scale
+    assert err.max() < (1e-6 if len(rows) > 20 else 1e-8)
+    if sticks:
+        assert seq.time_to_rest == pytest.approx(rows[-1, 0], rel=1e-6)
+
+
+@pytest.mark.parametrize("condition", ["position", "force"])
+def test_random_sequences_match_event_driven_ode(condition):
+    """20 random (D, f) per condition, D in [0.05, 2], f in [0.02, 1], 15 contacts at most."""
+    rng = np.random.default_rng(10)
+    for d, fr in rng.uniform([0.05, 0.02], [2.0, 1.0], size=(20, 2)):
+        seq = bounce_sequence(d, fr, condition=condition, max_contacts=15)
+        rows, sticks = simulate(d, fr, condition, max_contacts=15)
+        assert (seq.n_contacts, seq.sticks) == (len(rows), sticks), (d, fr)
+        ours = _rows(seq)
+        finite = np.isfinite(rows)
+        assert np.array_equal(finite, np.isfinite(ours))
+        np.testing.assert_allclose(ours[finite], rows[finite], rtol=1e-7, atol=1e-9)
+
+
+def test_near_sticking_sequence_has_more_than_fifty_contacts():
+    for condition in ("position", "force"):
+        seq = bounce_sequence(0.03, 0.03, condition=condition)
+        assert seq.sticks
+        assert seq.n_contacts > 50
+
+
+def test_recontact_caught_from_behind_against_ode():
+    """The relaxing element catches a body that still moves away (arrival velocity < 0)."""
+    d, fr = 0.4297, 0.2  # 0.4 % below the force stick boundary D*(0.2) = 0.4315
+    seq = bounce_sequence(d, fr, condition="force")
+    assert seq.arrival_velocity[1] < 0 < seq.element_deflection[1]
+    rows, _ = simulate(d, fr, "force", max_contacts=2)
+    assert rows[1, 0] == pytest.approx(seq.start[1], rel=1e-9)
+    assert rows[1, 2] == pytest.approx(seq.arrival_velocity[1], rel=1e-7)
+    assert rows[1, 4] == pytest.approx(seq.element_deflection[1], rel=1e-7)
+
+
+@pytest.mark.parametrize(("d", "fr"), [(0.3, 0.3), (1.0, 0.02)])
+def test_trajectory_follows_the_ode_through_contact_and_flight(d, fr):
+    seq = bounce_sequence(d, fr, condition="force")
+    t_release, t_back = seq.end[0], seq.start[1]
+    contact = solve_ivp(
+        lambda _t, y: [y[1], 2 * d * fr - 2 * d * y[1] - y[0]],
+        (0, t_release),
+        [0.0, 1.0],
+        dense_output=True,
+        rtol=1e-12,
+        atol=1e-14,
+    )
+    z_c = contact.sol(t_release)
+    flight = solve_ivp(
+        lambda _t, y: [y[1], 2 * d * fr, -y[2] / (2 * d)],
+        (t_release, t_back),
+        [z_c[0], z_c[1], z_c[0]],
+        dense_output=True,
+        rtol=1e-12,
+        atol=1e-14,
+    )
+    in_contact = np.linspace(0, t_release, 7)[1:-1]
+    in_flight = np.linspace(t_release, t_back, 7)[1:-1]
+    z, element = seq.trajectory(np.concatenate([in_contact, in_flight]))
+    np.testing.assert_allclose(z[:5], contact.sol(in_contact)[0], atol=1e-9)
+    np.testing.assert_allclose(element[:5], z[:5], rtol=0)
+    np.testing.assert_allclose(z[5:], flight.sol(in_flight)[0], atol=1e-9)
+    np.testing.assert_allclose(element[5:], flight.sol(in_flight)[2], atol=1e-9)
+    assert (z[5:] < element[5:]).all()  # off the element during the flight
+
+
+# -- position condition: the exact sums and the termination proof -------------------------
+@pytest.mark.parametrize(("d", "fr"), [(0.1, 0.2), (0.05, 0.05), (0.7, 0.02)])
+def test_position_sequence_is_the_exact_sum_of_first_contacts(d, fr):
+    """v_{n+1} = e(D, f/v_n) v_n and flights 2 v_{n+1}/(2Df), from the public functions."""
+    seq = bounce_sequence(d, fr, condition="position")
+    speed, t, starts = 1.0, 0.0, []
+    while True:
+        starts.append(t)
+        tau_c = contact_time(d, fr / speed, condition="position")
+        if math.isinf(tau_c):
+            break
+        speed *= restitution(d, fr / speed, condition="position")
+        t += tau_c + 2 * speed / (2 * d * fr)
+    assert seq.n_contacts == len(starts)
+    np.testing.assert_allclose(seq.start, starts, rtol=1e-12)
+    assert seq.time_to_rest == pytest.approx(t, rel=1e-12)
+
+
+def test_position_contact_sticks_beyond_the_closed_form_force_bound():
+    damping = np.linspace(0.01, 0.99, 50)
+    omega = np.sqrt(1 - damping**2)
+    bound = 1 / (4 * damping * omega * np.sinh(np.pi * damping / omega))
+    assert np.isinf(contact_time(damping, bound * (1 + 1e-9), condition="position")).all()
+    # and the bound is not vacuous: somewhat below it the body can release
+    assert np.isfinite(contact_time(damping, bound * 0.3, condition="position")).any()
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(0.02, 3.0), st.floats(0.02, 2.0))
+def test_position_sequence_ends_with_falling_speeds(d, fr):
+    seq = bounce_sequence(d, fr, condition="position", max_contacts=400)
+    assert seq.sticks
+    assert math.isfinite(seq.time_to_rest)
+    assert np.isinf(seq.end[-1])
+    assert seq.departure_speed[-1] == 0
+    released = seq.departure_speed[:-1]
+    assert (released < seq.arrival_speed[:-1]).all()
+    assert (np.diff(seq.arrival_speed) < 0).all()
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(0.0, 3.0), st.floats(0.0, 2.0), st.sampled_from(["position", "force"]))
+def test_first_contact_is_the_section_2_contact(d, fr, condition):
+    seq = bounce_sequence(d, fr, condition=condition)
+    assert seq.start[0] == 0
+    assert seq.arrival_speed[0] == 1
+    tau_c = contact_time(d, fr, condition=condition)
+    if math.isinf(tau_c):
+        assert math.isinf(seq.end[0])
+        assert seq.n_contacts == 1
+        assert seq.sticks
+    else:
+        assert seq.end[0] == pytest.approx(tau_c, rel=1e-14)
+        assert seq.departure_speed[0] == pytest.approx(
+            restitution(d, fr, condition=condition), rel=1e-12
+        )
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(0.05, 3.0), st.floats(0.05, 2.0))
+def test_force_sequence_rests_in_finite_time(d, fr):
+    seq = bounce_sequence(d, fr, condition="force", max_contacts=400)
+    assert seq.sticks
+    assert math.isfinite(seq.time_to_rest)
+    assert (np.diff(seq.start) > 0).all()
+    assert (seq.element_deflection >= 0).all()
+    # body + element energy at the contact starts never increases
+    energy = 0.5 * seq.arrival_velocity**2 - 2 * d * fr * seq.element_deflection
+    energy += 0.5 * seq.element_deflection**2
+    assert (np.diff(energy) <= 1e-12).all()
+    # the contact force at every start is compressive: 2 D v + z > 0
+    force = 2 * d * seq.arrival_velocity + seq.element_deflection
+    assert (force[1:] > 0).all()
+
+
+# -- special points ----------------------------------------------------------------------
+def test_without_pressing_force_the_body_leaves_for_good():
+    for condition in ("position", "force"):
+        seq = bounce_sequence(0.2, 0.0, condition=condition)
+        assert seq.n_contacts == 1
+        assert not seq.sticks
+        assert math.isinf(seq.time_to_rest)
+        assert seq.departure_speed[0] == restitution(0.2, 0.0, condition=condition)
+
+
+def test_overdamped_without_force_creeps_back_and_counts_as_sticking():
+    seq = bounce_sequence(1.0, 0.0, condition="position")
+    assert seq.sticks
+    assert seq.time_to_rest == 0
+    assert math.isinf(seq.end[0])
+
+
+def test_undamped_contact_is_elastic_and_never_returns():
+    seq = bounce_sequence(0.0, 5.0, condition="force")
+    assert seq.n_contacts == 1
+    assert not seq.sticks
+    assert seq.departure_speed[0] == pytest.approx(1.0)
+
+
+def test_max_contacts_running_out_is_not_sticking():
+    seq = bounce_sequence(0.01, 0.01, condition="position", max_contacts=5)
+    assert seq.n_contacts == 5
+    assert not seq.sticks
+    assert math.isinf(seq.time_to_rest)
+
+
+def test_map_agrees_with_single_sequences():
+    damping = np.array([[0.05, 0.3], [1.0, 2.0]])
+    force = np.array([[0.1, 0.1], [0.01, 0.3]])
+    for condition in ("position", "force"):
+        m = bounce_map(damping, force, condition=condition)
+        assert m.n_contacts.shape == (2, 2)
+        for i in np.ndindex(2, 2):
+            seq = bounce_sequence(damping[i], force[i], condition=condition)
+            assert m.n_contacts[i] == seq.n_contacts
+            assert m.time_to_rest[i] == seq.time_to_rest
+
+
+# -- physical units ----------------------------------------------------------------------
+def test_physical_bounce_scales_the_normalized_sequence():
+    m_, k, d, v_, F = 0.01, 1e3, 2.0, 0.5, 0.0981
+    phys = physical_bounce(m_, k, d, v_, F, condition="force")
+    omega0 = math.sqrt(k / m_)
+    seq = bounce_sequence(d / (2 * math.sqrt(k * m_)), F / (d * v_), condition="force")
+    np.testing.assert_allclose(phys.start, seq.start / omega0, rtol=1e-15)
+    np.testing.assert_allclose(phys.arrival_speed, seq.arrival_speed * v_, rtol=1e-15)
+    assert phys.time_to_rest == pytest.approx(seq.time_to_rest / omega0, rel=1e-15)
+
+
+def test_physical_bounce_in_seconds_against_a_direct_simulation():
+    """m x'' = F - k x - d x' in contact, m x'' = F in flight, no normalization."""
+    m_, k, d, v_, F = 0.02, 500.0, 0.4, 0.3, 0.02 * 9.81
+    phys = physical_bounce(m_, k, d, v_, F, condition="position")
+
+    def release(_t, y):
+        return y[0]
+
+    release.terminal, release.direction = True, -1
+    t, v, starts = 0.0, v_, []
+    for _ in range(phys.n_contacts - 1):
+        starts.append(t)
+        sol = solve_ivp(
+            lambda _t, y: [y[1], (F - k * y[0] - d * y[1]) / m_],
+            (t, t + 1.0),
+            [0.0, v],
+            events=release,
+            rtol=1e-12,
+            atol=1e-15,
+        )
+        t, v = sol.t_events[0][0], -sol.y_events[0][0][1]
+        t += 2 * v / (F / m_)
+    starts.append(t)
+    np.testing.assert_allclose(phys.start, starts, rtol=1e-7)
+
+
+def test_undamped_physical_bounce_under_load_repeats_for_ever():
+    phys = physical_bounce(1.0, 1.0, 0.0, 1.0, 0.5, condition="position", max_contacts=4)
+    assert not phys.sticks
+    assert phys.n_contacts == 4
+    assert math.isinf(phys.f)
+    rows, _ = _undamped_reference(b=0.5)
+    assert phys.end[0] == pytest.approx(rows[0], rel=1e-9)
+    assert phys.start[1] == pytest.approx(rows[1], rel=1e-9)
+
+
+def _undamped_reference(b):
+    def release(_t, y):
+        return y[0]
+
+    release.terminal, release.direction = True, -1
+    sol = solve_ivp(
+        lambda _t, y: [y[1], b - y[0]], (0, 20), [0.0, 1.0], events=release, rtol=1e-12, atol=1e-14
+    )
+    end = sol.t_events[0][0]
+    speed = -sol.y_events[0][0][1]
+    return (end, end + 2 * speed / b), speed
+
+
+# -- bad input -------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("kwargs", "error", "message"),
+    [
+        ({"D": -0.1, "f": 0.1, "condition": "force"}, ValueError, "D must be >= 0"),
+        ({"D": 0.1, "f": float("nan"), "condition": "force"}, ValueError, "f must be finite"),
+        ({"D": 0.1, "f": 0.1, "condition": "speed"}, ValueError, "condition"),
+        ({"D": "0.1", "f": 0.1, "condition": "force"}, TypeError, "D must be a real"),
+        ({"D": [0.1, 0.2], "f": 0.1, "condition": "force"}, TypeError, "D must be a scalar"),
+        (
+            {"D": 0.1, "f": 0.1, "condition": "force", "max_contacts": 0},
+            ValueError,
+            "max_contacts must be >= 1",
+        ),
+        (
+            {"D": 0.1, "f": 0.1, "condition": "force", "max_contacts": 2.5},
+            TypeError,
+            "max_contacts must be an integer",
+        ),
+    ],
+)
+def test_bad_input_names_the_argument(kwargs, error, message):
+    D_, f_ = kwargs.pop("D"), kwargs.pop("f")
+    with pytest.raises(error, match=message):
+        bounce_sequence(D_, f_, **kwargs)
+
+
+def test_bad_physical_input_names_the_argument():
+    with pytest.raises(ValueError, match="m must be > 0"):
+        physical_bounce(0.0, 1.0, 1.0, 1.0, 1.0, condition="force")
+    with pytest.raises(ValueError, match="F must be >= 0"):
+        physical_bounce(1.0, 1.0, 1.0, 1.0, -1.0, condition="force")
+    with pytest.raises(ValueError, match="f must be >= 0"):
+        bounce_map([0.1], [-1.0], condition="force")
