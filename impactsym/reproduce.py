@@ -15,6 +15,7 @@ STEPS: tuple[tuple[str, str], ...] = (
     ("rod impact (paper section 1)", "impactsym.results.rod"),
     ("spring-damper contact (paper section 2)", "impactsym.results.contact"),
     ("multibody penalty contact (paper section 3)", "impactsym.results.multibody"),
+    ("bounce sequences until rest", "impactsym.results.bounce"),
     ("formulas and exported functions", "impactsym.results.documents"),
 )
 
