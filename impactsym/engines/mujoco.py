@@ -60,7 +60,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.release import linear_release
-from impactsym.numeric import bracketed_illinois
+from impactsym.numeric.roots import bracketed_illinois
 from impactsym.validation import real_array
 
 __all__ = [

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactsym.numeric import bracketed_newton
+from impactsym.numeric.roots import bracketed_newton
 
 __all__ = ["LinearRelease", "linear_release"]
 
