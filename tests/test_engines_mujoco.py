@@ -268,3 +268,15 @@ def test_peak_force_is_mass_times_engine_constraint_acceleration():
             depth = max(depth, -float(data.efc_pos[0]))
     assert p.peak_force == pytest.approx(peak, rel=0.01)
     assert p.max_penetration == pytest.approx(depth, rel=0.01)
+
+
+def test_cli_design_is_what_mujoco_gives(capsys):
+    from impactsym.cli import main
+
+    argv = ["mujoco", "--restitution", "0.4", "--speed", "1", "--contact-time", "0.01"]
+    assert main([*argv, "--solimp", "0.9", "0.9", "0.001", "0.5", "2"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    solref = tuple(float(x) for x in first.split('"')[1].split())
+    e, t = mujoco_drop(solref=solref, solimp=FLAT, speed=1.0, timestep=1e-5)
+    assert e == pytest.approx(0.4, rel=0.01)
+    assert t == pytest.approx(0.01, rel=0.02)
