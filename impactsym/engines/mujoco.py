@@ -197,12 +197,12 @@ class Prediction:
         return self.mass * self._peak_accel
 
 
-def _flat(damp, stiff, d, rho, gravity, speed):
+def _flat(damp, stiff, d, rho, gravity, speed, extremes=True):
     dp = _effective(d, rho)
     omega = np.sqrt(dp * d * stiff)
     D = dp * damp / (2.0 * omega)
     gamma = gravity / (omega * speed)
-    rel = linear_release(D, (1.0 - dp) * gamma, dp * gamma)
+    rel = linear_release(D, (1.0 - dp) * gamma, dp * gamma, extremes=extremes)
     return (
         rel.restitution,
         rel.tau_c / omega,
@@ -468,7 +468,7 @@ def _design_flat_dampratio(e_t, v0, g, tc, simp, rho):
 
     def e_of(dr, idx):
         damp, stiff, _ = _coefficients((tc[idx], dr), simp, None)
-        return _flat(damp, stiff, d, rho[idx], g[idx], v0[idx])[0]
+        return _flat(damp, stiff, d, rho[idx], g[idx], v0[idx], extremes=False)[0]
 
     # e falls with the dampratio, continuously or by a jump where the release switches
     # from the force to the penetration (then refused below); one bracket suffices
@@ -488,7 +488,7 @@ def _design_flat_dampratio(e_t, v0, g, tc, simp, rho):
         e_t,
         "a lower speed or more gravity reaches it",
     )
-    dr = bracketed_illinois(lambda x, i: e_t[i] - e_of(x, i), lo, hi, log=True, rtol=1e-12)
+    dr = bracketed_illinois(lambda x, i: e_t[i] - e_of(x, i), lo, hi, log=True, rtol=1e-10)
     _check_gap(lambda x: e_of(x, idx), e_t, dr, "dampratio")
     return dr
 

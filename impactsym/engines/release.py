@@ -55,6 +55,8 @@ def _basis(tau: np.ndarray, D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
         ex = np.exp(-D * tau)
         small = x < _SERIES
+        if (one_minus > 0).all() and not small.any():  # common case: underdamped only
+            return ex * np.cos(x), ex * np.sin(x) / mu
         safe_mu = np.where(mu > 0, mu, 1.0)
         # underdamped
         c_u = ex * np.cos(x)
@@ -106,6 +108,15 @@ def _extrema(D: np.ndarray, h0: np.ndarray, h1: np.ndarray) -> tuple[np.ndarray,
 
 def _first_crossing(D, level, h0, h1, exclude_start):
     """First ``tau > 0`` with ``level + h(tau) <= 0`` (``level >= 0``, ``level + h0 >= 0``)."""
+    tau = np.full(np.shape(D), np.inf)
+    # level 0: the first zero of h itself, in closed form (h' has the initial values
+    # (h1, -2 D h1 - h0), so the zeros of h are the "extrema" of that function's integral)
+    zero = level == 0.0
+    if zero.any():
+        z1, _ = _extrema(D[zero], -h1[zero] - 2.0 * D[zero] * h0[zero], h0[zero])
+        tau[zero] = z1
+        if zero.all():
+            return tau
     t1, t2 = _extrema(D, h0, h1)
     g1 = level + _homogeneous(np.where(np.isfinite(t1), t1, 0.0), D, h0, h1)[0]
     g2 = level + _homogeneous(np.where(np.isfinite(t2), t2, 0.0), D, h0, h1)[0]
@@ -113,8 +124,7 @@ def _first_crossing(D, level, h0, h1, exclude_start):
     second = ~first & np.isfinite(t2) & (g2 <= 0)
     lo = np.where(first, 0.0, np.where(second, t1, 0.0))
     hi = np.where(first, t1, np.where(second, t2, 1.0))
-    found = first | second
-    tau = np.full(np.shape(D), np.inf)
+    found = (first | second) & ~zero
     if found.any():
         params = [a[found] for a in (D, level, h0, h1)]
         tau[found] = bracketed_newton(
@@ -165,6 +175,7 @@ def linear_release(
     *,
     force: bool = True,
     position: bool = True,
+    extremes: bool = True,
 ) -> LinearRelease:
     r"""Release of ``z'' + 2 D z' + z = load`` at ``2 D z' + z + offset <= 0`` or ``z <= 0``.
 
@@ -178,6 +189,9 @@ def linear_release(
         Force threshold ``delta >= 0``: contact force is ``2 D z' + z + delta``.
     force, position
         Which thresholds end the contact (at least one).
+    extremes
+        Whether to compute ``z_max`` and ``force_max`` (else they are left ``nan``;
+        design loops that need only ``tau_c`` and the restitution skip them).
 
     Returns
     -------
@@ -210,15 +224,20 @@ def linear_release(
         else np.full(D.shape, np.inf)
     )
     # position: z = c + h, h(0) = -c, h'(0) = 1 (z(0) = 0 is not a release)
+    # without load and offset the force vanishes first (z = -2 D z' > 0 there)
+    needed = position and not (force and not c.any() and not delta.any() and (D > 0).all())
     tau_p = (
         _first_crossing(D, c, -c, np.ones_like(D), np.ones(D.shape, bool))
-        if position
+        if needed
         else np.full(D.shape, np.inf)
     )
     tau_c = np.minimum(tau_f, tau_p)
     finite = np.isfinite(tau_c)
     z_dot = _homogeneous(np.where(finite, tau_c, 0.0), D, -c, np.ones_like(D))[1]
     e = np.where(finite, -z_dot, 0.0)
+    if not extremes:
+        nan = np.full(D.shape, np.nan)
+        return LinearRelease(tau_c, e, finite & (tau_p <= tau_f), nan, nan)
     # largest penetration: at z' = 0 (first extremum of h), else the static value c
     t_z, _ = _extrema(D, -c, np.ones_like(D))
     reach = np.isfinite(t_z) & (t_z < tau_c)
