@@ -280,3 +280,15 @@ def test_cli_design_is_what_mujoco_gives(capsys):
     e, t = mujoco_drop(solref=solref, solimp=FLAT, speed=1.0, timestep=1e-5)
     assert e == pytest.approx(0.4, rel=0.01)
     assert t == pytest.approx(0.01, rel=0.02)
+
+
+def test_default_solimp_design_of_both_restitution_and_contact_time():
+    targets = np.array([0.2, 0.6, 0.9])
+    design = solref_for(restitution=targets, speed=0.7, gravity=9.81, contact_time=0.01)
+    for i, target in enumerate(targets):
+        sr = (float(design.solref[0][i]), float(design.solref[1][i]))
+        e, t = mujoco_drop(
+            solref=sr, solimp=DEFAULT, speed=0.7, gravity=9.81, timestep=_timestep(sr, 0.7, 9.81)
+        )
+        assert e == pytest.approx(target, rel=0.02)
+        assert t == pytest.approx(0.01, rel=0.02)
