@@ -19,10 +19,10 @@ def mujoco_drop(*, solref, solimp, speed, gravity=0.0, timestep=1e-5, mass=1.0, 
     """
     import mujoco
 
-    ref = f"{solref[0]!r} {solref[1]!r}"
+    ref = f"{float(solref[0])!r} {float(solref[1])!r}"
     imp = " ".join(repr(float(v)) for v in solimp)
     attrs = f'condim="1" solref="{ref}" solimp="{imp}"'
-    option = f'timestep="{timestep!r}" gravity="0 0 {-gravity!r}" integrator="Euler"'
+    option = f'timestep="{float(timestep)!r}" gravity="0 0 {-float(gravity)!r}" integrator="Euler"'
     xml = f"""<mujoco><option {option}/>
     <worldbody><geom type="plane" size="1 1 0.1" {attrs}/>
     <body><joint type="slide" axis="0 0 1"/>
@@ -76,11 +76,11 @@ def mujoco_pendulum(
     """
     import mujoco
 
-    ref = f"{solref[0]!r} {solref[1]!r}"
+    ref = f"{float(solref[0])!r} {float(solref[1])!r}"
     imp = " ".join(repr(float(v)) for v in solimp)
     attrs = f'condim="1" solref="{ref}" solimp="{imp}"'
     height = float(length * np.sin(angle) + radius)  # the sphere touches the plane at `angle`
-    option = f'timestep="{timestep!r}" gravity="0 0 {-gravity!r}" integrator="Euler"'
+    option = f'timestep="{float(timestep)!r}" gravity="0 0 {-float(gravity)!r}" integrator="Euler"'
     xml = f"""<mujoco><option {option}/>
     <worldbody><geom type="plane" size="2 2 0.1" {attrs}/>
     <body pos="0 0 {height!r}"><joint type="hinge" axis="0 1 0"/>
