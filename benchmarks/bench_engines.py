@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT), str(ROOT / "tests")]  # this checkout, and the engine drivers
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # engine drivers
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's package
 from engine_runs import lammps_collision, mujoco_drop
 
 from impactsym.engines import lammps, mujoco

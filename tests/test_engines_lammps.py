@@ -32,8 +32,12 @@ def test_kernel_is_the_papers_force_and_position_conditions():
     D = np.array([0.05, 0.3, 0.7, 1.5])
     for limit, condition in ((True, "force"), (False, "position")):
         c = predict(kn=1.0, damping=2 * D, mass=1.0, speed=1.0, limit_damping=limit)
-        np.testing.assert_allclose(c.restitution, restitution(D, 0.0, condition), atol=1e-12)
-        np.testing.assert_allclose(c.contact_time, contact_time(D, 0.0, condition), rtol=1e-10)
+        np.testing.assert_allclose(
+            c.restitution, restitution(D, 0.0, condition=condition), atol=1e-12
+        )
+        np.testing.assert_allclose(
+            c.contact_time, contact_time(D, 0.0, condition=condition), rtol=1e-10
+        )
 
 
 @pytest.mark.parametrize("limit_damping", [True, False])

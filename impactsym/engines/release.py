@@ -209,7 +209,8 @@ def linear_release(
     >>> r = linear_release(np.array([0.0, 0.5]), np.zeros(2), np.zeros(2))
     >>> np.round(r.tau_c, 6).tolist(), np.round(r.restitution, 6).tolist()
     ([3.141593, 2.418399], [1.0, 0.298436])
-    >>> round(contact_time(0.5, 0.0, "force"), 6), round(restitution(0.5, 0.0, "force"), 6)
+    >>> f = {"condition": "force"}
+    >>> round(contact_time(0.5, 0.0, **f), 6), round(restitution(0.5, 0.0, **f), 6)
     (2.418399, 0.298436)
     """
     D, c, delta = (np.asarray(a, dtype=float) for a in np.broadcast_arrays(D, load, offset))
