@@ -181,14 +181,15 @@ def test_restitution_gap_under_gravity_is_refused_and_mujoco_shows_the_jump():
     assert e_above < 0.08
 
 
-def test_stick_or_bounce_is_predicted_as_mujoco_shows_it():
+@pytest.mark.parametrize("solimp", [FLAT, DEFAULT])
+def test_stick_or_bounce_is_predicted_as_mujoco_shows_it(solimp):
     speeds = np.array([0.03, 0.1, 0.3, 1.0])
     for dampratio in (0.2, 0.5, 1.0):
-        p = predict(solref=(0.02, dampratio), solimp=FLAT, speed=speeds, gravity=9.81)
+        p = predict(solref=(0.02, dampratio), solimp=solimp, speed=speeds, gravity=9.81)
         for v, sticks in zip(speeds, p.sticks, strict=True):
             _e, t = mujoco_drop(
                 solref=(0.02, dampratio),
-                solimp=FLAT,
+                solimp=solimp,
                 speed=v,
                 gravity=9.81,
                 timestep=5e-5,
@@ -230,8 +231,14 @@ def test_unreachable_target_says_why_and_what_reaches_it():
 
 
 def test_coarse_timestep_warns_with_the_timestep_that_would_do():
-    with pytest.warns(RuntimeWarning, match=r"timestep <= "):
+    with pytest.warns(RuntimeWarning, match=r"omega0 \* dt = .*timestep <= 3e-05 s"):
         predict(solref=(0.02, 0.05), solimp=FLAT, speed=1.0, timestep=1e-3)
+    with pytest.warns(RuntimeWarning, match=r"g \* dt / v0 = .*timestep <= 1.02e-05 s"):
+        predict(solref=(0.02, 0.2), solimp=FLAT, speed=0.02, gravity=9.81, timestep=5e-5)
+    # and the warned-about timestep really misses by more than 1 % in MuJoCo
+    p = predict(solref=(0.02, 0.05), solimp=FLAT, speed=1.0)
+    e, _ = mujoco_drop(solref=(0.02, 0.05), solimp=FLAT, speed=1.0, timestep=1e-3)
+    assert abs(e / p.restitution - 1) > 0.01
 
 
 def test_bad_inputs_are_refused_by_name():
