@@ -299,3 +299,32 @@ def test_default_solimp_design_of_both_restitution_and_contact_time():
         )
         assert e == pytest.approx(target, rel=0.02)
         assert t == pytest.approx(0.01, rel=0.02)
+
+
+def test_position_threshold_is_the_papers_position_condition_with_the_same_load():
+    # the trajectory is paper section 2's with 2 D f = load; only the thresholds differ
+    from impactsym.contact import contact_time, restitution
+
+    D = np.array([0.1, 0.4, 0.8, 0.95])
+    f = np.array([0.05, 0.3, 0.2, 0.01])
+    rel = linear_release(D, 2 * D * f, np.zeros_like(D), force=False)
+    np.testing.assert_allclose(rel.tau_c, contact_time(D, f, condition="position"), rtol=1e-9)
+    np.testing.assert_allclose(rel.restitution, restitution(D, f, condition="position"), atol=1e-9)
+    rel = linear_release(D, 2 * D * f, np.zeros_like(D), position=False)
+    np.testing.assert_allclose(rel.tau_c, contact_time(D, f, condition="force"), rtol=1e-9)
+
+
+def test_stick_speed_is_where_mujoco_starts_to_hold_the_body():
+    from impactsym.engines.mujoco import stick_speed
+
+    for dampratio in (0.3, 0.5, 0.8):
+        sr = (0.02, dampratio)
+        v_star = stick_speed(solref=sr, solimp=FLAT, gravity=9.81)
+        below, _ = mujoco_drop(
+            solref=sr, solimp=FLAT, speed=0.95 * v_star, gravity=9.81, timestep=2e-5, t_max=0.3
+        )
+        above, _ = mujoco_drop(
+            solref=sr, solimp=FLAT, speed=1.05 * v_star, gravity=9.81, timestep=2e-5, t_max=0.3
+        )
+        assert below == 0.0, dampratio
+        assert above > 0.0, dampratio

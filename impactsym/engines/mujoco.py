@@ -59,7 +59,7 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.release import linear_release
+from impactsym.engines.release import linear_release, release_margin
 from impactsym.numeric.roots import bracketed_illinois
 from impactsym.validation import real_array
 
@@ -72,6 +72,7 @@ __all__ = [
     "impedance",
     "predict",
     "solref_for",
+    "stick_speed",
 ]
 
 #: MuJoCo's default ``solimp``: ``(d_min, d_max, width, midpoint, power)``.
@@ -426,6 +427,55 @@ def predict(
             float(e), float(tc), bool(sticks), bool(by_pos), float(xmax), float(amax), m
         )
     return Prediction(e, tc, sticks, by_pos, xmax, amax, m)
+
+
+def stick_speed(
+    *,
+    solref: Any,
+    solimp: Any,
+    gravity: float,
+    mass: float | None = None,
+    inverse_weight: Any = None,
+    timestep: float | None = None,
+) -> float | np.ndarray:
+    r"""Approach speed (m/s) below which MuJoCo's body sticks under ``gravity`` (flat solimp).
+
+    With ``gamma = g / (omega0 v0)`` the body sticks where
+    :func:`impactsym.engines.release.release_margin` of
+    ``(D, (1 - d') gamma, d' gamma)`` is positive; the boundary ``gamma*(D, d')`` is
+    found by the Illinois method in ``log gamma`` and ``v* = g / (omega0 gamma*)``.
+    ``0.0`` without gravity.
+
+    >>> round(stick_speed(solref=(0.02, 0.5), solimp=(0.9, 0.9, 0.001), gravity=9.81), 5)
+    0.11954
+    """
+    simp = _check_solimp(solimp)
+    if not _is_flat(simp):
+        raise ValueError(
+            f"stick_speed needs a flat solimp (d_min == d_max), got {simp!r}; use predict "
+            "over speeds for a varying impedance"
+        )
+    g = float(real_array("gravity", gravity, lower=0.0)[0])
+    m = _mass(mass)
+    rho = np.asarray(_rho(m, inverse_weight), float)
+    damp, stiff, _ = _coefficients(solref, simp, timestep)
+    scalar = damp.ndim == 0
+    damp, stiff, rho = (
+        np.array(a, dtype=float).ravel() for a in np.broadcast_arrays(damp, stiff, rho)
+    )
+    if g == 0:
+        return 0.0 if scalar else np.zeros(np.shape(damp))
+    d = float(_impedance(np.zeros(()), simp))
+    dp = _effective(d, rho)
+    omega = np.sqrt(dp * d * stiff)
+    D = dp * damp / (2.0 * omega)
+
+    def margin(gamma, i):
+        return release_margin(D[i], (1.0 - dp[i]) * gamma, dp[i] * gamma)
+
+    gamma = bracketed_illinois(margin, np.full(D.size, 1e-9), np.full(D.size, 1e9), log=True)
+    out = g / (omega * gamma)
+    return float(out[0]) if scalar else out
 
 
 # -- design ----------------------------------------------------------------------------

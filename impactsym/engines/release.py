@@ -41,7 +41,7 @@ import numpy as np
 
 from impactsym.numeric.roots import bracketed_newton
 
-__all__ = ["LinearRelease", "linear_release"]
+__all__ = ["LinearRelease", "linear_release", "release_margin"]
 
 _SERIES = 1e-3  # below this |mu| tau the sinh/sin quotient is taken from its series
 
@@ -106,6 +106,40 @@ def _extrema(D: np.ndarray, h0: np.ndarray, h1: np.ndarray) -> tuple[np.ndarray,
     return t1, t2
 
 
+def _extreme_values(D, level, h0, h1):
+    """First two extrema of ``h`` and the values of ``level + h`` there."""
+    t1, t2 = _extrema(D, h0, h1)
+    g1 = level + _homogeneous(np.where(np.isfinite(t1), t1, 0.0), D, h0, h1)[0]
+    g2 = level + _homogeneous(np.where(np.isfinite(t2), t2, 0.0), D, h0, h1)[0]
+    return t1, t2, np.where(np.isfinite(t1), g1, np.inf), np.where(np.isfinite(t2), g2, np.inf)
+
+
+def release_margin(D, load, offset):
+    r"""Smallest value the thresholds reach while the body stays: ``> 0`` where it sticks.
+
+    With both thresholds active (MuJoCo) the contact never ends exactly when neither
+    ``lambda`` nor ``z`` dips to zero before the second extremum (module notes), so
+
+    .. math::
+
+        \mathrm{margin} = \min(\lambda(\tau_1^\lambda), \lambda(\tau_2^\lambda),
+                                 z(\tau_2^z)),
+
+    the minimum over those extrema that exist, capped by the long-time values
+    ``c + delta`` and ``c``. The stick/release boundary is ``margin = 0``; it needs a
+    pressing load (``c > 0``).
+
+    >>> float(release_margin(0.2, 0.0, 0.0)) < 0, float(release_margin(1.0, 2.0, 1.0)) > 0
+    (True, True)
+    """
+    D, c, delta = (np.asarray(a, dtype=float) for a in np.broadcast_arrays(D, load, offset))
+    a2 = c - 2.0 * D
+    a3 = -2.0 * D * a2 - 1.0
+    _, _, f1, f2 = _extreme_values(D, c + delta, -a2, -a3)
+    _, _, _, p2 = _extreme_values(D, c, -c, np.ones_like(D))
+    return np.minimum.reduce([f1, f2, p2, c + delta, c])
+
+
 def _first_crossing(D, level, h0, h1, exclude_start):
     """First ``tau > 0`` with ``level + h(tau) <= 0`` (``level >= 0``, ``level + h0 >= 0``)."""
     tau = np.full(np.shape(D), np.inf)
@@ -117,9 +151,7 @@ def _first_crossing(D, level, h0, h1, exclude_start):
         tau[zero] = z1
         if zero.all():
             return tau
-    t1, t2 = _extrema(D, h0, h1)
-    g1 = level + _homogeneous(np.where(np.isfinite(t1), t1, 0.0), D, h0, h1)[0]
-    g2 = level + _homogeneous(np.where(np.isfinite(t2), t2, 0.0), D, h0, h1)[0]
+    t1, t2, g1, g2 = _extreme_values(D, level, h0, h1)
     first = np.isfinite(t1) & (g1 <= 0) & ~exclude_start
     second = ~first & np.isfinite(t2) & (g2 <= 0)
     lo = np.where(first, 0.0, np.where(second, t1, 0.0))
