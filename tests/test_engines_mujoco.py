@@ -328,3 +328,56 @@ def test_stick_speed_is_where_mujoco_starts_to_hold_the_body():
         )
         assert below == 0.0, dampratio
         assert above > 0.0, dampratio
+
+
+def test_derivation_makes_dampratio_lehrs_D_and_gives_load_and_offset():
+    from impactsym.engines.derivation import MujocoContact
+
+    mc = MujocoContact()
+    flat = {**mc.solref_positive, mc.d: mc.d_max, mc.rho: 1}
+    assert sp.simplify(mc.damping_ratio.subs(flat) - mc.dampratio) == 0
+    assert sp.simplify(mc.omega0.subs(flat) - 1 / (mc.timeconst * mc.dampratio)) == 0
+    assert sp.simplify(mc.normalized_load - (1 - mc.d_eff) * mc.gamma) == 0
+    assert sp.simplify(mc.normalized_offset - mc.d_eff * mc.gamma) == 0
+
+
+@pytest.mark.parametrize("case", ["slide", "pendulum"])
+def test_derived_contact_force_is_mujocos_efc_force(case):
+    import mujoco
+
+    from impactsym.engines.derivation import MujocoContact
+
+    mc = MujocoContact()
+    solimp = (0.8, 0.95, 0.002, 0.4, 3.0)
+    if case == "slide":
+        xml = f"""<mujoco><option gravity="0 0 -9.81"/><worldbody>
+        <geom type="plane" size="1 1 .1" condim="1" solref="0.02 0.4"
+        solimp="{" ".join(map(str, solimp))}"/><body><joint type="slide" axis="0 0 1"/>
+        <geom type="sphere" size="0.1" mass="2" condim="1" solref="0.02 0.4"
+        solimp="{" ".join(map(str, solimp))}"/></body></worldbody></mujoco>"""
+        model = mujoco.MjModel.from_xml_string(xml)
+        data = mujoco.MjData(model)
+        data.qpos[0], data.qvel[0] = 0.1 - 7e-4, -0.3
+    else:
+        _, _, model = mujoco_pendulum(solref=(0.02, 0.4), solimp=solimp, omega=1.0)
+        data = mujoco.MjData(model)
+        data.qpos[0], data.qvel[0] = 0.6 + 1.5e-3, 0.8
+    mujoco.mj_forward(model, data)
+    assert data.nefc == 1
+    J = np.array(data.efc_J[: model.nv])
+    M = np.zeros((model.nv, model.nv))
+    mujoco.mj_fullM(model, data, M)  # MuJoCo 4 signature
+    A = float(J @ np.linalg.solve(M, J))
+    K, B, imp, _ = data.efc_KBIP[0]
+    gravity_normal = -float(J @ np.linalg.solve(M, data.qfrc_bias))  # a0 along the normal
+    values = {
+        mc.m: 1 / A,
+        mc.g: -gravity_normal,
+        mc.d: imp,
+        mc.rho: A / float(data.efc_diagA[0]),
+        mc.b: B,
+        mc.kbar: K,
+        mc.x: -float(data.efc_pos[0]),
+        mc.x_dot: -float(data.efc_vel[0]),
+    }
+    assert float(mc.contact_force.subs(values)) == pytest.approx(data.efc_force[0], rel=1e-9)
