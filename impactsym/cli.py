@@ -2,12 +2,16 @@
 
 * ``impactsym reproduce --out DIR [--quick] [--force]`` -- every figure, table and formula;
 * ``impactsym latex NAME`` (``--list`` for the names) -- one formula, for pasting;
-* ``impactsym export python FILE`` / ``impactsym export latex FILE`` -- generated files.
+* ``impactsym export python FILE`` / ``impactsym export latex FILE`` -- generated files;
+* ``impactsym mujoco --restitution E --speed V [--gravity G] [--contact-time T] [--mass M]
+  [--timestep DT] [--solimp ...] [--form stiffness]`` -- MJCF ``solref``/``solimp`` for a
+  wanted restitution, with the predictions (SI units).
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -32,7 +36,60 @@ def build_parser() -> argparse.ArgumentParser:
         "kind", choices=["python", "latex"], help="python: NumPy-only module; latex: formulas.tex"
     )
     export.add_argument("file", type=Path, help="output file")
+
+    mj = commands.add_parser("mujoco", help="MuJoCo solref/solimp for a wanted restitution")
+    mj.add_argument("--restitution", type=float, required=True, help="wanted e, 0 < e < 1")
+    mj.add_argument("--speed", type=float, required=True, help="normal approach speed, m/s")
+    mj.add_argument("--gravity", type=float, default=0.0, help="pressing acceleration, m/s^2")
+    mj.add_argument("--contact-time", type=float, default=None, help="wanted contact time, s")
+    mj.add_argument("--mass", type=float, default=None, help="effective mass, kg")
+    mj.add_argument("--timestep", type=float, default=None, help="MuJoCo timestep, s")
+    mj.add_argument(
+        "--solimp",
+        type=float,
+        nargs=5,
+        default=None,
+        metavar="X",
+        help="d_min d_max width midpoint power (default: MuJoCo's 0.9 0.95 0.001 0.5 2)",
+    )
+    mj.add_argument(
+        "--form",
+        choices=["timeconst", "stiffness"],
+        default="timeconst",
+        help="solref as (timeconst, dampratio) or (-stiffness, -damping)",
+    )
     return parser
+
+
+def _mujoco(args: argparse.Namespace) -> None:
+    from impactsym.engines import mujoco
+
+    solimp = mujoco.DEFAULT_SOLIMP if args.solimp is None else tuple(args.solimp)
+    common = {"speed": args.speed, "gravity": args.gravity, "mass": args.mass}
+    design = mujoco.solref_for(
+        restitution=args.restitution,
+        contact_time=args.contact_time,
+        solimp=solimp,
+        timestep=args.timestep,
+        form=args.form,
+        **common,
+    )
+    p = design.prediction
+    print(design.mjcf())
+    print(f"predicted restitution:  {p.restitution:.6g}")
+    print(f"predicted contact time: {p.contact_time:.6g} s")
+    print(f"contact ends by:        {'penetration' if p.released_by_position else 'force'}")
+    print(f"max penetration:        {p.max_penetration:.6g} m")
+    if args.mass is not None:
+        print(f"peak force:             {p.peak_force:.6g} N")
+    log_e = math.log(args.restitution)
+    textbook = -log_e / math.sqrt(math.pi**2 + log_e**2)
+    timeconst = design.solref[0] if args.form == "timeconst" else mujoco.DEFAULT_TIMECONST
+    naive = mujoco.predict(solref=(timeconst, textbook), solimp=solimp, **common)
+    print(
+        f"textbook dampratio {textbook:.6g} would give restitution {naive.restitution:.6g}"
+        + (" (sticks)" if naive.sticks else "")
+    )
 
 
 def _run(args: argparse.Namespace) -> None:
@@ -47,6 +104,8 @@ def _run(args: argparse.Namespace) -> None:
             print("\n".join(formula_names()))
         else:
             print(formula(args.name))
+    elif args.command == "mujoco":
+        _mujoco(args)
     else:
         from impactsym.export import write_latex_document, write_python_module
 

@@ -82,3 +82,19 @@ def test_python_dash_m_entry_point(tmp_path):
     )
     assert run.returncode == 0
     assert run.stdout.startswith("z''")
+
+
+def test_mujoco_prints_mjcf_attributes_and_predictions(capsys):
+    assert main(["mujoco", "--restitution", "0.5", "--speed", "1", "--gravity", "9.81"]) == 0
+    out = capsys.readouterr().out
+    first = out.splitlines()[0]
+    assert first.startswith('solref="0.02 ')
+    assert first.endswith('solimp="0.9 0.95 0.001 0.5 2"')
+    assert "predicted restitution:  0.5\n" in out
+    assert "textbook dampratio 0.215454 would give" in out
+
+
+def test_mujoco_refuses_an_unreachable_target_with_exit_code_2(capsys):
+    argv = ["mujoco", "--restitution", "0.1", "--speed", "1", "--gravity", "9.81"]
+    assert main([*argv, "--solimp", "0.9", "0.9", "0.001", "0.5", "2"]) == 2
+    assert "cannot be reached" in capsys.readouterr().err

@@ -1,0 +1,152 @@
+"""Benchmark of the engine bridge (issue 9): design throughput and engine agreement.
+
+Prints, measured in one run:
+  * designs per second of vectorized ``mujoco.solref_for`` at flat impedance
+    (target: 1e5 targets in under 1 s), with and without gravity;
+  * the engine-vs-prediction table: MuJoCo (flat and default solimp, gravity on/off,
+    both solref forms, a multibody contact) and LAMMPS (with/without limit_damping),
+    each with the textbook formula's achieved restitution beside it.
+
+Run: python benchmarks/bench_engines.py [--quick]
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # engine drivers
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's package
+from engine_runs import lammps_collision, mujoco_drop
+
+from impactsym.engines import lammps, mujoco
+
+FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
+DEFAULT = mujoco.DEFAULT_SOLIMP
+
+
+def best_of(repeats, fn):
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def textbook(e):
+    return -math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2)
+
+
+def timestep(solref, speed, gravity):
+    omega = (
+        max(1 / (solref[0] * solref[1]), 2 / solref[0])
+        if solref[0] > 0
+        else max(math.sqrt(-solref[0]), -solref[1])
+    )
+    dt = min(2e-5, 0.01 / omega)
+    return min(dt, 0.002 * speed / gravity) if gravity else dt
+
+
+def throughput(n):
+    targets = np.linspace(0.1, 0.95, n)
+    for gravity, lo in ((0.0, 0.1), (9.81, 0.2)):
+        targets = np.linspace(lo, 0.95, n)
+        t = best_of(
+            3,
+            lambda g=gravity, e=targets: mujoco.solref_for(
+                restitution=e, speed=1.0, gravity=g, solimp=FLAT
+            ),
+        )
+        print(f"solref_for, {n} targets, gravity {gravity}: {t:.3f} s ({n / t:,.0f} designs/s)")
+
+
+def mujoco_rows(targets):
+    rows = []
+    for solimp, name in ((FLAT, "flat"), (DEFAULT, "default")):
+        for gravity in (0.0, 9.81):
+            for form in ("timeconst", "stiffness"):
+                for e in targets:
+                    if gravity and e < 0.2:
+                        continue  # in the restitution gap at 1 m/s (refused by solref_for)
+                    des = mujoco.solref_for(
+                        restitution=e, speed=1.0, gravity=gravity, solimp=solimp, form=form
+                    )
+                    sr = des.solref
+                    e_eng, t_eng = mujoco_drop(
+                        solref=sr,
+                        solimp=solimp,
+                        speed=1.0,
+                        gravity=gravity,
+                        timestep=timestep(sr, 1.0, gravity),
+                    )
+                    text = (mujoco.DEFAULT_TIMECONST, textbook(e))
+                    e_text, _ = mujoco_drop(
+                        solref=text,
+                        solimp=solimp,
+                        speed=1.0,
+                        gravity=gravity,
+                        timestep=timestep(text, 1.0, gravity),
+                    )
+                    rows.append(
+                        (
+                            f"MuJoCo {name} g={gravity} {form}",
+                            e,
+                            e_eng,
+                            t_eng / des.contact_time - 1,
+                            e_text,
+                        )
+                    )
+    return rows
+
+
+def lammps_rows(targets):
+    rows = []
+    m_eff = 4 / 3 * math.pi * 0.1**3 * 1000 / 2
+    for limit in (True, False):
+        for e in targets:
+            c = lammps.hooke_for(
+                restitution=e, contact_time=0.01, mass=m_eff, speed=1.0, limit_damping=limit
+            )
+            e_eng, t_eng, _ = lammps_collision(
+                kn=c.kn, damping=c.damping, limit_damping=limit, speed=1.0
+            )
+            e_text, _, _ = lammps_collision(
+                kn=c.kn,
+                damping=e,
+                limit_damping=limit,
+                speed=1.0,
+                damping_style="coeff_restitution",
+            )
+            rows.append((f"LAMMPS limit_damping={limit}", e, e_eng, t_eng / 0.01 - 1, e_text))
+    return rows
+
+
+def main(quick=False):
+    throughput(10_000 if quick else 100_000)
+    targets = (0.1, 0.5, 0.9) if quick else (0.1, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95)
+    rows = mujoco_rows(targets) + lammps_rows(targets)
+    print()
+    print(
+        f"{'engine / case':40s} {'target':>7s} {'achieved':>9s} {'e err':>8s} "
+        f"{'t_c err':>8s} {'textbook':>9s} {'tb err':>8s}"
+    )
+    worst = {}
+    for case, e, e_eng, t_err, e_text in rows:
+        err = e_eng / e - 1
+        print(
+            f"{case:40s} {e:7.3f} {e_eng:9.4f} {err:+8.2%} {t_err:+8.2%} "
+            f"{e_text:9.4f} {e_text / e - 1:+8.1%}"
+        )
+        worst[case] = max(worst.get(case, 0.0), abs(err))
+    print()
+    for case, w in worst.items():
+        print(f"worst |e error| {case}: {w:.3%}")
+
+
+if __name__ == "__main__":
+    main(quick="--quick" in sys.argv)

@@ -1,0 +1,113 @@
+r"""SymPy: MuJoCo's soft contact as paper section 2's oscillator with a load and an offset.
+
+MuJoCo's soft-constraint relation for one frictionless contact (documentation,
+*Computation*),
+
+.. math::
+
+    a_1 = a_0 + d'\,(a_\mathrm{ref} - a_0), \qquad
+    a_\mathrm{ref} = -b\,v - d\,\bar k\,r, \qquad f = m\,(a_1 - a_0) \ge 0,
+
+with ``r = -x`` (penetration ``x``), ``v = -x'``, ``a0 = -g``, ``d' = d rho / (d rho + 1
+- d)`` (``rho = A / A_diag``; ``d' = d`` for one free body), is solved here for the
+equation of motion and brought to the section-2 normalization
+``tau = omega0 t``, ``z = x omega0 / v0``:
+
+.. math::
+
+    z'' + 2 D z' + z = c, \qquad \lambda = \frac{f}{m\,\omega_0 v_0} = 2 D z' + z + \delta,
+
+    \omega_0^2 = d' d \bar k, \quad D = \frac{d' b}{2 \omega_0}, \quad
+    c = (1 - d')\,\gamma, \quad \delta = d' \gamma, \quad \gamma = \frac{g}{\omega_0 v_0}.
+
+The trajectory is the paper's with ``2 D f = c``; the force threshold is offset by
+``delta``. :mod:`impactsym.engines.release` evaluates the result numerically.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import sympy as sp
+
+__all__ = ["MujocoContact"]
+
+
+class MujocoContact:
+    """The derivation, as SymPy expressions (attributes are cached).
+
+    >>> mc = MujocoContact()
+    >>> sp.simplify(mc.normalized_load - (1 - mc.d_eff) * mc.gamma)
+    0
+    """
+
+    def __init__(self) -> None:
+        self.m, self.g, self.v0 = sp.symbols("m g v_0", positive=True)
+        self.d, self.rho, self.b, self.kbar = sp.symbols("d rho b kbar", positive=True)
+        self.x, self.x_dot = sp.symbols("x xdot", real=True)
+        self.timeconst, self.dampratio, self.d_max = sp.symbols(
+            "timeconst dampratio d_max", positive=True
+        )
+        self.stiffness, self.damping = sp.symbols("stiffness damping", nonnegative=True)
+
+    @cached_property
+    def d_eff(self) -> sp.Expr:
+        """Effective impedance ``d' = d rho / (d rho + 1 - d)``."""
+        return self.d * self.rho / (self.d * self.rho + 1 - self.d)
+
+    @cached_property
+    def acceleration(self) -> sp.Expr:
+        """``x''`` from the soft-constraint relation (penetration positive)."""
+        r, v, a0 = -self.x, -self.x_dot, -self.g
+        a_ref = -self.b * v - self.d * self.kbar * r
+        a1 = a0 + self.d_eff * (a_ref - a0)
+        return sp.expand(-a1)
+
+    @cached_property
+    def contact_force(self) -> sp.Expr:
+        """Contact force ``f = m (a1 - a0)`` along the normal (newtons)."""
+        a1 = -self.acceleration
+        return sp.factor(self.m * (a1 + self.g))
+
+    @cached_property
+    def omega0(self) -> sp.Expr:
+        """``omega0 = sqrt(-d x''/dx)``."""
+        return sp.sqrt(-sp.diff(self.acceleration, self.x))
+
+    @cached_property
+    def damping_ratio(self) -> sp.Expr:
+        """Lehr's ``D = -(d x''/dx') / (2 omega0)``."""
+        return sp.simplify(-sp.diff(self.acceleration, self.x_dot) / (2 * self.omega0))
+
+    @cached_property
+    def gamma(self) -> sp.Expr:
+        """``gamma = g / (omega0 v0)``."""
+        return self.g / (self.omega0 * self.v0)
+
+    @cached_property
+    def normalized_load(self) -> sp.Expr:
+        """``c``: the constant part of ``x''`` in units of ``omega0 v0``."""
+        load = self.acceleration.subs({self.x: 0, self.x_dot: 0})
+        return sp.simplify(load / (self.omega0 * self.v0))
+
+    @cached_property
+    def normalized_offset(self) -> sp.Expr:
+        """``delta = lambda - (2 D z' + z)``, with ``lambda = f / (m omega0 v0)``."""
+        tau_scale = self.v0 / self.omega0  # x = z v0 / omega0, x' = z' v0
+        z, z_dot = sp.symbols("z zdot", real=True)
+        lam = self.contact_force.subs({self.x: z * tau_scale, self.x_dot: z_dot * self.v0})
+        lam = lam / (self.m * self.omega0 * self.v0)
+        return sp.simplify(sp.expand(lam - 2 * self.damping_ratio * z_dot - z))
+
+    @cached_property
+    def solref_positive(self) -> dict[sp.Symbol, sp.Expr]:
+        """``b``, ``kbar`` of ``solref = (timeconst, dampratio)``."""
+        return {
+            self.b: 2 / (self.d_max * self.timeconst),
+            self.kbar: 1 / (self.d_max**2 * self.timeconst**2 * self.dampratio**2),
+        }
+
+    @cached_property
+    def solref_negative(self) -> dict[sp.Symbol, sp.Expr]:
+        """``b``, ``kbar`` of ``solref = (-stiffness, -damping)``."""
+        return {self.b: self.damping / self.d_max, self.kbar: self.stiffness / self.d_max**2}

@@ -1,0 +1,284 @@
+r"""The Hooke spring-dashpot of LAMMPS ``pair_style granular``: design and prediction.
+
+LAMMPS's normal force for the ``hooke`` model with ``damping velocity`` is (LAMMPS
+documentation, ``pair_style granular``)
+
+.. math::
+
+    F_n = k_n \delta - \eta_n \dot\delta\ (\text{towards separation}),
+
+with overlap ``delta``, ``kn`` (N/m) and ``eta_n`` (N s/m) given directly
+(``damping mass_velocity`` takes ``eta_n / m_eff``; ``damping coeff_restitution e``
+sets ``eta_n = sqrt(4 m_eff kn / (1 + (pi / ln e)^2))``, the textbook relation). For two
+particles (or a particle and a wall) this is paper section 2 with
+``omega0 = sqrt(kn / m_eff)``, ``D = eta_n / (2 sqrt(kn m_eff))``:
+
+* without ``limit_damping`` the force turns tensile near the end and contact lasts
+  while the particles overlap: the **position condition**;
+* with ``limit_damping`` an attractive force is set to zero: contact force ends at
+  ``k_n delta - eta_n delta' = 0``, the **force condition** (the overlap then ends later
+  at constant speed when nothing presses).
+
+A pressing acceleration ``gravity`` (e.g. a particle dropped on a wall) is the load
+``F = m_eff g``. Both are :func:`impactsym.engines.release.linear_release` (no force
+offset). All quantities are SI: kilograms, N/m, N s/m, seconds, metres, m/s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from impactsym.engines.release import linear_release
+from impactsym.numeric.roots import bracketed_illinois
+from impactsym.validation import finish, real_array
+
+__all__ = [
+    "HookeContact",
+    "coeff_restitution_achieved",
+    "coeff_restitution_for",
+    "hooke_for",
+    "predict",
+    "textbook_damping_ratio",
+]
+
+
+def textbook_damping_ratio(restitution: Any) -> float | np.ndarray:
+    r"""``D`` of the textbook relation ``e = exp(-pi D / sqrt(1 - D^2))`` (position condition).
+
+    .. math:: D = -\ln e / \sqrt{\pi^2 + \ln^2 e}
+
+    >>> round(textbook_damping_ratio(0.5), 6)
+    0.215454
+    """
+    e, scalar = real_array("restitution", restitution, lower=0.0, strict=True)
+    if np.any(e > 1):
+        raise ValueError(f"restitution must be <= 1, got {float(e.max())!r}")
+    log_e = np.log(e)
+    return finish(-log_e / np.sqrt(np.pi**2 + log_e**2), scalar)
+
+
+def _release(D, load, limit_damping):
+    return linear_release(D, load, np.zeros_like(D), force=limit_damping, position=True)
+
+
+@dataclass(frozen=True)
+class HookeContact:
+    """A Hooke contact and its first release (SI units).
+
+    Attributes
+    ----------
+    kn
+        Normal stiffness, N/m (``pair_coeff ... hooke kn eta_n``).
+    damping
+        ``eta_n`` for ``damping velocity``, N s/m.
+    mass
+        Effective mass ``m_eff``, kg.
+    limit_damping
+        Whether the contact force is kept compressive.
+    restitution, contact_time
+        Normal separation speed over approach speed and seconds until the contact
+        force ends (``inf``/``0.0`` when the particle sticks under ``gravity``).
+    max_overlap
+        Largest overlap, metres.
+    """
+
+    kn: float | np.ndarray
+    damping: float | np.ndarray
+    mass: float
+    limit_damping: bool
+    restitution: float | np.ndarray
+    contact_time: float | np.ndarray
+    max_overlap: float | np.ndarray
+
+    @property
+    def damping_ratio(self) -> float | np.ndarray:
+        """Lehr's ``D = eta_n / (2 sqrt(kn m_eff))``."""
+        out = np.asarray(self.damping / (2.0 * np.sqrt(self.kn * self.mass)))
+        return finish(out, out.ndim == 0)
+
+    @property
+    def mass_velocity(self) -> float | np.ndarray:
+        """The coefficient for ``damping mass_velocity``: ``eta_n / m_eff`` (1/s)."""
+        return self.damping / self.mass
+
+    def pair_coeff(self) -> str:
+        """The LAMMPS ``pair_coeff`` line (scalar contact)."""
+        limit = " limit_damping" if self.limit_damping else ""
+        return (
+            f"pair_coeff * * hooke {float(self.kn):.10g} {float(self.damping):.10g} "
+            f"tangential linear_nohistory 0 0 damping velocity{limit}"
+        )
+
+
+def predict(
+    *,
+    kn: Any,
+    damping: Any,
+    mass: float,
+    speed: Any,
+    gravity: Any = 0.0,
+    limit_damping: bool = True,
+) -> HookeContact:
+    r"""Restitution, contact time and overlap of a LAMMPS Hooke contact.
+
+    Parameters
+    ----------
+    kn
+        Stiffness, N/m (> 0).
+    damping
+        ``eta_n`` of ``damping velocity``, N s/m (>= 0).
+    mass
+        Effective mass ``m_eff = m1 m2 / (m1 + m2)`` (the mass for a wall), kg.
+    speed
+        Normal approach speed, m/s (> 0).
+    gravity
+        Pressing acceleration along the normal, m/s^2 (>= 0).
+    limit_damping
+        LAMMPS's ``limit_damping`` keyword (force condition) or not (position).
+
+    >>> c = predict(kn=1e5, damping=50.0, mass=4.18879 / 2, speed=1.0)
+    >>> round(c.restitution, 4), round(c.contact_time, 6)  # LAMMPS: 0.8471
+    (0.8471, 0.013898)
+    """
+    k, _ = real_array("kn", kn, lower=0.0, strict=True)
+    eta, _ = real_array("damping", damping, lower=0.0)
+    m, m_scalar = real_array("mass", mass, lower=0.0, strict=True)
+    v, _ = real_array("speed", speed, lower=0.0, strict=True)
+    g, _ = real_array("gravity", gravity, lower=0.0)
+    if not m_scalar:
+        raise ValueError("mass must be one number (the effective mass)")
+    scalar = all(np.ndim(a) == 0 for a in (kn, damping, speed, gravity))
+    k, eta, v, g = np.broadcast_arrays(k, eta, v, g)
+    omega = np.sqrt(k / m)
+    D = eta / (2.0 * np.sqrt(k * m))
+    rel = _release(D, g / (omega * v), bool(limit_damping))
+    out = [rel.restitution, rel.tau_c / omega, rel.z_max * v / omega]
+    out = [finish(a, scalar) for a in out]
+    return HookeContact(finish(k, scalar), finish(eta, scalar), float(m), bool(limit_damping), *out)
+
+
+def _damping_ratio_for(e: np.ndarray, limit_damping: bool) -> np.ndarray:
+    if not limit_damping:
+        return np.asarray(textbook_damping_ratio(e))
+    # force condition without load: e falls from 1 (D = 0) towards 0 as D grows
+    zero = np.zeros_like(e)
+
+    def residual(D, i):
+        return e[i] - _release(D, zero[i], True).restitution
+
+    hi = np.full(e.shape, 1.0)
+    while np.any(residual(hi, np.arange(e.size)) < 0):
+        hi = np.where(residual(hi, np.arange(e.size)) < 0, 4.0 * hi, hi)
+    return bracketed_illinois(residual, np.full(e.shape, 1e-12), hi, rtol=1e-13)
+
+
+def hooke_for(
+    *,
+    restitution: Any,
+    mass: float,
+    contact_time: Any = None,
+    max_overlap: Any = None,
+    speed: Any = None,
+    limit_damping: bool = True,
+) -> HookeContact:
+    r"""``kn`` and ``eta_n`` for a wanted restitution and contact time (or largest overlap).
+
+    With ``limit_damping`` the damping ratio solves the force-condition restitution
+    ``e_force(D) = e`` (paper section 2, ``f = 0``); without it the textbook
+    ``D = -ln e / sqrt(pi^2 + ln^2 e)``. Then ``omega0 = tau_c(D) / t_c`` (or
+    ``z_max(D) v / delta_max``), ``kn = m omega0^2`` and ``eta_n = 2 D m omega0``.
+    No pressing load (particle-particle collisions).
+
+    Parameters
+    ----------
+    restitution
+        Wanted ``e`` in (0, 1).
+    mass
+        Effective mass, kg.
+    contact_time
+        Wanted duration of the contact force, seconds; or
+    max_overlap
+        Wanted largest overlap, metres (needs ``speed``).
+    speed
+        Approach speed, m/s (for ``max_overlap``, and for the returned prediction).
+    limit_damping
+        Whether the LAMMPS input uses ``limit_damping``.
+
+    >>> c = hooke_for(restitution=0.5, contact_time=1e-3, mass=1.0)
+    >>> round(c.restitution, 12), round(c.contact_time, 15), round(c.damping_ratio, 6)
+    (0.5, 0.001, 0.255276)
+    """
+    e, _ = real_array("restitution", restitution, lower=0.0, strict=True)
+    if np.any(e >= 1):
+        raise ValueError(f"restitution must be < 1, got {float(e.max())!r}")
+    if (contact_time is None) == (max_overlap is None):
+        raise ValueError("give exactly one of contact_time and max_overlap")
+    if max_overlap is not None and speed is None:
+        raise ValueError("max_overlap needs the approach speed (speed=...)")
+    m = float(real_array("mass", mass, lower=0.0, strict=True)[0])
+    v = 1.0 if speed is None else real_array("speed", speed, lower=0.0, strict=True)[0]
+    scalar = all(np.ndim(a) == 0 for a in (restitution, contact_time, max_overlap, speed))
+    target = real_array(
+        "contact_time" if max_overlap is None else "max_overlap",
+        contact_time if max_overlap is None else max_overlap,
+        lower=0.0,
+        strict=True,
+    )[0]
+    e, target, v = np.broadcast_arrays(e, target, v)
+    D = _damping_ratio_for(e.ravel(), bool(limit_damping)).reshape(e.shape)
+    rel = _release(D, np.zeros_like(D), bool(limit_damping))
+    omega = rel.tau_c / target if max_overlap is None else rel.z_max * v / target
+    kn = m * omega**2
+    eta = 2.0 * D * m * omega
+    return predict(
+        kn=finish(kn, scalar),
+        damping=finish(eta, scalar),
+        mass=m,
+        speed=finish(v, scalar),
+        limit_damping=limit_damping,
+    )
+
+
+def coeff_restitution_achieved(restitution: Any) -> float | np.ndarray:
+    r"""What LAMMPS's ``damping coeff_restitution e`` really gives under ``limit_damping``.
+
+    LAMMPS sets the textbook damping ``D = -ln e / sqrt(pi^2 + ln^2 e)`` (position
+    condition) but ``limit_damping`` ends contact by the force condition, so the
+    achieved restitution is ``e_force(D)`` (paper section 2, ``f = 0``), always larger.
+
+    >>> round(coeff_restitution_achieved(0.5), 4)
+    0.5503
+    """
+    D = textbook_damping_ratio(restitution)
+    arr = np.asarray(D, dtype=float)
+    out = _release(arr, np.zeros_like(arr), True).restitution
+    return finish(out, np.ndim(D) == 0)
+
+
+def coeff_restitution_for(restitution: Any) -> float | np.ndarray:
+    r"""The value to give ``damping coeff_restitution`` so that ``limit_damping`` yields ``e``.
+
+    The force-condition damping ratio ``D`` for ``e`` is written in the textbook's
+    terms, ``e_input = exp(-pi D / sqrt(1 - D^2))``. Needs ``D < 1`` (the textbook
+    cannot express more damping): below about ``e = 0.0016`` LAMMPS's
+    ``coeff_restitution`` cannot reach the target; use ``damping velocity`` with
+    :func:`hooke_for` instead.
+
+    >>> round(coeff_restitution_for(0.5), 4), round(coeff_restitution_achieved(0.4363), 4)
+    (0.4363, 0.5)
+    """
+    e, scalar = real_array("restitution", restitution, lower=0.0, strict=True)
+    if np.any(e >= 1):
+        raise ValueError(f"restitution must be < 1, got {float(e.max())!r}")
+    D = _damping_ratio_for(e.ravel(), True).reshape(e.shape)
+    if np.any(D >= 1):
+        bad = float(e[D >= 1].flat[0])
+        raise ValueError(
+            f"restitution = {bad!r} needs damping ratio >= 1 under limit_damping, which "
+            f"'damping coeff_restitution' cannot express; use 'damping velocity' with "
+            f"eta_n from hooke_for(...)"
+        )
+    return finish(np.exp(-np.pi * D / np.sqrt(1.0 - D**2)), scalar)

@@ -1,0 +1,287 @@
+r"""First release of a loaded linear contact oscillator, in closed form (NumPy only).
+
+Both engine models reduce, for flat impedance, to paper section 2 with two
+generalizations: the pressing load and the threshold of the contact force are
+independent, and contact ends at whichever of two events comes first. In the
+section-2 normalization (``tau = omega0 t``, ``z = x omega0 / v0``)
+
+.. math::
+
+    z'' + 2 D z' + z = c, \qquad z(0) = 0, \quad z'(0) = 1,
+
+    \lambda(\tau) = 2 D z' + z + \delta \quad \text{(contact force, unit } m\,\omega_0 v_0),
+
+and the contact ends at the first ``tau > 0`` where ``lambda <= 0`` (if the force
+threshold is active) or ``z <= 0`` (if the position threshold is active). The paper's
+force condition is ``c = 2 D f, delta = 0``; its position condition is the position
+threshold alone. MuJoCo's soft contact has ``c = (1 - d) gamma`` and ``delta = d gamma``
+(:mod:`impactsym.engines.mujoco`).
+
+Every quantity is a constant plus a homogeneous solution ``h`` of the oscillator,
+written in all damping regimes as
+
+.. math::
+
+    h(\tau) = e^{-D\tau}\,[h_0 C(\tau) + (h_1 + D h_0) S(\tau)], \qquad
+    h'(\tau) = e^{-D\tau}\,[h_1 C(\tau) - (h_0 + D h_1) S(\tau)],
+
+with ``C = cos(mu tau)``, ``S = sin(mu tau)/mu``, ``mu = sqrt(1 - D^2)`` (``cosh``,
+``sinh`` for ``D > 1``, ``C = 1``, ``S = tau`` at ``D = 1``). The extrema of ``h`` are
+known in closed form; between them ``h`` is monotone, and the extrema of a damped
+oscillation shrink and alternate in sign, so a crossing of a level ``L >= 0`` reached
+from above happens before the second extremum or never. That brackets every first
+root, which :func:`impactsym.numeric.bracketed_newton` then polishes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from impactsym.numeric.roots import bracketed_newton
+
+__all__ = ["LinearRelease", "linear_release", "release_margin"]
+
+_SERIES = 1e-3  # below this |mu| tau the sinh/sin quotient is taken from its series
+
+
+def _basis(tau: np.ndarray, D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``exp(-D tau) C(tau)`` and ``exp(-D tau) S(tau)`` in every damping regime."""
+    one_minus = 1.0 - D * D
+    mu = np.sqrt(np.abs(one_minus))
+    x = mu * tau
+    sign = np.sign(one_minus)  # +1 underdamped, -1 overdamped
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        ex = np.exp(-D * tau)
+        small = x < _SERIES
+        if (one_minus > 0).all() and not small.any():  # common case: underdamped only
+            return ex * np.cos(x), ex * np.sin(x) / mu
+        safe_mu = np.where(mu > 0, mu, 1.0)
+        # underdamped
+        c_u = ex * np.cos(x)
+        s_u = ex * np.sin(x) / safe_mu
+        # overdamped, written with decaying exponentials only
+        moderate = x < 20.0
+        c_o = np.where(moderate, ex * np.cosh(np.minimum(x, 20.0)), 0.0)
+        s_o = np.where(moderate, ex * np.sinh(np.minimum(x, 20.0)) / safe_mu, 0.0)
+        slow = np.exp(-tau / (D + mu))  # D - mu = 1 / (D + mu) when D > 1
+        fast = np.exp(-(D + mu) * tau)
+        c_o = np.where(moderate, c_o, 0.5 * (slow + fast))
+        s_o = np.where(moderate, s_o, 0.5 * (slow - fast) / safe_mu)
+        # series near D = 1 (both sides)
+        c_s = ex * (1.0 - sign * x * x / 2.0)
+        s_s = ex * tau * (1.0 - sign * x * x / 6.0)
+    under = one_minus > 0
+    c = np.where(small, c_s, np.where(under, c_u, c_o))
+    s = np.where(small, s_s, np.where(under, s_u, s_o))
+    return c, s
+
+
+def _homogeneous(tau, D, h0, h1):
+    c, s = _basis(tau, D)
+    return c * h0 + s * (h1 + D * h0), c * h1 - s * (h0 + D * h1)
+
+
+def _extrema(D: np.ndarray, h0: np.ndarray, h1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """First two positive roots of ``h'`` (``inf`` where there are fewer)."""
+    p = h0 + D * h1  # h' = e^{-D tau} [h1 C - p S]
+    mu = np.sqrt(np.abs(1.0 - D * D))
+    under = D < 1.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        phi = np.arctan2(mu * h1, p)  # tan(mu tau) = mu h1 / p
+        phi = np.mod(phi, np.pi)
+        phi = np.where(phi <= 0.0, np.pi, phi)
+        t1_under = phi / np.where(under, mu, 1.0)
+        t2_under = t1_under + np.pi / np.where(under, mu, 1.0)
+        # D >= 1: tanh(mu tau)/mu = h1 / p (tau = h1/p at D = 1)
+        ratio = h1 / p
+        arg = mu * ratio
+        t1_over = np.where(
+            mu * np.abs(ratio) < _SERIES, ratio, np.arctanh(np.clip(arg, -1.0, 1.0)) / mu
+        )
+        ok = (ratio > 0) & (arg < 1.0)
+    t1 = np.where(under, t1_under, np.where(ok, t1_over, np.inf))
+    t2 = np.where(under, t2_under, np.inf)
+    return t1, t2
+
+
+def _extreme_values(D, level, h0, h1):
+    """First two extrema of ``h`` and the values of ``level + h`` there."""
+    t1, t2 = _extrema(D, h0, h1)
+    g1 = level + _homogeneous(np.where(np.isfinite(t1), t1, 0.0), D, h0, h1)[0]
+    g2 = level + _homogeneous(np.where(np.isfinite(t2), t2, 0.0), D, h0, h1)[0]
+    return t1, t2, np.where(np.isfinite(t1), g1, np.inf), np.where(np.isfinite(t2), g2, np.inf)
+
+
+def release_margin(D, load, offset):
+    r"""Smallest value the thresholds reach while the body stays: ``> 0`` where it sticks.
+
+    With both thresholds active (MuJoCo) the contact never ends exactly when neither
+    ``lambda`` nor ``z`` dips to zero before the second extremum (module notes), so
+
+    .. math::
+
+        \mathrm{margin} = \min(\lambda(\tau_1^\lambda), \lambda(\tau_2^\lambda),
+                                 z(\tau_2^z)),
+
+    the minimum over those extrema that exist, capped by the long-time values
+    ``c + delta`` and ``c``. The stick/release boundary is ``margin = 0``; it needs a
+    pressing load (``c > 0``).
+
+    >>> float(release_margin(0.2, 0.0, 0.0)) < 0, float(release_margin(1.0, 2.0, 1.0)) > 0
+    (True, True)
+    """
+    D, c, delta = (np.asarray(a, dtype=float) for a in np.broadcast_arrays(D, load, offset))
+    a2 = c - 2.0 * D
+    a3 = -2.0 * D * a2 - 1.0
+    _, _, f1, f2 = _extreme_values(D, c + delta, -a2, -a3)
+    _, _, _, p2 = _extreme_values(D, c, -c, np.ones_like(D))
+    return np.minimum.reduce([f1, f2, p2, c + delta, c])
+
+
+def _first_crossing(D, level, h0, h1, exclude_start):
+    """First ``tau > 0`` with ``level + h(tau) <= 0`` (``level >= 0``, ``level + h0 >= 0``)."""
+    tau = np.full(np.shape(D), np.inf)
+    # level 0: the first zero of h itself, in closed form (h' has the initial values
+    # (h1, -2 D h1 - h0), so the zeros of h are the "extrema" of that function's integral)
+    zero = level == 0.0
+    if zero.any():
+        z1, _ = _extrema(D[zero], -h1[zero] - 2.0 * D[zero] * h0[zero], h0[zero])
+        tau[zero] = z1
+        if zero.all():
+            return tau
+    t1, t2, g1, g2 = _extreme_values(D, level, h0, h1)
+    first = np.isfinite(t1) & (g1 <= 0) & ~exclude_start
+    second = ~first & np.isfinite(t2) & (g2 <= 0)
+    lo = np.where(first, 0.0, np.where(second, t1, 0.0))
+    hi = np.where(first, t1, np.where(second, t2, 1.0))
+    found = (first | second) & ~zero
+    if found.any():
+        params = [a[found] for a in (D, level, h0, h1)]
+        tau[found] = bracketed_newton(
+            lambda t, d, lv, a, b: lv + _homogeneous(t, d, a, b)[0],
+            lambda t, d, lv, a, b: _homogeneous(t, d, a, b)[1],
+            lo[found],
+            hi[found],
+            params,
+            rtol=1e-13,
+        )
+    return tau
+
+
+@dataclass(frozen=True)
+class LinearRelease:
+    """First release of the normalized oscillator (arrays of one shape; dimensionless).
+
+    Attributes
+    ----------
+    tau_c
+        Contact time ``omega0 t_c`` (``inf`` when the body sticks).
+    restitution
+        ``-z'(tau_c)`` (``0.0`` when it sticks).
+    by_position
+        True where the penetration vanishes before the force does.
+    z_max
+        Largest penetration ``max z`` during contact.
+    force_max
+        Largest contact force ``max lambda`` during contact.
+    """
+
+    tau_c: np.ndarray
+    restitution: np.ndarray
+    by_position: np.ndarray
+    z_max: np.ndarray
+    force_max: np.ndarray
+
+    @property
+    def sticks(self) -> np.ndarray:
+        """True where contact never ends."""
+        return np.isinf(self.tau_c)
+
+
+def linear_release(
+    D: np.ndarray,
+    load: np.ndarray,
+    offset: np.ndarray,
+    *,
+    force: bool = True,
+    position: bool = True,
+    extremes: bool = True,
+) -> LinearRelease:
+    r"""Release of ``z'' + 2 D z' + z = load`` at ``2 D z' + z + offset <= 0`` or ``z <= 0``.
+
+    Parameters
+    ----------
+    D
+        Lehr's damping ratio (``>= 0``).
+    load
+        Normalized pressing load ``c >= 0`` (``2 D f`` in the paper).
+    offset
+        Force threshold ``delta >= 0``: contact force is ``2 D z' + z + delta``.
+    force, position
+        Which thresholds end the contact (at least one).
+    extremes
+        Whether to compute ``z_max`` and ``force_max`` (else they are left ``nan``;
+        design loops that need only ``tau_c`` and the restitution skip them).
+
+    Returns
+    -------
+    LinearRelease
+
+    Notes
+    -----
+    The force crossing uses ``lambda = c + delta - z''`` with the homogeneous ``z''``
+    (``z''(0) = c - 2D``, ``z'''(0) = -2 D z''(0) - 1``); the position crossing
+    ``z = c + h`` with ``h(0) = -c``, ``h'(0) = 1``.
+
+    Without load and offset it is the paper's force condition:
+
+    >>> from impactsym.contact import contact_time, restitution
+    >>> r = linear_release(np.array([0.0, 0.5]), np.zeros(2), np.zeros(2))
+    >>> np.round(r.tau_c, 6).tolist(), np.round(r.restitution, 6).tolist()
+    ([3.141593, 2.418399], [1.0, 0.298436])
+    >>> f = {"condition": "force"}
+    >>> round(contact_time(0.5, 0.0, **f), 6), round(restitution(0.5, 0.0, **f), 6)
+    (2.418399, 0.298436)
+    """
+    D, c, delta = (np.asarray(a, dtype=float) for a in np.broadcast_arrays(D, load, offset))
+    if not (force or position):
+        raise ValueError("linear_release needs the force or the position threshold")
+    # force: lambda = (c + delta) - z''  with z'' homogeneous
+    a2 = c - 2.0 * D
+    a3 = -2.0 * D * a2 - 1.0
+    tau_f = (
+        _first_crossing(D, c + delta, -a2, -a3, np.zeros(D.shape, bool))
+        if force
+        else np.full(D.shape, np.inf)
+    )
+    # position: z = c + h, h(0) = -c, h'(0) = 1 (z(0) = 0 is not a release)
+    # without load and offset the force vanishes first (z = -2 D z' > 0 there)
+    needed = position and not (force and not c.any() and not delta.any() and (D > 0).all())
+    tau_p = (
+        _first_crossing(D, c, -c, np.ones_like(D), np.ones(D.shape, bool))
+        if needed
+        else np.full(D.shape, np.inf)
+    )
+    tau_c = np.minimum(tau_f, tau_p)
+    finite = np.isfinite(tau_c)
+    z_dot = _homogeneous(np.where(finite, tau_c, 0.0), D, -c, np.ones_like(D))[1]
+    e = np.where(finite, -z_dot, 0.0)
+    if not extremes:
+        nan = np.full(D.shape, np.nan)
+        return LinearRelease(tau_c, e, finite & (tau_p <= tau_f), nan, nan)
+    # largest penetration: at z' = 0 (first extremum of h), else the static value c
+    t_z, _ = _extrema(D, -c, np.ones_like(D))
+    reach = np.isfinite(t_z) & (t_z < tau_c)
+    z_at = c + _homogeneous(np.where(reach, t_z, 0.0), D, -c, np.ones_like(D))[0]
+    z_max = np.where(reach, z_at, np.where(finite, 0.0, c))
+    z_max = np.where(finite, z_max, np.maximum(z_max, c))
+    # largest force: at the first minimum of z'' if it comes before release
+    t_l, _ = _extrema(D, a2, a3)
+    reach_l = np.isfinite(t_l) & (t_l < tau_c)
+    lam_at = c + delta - _homogeneous(np.where(reach_l, t_l, 0.0), D, a2, a3)[0]
+    lam0 = 2.0 * D + delta
+    force_max = np.maximum(lam0, np.where(reach_l, lam_at, lam0))
+    force_max = np.where(finite, force_max, np.maximum(force_max, c + delta))
+    return LinearRelease(tau_c, e, finite & (tau_p <= tau_f), z_max, force_max)

