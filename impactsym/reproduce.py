@@ -16,6 +16,7 @@ STEPS: tuple[tuple[str, str], ...] = (
     ("spring-damper contact (paper section 2)", "impactsym.results.contact"),
     ("multibody penalty contact (paper section 3)", "impactsym.results.multibody"),
     ("bounce sequences until rest", "impactsym.results.bounce"),
+    ("engine parameters (MuJoCo, LAMMPS)", "impactsym.results.engines"),
     ("formulas and exported functions", "impactsym.results.documents"),
 )
 
