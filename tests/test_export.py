@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
-import shutil
 import subprocess
 import sys
 
@@ -17,14 +15,8 @@ from impactsym.export import formula, formula_names, latex_document, python_modu
 from impactsym.results.documents import LatexError, compile_latex
 from impactsym.rod import contact_force, displacement
 
-needs_latex = pytest.mark.skipif(
-    shutil.which("pdflatex") is None and not os.environ.get("CI"),
-    reason="pdflatex not installed (CI installs it and runs this test)",
-)
 
-
-@needs_latex
-def test_formulas_document_compiles_with_pdflatex(tmp_path):
+def test_formulas_document_compiles_with_pdflatex(tmp_path, pdflatex):
     tex = tmp_path / "formulas.tex"
     tex.write_text(latex_document())
     pdf = compile_latex(tex, tmp_path)
@@ -33,8 +25,7 @@ def test_formulas_document_compiles_with_pdflatex(tmp_path):
         assert f"\\label{{eq:{name}}}" in tex.read_text()
 
 
-@needs_latex
-def test_a_latex_error_is_reported_not_ignored(tmp_path):
+def test_a_latex_error_is_reported_not_ignored(tmp_path, pdflatex):
     tex = tmp_path / "broken.tex"
     tex.write_text("\\documentclass{article}\\begin{document}$\\frac{1}{$\\end{document}\n")
     with pytest.raises(LatexError, match="pdflatex failed"):
@@ -117,3 +108,15 @@ def test_generated_module_is_valid_python_with_docstrings():
         doc = namespace[name].__doc__
         assert doc
         assert "paper" in doc.lower() or "eq" in doc.lower()
+
+
+def test_latex_policy_skips_only_outside_ci(monkeypatch):
+    from conftest import require_latex
+
+    monkeypatch.setattr("shutil.which", lambda name: None)
+    monkeypatch.delenv("CI", raising=False)
+    with pytest.raises(pytest.skip.Exception, match="not installed"):
+        require_latex()
+    monkeypatch.setenv("CI", "true")
+    with pytest.raises(pytest.fail.Exception, match="CI is set"):
+        require_latex()
