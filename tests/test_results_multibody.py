@@ -61,6 +61,9 @@ def test_reproduce_step_writes_its_files_without_scipy(tmp_path):
         "multibody_summary.json",
         "multibody_reduced_equation.tex",
     } <= names
+    pdfs = list(tmp_path.glob("*.pdf"))
+    assert len(pdfs) == 4
+    assert all(pdf.stat().st_size < 1_000_000 for pdf in pdfs)  # figures worth their bytes
     summary = json.loads((tmp_path / "multibody_summary.json").read_text())
     assert {row["system"] for row in summary["agreement"]} == {"bar", "pendulum"}
     assert "\\tilde m" in (tmp_path / "multibody_reduced_equation.tex").read_text()
