@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 
@@ -23,6 +24,55 @@ def test_formulas_document_compiles_with_pdflatex(tmp_path, pdflatex):
     assert pdf.read_bytes().startswith(b"%PDF")
     for name in ("rod-eq2", "sd-ridge-force-underdamped", "mb-reduced"):
         assert f"\\label{{eq:{name}}}" in tex.read_text()
+
+
+# \resizebox (graphicx) logs the natural width of what it scales and the width it scales to
+MEASURE_RESIZEBOX = r"""\let\realresizebox\resizebox
+\renewcommand{\resizebox}[3]{\setbox0=\hbox{#3}\setlength{\dimen0}{#1}%
+\typeout{RESIZEBOX \the\wd0\space -> \the\dimen0}\realresizebox{#1}{#2}{#3}}
+"""
+
+
+def compile_measuring_resizes(document: str, tmp_path, pdflatex) -> tuple[list[tuple], str]:
+    """Compile ``document`` with every \\resizebox logged: ([(natural, target)], log)."""
+    assert "\\scalebox" not in document  # scaling goes through \resizebox only
+    tex = tmp_path / "measured.tex"
+    tex.write_text(
+        document.replace("\\begin{document}", MEASURE_RESIZEBOX + "\\begin{document}", 1)
+    )
+    run = subprocess.run(
+        [pdflatex, "-interaction=nonstopmode", "-halt-on-error", tex.name],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        check=False,
+        stdin=subprocess.DEVNULL,
+        timeout=120,
+    )
+    log = (tmp_path / "measured.log").read_text(errors="replace")
+    assert run.returncode == 0, log[-2000:]
+    sizes = re.findall(r"RESIZEBOX ([\d.]+)pt\s*->\s*([\d.]+)pt", log)
+    assert len(sizes) == log.count("RESIZEBOX ")  # every scaling is measured
+    return [(float(a), float(b)) for a, b in sizes], log
+
+
+def test_formulas_are_set_at_text_size_never_scaled_up(tmp_path, pdflatex):
+    resizes, log = compile_measuring_resizes(latex_document(), tmp_path, pdflatex)
+    assert all(target <= natural for natural, target in resizes), resizes
+    # and no display formula runs into the margin
+    assert not re.search(r"Overfull \\hbox .* detected at line", log)
+
+
+def test_a_formula_wider_than_the_line_is_scaled_down_to_it(tmp_path, pdflatex):
+    wide = " + ".join(f"x_{{{i}}}^{{{i}}}" for i in range(80))
+    document = latex_document().replace(
+        "\\end{document}", f"\\[\\fitformula{{{wide}}}\\]\n\\end{{document}}"
+    )
+    resizes, log = compile_measuring_resizes(document, tmp_path, pdflatex)
+    assert len(resizes) == 1
+    natural, target = resizes[0]
+    assert natural > 1.5 * target
+    assert not re.search(r"Overfull \\hbox .* detected at line", log)
 
 
 def test_a_latex_error_is_reported_not_ignored(tmp_path, pdflatex):
