@@ -8,5 +8,9 @@ Nothing here is derived from impactsym: each module solves the paper's problems 
   d'Alembert's solution and a neutral delay equation (Chebyshev collocation).
 * :mod:`references.multibody_systems` -- the section-3 test systems written with
   ``sympy.physics.mechanics`` and their full nonlinear simulation with SciPy.
+* :mod:`references.bounce` -- the bounce sequence until rest by an event-driven SciPy
+  simulation of contacts and flights.
+* :mod:`references.engines` -- the real engines driven directly (a MuJoCo drop on a
+  plane, a LAMMPS wall impact), for the engine tests, notebook 04 and the benchmark.
 * :mod:`references.paper` -- formulas typed in from the paper (eq. (2)).
 """
