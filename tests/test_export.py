@@ -9,6 +9,7 @@ import sys
 
 import numpy as np
 import pytest
+import sympy as sp
 
 from impactsym import contact_time
 from impactsym.contact.api import _kernels
@@ -85,7 +86,17 @@ def test_a_latex_error_is_reported_not_ignored(tmp_path, pdflatex):
 def test_every_formula_is_labelled_and_retrievable():
     names = formula_names()
     assert len(names) == len(set(names))
-    assert formula("sd-ridge-force-critical") == "\\tau_r = \\frac{4 f - 3}{2 f - 1}"
+    # the retrieved formula is the ridge of the critically damped contact, derived here
+    # independently: dsolve the ODE at D = 1 and solve d g_force / d tau = 0
+    tau, force = sp.symbols("tau f", positive=True)
+    z = sp.Function("z")
+    ode = z(tau).diff(tau, 2) + 2 * z(tau).diff(tau) + z(tau) - 2 * force
+    initial = {z(0): 0, z(tau).diff(tau).subs(tau, 0): 1}
+    solution = sp.dsolve(ode, ics=initial).rhs
+    (ridge,) = sp.solve(
+        sp.simplify((2 * solution.diff(tau) + solution).diff(tau) * sp.exp(tau)), tau
+    )
+    assert formula("sd-ridge-force-critical") == f"\\tau_r = {sp.latex(ridge)}"
     with pytest.raises(ValueError, match="no formula named 'nope'"):
         formula("nope")
 
