@@ -5,7 +5,7 @@ Prints, measured in one run:
     max_contacts = 100 (target < 5 s each; also the first call, which derives and
     compiles the closed forms), and the contacts computed;
   * the same 10^5 points as padded per-contact sequences (starts, speeds, deflections);
-  * speed-up per sequence over the event-driven scipy reference (tests/reference_bounce.py);
+  * speed-up per sequence over the event-driven scipy reference (tests/references/bounce.py);
   * max deviation of start times and speeds from that reference on a random sample.
 
 Run: PYTHONPATH=. python benchmarks/bench_bounce.py (from the repository root)
@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from reference_bounce import simulate
+from references.bounce import simulate
 
 from impactsym.contact import bounce_sequence
 from impactsym.contact.bounce import _sequences, bounce_map

@@ -20,7 +20,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from reference_oscillator import contact_function, refine_root
+from references.oscillator import contact_function, refine_root
 
 from impactsym import contact_time, stick_boundary
 

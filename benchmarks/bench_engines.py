@@ -21,7 +21,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # engine drivers
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's package
-from engine_runs import lammps_collision, mujoco_drop
+from references.engines import lammps_collision, mujoco_drop
 
 from impactsym.engines import lammps, mujoco
 

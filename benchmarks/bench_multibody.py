@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from mb_systems import FullSimulation, pendulum_kane
+from references.multibody_systems import FullSimulation, pendulum_kane
 
 from impactsym.multibody import reduce_contact
 from impactsym.multibody.design import penalty_for_targets, stick_damping

@@ -10,7 +10,7 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reference_bounce import simulate
+from references.bounce import simulate
 from scipy.integrate import solve_ivp
 
 from impactsym.contact import bounce_sequence, contact_time, restitution

@@ -5,7 +5,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import shutil
 import subprocess
 
 import matplotlib
@@ -57,8 +56,7 @@ def test_contact_time_map_rows_and_ratio():
         contact_time_map([[0.1]], [0.0])
 
 
-@pytest.mark.skipif(shutil.which("pdflatex") is None, reason="pdflatex is not installed")
-def test_latex_formulas_compile(tmp_path):
+def test_latex_formulas_compile(tmp_path, pdflatex):
     body = "".join(f"% {label}\n\\[\n{math_}\n\\]\n" for label, _, math_ in latex_formulas(3))
     tex = tmp_path / "rod.tex"
     tex.write_text(
@@ -67,7 +65,7 @@ def test_latex_formulas_compile(tmp_path):
         + "\\end{document}\n"
     )
     run = subprocess.run(
-        ["pdflatex", "-interaction=nonstopmode", "-halt-on-error", tex.name],
+        [pdflatex, "-interaction=nonstopmode", "-halt-on-error", tex.name],
         cwd=tmp_path,
         capture_output=True,
         text=True,

@@ -451,7 +451,7 @@ def reduce_contact(
 
     Eq. (5) of the paper could not be checked against its print here. What is
     implemented is the derivation above. Against full nonlinear simulations (notebook 03,
-    ``tests/test_multibody.py``) the impulse projection gives smaller median contact-time
+    ``tests/test_multibody_reduction.py``) the impulse projection gives smaller median contact-time
     errors and at least as many correct stick/release verdicts as the paper's projection
     for both example systems and both conditions, and its error falls faster as the
     contact stiffens.

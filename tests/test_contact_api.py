@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reference_oscillator import contact_function, first_root, refine_root, state
+from references.oscillator import contact_function, first_root, refine_root, state
 from scipy.integrate import solve_ivp
 
 from impactsym import contact_time, restitution, stick_boundary

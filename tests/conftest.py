@@ -1,0 +1,33 @@
+"""Shared test set-up: the one LaTeX policy, and the independent references on the path.
+
+``tests/`` is on ``sys.path`` (pytest's rootdir insertion for a directory without
+``__init__.py``), so test modules import the references as ``references.<name>``.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+
+import pytest
+
+
+def require_latex() -> str:
+    """Path of ``pdflatex`` for a test that compiles LaTeX.
+
+    The one policy for every LaTeX test: without an engine the test is skipped on a
+    developer machine, but fails when the ``CI`` environment variable is set (CI installs
+    the engine, so a missing one there is a broken set-up, not a reason to skip).
+    """
+    engine = shutil.which("pdflatex")
+    if engine is None:
+        if os.environ.get("CI"):
+            pytest.fail("CI is set but pdflatex is not installed (.ci/run installs it)")
+        pytest.skip("pdflatex is not installed (CI installs it and runs this test)")
+    return engine
+
+
+@pytest.fixture
+def pdflatex() -> str:
+    """The LaTeX engine, under :func:`require_latex`'s skip-or-fail policy."""
+    return require_latex()

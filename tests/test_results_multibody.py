@@ -1,0 +1,69 @@
+"""The multibody step of ``impactsym reproduce`` (:mod:`impactsym.results.multibody`) and
+its figures (:mod:`impactsym.plotting.multibody`)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+from impactsym.multibody.simulation import falling_bar
+
+
+def test_figures_return_their_axes():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from impactsym.multibody.simulation import agreement_sweep
+    from impactsym.plotting.multibody import plot_agreement, plot_convergence, plot_verdict_map
+
+    agreement = agreement_sweep(
+        falling_bar(),
+        omegas=(300.0,),
+        dampings=(0.1, 1.0),
+        forces=(0.2, 2.0),
+        steps=16,
+        tau_max=25.0,
+    )
+    for plot in (plot_agreement, plot_verdict_map):
+        fig, ax = plt.subplots()
+        assert plot(agreement, condition="force", ax=ax) is ax
+        plt.close(fig)
+    fig, ax = plt.subplots()
+    assert plot_convergence([1.0, 10.0], {"impulse": [0.1, 0.01]}, ax=ax) is ax
+    plt.close(fig)
+
+
+def test_reproduce_step_writes_its_files_without_scipy(tmp_path):
+    # `impactsym reproduce` must not need SciPy: block it and run the quick step
+    code = (
+        "import sys; sys.modules['scipy'] = None\n"
+        "import matplotlib; matplotlib.use('Agg')\n"
+        "from pathlib import Path\n"
+        "from impactsym.results.multibody import write\n"
+        f"files = write(Path({str(tmp_path)!r}), quick=True, progress=lambda m: None)\n"
+        "print('\\n'.join(sorted(p.name for p in files)))\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr[-3000:]
+    names = set(run.stdout.split())
+    for stem in (
+        "multibody_agreement",
+        "multibody_verdict_map",
+        "multibody_convergence",
+        "multibody_design",
+    ):
+        assert {f"{stem}.png", f"{stem}.pdf"} <= names
+    assert {
+        "multibody_agreement.csv",
+        "multibody_summary.json",
+        "multibody_reduced_equation.tex",
+    } <= names
+    pdfs = list(tmp_path.glob("*.pdf"))
+    assert len(pdfs) == 4
+    assert all(pdf.stat().st_size < 1_000_000 for pdf in pdfs)  # figures worth their bytes
+    summary = json.loads((tmp_path / "multibody_summary.json").read_text())
+    assert {row["system"] for row in summary["agreement"]} == {"bar", "pendulum"}
+    assert "\\tilde m" in (tmp_path / "multibody_reduced_equation.tex").read_text()
