@@ -64,7 +64,7 @@ _copy_notebooks()
 # -- project -----------------------------------------------------------------------------
 project = "impactsym"
 author = "impactsym developers"
-copyright = "2026, impactsym developers"  # noqa: A001
+copyright = "2026, impactsym developers"
 release = version = impactsym.__version__
 
 # -- general -----------------------------------------------------------------------------
@@ -116,8 +116,8 @@ def _lazy_targets() -> dict[str, str]:
     the public path is redirected there.
     """
     targets = {}
-    for package in ("impactsym", "impactsym.contact", "impactsym.rod", "impactsym.multibody",
-                    "impactsym.numeric"):  # fmt: skip
+    packages = ("impactsym", "impactsym.contact", "impactsym.rod", "impactsym.multibody")
+    for package in (*packages, "impactsym.numeric"):
         names = getattr(importlib.import_module(package), "_NAMES", {})
         targets.update({f"{package}.{n}": f"{module}.{n}" for n, module in names.items()})
     return targets
