@@ -111,13 +111,13 @@ html_static_path: list[str] = []
 def _lazy_targets() -> dict[str, str]:
     """``"impactsym.contact.contact_time" -> "impactsym.contact.api.contact_time"``, etc.
 
-    The packages export their public names lazily (``_NAMES``: name -> defining module);
-    the reference documents each object once, in its defining module, and a reference to
-    the public path is redirected there.
+    A package exports its public names lazily (``_NAMES``: name -> defining module); the
+    reference documents each object once, in its defining module, and a reference to the
+    public path is redirected there. Every package of ``impactsym`` is asked.
     """
     targets = {}
-    packages = ("impactsym", "impactsym.contact", "impactsym.rod", "impactsym.multibody")
-    for package in (*packages, "impactsym.numeric"):
+    for init in sorted((ROOT / "impactsym").rglob("__init__.py")):
+        package = ".".join(init.parent.relative_to(ROOT).parts)
         names = getattr(importlib.import_module(package), "_NAMES", {})
         targets.update({f"{package}.{n}": f"{module}.{n}" for n, module in names.items()})
     return targets
