@@ -126,7 +126,22 @@ def _lazy_targets() -> dict[str, str]:
 LAZY_TARGETS = _lazy_targets()
 
 
+def _defining_path(name: str) -> str | None:
+    """Where the public ``name`` -- or the object it is a member of -- is documented.
+
+    >>> _defining_path("impactsym.rod.RodImpact.series")
+    'impactsym.rod.derivation.RodImpact.series'
+    """
+    parts = name.split(".")
+    for cut in range(len(parts), 1, -1):
+        public = ".".join(parts[:cut])
+        if public in LAZY_TARGETS:
+            return ".".join([LAZY_TARGETS[public], *parts[cut:]])
+    return None
+
+
 def _resolve_lazy(app, env, node, contnode):
+    """``missing-reference`` handler: retry a Python reference at its defining path."""
     if node.get("refdomain") != "py":
         return None
     target = node["reftarget"].lstrip(".~")
@@ -135,7 +150,7 @@ def _resolve_lazy(app, env, node, contnode):
         if context:
             candidates.append(f"{context}.{target}")
     for candidate in candidates:
-        real = LAZY_TARGETS.get(candidate)
+        real = _defining_path(candidate)
         if real is not None:
             return env.get_domain("py").resolve_xref(
                 env, node["refdoc"], app.builder, node["reftype"], real, node, contnode
