@@ -337,7 +337,8 @@ def reduce_at_speeds(
     """The reduction for many impact speeds at once (``load``, ``v0``, ... as arrays).
 
     The reduction is derived once with a symbolic speed and evaluated on ``speeds``;
-    ``k = 1``, ``d = 0`` are placeholders for :meth:`ReducedContact.with_penalty`.
+    ``k = 1``, ``d = 0`` are placeholders for
+    :meth:`~impactsym.multibody.reduction.ReducedContact.with_penalty`.
 
     >>> r = reduce_at_speeds(falling_bar(), [0.1, 1.0])
     >>> r.v0.tolist()

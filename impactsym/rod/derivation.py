@@ -14,9 +14,10 @@ an elastic rod fixed at its other end, through a contact spring of stiffness
 :class:`RodImpact` builds and solves it with SymPy, expands the closed forms in
 :math:`\\Delta = e^{-s}` into delay series (the paper's eq. (2) for
 :math:`\\kappa \\to \\infty`) and inverts them term by term with
-:mod:`impactsym.symbolic.laplace`. The float time functions :func:`displacement`,
-:func:`contact_force` and :func:`contact_time` live in :mod:`impactsym.rod.api`
-and are re-exported here.
+:mod:`impactsym.symbolic.laplace`. The float time functions
+:func:`~impactsym.rod.displacement`, :func:`~impactsym.rod.contact_force` and
+:func:`~impactsym.rod.contact_time` live in :mod:`impactsym.rod.api` and
+:mod:`impactsym.rod.contact_times`; :mod:`impactsym.rod` exports them.
 """
 
 from __future__ import annotations
