@@ -22,9 +22,11 @@ an elastic rod fixed at its other end, through a contact spring of stiffness
 
 from __future__ import annotations
 
+import math
 from functools import cached_property
 from typing import Any
 
+import numpy as np
 import sympy as sp
 
 from impactsym.symbolic.laplace import (
@@ -33,6 +35,7 @@ from impactsym.symbolic.laplace import (
     geometric_delay_series,
     invert_delay_series,
 )
+from impactsym.validation import as_sympy
 
 __all__ = ["RodImpact", "latex_formulas"]
 
@@ -50,27 +53,27 @@ QUANTITIES = ("W", "Y", "N")
 
 def _as_kappa(value: Any) -> sp.Expr:
     """The contact stiffness as SymPy: ``oo``, a positive exact number, or a symbol."""
-    if isinstance(value, (bool, str, bytes)) or value is None:
+    if isinstance(value, (bool, np.bool_)) or value is None:
         raise TypeError(
             f"kappa must be a positive number, sympy.oo or a SymPy symbol, got {value!r}"
         )
-    if isinstance(value, float):
-        if value != value:
-            raise ValueError(f"kappa must be > 0, got {value!r}")
-        value = sp.oo if value == float("inf") else sp.Rational(repr(float(value)))
-    try:
-        value = sp.sympify(value, strict=True)
-    except (sp.SympifyError, TypeError) as exc:
-        raise TypeError(
-            f"kappa must be a positive number, sympy.oo or a SymPy symbol, got {value!r}"
-        ) from exc
+    if isinstance(value, (float, np.floating)):
+        value = float(value)
+        if math.isnan(value):
+            raise ValueError("kappa must be a positive number or inf, got nan")
+        if math.isinf(value):
+            if value < 0:
+                raise ValueError(f"kappa must be > 0, got {value!r}")
+            return sp.oo
+        value = sp.Rational(repr(value))  # the decimal the float prints as
+    value = as_sympy("kappa", value)
     if value is sp.oo:
         return value
     if isinstance(value, sp.Float):
         value = sp.Rational(str(value))
     if value.is_number:
         if not (value.is_real and value.is_positive and value.is_finite):
-            raise ValueError(f"kappa must be > 0, got {value}")
+            raise ValueError(f"kappa must be > 0 (a real number or oo), got {value}")
         return value
     if value.is_positive is False:
         raise ValueError(f"kappa must be positive, got {value}")
