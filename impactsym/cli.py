@@ -23,9 +23,18 @@ def build_parser() -> argparse.ArgumentParser:
     )
     commands = parser.add_subparsers(dest="command", required=True)
     rep = commands.add_parser("reproduce", help="regenerate every figure, table and formula")
-    rep.add_argument("--out", type=Path, required=True, help="output directory")
+    rep.add_argument(
+        "--out",
+        required=True,
+        help="output directory: new, empty, or written by a former run (it holds the "
+        "marker file .impactsym-reproduce); never the current or home directory",
+    )
     rep.add_argument("--quick", action="store_true", help="coarse grids (seconds, for tests)")
-    rep.add_argument("--force", action="store_true", help="overwrite a non-empty --out")
+    rep.add_argument(
+        "--force",
+        action="store_true",
+        help="replace the files a former run wrote into --out (nothing else is deleted)",
+    )
 
     latex = commands.add_parser("latex", help="print one derived formula as LaTeX")
     latex.add_argument("name", nargs="?", help="formula label, e.g. sd-ridge-force-underdamped")
@@ -123,6 +132,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         _run(args)
+    except KeyboardInterrupt:
+        # every file is renamed into place only when complete: nothing partial is left
+        print("impactsym: interrupted; files completed so far are kept", file=sys.stderr)
+        return 130
     except (OSError, ValueError, RuntimeError) as exc:
         print(f"impactsym: error: {exc}", file=sys.stderr)
         return 2

@@ -281,9 +281,9 @@ def write_python_module(path: str | Path) -> Path:
     >>> path.read_text().count("def contact_function_")
     2
     """
-    path = Path(path)
-    path.write_text(python_module())
-    return path
+    from impactsym.results.files import write_text
+
+    return write_text(path, python_module())
 
 
 def write_latex_document(path: str | Path, n_terms: int = 3) -> Path:
@@ -293,6 +293,6 @@ def write_latex_document(path: str | Path, n_terms: int = 3) -> Path:
     >>> write_latex_document(pathlib.Path(tempfile.mkdtemp()) / "f.tex").suffix
     '.tex'
     """
-    path = Path(path)
-    path.write_text(latex_document(n_terms))
-    return path
+    from impactsym.results.files import write_text
+
+    return write_text(path, latex_document(n_terms))
