@@ -517,6 +517,16 @@ def stick_boundary(f: ArrayLike, *, condition: str = "force") -> ArrayLike:
     return finish(result.reshape(shape), scalar)
 
 
+def _check_derived(what: str, inputs: str, values: np.ndarray, valid) -> None:
+    """Raise naming the inputs when a derived quantity leaves double precision."""
+    bad = ~valid(values)
+    if np.any(bad):
+        raise ValueError(
+            f"the inputs {inputs} are too extreme: {what} = {float(values[bad].flat[0])!r} "
+            "is not representable in double precision"
+        )
+
+
 @dataclass(frozen=True)
 class PhysicalContact:
     r"""A spring-damper impact in physical units, with its normalized description.
@@ -590,27 +600,45 @@ def physical_contact(
         )
     }
     scalar = all(s for _, s in values.values())
-    mass, stiffness, damping, speed, load = np.broadcast_arrays(*(a for a, _ in values.values()))
-    omega0 = np.sqrt(stiffness / mass)
-    D_ = damping / (2.0 * np.sqrt(stiffness * mass))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        f_ = np.where(load > 0, load / (damping * speed), 0.0)
-    undamped_pressed = (damping == 0) & (load > 0)
-    finite = ~undamped_pressed
-    tau_c, e = np.empty(D_.shape), np.empty(D_.shape)
-    tau_c[finite] = contact_time(D_[finite], f_[finite], condition=condition)
-    e[finite] = restitution(D_[finite], f_[finite], condition=condition)
-    static = load[undamped_pressed] / (
-        np.sqrt(stiffness * mass)[undamped_pressed] * speed[undamped_pressed]
+    shape = broadcast(**{name: a for name, (a, _) in values.items()})
+    mass, stiffness, damping, speed, load = (
+        np.broadcast_to(a, shape).ravel() for a, _ in values.values()
     )
-    tau_c[undamped_pressed] = 2.0 * np.pi - 2.0 * np.arctan2(1.0, static)
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        root_k, root_m = np.sqrt(stiffness), np.sqrt(mass)  # no overflow in k * m or k / m
+        omega0 = root_k / root_m
+        D_ = damping / 2.0 / (root_k * root_m)
+        f_ = np.where(load > 0, load / damping / speed, 0.0)
+        static = load / (root_k * root_m) / speed  # 2 D f, finite also where d = 0
+    _check_derived("omega0 = sqrt(k/m)", "m, k", omega0, lambda w: (w > 0) & np.isfinite(w))
+    _check_derived("D = d/(2 sqrt(k m))", "d, k, m", D_, np.isfinite)
+    # d = 0 < F, or d so small that D b^2 and D (b = 2Df, the static penetration) vanish
+    # to double precision: undamped with offset b (f may overflow there)
+    with np.errstate(over="ignore"):
+        negligible = (D_ < 1e-16) & (D_ * static**2 < 1e-16)
+    undamped_pressed = (load > 0) & ((D_ == 0) | (~np.isfinite(f_) & negligible))
+    finite = ~undamped_pressed
+    _check_derived("f = F/(d v0)", "F, d, v0", f_[finite], np.isfinite)
+    tau_c, e = np.empty(D_.shape), np.empty(D_.shape)
+    try:
+        tau_c[finite] = contact_time(D_[finite], f_[finite], condition=condition)
+        e[finite] = restitution(D_[finite], f_[finite], condition=condition)
+    except ValueError as exc:
+        raise ValueError(f"physical_contact: the inputs m, k, d, v0, F give {exc}") from None
+    tau_c[undamped_pressed] = 2.0 * np.pi - 2.0 * np.arctan2(1.0, static[undamped_pressed])
     e[undamped_pressed] = 1.0
+    with np.errstate(over="ignore", under="ignore"):
+        t_c = tau_c / omega0
+    _check_derived(
+        "t_c = tau_c/omega0", "m, k", t_c, lambda t: np.isinf(tau_c) | ((t > 0) & np.isfinite(t))
+    )
+    D_, f_, omega0, tau_c, t_c, e = (a.reshape(shape) for a in (D_, f_, omega0, tau_c, t_c, e))
     return PhysicalContact(
         D=finish(D_, scalar),
         f=finish(f_, scalar),
         omega0=finish(omega0, scalar),
         normalized_contact_time=finish(tau_c, scalar),
-        contact_time=finish(tau_c / omega0, scalar),
+        contact_time=finish(t_c, scalar),
         restitution=finish(e, scalar),
         condition=condition,
     )
