@@ -11,8 +11,9 @@ which never parses text. No input of the package is ever evaluated as code.
 
 from __future__ import annotations
 
+import contextlib
 import numbers
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -275,3 +276,30 @@ def broadcast(**arrays: np.ndarray) -> tuple[int, ...]:
         names = [f"{n} (shape {s})" for n, s in shaped]
         listed = ", ".join(names[:-1]) + f" and {names[-1]}" if len(names) > 1 else names[0]
         raise ValueError(f"{listed} cannot be broadcast to one shape") from None
+
+
+@contextlib.contextmanager
+def inputs_named(function: str, **inputs: object) -> Iterator[None]:
+    """Re-raise a failure deep inside ``function`` as ``ValueError`` naming its inputs.
+
+    Errors from derived quantities (a normalized force, a solver bracket) mean little to
+    the caller; this adds the inputs that led there (the original stays chained).
+
+    >>> with inputs_named("design", k=1e-300):
+    ...     raise OverflowError("Numerical result out of range")
+    Traceback (most recent call last):
+        ...
+    ValueError: design(k = 1e-300): Numerical result out of range
+    """
+    try:
+        yield
+    except (ValueError, ArithmeticError, RuntimeError, IndexError) as exc:
+        shown = ", ".join(f"{name} = {_short(value)}" for name, value in inputs.items())
+        message = exc.args[0] if len(exc.args) == 1 else str(exc)
+        raise ValueError(f"{function}({shown}): {message}") from exc
+
+
+def _short(value: object) -> str:
+    if np.ndim(value) and not isinstance(value, str):
+        return f"<array of shape {np.shape(value)}>"
+    return repr(float(value)) if isinstance(value, (int, float, np.number)) else repr(value)
