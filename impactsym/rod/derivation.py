@@ -362,11 +362,23 @@ def _check_name(name: object) -> str:
     return name
 
 
-def _check_n_terms(n_terms: object) -> int:
-    if isinstance(n_terms, bool) or not isinstance(n_terms, int):
+#: Most series terms a LaTeX document shows: the exact inversion of term ``n`` has a
+#: pole of order ``n`` and the document takes about a second per 8 terms at 20, growing
+#: quadratically (``latex_formulas(200)`` would run for minutes).
+MAX_LATEX_TERMS = 20
+
+
+def _check_n_terms(n_terms: object, budget: int | None = None) -> int:
+    if isinstance(n_terms, (bool, np.bool_)) or not isinstance(n_terms, (int, np.integer)):
         raise TypeError(f"n_terms must be an int, got {n_terms!r}")
+    n_terms = int(n_terms)
     if n_terms < 0:
         raise ValueError(f"n_terms must be >= 0, got {n_terms}")
+    if budget is not None and n_terms > budget:
+        raise ValueError(
+            f"n_terms = {n_terms} exceeds the budget of {budget} terms for formula "
+            "documents (the symbolic work grows quadratically with the number of terms)"
+        )
     return n_terms
 
 
@@ -400,8 +412,8 @@ def latex_formulas(n_terms: int = 3) -> list[tuple[str, str, str]]:
 
     Every body compiles inside ``\\[ ... \\]`` with amsmath: eq. (1), the closed forms
     of :math:`W`, :math:`Y`, :math:`N` for rigid and finite :math:`\\kappa`, eq. (2)
-    and the contact force series (first ``n_terms`` terms), and the first inverted
-    terms.
+    and the contact force series (first ``n_terms`` terms, at most
+    :data:`MAX_LATEX_TERMS`), and the first inverted terms.
 
     Examples
     --------
@@ -409,7 +421,7 @@ def latex_formulas(n_terms: int = 3) -> list[tuple[str, str, str]]:
     >>> labels[:2]
     ['rod-bvp', 'rod-bvp-rigid']
     """
-    n_terms = _check_n_terms(n_terms)
+    n_terms = _check_n_terms(n_terms, budget=MAX_LATEX_TERMS)
     rigid, elastic = RodImpact(), RodImpact(kappa)
     eq = elastic.equations
     bvp = r" \\ ".join(sp.latex(eq[k]) for k in ("rod", "fixed end", "mass", "end"))
