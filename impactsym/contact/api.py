@@ -245,7 +245,7 @@ def _limits(
       below double-precision rounding, and the point is refused.
     """
     with np.errstate(over="ignore"):
-        static = 2.0 * damping * force
+        static = damping * force * 2.0  # not 2 D first: 2 D may overflow where f = 0
     far = damping > _D_FAR
     big = (static > _B_MAX) & ~far
     tau_c, e = np.full(damping.shape, np.inf), np.zeros(damping.shape)

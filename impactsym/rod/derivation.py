@@ -172,6 +172,8 @@ class RodImpact:
         {'rod': 0, 'fixed end': 0, 'contact': 0, 'end': 0}
         """
 
+        W, Y = as_sympy("W", W), as_sympy("Y", Y)
+
         def insert(expr: sp.Expr) -> sp.Expr:
             expr = expr.replace(_W, lambda x, _s: W.subs(xi, x)).subs(_Y(s), Y)
             return expr.doit()
