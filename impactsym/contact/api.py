@@ -58,7 +58,7 @@ class _PiecewiseInD:
         self.functions = {
             r: lambdify(
                 leading + derivation.NUMERIC_AUX[r],
-                sp.sympify(model(r).numeric_forms[name]),
+                sp.sympify(model(r).numeric_forms[name], strict=True),
                 name=f"{name}_{r}",
             )
             for r in regimes

@@ -185,7 +185,10 @@ class ReducedContact:
         names = ("equation", "m_eff", "d_eff", "c_eff", "load", "v0")
         if not isinstance(name, str) or name not in names:
             raise ValueError(f"name must be one of {names}, got {name!r}")
-        return sp.latex(sp.sympify(getattr(self, name)))
+        value = getattr(self, name)
+        if np.ndim(value):
+            return sp.latex(as_sympy_matrix(name, value))
+        return sp.latex(as_sympy(name, value))
 
     # -- derived objects -----------------------------------------------------------
     def subs(self, values: Mapping[Any, Any]) -> ReducedContact:
