@@ -128,7 +128,9 @@ _PRINTER = NumPyPrinter({"fully_qualified_modules": True, "allow_unknown_functio
 
 def _function_source(name: str, args: list[sp.Symbol], expr: sp.Expr, doc: str) -> str:
     """``def name(args)`` computing ``expr`` with common subexpressions hoisted."""
-    replacements, (reduced,) = sp.cse(sp.sympify(expr, strict=True), symbols=sp.numbered_symbols("c"))
+    replacements, (reduced,) = sp.cse(
+        sp.sympify(expr, strict=True), symbols=sp.numbered_symbols("c")
+    )
     body = [f"    {s} = {_PRINTER.doprint(e)}" for s, e in replacements]
     body.append(f"    return {_PRINTER.doprint(reduced)}")
     code = "\n".join([f"def {name}({', '.join(map(str, args))}):", f'    """{doc}"""', *body])
