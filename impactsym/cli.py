@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import argparse
 import math
+import signal
 import sys
+import threading
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -101,11 +103,47 @@ def _mujoco(args: argparse.Namespace) -> None:
     )
 
 
+def _reproduce(args: argparse.Namespace) -> None:
+    """Run ``reproduce`` so that Ctrl-C always stops it.
+
+    Python raises ``KeyboardInterrupt`` wherever the signal arrives; inside a finalizer
+    or weakref callback it is printed and ignored. The handler therefore also sets a
+    flag that the next progress message turns into ``KeyboardInterrupt`` again, and such
+    an ignored interrupt is not printed.
+    """
+    from impactsym.reproduce import reproduce
+
+    interrupted: list[int] = []
+
+    def on_sigint(signum: int, frame: object) -> None:
+        interrupted.append(signum)
+        raise KeyboardInterrupt
+
+    def progress(message: str) -> None:
+        if interrupted:
+            raise KeyboardInterrupt
+        print(message, flush=True)
+
+    def unraisable(report: object) -> None:  # an interrupt swallowed in a finalizer
+        if not issubclass(report.exc_type, KeyboardInterrupt):
+            previous_hook(report)
+
+    in_main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, on_sigint) if in_main_thread else None
+    previous_hook, sys.unraisablehook = sys.unraisablehook, unraisable
+    try:
+        reproduce(args.out, quick=args.quick, force=args.force, progress=progress)
+    finally:
+        sys.unraisablehook = previous_hook
+        if in_main_thread:
+            signal.signal(signal.SIGINT, previous)
+    if interrupted:
+        raise KeyboardInterrupt
+
+
 def _run(args: argparse.Namespace) -> None:
     if args.command == "reproduce":
-        from impactsym.reproduce import reproduce
-
-        reproduce(args.out, quick=args.quick, force=args.force)
+        _reproduce(args)
     elif args.command == "latex":
         from impactsym.export import formula, formula_names
 
