@@ -366,6 +366,34 @@ def test_physical_contact_extreme_inputs_are_consistent(inputs):
     assert 0.0 <= c.restitution <= 1.0
 
 
+_LOG = st.floats(-300, 300)
+_LOG_OR_ZERO = st.one_of(st.just(None), st.floats(-320, 300))
+
+
+@SETTINGS
+@given(
+    log_m=_LOG,
+    log_k=_LOG,
+    log_v0=_LOG,
+    log_d=_LOG_OR_ZERO,
+    log_F=_LOG_OR_ZERO,
+    condition=st.sampled_from(["force", "position"]),
+)
+def test_physical_contact_at_any_magnitude_is_consistent_or_names_its_inputs(
+    log_m, log_k, log_v0, log_d, log_F, condition
+):
+    m, k, v0 = 10.0**log_m, 10.0**log_k, 10.0**log_v0
+    d = 0.0 if log_d is None else 10.0**log_d
+    F = 0.0 if log_F is None else 10.0**log_F
+    c, error = _attempt(lambda: physical_contact(m, k, d, v0, F, condition=condition))
+    if error is not None:
+        assert "the inputs " in str(error)
+        return
+    assert c.sticks == math.isinf(c.contact_time) == math.isinf(c.normalized_contact_time)
+    assert c.sticks or c.contact_time > 0
+    assert 0.0 <= c.restitution <= 1.0
+
+
 def test_physical_contact_vanishing_damping_is_the_undamped_limit():
     # d too small to matter: z'' + z = b with b = F / (sqrt(k m) v0) = 0.5
     c = physical_contact(m=1.0, k=1.0, d=1e-320, v0=1.0, F=0.5)

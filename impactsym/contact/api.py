@@ -614,7 +614,7 @@ def physical_contact(
     _check_derived("D = d/(2 sqrt(k m))", "d, k, m", D_, np.isfinite)
     # d = 0 < F, or d so small that D b^2 and D (b = 2Df, the static penetration) vanish
     # to double precision: undamped with offset b (f may overflow there)
-    with np.errstate(over="ignore"):
+    with np.errstate(over="ignore", invalid="ignore"):  # 0 * inf where D = 0: caught below
         negligible = (D_ < 1e-16) & (D_ * static**2 < 1e-16)
     undamped_pressed = (load > 0) & ((D_ == 0) | (~np.isfinite(f_) & negligible))
     finite = ~undamped_pressed
