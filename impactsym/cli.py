@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import argparse
 import math
+import signal
 import sys
+import threading
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -23,9 +25,18 @@ def build_parser() -> argparse.ArgumentParser:
     )
     commands = parser.add_subparsers(dest="command", required=True)
     rep = commands.add_parser("reproduce", help="regenerate every figure, table and formula")
-    rep.add_argument("--out", type=Path, required=True, help="output directory")
+    rep.add_argument(
+        "--out",
+        required=True,
+        help="output directory: new, empty, or written by a former run (it holds the "
+        "marker file .impactsym-reproduce); never the current or home directory",
+    )
     rep.add_argument("--quick", action="store_true", help="coarse grids (seconds, for tests)")
-    rep.add_argument("--force", action="store_true", help="overwrite a non-empty --out")
+    rep.add_argument(
+        "--force",
+        action="store_true",
+        help="replace the files a former run wrote into --out (nothing else is deleted)",
+    )
 
     latex = commands.add_parser("latex", help="print one derived formula as LaTeX")
     latex.add_argument("name", nargs="?", help="formula label, e.g. sd-ridge-force-underdamped")
@@ -92,11 +103,47 @@ def _mujoco(args: argparse.Namespace) -> None:
     )
 
 
+def _reproduce(args: argparse.Namespace) -> None:
+    """Run ``reproduce`` so that Ctrl-C always stops it.
+
+    Python raises ``KeyboardInterrupt`` wherever the signal arrives; inside a finalizer
+    or weakref callback it is printed and ignored. The handler therefore also sets a
+    flag that the next progress message turns into ``KeyboardInterrupt`` again, and such
+    an ignored interrupt is not printed.
+    """
+    from impactsym.reproduce import reproduce
+
+    interrupted: list[int] = []
+
+    def on_sigint(signum: int, frame: object) -> None:
+        interrupted.append(signum)
+        raise KeyboardInterrupt
+
+    def progress(message: str) -> None:
+        if interrupted:
+            raise KeyboardInterrupt
+        print(message, flush=True)
+
+    def unraisable(report: object) -> None:  # an interrupt swallowed in a finalizer
+        if not issubclass(report.exc_type, KeyboardInterrupt):
+            previous_hook(report)
+
+    in_main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, on_sigint) if in_main_thread else None
+    previous_hook, sys.unraisablehook = sys.unraisablehook, unraisable
+    try:
+        reproduce(args.out, quick=args.quick, force=args.force, progress=progress)
+    finally:
+        sys.unraisablehook = previous_hook
+        if in_main_thread:
+            signal.signal(signal.SIGINT, previous)
+    if interrupted:
+        raise KeyboardInterrupt
+
+
 def _run(args: argparse.Namespace) -> None:
     if args.command == "reproduce":
-        from impactsym.reproduce import reproduce
-
-        reproduce(args.out, quick=args.quick, force=args.force)
+        _reproduce(args)
     elif args.command == "latex":
         from impactsym.export import formula, formula_names
 
@@ -123,6 +170,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         _run(args)
+    except KeyboardInterrupt:
+        # every file is renamed into place only when complete: nothing partial is left
+        print("impactsym: interrupted; files completed so far are kept", file=sys.stderr)
+        return 130
     except (OSError, ValueError, RuntimeError) as exc:
         print(f"impactsym: error: {exc}", file=sys.stderr)
         return 2

@@ -128,7 +128,9 @@ _PRINTER = NumPyPrinter({"fully_qualified_modules": True, "allow_unknown_functio
 
 def _function_source(name: str, args: list[sp.Symbol], expr: sp.Expr, doc: str) -> str:
     """``def name(args)`` computing ``expr`` with common subexpressions hoisted."""
-    replacements, (reduced,) = sp.cse(sp.sympify(expr), symbols=sp.numbered_symbols("c"))
+    replacements, (reduced,) = sp.cse(
+        sp.sympify(expr, strict=True), symbols=sp.numbered_symbols("c")
+    )
     body = [f"    {s} = {_PRINTER.doprint(e)}" for s, e in replacements]
     body.append(f"    return {_PRINTER.doprint(reduced)}")
     code = "\n".join([f"def {name}({', '.join(map(str, args))}):", f'    """{doc}"""', *body])
@@ -152,6 +154,12 @@ def _aux_critical(D):
 def _aux_overdamped(D):
     sigma = np.sqrt((D - 1.0) * (D + 1.0))
     return (sigma, D + sigma)
+
+
+def _damping(D):
+    # beyond D = 1e8 the over-damped exponentials lose accuracy (impactsym switches to
+    # its far over-damped limit there)
+    return _real("D", D, lower=0.0, upper=1e8)
 
 
 _AUX = {"underdamped": _aux_underdamped, "critical": _aux_critical,
@@ -180,9 +188,11 @@ _PUBLIC_SECTION2 = '''
 def contact_function_{c}(tau, D, f):
     """Contact function g_{c}(tau; D, f) of the spring-damper contact (paper section 2).
 
-    {what}. Arguments: tau (normalized time omega0 t >= 0), D (Lehr's damping >= 0),
-    f (pressing force F / (d v0) >= 0); NumPy arrays broadcast.
+    {what}. Arguments: tau (normalized time omega0 t >= 0), D (Lehr's damping, 0 to
+    1e8), f (pressing force F / (d v0) >= 0); NumPy arrays broadcast.
     """
+    tau, D, f = _real("tau", tau, lower=0.0), _damping(D), _real("f", f, lower=0.0)
+    _shape(tau=tau, D=D, f=f)
     return _by_regime(_G_{c}, (tau, D, f), D, critical_separate=False)
 
 
@@ -191,7 +201,9 @@ def ridge_time_{c}(D, f):
     g after impact, from dg/dtau = 0 (paper section 2, the fold of Fig. 1a); NaN where g
     has no minimum. Arguments: D, f as in contact_function_{c}.
     """
-    D_, f_ = np.broadcast_arrays(np.asarray(D, dtype=float), np.asarray(f, dtype=float))
+    D, f = _damping(D), _real("f", f, lower=0.0)
+    _shape(D=D, f=f)
+    D_, f_ = np.broadcast_arrays(D, f)
     exists = _by_regime(_RIDGE_EXISTS_{c}, (D_, f_), D_, critical_separate=True)
     ridge = _by_regime(_RIDGE_{c}, (D_, f_), D_, critical_separate=True)
     return np.where(np.asarray(exists) > 0.5, ridge, np.nan)[()]
@@ -203,7 +215,7 @@ def boundary_{c}(D, f):
     where g has no minimum G is its infimum 2 D f. Arguments: D, f as above.
     """
     ridge = np.asarray(ridge_time_{c}(D, f))
-    D_, f_ = np.broadcast_arrays(np.asarray(D, dtype=float), np.asarray(f, dtype=float))
+    D_, f_ = np.broadcast_arrays(_damping(D), _real("f", f, lower=0.0))
     value = np.asarray(contact_function_{c}(np.where(np.isnan(ridge), 0.0, ridge), D_, f_))
     return np.where(np.isnan(ridge), 2.0 * D_ * f_, value)[()]
 '''
@@ -260,6 +272,8 @@ def python_module() -> str:
 
 Waltersberger, Keppler and Wauer, PAMM 2004: rod impact (section 1) and unilateral
 spring-damper contact (section 2). Regenerate with ``impactsym export python FILE``.
+Inputs are checked as impactsym checks them (real numbers or arrays only, finite, in
+range, broadcastable); errors name the argument.
 """
 
 import numpy as np
@@ -281,9 +295,9 @@ def write_python_module(path: str | Path) -> Path:
     >>> path.read_text().count("def contact_function_")
     2
     """
-    path = Path(path)
-    path.write_text(python_module())
-    return path
+    from impactsym.results.files import write_text
+
+    return write_text(path, python_module())
 
 
 def write_latex_document(path: str | Path, n_terms: int = 3) -> Path:
@@ -293,6 +307,6 @@ def write_latex_document(path: str | Path, n_terms: int = 3) -> Path:
     >>> write_latex_document(pathlib.Path(tempfile.mkdtemp()) / "f.tex").suffix
     '.tex'
     """
-    path = Path(path)
-    path.write_text(latex_document(n_terms))
-    return path
+    from impactsym.results.files import write_text
+
+    return write_text(path, latex_document(n_terms))

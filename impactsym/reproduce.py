@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import importlib
-import shutil
+import os
 import time
 from collections.abc import Callable
 from pathlib import Path
+
+from impactsym.results.files import MARKER, MARKER_HEADER, PARTIAL, write_text
 
 Progress = Callable[[str], None]
 
@@ -25,39 +27,113 @@ class OutputExistsError(FileExistsError):
     """The output directory is not empty and ``force`` was not given."""
 
 
-def prepare_output(out: Path, *, force: bool) -> Path:
-    """Create ``out``; refuse a non-empty directory unless ``force`` (then empty it).
+class UnsafeOutputError(ValueError):
+    """The output directory is one that ``reproduce`` must never write into or empty."""
+
+
+def check_output(out: str | Path) -> Path:
+    """The absolute output directory, or :class:`UnsafeOutputError` for a protected one.
+
+    Refused: an empty name, the current directory and its parents, the home directory
+    and its parents, the file system root, and the directory of the ``impactsym``
+    package, its parents and anything inside it. Nothing is created or deleted here.
+
+    >>> check_output("")
+    Traceback (most recent call last):
+        ...
+    impactsym.reproduce.UnsafeOutputError: the output directory must be named, got ''
+    >>> check_output(".")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+        ...
+    impactsym.reproduce.UnsafeOutputError: refusing to use ... it is the current directory; ...
+    """
+    if not isinstance(out, (str, os.PathLike)):
+        raise TypeError(f"out must be a path, got {out!r}")
+    if not str(out).strip():
+        raise UnsafeOutputError(f"the output directory must be named, got {str(out)!r}")
+    path = Path(out).expanduser().resolve()
+    cwd = Path.cwd().resolve()
+    home = Path.home().expanduser().resolve()
+    package = Path(__file__).resolve().parent
+    reasons = (
+        (path == Path(path.anchor), "the file system root"),
+        (path == cwd, "the current directory"),
+        (path in cwd.parents, "a parent of the current directory"),
+        (path == home or path in home.parents, "the home directory or one of its parents"),
+        (path in package.parents, "a parent of the impactsym package"),
+        (path == package or package in path.parents, "inside the impactsym package"),
+    )
+    for refused, reason in reasons:
+        if refused:
+            raise UnsafeOutputError(
+                f"refusing to use {str(path)!r} as output directory: it is {reason}; "
+                "name a new or former reproduce output directory"
+            )
+    return path
+
+
+def _recorded(out: Path) -> list[str]:
+    """Names of the files a former run recorded in the marker of ``out``."""
+    lines = (out / MARKER).read_text().splitlines()
+    return [n for n in lines[1:] if n and "/" not in n and "\\" not in n and n not in (".", "..")]
+
+
+def prepare_output(out: str | Path, *, force: bool) -> Path:
+    """Check ``out`` (:func:`check_output`), create it and its marker file.
+
+    A non-empty ``out`` is refused unless it holds the marker :data:`MARKER` of a
+    former run and ``force`` is given; then the files that run recorded (and its
+    temporary files) are deleted, nothing else.
 
     >>> import tempfile
     >>> out = prepare_output(Path(tempfile.mkdtemp()) / "new", force=False)
-    >>> (out / "x").write_text("1")
-    1
+    >>> _ = write_text(out / "x.txt", "1")
     >>> prepare_output(out, force=False)
     Traceback (most recent call last):
         ...
     impactsym.reproduce.OutputExistsError: output directory ... is not empty; pass --force ...
-    >>> list(prepare_output(out, force=True).iterdir())
-    []
+    >>> sorted(p.name for p in prepare_output(out, force=True).iterdir())
+    ['.impactsym-reproduce']
+    >>> user = Path(tempfile.mkdtemp())
+    >>> _ = (user / "thesis.tex").write_text("mine")
+    >>> prepare_output(user, force=True)
+    Traceback (most recent call last):
+        ...
+    impactsym.reproduce.OutputExistsError: ... was not written by impactsym reproduce ...
     """
-    out = Path(out)
+    out = check_output(out)
     if out.exists() and not out.is_dir():
         raise OutputExistsError(f"output path {str(out)!r} exists and is not a directory")
     if out.is_dir() and any(out.iterdir()):
+        if not (out / MARKER).is_file():
+            raise OutputExistsError(
+                f"output directory {str(out)!r} is not empty and was not written by "
+                f"impactsym reproduce (no {MARKER} file); it is never overwritten, not even "
+                "with --force: choose a new directory"
+            )
         if not force:
             raise OutputExistsError(
                 f"output directory {str(out)!r} is not empty; pass --force to overwrite it"
             )
-        shutil.rmtree(out)
+        for name in _recorded(out):
+            target = out / name
+            if target.is_file() or target.is_symlink():
+                target.unlink()
+        for partial in out.glob(f".*{PARTIAL}"):
+            partial.unlink()
     out.mkdir(parents=True, exist_ok=True)
+    write_text(out / MARKER, MARKER_HEADER + "\n")
     return out
 
 
 def reproduce(
-    out: Path, *, quick: bool = False, force: bool = False, progress: Progress = print
+    out: str | Path, *, quick: bool = False, force: bool = False, progress: Progress = print
 ) -> list[Path]:
     """Write all figures, tables and formulas of the package into ``out``.
 
     Returns the list of written files. ``quick`` uses coarser grids (for tests).
+    ``out`` is checked by :func:`prepare_output` before anything is written or deleted;
+    every file is written under a temporary name and renamed when complete.
     """
     import matplotlib
 
@@ -124,8 +200,8 @@ def write_report(out: Path, files: list[Path], captions: dict[str, str]) -> list
             f"<li><a href='{path.name}'>{html.escape(path.name)}</a>: {html.escape(text)}</li>"
         )
     page.append("</ul></body></html>")
-    (out / "report.md").write_text("\n".join(md) + "\n")
-    (out / "index.html").write_text("\n".join(page) + "\n")
+    write_text(out / "report.md", "\n".join(md) + "\n")
+    write_text(out / "index.html", "\n".join(page) + "\n")
     return [out / "report.md", out / "index.html"]
 
 

@@ -2,13 +2,24 @@
 
 Errors name the offending argument and value, so that a bad call fails early
 and clearly instead of returning NaN.
+
+Symbolic inputs go through :func:`as_sympy` (one expression) or :func:`as_sympy_matrix`
+(a matrix or vector): strings are refused anywhere, also nested in lists, tuples, dicts
+or arrays, and everything else is converted with ``sympy.sympify(value, strict=True)``,
+which never parses text. No input of the package is ever evaluated as code.
 """
 
 from __future__ import annotations
 
+import contextlib
 import numbers
+from collections.abc import Iterator, Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import sympy as sp
 
 CONDITIONS = ("position", "force")
 
@@ -111,3 +122,184 @@ def finish(result: np.ndarray, is_scalar: bool) -> float | np.ndarray:
     if is_scalar:
         return float(result)
     return np.asarray(result, dtype=np.float64)
+
+
+def reject_strings(name: str, value: object) -> None:
+    """Raise ``TypeError`` if ``value`` is or contains (at any depth) a string.
+
+    SymPy parses strings as Python code, also the keys of a dict given to
+    ``sympify(..., strict=True)`` and the entries of a list given to ``Matrix``; this
+    check runs before any of them sees user input.
+
+    >>> reject_strings("M", [[1, 2], [3, 4]])
+    >>> reject_strings("M", [[1, "x"]])
+    Traceback (most recent call last):
+        ...
+    TypeError: M must not contain strings (SymPy would run them as code), got 'x' at M[0][1]
+    """
+    _scan_strings(name, value, name)
+
+
+def _scan_strings(name: str, value: object, where: str) -> None:
+    if isinstance(value, (str, bytes, np.str_, np.bytes_)):
+        raise TypeError(
+            f"{name} must not contain strings (SymPy would run them as code), got {value!r}"
+            + (f" at {where}" if where != name else "")
+        )
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind in "USO":
+            for index, item in np.ndenumerate(value):
+                _scan_strings(name, item, where + "".join(f"[{i}]" for i in index))
+        return
+    if isinstance(value, Mapping):
+        for key, item in value.items():
+            _scan_strings(name, key, f"{where} key {key!r}")
+            _scan_strings(name, item, f"{where}[{key!r}]")
+    elif isinstance(value, (list, tuple, set, frozenset)):
+        for i, item in enumerate(value):
+            _scan_strings(name, item, f"{where}[{i}]")
+
+
+def as_sympy(name: str, value: object, *, finite: bool = False) -> sp.Basic:
+    """One SymPy expression from a number or SymPy object; never parses a string.
+
+    Parameters
+    ----------
+    name
+        Argument name used in error messages.
+    value
+        A Python or NumPy number or a SymPy expression. Strings, ``None``, booleans
+        and containers are refused with ``TypeError``.
+    finite
+        Whether NaN and infinities (also inside an expression) are refused.
+
+    >>> as_sympy("delay", 2)
+    2
+    >>> as_sympy("delay", "__import__('os')")
+    Traceback (most recent call last):
+        ...
+    TypeError: delay must not contain strings (SymPy would run them as code), got "__import__('os')"
+    >>> as_sympy("F", float("nan"), finite=True)
+    Traceback (most recent call last):
+        ...
+    ValueError: F must be finite, got NaN
+    """
+    import sympy as sp  # here: the numeric kernels import this module without SymPy
+
+    reject_strings(name, value)
+    if value is None or isinstance(value, (bool, np.bool_, sp.logic.boolalg.BooleanAtom)):
+        raise TypeError(f"{name} must be a number or SymPy expression, got {value!r}")
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, (list, tuple, dict, set, np.ndarray, sp.MatrixBase)):
+        raise TypeError(f"{name} must be a single number or SymPy expression, got {value!r}")
+    try:
+        expr = sp.sympify(value, strict=True)
+    except (sp.SympifyError, TypeError) as exc:
+        raise TypeError(f"{name} must be a number or SymPy expression, got {value!r}") from exc
+    if not isinstance(expr, sp.Basic) or isinstance(expr, (sp.Tuple, sp.Dict)):
+        raise TypeError(f"{name} must be a single number or SymPy expression, got {value!r}")
+    if finite:
+        _check_finite(name, expr, name)
+    return expr
+
+
+def _check_finite(name: str, expr: sp.Basic, where: str) -> None:
+    import sympy as sp
+
+    if expr.has(sp.nan):
+        raise ValueError(f"{name} must be finite, got NaN" + _at(name, where))
+    if expr.has(sp.oo, -sp.oo, sp.zoo):
+        raise ValueError(f"{name} must be finite, got {expr}" + _at(name, where))
+
+
+def _at(name: str, where: str) -> str:
+    return "" if where == name else f" at {where}"
+
+
+def as_sympy_matrix(name: str, value: object, *, finite: bool = False) -> sp.Matrix:
+    """A SymPy matrix from a SymPy matrix or a (nested) sequence or array of numbers and
+    expressions, each entry converted by :func:`as_sympy`; a scalar becomes ``1 x 1``.
+
+    >>> as_sympy_matrix("F", [0, 1.5])
+    Matrix([
+    [  0],
+    [1.5]])
+    >>> as_sympy_matrix("M", [[1, float("nan")], [0, 1]], finite=True)
+    Traceback (most recent call last):
+        ...
+    ValueError: M must be finite, got NaN at M[0, 1]
+    """
+    import sympy as sp
+
+    reject_strings(name, value)
+    if isinstance(value, sp.MatrixBase):
+        matrix = sp.Matrix(value)
+    else:
+        if value is None or isinstance(value, (Mapping, set, frozenset)):
+            raise TypeError(f"{name} must be a SymPy matrix or a numeric array, got {value!r}")
+        try:
+            arr = np.asarray(value, dtype=object)
+        except ValueError as exc:  # ragged nesting
+            raise ValueError(f"{name} must be a rectangular array, got {value!r}") from exc
+        if arr.ndim == 0:
+            arr = arr.reshape(1, 1)
+        if arr.ndim > 2:
+            raise ValueError(f"{name} must be a vector or a matrix, got {arr.ndim} dimensions")
+        rows = arr if arr.ndim == 2 else arr.reshape(-1, 1)
+        matrix = sp.Matrix(
+            [
+                [as_sympy(f"{name}[{i}, {j}]", item) for j, item in enumerate(row)]
+                for i, row in enumerate(rows)
+            ]
+        )
+    if finite:
+        for (i, j), entry in np.ndenumerate(np.array(matrix.tolist(), dtype=object)):
+            _check_finite(name, entry, f"{name}[{i}, {j}]")
+    return matrix
+
+
+def broadcast(**arrays: np.ndarray) -> tuple[int, ...]:
+    """The common shape of the named arrays; ``ValueError`` naming them if there is none.
+
+    >>> broadcast(D=np.zeros(3), f=np.zeros((2, 1)))
+    (2, 3)
+    >>> broadcast(D=np.zeros(3), f=np.zeros(4))
+    Traceback (most recent call last):
+        ...
+    ValueError: D (shape (3,)) and f (shape (4,)) cannot be broadcast to one shape
+    """
+    try:
+        return np.broadcast_shapes(*(np.shape(a) for a in arrays.values()))
+    except ValueError:
+        shaped = [(n, np.shape(a)) for n, a in arrays.items() if np.ndim(a) > 0]
+        names = [f"{n} (shape {s})" for n, s in shaped]
+        listed = ", ".join(names[:-1]) + f" and {names[-1]}" if len(names) > 1 else names[0]
+        raise ValueError(f"{listed} cannot be broadcast to one shape") from None
+
+
+@contextlib.contextmanager
+def inputs_named(function: str, **inputs: object) -> Iterator[None]:
+    """Re-raise a failure deep inside ``function`` as ``ValueError`` naming its inputs.
+
+    Errors from derived quantities (a normalized force, a solver bracket) mean little to
+    the caller; this adds the inputs that led there (the original stays chained).
+
+    >>> with inputs_named("design", k=1e-300):
+    ...     raise OverflowError("Numerical result out of range")
+    Traceback (most recent call last):
+        ...
+    ValueError: design(k = 1e-300): Numerical result out of range
+    """
+    try:
+        yield
+    except (ValueError, ArithmeticError, RuntimeError, IndexError) as exc:
+        shown = ", ".join(f"{name} = {_short(value)}" for name, value in inputs.items())
+        message = exc.args[0] if len(exc.args) == 1 else str(exc)
+        raise ValueError(f"{function}({shown}): {message}") from exc
+
+
+def _short(value: object) -> str:
+    if np.ndim(value) and not isinstance(value, str):
+        return f"<array of shape {np.shape(value)}>"
+    return repr(float(value)) if isinstance(value, (int, float, np.number)) else repr(value)

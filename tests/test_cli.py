@@ -54,7 +54,7 @@ def test_reproduce_is_deterministic(quick_run, tmp_path):
 def test_reproduce_refuses_to_clobber_without_force(tmp_path, capsys):
     (tmp_path / "keep.txt").write_text("mine")
     assert main(["reproduce", "--out", str(tmp_path), "--quick"]) == 2
-    assert "pass --force" in capsys.readouterr().err
+    assert "not written by impactsym reproduce" in capsys.readouterr().err
     assert (tmp_path / "keep.txt").exists()
 
 

@@ -24,7 +24,7 @@ from impactsym.contact import derivation
 from impactsym.contact.derivation import D, f, tau, v0, z0
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_newton
-from impactsym.validation import check_condition, finish, real_array
+from impactsym.validation import broadcast, check_condition, finish, real_array
 
 ArrayLike = float | np.ndarray
 
@@ -58,7 +58,7 @@ class _PiecewiseInD:
         self.functions = {
             r: lambdify(
                 leading + derivation.NUMERIC_AUX[r],
-                sp.sympify(model(r).numeric_forms[name]),
+                sp.sympify(model(r).numeric_forms[name], strict=True),
                 name=f"{name}_{r}",
             )
             for r in regimes
@@ -167,6 +167,104 @@ def _boundary_value(condition: str, damping: np.ndarray, force: np.ndarray) -> n
     return minimum
 
 
+#: Damping ratio above which the far over-damped limit replaces the closed-form kernels
+#: (their exponentials lose accuracy beyond about 1e9 and overflow beyond 1e154).
+_D_FAR = 1e8
+#: Pressing force below which the force-condition boundary D* = f^(-1/4)/2 lies above
+#: ``_D_FAR``, where that asymptote is exact to double precision (relative correction
+#: of order 2/D*^2 < 1e-16).
+_F_FAR = (0.5 / _D_FAR) ** 4
+
+
+def _far_overdamped(
+    condition: str, damping: np.ndarray, force: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    r"""Contact time and restitution for :math:`D > 10^8` (the far over-damped limit).
+
+    Position condition: an over-damped body never comes back out (:math:`D^* \le 1`).
+    Force condition: the body sticks for :math:`D \ge D^*(f) = f^{-1/4}/2`; for
+    :math:`f = 0` the normalized force :math:`a_1 e^{\lambda_1 \tau} + a_2 e^{\lambda_2
+    \tau}` has its root in closed form, with :math:`\lambda_1 = -1/\mu`,
+    :math:`\lambda_2 = -\mu`, :math:`\mu = D + \sigma`, :math:`\sigma = \sqrt{D^2 - 1}`,
+
+    .. math:: \tau_c = \frac{\ln\left((2 D \mu - 1)\mu^2\right)}{2\sigma}, \qquad
+              e = \frac{e^{-\tau_c/\mu}/\mu - \mu e^{-\mu \tau_c}}{2\sigma},
+
+    evaluated through logarithms (no overflow up to the largest float). The rest,
+    :math:`0 < f < (0.5/D)^4`, is refused.
+    """
+    tau_c, e = np.full(damping.shape, np.inf), np.zeros(damping.shape)
+    if condition == "position":
+        return tau_c, e
+    free = force == 0
+    d = damping[free]
+    root = np.sqrt((1.0 - 1.0 / d) * (1.0 + 1.0 / d))
+    sigma = d * root
+    log_mu = np.log(d) + np.log1p(root)
+    # ln(2 D mu - 1) = ln 2 + ln D + ln mu up to 1/(2 D mu) < 3e-17, below rounding
+    log_ratio = np.log(2.0) + np.log(d) + 3.0 * log_mu
+    tau_c[free] = log_ratio / 2.0 / sigma
+    slow = np.exp(-tau_c[free] * np.exp(-log_mu) - log_mu)
+    fast = np.exp(log_mu - (1.0 + root) / (2.0 * root) * log_ratio)
+    e[free] = (slow - fast) / 2.0 / sigma
+    pressed = ~free
+    releases = damping[pressed] < 0.5 * force[pressed] ** -0.25
+    if releases.any():
+        D_bad, f_bad = float(damping[pressed][releases][0]), float(force[pressed][releases][0])
+        raise ValueError(
+            f"D = {D_bad!r}, f = {f_bad!r}: for D > {_D_FAR:g} the contact time is computed "
+            "only for f = 0 or where the body sticks (D >= D*(f) = f^(-1/4)/2); this point "
+            "releases, below the stick boundary, outside the supported range"
+        )
+    return tau_c, e
+
+
+#: Static penetration 2Df above which the kernels cannot resolve the stick boundary
+#: (the minimum of g is a difference of terms of size 2Df; relative resolution of D*
+#: about eps (2Df)^2, 2e-8 here).
+_B_MAX = 1e4
+#: Large-f asymptote of the stick boundary, D* = (16 pi f^2)^(-1/3) (both conditions).
+_C_LARGE_F = (16.0 * np.pi) ** (-1.0 / 3.0)
+#: Above this f the stick boundary is the large-f asymptote (its relative correction,
+#: about -0.55 f^(-2/3), is below 5e-9 there, and the kernels' resolution eps (2 D* f)^2
+#: would be worse beyond).
+_F_LARGE = 1e12
+
+
+def _limits(
+    condition: str, damping: np.ndarray, force: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    r"""Points decided by a limit, without the kernels: ``(mask, tau_c, e)`` on them.
+
+    * :math:`D > 10^8`: the far over-damped limit (:func:`_far_overdamped`).
+    * static penetration :math:`2Df > 10^4`: the body sticks when
+      :math:`D \ge 2 D^*_\infty(f)`, twice the large-``f`` boundary
+      :math:`D^*_\infty = (16\pi f^2)^{-1/3}` (the first minimum of ``z`` near
+      :math:`\tau = 2\pi` is :math:`4\pi D b^2 - 1` over :math:`2b`, :math:`b = 2Df`,
+      and :math:`D^* < D^*_\infty`); closer to the boundary the sign of that minimum is
+      below double-precision rounding, and the point is refused.
+    """
+    with np.errstate(over="ignore"):
+        static = damping * force * 2.0  # not 2 D first: 2 D may overflow where f = 0
+    far = damping > _D_FAR
+    big = (static > _B_MAX) & ~far
+    tau_c, e = np.full(damping.shape, np.inf), np.zeros(damping.shape)
+    if far.any():
+        tau_c[far], e[far] = _far_overdamped(condition, damping[far], force[far])
+    if big.any():
+        unresolved = damping[big] < 2.0 * _C_LARGE_F * force[big] ** (-2.0 / 3.0)
+        if unresolved.any():
+            D_bad, f_bad = float(damping[big][unresolved][0]), float(force[big][unresolved][0])
+            raise ValueError(
+                f"D = {D_bad!r}, f = {f_bad!r}: the static penetration 2 D f exceeds "
+                f"{_B_MAX:g} and D is within a factor 2 of the stick boundary "
+                "D* ~ (16 pi f^2)^(-1/3), where double precision cannot tell whether the "
+                "body releases; only clearly sticking points are computed there"
+            )
+    decided = far | big
+    return decided, tau_c[decided], e[decided]
+
+
 def _contact_time(
     condition: str,
     damping: np.ndarray,
@@ -178,7 +276,18 @@ def _contact_time(
 
     ``state`` = ``(z0, v0)`` arrays: the contact starts from ``z(0) = z0, z'(0) = v0``
     (with ``g(0) > 0``) instead of the first impact's ``(0, 1)``; the same argument holds.
+    The limits of :func:`_limits` are those of the first impact (``state = ()``).
     """
+    if not state:
+        decided, tau_limit, _ = _limits(condition, damping, force)
+        if decided.any():
+            result = np.empty(damping.shape)
+            result[decided] = tau_limit
+            rest = ~decided
+            result[rest] = _contact_time(
+                condition, damping[rest], force[rest], None if ridge is None else ridge[rest]
+            )
+            return result
     k = _kernels(condition, bool(state))
     ridge = _ridge(condition, damping, force, state) if ridge is None else ridge
     exists = ~np.isnan(ridge)
@@ -200,7 +309,7 @@ def _contact_time(
 def _inputs(condition: str, **arrays: object) -> tuple[list[np.ndarray], tuple[int, ...], bool]:
     check_condition(condition)
     checked = [real_array(name, value, lower=0.0) for name, value in arrays.items()]
-    shape = np.broadcast_shapes(*(a.shape for a, _ in checked))
+    shape = broadcast(**{name: a for name, (a, _) in zip(arrays, checked, strict=True)})
     flat = [np.broadcast_to(a, shape).ravel() for a, _ in checked]
     return flat, shape, all(s for _, s in checked)
 
@@ -258,12 +367,19 @@ def restitution(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> Arra
     0.135335283237
     """
     (damping, force), shape, scalar = _inputs(condition, D=D, f=f)
-    tau_c = _contact_time(condition, damping, force)
+    decided, _, e_limit = _limits(condition, damping, force)
     e = np.zeros(damping.shape)
+    e[decided] = e_limit
+    near = ~decided
+    d, fr = damping[near], force[near]
+    tau_c = _contact_time(condition, d, fr)
+    e_near = np.zeros(d.shape)
     release = np.isfinite(tau_c)
     if release.any():
-        e[release] = -_z_dot()(tau_c[release], damping[release], force[release])
-    return finish(e.reshape(shape), scalar)
+        e_near[release] = -_z_dot()(tau_c[release], d[release], fr[release])
+    e[near] = e_near
+    # 0 <= e <= 1 by the energy balance; rounding must not push it past 1
+    return finish(np.clip(e, 0.0, 1.0).reshape(shape), scalar)
 
 
 def contact_surface(
@@ -290,6 +406,11 @@ def contact_surface(
     [1.0, 2.0, 1.5]
     """
     (damping, force), shape, scalar = _inputs(condition, D=D, f=f)
+    if _limits(condition, damping, force)[0].any():
+        raise ValueError(
+            f"contact_surface needs D <= {_D_FAR:g} and 2 D f <= {_B_MAX:g} (the sheets "
+            "of the surface are not resolved beyond); use contact_time there"
+        )
     k = _kernels(condition)
     ridge = _ridge(condition, damping, force)
     first = _contact_time(condition, damping, force, ridge)
@@ -333,7 +454,11 @@ def stick_boundary(f: ArrayLike, *, condition: str = "force") -> ArrayLike:
     under-damped body always comes back out, a critically or over-damped one creeps
     back to :math:`z = 0` without crossing); under the force condition
     :math:`D^* = \infty` (without pressing force the contact force always becomes
-    tensile first), and :math:`D^*(f) \to \infty` as :math:`f \to 0`.
+    tensile first), and :math:`D^*(f) \to \infty` as :math:`f \to 0`, following
+    :math:`D^* = f^{-1/4}/2` (used for :math:`f < 6.25 \cdot 10^{-34}`, where it is exact
+    to double precision). For large ``f`` both boundaries follow
+    :math:`D^* = (16\pi f^2)^{-1/3}` (used for :math:`f > 10^{12}`, relative error
+    below :math:`5 \cdot 10^{-9}`).
 
     Parameters
     ----------
@@ -359,6 +484,13 @@ def stick_boundary(f: ArrayLike, *, condition: str = "force") -> ArrayLike:
     (force,), shape, scalar = _inputs(condition, f=f)
     result = np.full(force.shape, 1.0 if condition == "position" else np.inf)
     pressed = force > 0
+    if condition == "force":  # D* > 1e8: the asymptote, exact there to double precision
+        tiny = pressed & (force < _F_FAR)
+        result[tiny] = 0.5 * force[tiny] ** -0.25
+        pressed &= ~tiny
+    large = pressed & (force > _F_LARGE)  # the large-f asymptote, relative error < 5e-9
+    result[large] = _C_LARGE_F * force[large] ** (-2.0 / 3.0)
+    pressed &= ~large
     if pressed.any():
         fr = force[pressed]
         k = _kernels(condition)
@@ -383,6 +515,16 @@ def stick_boundary(f: ArrayLike, *, condition: str = "force") -> ArrayLike:
                 low[low] = minimum(hi[low], fr[low]) < 0
         result[pressed] = bracketed_newton(minimum, slope, np.zeros_like(fr), hi, [fr])
     return finish(result.reshape(shape), scalar)
+
+
+def _check_derived(what: str, inputs: str, values: np.ndarray, valid) -> None:
+    """Raise naming the inputs when a derived quantity leaves double precision."""
+    bad = ~valid(values)
+    if np.any(bad):
+        raise ValueError(
+            f"the inputs {inputs} are too extreme: {what} = {float(values[bad].flat[0])!r} "
+            "is not representable in double precision"
+        )
 
 
 @dataclass(frozen=True)
@@ -458,27 +600,45 @@ def physical_contact(
         )
     }
     scalar = all(s for _, s in values.values())
-    mass, stiffness, damping, speed, load = np.broadcast_arrays(*(a for a, _ in values.values()))
-    omega0 = np.sqrt(stiffness / mass)
-    D_ = damping / (2.0 * np.sqrt(stiffness * mass))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        f_ = np.where(load > 0, load / (damping * speed), 0.0)
-    undamped_pressed = (damping == 0) & (load > 0)
-    finite = ~undamped_pressed
-    tau_c, e = np.empty(D_.shape), np.empty(D_.shape)
-    tau_c[finite] = contact_time(D_[finite], f_[finite], condition=condition)
-    e[finite] = restitution(D_[finite], f_[finite], condition=condition)
-    static = load[undamped_pressed] / (
-        np.sqrt(stiffness * mass)[undamped_pressed] * speed[undamped_pressed]
+    shape = broadcast(**{name: a for name, (a, _) in values.items()})
+    mass, stiffness, damping, speed, load = (
+        np.broadcast_to(a, shape).ravel() for a, _ in values.values()
     )
-    tau_c[undamped_pressed] = 2.0 * np.pi - 2.0 * np.arctan2(1.0, static)
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        root_k, root_m = np.sqrt(stiffness), np.sqrt(mass)  # no overflow in k * m or k / m
+        omega0 = root_k / root_m
+        D_ = damping / 2.0 / (root_k * root_m)
+        f_ = np.where(load > 0, load / damping / speed, 0.0)
+        static = load / (root_k * root_m) / speed  # 2 D f, finite also where d = 0
+    _check_derived("omega0 = sqrt(k/m)", "m, k", omega0, lambda w: (w > 0) & np.isfinite(w))
+    _check_derived("D = d/(2 sqrt(k m))", "d, k, m", D_, np.isfinite)
+    # d = 0 < F, or d so small that D b^2 and D (b = 2Df, the static penetration) vanish
+    # to double precision: undamped with offset b (f may overflow there)
+    with np.errstate(over="ignore", invalid="ignore"):  # 0 * inf where D = 0: caught below
+        negligible = (D_ < 1e-16) & (D_ * static**2 < 1e-16)
+    undamped_pressed = (load > 0) & ((D_ == 0) | (~np.isfinite(f_) & negligible))
+    finite = ~undamped_pressed
+    _check_derived("f = F/(d v0)", "F, d, v0", f_[finite], np.isfinite)
+    tau_c, e = np.empty(D_.shape), np.empty(D_.shape)
+    try:
+        tau_c[finite] = contact_time(D_[finite], f_[finite], condition=condition)
+        e[finite] = restitution(D_[finite], f_[finite], condition=condition)
+    except ValueError as exc:
+        raise ValueError(f"physical_contact: the inputs m, k, d, v0, F give {exc}") from None
+    tau_c[undamped_pressed] = 2.0 * np.pi - 2.0 * np.arctan2(1.0, static[undamped_pressed])
     e[undamped_pressed] = 1.0
+    with np.errstate(over="ignore", under="ignore"):
+        t_c = tau_c / omega0
+    _check_derived(
+        "t_c = tau_c/omega0", "m, k", t_c, lambda t: np.isinf(tau_c) | ((t > 0) & np.isfinite(t))
+    )
+    D_, f_, omega0, tau_c, t_c, e = (a.reshape(shape) for a in (D_, f_, omega0, tau_c, t_c, e))
     return PhysicalContact(
         D=finish(D_, scalar),
         f=finish(f_, scalar),
         omega0=finish(omega0, scalar),
         normalized_contact_time=finish(tau_c, scalar),
-        contact_time=finish(tau_c / omega0, scalar),
+        contact_time=finish(t_c, scalar),
         restitution=finish(e, scalar),
         condition=condition,
     )

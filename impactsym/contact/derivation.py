@@ -37,7 +37,7 @@ from functools import cache, cached_property
 import sympy as sp
 from sympy.codegen.cfunctions import expm1, log1p
 
-from impactsym.validation import CONDITIONS, check_condition
+from impactsym.validation import CONDITIONS, check_condition, real_array
 
 tau = sp.Symbol("tau", nonnegative=True)
 D = sp.Symbol("D", nonnegative=True)
@@ -377,7 +377,15 @@ def regime_of(damping: float) -> str:
 
     >>> regime_of(0.5), regime_of(1.0), regime_of(2.0)
     ('underdamped', 'critical', 'overdamped')
+    >>> regime_of(float("nan"))
+    Traceback (most recent call last):
+        ...
+    ValueError: D must be finite, got nan
     """
+    value, scalar = real_array("D", damping, lower=0.0, allow_inf=True)
+    if not scalar:
+        raise TypeError(f"D must be a single number, got an array of shape {value.shape}")
+    damping = float(value)
     if damping < 1:
         return "underdamped"
     return "critical" if damping == 1 else "overdamped"

@@ -24,7 +24,7 @@ import numpy as np
 
 from impactsym.multibody.reduction import ReducedContact
 from impactsym.numeric.roots import bracketed_illinois
-from impactsym.validation import check_condition, finish, real_array
+from impactsym.validation import check_condition, finish, inputs_named, real_array
 
 __all__ = ["damping_for_restitution", "penalty_for_targets", "stick_damping"]
 
@@ -101,10 +101,17 @@ def stick_damping(reduced: ReducedContact, k: Any, condition: str = "force") -> 
     """
     red = _numeric_reduction(reduced)
     check_condition(condition)
-    from impactsym.contact import stick_boundary
 
     k_arr, scalar = real_array("k", k, lower=0.0, strict=True)
-    m_omega, beta = _scales(red, k_arr.ravel())
+    with inputs_named("stick_damping", k=k, condition=condition):
+        d_star = _stick_damping(red, k_arr.ravel(), condition)
+    return finish(d_star.reshape(k_arr.shape), scalar)
+
+
+def _stick_damping(red: ReducedContact, k: np.ndarray, condition: str) -> np.ndarray:
+    from impactsym.contact import stick_boundary
+
+    m_omega, beta = _scales(red, k)
     D_star = np.empty_like(beta)
     unloaded = beta == 0
     D_star[unloaded] = float(stick_boundary(0.0, condition=condition))
@@ -118,16 +125,15 @@ def stick_damping(reduced: ReducedContact, k: Any, condition: str = "force") -> 
         lo, hi = np.full(b.size, 1e-8), np.ones(b.size)
         every = np.arange(b.size)
         if np.any(excess(lo, every) > 0):
-            raise RuntimeError("stick_damping: the contact sticks already for D = 1e-8")
+            raise RuntimeError("the contact sticks already for D = 1e-8")
         short = excess(hi, every) <= 0
         while short.any():
             hi[short] *= 10.0
             if hi.max() > 1e12:
-                raise RuntimeError("stick_damping: no stick boundary below D = 1e12")
+                raise RuntimeError("no stick boundary below D = 1e12")
             short[short] = excess(hi[short], every[short]) <= 0
         D_star[loaded] = bracketed_illinois(excess, lo, hi, log=True)
-    d_star = 2 * D_star * m_omega - red.delta_d
-    return finish(d_star.reshape(k_arr.shape), scalar)
+    return 2 * D_star * m_omega - red.delta_d
 
 
 def damping_for_restitution(
@@ -176,7 +182,8 @@ def damping_for_restitution(
     e_target = _target_restitution(restitution)
     k_arr, scalar = real_array("k", k, lower=0.0, strict=True)
     k_flat = k_arr.ravel()
-    d, e_max = _restitution_damping(red, k_flat, e_target, condition)
+    with inputs_named("damping_for_restitution", k=k, restitution=e_target, condition=condition):
+        d, e_max = _restitution_damping(red, k_flat, e_target, condition)
     if np.isnan(d).any():
         i = int(np.flatnonzero(np.isnan(d))[0])
         raise ValueError(
@@ -273,8 +280,32 @@ def penalty_for_targets(
     if not scalar:
         raise ValueError(f"contact_time must be a number, got {contact_time!r}")
     t_target = float(t_target)
-    k_grid = red.m_eff * (np.pi / t_target) ** 2 * np.logspace(-3, 3, 13)
+    with np.errstate(over="ignore", under="ignore"):
+        k_grid = red.m_eff * (np.pi / np.float64(t_target)) ** 2 * np.logspace(-3, 3, 13)
+    if not (np.all(np.isfinite(k_grid)) and np.all(k_grid > 0)):
+        raise ValueError(
+            f"contact_time = {t_target!r} is out of range for this reduction: the stiffness "
+            f"m~ (pi / t)^2 around which k is searched ({float(k_grid[6])!r}) is not a positive "
+            "finite double"
+        )
     k_grid = k_grid[k_grid + red.delta_c > 0]
+    if k_grid.size < 2:
+        raise ValueError(
+            f"contact_time = {t_target!r} is too long for this reduction: every stiffness "
+            f"searched is below the system's negative stiffness {red.delta_c!r} along the normal"
+        )
+    with inputs_named(
+        "penalty_for_targets",
+        restitution=e_target,
+        contact_time=t_target,
+        condition=condition,
+    ):
+        return _penalty_for_targets(red, k_grid, e_target, t_target, condition)
+
+
+def _penalty_for_targets(
+    red: ReducedContact, k_grid: np.ndarray, e_target: float, t_target: float, condition: str
+) -> tuple[float, float]:
 
     def excess(k: np.ndarray, _index: np.ndarray | None = None) -> np.ndarray:
         d, _ = _restitution_damping(red, k, e_target, condition)

@@ -57,7 +57,14 @@ import numpy as np
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from impactsym.validation import check_condition, real_array
+from impactsym.validation import (
+    as_sympy,
+    as_sympy_matrix,
+    broadcast,
+    check_condition,
+    real_array,
+    reject_strings,
+)
 
 __all__ = ["PROJECTIONS", "ReducedContact", "latex_formulas", "reduce_contact"]
 
@@ -154,7 +161,9 @@ class ReducedContact:
         """The reduced equation ``m~ z'' + d~ z' + c~ z = F_n`` with ``z(t)``."""
         t = sp.Symbol("t", real=True)
         z = sp.Function("z")(t)
-        m, dd, c, load = (sp.sympify(x) for x in (self.m_eff, self.d_eff, self.c_eff, self.load))
+        m, dd, c, load = (
+            as_sympy(name, getattr(self, name)) for name in ("m_eff", "d_eff", "c_eff", "load")
+        )
         return sp.Eq(m * z.diff(t, 2) + dd * z.diff(t) + c * z, load)
 
     def latex(self, name: str, *, condition: str | None = None) -> str:
@@ -176,7 +185,10 @@ class ReducedContact:
         names = ("equation", "m_eff", "d_eff", "c_eff", "load", "v0")
         if not isinstance(name, str) or name not in names:
             raise ValueError(f"name must be one of {names}, got {name!r}")
-        return sp.latex(sp.sympify(getattr(self, name)))
+        value = getattr(self, name)
+        if np.ndim(value):
+            return sp.latex(as_sympy_matrix(name, value))
+        return sp.latex(as_sympy(name, value))
 
     # -- derived objects -----------------------------------------------------------
     def subs(self, values: Mapping[Any, Any]) -> ReducedContact:
@@ -190,6 +202,11 @@ class ReducedContact:
         """
         if not isinstance(values, Mapping):
             raise TypeError(f"values must be a dict of symbol -> value, got {values!r}")
+        reject_strings("values", values)
+        values = {
+            as_sympy(f"values key {key!r}", key): as_sympy(f"values[{key!r}]", value, finite=True)
+            for key, value in values.items()
+        }
         new = {}
         for name in ("m_eff", "delta_d", "delta_c", "load", "v0", "k", "d"):
             value = getattr(self, name)
@@ -211,6 +228,7 @@ class ReducedContact:
         """
         k_val = _penalty("k", k, strict=True)
         d_val = _penalty("d", d, strict=False)
+        broadcast(k=k_val, d=d_val)
         return replace(self, k=k_val, d=d_val)
 
     # -- section 2 ----------------------------------------------------------------
@@ -499,6 +517,8 @@ def reduce_contact(
         raise TypeError(f"at must be a dict of the impact state, got {at!r}")
     k_val = _penalty("k", k, strict=True)
     d_val = _penalty("d", d, strict=False)
+    if not any(isinstance(v, sp.Basic) for v in (k_val, d_val)):
+        broadcast(k=k_val, d=d_val)
     parts = _reduce(system, g, at, projection, float(tol), simplify)
     return ReducedContact(
         m_eff=parts["m_eff"],
@@ -541,17 +561,7 @@ def _dummies(symbols: Sequence[Any], name: str, stem: str) -> tuple[list[sp.Expr
 
 
 def _as_matrix(name: str, value: Any) -> sp.Matrix:
-    if isinstance(value, (str, bytes)):
-        raise TypeError(f"{name} must be a SymPy matrix or a numeric array, got a string")
-    if isinstance(value, sp.MatrixBase):
-        return sp.Matrix(value)
-    arr = np.asarray(value, dtype=object)
-    if arr.ndim == 0:
-        arr = arr.reshape(1, 1)
-    try:
-        return sp.Matrix(arr.tolist()) if arr.ndim == 2 else sp.Matrix(list(arr))
-    except (TypeError, ValueError, sp.SympifyError) as exc:
-        raise TypeError(f"{name} must be a SymPy matrix or a numeric array, got {value!r}") from exc
+    return as_sympy_matrix(name, value, finite=True)
 
 
 def _from_matrices(M: Any, F: Any, q: Any, qd: Any) -> _System:
@@ -650,14 +660,10 @@ def _penalty(name: str, value: Any, *, strict: bool) -> Scalar:
 
 
 def _map_state(system: _System, at: Mapping[Any, Any]) -> dict:
+    reject_strings("at", at)
     state = {}
     for key, value in at.items():
-        if isinstance(value, (str, bytes)):
-            raise TypeError(f"at[{key}] must be a number or SymPy expression, got {value!r}")
-        try:
-            val = sp.sympify(value, strict=True)
-        except sp.SympifyError as exc:
-            raise TypeError(f"at[{key}] must be a number or expression, got {value!r}") from exc
+        val = as_sympy(f"at[{key}]", value, finite=True)
         if isinstance(value, numbers.Real) and not isinstance(value, numbers.Rational):
             val = sp.Float(float(value))
         state[system.rename.get(key, key)] = val
@@ -670,8 +676,9 @@ def _reduce(
     Q, U = sp.Matrix(system.Q), sp.Matrix(system.U)
     n = len(Q)
     state = _map_state(system, at)
+    reject_strings("g", g)
     if isinstance(g, sp.Basic) and not isinstance(g, sp.MatrixBase):
-        gx = sp.sympify(g).xreplace(system.rename)
+        gx = as_sympy("g", g, finite=True).xreplace(system.rename)
         if isinstance(gx, sp.MatrixBase) or not gx.is_commutative:
             raise TypeError(f"g must be a scalar expression, got {g!r}")
         n_q = sp.Matrix([gx]).jacobian(Q).T

@@ -19,7 +19,7 @@ import sympy as sp
 from impactsym.multibody.reduction import PROJECTIONS, ReducedContact, reduce_contact
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_illinois
-from impactsym.validation import check_condition, real_array
+from impactsym.validation import as_sympy, check_condition, real_array
 
 Progress = Callable[[str], None]
 
@@ -187,7 +187,7 @@ class _Equations:
         n = self.n = len(example.q)
 
         def compile_(expr: sp.Expr, name: str) -> Callable[..., np.ndarray] | float:
-            expr = sp.sympify(expr)
+            expr = as_sympy(name, expr)
             return float(expr) if expr.is_number else lambdify(args, expr, name=name)
 
         self._M = [compile_(example.M[i, j], f"M{i}{j}") for i in range(n) for j in range(n)]
@@ -349,7 +349,7 @@ def reduce_at_speeds(
     speeds_arr, _ = real_array("speeds", speeds, lower=0.0, strict=True)
     values = {}
     for name in ("m_eff", "delta_d", "delta_c", "load", "v0"):
-        expr = sp.sympify(getattr(r, name))
+        expr = as_sympy(name, getattr(r, name))
         values[name] = np.array(lambdify([s], expr, name=name)(speeds_arr))
     if np.any(values["v0"] <= 0):
         raise ValueError("the impact direction gives no approach speed (v0 <= 0)")

@@ -10,7 +10,7 @@ import numpy as np
 
 from impactsym.contact import contact_time, restitution, stick_boundary
 from impactsym.contact.derivation import latex_formulas
-from impactsym.results.files import save_figure, write_csv
+from impactsym.results.files import save_figure, write_csv, write_text
 
 CONDITIONS = ("position", "force")
 
@@ -86,14 +86,15 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
 
     progress("formulas")
     path = out / "spring_damper_formulas.json"
-    path.write_text(
+    write_text(
+        path,
         json.dumps(
             [
                 {"label": label, "caption": caption, "latex": body}
                 for label, caption, body in latex_formulas()
             ],
             indent=1,
-        )
+        ),
     )
     files.append(path)
     return files

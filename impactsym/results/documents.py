@@ -11,6 +11,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from impactsym.export import write_latex_document, write_python_module
+from impactsym.results.files import atomic_path
 
 CAPTIONS = {
     "formulas.tex": "Every formula the package derives, as a standalone LaTeX document "
@@ -54,7 +55,8 @@ def compile_latex(tex: Path, out_dir: Path) -> Path:
             if run.returncode != 0:
                 raise LatexError(f"pdflatex failed on {tex.name}:\n{run.stdout[-3000:]}")
         pdf = out_dir / tex.with_suffix(".pdf").name
-        shutil.copyfile(Path(work) / pdf.name, pdf)
+        with atomic_path(pdf) as tmp:
+            shutil.copyfile(Path(work) / pdf.name, tmp)
     return pdf
 
 

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from impactsym.engines import lammps, mujoco
-from impactsym.results.files import save_figure, write_csv
+from impactsym.results.files import save_figure, write_csv, write_text
 
 CAPTIONS = {
     "engines_textbook_error": "Restitution MuJoCo (timeconst 0.02 s, 1 m/s) and LAMMPS "
@@ -79,6 +79,6 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     }
     designs["lammps_coeff_restitution_for_e0.5"] = lammps.coeff_restitution_for(0.5)
     path = out / "engines_designs.json"
-    path.write_text(json.dumps(designs, indent=2, sort_keys=True) + "\n")
+    write_text(path, json.dumps(designs, indent=2, sort_keys=True) + "\n")
     files.append(path)
     return files

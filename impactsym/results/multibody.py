@@ -9,7 +9,6 @@ against it, and the writer.
 
 from __future__ import annotations
 
-import csv
 import json
 from collections.abc import Callable
 from pathlib import Path
@@ -27,7 +26,7 @@ from impactsym.multibody.simulation import (
     falling_bar,
     simulate_contact,
 )
-from impactsym.results.files import save_figure
+from impactsym.results.files import save_figure, write_records, write_text
 
 Progress = Callable[[str], None]
 
@@ -149,13 +148,11 @@ def write(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
 
     table = out / "multibody_agreement.csv"
     rows = [row for agreement in agreements for row in agreement.rows()]
-    with table.open("w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_records(table, list(rows[0]), rows)
     written.append(table)
     summary = out / "multibody_summary.json"
-    summary.write_text(
+    write_text(
+        summary,
         json.dumps(
             {
                 "agreement": [row for a in agreements for row in a.summary()],
@@ -166,11 +163,11 @@ def write(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
                 "design": design,
             },
             indent=2,
-        )
+        ),
     )
     written.append(summary)
     tex = out / "multibody_reduced_equation.tex"
-    tex.write_text(_latex_snippet())
+    write_text(tex, _latex_snippet())
     written.append(tex)
     return written
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from impactsym.results.files import save_figure, write_csv
+from impactsym.results.files import save_figure, write_csv, write_text
 
 CASES = ((0.3, 0.0), (2.0, 0.5), (20.0, 0.2))
 
@@ -73,11 +73,12 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     formulas = latex_formulas(3)
     path = out / "rod_formulas.json"
     records = [{"label": k, "caption": c, "latex": b} for k, c, b in formulas]
-    path.write_text(json.dumps(records, indent=1))
+    write_text(path, json.dumps(records, indent=1))
     files.append(path)
     path = out / "rod_formulas.tex"
-    path.write_text(
-        "".join(f"% {label}: {caption}\n\\[\n{body}\n\\]\n\n" for label, caption, body in formulas)
+    write_text(
+        path,
+        "".join(f"% {label}: {caption}\n\\[\n{body}\n\\]\n\n" for label, caption, body in formulas),
     )
     files.append(path)
     path = out / "rod_series.txt"
@@ -91,6 +92,6 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
         )
         lines += [f"  delay {d}: {g}" for d, g in rod.time_terms(name, 4)]
         lines.append("")
-    path.write_text("\n".join(lines))
+    write_text(path, "\n".join(lines))
     files.append(path)
     return files

@@ -18,18 +18,57 @@ Normalization: t in units of L/c, y in v0 L/c, N in EA v0/c.
 import numpy as np
 '''
 
+#: Input checks of the generated module, the same rules as :mod:`impactsym.validation`:
+#: real numbers or arrays only (no strings, booleans, complex or objects), finite, in
+#: range, broadcastable; errors name the argument and the offending value.
+CHECK_SOURCE = '''
+
+def _real(name, value, lower=None, strict=False, upper=None):
+    """``value`` as a float array, or TypeError/ValueError naming the argument."""
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name} must be a real number or array, got {value!r}")
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a real number or array, got {value!r}") from exc
+    if arr.dtype.kind not in "iuf":
+        raise TypeError(
+            f"{name} must be a real number or array of real numbers, got {value!r} "
+            f"(dtype {arr.dtype})"
+        )
+    arr = arr.astype(np.float64)
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        raise ValueError(f"{name} must be finite, got {float(arr[bad].flat[0])!r}")
+    if lower is not None:
+        low = arr <= lower if strict else arr < lower
+        if low.any():
+            op = ">" if strict else ">="
+            raise ValueError(f"{name} must be {op} {lower:g}, got {float(arr[low].flat[0])!r}")
+    if upper is not None and np.any(arr > upper):
+        raise ValueError(
+            f"{name} must be <= {upper:g} (the range of these closed forms), "
+            f"got {float(arr[arr > upper].flat[0])!r}"
+        )
+    return arr
+
+
+def _shape(**arrays):
+    """The common shape of the named arrays, or ValueError naming them."""
+    try:
+        return np.broadcast_shapes(*(a.shape for a in arrays.values()))
+    except ValueError:
+        named = [f"{n} (shape {a.shape})" for n, a in arrays.items() if a.ndim]
+        raise ValueError(" and ".join(named) + " cannot be broadcast to one shape") from None
+'''
+
 _WRAPPERS = '''
 
 def _check(t, alpha, f):
-    t, alpha, f = (np.asarray(v, dtype=np.float64) for v in (t, alpha, f))
-    for name, v in (("t", t), ("alpha", alpha), ("f", f)):
-        if not np.all(np.isfinite(v)):
-            raise ValueError(f"{name} must be finite")
-    if np.any(alpha <= 0):
-        raise ValueError("alpha must be > 0")
-    if np.any(f < 0):
-        raise ValueError("f must be >= 0")
-    shape = np.broadcast_shapes(t.shape, alpha.shape, f.shape)
+    t = _real("t", t)
+    alpha = _real("alpha", alpha, lower=0.0, strict=True)
+    f = _real("f", f, lower=0.0)
+    shape = _shape(t=t, alpha=alpha, f=f)
     return [np.broadcast_to(v, shape).ravel() for v in (t, alpha, f)], shape
 
 
@@ -83,4 +122,4 @@ def numpy_source() -> str:
     kernel = "\n\n".join(
         inspect.getsource(fn) for fn in (_rigid_tables, _rigid_local, _rigid_evaluate)
     )
-    return _HEADER + "\n\n" + kernel + _WRAPPERS
+    return _HEADER + CHECK_SOURCE + "\n\n" + kernel + _WRAPPERS

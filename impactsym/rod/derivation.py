@@ -22,9 +22,11 @@ an elastic rod fixed at its other end, through a contact spring of stiffness
 
 from __future__ import annotations
 
+import math
 from functools import cached_property
 from typing import Any
 
+import numpy as np
 import sympy as sp
 
 from impactsym.symbolic.laplace import (
@@ -33,6 +35,7 @@ from impactsym.symbolic.laplace import (
     geometric_delay_series,
     invert_delay_series,
 )
+from impactsym.validation import as_sympy
 
 __all__ = ["RodImpact", "latex_formulas"]
 
@@ -50,27 +53,27 @@ QUANTITIES = ("W", "Y", "N")
 
 def _as_kappa(value: Any) -> sp.Expr:
     """The contact stiffness as SymPy: ``oo``, a positive exact number, or a symbol."""
-    if isinstance(value, (bool, str, bytes)) or value is None:
+    if isinstance(value, (bool, np.bool_)) or value is None:
         raise TypeError(
             f"kappa must be a positive number, sympy.oo or a SymPy symbol, got {value!r}"
         )
-    if isinstance(value, float):
-        if value != value:
-            raise ValueError(f"kappa must be > 0, got {value!r}")
-        value = sp.oo if value == float("inf") else sp.Rational(repr(float(value)))
-    try:
-        value = sp.sympify(value, strict=True)
-    except (sp.SympifyError, TypeError) as exc:
-        raise TypeError(
-            f"kappa must be a positive number, sympy.oo or a SymPy symbol, got {value!r}"
-        ) from exc
+    if isinstance(value, (float, np.floating)):
+        value = float(value)
+        if math.isnan(value):
+            raise ValueError("kappa must be a positive number or inf, got nan")
+        if math.isinf(value):
+            if value < 0:
+                raise ValueError(f"kappa must be > 0, got {value!r}")
+            return sp.oo
+        value = sp.Rational(repr(value))  # the decimal the float prints as
+    value = as_sympy("kappa", value)
     if value is sp.oo:
         return value
     if isinstance(value, sp.Float):
         value = sp.Rational(str(value))
     if value.is_number:
         if not (value.is_real and value.is_positive and value.is_finite):
-            raise ValueError(f"kappa must be > 0, got {value}")
+            raise ValueError(f"kappa must be > 0 (a real number or oo), got {value}")
         return value
     if value.is_positive is False:
         raise ValueError(f"kappa must be positive, got {value}")
@@ -168,6 +171,8 @@ class RodImpact:
         >>> {k: sp.simplify(v) for k, v in rod.residuals(rod.W, rod.Y).items()}
         {'rod': 0, 'fixed end': 0, 'contact': 0, 'end': 0}
         """
+
+        W, Y = as_sympy("W", W), as_sympy("Y", Y)
 
         def insert(expr: sp.Expr) -> sp.Expr:
             expr = expr.replace(_W, lambda x, _s: W.subs(xi, x)).subs(_Y(s), Y)
@@ -359,11 +364,23 @@ def _check_name(name: object) -> str:
     return name
 
 
-def _check_n_terms(n_terms: object) -> int:
-    if isinstance(n_terms, bool) or not isinstance(n_terms, int):
+#: Most series terms a LaTeX document shows: the exact inversion of term ``n`` has a
+#: pole of order ``n`` and the document takes about a second per 8 terms at 20, growing
+#: quadratically (``latex_formulas(200)`` would run for minutes).
+MAX_LATEX_TERMS = 20
+
+
+def _check_n_terms(n_terms: object, budget: int | None = None) -> int:
+    if isinstance(n_terms, (bool, np.bool_)) or not isinstance(n_terms, (int, np.integer)):
         raise TypeError(f"n_terms must be an int, got {n_terms!r}")
+    n_terms = int(n_terms)
     if n_terms < 0:
         raise ValueError(f"n_terms must be >= 0, got {n_terms}")
+    if budget is not None and n_terms > budget:
+        raise ValueError(
+            f"n_terms = {n_terms} exceeds the budget of {budget} terms for formula "
+            "documents (the symbolic work grows quadratically with the number of terms)"
+        )
     return n_terms
 
 
@@ -397,8 +414,8 @@ def latex_formulas(n_terms: int = 3) -> list[tuple[str, str, str]]:
 
     Every body compiles inside ``\\[ ... \\]`` with amsmath: eq. (1), the closed forms
     of :math:`W`, :math:`Y`, :math:`N` for rigid and finite :math:`\\kappa`, eq. (2)
-    and the contact force series (first ``n_terms`` terms), and the first inverted
-    terms.
+    and the contact force series (first ``n_terms`` terms, at most
+    :data:`MAX_LATEX_TERMS`), and the first inverted terms.
 
     Examples
     --------
@@ -406,7 +423,7 @@ def latex_formulas(n_terms: int = 3) -> list[tuple[str, str, str]]:
     >>> labels[:2]
     ['rod-bvp', 'rod-bvp-rigid']
     """
-    n_terms = _check_n_terms(n_terms)
+    n_terms = _check_n_terms(n_terms, budget=MAX_LATEX_TERMS)
     rigid, elastic = RodImpact(), RodImpact(kappa)
     eq = elastic.equations
     bvp = r" \\ ".join(sp.latex(eq[k]) for k in ("rod", "fixed end", "mass", "end"))

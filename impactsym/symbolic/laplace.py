@@ -36,6 +36,8 @@ from typing import Any
 
 import sympy as sp
 
+from impactsym.validation import as_sympy, reject_strings
+
 DelayTerm = tuple[sp.Expr, sp.Expr]
 """``(delay, delay-free transform)``: one term :math:`F(s)e^{-Ts}` of a delay series."""
 
@@ -90,7 +92,8 @@ def check_delay(delay: Any, bounds: Mapping[sp.Symbol, tuple[Any, Any]] | None =
         ...
     impactsym.symbolic.laplace.LaplaceInversionError: delay 2 - xi is not provably non-negative
     """
-    delay = sp.sympify(delay)
+    delay = as_sympy("delay", delay)
+    reject_strings("bounds", bounds)
     if delay.has(sp.oo, -sp.oo, sp.zoo, sp.nan) or delay.is_finite is False:
         raise LaplaceInversionError(f"delay {delay} is not finite")
     if delay.is_nonnegative:
@@ -152,15 +155,15 @@ def geometric_delay_series(
     """
     if n_terms < 0:
         raise ValueError(f"n_terms must be >= 0, got {n_terms}")
-    period = sp.sympify(period)
+    period = as_sympy("period", period)
     if not period.is_positive:
         raise ValueError(f"period must be provably positive, got {period}")
-    b0, bp = sp.sympify(b0), sp.sympify(bp)
+    b0, bp = as_sympy("b0", b0), as_sympy("bp", bp)
     q = sp.factor(-bp / b0)
     # group numerator delays into classes that differ by integer multiples of period
     classes: list[tuple[sp.Expr, list[tuple[int, sp.Expr]]]] = []
     for delay, coeff in numerator:
-        delay, coeff = sp.sympify(delay), sp.sympify(coeff)
+        delay, coeff = as_sympy("numerator delay", delay), as_sympy("numerator coefficient", coeff)
         for base, members in classes:
             shift = sp.simplify((delay - base) / period)
             if shift.is_integer:
@@ -637,7 +640,8 @@ def invert_rational(F: Any, s: sp.Symbol, t: sp.Symbol) -> sp.Expr:
     >>> invert_rational(1 / (s**2 + 1) ** 2, s, t)
     -t*cos(t)/2 + sin(t)/2
     """
-    F = sp.sympify(F)
+    F = as_sympy("F", F)
+    _check_symbols(s=s, t=t)
     if F.is_zero:
         return sp.Integer(0)
     domain, numerator, constant, factors = _rational_parts(F, s)
@@ -748,13 +752,21 @@ def laplace_exp_poly(g: Any, t: sp.Symbol, s: sp.Symbol) -> sp.Expr:
     >>> sp.cancel(laplace_exp_poly(sp.sin(t), t, s))
     1/(s**2 + 1)
     """
+    _check_symbols(t=t, s=s)
     total = []
-    for coeff, n, rate, delta in _exp_poly_terms(sp.sympify(g), t):
+    for coeff, n, rate, delta in _exp_poly_terms(as_sympy("g", g), t):
         if delta is not None:
             total.append(coeff * s**delta)
         else:
             total.append(coeff * math.factorial(n) / (s - rate) ** (n + 1))
     return sp.Add(*total)
+
+
+def _check_symbols(**symbols: Any) -> None:
+    """The transform and time variables must be SymPy symbols (never strings)."""
+    for name, value in symbols.items():
+        if not isinstance(value, sp.Symbol):
+            raise TypeError(f"{name} must be a SymPy Symbol, got {value!r}")
 
 
 _Term = tuple[sp.Expr, int, sp.Expr, "int | None"]
