@@ -53,7 +53,7 @@ def main() -> None:
             f"({np.isinf(times).mean():.0%} stick); speed-up per point over solve_ivp: "
             f"{t_sim / (t / times.size):,.0f}"
         )
-    t, _ = timed(stick_damping, reduced, k, "force")
+    t, _ = timed(stick_damping, reduced, k, condition="force")
     print(f"stick_damping, 100 stiffnesses:           {t:8.3f} s")
     t, (k_d, d_d) = timed(penalty_for_targets, reduced, restitution=0.5, contact_time=2e-3)
     print(f"penalty_for_targets:                      {t:8.3f} s  (k = {k_d:.4g}, d = {d_d:.4g})")

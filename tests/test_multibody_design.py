@@ -28,7 +28,7 @@ def particle(M=1.0, force=0.0, kk=1.0, dd=0.0, speed=1.0):
 def test_stick_damping_separates_release_from_sticking(condition):
     bar = falling_bar().reduce(1.0, 0.0, 0.2)
     k = np.array([1e4, 1e5, 1e6])
-    d_star = stick_damping(bar, k, condition)
+    d_star = stick_damping(bar, k, condition=condition)
     assert np.all(np.diff(d_star) > 0)
     assert not np.any(bar.with_penalty(k, 0.99 * d_star).sticks(condition))
     assert np.all(bar.with_penalty(k, 1.01 * d_star).sticks(condition))
@@ -39,14 +39,16 @@ def test_stick_damping_holds_in_the_full_simulation():
     kk, speed = 1e5, 0.2
     omega = np.sqrt(kk / ex.reduce().m_eff)
     for condition in ("position", "force"):
-        d_star = stick_damping(ex.reduce(1.0, 0.0, speed), kk, condition)
+        d_star = stick_damping(ex.reduce(1.0, 0.0, speed), kk, condition=condition)
         assert sim.contact_time(kk, 0.8 * d_star, speed, condition, 40 / omega) < np.inf
         assert sim.contact_time(kk, 1.25 * d_star, speed, condition, 40 / omega) == np.inf
 
 
 def test_unloaded_particle_never_sticks_under_the_force_condition():
-    assert stick_damping(particle(), 1.0, "force") == np.inf
-    assert stick_damping(particle(M=4.0), 9.0, "position") == pytest.approx(12.0, rel=1e-12)
+    assert stick_damping(particle(), 1.0, condition="force") == np.inf
+    assert stick_damping(particle(M=4.0), 9.0, condition="position") == pytest.approx(
+        12.0, rel=1e-12
+    )
 
 
 def test_penalty_for_targets_delivers_in_the_full_simulation():
@@ -72,10 +74,10 @@ def test_design_bad_input_is_refused():
         damping_for_restitution(particle(), 1.0, 1.5)
     own_damper = reduce_contact(sp.Matrix([[1.0]]), [-1.0 * v], x, [x], [v], {x: 0, v: 1}, 1, 0)
     with pytest.raises(ValueError, match="not reachable"):  # d~ >= 1 > 0.5 sqrt(k m) already
-        damping_for_restitution(own_damper, 1.0, 0.9, "position")
+        damping_for_restitution(own_damper, 1.0, 0.9, condition="position")
     with pytest.raises(ValueError, match="^k must"):
         stick_damping(particle(), -1.0)
     with pytest.raises(ValueError, match="^condition must"):
-        stick_damping(particle(), 1.0, "gap")
+        stick_damping(particle(), 1.0, condition="gap")
     with pytest.raises(ValueError, match="^contact_time must"):
         penalty_for_targets(particle(), restitution=0.5, contact_time=0.0)

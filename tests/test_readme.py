@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sympy as sp
+from references.bounce import simulate as simulate_bounces
 from references.paper import eq2_term
 from references.rod_characteristics import Characteristics
 from scipy.integrate import solve_ivp
@@ -282,6 +283,48 @@ def test_multibody_readme_example_values_agree_with_the_impulse_momentum_law():
             assert k_arg == k
             assert math.isfinite(bar_contact_time(bar, 0.99 * value, condition))
             assert math.isinf(bar_contact_time(bar, 1.01 * value, condition))
+        else:
+            unchecked.append(ast.unparse(node))
+    assert unchecked == []
+
+
+def test_engine_and_bounce_readme_example_values_agree_with_mujoco_and_event_driven_flight():
+    """The engine design is checked in MuJoCo itself; the bounce sequence against an
+    event-driven integration of contacts and flights (``tests/references/bounce.py``)."""
+    from impactsym.engines.runs import mujoco_drop
+
+    code = examples()[2]
+    namespace, shown = run_example(code)
+    assigned = {
+        n.targets[0].id: n.value
+        for n in ast.parse(code).body
+        if isinstance(n, ast.Assign) and isinstance(n.value, ast.Call)
+    }
+    unchecked = []
+    for node, value in shown:
+        name = callee(node)
+        call = assigned.get(getattr(node.value, "id", None)) if name else None
+        if name in (".solref", ".contact_time") and callee(call) == ".solref_for":
+            _, wanted = evaluate(call, namespace)
+            design = namespace["mujoco"].solref_for(**wanted)
+            e, t_c = mujoco_drop(
+                solref=design.solref,
+                solimp=design.solimp,
+                speed=wanted["speed"],
+                gravity=wanted["gravity"],
+            )
+            if name == ".solref":
+                assert e == pytest.approx(wanted["restitution"], rel=0.01)
+            else:
+                assert value == pytest.approx(t_c, rel=0.02)
+        elif name in (".n_contacts", ".time_to_rest") and callee(call) == "bounce_sequence":
+            args, kwargs = evaluate(call, namespace)
+            rows, sticks = simulate_bounces(*args, **kwargs)
+            assert sticks
+            if name == ".n_contacts":
+                assert value == len(rows)
+            else:
+                assert value == pytest.approx(rows[-1][0], rel=1e-8)
         else:
             unchecked.append(ast.unparse(node))
     assert unchecked == []

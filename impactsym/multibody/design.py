@@ -64,7 +64,9 @@ def _scales(reduced: ReducedContact, k: np.ndarray) -> tuple[np.ndarray, np.ndar
     return m_omega, reduced.load / (m_omega * reduced.v0)
 
 
-def stick_damping(reduced: ReducedContact, k: Any, condition: str = "force") -> float | np.ndarray:
+def stick_damping(
+    reduced: ReducedContact, k: Any, *, condition: str = "force"
+) -> float | np.ndarray:
     r"""Penalty damping ``d*`` on the stick/release boundary for each stiffness ``k``.
 
     The contact releases for ``d < d*`` and sticks for ``d > d*`` (so "guaranteed
@@ -96,7 +98,7 @@ def stick_damping(reduced: ReducedContact, k: Any, condition: str = "force") -> 
     >>> x, v = sp.symbols("x v")
     >>> particle = reduce_contact(sp.Matrix([[1.0]]), sp.Matrix([0.0]), x, [x], [v],
     ...                           {x: 0, v: 1}, 1.0, 0.0)
-    >>> stick_damping(particle, 1.0, "position")  # no load: D* = 1, d* = 2 sqrt(k m)
+    >>> stick_damping(particle, 1.0, condition="position")  # no load: D* = 1, d* = 2 sqrt(k m)
     2.0
     """
     red = _numeric_reduction(reduced)
@@ -137,7 +139,7 @@ def _stick_damping(red: ReducedContact, k: np.ndarray, condition: str) -> np.nda
 
 
 def damping_for_restitution(
-    reduced: ReducedContact, k: Any, restitution: float, condition: str = "force"
+    reduced: ReducedContact, k: Any, restitution: float, *, condition: str = "force"
 ) -> float | np.ndarray:
     r"""Penalty damping that gives the coefficient of restitution ``restitution``.
 
@@ -173,7 +175,7 @@ def damping_for_restitution(
     >>> particle = reduce_contact(sp.Matrix([[1.0]]), sp.Matrix([0.0]), x, [x], [v],
     ...                           {x: 0, v: 1}, 1.0, 0.0)
     >>> d = damping_for_restitution(particle, 1.0, float(np.exp(-np.pi / np.sqrt(3))),
-    ...                             "position")
+    ...                             condition="position")
     >>> round(d, 9)  # e = exp(-pi D / sqrt(1 - D^2)) for D = 1/2, so d = 2 D = 1
     1.0
     """
@@ -325,5 +327,5 @@ def _penalty_for_targets(
         )
     i = change[:1]
     k = float(bracketed_illinois(excess, k_grid[i], k_grid[i + 1], log=True)[0])
-    d = float(damping_for_restitution(red, k, e_target, condition))
+    d = float(damping_for_restitution(red, k, e_target, condition=condition))
     return k, d

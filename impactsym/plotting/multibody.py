@@ -193,10 +193,10 @@ def plot_design_region(
     k = np.asarray(k, dtype=float)
     for style, condition in zip(("-", "--"), conditions, strict=False):
         check_condition(condition)
-        d_star = np.asarray(stick_damping(reduced, k, condition), dtype=float)
+        d_star = np.asarray(stick_damping(reduced, k, condition=condition), dtype=float)
         ax.plot(k, d_star, color="k", ls=style, label=f"stick boundary ({condition})")
     for i, e in enumerate(restitutions):
-        d_e = damping_for_restitution(reduced, k, e, restitution_condition)
+        d_e = damping_for_restitution(reduced, k, e, condition=restitution_condition)
         ax.plot(k, d_e, color=f"C{i}", lw=0.9, label=f"$e = {e:g}$ ({restitution_condition})")
     if design is not None:
         ax.plot(*design, marker="*", ms=12, color="C3", ls="none", label="design")

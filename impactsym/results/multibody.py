@@ -70,7 +70,7 @@ def _design_example(example: MultibodyExample | None = None) -> dict[str, Any]:
         "target_contact_time": t_target,
         "k": k,
         "d": d,
-        "stick_damping_at_k": float(stick_damping(reduced, k, condition)),
+        "stick_damping_at_k": float(stick_damping(reduced, k, condition=condition)),
         "full_contact_time": float(sim.contact_time),
         "full_restitution": float(sim.restitution),
     }
