@@ -60,7 +60,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.polynomial import polynomial as P
+from numpy.polynomial import polynomial as npoly
 
 from impactsym.numeric.exppoly import exp_poly_roots, taylor_shift
 from impactsym.validation import real_array
@@ -74,12 +74,13 @@ _GAUSS = np.polynomial.legendre.leggauss(48)  # exact to degree 95 on a piece
 
 
 def _exp_antiderivative(Q: np.ndarray, rate: float = 1.0) -> np.ndarray:
-    """``R`` with :math:`\\int_0^x e^{-r x'} Q = R(0) - e^{-r x} R(x)`, ``R = sum_j Q^(j)/r^(j+1)``."""
+    """``R = sum_j Q^(j) / r^(j+1)``, so that
+    :math:`\\int_0^x e^{-r x'} Q = R(0) - e^{-r x} R(x)`."""
     R = np.zeros(Q.size)
     D = Q.copy()
     for j in range(Q.size):
         R[: D.size] += D / rate ** (j + 1)
-        D = P.polyder(D) if D.size > 1 else np.zeros(0)
+        D = npoly.polyder(D) if D.size > 1 else np.zeros(0)
         if D.size == 0:
             break
     return R
@@ -346,11 +347,11 @@ def _g_max(tab: _Tables, s_end: float) -> float:
         cand = [lo, hi]
         if Q.size > 1:
             crit = exp_poly_roots(
-                np.zeros(0), P.polysub(P.polyder(Q), Q), (lo - s0) / a, (hi - s0) / a
+                np.zeros(0), npoly.polysub(npoly.polyder(Q), Q), (lo - s0) / a, (hi - s0) / a
             )
             cand += list(s0 + a * crit)
         x = (np.array(cand) - s0) / a
-        vals = tab.p[i] + np.exp(-x) * P.polyval(x, Q) if Q.size else np.full(x.size, tab.p[i])
+        vals = tab.p[i] + np.exp(-x) * npoly.polyval(x, Q) if Q.size else np.full(x.size, tab.p[i])
         best = max(best, float(vals.max()))
     return best
 
@@ -436,10 +437,10 @@ def impact_sequence(
             q0 = Q_in[0] if Q_in.size else 0.0
             G0 = v + p_in + q0 - p_new
             if Q_in.size:
-                G = P.polysub(P.polyadd([G0 - q0], Q_in), 2.0 * P.polyint(Q_in))
+                G = npoly.polysub(npoly.polyadd([G0 - q0], Q_in), 2.0 * npoly.polyint(Q_in))
             else:
                 G = np.array([G0])
-            B = P.polyadd(G, Q_in) if Q_in.size else G
+            B = npoly.polyadd(G, Q_in) if Q_in.size else G
             if h > alpha * (_X_MAX if B.size > 1 else _X_LONG):
                 h = alpha * (_X_MAX if B.size > 1 else _X_LONG)
                 t_next = t + h
@@ -457,10 +458,10 @@ def impact_sequence(
                 t_next = t + h
             pieces.append(t, h, p_new, G)
             ex = math.exp(-X)
-            Gd = P.polysub(G, Q_in) if Q_in.size else G
-            v = p_new - p_in + ex * P.polyval(X, Gd)
+            Gd = npoly.polysub(G, Q_in) if Q_in.size else G
+            v = p_new - p_in + ex * npoly.polyval(X, Gd)
             R = _exp_antiderivative(Gd)
-            y += alpha * ((p_new - p_in) * X + R[0] - ex * P.polyval(X, R))
+            y += alpha * ((p_new - p_in) * X + R[0] - ex * npoly.polyval(X, R))
             u = y
             t = t_next
             if ended:
@@ -494,7 +495,7 @@ def impact_sequence(
                 t_next = t + h
             pieces.append(t, h, -p_in, -Q_in)
             ex = math.exp(-X)
-            u += -2 * alpha * (p_in * X + (R[0] - ex * P.polyval(X, R) if Q_in.size else 0.0))
+            u += -2 * alpha * (p_in * X + (R[0] - ex * npoly.polyval(X, R) if Q_in.size else 0.0))
             y += v * h + 0.5 * f / alpha * h * h
             v += f / alpha * h
             t = t_next
