@@ -41,15 +41,15 @@ _EPS = np.finfo(float).eps
 
 _FACT = np.array([math.factorial(k) for k in range(171)], dtype=float)
 _BINOM = np.array([[math.comb(b, a) for b in range(96)] for a in range(96)], dtype=float)
+_EXPONENT = np.maximum(np.subtract.outer(np.arange(-96, 0), np.arange(-96, 0)) * -1, 0)
 
 
 def _shift_matrix(n: int, u: float) -> np.ndarray:
     """Matrix ``S`` with ``S @ c`` the coefficients of ``c(x + u)`` (``n`` coefficients)."""
     if n > _BINOM.shape[0]:
         raise ValueError(f"polynomial degree {n - 1} exceeds {_BINOM.shape[0] - 1}")
-    k = np.arange(n)
-    e = k[None, :] - k[:, None]
-    return _BINOM[:n, :n] * np.where(e >= 0, float(u) ** np.maximum(e, 0), 0.0)
+    powers = np.r_[1.0, np.cumprod(np.full(n - 1, float(u)))]
+    return _BINOM[:n, :n] * powers[_EXPONENT[:n, :n]]
 
 
 def taylor_shift(c: np.ndarray, u: float) -> np.ndarray:
@@ -62,15 +62,30 @@ def taylor_shift(c: np.ndarray, u: float) -> np.ndarray:
     return _shift_matrix(c.size, u) @ c if c.size > 1 else c.copy()
 
 
-def _evaluate(A, B, x):
+def _horner(c: np.ndarray, x):
+    out = 0.0 * x
+    for ck in c[::-1]:
+        out = out * x + ck
+    return out
+
+
+def _derivative(c: np.ndarray) -> np.ndarray:
+    return c[1:] * np.arange(1, c.size)
+
+
+def _evaluate(A, B, x, dA=None, dB=None):
     """``F(x)`` and ``F'(x)`` at a float array ``x``."""
-    P = np.polynomial.polynomial
-    a = P.polyval(x, A) if A.size else 0.0
-    da = P.polyval(x, P.polyder(A)) if A.size > 1 else 0.0
-    b = P.polyval(x, B) if B.size else 0.0
-    db = P.polyval(x, P.polyder(B)) if B.size > 1 else 0.0
+    dA = _derivative(A) if dA is None else dA
+    dB = _derivative(B) if dB is None else dB
+    a = _horner(A, x)
     ex = np.exp(x)
-    return ex * a + b, ex * (a + da) + db
+    return ex * a + _horner(B, x), ex * (a + _horner(dA, x)) + _horner(dB, x)
+
+
+def _trim(c) -> np.ndarray:
+    c = np.asarray(c, dtype=float)
+    nz = np.flatnonzero(c)
+    return c[: nz[-1] + 1] if nz.size else c[:0]
 
 
 def _taylor(A, B, u, r, M):
@@ -141,11 +156,11 @@ def exp_poly_roots(
     >>> exp_poly_roots(np.array([]), np.array([0.2, -1.0, 1.0]), 0.0, 1.0).round(10).tolist()
     [0.2763932023, 0.7236067977]
     """
-    A = np.trim_zeros(np.asarray(A, dtype=float), "b")
-    B = np.trim_zeros(np.asarray(B, dtype=float), "b")
+    A, B = _trim(A), _trim(B)
     if hi <= lo or (A.size == 0 and B.size == 0):
         return np.empty(0)
     M = max(A.size, B.size) + 12
+    dA, dB = _derivative(A), _derivative(B)
     brackets: list[tuple[float, float]] = []
     stack = [(lo, hi)]
     while stack:
@@ -159,7 +174,7 @@ def exp_poly_roots(
         mono = abs(T[1]) > float((np.arange(2, M + 1) * np.abs(T[2:])) @ powers[1:-1]) + rho1
         flat = abs(T[0]) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
         if mono or flat or r <= min_width * max(1.0, abs(u)):
-            (Fu, Fv), _ = _evaluate(A, B, np.array([u, v]))
+            (Fu, Fv), _ = _evaluate(A, B, np.array([u, v]), dA, dB)
             if Fv == 0.0 or (Fu != 0.0 and (Fu < 0.0) != (Fv < 0.0)):
                 brackets.append((u, v))
                 if first:
@@ -172,6 +187,9 @@ def exp_poly_roots(
     lo_b = np.array([b[0] for b in brackets])
     hi_b = np.array([b[1] for b in brackets])
     roots = bracketed_newton(
-        lambda x: _evaluate(A, B, x)[0], lambda x: _evaluate(A, B, x)[1], lo_b, hi_b
+        lambda x: _evaluate(A, B, x, dA, dB)[0],
+        lambda x: _evaluate(A, B, x, dA, dB)[1],
+        lo_b,
+        hi_b,
     )
     return np.sort(roots)

@@ -62,7 +62,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.polynomial import polynomial as npoly
 
-from impactsym.numeric.exppoly import exp_poly_roots, taylor_shift
+from impactsym.numeric.exppoly import _horner, _trim, exp_poly_roots, taylor_shift
 from impactsym.validation import real_array
 
 __all__ = ["RodImpactSequence", "RodSequenceEnergy", "impact_sequence"]
@@ -80,9 +80,7 @@ def _exp_antiderivative(Q: np.ndarray, rate: float = 1.0) -> np.ndarray:
     D = Q.copy()
     for j in range(Q.size):
         R[: D.size] += D / rate ** (j + 1)
-        D = npoly.polyder(D) if D.size > 1 else np.zeros(0)
-        if D.size == 0:
-            break
+        D = D[1:] * np.arange(1, D.size)
     return R
 
 
@@ -108,7 +106,7 @@ class _Pieces:
     q: list = field(default_factory=list)
 
     def append(self, s0: float, h: float, p: float, Q: np.ndarray) -> None:
-        Q = np.trim_zeros(Q, "b")
+        Q = _trim(Q)
         if Q.size and _bound_exp_part(Q, h / self.alpha) < _NEGLIGIBLE * max(1.0, abs(p)):
             Q = np.zeros(0)
         if h <= 0.0:
@@ -343,7 +341,9 @@ def _g_max(tab: _Tables, s_end: float) -> float:
         if s0 >= s_end or ends[i] <= 0.0:
             continue
         lo, hi = max(s0, 0.0), min(ends[i], s_end)
-        Q = np.trim_zeros(tab.q[i], "b")
+        Q = _trim(tab.q[i])
+        if Q.size and tab.p[i] + _bound_exp_part(Q, (hi - s0) / a) <= best:
+            continue  # cannot beat the best value so far
         cand = [lo, hi]
         if Q.size > 1:
             crit = exp_poly_roots(
@@ -436,11 +436,16 @@ def impact_sequence(
             p_new = f - p_in
             q0 = Q_in[0] if Q_in.size else 0.0
             G0 = v + p_in + q0 - p_new
-            if Q_in.size:
-                G = npoly.polysub(npoly.polyadd([G0 - q0], Q_in), 2.0 * npoly.polyint(Q_in))
+            if Q_in.size:  # G = G0 + Q_in - q0 - 2 int Q_in
+                G = np.zeros(Q_in.size + 1)
+                G[:-1] = Q_in
+                G[1:] -= 2.0 * Q_in / np.arange(1, Q_in.size + 1)
+                G[0] = G0
+                B = G.copy()
+                B[:-1] += Q_in
             else:
                 G = np.array([G0])
-            B = npoly.polyadd(G, Q_in) if Q_in.size else G
+                B = G
             if h > alpha * (_X_MAX if B.size > 1 else _X_LONG):
                 h = alpha * (_X_MAX if B.size > 1 else _X_LONG)
                 t_next = t + h
@@ -458,10 +463,11 @@ def impact_sequence(
                 t_next = t + h
             pieces.append(t, h, p_new, G)
             ex = math.exp(-X)
-            Gd = npoly.polysub(G, Q_in) if Q_in.size else G
-            v = p_new - p_in + ex * npoly.polyval(X, Gd)
+            Gd = G.copy()
+            Gd[: Q_in.size] -= Q_in
+            v = p_new - p_in + ex * _horner(Gd, X)
             R = _exp_antiderivative(Gd)
-            y += alpha * ((p_new - p_in) * X + R[0] - ex * npoly.polyval(X, R))
+            y += alpha * ((p_new - p_in) * X + R[0] - ex * _horner(R, X))
             u = y
             t = t_next
             if ended:
@@ -495,7 +501,7 @@ def impact_sequence(
                 t_next = t + h
             pieces.append(t, h, -p_in, -Q_in)
             ex = math.exp(-X)
-            u += -2 * alpha * (p_in * X + (R[0] - ex * npoly.polyval(X, R) if Q_in.size else 0.0))
+            u += -2 * alpha * (p_in * X + (R[0] - ex * _horner(R, X) if Q_in.size else 0.0))
             y += v * h + 0.5 * f / alpha * h * h
             v += f / alpha * h
             t = t_next
