@@ -48,7 +48,11 @@ def _shift_matrix(n: int, u: float) -> np.ndarray:
     """Matrix ``S`` with ``S @ c`` the coefficients of ``c(x + u)`` (``n`` coefficients)."""
     if n > _BINOM.shape[0]:
         raise ValueError(f"polynomial degree {n - 1} exceeds {_BINOM.shape[0] - 1}")
-    powers = np.r_[1.0, np.cumprod(np.full(n - 1, float(u)))]
+    if u == 0.0:
+        return np.eye(n)
+    powers = np.cumprod(np.full(n, float(u)))
+    powers[1:] = powers[:-1]
+    powers[0] = 1.0
     return _BINOM[:n, :n] * powers[_EXPONENT[:n, :n]]
 
 
