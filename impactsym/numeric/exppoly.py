@@ -130,6 +130,7 @@ def exp_poly_roots(
     *,
     first: bool = False,
     min_width: float = 1e-13,
+    rising_from_zero: bool = False,
 ) -> np.ndarray:
     """Zeros with a sign change of :math:`F(x) = e^x A(x) + B(x)` in :math:`(lo, hi]`.
 
@@ -144,6 +145,12 @@ def exp_poly_roots(
     min_width
         Width below which an interval that is neither proven root-free nor monotone is
         decided by the signs at its ends (relative to ``max(1, |x|)``).
+    rising_from_zero
+        The caller knows that :math:`F(lo) = 0` and :math:`F'(lo) \\ge 0` exactly (a
+        gap that opens). Intervals :math:`(lo, lo + r]` are then also proven root-free
+        by :math:`F(x) = T_1 z + z^2 \\sum_{k \\ge 2} T_k z^{k-2}` with the second sum
+        enclosed like :math:`F` itself (bounds divided by :math:`r^2`), which spares
+        the bisection down to ``min_width`` at a double zero.
 
     Returns
     -------
@@ -175,6 +182,10 @@ def exp_poly_roots(
         spread = float(np.abs(T[1:]) @ powers[1:])
         if abs(T[0]) > spread + rho0:
             continue  # no zero in [u, v]
+        if rising_from_zero and u == lo and r > 0.0:
+            rest = float(np.abs(T[3:]) @ powers[1:-2])
+            if T[2] > rest + rho0 / (r * r):
+                continue  # F = T1 z + z^2 (T2 + ...) > 0 on (lo, v]
         mono = abs(T[1]) > float((np.arange(2, M + 1) * np.abs(T[2:])) @ powers[1:-1]) + rho1
         flat = abs(T[0]) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
         if mono or flat or r <= min_width * max(1.0, abs(u)):

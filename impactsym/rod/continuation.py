@@ -488,13 +488,14 @@ def impact_sequence(
             else:
                 A, Bgap = np.zeros(0), C
                 slope = C[1]
-            if flights and flights[-1][0] == t and slope < 0.0:
+            opening = bool(flights) and flights[-1][0] == t
+            if opening and slope < 0.0:
                 # at a separation gap' = -N >= 0 exactly; clear a rounding-level slope
                 C[1] -= slope
             lo_gap = C[0] + (2 * alpha * R[0] if Q_in.size else 0.0)
             if lo_gap < 0.0:  # u - y >= 0 in flight; clear a rounding-level overlap
                 C[0] -= lo_gap
-            root = exp_poly_roots(A, Bgap, 0.0, X, first=True)
+            root = exp_poly_roots(A, Bgap, 0.0, X, first=True, rising_from_zero=opening)
             ended = root.size > 0
             if ended:
                 X, h = float(root[0]), alpha * float(root[0])
