@@ -41,6 +41,8 @@ _EPS = np.finfo(float).eps
 
 _FACT = np.array([math.factorial(k) for k in range(171)], dtype=float)
 _BINOM = np.array([[math.comb(b, a) for b in range(96)] for a in range(96)], dtype=float)
+_INVFACT = 1.0 / _FACT
+_ORDER = np.arange(171, dtype=float)
 _EXPONENT = np.maximum(np.subtract.outer(np.arange(-96, 0), np.arange(-96, 0)) * -1, 0)
 
 
@@ -92,33 +94,31 @@ def _trim(c) -> np.ndarray:
     return c[: nz[-1] + 1] if nz.size else c[:0]
 
 
-def _taylor(A, B, u, r, M):
+def _taylor(A, B, u, r, M, powers):
     """Taylor coefficients ``T`` of ``F`` at ``u`` (orders 0..M) and the bounds
     ``(rho0, rho1)`` of the omitted tail plus rounding for ``F`` and ``F'`` on
-    ``[u, u + r]``, and the rounding part of ``rho0`` alone."""
+    ``[u, u + r]``, and the rounding part of ``rho0`` alone (``powers = r**k``)."""
     T = np.zeros(M + 1)
     Tmag = np.zeros(M + 1)  # magnitude of the summands of each T_k, for rounding
     if B.size:
         S = _shift_matrix(B.size, u)
         T[: B.size] += S @ B
-        Tmag[: B.size] += np.abs(S) @ np.abs(B)
+        Tmag[: B.size] += (S if u >= 0.0 else np.abs(S)) @ np.abs(B)
     rho0 = rho1 = 0.0
     if A.size:
         S = _shift_matrix(A.size, u)
-        Au, Amag = S @ A, np.abs(S) @ np.abs(A)
+        Au = S @ A
+        Amag = (S if u >= 0.0 else np.abs(S)) @ np.abs(A)
         eu, er = math.exp(u), math.exp(r)
-        k = np.arange(M + 1)
         for i in range(A.size):  # e^z Au(z) = sum_k z^k sum_i Au[i] / (k - i)!
-            m = k[i:] - i
-            T[i:] += eu * Au[i] / _FACT[m]
-            Tmag[i:] += eu * Amag[i] / _FACT[m]
+            T[i:] += (eu * Au[i]) * _INVFACT[: M + 1 - i]
+            Tmag[i:] += (eu * Amag[i]) * _INVFACT[: M + 1 - i]
             K = M - i + 1  # first omitted power of e^z in this term: order i + K = M + 1
-            rho0 += eu * abs(Au[i]) * er * r ** (M + 1) / _FACT[K]
-            rho1 += eu * abs(Au[i]) * er * r**M * (i / _FACT[K] + 1.0 / _FACT[K - 1])
-    k = np.arange(M + 1)
+            rho0 += eu * abs(Au[i]) * er * powers[M] * r * _INVFACT[K]
+            rho1 += eu * abs(Au[i]) * er * powers[M] * (i * _INVFACT[K] + _INVFACT[K - 1])
     guard = 64.0 * (M + 4) * _EPS * 4.0
-    noise = guard * float(Tmag @ r**k)
-    rho1 += guard * float((k[1:] * Tmag[1:]) @ r ** k[:-1])
+    noise = guard * float(Tmag @ powers)
+    rho1 += guard * float((_ORDER[1 : M + 1] * Tmag[1:]) @ powers[:-1])
     return T, rho0 + noise, rho1, noise
 
 
@@ -177,8 +177,8 @@ def exp_poly_roots(
     while stack:
         u, v = stack.pop()
         r = v - u
-        T, rho0, rho1, noise = _taylor(A, B, u, r, M)
-        powers = r ** np.arange(M + 1)
+        powers = r ** _ORDER[: M + 1]
+        T, rho0, rho1, noise = _taylor(A, B, u, r, M, powers)
         spread = float(np.abs(T[1:]) @ powers[1:])
         if abs(T[0]) > spread + rho0:
             continue  # no zero in [u, v]
@@ -186,7 +186,7 @@ def exp_poly_roots(
             rest = float(np.abs(T[3:]) @ powers[1:-2])
             if T[2] > rest + rho0 / (r * r):
                 continue  # F = T1 z + z^2 (T2 + ...) > 0 on (lo, v]
-        mono = abs(T[1]) > float((np.arange(2, M + 1) * np.abs(T[2:])) @ powers[1:-1]) + rho1
+        mono = abs(T[1]) > float((_ORDER[2 : M + 1] * np.abs(T[2:])) @ powers[1:-1]) + rho1
         flat = abs(T[0]) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
         if mono or flat or r <= min_width * max(1.0, abs(u)):
             (Fu, Fv), _ = _evaluate(A, B, np.array([u, v]), dA, dB)
