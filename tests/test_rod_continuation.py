@@ -32,6 +32,16 @@ def test_events_agree_with_a_grid_solver_of_the_characteristics(alpha, f):
     assert np.median(stress) < 1e-3  # off the jumps, which the grid smears over a step
 
 
+def test_random_sequences_agree_with_the_grid_solver():
+    """Seeded random (alpha, f), chattering ones included, to t = 12."""
+    rng = np.random.default_rng(2026)
+    for alpha, f in zip(np.exp(rng.uniform(-2.5, 2.0, 6)), rng.uniform(0.0, 1.5, 6), strict=True):
+        seq = impact_sequence(alpha, f, t_end=12.0)
+        ref = UnilateralGrid(alpha, f, 12.0, steps_per_transit=8000)
+        assert len(seq.contacts) == len(ref.contacts), (alpha, f)
+        assert np.abs(np.array(seq.contacts) - np.array(ref.contacts)).max() < 1e-3
+
+
 @pytest.mark.parametrize("alpha", [0.05, 0.3, 0.5, 1.0, 1.5])
 def test_light_striker_leaves_after_the_first_reflection_returns(alpha):
     """Closed form for f = 0, derived by hand from the delay equation: on [0, 2)
