@@ -143,6 +143,11 @@ def test_invalid_input_is_refused():
         impact_sequence("1", 0.0)
     with pytest.raises(NotImplementedError, match="kappa"):
         impact_sequence(1.0, 0.0, kappa=100.0)
+    seq = impact_sequence(1.0, 0.0, t_end=5.0)
+    with pytest.raises(ValueError, match="t_end"):
+        seq.fixed_end_stress([1.0, 6.0])
+    with pytest.raises(ValueError, match="t must be finite"):
+        seq.energy.rod(np.nan)
 
 
 def test_exp_poly_roots_finds_close_roots_and_exponential_ones():

@@ -220,6 +220,12 @@ class RodSequenceEnergy:
     :meth:`rod` the elastic plus kinetic energy of the rod :math:`\int_{t-2}^t g^2`,
     :meth:`balance` the residual :math:`\alpha y'^2/2 + E_{rod} - f y - \alpha/2`
     (zero up to rounding).
+
+    Examples
+    --------
+    >>> energy = impact_sequence(1.0, 0.5, t_end=10.0).energy
+    >>> bool(np.abs(energy.balance(np.linspace(0.0, 9.9, 100))).max() < 1e-12)
+    True
     """
 
     sequence: RodImpactSequence
@@ -231,7 +237,7 @@ class RodSequenceEnergy:
         return self.sequence.f * self.sequence.displacement(t)
 
     def rod(self, t):
-        tab, tt = self.sequence._tables, np.asarray(t, dtype=float)
+        tab, tt = self.sequence._tables, self.sequence._times(t)
         return tab.integral(tt, square=True) - tab.integral(tt - 2.0, square=True)
 
     def balance(self, t):
@@ -276,6 +282,13 @@ class RodImpactSequence:
     _tables: _Tables = field(repr=False)
     _flights: tuple = field(repr=False)  # (t0, y0, v0) per flight
 
+    def _times(self, t) -> np.ndarray:
+        """``t`` as a float array, refused beyond ``t_end`` (nothing is known there)."""
+        tt, _ = real_array("t", t)
+        if np.any(tt > self.t_end):
+            raise ValueError(f"t must be <= t_end = {self.t_end}, got {float(tt.max())!r}")
+        return tt
+
     @property
     def energy(self) -> RodSequenceEnergy:
         """Striker and rod energies as functions of time (:class:`RodSequenceEnergy`)."""
@@ -283,13 +296,13 @@ class RodImpactSequence:
 
     def fixed_end_stress(self, t):
         r""":math:`\sigma(1, t) = 2 g(t - 1)`, compression positive (vectorized)."""
-        tt = np.asarray(t, dtype=float)
+        tt = self._times(t)
         out = 2.0 * self._tables.g(tt - 1.0)
         return float(out) if np.ndim(t) == 0 else out
 
     def rod_end_displacement(self, t):
         """:math:`u(t) = w(0, t)`."""
-        tt = np.asarray(t, dtype=float)
+        tt = self._times(t)
         out = self._tables.integral(tt) - self._tables.integral(tt - 2.0)
         return float(out) if np.ndim(t) == 0 else out
 
@@ -302,7 +315,7 @@ class RodImpactSequence:
 
     def displacement(self, t):
         """Striker displacement :math:`y(t)`."""
-        tt = np.asarray(t, dtype=float)
+        tt = self._times(t)
         y = np.asarray(self.rod_end_displacement(tt), dtype=float)
         if self._flights:
             k, fl = self._flight_index(tt)
@@ -314,7 +327,7 @@ class RodImpactSequence:
 
     def velocity(self, t):
         """Striker velocity :math:`y'(t)`."""
-        tt = np.asarray(t, dtype=float)
+        tt = self._times(t)
         v = self._tables.g(tt) - self._tables.g(tt - 2.0)
         if self._flights:
             k, fl = self._flight_index(tt)
@@ -325,7 +338,7 @@ class RodImpactSequence:
 
     def contact_force(self, t):
         """:math:`N(t)`: :math:`g(t) + g(t-2)` in contact, zero in flight."""
-        tt = np.asarray(t, dtype=float)
+        tt = self._times(t)
         n = self._tables.g(tt) + self._tables.g(tt - 2.0)
         if self._flights:
             n = np.where(self._flight_index(tt)[1], 0.0, n)
