@@ -62,9 +62,12 @@ def test_light_striker_leaves_after_the_first_reflection_returns(alpha):
     assert seq.fixed_end_stress(1.0) == pytest.approx(2.0, abs=1e-15)
 
 
-def test_light_striker_restitution_tends_to_two_over_e():
-    seq = impact_sequence(0.01, 0.0, t_end=10.0)
+@pytest.mark.parametrize("alpha", [1e-2, 1e-4, 1e-6])
+def test_light_striker_restitution_tends_to_two_over_e(alpha):
+    """Also where exp(-t/alpha) underflows long before the reflection returns."""
+    seq = impact_sequence(alpha, 0.0, t_end=10.0)
     assert seq.final
+    assert len(seq.contacts) == 1
     assert seq.restitution == pytest.approx(2.0 / math.e, abs=1e-15)
 
 
@@ -143,6 +146,10 @@ def test_invalid_input_is_refused():
         impact_sequence("1", 0.0)
     with pytest.raises(NotImplementedError, match="kappa"):
         impact_sequence(1.0, 0.0, kappa=100.0)
+    with pytest.raises(ValueError, match="max_contacts"):
+        impact_sequence(1.0, 0.0, max_contacts=0)
+    with pytest.raises(RuntimeError, match="max_contacts=5 contacts"):
+        impact_sequence(1.0, 0.5, max_contacts=5)
     seq = impact_sequence(1.0, 0.0, t_end=5.0)
     with pytest.raises(ValueError, match="t_end"):
         seq.fixed_end_stress([1.0, 6.0])

@@ -83,6 +83,8 @@ def _evaluate(A, B, x, dA=None, dB=None):
     """``F(x)`` and ``F'(x)`` at a float array ``x``."""
     dA = _derivative(A) if dA is None else dA
     dB = _derivative(B) if dB is None else dB
+    if A.size == 0:  # a plain polynomial: no exponential (which could overflow)
+        return _horner(B, x), _horner(dB, x)
     a = _horner(A, x)
     ex = np.exp(x)
     return ex * a + _horner(B, x), ex * (a + _horner(dA, x)) + _horner(dB, x)
@@ -170,6 +172,8 @@ def exp_poly_roots(
     A, B = _trim(A), _trim(B)
     if hi <= lo or (A.size == 0 and B.size == 0):
         return np.empty(0)
+    if A.size and max(abs(lo), abs(hi)) > 600.0:
+        raise ValueError(f"exp_poly_roots: e^x overflows on [{lo!r}, {hi!r}]; rescale x")
     M = max(A.size, B.size) + 12
     dA, dB = _derivative(A), _derivative(B)
     brackets: list[tuple[float, float]] = []

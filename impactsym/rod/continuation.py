@@ -378,7 +378,12 @@ def _g_max(tab: _Tables, s_end: float) -> float:
 
 
 def impact_sequence(
-    alpha: float, f: float, *, kappa: float = math.inf, t_end: float = 40.0
+    alpha: float,
+    f: float,
+    *,
+    kappa: float = math.inf,
+    t_end: float = 40.0,
+    max_contacts: int = 2000,
 ) -> RodImpactSequence:
     r"""Follow the rigid-contact rod impact through separations and re-contacts.
 
@@ -397,10 +402,24 @@ def impact_sequence(
         Contact stiffness; only ``inf`` (rigid contact) is implemented.
     t_end : float, optional
         End of the simulated time (unit :math:`L / c`).
+    max_contacts : int, optional
+        Limit on the number of contacts before ``t_end``. A very light striker pressed
+        by ``f > 0`` chatters on the vibrating rod end with ever shorter flights
+        (flight time :math:`\sim 2 \alpha |y'| / f`); past the limit a
+        ``RuntimeError`` says so instead of running on.
 
     Returns
     -------
     RodImpactSequence
+
+    Raises
+    ------
+    ValueError, TypeError
+        For ``alpha <= 0``, ``f < 0``, ``t_end <= 0``, non-finite or non-scalar input.
+    NotImplementedError
+        For a finite ``kappa``.
+    RuntimeError
+        When more than ``max_contacts`` contacts occur before ``t_end``.
 
     Examples
     --------
@@ -428,6 +447,8 @@ def impact_sequence(
         )
     if t_end > 1e4:
         raise ValueError(f"t_end must be <= 1e4, got {t_end}")
+    if isinstance(max_contacts, bool) or not isinstance(max_contacts, int) or max_contacts < 1:
+        raise ValueError(f"max_contacts must be a positive integer, got {max_contacts!r}")
 
     pieces = _Pieces(alpha)
     pieces.append(-2.0, 2.0, 0.0, np.zeros(0))  # rest before the impact
@@ -464,20 +485,22 @@ def impact_sequence(
                 G[0] = G0
                 B = G.copy()
                 B[:-1] += Q_in
-            else:
-                G = np.array([G0])
+            else:  # below rounding the exponential part is dropped, as in _Pieces.append
+                G = np.array([G0 if abs(G0) >= _NEGLIGIBLE * max(1.0, abs(p_new)) else 0.0])
                 B = G
-            if h > alpha * (_X_MAX if B.size > 1 else _X_LONG):
-                h = alpha * (_X_MAX if B.size > 1 else _X_LONG)
+            cap = _X_MAX if B.size > 1 else (_X_LONG if B[0] != 0.0 else math.inf)
+            if h > alpha * cap:
+                h = alpha * cap
                 t_next = t + h
             X = h / alpha
-            if f + B[0] <= 0.0:  # a tensile front: N jumps below zero
+            if f + B[0] < 0.0:  # a tensile front: N jumps below zero
                 contacts.append((contact_start, t))
                 speeds.append(v)
                 flights.append((t, y, v))
                 in_contact = False
                 continue
-            root = exp_poly_roots(np.array([f]), B, 0.0, X, first=True)
+            # with B = 0, N = f >= 0 throughout: no sign change
+            root = exp_poly_roots(np.array([f]), B, 0.0, X, first=True) if B.any() else B[:0]
             ended = root.size > 0
             if ended:
                 X, h = float(root[0]), alpha * float(root[0])
@@ -528,6 +551,12 @@ def impact_sequence(
             v += f / alpha * h
             t = t_next
             if ended:
+                if len(contacts) >= max_contacts:
+                    raise RuntimeError(
+                        f"impact_sequence({alpha!r}, {f!r}): more than max_contacts="
+                        f"{max_contacts} contacts before t = {t:.6g} < t_end = {t_end} "
+                        "(chatter); raise max_contacts or lower t_end"
+                    )
                 y = u
                 in_contact, contact_start = True, t
             elif f == 0.0 and v < 0.0:
