@@ -565,15 +565,15 @@ def impact_sequence(
     if in_contact:
         contacts.append((contact_start, t_end))
     tables = _Tables.build(pieces, t)
-    restitution = -speeds[-1] if (final and f == 0.0) else math.nan
+    restitution = -float(speeds[-1]) if (final and f == 0.0) else math.nan
     stress = 2.0 * _g_max(tables, t_end - 1.0) if t_end > 1.0 else 0.0
     return RodImpactSequence(
         alpha,
         f,
         kappa,
         t_end,
-        contacts,
-        speeds,
+        [(float(a), float(b)) for a, b in contacts],
+        [float(v) for v in speeds],
         restitution,
         final,
         stress,
