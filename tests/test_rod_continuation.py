@@ -7,7 +7,7 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
-from rod_characteristics import Characteristics, UnilateralGrid
+from references.rod_characteristics import Characteristics, UnilateralGrid
 
 from impactsym.numeric.exppoly import exp_poly_roots
 from impactsym.rod import contact_force, displacement, impact_sequence
