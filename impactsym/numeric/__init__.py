@@ -1,6 +1,7 @@
 """Numeric machinery shared by every analysis.
 
 * :mod:`~impactsym.numeric.roots` -- vectorized bracketed root finders (NumPy only);
+* :mod:`~impactsym.numeric.exppoly` -- certified roots of :math:`e^x A(x) + B(x)`;
 * :mod:`~impactsym.numeric.codegen` -- SymPy expressions to NumPy functions.
 """
 
@@ -11,6 +12,7 @@ from impactsym._lazy import lazy_names
 _NAMES = {
     "bracketed_newton": "impactsym.numeric.roots",
     "bracketed_illinois": "impactsym.numeric.roots",
+    "exp_poly_roots": "impactsym.numeric.exppoly",
     "lambdify": "impactsym.numeric.codegen",
 }
 __all__ = sorted(_NAMES)

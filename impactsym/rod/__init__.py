@@ -7,7 +7,9 @@
 * :mod:`~impactsym.rod.elastic` -- mpmath pole data for a finite contact stiffness;
 * :mod:`~impactsym.rod.api` -- :func:`displacement`, :func:`contact_force`;
 * :mod:`~impactsym.rod.contact_times` -- :func:`contact_time`, :func:`contact_time_map`;
-* :mod:`~impactsym.rod.codegen` -- the NumPy-only source that ``impactsym export`` writes.
+* :mod:`~impactsym.rod.codegen` -- the NumPy-only source that ``impactsym export`` writes;
+* :mod:`~impactsym.rod.continuation` -- :func:`impact_sequence`: the impact continued past
+  separation (flight, re-contact), energy split and fixed-end stress.
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ _NAMES = {
     "contact_time_map": "impactsym.rod.contact_times",
     "ContactTimeMap": "impactsym.rod.contact_times",
     "numpy_source": "impactsym.rod.codegen",
+    "impact_sequence": "impactsym.rod.continuation",
+    "RodImpactSequence": "impactsym.rod.continuation",
 }
 __all__ = sorted(_NAMES)
 __getattr__, __dir__ = lazy_names(__name__, _NAMES)

@@ -80,3 +80,72 @@ class Characteristics:
                 for i, x in zip(k, tau, strict=True)
             ]
         )
+
+
+class UnilateralGrid:
+    """Rigid rod impact with separation and re-contact on a uniform grid (reference).
+
+    The same characteristics, written for the striker velocity instead of the wave:
+    with the incoming wave :math:`g_i(t) = g(t - 2)` (stored on the grid, zero before
+    the impact), in contact :math:`\\alpha v' = f - N`, :math:`N = v + 2 g_i`, and the
+    outgoing wave is :math:`g = v + g_i`; in flight :math:`g = -g_i`, the free end moves
+    with :math:`u' = -2 g_i` and the striker with :math:`v' = f/\\alpha`. Each step is the
+    exact exponential integrator for a linearly interpolated :math:`g_i`; contact ends at
+    the step where :math:`N < 0`, resumes at the step where :math:`u < y`, the event time
+    interpolated linearly. First order in the step at the jumps of :math:`g_i`; no
+    polynomial, no root isolation.
+    """
+
+    def __init__(self, alpha: float, f: float, t_end: float, steps_per_transit: int = 2000):
+        h = 1.0 / steps_per_transit
+        lag = 2 * steps_per_transit
+        n = round(t_end / h)
+        g = np.zeros(n + 1 + lag)  # g[k + lag] = g(k h)
+        E = np.exp(-h / alpha)
+        v, y, u = 1.0, 0.0, 0.0
+        g[lag] = 1.0
+        contact, start = True, 0.0
+        self.contacts, self.separation_speeds = [], []
+        self.t = h * np.arange(n + 1)
+        self.v = np.empty(n + 1)
+        self.v[0] = 1.0
+        for k in range(n):
+            gi0, gi1 = g[k], g[k + 1]
+            if contact:
+                c0, slope = f - 2 * gi0, -2 * (gi1 - gi0) / h
+                v_new = v * E + c0 * (1 - E) + slope * (h - alpha * (1 - E))
+                N0, N1 = v + 2 * gi0, v_new + 2 * gi1
+                if N1 < 0.0:
+                    te = k * h + h * N0 / (N0 - N1) if N0 > 0 else k * h
+                    self.contacts.append((start, te))
+                    self.separation_speeds.append(v + (v_new - v) * (te - k * h) / h)
+                    contact = False
+                    u += 0.5 * h * (v + v_new)
+                    y, v = u, v_new
+                    g[k + 1 + lag] = -gi1
+                else:
+                    u += 0.5 * h * (v + v_new)
+                    y, v = u, v_new
+                    g[k + 1 + lag] = v + gi1
+            else:
+                gap0 = u - y
+                u += -h * (gi0 + gi1)
+                y += v * h + 0.5 * f / alpha * h * h
+                v += f / alpha * h
+                gap1 = u - y
+                if gap1 < 0.0:
+                    start = k * h + h * gap0 / (gap0 - gap1)
+                    contact = True
+                    y = u
+                    g[k + 1 + lag] = v + gi1
+                else:
+                    g[k + 1 + lag] = -gi1
+            self.v[k + 1] = v
+        if contact:
+            self.contacts.append((start, t_end))
+        self.g = g[lag:]
+
+    def fixed_end_stress(self, t: np.ndarray) -> np.ndarray:
+        """:math:`\\sigma(1, t) = 2 g(t - 1)`, linear interpolation on the grid."""
+        s = np.asarray(t) - 1.0
+        return np.where(s < 0, 0.0, 2 * np.interp(s, self.t, self.g))

@@ -1,0 +1,108 @@
+"""Figures of the rod impact continued past separation (:mod:`impactsym.rod.continuation`).
+
+Every function takes an optional Matplotlib axes and returns it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.axes import Axes
+
+from impactsym.rod.continuation import RodImpactSequence, impact_sequence
+
+
+def plot_sequence(seq: RodImpactSequence, *, ax: Axes | None = None, n_points: int = 4001) -> Axes:
+    r"""Energy split over time with the contact intervals shaded.
+
+    Striker kinetic energy :math:`\alpha y'^2/2`, rod energy (elastic + kinetic), the
+    work :math:`f y` of the pressing force, all in units of :math:`m_{rod} v_0^2`;
+    grey bands: contact.
+
+    Examples
+    --------
+    >>> ax = plot_sequence(impact_sequence(1.0, 0.0, t_end=8.0), n_points=50)
+    >>> len(ax.lines)
+    3
+    """
+    if ax is None:
+        ax = plt.figure(figsize=(8, 3.5)).add_subplot()
+    t = np.linspace(0.0, seq.t_end, n_points)[:-1]
+    energy = seq.energy
+    ax.plot(t, energy.striker(t), label=r"striker $\alpha y'^2/2$")
+    ax.plot(t, energy.rod(t), label="rod (elastic + kinetic)")
+    ax.plot(t, energy.work(t), label=r"work of $f$: $f y$", ls="--")
+    for start, end in seq.contacts:
+        ax.axvspan(start, end, color="0.85", zorder=0)
+    ax.set_xlabel(r"$t\,/\,(L/c)$")
+    ax.set_ylabel(r"energy $/\,(m_{rod} v_0^2)$")
+    ax.set_title(
+        rf"$\alpha = {seq.alpha:g}$, $f = {seq.f:g}$: {len(seq.contacts)} contact(s) (grey)"
+    )
+    ax.legend(loc="best", fontsize="small")
+    return ax
+
+
+def plot_fixed_end_stress(
+    alpha: Sequence[float],
+    f: float = 0.0,
+    *,
+    t_end: float = 40.0,
+    ax: Axes | None = None,
+) -> Axes:
+    r"""Largest compressive stress at the fixed end over :math:`\alpha`.
+
+    With the light-striker value :math:`2(1 + e^{-2/\alpha})` (the reflected front
+    meets the next one) and the rod as a massless spring, :math:`\sqrt{\alpha}`
+    (unit :math:`E v_0 / c`, the impact stress).
+
+    Examples
+    --------
+    >>> ax = plot_fixed_end_stress([0.5, 2.0], t_end=6.0)
+    >>> len(ax.lines)
+    3
+    """
+    if ax is None:
+        ax = plt.figure(figsize=(6, 4)).add_subplot()
+    alpha = np.asarray(alpha, dtype=float)
+    stress = [impact_sequence(a, f, t_end=t_end).max_fixed_end_stress for a in alpha]
+    ax.plot(alpha, stress, "o-", ms=3, label=rf"exact, $f = {f:g}$, $t \leq {t_end:g}$")
+    ax.plot(alpha, 2 * (1 + np.exp(-2 / alpha)), ":", label=r"$2(1 + e^{-2/\alpha})$")
+    ax.plot(alpha, np.sqrt(alpha), "--", label=r"massless spring $\sqrt{\alpha}$")
+    ax.set_xscale("log")
+    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
+    ax.set_ylabel(r"max $\sigma(1, t)\,/\,(E v_0 / c)$")
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_restitution(
+    alpha: Sequence[float], *, t_end: float = 60.0, ax: Axes | None = None
+) -> Axes:
+    r"""Coefficient of restitution of Saint-Venant's problem (:math:`f = 0`) over
+    :math:`\alpha`, against the classical values: :math:`e = 1` of the rigid-body
+    (massless-spring) theory and the single-contact light-striker value
+    :math:`2 \exp(-1 - e^{-2/\alpha}/2)` (valid while one contact ends before
+    :math:`t = 4`).
+
+    Examples
+    --------
+    >>> ax = plot_restitution([0.5, 2.0], t_end=20.0)
+    >>> len(ax.lines)
+    3
+    """
+    if ax is None:
+        ax = plt.figure(figsize=(6, 4)).add_subplot()
+    alpha = np.asarray(alpha, dtype=float)
+    e = [impact_sequence(a, 0.0, t_end=t_end).restitution for a in alpha]
+    ax.plot(alpha, e, "o-", ms=3, label="exact (all contacts)")
+    light = 2 * np.exp(-1 - np.exp(-2 / alpha) / 2)
+    ax.plot(alpha, np.where(alpha < 1.7, light, np.nan), ":", label="one contact, light striker")
+    ax.plot(alpha, np.ones_like(alpha), "--", label="rigid body / massless spring")
+    ax.set_xscale("log")
+    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
+    ax.set_ylabel("coefficient of restitution")
+    ax.legend(fontsize="small")
+    return ax
