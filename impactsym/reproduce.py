@@ -18,7 +18,10 @@ STEPS: tuple[tuple[str, str], ...] = (
     ("spring-damper contact (paper section 2)", "impactsym.results.contact"),
     ("multibody penalty contact (paper section 3)", "impactsym.results.multibody"),
     ("bounce sequences until rest", "impactsym.results.bounce"),
-    ("rod impact until rest (contacts, flights, fixed-end stress)", "impactsym.results.rod_sequence"),
+    (
+        "rod impact until rest (contacts, flights, fixed-end stress)",
+        "impactsym.results.rod_sequence",
+    ),
     ("engine parameters (MuJoCo, LAMMPS)", "impactsym.results.engines"),
     ("formulas and exported functions", "impactsym.results.documents"),
 )
