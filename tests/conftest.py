@@ -8,6 +8,9 @@ from __future__ import annotations
 
 import os
 import shutil
+import subprocess
+from collections.abc import Callable
+from pathlib import Path
 
 import pytest
 
@@ -31,3 +34,22 @@ def require_latex() -> str:
 def pdflatex() -> str:
     """The LaTeX engine, under :func:`require_latex`'s skip-or-fail policy."""
     return require_latex()
+
+
+@pytest.fixture
+def compile_latex(pdflatex: str) -> Callable[[Path], subprocess.CompletedProcess]:
+    """``compile_latex(tex)`` runs the engine on ``tex`` in its directory, stopping at the
+    first error (never waiting for input); returns the completed process."""
+
+    def run(tex: Path) -> subprocess.CompletedProcess:
+        return subprocess.run(
+            [pdflatex, "-interaction=nonstopmode", "-halt-on-error", tex.name],
+            cwd=tex.parent,
+            capture_output=True,
+            text=True,
+            check=False,
+            stdin=subprocess.DEVNULL,
+            timeout=120,
+        )
+
+    return run

@@ -34,22 +34,14 @@ MEASURE_RESIZEBOX = r"""\let\realresizebox\resizebox
 """
 
 
-def compile_measuring_resizes(document: str, tmp_path, pdflatex) -> tuple[list[tuple], str]:
+def compile_measuring_resizes(document: str, tmp_path, compile_latex) -> tuple[list[tuple], str]:
     """Compile ``document`` with every \\resizebox logged: ([(natural, target)], log)."""
     assert "\\scalebox" not in document  # scaling goes through \resizebox only
     tex = tmp_path / "measured.tex"
     tex.write_text(
         document.replace("\\begin{document}", MEASURE_RESIZEBOX + "\\begin{document}", 1)
     )
-    run = subprocess.run(
-        [pdflatex, "-interaction=nonstopmode", "-halt-on-error", tex.name],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        check=False,
-        stdin=subprocess.DEVNULL,
-        timeout=120,
-    )
+    run = compile_latex(tex)
     log = (tmp_path / "measured.log").read_text(errors="replace")
     assert run.returncode == 0, log[-2000:]
     sizes = re.findall(r"RESIZEBOX ([\d.]+)pt\s*->\s*([\d.]+)pt", log)
@@ -57,19 +49,19 @@ def compile_measuring_resizes(document: str, tmp_path, pdflatex) -> tuple[list[t
     return [(float(a), float(b)) for a, b in sizes], log
 
 
-def test_formulas_are_set_at_text_size_never_scaled_up(tmp_path, pdflatex):
-    resizes, log = compile_measuring_resizes(latex_document(), tmp_path, pdflatex)
+def test_formulas_are_set_at_text_size_never_scaled_up(tmp_path, compile_latex):
+    resizes, log = compile_measuring_resizes(latex_document(), tmp_path, compile_latex)
     assert all(target <= natural for natural, target in resizes), resizes
     # and no display formula runs into the margin
     assert not re.search(r"Overfull \\hbox .* detected at line", log)
 
 
-def test_a_formula_wider_than_the_line_is_scaled_down_to_it(tmp_path, pdflatex):
+def test_a_formula_wider_than_the_line_is_scaled_down_to_it(tmp_path, compile_latex):
     wide = " + ".join(f"x_{{{i}}}^{{{i}}}" for i in range(80))
     document = latex_document().replace(
         "\\end{document}", f"\\[\\fitformula{{{wide}}}\\]\n\\end{{document}}"
     )
-    resizes, log = compile_measuring_resizes(document, tmp_path, pdflatex)
+    resizes, log = compile_measuring_resizes(document, tmp_path, compile_latex)
     assert len(resizes) == 1
     natural, target = resizes[0]
     assert natural > 1.5 * target

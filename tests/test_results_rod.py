@@ -5,7 +5,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import subprocess
 
 import matplotlib
 import matplotlib.pyplot
@@ -56,7 +55,7 @@ def test_contact_time_map_rows_and_ratio():
         contact_time_map([[0.1]], [0.0])
 
 
-def test_latex_formulas_compile(tmp_path, pdflatex):
+def test_latex_formulas_compile(tmp_path, compile_latex):
     body = "".join(f"% {label}\n\\[\n{math_}\n\\]\n" for label, _, math_ in latex_formulas(3))
     tex = tmp_path / "rod.tex"
     tex.write_text(
@@ -64,13 +63,5 @@ def test_latex_formulas_compile(tmp_path, pdflatex):
         + body
         + "\\end{document}\n"
     )
-    run = subprocess.run(
-        [pdflatex, "-interaction=nonstopmode", "-halt-on-error", tex.name],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        check=False,
-        stdin=subprocess.DEVNULL,
-        timeout=120,
-    )
+    run = compile_latex(tex)
     assert run.returncode == 0, run.stdout[-2000:]
