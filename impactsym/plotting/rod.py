@@ -64,7 +64,7 @@ def plot_time_history(
     fn, condition, ax, t = _time_axes(quantity, ax, t_max, n_points)
     for alpha, f in cases:
         (line,) = ax.plot(t, fn(t, alpha, f, kappa), lw=1.3, label=rf"$\alpha={alpha:g},\ f={f:g}$")
-        tc = contact_time(alpha, f, condition, kappa, t_max=t_max)
+        tc = contact_time(alpha, f, condition=condition, kappa=kappa, t_max=t_max)
         if np.isfinite(tc):
             ax.plot([tc], [0.0], "o", color=line.get_color(), ms=5)
     stiffness = "rigid contact" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
