@@ -53,7 +53,8 @@ def first_sign_change(
         ``evaluate(x, owner) -> (g, dg, aux)`` at 1-D arrays (``aux``: any per-point
         values the bound needs).
     bound
-        ``bound(a, b, owner, aux_a, aux_b) -> M`` with ``|g''| <= M`` on ``[a, b]``.
+        ``bound(a, b, owner, aux_a, aux_b, dg_a, dg_b) -> M`` with ``|g''| <= M`` on
+        ``[a, b]``.
     nodes, owner
         Initial nodes (sorted within each owner, owners contiguous and ascending) and
         the owner of each; ``g`` must be positive at each owner's first node.
@@ -86,7 +87,7 @@ def first_sign_change(
         if a.size == 0:
             break
         h = b - a
-        M = bound(a, b, own, ea, eb)
+        M = bound(a, b, own, ea, eb, da, db)
         q = M * h * h
         lower = np.maximum.reduce(
             [

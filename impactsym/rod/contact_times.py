@@ -62,6 +62,8 @@ class _RigidInterval:
 
     def __init__(self, which, m, coef, alpha, f, y0, v0):
         self.which, self.m, self.coef = which, m, coef  # coef: (m + 1, n_pairs)
+        # N' = -(N - f)/2 - sum_j tail_j E_j, tail_j = sum_(i>j) a_i
+        self.tail = np.cumsum(coef[::-1], axis=0)[::-1] - coef
         self.alpha, self.f, self.y0, self.v0 = alpha, f, y0, v0
         j = np.arange(m + 1)[:, None]
         absc = np.abs(coef)
@@ -119,26 +121,34 @@ class _RigidInterval:
                 S1 += aj * I1
                 total += aj * I2
             else:
-                S1 -= aj * (total + 0.5 * Et)
-                total += Et
+                S1 += self.tail[j][own] * Et
         if self.which == "y":
             al = self.alpha[own]
             v0 = self.v0[own]
             g = self.y0[own] + v0 * (0.5 * al * x) - 0.25 * al * total
             dg = 0.5 * al * v0 - 0.25 * al * S1
             return g, dg, S0
-        return self.f[own] + S0, S1, S0
+        return self.f[own] + S0, -0.5 * S0 - S1, S0
 
-    def bound(self, a, b, own, Sa, Sb):
-        """Rigorous bound on ``|g''|`` over the cells ``[a, b]``."""
+    def bound(self, a, b, own, Sa, Sb, da=None, db=None):
+        """Rigorous bound on ``|g''|`` (in ``x``) over the cells ``[a, b]``."""
+        h = b - a
         C0, C1, C2 = self.C0[own], self.C1[own], self.C2[own]
+        positive = a > 0
         with np.errstate(divide="ignore", invalid="ignore"):
-            M1 = np.where(a > 0, np.minimum(C1, 0.5 * C0 + self.J1[own] / a), C1)
+            inv = np.where(positive, 1.0 / a, np.inf)
+            M1 = np.minimum(C1, 0.5 * C0 + self.J1[own] * inv)  # |N'|
+            end = np.maximum(np.abs(Sa), np.abs(Sb))
+            sup = np.minimum(C0, end + 0.5 * h * M1)  # |N - f|
             if self.which == "y":
-                sup = np.minimum(C0, np.maximum(np.abs(Sa), np.abs(Sb)) + 0.5 * M1 * (b - a))
                 return 0.25 * self.alpha[own] * sup
-            local = (M1 + (0.5 + 0.25 * b) * C0 + self.J0[own]) / a
-            return np.where(a > 0, np.minimum(C2, local), C2)
+            weight = np.maximum(0.5, 0.25 * b - 0.5)  # |1/2 - x/4|
+            M2 = np.where(positive, np.minimum(C2, (M1 + weight * sup + self.J0[own]) * inv), C2)
+            # once more with |N'| from the slopes at the cell ends
+            M1 = np.minimum(M1, np.maximum(np.abs(da), np.abs(db)) + 0.5 * h * M2)
+            sup = np.minimum(sup, end + 0.5 * h * M1)
+            local = (M1 + weight * sup + self.J0[own]) * inv
+            return np.where(positive, np.minimum(M2, local), M2)
 
 
 def _rigid_contact_times(which, alpha, f, t_max, chunk=32768):
@@ -204,7 +214,7 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max):
             slope = _elastic(name, t, float(ag), float(kg), fm[own], True)
             return value, slope, value
 
-        def bound(ta, tb, own, _a, _b, model=model, fm=fm):
+        def bound(ta, tb, own, _a, _b, _da, _db, model=model, fm=fm):
             return model.second_derivative_bound(ta, tb, fm[own])
 
         step = min(0.1, 0.25 * float(ag), 0.5 / np.sqrt(model.fastest))
