@@ -356,6 +356,18 @@ class ContactTimeMap:
         out[both] = self.position[both] / self.force[both]
         return out
 
+    def interval(self, condition: str = "force") -> np.ndarray:
+        """Reflection interval on which the first contact ends, :math:`\\lfloor t_c/2
+        \\rfloor` (1: between the first and the second return of the reflected wave,
+        :math:`2 \\le t_c < 4`); NaN where the striker sticks.
+
+        >>> contact_time_map([0.5], [0.0]).interval().tolist()
+        [[1.0]]
+        """
+        times = {"force": self.force, "position": self.position}[check_condition(condition)]
+        with np.errstate(invalid="ignore"):
+            return np.where(np.isfinite(times), np.floor(times / 2.0), np.nan)
+
     def rows(self) -> list[tuple[float, ...]]:
         """``(alpha, f, t_force, t_position, ratio)`` per grid point, for tables."""
         A, F = np.meshgrid(self.alpha, self.f)
