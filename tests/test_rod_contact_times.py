@@ -201,3 +201,34 @@ def test_far_out_beyond_the_limit_is_refused_with_the_limit_named():
     assert namespace["rod_displacement"](1e4, 2.0, 0.5) == displacement(1e4, 2.0, 0.5)
     with pytest.raises(ValueError, match="t must be <= 10000"):
         namespace["rod_displacement"](2e4, 2.0, 0.5)
+
+
+# ------------------------------------------------------------------ atlases
+
+
+def test_atlas_marks_reflection_intervals_and_stays_small_as_pdf(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from impactsym.plotting.rod import plot_contact_time_maps
+    from impactsym.rod import contact_time_map
+
+    study = contact_time_map(np.geomspace(0.05, 10.0, 120), np.linspace(0.0, 2.0, 120))
+    interval = study.interval("position")
+    finite = np.isfinite(study.position)
+    assert np.array_equal(np.isnan(interval), ~finite)
+    assert np.all(2 * interval[finite] <= study.position[finite])
+    assert np.all(study.position[finite] < 2 * interval[finite] + 2)
+    assert {1.0, 2.0, 3.0} <= set(np.unique(interval[finite]).tolist())
+    axes = plot_contact_time_maps(study)
+    meshes = [c for ax in axes for c in ax.collections if type(c).__name__ == "QuadMesh"]
+    assert meshes
+    assert all(m.get_rasterized() for m in meshes)
+    labels = {t.get_text() for t in axes[1].texts}
+    assert {"1st", "2nd"} <= labels
+    path = tmp_path / "atlas.pdf"
+    axes[0].figure.savefig(path, dpi=150)
+    plt.close(axes[0].figure)
+    assert path.stat().st_size < 1_000_000

@@ -50,14 +50,16 @@ class _RigidInterval:
     .. math::
 
         |N'| \\le \\min\\Bigl(C_1, \\frac{C_0}{2} + \\frac{J_1}{a}\\Bigr), \\qquad
-        |N''| \\le \\min\\Bigl(C_2, \\frac{|N'|_{\\max} + (1/2 + b/4) C_0 + J_0}{a}\\Bigr),
+        |N''| \\le \\min\\Bigl(C_2, \\frac{|N'|_{\\max} + |1/2 - x/4|_{\\max}
+        |N - f|_{\\max} + J_0}{a}\\Bigr),
 
     :math:`C_0 = \\sum |a_j|`, :math:`J_0 = \\sum j |a_j|`, :math:`J_1 = \\sum_k
     |k a_k - (k+1) a_{k+1}|` and :math:`C_1, C_2` the sums of the absolute
     coefficients of :math:`N', N''` in the :math:`E_k` basis (:math:`E_j' = -E_j/2 -
-    \\sum_{k<j} E_k`). For ``y``: :math:`|y_{xx}| \\le \\frac{\\alpha}{4}
-    \\sup|N - f|` with :math:`\\sup|N - f| \\le \\min(C_0, \\max(|N(a) - f|,
-    |N(b) - f|) + |N'|_{\\max} h / 2)`.
+    \\sum_{k<j} E_k`); :math:`|N - f|_{\\max} \\le \\min(C_0, \\max(|N(a) - f|,
+    |N(b) - f|) + |N'|_{\\max} h / 2)`, and :math:`|N'|_{\\max}` is tightened once with
+    the slopes at the cell ends, :math:`\\max(|N'(a)|, |N'(b)|) + |N''|_{\\max} h / 2`.
+    For ``y``: :math:`|y_{xx}| \\le \\frac{\\alpha}{4} |N - f|_{\\max}`.
     """
 
     def __init__(self, which, m, coef, alpha, f, y0, v0):
