@@ -19,7 +19,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.polynomial import chebyshev as cheb
-from rod_characteristics import Characteristics
+from references.rod_characteristics import Characteristics
 from scipy.optimize import brentq
 
 from impactsym.rod import contact_force, contact_time, displacement, numpy_source

@@ -1,7 +1,7 @@
 """Contact times of the rod impact: certified first sign changes of :math:`y(t)` and :math:`N(t)`.
 
 No sampling: the first sign change is isolated with rigorous bounds on the second
-derivative (:mod:`impactsym.rod._isolate`) and refined with
+derivative (:mod:`impactsym.numeric.isolation`) and refined with
 :func:`impactsym.numeric.bracketed_newton`.
 """
 
@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from impactsym.rod._isolate import first_sign_change
+from impactsym.numeric.isolation import first_sign_change
 from impactsym.rod.elastic import T_LIMIT_ELASTIC, _elastic, _elastic_model
 from impactsym.rod.kernel import T_LIMIT, _rigid_tables
 from impactsym.validation import check_condition, finish, real_array
@@ -254,11 +254,11 @@ def contact_time(
     with rigorous bounds on :math:`|g''|` over any cell (:class:`_RigidInterval`);
     finite :math:`\kappa`: a sum of :math:`e^{pu}` times polynomials, bounded term by
     term. Cells are proved zero-free (interpolation and Taylor lower bounds) or
-    monotone, or halved (:func:`impactsym.rod._isolate.first_sign_change`); the
+    monotone, or halved (:func:`impactsym.numeric.isolation.first_sign_change`); the
     first sign-change cell, monotone, is refined with
     :func:`impactsym.numeric.bracketed_newton` to full precision. A sign change is
     needed: a tangential touch is not an end of contact, and a dip below zero
-    shallower than ``1e-12`` (``impactsym.rod._isolate.TOLERANCE``, in units of
+    shallower than ``1e-12`` (``impactsym.numeric.isolation.TOLERANCE``, in units of
     :math:`y` resp. :math:`N`) may be passed over.
 
     Parameters

@@ -1,8 +1,7 @@
 """Certified search for the first sign change of a smooth function on many intervals.
 
-NumPy only. Used by :mod:`impactsym.rod.contact_times` for the rigid-contact time
-functions on one reflection interval and for the finite-stiffness ones on
-``[0, t_max]``.
+NumPy only. Used by :mod:`impactsym.rod.contact_times` for the rod's contact times
+(rigid: one reflection interval at a time; finite stiffness: ``[0, t_max]``).
 
 **Argument.** On a cell ``[a, b]`` (``h = b - a``) with ``|g''| <= M`` (a rigorous bound
 supplied by the caller) and the values ``g(a), g(b)`` and slopes ``g'(a), g'(b)``:
@@ -63,6 +62,21 @@ def first_sign_change(
     tol, max_rounds, max_cells
         Acceptance depth (see the module notes) and work limits; beyond the limits a
         ``RuntimeError`` is raised, never a guess.
+
+    Examples
+    --------
+    ``g = cos(x) - c`` with ``|g''| <= 1``: the first zero is ``arccos(c)``, also where
+    two coarse nodes would straddle a second zero or none:
+
+    >>> c = np.array([0.5, 0.999])
+    >>> def evaluate(x, owner):
+    ...     return np.cos(x) - c[owner], -np.sin(x), np.zeros_like(x)
+    >>> def bound(a, b, owner, *ends):
+    ...     return np.ones_like(a)
+    >>> nodes, owner = np.tile([0.0, 7.0], 2), np.repeat([0, 1], 2)
+    >>> root = first_sign_change(evaluate, bound, nodes, owner, 2)
+    >>> bool(np.allclose(root, np.arccos(c), rtol=0, atol=1e-14))
+    True
     """
     result = np.full(n_owners, np.nan)
     if nodes.size == 0:
