@@ -179,7 +179,10 @@ def _rigid_contact_times(which, alpha, f, t_max, chunk=32768):
             v0 = V0[row, m] + ff * V1[row, m]
             model = _RigidInterval(which, m, coef, al, ff, y0, v0)
             x_end = 2.0 * np.minimum(2.0, t_max - 2.0 * m) / al
-            n0 = 2 + np.ceil(0.5 * np.sqrt((m + 1) * x_end)).astype(np.int64)
+            # initial cells uniform in sqrt(x) (the Laguerre phase is ~ 2 sqrt(m x));
+            # N needs fine cells anyway, y is mostly decided on coarse ones
+            density = 1.0 if which == "N" else 0.25
+            n0 = 2 + np.ceil(density * np.sqrt((m + 1) * x_end)).astype(np.int64)
             owner = np.repeat(np.arange(active.size), n0 + 1)
             first = np.cumsum(n0 + 1) - (n0 + 1)
             k = np.arange(owner.size) - first[owner]
