@@ -169,7 +169,19 @@ def test_finite_stiffness_contact_time_is_a_sign_change_and_fast():
 # ------------------------------------------------------------------ far out
 
 
-@pytest.mark.parametrize(("a", "force"), [(2.0, 0.5), (0.5, 1.0), (0.05, 1.5), (10.0, 0.2)])
+@settings(max_examples=8, deadline=None)
+@given(
+    t=st.floats(0.0, 1e4),
+    a=st.floats(math.log(0.02), math.log(50.0)).map(math.exp),
+    force=st.floats(0.0, 3.0),
+)
+def test_displacement_anywhere_up_to_1e4_equals_the_modal_expansion(t, a, force):
+    assert abs(displacement(t, a, force) - modal_displacement(t, a, force)[0]) < 1e-9
+
+
+@pytest.mark.parametrize(
+    ("a", "force"), [(2.0, 0.5), (0.5, 1.0), (0.05, 1.5), (10.0, 0.2), (0.01, 0.3)]
+)
 def test_displacement_far_out_equals_the_modal_expansion(a, force):
     t = np.array([501.3, 2001.7, 7777.7, 9999.9, 1e4])
     y = displacement(t, a, force)
