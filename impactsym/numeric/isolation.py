@@ -49,8 +49,8 @@ def first_sign_change(
     Parameters
     ----------
     evaluate
-        ``evaluate(x, owner) -> (g, dg, aux)`` at 1-D arrays (``aux``: any per-point
-        values the bound needs).
+        ``evaluate(x, owner) -> (g, dg, aux)`` at 1-D arrays (``aux``: one more
+        per-point value that the bound needs).
     bound
         ``bound(a, b, owner, aux_a, aux_b, dg_a, dg_b) -> M`` with ``|g''| <= M`` on
         ``[a, b]``.
@@ -82,45 +82,51 @@ def first_sign_change(
     if nodes.size == 0:
         return result
     g, dg, aux = evaluate(nodes, owner)
-    same = owner[1:] == owner[:-1]
-    left = np.flatnonzero(same)
-    a, b, own = nodes[left], nodes[left + 1], owner[left]
-    ga, gb, da, db = g[left], g[left + 1], dg[left], dg[left + 1]
-    ea, eb = aux[left], aux[left + 1]
+    left = np.flatnonzero(owner[1:] == owner[:-1])
+    right = left + 1
+    # one row per cell quantity: a, b, g(a), g(b), g'(a), g'(b), aux(a), aux(b)
+    cells = np.stack(
+        [nodes[left], nodes[right], g[left], g[right], dg[left], dg[right], aux[left], aux[right]]
+    )
+    own = owner[left]
     found_a, found_b, found_own = [], [], []
     for _ in range(max_rounds):
-        if a.size > max_cells:
+        if own.size > max_cells:
             raise RuntimeError(
                 f"first_sign_change: more than {max_cells} cells needed (the bound on "
                 "|g''| is too coarse to certify the sign)"
             )
         # cells after a sign change play no part; a cell may start at a zero of g
         # where g rises (g(0) = 0 for finite contact stiffness)
+        ga, da = cells[2], cells[4]
         keep = (ga > 0) | ((ga == 0) & (da > 0))
-        a, b, own, ga, gb, da, db, ea, eb = (v[keep] for v in (a, b, own, ga, gb, da, db, ea, eb))
-        if a.size == 0:
+        if not keep.all():
+            cells, own = cells[:, keep], own[keep]
+        if own.size == 0:
             break
+        a, b, ga, gb, da, db, ea, eb = cells
         h = b - a
         M = bound(a, b, own, ea, eb, da, db)
         q = M * h * h
-        lower = np.maximum.reduce(
-            [
-                np.minimum(ga, gb) - q / 8,
-                np.minimum(ga, ga + da * h - q / 2),
-                np.minimum(gb, gb - db * h - q / 2),
-            ]
+        lower = np.maximum(
+            np.minimum(ga, gb) - q / 8,
+            np.maximum(np.minimum(ga, ga + da * h - q / 2), np.minimum(gb, gb - db * h - q / 2)),
         )
         rising = da + db - M * h > 0
         falling = da + db + M * h < 0
-        at_zero = ga == 0  # then g > 0 just after a only if g' > M h / 2 ... decide by halving
+        at_zero = ga == 0  # then g > 0 just after a only if g' > M h / 2, else halve
         lower = np.where(at_zero, np.where(da - q / (2 * h) > 0, np.inf, -np.inf), lower)
         change = (gb <= 0) & ~at_zero
         tiny = (q / 8 <= tol) | (h <= 4 * np.finfo(float).eps * np.maximum(np.abs(a), 1.0))
         clear = ~change & ((lower > 0) | ((rising | falling) & ~at_zero) | tiny)
         decided = change & (rising | falling | tiny)
-        # the first sign-change cell of each owner; later cells play no part
+        # the first sign-change cell of each owner (sorted assignment: the smallest
+        # a is written last); later cells play no part
         first_change = np.full(n_owners, np.inf)
-        np.minimum.at(first_change, own[change], a[change])
+        idx = np.flatnonzero(change)
+        if idx.size:
+            idx = idx[np.argsort(-a[idx], kind="stable")]
+            first_change[own[idx]] = a[idx]
         relevant = ~clear & (a <= first_change[own])
         undecided = relevant & ~decided
         # an owner is done when its first sign-change cell is decided and no
@@ -128,27 +134,29 @@ def first_sign_change(
         pending = np.zeros(n_owners, dtype=bool)
         pending[own[undecided]] = True
         done = relevant & decided & ~pending[own] & (a == first_change[own])
-        found_a.append(a[done])
-        found_b.append(b[done])
-        found_own.append(own[done])
+        if done.any():
+            found_a.append(a[done])
+            found_b.append(b[done])
+            found_own.append(own[done])
         if not undecided.any():
             break
         carry = relevant & pending[own] & ~undecided  # decided, waiting for earlier cells
-        cells = (a, b, own, ga, gb, da, db, ea, eb)
-        a, b, own, ga, gb, da, db, ea, eb = (v[undecided] for v in cells)
-        mid = 0.5 * (a + b)
-        gm, dm, em = evaluate(mid, own)
-        a, b = np.concatenate([a, mid]), np.concatenate([mid, b])
-        ga, gb = np.concatenate([ga, gm]), np.concatenate([gm, gb])
-        da, db = np.concatenate([da, dm]), np.concatenate([dm, db])
-        ea, eb = np.concatenate([ea, em]), np.concatenate([em, eb])
-        own = np.concatenate([own, own])
-        a, b, own, ga, gb, da, db, ea, eb = (
-            np.concatenate([v, w[carry]])
-            for v, w in zip((a, b, own, ga, gb, da, db, ea, eb), cells, strict=True)
-        )
+        split, own_split = cells[:, undecided], own[undecided]
+        mid = 0.5 * (split[0] + split[1])
+        gm, dm, em = evaluate(mid, own_split)
+        halves = np.empty((8, 2 * mid.size))
+        halves[:, : mid.size] = split
+        halves[:, mid.size :] = split
+        halves[1, : mid.size], halves[0, mid.size :] = mid, mid
+        halves[3, : mid.size], halves[2, mid.size :] = gm, gm
+        halves[5, : mid.size], halves[4, mid.size :] = dm, dm
+        halves[7, : mid.size], halves[6, mid.size :] = em, em
+        cells = np.concatenate([halves, cells[:, carry]], axis=1)
+        own = np.concatenate([own_split, own_split, own[carry]])
     else:  # pragma: no cover - the halving ends at the tolerance long before
         raise RuntimeError("first_sign_change: cells not decided")
+    if not found_a:
+        return result
     lo, hi = np.concatenate(found_a), np.concatenate(found_b)
     who = np.concatenate(found_own)
     if who.size:

@@ -86,24 +86,28 @@ class _RigidInterval:
 
     def __call__(self, x, own):
         """``(g, dg/dx, N - f)`` at ``x`` for pairs ``own``."""
-        m, coef = self.m, self.coef
-        scaled = x.size > 0 and x.max() > 1400.0
+        m, size = self.m, x.size
+        scaled = size > 0 and x.max() > 1400.0
         if scaled:
             log_scale = -0.5 * x
             scale = np.exp(log_scale)
-            E = np.ones_like(x)
+            E = np.ones(size)
         else:
             E = np.exp(-0.5 * x)
-        E_prev = np.zeros_like(x)
-        S0 = np.zeros_like(x)
-        S1 = np.zeros_like(x)
-        total = np.zeros_like(x)
-        if self.which == "y":
+        E_prev, tmp, buf = np.zeros(size), np.empty(size), np.empty(size)
+        S0, S1, total = np.zeros(size), np.zeros(size), np.zeros(size)
+        is_y = self.which == "y"
+        if is_y:
             I1 = -2.0 * np.expm1(-0.5 * x)
             I2 = 2.0 * x - 2.0 * I1
         for j in range(m + 1):
-            if j > 0:
-                E_prev, E = E, ((2 * j - 1 - x) * E - (j - 1) * E_prev) / j
+            if j > 0:  # E_j = ((2j - 1 - x) E_(j-1) - (j - 1) E_(j-2)) / j, in place
+                np.subtract(2 * j - 1, x, out=tmp)
+                tmp *= E
+                E_prev *= j - 1
+                tmp -= E_prev
+                tmp *= 1.0 / j
+                E_prev, E, tmp = E, tmp, E_prev
                 if scaled:
                     big = np.abs(E) > 2.0**500
                     if big.any():
@@ -112,19 +116,28 @@ class _RigidInterval:
                         log_scale[big] += 500 * np.log(2.0)
                         scale[big] = np.exp(log_scale[big])
             Et = E * scale if scaled else E
-            aj = coef[j][own]
-            S0 += aj * Et
-            if self.which == "y":
-                if j > 0:
-                    diff = (E - E_prev) * scale if scaled else E - E_prev
-                    I1_next = -I1 - 2.0 * diff
-                    I2 = -I2 - 2.0 * (I1_next - I1)
-                    I1 = I1_next
-                S1 += aj * I1
-                total += aj * I2
+            aj = self.coef[j][own]
+            np.multiply(aj, Et, out=buf)
+            S0 += buf
+            if is_y:
+                if j > 0:  # I1_j = -I1_(j-1) - 2 (E_j - E_(j-1)); I2 likewise from I1
+                    np.subtract(E, E_prev, out=buf)
+                    if scaled:
+                        buf *= scale
+                    buf *= -2.0
+                    buf -= I1  # I1_j
+                    np.subtract(buf, I1, out=I1)  # I1_j - I1_(j-1)
+                    I1 *= -2.0
+                    I1 -= I2  # I2_j, in the old I1 buffer
+                    I1, I2, buf = buf, I1, I2
+                np.multiply(aj, I1, out=buf)
+                S1 += buf
+                np.multiply(aj, I2, out=buf)
+                total += buf
             else:
-                S1 += self.tail[j][own] * Et
-        if self.which == "y":
+                np.multiply(self.tail[j][own], Et, out=buf)
+                S1 += buf
+        if is_y:
             al = self.alpha[own]
             v0 = self.v0[own]
             g = self.y0[own] + v0 * (0.5 * al * x) - 0.25 * al * total
@@ -179,10 +192,9 @@ def _rigid_contact_times(which, alpha, f, t_max, chunk=32768):
             v0 = V0[row, m] + ff * V1[row, m]
             model = _RigidInterval(which, m, coef, al, ff, y0, v0)
             x_end = 2.0 * np.minimum(2.0, t_max - 2.0 * m) / al
-            # initial cells uniform in sqrt(x) (the Laguerre phase is ~ 2 sqrt(m x));
-            # N needs fine cells anyway, y is mostly decided on coarse ones
-            density = 1.0 if which == "N" else 0.25
-            n0 = 2 + np.ceil(density * np.sqrt((m + 1) * x_end)).astype(np.int64)
+            # initial cells uniform in sqrt(x) (the Laguerre phase is ~ 2 sqrt(m x)),
+            # coarse: the halving refines where the bounds ask for it
+            n0 = 2 + np.ceil(0.25 * np.sqrt((m + 1) * x_end)).astype(np.int64)
             owner = np.repeat(np.arange(active.size), n0 + 1)
             first = np.cumsum(n0 + 1) - (n0 + 1)
             k = np.arange(owner.size) - first[owner]
