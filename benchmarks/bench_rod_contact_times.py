@@ -9,7 +9,9 @@ Run ``python benchmarks/bench_rod_contact_times.py [--n 100]``. In one run, on t
   ``sqrt(tau)`` per reflection interval, first sample ``<= 0`` bracketed and polished),
   running on the same kernel, and how many pairs it gets wrong;
 * a dense-sampling brute force (20,000 samples per reflection interval) on a subset,
-  its time per pair and its disagreements.
+  its time per pair and its disagreements;
+* finite ``kappa``: the first call (symbolic series, once per process), a new
+  ``(alpha, kappa)`` (its pole data) and the time per point of an ``f`` sweep.
 
 Times are CPU seconds of this process (``time.process_time``), robust against a
 loaded machine.
@@ -134,5 +136,24 @@ def main() -> None:
         )
 
 
+def finite_stiffness() -> None:
+    start = time.process_time()
+    contact_time(1.0, 0.2, kappa=50.0)
+    first = time.process_time() - start
+    start = time.process_time()
+    contact_time(0.7, 0.2, kappa=30.0)
+    fresh = time.process_time() - start
+    f = np.linspace(0.0, 2.0, 200)
+    contact_time(1.3, 0.0, kappa=20.0)
+    start = time.process_time()
+    contact_time(1.3, f, kappa=20.0)
+    sweep = (time.process_time() - start) / f.size
+    print(
+        f"finite kappa (t_max = 20): first call {first:.2f} s, a new (alpha, kappa) "
+        f"{fresh:.2f} s, then {1e3 * sweep:.2f} ms per point of an f sweep"
+    )
+
+
 if __name__ == "__main__":
     main()
+    finite_stiffness()
