@@ -244,3 +244,10 @@ def test_atlas_marks_reflection_intervals_and_stays_small_as_pdf(tmp_path):
     axes[0].figure.savefig(path, dpi=150)
     plt.close(axes[0].figure)
     assert path.stat().st_size < 1_000_000
+
+
+def test_extreme_kappa_gives_the_rigid_limit_or_a_clear_refusal():
+    # the small root of alpha s^2 + alpha kappa s + kappa without cancellation
+    assert abs(displacement(5.3, 1.0, 0.5, kappa=1e300) - displacement(5.3, 1.0, 0.5)) < 1e-12
+    with pytest.raises(ValueError, match=r"kappa = 1e\+300 .* too stiff"):
+        contact_time(1.0, 0.5, kappa=1e300)

@@ -20,6 +20,8 @@ from impactsym.validation import check_condition, finish, real_array
 
 __all__ = ["ContactTimeMap", "contact_time", "contact_time_map"]
 
+#: Largest contact-spring pole |s| (time scale 1/|s|) for finite-kappa contact times.
+_FASTEST_POLE = 1e8
 #: Default search horizons (rigid, finite stiffness).
 T_MAX_RIGID, T_MAX_ELASTIC = 100.0, 20.0
 
@@ -225,6 +227,13 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max):
         members = np.flatnonzero(inverse == g_index)
         fm = f[members]
         model = _elastic_model(name, float(ag), float(kg), n_terms)
+        if model.fastest > _FASTEST_POLE:
+            raise ValueError(
+                f"kappa = {float(kg)!r} (alpha = {float(ag)!r}) is too stiff for a certified "
+                f"finite-kappa contact time: the contact spring's time scale "
+                f"1/{model.fastest:.3g} is "
+                f"below 1/{_FASTEST_POLE:g}; use kappa=inf (rigid contact), its limit"
+            )
 
         def evaluate(t, own, ag=ag, kg=kg, fm=fm):
             value = _elastic(name, t, float(ag), float(kg), fm[own])

@@ -108,7 +108,8 @@ class _ElasticModel:
                 roots = [(-k / 2, 2)]
             else:
                 sq = mp.sqrt(disc) if disc > 0 else mp.mpc(0, mp.sqrt(-disc))
-                roots = [((-a * k + sq) / (2 * a), 1), ((-a * k - sq) / (2 * a), 1)]
+                big = (-a * k - sq) / (2 * a)  # no cancellation; the product is k / a
+                roots = [(k / (a * big), 1), (big, 1)]
             self.fastest = float(max(abs(r) for r, _ in roots))
             for _, m0, n, fn in _elastic_series(name, n_terms):
                 c0, c1, const = fn(a, k)
@@ -141,7 +142,12 @@ class _ElasticModel:
 
     def evaluate(self, u_terms, f, derivative=False):
         """Float sum of the terms at ``u_terms[k]`` (``u = t - 2k``, NaN if not arrived)
-        and a bound on its rounding error."""
+        and a bound on its rounding error (NaN or inf where float64 overflows, e.g.
+        for an extreme ``kappa``: those points are re-evaluated with mpmath)."""
+        with np.errstate(all="ignore"):
+            return self._evaluate(u_terms, f, derivative)
+
+    def _evaluate(self, u_terms, f, derivative):
         value = np.zeros(np.shape(f))
         bound = np.zeros(np.shape(f))
         for k, parts in enumerate(self.dparts if derivative else self.parts):
