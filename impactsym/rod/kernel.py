@@ -57,14 +57,14 @@ def _rigid_tables(alpha, n_intervals):
     ``B``: column ``d + 1`` holds ``B_d`` (column 0 is ``B_(-1) = 0``); with nodes
     ``y_i = 4 i / alpha``, ``B_d = sum_i A_(d-i)(y_i)``, ``A_p(y) = exp(-y/2)
     L_p^(-1)(y) = E_p(y) - E_(p-1)(y)`` (addition theorem). ``Y0 + f Y1`` and
-    ``V0 + f V1``: column ``m`` holds ``y(2m)`` and ``y'(2m)`` (``y'`` is continuous),
-    chained interval by interval, ``y(2m+2) = y(2m) + 2 y'(2m) - (alpha/4) sum_j
-    c_(m-j) I2_j(X)`` and ``y'(2m+2) = y'(2m) - (1/2) sum_j c_(m-j) I1_j(X)`` at
-    ``X = 4/alpha`` (the end of the interval), so that no step cancels more than the
-    size of one interval's terms. The Laguerre recurrence runs on ``E_n exp(y/2 - s)``
-    with a power-of-two scale ``s`` per node, so that ``exp(-y/2)`` never underflows
-    before ``L_n(y)`` has grown (far out, ``y > 1490``); memory is
-    ``O(len(alpha) * n_intervals)``.
+    ``V0 + f V1``: column ``m`` holds ``y(2m)`` and ``y'(2m)`` (``y'`` is continuous):
+    ``y'(2m) = 1 - ((1 + f) G1_(m-1) + (1 - f) G1_m) / 2`` with ``G1_d = sum_i
+    I1_(d-i)(y_i)`` (terms of size <= 2, no accumulation), and ``y(2m)`` chained,
+    ``y(2m+2) = y(2m) + 2 y'(2m) - (alpha/4) sum_j c_(m-j) I2_j(X)`` at ``X = 4/alpha``
+    (no step cancels more than one interval's terms). The Laguerre recurrence runs on
+    ``E_n exp(y/2 - s)`` with a power-of-two scale ``s`` per node, so that
+    ``exp(-y/2)`` never underflows before ``L_n(y)`` has grown (far out, ``y > 1490``);
+    memory is ``O(len(alpha) * n_intervals)``.
     """
     alpha = np.asarray(alpha, dtype=np.float64).reshape(-1)
     K = max(int(n_intervals), 1)
@@ -73,14 +73,16 @@ def _rigid_tables(alpha, n_intervals):
     log_scale = -0.5 * nodes
     scale = np.exp(log_scale)
     true_prev = np.zeros_like(nodes)
-    B = np.zeros((alpha.size, K + 1))
-    I1X, I2X = np.zeros((alpha.size, K)), np.zeros((alpha.size, K))
+    B, G1 = np.zeros((alpha.size, K + 1)), np.zeros((alpha.size, K + 1))
+    I2X = np.zeros((alpha.size, K))
     X = nodes[:, 1]
-    I1, I2 = -2.0 * np.expm1(-0.5 * X), 2.0 * X + 4.0 * np.expm1(-0.5 * X)
+    I1 = -2.0 * np.expm1(-0.5 * nodes)  # at every node
+    I2 = 2.0 * X + 4.0 * np.expm1(-0.5 * X)  # at node 1 (X) only
     for n in range(K):  # order n at node i feeds index n + i (i < K - n); node 1 is X
         width = max(K - n, 2)
         x, E, E_prev = nodes[:, :width], E[:, :width], E_prev[:, :width]
         scale, log_scale, true_prev = scale[:, :width], log_scale[:, :width], true_prev[:, :width]
+        I1 = I1[:, :width]
         if n > 0:
             E_prev, E = E, ((2 * n - 1 - x) * E - (n - 1) * E_prev) / n
             big = np.abs(E) > 2.0**500
@@ -92,26 +94,25 @@ def _rigid_tables(alpha, n_intervals):
         true = E * scale
         B[:, n + 1 :] += (true - true_prev)[:, : K - n]
         if n > 0:  # I1_n = -I1_(n-1) - 2 (E_n - E_(n-1)), I2 likewise from I1
-            I1_next = -I1 - 2.0 * (true[:, 1] - true_prev[:, 1])
-            I2 = -I2 - 2.0 * (I1_next - I1)
+            I1_next = -I1 - 2.0 * (true - true_prev)
+            I2 = -I2 - 2.0 * (I1_next[:, 1] - I1[:, 1])
             I1 = I1_next
-        I1X[:, n], I2X[:, n] = I1, I2
+        G1[:, n + 1 :] += I1[:, : K - n]
+        I2X[:, n] = I2
         true_prev = true
     Bs, Bd = B[:, :-1] + B[:, 1:], B[:, :-1] - B[:, 1:]  # c_d = Bs_d + f Bd_d
-    tables = [B]
-    steps = np.zeros((4, alpha.size, K))
-    for r in range(alpha.size):
-        for q, (coef, integral) in enumerate(((Bs, I2X), (Bd, I2X), (Bs, I1X), (Bd, I1X))):
-            steps[q, r] = np.convolve(coef[r], integral[r])[:K]
+    # y'(2m) = 1 - ((1 + f) G1_(m-1) + (1 - f) G1_m) / 2 directly (each G1 a sum of
+    # terms of size <= 2); y(2m) chained with it
+    V0, V1 = np.empty((alpha.size, K + 1)), np.empty((alpha.size, K + 1))
+    V0[:, :K] = 1.0 - 0.5 * (G1[:, :K] + G1[:, 1:])
+    V1[:, :K] = -0.5 * (G1[:, :K] - G1[:, 1:])
+    V0[:, K], V1[:, K] = np.nan, np.nan  # not needed: tables cover m < n_intervals
     quarter = 0.25 * alpha[:, None]
-    for q in (0, 1):  # q = 0: the part without f, q = 1: the factor of f
-        V = np.zeros((alpha.size, K + 1))
-        V[:, 0] = 1.0 - q
-        V[:, 1:] = V[:, :1] - 0.5 * np.cumsum(steps[2 + q], axis=1)
-        Y = np.zeros((alpha.size, K + 1))
-        Y[:, 1:] = np.cumsum(2.0 * V[:, :-1] - quarter * steps[q], axis=1)
-        tables += [Y, V]
-    return tables[0], tables[1], tables[3], tables[2], tables[4]
+    Y0, Y1 = np.zeros((alpha.size, K + 1)), np.zeros((alpha.size, K + 1))
+    for Y, V, coef in ((Y0, V0, Bs), (Y1, V1, Bd)):
+        steps = np.array([np.convolve(coef[r], I2X[r])[:K] for r in range(alpha.size)])
+        Y[:, 1:] = np.cumsum(2.0 * V[:, :K] - quarter * steps.reshape(alpha.size, K), axis=1)
+    return B, Y0, Y1, V0, V1
 
 
 def _rigid_local(which, m, tau, a_idx, alpha, f, tables, derivative=False):
