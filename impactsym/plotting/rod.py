@@ -64,7 +64,7 @@ def plot_time_history(
     fn, condition, ax, t = _time_axes(quantity, ax, t_max, n_points)
     for alpha, f in cases:
         (line,) = ax.plot(t, fn(t, alpha, f, kappa), lw=1.3, label=rf"$\alpha={alpha:g},\ f={f:g}$")
-        tc = contact_time(alpha, f, condition, kappa, t_max=t_max)
+        tc = contact_time(alpha, f, condition=condition, kappa=kappa, t_max=t_max)
         if np.isfinite(tc):
             ax.plot([tc], [0.0], "o", color=line.get_color(), ms=5)
     stiffness = "rigid contact" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
@@ -105,12 +105,72 @@ def _pcolor_edges(values: np.ndarray, log: bool) -> np.ndarray:
     return np.exp(edges) if log else edges
 
 
+def _ordinal(k: int) -> str:
+    return {1: "1st", 2: "2nd", 3: "3rd"}.get(k, f"{k}th")
+
+
+def _atlas_frame(study: ContactTimeMap, ax: Axes | None):
+    if ax is None:
+        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
+    ae, fe = _pcolor_edges(study.alpha, True), _pcolor_edges(study.f, False)
+    return ax, ae, fe
+
+
+def _shade_sticking(ax: Axes, study: ContactTimeMap, sticks: np.ndarray, color: str) -> None:
+    """Grey shading (rasterized) and a smooth outline where the striker sticks."""
+    if not sticks.any():
+        return
+    ae, fe = _pcolor_edges(study.alpha, True), _pcolor_edges(study.f, False)
+    ax.pcolormesh(
+        ae, fe, np.where(sticks, 1.0, np.nan), cmap="Greys", vmin=0, vmax=2, rasterized=True
+    )
+    if min(sticks.shape) > 1:
+        ax.contour(
+            study.alpha, study.f, sticks.astype(float), levels=[0.5], colors=color, linewidths=1.0
+        )
+
+
+def _mark_intervals(ax: Axes, study: ContactTimeMap, condition: str) -> None:
+    """Boundaries between the regions whose first contact ends on the 1st, 2nd, ...
+    reflection interval (white lines), each region labelled once."""
+    interval = study.interval(condition)
+    if min(interval.shape) < 2 or np.all(np.isnan(interval)):
+        return
+    top = int(np.nanmax(interval))
+    filled = np.where(np.isnan(interval), top + 1, interval)
+    levels = np.arange(1.5, top + 1.0)
+    if levels.size:
+        ax.contour(study.alpha, study.f, filled, levels=levels, colors="w", linewidths=0.8)
+    A, F = np.meshgrid(np.log(study.alpha), study.f)
+    for k in range(1, min(top, 6) + 1):
+        region = interval == k
+        if region.sum() < max(4, region.size // 400):
+            continue
+        # the region's point nearest to its centroid (in log alpha, f)
+        la, ff = A[region], F[region]
+        i = np.argmin((la - la.mean()) ** 2 + (ff - ff.mean()) ** 2)
+        ax.text(
+            np.exp(la[i]),
+            ff[i],
+            _ordinal(k),
+            color="w",
+            fontsize=8,
+            ha="center",
+            va="center",
+            fontweight="bold",
+        )
+
+
 def plot_contact_time_map(
     study: ContactTimeMap, condition: str = "force", *, ax: Axes | None = None
 ) -> Axes:
-    r"""Contact time of one condition over the :math:`\alpha`-:math:`f` plane.
+    r"""Contact time of one condition over the :math:`\alpha`-:math:`f` plane (an atlas).
 
-    Grey cells: the striker sticks (no zero crossing up to ``study.t_max``).
+    Colour: :math:`t_c` (rasterized mesh, so that PDFs stay small); black lines:
+    smooth contours of :math:`t_c`; white lines and labels: the regions where the
+    first contact ends on the 1st, 2nd, 3rd, ... reflection interval
+    (:meth:`ContactTimeMap.interval`); grey: the striker sticks (no sign change up
+    to ``study.t_max``).
 
     >>> from impactsym.rod import contact_time_map
     >>> ax = plot_contact_time_map(contact_time_map([0.5, 5.0], [0.0, 0.5]), "position")
@@ -119,14 +179,22 @@ def plot_contact_time_map(
     >>> plt.close(ax.figure)
     """
     times = {"force": study.force, "position": study.position}[condition]
-    if ax is None:
-        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
-    ae, fe = _pcolor_edges(study.alpha, True), _pcolor_edges(study.f, False)
+    ax, ae, fe = _atlas_frame(study, ax)
     finite = np.where(np.isfinite(times), times, np.nan)
-    mesh = ax.pcolormesh(ae, fe, finite, cmap="viridis", norm=LogNorm(vmin=2.0))
+    mesh = ax.pcolormesh(
+        ae,
+        fe,
+        finite,
+        cmap="viridis",
+        norm=LogNorm(vmin=2.0, vmax=max(4.0, np.nanmax(finite, initial=4.0))),
+        rasterized=True,
+    )
     ax.figure.colorbar(mesh, ax=ax, label=r"contact time $t_c\,/\,(L/c)$")
-    sticks = np.where(np.isinf(times), 1.0, np.nan)
-    ax.pcolormesh(ae, fe, sticks, cmap="Greys", vmin=0, vmax=2)
+    if min(times.shape) > 1 and np.isfinite(times).sum() > 3:
+        levels = [3, 5, 8, 12, 20, 40]
+        ax.contour(study.alpha, study.f, finite, levels=levels, colors="k", linewidths=0.5)
+    _mark_intervals(ax, study, condition)
+    _shade_sticking(ax, study, np.isinf(times), "k")
     ax.set_xscale("log")
     ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
     ax.set_ylabel(r"pressing force $f$")
@@ -137,32 +205,29 @@ def plot_contact_time_map(
 def plot_contact_time_ratio(study: ContactTimeMap, *, ax: Axes | None = None) -> Axes:
     r"""Ratio of the contact times, position over force condition.
 
-    Near 1 (white) the two conditions agree (colours saturate at 1/4 and 4); markers
-    show where the striker sticks under one condition (``x``: force, ``+``:
-    position) or both (filled square).
+    Near 1 (white) the two conditions agree (colours saturate at 1/4 and 4; black
+    contours at 1/2, 1, 2); shaded where the striker sticks under one condition
+    (light grey) or both (dark grey).
 
     >>> from impactsym.rod import contact_time_map
     >>> ax = plot_contact_time_ratio(contact_time_map([0.1, 5.0], [0.0, 2.0]))
-    >>> [line.get_label() for line in ax.lines]
-    ['sticks (both)']
+    >>> ax.get_title()
+    'contact-time ratio, position / force condition'
     >>> plt.close(ax.figure)
     """
-    if ax is None:
-        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
-    ae, fe = _pcolor_edges(study.alpha, True), _pcolor_edges(study.f, False)
-    mesh = ax.pcolormesh(ae, fe, study.ratio, cmap="RdBu_r", norm=LogNorm(vmin=0.25, vmax=4.0))
+    ax, ae, fe = _atlas_frame(study, ax)
+    ratio = study.ratio
+    mesh = ax.pcolormesh(
+        ae, fe, ratio, cmap="RdBu_r", norm=LogNorm(vmin=0.25, vmax=4.0), rasterized=True
+    )
     ax.figure.colorbar(mesh, ax=ax, label=r"$t_c^{\,position} / t_c^{\,force}$")
-    A, F = np.meshgrid(study.alpha, study.f)
+    if min(ratio.shape) > 1 and np.isfinite(ratio).sum() > 3:
+        ax.contour(study.alpha, study.f, ratio, levels=[0.5, 1.0, 2.0], colors="k", linewidths=0.6)
     force_sticks, position_sticks = np.isinf(study.force), np.isinf(study.position)
-    for mask, marker, label in (
-        (force_sticks & ~position_sticks, "x", "sticks (force)"),
-        (position_sticks & ~force_sticks, "+", "sticks (position)"),
-        (force_sticks & position_sticks, "s", "sticks (both)"),
-    ):
-        if mask.any():
-            ax.plot(A[mask], F[mask], marker, color="k", ms=4, ls="none", label=label)
-    if (force_sticks | position_sticks).any():
-        ax.legend(fontsize="small", loc="upper right", framealpha=0.9)
+    either = force_sticks | position_sticks
+    if either.any():
+        shade = np.where(force_sticks & position_sticks, 2.0, np.where(either, 1.0, np.nan))
+        ax.pcolormesh(ae, fe, shade, cmap="Greys", vmin=0, vmax=3, rasterized=True)
     ax.set_xscale("log")
     ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
     ax.set_ylabel(r"pressing force $f$")
@@ -171,7 +236,7 @@ def plot_contact_time_ratio(study: ContactTimeMap, *, ax: Axes | None = None) ->
 
 
 def plot_contact_time_maps(study: ContactTimeMap, axes: Sequence[Axes] | None = None):
-    """The three maps side by side: force, position, ratio. Returns the axes.
+    """The three atlases side by side: force, position, ratio. Returns the axes.
 
     >>> from impactsym.rod import contact_time_map
     >>> axes = plot_contact_time_maps(contact_time_map([0.5, 5.0], [0.0, 0.5]))

@@ -1,4 +1,9 @@
-"""Contact times of the rod impact: first sign changes of :math:`y(t)` and :math:`N(t)`."""
+"""Contact times of the rod impact: certified first sign changes of :math:`y(t)` and :math:`N(t)`.
+
+No sampling: the first sign change is isolated with rigorous bounds on the second
+derivative (:mod:`impactsym.numeric.isolation`) and refined with
+:func:`impactsym.numeric.bracketed_newton`.
+"""
 
 from __future__ import annotations
 
@@ -8,91 +13,277 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from impactsym.numeric.roots import bracketed_newton
-from impactsym.rod.elastic import _elastic, _elastic_model
-from impactsym.rod.kernel import _rigid_local, _rigid_tables
+from impactsym.numeric.isolation import first_sign_change
+from impactsym.rod.elastic import T_LIMIT_ELASTIC, _elastic, _elastic_model
+from impactsym.rod.kernel import T_LIMIT, _rigid_tables
 from impactsym.validation import check_condition, finish, real_array
 
 __all__ = ["ContactTimeMap", "contact_time", "contact_time_map"]
 
+#: Largest contact-spring pole |s| (time scale 1/|s|) for finite-kappa contact times.
+_FASTEST_POLE = 1e8
+#: Default search horizons (rigid, finite stiffness).
+T_MAX_RIGID, T_MAX_ELASTIC = 100.0, 20.0
 
-def _check_t_max(t_max):
+
+def _check_t_max(t_max, rigid):
     if t_max is None:
         return None
     value, scalar = real_array("t_max", t_max, lower=0.0, strict=True)
     if not scalar:
         raise TypeError(f"t_max must be a real number, got {t_max!r}")
+    limit = T_LIMIT if rigid else T_LIMIT_ELASTIC
+    if value > limit:
+        kind = "rigid contact" if rigid else "finite kappa"
+        raise ValueError(f"t_max must be <= {limit:g} for {kind}, got {float(value)!r}")
     return float(value)
 
 
-class _Pairs:
-    """``y`` or ``N`` (and the derivative) on reflection interval ``m`` for many
-    parameter pairs: ``g(tau, m, p)`` with ``p`` the pair index of every point."""
+class _RigidInterval:
+    """``y`` or ``N`` on reflection interval ``m`` for many pairs, in ``x = 2 tau / alpha``.
 
-    def __init__(self, which: str, alpha, f, kappa, n_intervals: int) -> None:
-        self.which, self.alpha, self.f, self.kappa = which, alpha, f, kappa
-        self.rigid = np.isinf(kappa)
-        ua, a_idx = np.unique(np.where(self.rigid, alpha, 1.0), return_inverse=True)
-        self.a_idx = a_idx.ravel()
-        self.tables = _rigid_tables(ua, n_intervals + 1)
-        keys = np.stack([alpha, np.where(self.rigid, 0.0, kappa)], axis=1)
-        self.groups, inverse = np.unique(keys, axis=0, return_inverse=True)
-        self.group = inverse.ravel()
+    With the Laguerre functions :math:`E_j(x) = e^{-x/2} L_j(x)` and the coefficients
+    :math:`a_j = c_{m-j}` of :mod:`impactsym.rod.kernel`, :math:`N = f + \\sum_j a_j
+    E_j(x)` and :math:`y_{xx} = -\\frac{\\alpha}{4}(N - f)`. Bounds on the second
+    derivative over a cell ``[a, b]`` use :math:`|E_j| \\le 1` on :math:`x \\ge 0`
+    (Szegő, eq. (7.21.3)) and the Laguerre identities :math:`x E_j' = -x E_j/2 +
+    j(E_j - E_{j-1})`, :math:`x E_j'' + E_j' + (j + 1/2 - x/4) E_j = 0`:
 
-    def __call__(self, tau, m, p, derivative=False):
-        m, p = m.astype(np.int64), p.astype(np.int64)
-        out = np.empty(tau.size)
-        rigid = self.rigid[p]
-        if rigid.any():
-            pr = p[rigid]
-            out[rigid] = _rigid_local(
-                self.which,
-                m[rigid],
-                tau[rigid],
-                self.a_idx[pr],
-                self.alpha[pr],
-                self.f[pr],
-                self.tables,
-                derivative,
+    .. math::
+
+        |N'| \\le \\min\\Bigl(C_1, \\frac{C_0}{2} + \\frac{J_1}{a}\\Bigr), \\qquad
+        |N''| \\le \\min\\Bigl(C_2, \\frac{|N'|_{\\max} + |1/2 - x/4|_{\\max}
+        |N - f|_{\\max} + J_0}{a}\\Bigr),
+
+    :math:`C_0 = \\sum |a_j|`, :math:`J_0 = \\sum j |a_j|`, :math:`J_1 = \\sum_k
+    |k a_k - (k+1) a_{k+1}|` and :math:`C_1, C_2` the sums of the absolute
+    coefficients of :math:`N', N''` in the :math:`E_k` basis (:math:`E_j' = -E_j/2 -
+    \\sum_{k<j} E_k`); :math:`|N - f|_{\\max} \\le \\min(C_0, \\max(|N(a) - f|,
+    |N(b) - f|) + |N'|_{\\max} h / 2)`, and :math:`|N'|_{\\max}` is tightened once with
+    the slopes at the cell ends, :math:`\\max(|N'(a)|, |N'(b)|) + |N''|_{\\max} h / 2`.
+    For ``y``: :math:`|y_{xx}| \\le \\frac{\\alpha}{4} |N - f|_{\\max}`.
+    """
+
+    def __init__(self, which, m, coef, alpha, f, y0, v0):
+        self.which, self.m, self.coef = which, m, coef  # coef: (m + 1, n_pairs)
+        # N' = -(N - f)/2 - sum_j tail_j E_j, tail_j = sum_(i>j) a_i
+        self.tail = np.cumsum(coef[::-1], axis=0)[::-1] - coef
+        self.alpha, self.f, self.y0, self.v0 = alpha, f, y0, v0
+        j = np.arange(m + 1)[:, None]
+        absc = np.abs(coef)
+        self.C0 = absc.sum(axis=0)
+        self.J0 = (j * absc).sum(axis=0)
+        shifted = np.zeros_like(coef)
+        shifted[:-1] = j[1:] * coef[1:]
+        self.J1 = np.abs(j * coef - shifted).sum(axis=0)
+        d1 = self._derivative(coef)
+        self.C1 = np.abs(d1).sum(axis=0)
+        self.C2 = np.abs(self._derivative(d1)).sum(axis=0)
+
+    @staticmethod
+    def _derivative(coef):
+        """E-basis coefficients of the derivative: a'_k = -a_k/2 - sum_(j>k) a_j."""
+        tail = np.cumsum(coef[::-1], axis=0)[::-1] - coef
+        return -0.5 * coef - tail
+
+    def __call__(self, x, own):
+        """``(g, dg/dx, N - f)`` at ``x`` for pairs ``own``."""
+        m, size = self.m, x.size
+        scaled = size > 0 and x.max() > 1400.0
+        if scaled:
+            log_scale = -0.5 * x
+            scale = np.exp(log_scale)
+            E = np.ones(size)
+        else:
+            E = np.exp(-0.5 * x)
+        E_prev, tmp, buf = np.zeros(size), np.empty(size), np.empty(size)
+        S0, S1, total = np.zeros(size), np.zeros(size), np.zeros(size)
+        is_y = self.which == "y"
+        if is_y:
+            I1 = -2.0 * np.expm1(-0.5 * x)
+            I2 = 2.0 * x - 2.0 * I1
+        for j in range(m + 1):
+            if j > 0:  # E_j = ((2j - 1 - x) E_(j-1) - (j - 1) E_(j-2)) / j, in place
+                np.subtract(2 * j - 1, x, out=tmp)
+                tmp *= E
+                E_prev *= j - 1
+                tmp -= E_prev
+                tmp *= 1.0 / j
+                E_prev, E, tmp = E, tmp, E_prev
+                if scaled:
+                    big = np.abs(E) > 2.0**500
+                    if big.any():
+                        E[big] *= 2.0**-500
+                        E_prev[big] *= 2.0**-500
+                        log_scale[big] += 500 * np.log(2.0)
+                        scale[big] = np.exp(log_scale[big])
+            Et = E * scale if scaled else E
+            aj = self.coef[j][own]
+            np.multiply(aj, Et, out=buf)
+            S0 += buf
+            if is_y:
+                if j > 0:  # I1_j = -I1_(j-1) - 2 (E_j - E_(j-1)); I2 likewise from I1
+                    np.subtract(E, E_prev, out=buf)
+                    if scaled:
+                        buf *= scale
+                    buf *= -2.0
+                    buf -= I1  # I1_j
+                    np.subtract(buf, I1, out=I1)  # I1_j - I1_(j-1)
+                    I1 *= -2.0
+                    I1 -= I2  # I2_j, in the old I1 buffer
+                    I1, I2, buf = buf, I1, I2
+                np.multiply(aj, I1, out=buf)
+                S1 += buf
+                np.multiply(aj, I2, out=buf)
+                total += buf
+            else:
+                np.multiply(self.tail[j][own], Et, out=buf)
+                S1 += buf
+        if is_y:
+            al = self.alpha[own]
+            v0 = self.v0[own]
+            g = self.y0[own] + v0 * (0.5 * al * x) - 0.25 * al * total
+            dg = 0.5 * al * v0 - 0.25 * al * S1
+            return g, dg, S0
+        return self.f[own] + S0, -0.5 * S0 - S1, S0
+
+    def bound(self, a, b, own, Sa, Sb, da=None, db=None):
+        """Rigorous bound on ``|g''|`` (in ``x``) over the cells ``[a, b]``."""
+        h = b - a
+        C0, C1, C2 = self.C0[own], self.C1[own], self.C2[own]
+        positive = a > 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = np.where(positive, 1.0 / a, np.inf)
+            M1 = np.minimum(C1, 0.5 * C0 + self.J1[own] * inv)  # |N'|
+            end = np.maximum(np.abs(Sa), np.abs(Sb))
+            sup = np.minimum(C0, end + 0.5 * h * M1)  # |N - f|
+            if self.which == "y":
+                return 0.25 * self.alpha[own] * sup
+            weight = np.maximum(0.5, 0.25 * b - 0.5)  # |1/2 - x/4|
+            M2 = np.where(positive, np.minimum(C2, (M1 + weight * sup + self.J0[own]) * inv), C2)
+            # once more with |N'| from the slopes at the cell ends
+            M1 = np.minimum(M1, np.maximum(np.abs(da), np.abs(db)) + 0.5 * h * M2)
+            sup = np.minimum(sup, end + 0.5 * h * M1)
+            local = (M1 + weight * sup + self.J0[own]) * inv
+            return np.where(positive, np.minimum(M2, local), M2)
+
+
+def _rigid_contact_times(which, alpha, f, t_max, chunk=32768):
+    """First sign change of ``y`` or ``N`` in ``(0, t_max]`` for flat pairs; inf if none.
+
+    Interval 0 holds none: there :math:`N = y' = f + (1 - f) e^{-t/\\alpha} > 0`.
+    """
+    result = np.full(alpha.size, np.inf)
+    n_int = int(np.ceil(t_max / 2.0))
+    for start in range(0, alpha.size, chunk):
+        sl = slice(start, start + chunk)
+        al_all, f_all = alpha[sl], f[sl]
+        ua, row_all = np.unique(al_all, return_inverse=True)
+        row_all = row_all.ravel()
+        B, Y0, Y1, V0, V1 = _rigid_tables(ua, n_int + 1)
+        Bs, Bd = B[:, :-1] + B[:, 1:], B[:, :-1] - B[:, 1:]
+        out = np.full(al_all.size, np.inf)
+        active = np.arange(al_all.size)
+        for m in range(1, n_int):
+            if active.size == 0:
+                break
+            row, al, ff = row_all[active], al_all[active], f_all[active]
+            d = m - np.arange(m + 1)
+            coef = (Bs[row][:, d] + ff[:, None] * Bd[row][:, d]).T
+            y0 = Y0[row, m] + ff * Y1[row, m]
+            v0 = V0[row, m] + ff * V1[row, m]
+            model = _RigidInterval(which, m, coef, al, ff, y0, v0)
+            x_end = 2.0 * np.minimum(2.0, t_max - 2.0 * m) / al
+            # initial cells uniform in sqrt(x) (the Laguerre phase is ~ 2 sqrt(m x)),
+            # coarse: the halving refines where the bounds ask for it
+            n0 = 2 + np.ceil(0.25 * np.sqrt((m + 1) * x_end)).astype(np.int64)
+            owner = np.repeat(np.arange(active.size), n0 + 1)
+            first = np.cumsum(n0 + 1) - (n0 + 1)
+            k = np.arange(owner.size) - first[owner]
+            nodes = x_end[owner] * (k / n0[owner]) ** 2
+            roots = first_sign_change(model, model.bound, nodes, owner, active.size)
+            hit = np.isfinite(roots)
+            out[active[hit]] = 2.0 * m + 0.5 * al[hit] * roots[hit]
+            active = active[~hit]
+        result[sl] = out
+    return result
+
+
+def _elastic_contact_times(which, alpha, f, kappa, t_max):
+    """First sign change in ``(0, t_max]`` for flat pairs with finite ``kappa``.
+
+    Pairs are grouped by ``(alpha, kappa)`` (one pole model each); ``g`` starts at
+    ``g(0) = 0`` with ``g'(0) > 0`` (``N' = kappa``, ``y' = 1``). The reflection times
+    ``2k`` are nodes; the bound on ``|g''|`` is
+    :meth:`impactsym.rod.elastic._ElasticModel.second_derivative_bound`.
+    """
+    name = "Y" if which == "y" else "N"
+    result = np.full(alpha.size, np.inf)
+    n_terms = int(t_max // 2) + 1
+    keys = np.stack([alpha, kappa], axis=1)
+    groups, inverse = np.unique(keys, axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    for g_index, (ag, kg) in enumerate(groups):
+        members = np.flatnonzero(inverse == g_index)
+        fm = f[members]
+        model = _elastic_model(name, float(ag), float(kg), n_terms)
+        if model.fastest > _FASTEST_POLE:
+            raise ValueError(
+                f"kappa = {float(kg)!r} (alpha = {float(ag)!r}) is too stiff for a certified "
+                f"finite-kappa contact time: the contact spring's time scale "
+                f"1/{model.fastest:.3g} is "
+                f"below 1/{_FASTEST_POLE:g}; use kappa=inf (rigid contact), its limit"
             )
-        if not rigid.all():
-            name = "Y" if self.which == "y" else "N"
-            for g in np.unique(self.group[p[~rigid]]):
-                sel = np.flatnonzero(~rigid & (self.group[p] == g))
-                a, k = self.groups[g]
-                out[sel] = _elastic(
-                    name, 2.0 * m[sel] + tau[sel], float(a), float(k), self.f[p[sel]], derivative
-                )
-        return out
 
-    def derivative(self, tau, m, p):
-        return self(tau, m, p, derivative=True)
+        def evaluate(t, own, ag=ag, kg=kg, fm=fm):
+            value = _elastic(name, t, float(ag), float(kg), fm[own])
+            slope = _elastic(name, t, float(ag), float(kg), fm[own], True)
+            return value, slope, value
+
+        def bound(ta, tb, own, _a, _b, _da, _db, model=model, fm=fm):
+            return model.second_derivative_bound(ta, tb, fm[own])
+
+        step = min(0.1, 0.25 * float(ag), 0.5 / np.sqrt(model.fastest))
+        base = np.union1d(
+            np.linspace(0.0, t_max, int(np.ceil(t_max / step)) + 1), np.arange(2.0, t_max, 2.0)
+        )
+        owner = np.repeat(np.arange(members.size), base.size)
+        nodes = np.tile(base, members.size)
+        roots = first_sign_change(evaluate, bound, nodes, owner, members.size, max_cells=2**22)
+        hit = np.isfinite(roots)
+        result[members[hit]] = roots[hit]
+    return result
 
 
 def contact_time(
     alpha: ArrayLike,
     f: ArrayLike,
+    *,
     condition: str = "force",
     kappa: ArrayLike = np.inf,
-    *,
     t_max: float | None = None,
 ) -> float | np.ndarray:
-    r"""First zero crossing of the contact force or the displacement after impact.
+    r"""First sign change of the contact force or the displacement after impact.
 
     The contact time :math:`t_c` is the first :math:`t > 0` where the
-    persistent-contact solution reaches the non-contact side: :math:`N(t) \le 0`
-    (``condition="force"``, the paper's *Kraftbedingung*) or :math:`y(t) \le 0`
-    (``condition="position"``, *Ortsbedingung*). Without such a crossing up to
-    ``t_max`` the striker sticks and :math:`t_c = \infty`.
+    persistent-contact solution changes sign to the non-contact side: :math:`N`
+    (``condition="force"``, the paper's *Kraftbedingung*) or :math:`y`
+    (``condition="position"``, *Ortsbedingung*) goes from positive to :math:`\le 0`.
+    ``inf`` means: no sign change in :math:`(0, t_{max}]` (the striker sticks up to
+    the horizon).
 
-    Each reflection interval :math:`[2m, 2m+2]` is sampled on a grid uniform in
-    :math:`\sqrt{\tau}`, fine enough for the Laguerre functions of order :math:`m`,
-    whose phase grows like :math:`2\sqrt{m x}`, :math:`x = 2\tau/\alpha`: right after
-    many reflections the force oscillates on a time scale :math:`\alpha/m` (about 16
-    samples per oscillation; the pole time scale stands in for :math:`\alpha` with
-    finite :math:`\kappa`). The first sign change is bracketed and polished with
-    :func:`impactsym.numeric.bracketed_newton`. Sign changes closer together than
-    the sampling step can be missed.
+    **Certified, not sampled.** Rigid contact: interval 0 has none
+    (:math:`N = y' = f + (1 - f) e^{-t/lpha} > 0`); on every later reflection
+    interval :math:`g = y` or :math:`N` is a Laguerre sum in :math:`x = 2	au/lpha`
+    with rigorous bounds on :math:`|g''|` over any cell (:class:`_RigidInterval`);
+    finite :math:`\kappa`: a sum of :math:`e^{pu}` times polynomials, bounded term by
+    term. Cells are proved zero-free (interpolation and Taylor lower bounds) or
+    monotone, or halved (:func:`impactsym.numeric.isolation.first_sign_change`); the
+    first sign-change cell, monotone, is refined with
+    :func:`impactsym.numeric.bracketed_newton` to full precision. A sign change is
+    needed: a tangential touch is not an end of contact, and a dip below zero
+    shallower than ``1e-12`` (``impactsym.numeric.isolation.TOLERANCE``, in units of
+    :math:`y` resp. :math:`N`) may be passed over.
 
     Parameters
     ----------
@@ -106,87 +297,51 @@ def contact_time(
         Contact stiffness, > 0; ``inf`` (default) is rigid.
     t_max : float, optional
         Search horizon; default 100 (50 round trips) for rigid and 20 (10 round
-        trips) for finite :math:`\kappa`, the ranges where the time functions are
-        verified to 1e-10.
+        trips) for finite :math:`\kappa`; at most 1e4 resp. 20 (where the time
+        functions are verified).
 
     Returns
     -------
     float or numpy.ndarray
-        Contact times, broadcast over ``alpha``, ``f``, ``kappa``; ``inf`` where the
-        striker sticks.
+        Contact times, broadcast over ``alpha``, ``f``, ``kappa``; ``inf`` where no
+        sign change occurs up to ``t_max``.
 
     Raises
     ------
     ValueError
-        For bad parameter values or an unknown ``condition``.
+        For bad parameter values, an unknown ``condition`` or ``t_max`` beyond the
+        verified range.
 
     Examples
     --------
     Classical rigid striker, :math:`f = 0`: the force is
-    :math:`e^{-t/\alpha} + 2 e^{-(t-2)/\alpha}(1 - (t-2)/\alpha)` on :math:`2 < t < 4`
-    and vanishes at :math:`t = 2 + \alpha(1 + e^{-2/\alpha}/2)`:
+    :math:`e^{-t/lpha} + 2 e^{-(t-2)/lpha}(1 - (t-2)/lpha)` on :math:`2 < t < 4`
+    and vanishes at :math:`t = 2 + lpha(1 + e^{-2/lpha}/2)`:
 
     >>> import numpy as np
     >>> t_c = contact_time(0.5, 0.0)
     >>> bool(abs(t_c - (2 + 0.5 * (1 + np.exp(-4.0) / 2))) < 1e-12)
     True
+    >>> contact_time(0.05, 2.0)  # a light striker pressed hard sticks
+    inf
     """
     condition = check_condition(condition)
     a_arr, a_scalar = real_array("alpha", alpha, lower=0.0, strict=True)
     f_arr, f_scalar = real_array("f", f, lower=0.0)
     k_arr, k_scalar = real_array("kappa", kappa, lower=0.0, strict=True, allow_inf=True)
-    horizon = _check_t_max(t_max)
     shape = np.broadcast_shapes(a_arr.shape, f_arr.shape, k_arr.shape)
     a, ff, k = (np.broadcast_to(v, shape).ravel().copy() for v in (a_arr, f_arr, k_arr))
     rigid = np.isinf(k)
-    limit = np.where(rigid, 100.0, 20.0) if horizon is None else np.full(a.size, horizon)
-    n_intervals = int(np.ceil(limit.max() / 2.0)) if a.size else 0
-    fn = _Pairs("N" if condition == "force" else "y", a, ff, k, n_intervals)
-    # sampling grid uniform in sqrt(tau): on interval m the Laguerre functions of
-    # order <= m oscillate with phase ~ 2 sqrt(m x), x = 2 tau / alpha (and the
-    # pole time scale 1/|p| plays the part of alpha for finite kappa)
-    scale = a / 2.0
-    if not rigid.all():
-        for g, (ag, kg) in enumerate(fn.groups):
-            if kg > 0:
-                model = _elastic_model("N", float(ag), float(kg), 1)
-                sel = fn.group == g
-                scale[sel] = np.minimum(scale[sel], 0.5 / model.fastest)
-    root_step = np.sqrt(scale) * np.pi / 16.0
+    which = "N" if condition == "force" else "y"
     result = np.full(a.size, np.inf)
-    active = np.arange(a.size)
-    for m in range(n_intervals):
-        active = active[limit[active] > 2.0 * m]
-        if active.size == 0:
-            break
-        length = np.minimum(2.0, limit[active] - 2.0 * m)
-        du = root_step[active] / np.sqrt(m + 1.0)
-        n_steps = np.clip(np.ceil(np.sqrt(length) / du), 16, 8192).astype(np.int64)
-        counts = n_steps + 1
-        p = np.repeat(active, counts)
-        first = np.cumsum(counts) - counts
-        k_idx = np.arange(p.size) - np.repeat(first, counts)
-        tau = np.repeat(length, counts) * (k_idx / np.repeat(n_steps, counts)) ** 2
-        values = fn(tau, np.full(p.size, m), p)
-        hit = (values <= 0) & (k_idx >= (1 if m == 0 else 0))
-        position = np.where(hit, np.arange(p.size), p.size)
-        first_hit = np.minimum.reduceat(position, first)
-        found = first_hit < p.size
-        if not found.any():
-            continue
-        idx = first_hit[found]
-        pairs = active[found]
-        at_start = k_idx[idx] == 0
-        result[pairs[at_start]] = 2.0 * m
-        inner = ~at_start
-        if inner.any():
-            lo, hi = tau[idx[inner] - 1], tau[idx[inner]]
-            pp = pairs[inner]
-            root = bracketed_newton(
-                fn, fn.derivative, lo, hi, [np.full(pp.size, float(m)), pp.astype(np.float64)]
-            )
-            result[pp] = 2.0 * m + root
-        active = active[~found]
+    if rigid.any():
+        horizon = _check_t_max(t_max, True)
+        horizon = T_MAX_RIGID if horizon is None else horizon
+        result[rigid] = _rigid_contact_times(which, a[rigid], ff[rigid], horizon)
+    if not rigid.all():
+        horizon = _check_t_max(t_max, False)
+        horizon = T_MAX_ELASTIC if horizon is None else horizon
+        result[~rigid] = _elastic_contact_times(which, a[~rigid], ff[~rigid], k[~rigid], horizon)
     return finish(result.reshape(shape), a_scalar and f_scalar and k_scalar)
 
 
@@ -227,6 +382,18 @@ class ContactTimeMap:
         out[both] = self.position[both] / self.force[both]
         return out
 
+    def interval(self, condition: str = "force") -> np.ndarray:
+        """Reflection interval on which the first contact ends, :math:`\\lfloor t_c/2
+        \\rfloor` (1: between the first and the second return of the reflected wave,
+        :math:`2 \\le t_c < 4`); NaN where the striker sticks.
+
+        >>> contact_time_map([0.5], [0.0]).interval().tolist()
+        [[1.0]]
+        """
+        times = {"force": self.force, "position": self.position}[check_condition(condition)]
+        with np.errstate(invalid="ignore"):
+            return np.where(np.isfinite(times), np.floor(times / 2.0), np.nan)
+
     def rows(self) -> list[tuple[float, ...]]:
         """``(alpha, f, t_force, t_position, ratio)`` per grid point, for tables."""
         A, F = np.meshgrid(self.alpha, self.f)
@@ -242,7 +409,7 @@ class ContactTimeMap:
 
 
 def contact_time_map(
-    alpha: ArrayLike, f: ArrayLike, kappa: float = np.inf, *, t_max: float | None = None
+    alpha: ArrayLike, f: ArrayLike, *, kappa: float = np.inf, t_max: float | None = None
 ) -> ContactTimeMap:
     """Contact times under the force and the position condition on an ``alpha``-``f`` grid.
 
@@ -263,8 +430,11 @@ def contact_time_map(
     if a_axis.ndim != 1 or f_axis.ndim != 1:
         raise ValueError("alpha and f must be 1-D axes of the grid")
     A, F = np.meshgrid(a_axis, f_axis)
-    horizon = _check_t_max(t_max)
-    times = {c: contact_time(A, F, c, kappa, t_max=horizon) for c in ("force", "position")}
+    horizon = _check_t_max(t_max, bool(np.isinf(kappa)))
+    times = {
+        c: contact_time(A, F, condition=c, kappa=kappa, t_max=horizon)
+        for c in ("force", "position")
+    }
     if horizon is None:
-        horizon = 100.0 if np.isinf(kappa) else 20.0
+        horizon = T_MAX_RIGID if np.isinf(kappa) else T_MAX_ELASTIC
     return ContactTimeMap(a_axis, f_axis, times["force"], times["position"], float(kappa), horizon)

@@ -18,6 +18,10 @@ import numpy as np
 
 #: Absolute error allowed for the float path of the finite-stiffness evaluation.
 _TOLERANCE = 1e-12
+#: Largest normalized time evaluated with a finite contact stiffness: the time
+#: functions are verified to 1e-10 up to there and a point costs well under a second
+#: (the pole data of ``t/2`` reflection terms grow in degree with every term).
+T_LIMIT_ELASTIC = 20.0
 _EPS = np.finfo(np.float64).eps
 
 
@@ -96,6 +100,7 @@ class _ElasticModel:
         self.dps = dps
         self.parts: list[list] = []
         self.dparts: list[list] = []
+        self.d2parts: list[list] = []
         with mp.workdps(dps):
             a, k = mp.mpf(alpha), mp.mpf(kappa)
             disc = a * a * k * k - 4 * a * k  # exact: products of doubles fit in dps
@@ -103,7 +108,8 @@ class _ElasticModel:
                 roots = [(-k / 2, 2)]
             else:
                 sq = mp.sqrt(disc) if disc > 0 else mp.mpc(0, mp.sqrt(-disc))
-                roots = [((-a * k + sq) / (2 * a), 1), ((-a * k - sq) / (2 * a), 1)]
+                big = (-a * k - sq) / (2 * a)  # no cancellation; the product is k / a
+                roots = [(k / (a * big), 1), (big, 1)]
             self.fastest = float(max(abs(r) for r, _ in roots))
             for _, m0, n, fn in _elastic_series(name, n_terms):
                 c0, c1, const = fn(a, k)
@@ -122,10 +128,26 @@ class _ElasticModel:
                     dparts.append((r, _derivative(p0, r), _derivative(p1, r), pair))
                 self.parts.append(parts)
                 self.dparts.append(dparts)
+                self.d2parts.append(
+                    [
+                        (
+                            complex(r).real,
+                            np.array([abs(complex(c)) for c in _derivative(q0, r)]),
+                            np.array([abs(complex(c)) for c in _derivative(q1, r)]),
+                            2.0 if pair else 1.0,
+                        )
+                        for r, q0, q1, pair in dparts
+                    ]
+                )
 
     def evaluate(self, u_terms, f, derivative=False):
         """Float sum of the terms at ``u_terms[k]`` (``u = t - 2k``, NaN if not arrived)
-        and a bound on its rounding error."""
+        and a bound on its rounding error (NaN or inf where float64 overflows, e.g.
+        for an extreme ``kappa``: those points are re-evaluated with mpmath)."""
+        with np.errstate(all="ignore"):
+            return self._evaluate(u_terms, f, derivative)
+
+    def _evaluate(self, u_terms, f, derivative):
         value = np.zeros(np.shape(f))
         bound = np.zeros(np.shape(f))
         for k, parts in enumerate(self.dparts if derivative else self.parts):
@@ -147,6 +169,28 @@ class _ElasticModel:
                 value[arrived] += weight * (poly * e).real
                 bound[arrived] += weight * size * np.abs(e) * (len(c0) + 4)
         return value, bound * _EPS
+
+    def second_derivative_bound(self, ta, tb, f):
+        """Bound on ``|g''|`` over ``[ta, tb]`` (arrays; ``f`` per cell).
+
+        Every arrived term is ``e^{r u} P(u)``, ``u = t - 2k``, with ``Re r <= 0``:
+        its second derivative is ``e^{r u} P2(u)``, bounded on the cell by
+        ``e^{Re r u_lo} sum_j |P2_j| u_hi^j``.
+        """
+        total = np.zeros(np.shape(ta))
+        for k, parts in enumerate(self.d2parts):
+            u_hi = tb - 2.0 * k
+            live = u_hi > 0
+            if not live.any():
+                continue
+            u_lo = np.maximum(ta[live] - 2.0 * k, 0.0)
+            uh, fl = u_hi[live], f[live]
+            for re, a0, a1, weight in parts:
+                size = np.zeros(uh.size)
+                for q0, q1 in zip(a0[::-1], a1[::-1], strict=True):
+                    size = size * uh + (q0 + fl * q1)
+                total[live] += weight * np.exp(re * u_lo) * size
+        return total * (1.0 + 1e-12)
 
     def evaluate_mp(self, t, f, derivative=False):
         """The same sum with mpmath at the model's precision (one point)."""
@@ -177,7 +221,13 @@ def _elastic_model(name: str, alpha: float, kappa: float, n_terms: int, dps: int
 
 
 def _elastic(name: str, t: np.ndarray, alpha: float, kappa: float, f: np.ndarray, derivative=False):
-    """Finite-stiffness ``y`` or ``N`` at times ``t >= 0`` for one ``(alpha, kappa)``."""
+    """Finite-stiffness ``y`` or ``N`` at times ``0 <= t <= T_LIMIT_ELASTIC`` for one
+    ``(alpha, kappa)``."""
+    if t.size and not np.max(t) <= T_LIMIT_ELASTIC:
+        raise ValueError(
+            f"t must be <= {T_LIMIT_ELASTIC:g} for a finite kappa (the range where the "
+            f"finite-stiffness functions are verified), got t = {float(np.max(t))!r}"
+        )
     n_terms = int(np.max(t) // 2) + 1
     model = _elastic_model(name, alpha, kappa, n_terms)
     u_terms = [t - 2.0 * k for k in range(n_terms)]

@@ -1,0 +1,159 @@
+"""Benchmark of the rod contact times (issue 11): certified search against the old sampling.
+
+Run ``python benchmarks/bench_rod_contact_times.py [--n 100]``. In one run, on the
+``n x n`` grid ``alpha`` geometric in [0.05, 10], ``f`` in [0, 2] (rigid contact,
+``t_max = 100``), for both conditions it prints
+
+* the time of :func:`impactsym.rod.contact_time` (certified isolation);
+* the time of the sampled search it replaces (copied below: a grid uniform in
+  ``sqrt(tau)`` per reflection interval, first sample ``<= 0`` bracketed and polished),
+  running on the same kernel, and how many pairs it gets wrong;
+* a dense-sampling brute force (20,000 samples per reflection interval) on a subset,
+  its time per pair and its disagreements;
+* finite ``kappa``: the first call (symbolic series, once per process), a new
+  ``(alpha, kappa)`` (its pole data) and the time per point of an ``f`` sweep.
+
+Times are CPU seconds of this process (``time.process_time``), robust against a
+loaded machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from impactsym.numeric.roots import bracketed_newton
+from impactsym.rod import contact_time
+from impactsym.rod.kernel import _rigid_local, _rigid_tables
+
+
+def sampled_contact_time(alpha, f, which, t_max=100.0):
+    """The former library search (issue 11 baseline), rigid contact only."""
+    a, ff = np.ravel(alpha).astype(float), np.ravel(f).astype(float)
+    ua, a_idx = np.unique(a, return_inverse=True)
+    n_intervals = int(np.ceil(t_max / 2.0))
+    tables = _rigid_tables(ua, n_intervals + 1)
+
+    def fn(tau, m, p, derivative=False):
+        p = p.astype(np.int64)
+        return _rigid_local(
+            which, m.astype(np.int64), tau, a_idx[p], a[p], ff[p], tables, derivative
+        )
+
+    root_step = np.sqrt(a / 2.0) * np.pi / 16.0
+    result = np.full(a.size, np.inf)
+    active = np.arange(a.size)
+    for m in range(n_intervals):
+        if active.size == 0:
+            break
+        length = np.minimum(2.0, t_max - 2.0 * m) * np.ones(active.size)
+        du = root_step[active] / np.sqrt(m + 1.0)
+        n_steps = np.clip(np.ceil(np.sqrt(length) / du), 16, 8192).astype(np.int64)
+        counts = n_steps + 1
+        p = np.repeat(active, counts)
+        first = np.cumsum(counts) - counts
+        k_idx = np.arange(p.size) - np.repeat(first, counts)
+        tau = np.repeat(length, counts) * (k_idx / np.repeat(n_steps, counts)) ** 2
+        values = fn(tau, np.full(p.size, m), p)
+        hit = (values <= 0) & (k_idx >= (1 if m == 0 else 0))
+        position = np.where(hit, np.arange(p.size), p.size)
+        first_hit = np.minimum.reduceat(position, first)
+        found = first_hit < p.size
+        if not found.any():
+            continue
+        idx, pairs = first_hit[found], active[found]
+        lo, hi = tau[idx - 1], tau[idx]
+        root = bracketed_newton(
+            lambda x, mm, pp: fn(x, mm, pp),
+            lambda x, mm, pp: fn(x, mm, pp, True),
+            lo,
+            hi,
+            [np.full(pairs.size, float(m)), pairs.astype(np.float64)],
+        )
+        result[pairs] = 2.0 * m + root
+        active = active[~found]
+    return result.reshape(np.shape(alpha))
+
+
+def brute_force(alpha, f, which, t_max=100.0, per_interval=20000):
+    """First sample <= 0 on a uniform grid of ``per_interval`` points per interval."""
+    out = np.full(alpha.size, np.inf)
+    for i, (a, force) in enumerate(zip(alpha.ravel(), f.ravel(), strict=True)):
+        for m in range(1, int(t_max // 2)):
+            tau = np.linspace(0.0, 2.0, per_interval, endpoint=False)
+            ua = np.array([a])
+            tables = _rigid_tables(ua, m + 1)
+            g = _rigid_local(
+                which, np.full(tau.size, m), tau, np.zeros(tau.size, int), a, force, tables
+            )
+            below = np.flatnonzero(g <= 0)
+            if below.size:
+                out[i] = 2.0 * m + tau[below[0]]
+                break
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=100)
+    parser.add_argument("--brute", type=int, default=60, help="pairs for the brute force")
+    args = parser.parse_args()
+    A, F = np.meshgrid(np.geomspace(0.05, 10, args.n), np.linspace(0, 2, args.n))
+    rng = np.random.default_rng(1)
+    pick = rng.choice(A.size, size=min(args.brute, A.size), replace=False)
+    for condition, which in (("force", "N"), ("position", "y")):
+        start = time.process_time()
+        new = contact_time(A, F, condition=condition)
+        t_new = time.process_time() - start
+        start = time.process_time()
+        try:
+            old = sampled_contact_time(A, F, which)
+            note = ""
+        except ValueError:  # issue 11: the whole grid can fail, its halves do not
+            half = A.shape[0] // 2
+            old = np.concatenate(
+                [
+                    sampled_contact_time(A[:half], F[:half], which),
+                    sampled_contact_time(A[half:], F[half:], which),
+                ]
+            )
+            note = " (raised ValueError on the whole grid; timed on its two halves)"
+        t_old = time.process_time() - start
+        differ = ~np.isclose(new, old, rtol=0, atol=1e-8) & ~(np.isinf(new) & np.isinf(old))
+        start = time.process_time()
+        brute = brute_force(A.ravel()[pick], F.ravel()[pick], which)
+        t_brute = (time.process_time() - start) / pick.size
+        late = np.sum(new.ravel()[pick] > brute + 2.0 / 20000)
+        print(
+            f"{condition:8s} {A.size} pairs: certified {t_new:.2f} s "
+            f"({1e6 * t_new / A.size:.0f} us/pair), sampled {t_old:.2f} s "
+            f"({1e6 * t_old / A.size:.0f} us/pair), speed-up {t_old / t_new:.2f}x; "
+            f"sampled differs at {int(differ.sum())} pairs; brute force "
+            f"{1e3 * t_brute:.0f} ms/pair, certified later than brute force at {int(late)} "
+            f"of {pick.size}{note}"
+        )
+
+
+def finite_stiffness() -> None:
+    start = time.process_time()
+    contact_time(1.0, 0.2, kappa=50.0)
+    first = time.process_time() - start
+    start = time.process_time()
+    contact_time(0.7, 0.2, kappa=30.0)
+    fresh = time.process_time() - start
+    f = np.linspace(0.0, 2.0, 200)
+    contact_time(1.3, 0.0, kappa=20.0)
+    start = time.process_time()
+    contact_time(1.3, f, kappa=20.0)
+    sweep = (time.process_time() - start) / f.size
+    print(
+        f"finite kappa (t_max = 20): first call {first:.2f} s, a new (alpha, kappa) "
+        f"{fresh:.2f} s, then {1e3 * sweep:.2f} ms per point of an f sweep"
+    )
+
+
+if __name__ == "__main__":
+    main()
+    finite_stiffness()

@@ -1,0 +1,176 @@
+"""Certified search for the first sign change of a smooth function on many intervals.
+
+NumPy only. Used by :mod:`impactsym.rod.contact_times` for the rod's contact times
+(rigid: one reflection interval at a time; finite stiffness: ``[0, t_max]``).
+
+**Argument.** On a cell ``[a, b]`` (``h = b - a``) with ``|g''| <= M`` (a rigorous bound
+supplied by the caller) and the values ``g(a), g(b)`` and slopes ``g'(a), g'(b)``:
+
+* ``g >= min(g(a), g(b)) - M h^2 / 8`` (linear interpolation error), and
+  ``g >= min(g(a), g(a) + g'(a) h - M h^2 / 2)`` and the same from ``b`` (Taylor);
+  if one of these lower bounds is positive the cell holds no zero;
+* ``g' >= (g'(a) + g'(b) - M h) / 2`` and ``g' <= (g'(a) + g'(b) + M h) / 2`` on the
+  cell; if ``g'`` keeps its sign, ``g`` is monotone there and has a zero in it exactly
+  when ``g(a) > 0 >= g(b)``.
+
+Every cell before the first cell with ``g(a) > 0 >= g(b)`` must be proved zero-free,
+and that cell monotone; cells that cannot be decided are halved. A cell is accepted
+as zero-free without proof only once ``M h^2 / 8 <= tol``: a dip of ``g`` below zero
+that is shallower than ``tol`` may then be passed over (a tangential touch is not a
+sign change). The decided cell is refined by :func:`impactsym.numeric.bracketed_newton`.
+Rounding errors of the evaluation of ``g`` (about ``1e-13`` here) are below ``tol``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from impactsym.numeric.roots import bracketed_newton
+
+#: Dips of the contact function shallower than this may be passed over.
+TOLERANCE = 1e-12
+
+
+def first_sign_change(
+    evaluate: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]],
+    bound: Callable[..., np.ndarray],
+    nodes: np.ndarray,
+    owner: np.ndarray,
+    n_owners: int,
+    *,
+    tol: float = TOLERANCE,
+    max_rounds: int = 80,
+    max_cells: int = 2**24,
+) -> np.ndarray:
+    """First point where ``g`` goes from ``> 0`` to ``<= 0``, per owner; NaN if none.
+
+    Parameters
+    ----------
+    evaluate
+        ``evaluate(x, owner) -> (g, dg, aux)`` at 1-D arrays (``aux``: one more
+        per-point value that the bound needs).
+    bound
+        ``bound(a, b, owner, aux_a, aux_b, dg_a, dg_b) -> M`` with ``|g''| <= M`` on
+        ``[a, b]``.
+    nodes, owner
+        Initial nodes (sorted within each owner, owners contiguous and ascending) and
+        the owner of each; ``g`` must be positive at each owner's first node.
+    n_owners
+        Number of owners; the result has this length.
+    tol, max_rounds, max_cells
+        Acceptance depth (see the module notes) and work limits; beyond the limits a
+        ``RuntimeError`` is raised, never a guess.
+
+    Examples
+    --------
+    ``g = cos(x) - c`` with ``|g''| <= 1``: the first zero is ``arccos(c)``, also where
+    two coarse nodes would straddle a second zero or none:
+
+    >>> c = np.array([0.5, 0.999])
+    >>> def evaluate(x, owner):
+    ...     return np.cos(x) - c[owner], -np.sin(x), np.zeros_like(x)
+    >>> def bound(a, b, owner, *ends):
+    ...     return np.ones_like(a)
+    >>> nodes, owner = np.tile([0.0, 7.0], 2), np.repeat([0, 1], 2)
+    >>> root = first_sign_change(evaluate, bound, nodes, owner, 2)
+    >>> bool(np.allclose(root, np.arccos(c), rtol=0, atol=1e-14))
+    True
+    """
+    result = np.full(n_owners, np.nan)
+    if nodes.size == 0:
+        return result
+    g, dg, aux = evaluate(nodes, owner)
+    left = np.flatnonzero(owner[1:] == owner[:-1])
+    right = left + 1
+    # one row per cell quantity: a, b, g(a), g(b), g'(a), g'(b), aux(a), aux(b)
+    cells = np.stack(
+        [nodes[left], nodes[right], g[left], g[right], dg[left], dg[right], aux[left], aux[right]]
+    )
+    own = owner[left]
+    found_a, found_b, found_own = [], [], []
+    for _ in range(max_rounds):
+        if own.size > max_cells:
+            raise RuntimeError(
+                f"first_sign_change: more than {max_cells} cells needed (the bound on "
+                "|g''| is too coarse to certify the sign)"
+            )
+        # cells after a sign change play no part; a cell may start at a zero of g
+        # where g rises (g(0) = 0 for finite contact stiffness)
+        ga, da = cells[2], cells[4]
+        keep = (ga > 0) | ((ga == 0) & (da > 0))
+        if not keep.all():
+            cells, own = cells[:, keep], own[keep]
+        if own.size == 0:
+            break
+        a, b, ga, gb, da, db, ea, eb = cells
+        h = b - a
+        M = bound(a, b, own, ea, eb, da, db)
+        q = M * h * h
+        lower = np.maximum(
+            np.minimum(ga, gb) - q / 8,
+            np.maximum(np.minimum(ga, ga + da * h - q / 2), np.minimum(gb, gb - db * h - q / 2)),
+        )
+        rising = da + db - M * h > 0
+        falling = da + db + M * h < 0
+        at_zero = ga == 0  # then g > 0 just after a only if g' > M h / 2, else halve
+        lower = np.where(at_zero, np.where(da - q / (2 * h) > 0, np.inf, -np.inf), lower)
+        change = (gb <= 0) & ~at_zero
+        tiny = (q / 8 <= tol) | (h <= 4 * np.finfo(float).eps * np.maximum(np.abs(a), 1.0))
+        clear = ~change & ((lower > 0) | ((rising | falling) & ~at_zero) | tiny)
+        decided = change & (rising | falling | tiny)
+        # the first sign-change cell of each owner (sorted assignment: the smallest
+        # a is written last); later cells play no part
+        first_change = np.full(n_owners, np.inf)
+        idx = np.flatnonzero(change)
+        if idx.size:
+            idx = idx[np.argsort(-a[idx], kind="stable")]
+            first_change[own[idx]] = a[idx]
+        relevant = ~clear & (a <= first_change[own])
+        undecided = relevant & ~decided
+        # an owner is done when its first sign-change cell is decided and no
+        # undecided cell lies before it
+        pending = np.zeros(n_owners, dtype=bool)
+        pending[own[undecided]] = True
+        done = relevant & decided & ~pending[own] & (a == first_change[own])
+        if done.any():
+            found_a.append(a[done])
+            found_b.append(b[done])
+            found_own.append(own[done])
+        if not undecided.any():
+            break
+        carry = relevant & pending[own] & ~undecided  # decided, waiting for earlier cells
+        split, own_split = cells[:, undecided], own[undecided]
+        mid = 0.5 * (split[0] + split[1])
+        gm, dm, em = evaluate(mid, own_split)
+        halves = np.empty((8, 2 * mid.size))
+        halves[:, : mid.size] = split
+        halves[:, mid.size :] = split
+        halves[1, : mid.size], halves[0, mid.size :] = mid, mid
+        halves[3, : mid.size], halves[2, mid.size :] = gm, gm
+        halves[5, : mid.size], halves[4, mid.size :] = dm, dm
+        halves[7, : mid.size], halves[6, mid.size :] = em, em
+        cells = np.concatenate([halves, cells[:, carry]], axis=1)
+        own = np.concatenate([own_split, own_split, own[carry]])
+    else:  # pragma: no cover - the halving ends at the tolerance long before
+        raise RuntimeError("first_sign_change: cells not decided")
+    if not found_a:
+        return result
+    lo, hi = np.concatenate(found_a), np.concatenate(found_b)
+    who = np.concatenate(found_own)
+    if who.size:
+        cache: dict = {}
+
+        def g_only(x, w):
+            value, slope, _ = evaluate(x, w.astype(np.int64))
+            cache["x"], cache["slope"] = x, slope
+            return value
+
+        def dg_only(x, w):
+            if cache.get("x") is x:
+                return cache["slope"]
+            return evaluate(x, w.astype(np.int64))[1]
+
+        result[who] = bracketed_newton(g_only, dg_only, lo, hi, [who.astype(np.float64)])
+    return result
