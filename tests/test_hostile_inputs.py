@@ -40,6 +40,7 @@ from impactsym.multibody import (
 )
 from impactsym.rod import RodImpact, latex_formulas
 from impactsym.rod import contact_force as rod_force
+from impactsym.rod import contact_time as rod_contact_time
 from impactsym.rod import displacement as rod_displacement
 from impactsym.symbolic.laplace import (
     check_delay,
@@ -468,6 +469,13 @@ def test_series_term_counts_are_validated(n_terms):
 def test_rod_functions_name_the_bad_argument(function, args, pattern):
     with pytest.raises((ValueError, TypeError), match=pattern):
         function(*args)
+
+
+def test_rod_functions_name_mismatched_shapes():
+    with pytest.raises(ValueError, match=r"^t \(shape \(2,\)\) and alpha \(shape \(3,\)\)"):
+        rod_displacement(np.zeros(2), np.ones(3), 0.0)
+    with pytest.raises(ValueError, match=r"^alpha \(shape \(2,\)\) and f \(shape \(3,\)\)"):
+        rod_contact_time(np.ones(2), np.zeros(3), condition="force")
 
 
 # -- multibody ------------------------------------------------------------------------------

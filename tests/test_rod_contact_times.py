@@ -233,17 +233,17 @@ def test_atlas_marks_reflection_intervals_and_stays_small_as_pdf(tmp_path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from impactsym.plotting.rod import plot_contact_time_maps
+    from impactsym.plotting.rod import plot_contact_time_atlases
     from impactsym.rod import contact_time_map
 
     study = contact_time_map(np.geomspace(0.05, 10.0, 120), np.linspace(0.0, 2.0, 120))
-    interval = study.interval("position")
+    interval = study.interval(condition="position")
     finite = np.isfinite(study.position)
     assert np.array_equal(np.isnan(interval), ~finite)
     assert np.all(2 * interval[finite] <= study.position[finite])
     assert np.all(study.position[finite] < 2 * interval[finite] + 2)
     assert {1.0, 2.0, 3.0} <= set(np.unique(interval[finite]).tolist())
-    axes = plot_contact_time_maps(study)
+    axes = plot_contact_time_atlases(study)
     meshes = [c for ax in axes for c in ax.collections if type(c).__name__ == "QuadMesh"]
     assert meshes
     assert all(m.get_rasterized() for m in meshes)

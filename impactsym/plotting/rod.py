@@ -15,6 +15,7 @@ from matplotlib.colors import LogNorm
 
 from impactsym.rod.api import contact_force, displacement
 from impactsym.rod.contact_times import ContactTimeMap, contact_time
+from impactsym.validation import check_condition
 
 QUANTITIES = {
     "y": (displacement, "position", r"striker displacement $y\,/\,(v_0 L/c)$"),
@@ -63,7 +64,9 @@ def plot_time_history(
     """
     fn, condition, ax, t = _time_axes(quantity, ax, t_max, n_points)
     for alpha, f in cases:
-        (line,) = ax.plot(t, fn(t, alpha, f, kappa), lw=1.3, label=rf"$\alpha={alpha:g},\ f={f:g}$")
+        (line,) = ax.plot(
+            t, fn(t, alpha, f, kappa=kappa), lw=1.3, label=rf"$\alpha={alpha:g},\ f={f:g}$"
+        )
         tc = contact_time(alpha, f, condition=condition, kappa=kappa, t_max=t_max)
         if np.isfinite(tc):
             ax.plot([tc], [0.0], "o", color=line.get_color(), ms=5)
@@ -133,7 +136,7 @@ def _shade_sticking(ax: Axes, study: ContactTimeMap, sticks: np.ndarray, color: 
 def _mark_intervals(ax: Axes, study: ContactTimeMap, condition: str) -> None:
     """Boundaries between the regions whose first contact ends on the 1st, 2nd, ...
     reflection interval (white lines), each region labelled once."""
-    interval = study.interval(condition)
+    interval = study.interval(condition=condition)
     if min(interval.shape) < 2 or np.all(np.isnan(interval)):
         return
     top = int(np.nanmax(interval))
@@ -161,8 +164,8 @@ def _mark_intervals(ax: Axes, study: ContactTimeMap, condition: str) -> None:
         )
 
 
-def plot_contact_time_map(
-    study: ContactTimeMap, condition: str = "force", *, ax: Axes | None = None
+def plot_contact_time_atlas(
+    study: ContactTimeMap, *, condition: str = "force", ax: Axes | None = None
 ) -> Axes:
     r"""Contact time of one condition over the :math:`\alpha`-:math:`f` plane (an atlas).
 
@@ -173,12 +176,12 @@ def plot_contact_time_map(
     to ``study.t_max``).
 
     >>> from impactsym.rod import contact_time_map
-    >>> ax = plot_contact_time_map(contact_time_map([0.5, 5.0], [0.0, 0.5]), "position")
+    >>> ax = plot_contact_time_atlas(contact_time_map([0.5, 5.0], [0.0, 0.5]), condition="position")
     >>> ax.get_xscale()
     'log'
     >>> plt.close(ax.figure)
     """
-    times = {"force": study.force, "position": study.position}[condition]
+    times = {"force": study.force, "position": study.position}[check_condition(condition)]
     ax, ae, fe = _atlas_frame(study, ax)
     finite = np.where(np.isfinite(times), times, np.nan)
     mesh = ax.pcolormesh(
@@ -235,19 +238,19 @@ def plot_contact_time_ratio(study: ContactTimeMap, *, ax: Axes | None = None) ->
     return ax
 
 
-def plot_contact_time_maps(study: ContactTimeMap, axes: Sequence[Axes] | None = None):
+def plot_contact_time_atlases(study: ContactTimeMap, *, axes: Sequence[Axes] | None = None):
     """The three atlases side by side: force, position, ratio. Returns the axes.
 
     >>> from impactsym.rod import contact_time_map
-    >>> axes = plot_contact_time_maps(contact_time_map([0.5, 5.0], [0.0, 0.5]))
+    >>> axes = plot_contact_time_atlases(contact_time_map([0.5, 5.0], [0.0, 0.5]))
     >>> len(axes)
     3
     >>> plt.close(axes[0].figure)
     """
     if axes is None:
         axes = plt.figure(figsize=(16, 4.6)).subplots(1, 3)
-    plot_contact_time_map(study, "force", ax=axes[0])
-    plot_contact_time_map(study, "position", ax=axes[1])
+    plot_contact_time_atlas(study, condition="force", ax=axes[0])
+    plot_contact_time_atlas(study, condition="position", ax=axes[1])
     plot_contact_time_ratio(study, ax=axes[2])
     return axes
 
@@ -272,7 +275,7 @@ def plot_stiffness_comparison(
     fn, _, ax, t = _time_axes(quantity, ax, t_max, n_points)
     for kappa in kappas:
         label = "rigid" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
-        ax.plot(t, fn(t, alpha, f, kappa), lw=1.2, label=label)
+        ax.plot(t, fn(t, alpha, f, kappa=kappa), lw=1.2, label=label)
     ax.set_title(rf"Contact stiffness, $\alpha = {alpha:g}$, $f = {f:g}$")
     ax.legend(fontsize="small")
     return ax

@@ -73,7 +73,7 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     alpha = np.geomspace(0.05, 10.0, n)
     f = np.linspace(0.0, 2.0, 7 if quick else n)
     study = contact_time_map(alpha, f)
-    files += save_figure(plots.plot_contact_time_maps(study)[0], out, "rod_contact_time_maps")
+    files += save_figure(plots.plot_contact_time_atlases(study)[0], out, "rod_contact_time_maps")
     step = max(1, -(-n // 100))
     coarse = contact_time_map_rows(study, step)
     files.append(

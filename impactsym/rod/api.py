@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike
 
 from impactsym.rod.elastic import _elastic
 from impactsym.rod.kernel import _rigid_evaluate
-from impactsym.validation import finish, real_array
+from impactsym.validation import broadcast, finish, real_array
 
 __all__ = ["contact_force", "displacement"]
 
@@ -22,7 +22,7 @@ def _prepare(t, alpha, f, kappa):
     a_arr, a_scalar = real_array("alpha", alpha, lower=0.0, strict=True)
     f_arr, f_scalar = real_array("f", f, lower=0.0)
     k_arr, k_scalar = real_array("kappa", kappa, lower=0.0, strict=True, allow_inf=True)
-    shape = np.broadcast_shapes(t_arr.shape, a_arr.shape, f_arr.shape, k_arr.shape)
+    shape = broadcast(t=t_arr, alpha=a_arr, f=f_arr, kappa=k_arr)
     flat = [np.broadcast_to(v, shape).ravel() for v in (t_arr, a_arr, f_arr, k_arr)]
     return flat, shape, t_scalar and a_scalar and f_scalar and k_scalar
 
@@ -46,7 +46,7 @@ def _evaluate(which: str, t, alpha, f, kappa):
 
 
 def displacement(
-    t: ArrayLike, alpha: ArrayLike, f: ArrayLike, kappa: ArrayLike = np.inf
+    t: ArrayLike, alpha: ArrayLike, f: ArrayLike, *, kappa: ArrayLike = np.inf
 ) -> float | np.ndarray:
     r"""Striker displacement :math:`y(t)` of the persistent-contact solution.
 
@@ -97,7 +97,7 @@ def displacement(
 
 
 def contact_force(
-    t: ArrayLike, alpha: ArrayLike, f: ArrayLike, kappa: ArrayLike = np.inf
+    t: ArrayLike, alpha: ArrayLike, f: ArrayLike, *, kappa: ArrayLike = np.inf
 ) -> float | np.ndarray:
     r"""Contact force :math:`N(t)` of the persistent-contact solution.
 

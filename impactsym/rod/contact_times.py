@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 from impactsym.numeric.isolation import first_sign_change
 from impactsym.rod.elastic import T_LIMIT_ELASTIC, _elastic, _elastic_model
 from impactsym.rod.kernel import T_LIMIT, _rigid_tables
-from impactsym.validation import check_condition, finish, real_array
+from impactsym.validation import broadcast, check_condition, finish, real_array
 
 __all__ = ["ContactTimeMap", "contact_time", "contact_time_map"]
 
@@ -329,7 +329,7 @@ def contact_time(
     a_arr, a_scalar = real_array("alpha", alpha, lower=0.0, strict=True)
     f_arr, f_scalar = real_array("f", f, lower=0.0)
     k_arr, k_scalar = real_array("kappa", kappa, lower=0.0, strict=True, allow_inf=True)
-    shape = np.broadcast_shapes(a_arr.shape, f_arr.shape, k_arr.shape)
+    shape = broadcast(alpha=a_arr, f=f_arr, kappa=k_arr)
     a, ff, k = (np.broadcast_to(v, shape).ravel().copy() for v in (a_arr, f_arr, k_arr))
     rigid = np.isinf(k)
     which = "N" if condition == "force" else "y"
@@ -382,7 +382,7 @@ class ContactTimeMap:
         out[both] = self.position[both] / self.force[both]
         return out
 
-    def interval(self, condition: str = "force") -> np.ndarray:
+    def interval(self, *, condition: str = "force") -> np.ndarray:
         """Reflection interval on which the first contact ends, :math:`\\lfloor t_c/2
         \\rfloor` (1: between the first and the second return of the reflected wave,
         :math:`2 \\le t_c < 4`); NaN where the striker sticks.
@@ -400,12 +400,12 @@ class ContactTimeMap:
         columns = (A, F, self.force, self.position, self.ratio)
         return list(zip(*(c.ravel().tolist() for c in columns), strict=True))
 
-    def plot(self, axes: Any = None) -> Any:
-        """Maps of both contact times and their ratio (see
-        :func:`impactsym.plotting.rod.plot_contact_time_maps`)."""
-        from impactsym.plotting.rod import plot_contact_time_maps
+    def plot(self, *, axes: Any = None) -> Any:
+        """Atlases of both contact times and their ratio (see
+        :func:`impactsym.plotting.rod.plot_contact_time_atlases`)."""
+        from impactsym.plotting.rod import plot_contact_time_atlases
 
-        return plot_contact_time_maps(self, axes)
+        return plot_contact_time_atlases(self, axes=axes)
 
 
 def contact_time_map(
