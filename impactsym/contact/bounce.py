@@ -1,6 +1,6 @@
 r"""The bounce sequence of the spring-damper contact until the body rests.
 
-Normalized on the *first* impact (``PHYSICS.md`` section 2: :math:`\tau = \omega_0 t`,
+Normalized on the *first* impact (``docs/physics.md``, section 2: :math:`\tau = \omega_0 t`,
 :math:`z = x\omega_0/v_0`, :math:`f = F/(d v_0)`): a body released from the contact flies
 under the pressing force alone, with acceleration :math:`2Df` towards the contact, hits
 again, and so on until a contact no longer ends (the body sticks).
@@ -330,7 +330,7 @@ def bounce_sequence(
     r"""The sequence of contacts and free flights of the spring-damper contact until rest.
 
     Contact ``n`` follows :math:`z'' + 2Dz' + z = 2Df` from its initial state until its
-    contact function changes sign (``PHYSICS.md`` section 2); in between, the body flies
+    contact function changes sign (``docs/physics.md``, section 2); in between, the body flies
     with acceleration :math:`2Df` towards the contact. Under the position condition
 
     .. math::  v_{n+1} = e(D, f/v_n)\, v_n, \qquad

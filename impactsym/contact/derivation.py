@@ -1,7 +1,7 @@
 r"""Spring-damper contact (paper section 2): the derivation with SymPy.
 
 A body hits a unilateral spring-damper contact. While in contact, normalized as in
-``PHYSICS.md`` section 2 (:math:`\tau = \omega_0 t`, :math:`z = x\omega_0/v_0`,
+``docs/physics.md``, section 2 (:math:`\tau = \omega_0 t`, :math:`z = x\omega_0/v_0`,
 :math:`D = d/(2\sqrt{km})`, :math:`f = F/(d v_0)`),
 
 .. math::  z'' + 2 D z' + z = 2 D f, \qquad z(0) = 0, \quad z'(0) = 1.

@@ -1,7 +1,7 @@
 r"""Free flight after a release of the spring-damper contact: the derivation with SymPy.
 
 After the body leaves the contact it flies under the pressing force alone; normalized on
-the first impact (``PHYSICS.md`` section 2) its acceleration towards the contact is
+the first impact (``docs/physics.md``, section 2) its acceleration towards the contact is
 :math:`2 D f`. Time ``s`` runs from the release, ``u > 0`` is the speed at which the body
 moves away at the release.
 

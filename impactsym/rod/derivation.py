@@ -3,7 +3,7 @@
 A striker (mass ratio :math:`\\alpha`, pressing force :math:`f`) hits the free end of
 an elastic rod fixed at its other end, through a contact spring of stiffness
 :math:`\\kappa` (rigid contact: :math:`\\kappa \\to \\infty`). In the Laplace domain
-(normalization of ``PHYSICS.md``), the paper's eq. (1) is
+(normalization of the physics page of the docs, ``docs/physics.md``), the paper's eq. (1) is
 
 .. math::
 
