@@ -115,3 +115,43 @@ def test_former_module_names_are_the_new_modules(old, new):
     assert importlib.import_module(f"impactsym.{old}") is importlib.import_module(
         f"impactsym.{new}"
     )
+
+
+#: Options are keyword-only everywhere (docs/vocabulary.md).
+OPTIONS = {"condition", "kappa", "t_max", "n_points", "ax", "axes"}
+#: An earlier contract: ReducedContact methods whose only argument is the condition.
+POSITIONAL_CONDITION = {"ReducedContact"}
+#: Functions whose subject is the option itself (a validator, a figure to save).
+SUBJECT = {"impactsym.validation.check_condition", "impactsym.results.files.save_figure"}
+
+
+def public_callables():
+    import importlib
+    import inspect
+
+    for path in package_modules():
+        name = module_name(path)
+        if name.endswith("__main__") or "._" in name:
+            continue
+        module = importlib.import_module(name)
+        for attr, obj in vars(module).items():
+            if attr.startswith("_") or getattr(obj, "__module__", None) != name:
+                continue
+            if inspect.isfunction(obj):
+                yield f"{name}.{attr}", obj
+            elif inspect.isclass(obj) and attr not in POSITIONAL_CONDITION:
+                for meth, fn in vars(obj).items():
+                    if inspect.isfunction(fn) and not meth.startswith("_"):
+                        yield f"{name}.{attr}.{meth}", fn
+
+
+def test_options_are_keyword_only_in_every_public_function():
+    import inspect
+
+    positional = []
+    for qualname, fn in public_callables():
+        for param in inspect.signature(fn).parameters.values():
+            subject = qualname in SUBJECT
+            if param.name in OPTIONS and param.kind is not param.KEYWORD_ONLY and not subject:
+                positional.append(f"{qualname}({param.name})")
+    assert positional == []

@@ -59,7 +59,7 @@ def test_penalty_for_targets_delivers_in_the_full_simulation():
     assert design.restitution("force") == pytest.approx(0.5, rel=1e-9)
     assert design.contact_time("force") == pytest.approx(2e-3, rel=1e-9)
     assert dd == pytest.approx(damping_for_restitution(reduced, kk, 0.5), rel=1e-9)
-    full = simulate_contact(ex, kk, dd, 0.5, "force")
+    full = simulate_contact(ex, kk, dd, 0.5, condition="force")
     assert float(full.contact_time) == pytest.approx(2e-3, rel=0.02)
     assert float(full.restitution) == pytest.approx(0.5, rel=0.02)
 

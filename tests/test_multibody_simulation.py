@@ -19,7 +19,7 @@ def test_numpy_simulation_of_reproduce_matches_scipy(model, example):
     omega = np.array([300.0, 1000.0, 300.0])
     k, d, speed = m_eff * omega**2, 2 * np.array([0.1, 0.05, 0.2]) * m_eff * omega, 0.4
     for condition in ("position", "force"):
-        ours = simulate_contact(ex, k, d, speed, condition)
+        ours = simulate_contact(ex, k, d, speed, condition=condition)
         for i in range(k.size):
             t_ref = sim.contact_time(k[i], d[i], speed, condition, 40 / omega[i])
             assert ours.contact_time[i] == pytest.approx(t_ref, rel=1e-7)

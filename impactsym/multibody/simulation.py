@@ -248,8 +248,8 @@ def simulate_contact(
     k: Any,
     d: Any,
     speed: Any,
-    condition: str | Sequence[str] = "force",
     *,
+    condition: str | Sequence[str] = "force",
     tau_max: float = 40.0,
     steps: int = 50,
 ) -> SimulatedContact:
@@ -273,7 +273,7 @@ def simulate_contact(
     reduced oscillator, ``pi / omega``, with ``e`` about 1:
 
     >>> bar = falling_bar(gravity=0.0, drag=0.0, rotational_drag=0.0)
-    >>> sim = simulate_contact(bar, 1e4, 0.0, 0.5, "position")
+    >>> sim = simulate_contact(bar, 1e4, 0.0, 0.5, condition="position")
     >>> omega = np.sqrt(1e4 / bar.reduce().m_eff)
     >>> round(float(sim.contact_time * omega), 2), round(float(sim.restitution), 2)
     (3.13, 1.01)
@@ -478,7 +478,7 @@ def agreement_sweep(
         np.tile(k, 2),
         np.tile(d, 2),
         np.tile(speed, 2),
-        cond,
+        condition=cond,
         tau_max=tau_max,
         steps=steps,
     ).contact_time
@@ -525,7 +525,7 @@ def convergence_study(
     k = m_eff * omegas_arr**2
     d = 2 * damping * m_eff * omegas_arr
     speed = m_eff * rest / (d * force)
-    t_full = simulate_contact(example, k, d, speed, condition, steps=steps).contact_time
+    t_full = simulate_contact(example, k, d, speed, condition=condition, steps=steps).contact_time
     out = {"omega": omegas_arr}
     for projection in PROJECTIONS:
         red = reduce_at_speeds(example, speed, projection=projection).with_penalty(k, d)

@@ -38,18 +38,18 @@ def textbook_restitution(targets: np.ndarray) -> dict[str, np.ndarray]:
     return out
 
 
-def plot_textbook_error(ax: Axes | None = None, n: int = 60) -> Axes:
+def plot_textbook_error(*, ax: Axes | None = None, n_points: int = 60) -> Axes:
     """Achieved against wanted restitution with the textbook damping (curves).
 
     The diagonal is what :func:`impactsym.engines.mujoco.solref_for` and
     :func:`impactsym.engines.lammps.hooke_for` achieve.
 
-    >>> plot_textbook_error(n=5).get_xlabel()
+    >>> plot_textbook_error(n_points=5).get_xlabel()
     'wanted restitution e'
     """
     if ax is None:
         _, ax = plt.subplots(figsize=(5.5, 4.5))
-    targets = np.linspace(0.02, 0.98, n)
+    targets = np.linspace(0.02, 0.98, n_points)
     for (name, achieved), style in zip(
         textbook_restitution(targets).items(), ("-", "--", ":"), strict=True
     ):
@@ -81,17 +81,17 @@ def stick_map(speed: np.ndarray, dampratio: np.ndarray, gravity: float = 9.81, s
 
 
 def plot_stick_map(
-    ax: Axes | None = None, gravity: float = 9.81, n: int = 120, solimp=FLAT
+    *, ax: Axes | None = None, gravity: float = 9.81, n_points: int = 120, solimp=FLAT
 ) -> Axes:
     """Where MuJoCo's body sticks under gravity (timeconst 0.02): speed against dampratio.
 
-    >>> plot_stick_map(n=8).get_ylabel()
+    >>> plot_stick_map(n_points=8).get_ylabel()
     'dampratio'
     """
     if ax is None:
         _, ax = plt.subplots(figsize=(6, 4.5))
-    speed = np.geomspace(0.01, 3.0, n)
-    dampratio = np.geomspace(0.05, 2.0, n)
+    speed = np.geomspace(0.01, 3.0, n_points)
+    dampratio = np.geomspace(0.05, 2.0, n_points)
     verdict, e = stick_map(speed, dampratio, gravity, solimp)
     cmap = ListedColormap(["0.75", "#c6dbef", "#fdd0a2"])
     ax.pcolormesh(speed, dampratio, verdict, cmap=cmap, vmin=-0.5, vmax=2.5, shading="auto")

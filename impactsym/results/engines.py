@@ -43,7 +43,7 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     files: list[Path] = []
     progress("textbook against exact restitution")
     files += save_figure(
-        plots.plot_textbook_error(n=30 if quick else 120), out, "engines_textbook_error"
+        plots.plot_textbook_error(n_points=30 if quick else 120), out, "engines_textbook_error"
     )
     targets = np.linspace(0.05, 0.95, 19 if quick else 91)
     achieved = plots.textbook_restitution(targets)
@@ -56,7 +56,7 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     )
     progress("MuJoCo stick map under gravity")
     files += save_figure(
-        plots.plot_stick_map(n=40 if quick else 160), out, "engines_mujoco_stick_map"
+        plots.plot_stick_map(n_points=40 if quick else 160), out, "engines_mujoco_stick_map"
     )
     progress("worked designs")
     designs = {}

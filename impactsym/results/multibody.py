@@ -61,7 +61,7 @@ def _design_example(example: MultibodyExample | None = None) -> dict[str, Any]:
     k, d = penalty_for_targets(
         reduced, restitution=e_target, contact_time=t_target, condition=condition
     )
-    sim = simulate_contact(example, k, d, speed, condition)
+    sim = simulate_contact(example, k, d, speed, condition=condition)
     return {
         "system": example.name,
         "speed": speed,

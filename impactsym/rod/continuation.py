@@ -344,7 +344,7 @@ class RodImpactSequence:
             n = np.where(self._flight_index(tt)[1], 0.0, n)
         return float(n) if np.ndim(t) == 0 else n
 
-    def plot(self, ax=None):
+    def plot(self, *, ax=None):
         """Contact/flight sequence with the energy split (see
         :func:`impactsym.plotting.rod_sequence.plot_sequence`)."""
         from impactsym.plotting.rod_sequence import plot_sequence
