@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from numpy.polynomial import chebyshev as cheb
 from references.rod_characteristics import Characteristics
@@ -25,6 +25,9 @@ from scipy.optimize import brentq
 from impactsym.rod import contact_force, contact_time, displacement, numpy_source
 
 # ------------------------------------------------------------------ references
+
+#: Dips shallower than this may be passed over (impactsym.rod.contact_times docstring).
+TOLERANCE = 1e-12
 
 
 def reference_contact_time(alpha, f, condition, t_max=20.0, n_samples=4001):
@@ -45,10 +48,13 @@ def reference_contact_time(alpha, f, condition, t_max=20.0, n_samples=4001):
     for k in range(n_int):
         tau = np.linspace(0.0, min(2.0, t_max - 2 * k), n_samples)
         values = g(k, tau)
-        below = np.flatnonzero(values[1:] <= 0) + 1
+        # below the library's documented tolerance a value is rounding noise, not a
+        # crossing (a light striker's exp(-t/alpha) reaches 1e-16 before the reflection)
+        below = np.flatnonzero(values[1:] < -TOLERANCE) + 1
         if below.size:
             i = below[0]
-            return 2 * k + brentq(lambda x, k=k: g(k, x), tau[i - 1], tau[i], xtol=1e-14)
+            j = np.flatnonzero(values[:i] > 0)[-1]
+            return 2 * k + brentq(lambda x, k=k: g(k, x), tau[j], tau[i], xtol=1e-14)
     return math.inf
 
 
@@ -107,6 +113,7 @@ def _compare(a, force, condition):
     force=st.floats(0.0, 2.0),
     condition=st.sampled_from(["force", "position"]),
 )
+@example(a=math.exp(-2.875), force=0.0, condition="force")  # light striker: N ~ 1e-16 at t = 2
 def test_contact_time_equals_the_first_root_of_the_delay_equation(a, force, condition):
     _compare(a, force, condition)
 
