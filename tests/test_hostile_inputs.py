@@ -478,6 +478,27 @@ def test_rod_functions_name_mismatched_shapes():
         rod_contact_time(np.ones(2), np.zeros(3), condition="force")
 
 
+@pytest.mark.parametrize("alpha", [1e-300, 1e-12, 2e6, 1e16, 1e300])
+def test_rod_mass_ratios_outside_the_verified_range_are_refused(alpha):
+    # a heavy striker's Laguerre sums cancel (alpha = 1e16 gave y(4) = 4.44 > t), a very
+    # light one's recurrences overflow (NaN) or its certified search runs out of cells
+    for call in (
+        lambda: rod_displacement(4.0, alpha, 0.0),
+        lambda: rod_force(4.0, alpha, 0.0),
+        lambda: rod_contact_time(alpha, 0.0, condition="position"),
+    ):
+        with pytest.raises(ValueError, match=r"^alpha must lie in \[1e-10, 1e\+06\]"):
+            call()
+
+
+@pytest.mark.parametrize("alpha", [1e-10, 1e6])
+def test_rod_mass_ratios_at_the_ends_of_the_range_are_exact(alpha):
+    # before the first reflection alpha y'' + y' = f, y(0) = 0, y'(0) = 1 (closed form)
+    t = np.array([0.5, 1.0, 1.9])
+    exact = [float(0.3 * s + 0.7 * alpha * -mp.expm1(-mp.mpf(s) / alpha)) for s in t]
+    assert np.max(np.abs(rod_displacement(t, alpha, 0.3) - exact)) < 1e-12
+
+
 # -- multibody ------------------------------------------------------------------------------
 
 

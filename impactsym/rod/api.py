@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from impactsym.rod.elastic import _elastic
-from impactsym.rod.kernel import _rigid_evaluate
+from impactsym.rod.kernel import _rigid_evaluate, check_alpha
 from impactsym.validation import broadcast, finish, real_array
 
 __all__ = ["contact_force", "displacement"]
@@ -20,6 +20,7 @@ __all__ = ["contact_force", "displacement"]
 def _prepare(t, alpha, f, kappa):
     t_arr, t_scalar = real_array("t", t)
     a_arr, a_scalar = real_array("alpha", alpha, lower=0.0, strict=True)
+    check_alpha(a_arr)
     f_arr, f_scalar = real_array("f", f, lower=0.0)
     k_arr, k_scalar = real_array("kappa", kappa, lower=0.0, strict=True, allow_inf=True)
     shape = broadcast(t=t_arr, alpha=a_arr, f=f_arr, kappa=k_arr)

@@ -15,7 +15,7 @@ from numpy.typing import ArrayLike
 
 from impactsym.numeric.isolation import first_sign_change
 from impactsym.rod.elastic import T_LIMIT_ELASTIC, _elastic, _elastic_model
-from impactsym.rod.kernel import T_LIMIT, _rigid_tables
+from impactsym.rod.kernel import T_LIMIT, _rigid_tables, check_alpha
 from impactsym.validation import broadcast, check_condition, finish, real_array
 
 __all__ = ["ContactTimeMap", "contact_time", "contact_time_map"]
@@ -327,6 +327,7 @@ def contact_time(
     """
     condition = check_condition(condition)
     a_arr, a_scalar = real_array("alpha", alpha, lower=0.0, strict=True)
+    check_alpha(a_arr)
     f_arr, f_scalar = real_array("f", f, lower=0.0)
     k_arr, k_scalar = real_array("kappa", kappa, lower=0.0, strict=True, allow_inf=True)
     shape = broadcast(alpha=a_arr, f=f_arr, kappa=k_arr)

@@ -49,6 +49,29 @@ import numpy as np
 #: Largest normalized time the rigid kernel evaluates (verified to 1e-9 up to there).
 T_LIMIT = 1.0e4
 
+#: Mass ratios the kernel is verified for. Above 1e6 the Laguerre sums of a heavy striker
+#: cancel (the error grows like 2e-17 alpha: 3e-7 at 1e10, order 1 at 1e16); below 1e-10
+#: the certified contact-time search needs more cells than it allows, and far below the
+#: recurrences overflow.
+ALPHA_RANGE = (1.0e-10, 1.0e6)
+
+
+def check_alpha(alpha: np.ndarray) -> None:
+    """Refuse mass ratios outside :data:`ALPHA_RANGE`, naming ``alpha`` and the range.
+
+    >>> check_alpha(np.array([0.5, 2e6]))
+    Traceback (most recent call last):
+        ...
+    ValueError: alpha must lie in [1e-10, 1e+06], where the rod kernel is verified; got 2000000.0
+    """
+    low, high = ALPHA_RANGE
+    outside = alpha[(alpha < low) | (alpha > high)]
+    if outside.size:
+        raise ValueError(
+            f"alpha must lie in [{low:g}, {high:g}], where the rod kernel is verified; "
+            f"got {float(outside.flat[0])!r}"
+        )
+
 
 def _rigid_tables(alpha, n_intervals):
     """Per-alpha coefficient tables of the rigid-contact kernel.
