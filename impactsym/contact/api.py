@@ -35,7 +35,7 @@ def _aux(regime: str, damping: np.ndarray) -> tuple[np.ndarray, ...]:
         return (np.sqrt((1.0 - damping) * (1.0 + damping)),)
     if regime == "critical":
         return ()
-    spread = np.sqrt((damping - 1.0) * (damping + 1.0))
+    spread = np.sqrt(damping - 1.0) * np.sqrt(damping + 1.0)  # no overflow for D > 1e154
     return spread, damping + spread
 
 
