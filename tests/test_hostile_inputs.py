@@ -499,7 +499,6 @@ def test_rod_mass_ratios_at_the_ends_of_the_range_are_exact(alpha):
     assert np.max(np.abs(rod_displacement(t, alpha, 0.3) - exact)) < 1e-12
 
 
-
 def test_bounce_sequence_at_huge_damping_warns_nothing():
     # sqrt((D - 1)(D + 1)) overflowed for D > 1.3e154 (warnings are errors here)
     from impactsym import bounce_sequence
