@@ -173,6 +173,40 @@ def test_exp_poly_roots_finds_close_roots_and_exponential_ones():
     assert exp_poly_roots(np.array([1.0]), np.array([0.5]), 0.0, 2.0).size == 0
 
 
+@pytest.mark.parametrize(
+    ("A", "B", "lo", "hi"),
+    [
+        # e^x - e x touches zero at 1 only (its minimum): 1 is a bisection node of [0, 2]
+        ([1.0], [0.0, -math.e], 0.0, 2.0),
+        ([1.0], [0.0, -math.e], 0.0, 1.7),
+        # (x - 1/2)^2 touches at a node of [0, 1], (x - 1/3)^2 off the nodes
+        ([], [0.25, -1.0, 1.0], 0.0, 1.0),
+        ([], [1.0 / 9.0, -2.0 / 3.0, 1.0], 0.0, 1.0),
+    ],
+)
+def test_exp_poly_roots_a_tangential_touch_is_no_sign_change(A, B, lo, hi):
+    # F >= 0 throughout: check by dense sampling that nothing crosses
+    x = np.linspace(lo, hi, 10001)
+    F = np.exp(x) * np.polynomial.polynomial.polyval(
+        x, A or [0.0]
+    ) + np.polynomial.polynomial.polyval(x, B)
+    assert F.min() > -1e-15
+    assert exp_poly_roots(np.array(A), np.array(B), lo, hi).size == 0
+
+
+def test_exp_poly_roots_a_crossing_on_a_node_is_still_a_root():
+    """Simple and triple zeros exactly at the first bisection node 1/2 of [0, 1] change
+    sign and are found exactly (first=True included)."""
+    simple = np.array([-0.5, 1.0])
+    triple = np.polynomial.polynomial.polyfromroots([0.5, 0.5, 0.5])
+    for B in (simple, -simple, triple, -triple):
+        assert exp_poly_roots(np.zeros(0), B, 0.0, 1.0).tolist() == [0.5]
+        assert exp_poly_roots(np.zeros(0), B, 0.0, 1.0, first=True).tolist() == [0.5]
+    # a tangency at a node followed by a crossing: only the crossing
+    B = np.polynomial.polynomial.polyfromroots([0.5, 0.5, 0.8])
+    assert exp_poly_roots(np.zeros(0), B, 0.0, 1.0) == pytest.approx([0.8], abs=1e-15)
+
+
 def test_quick_reproduction_writes_the_sequence_figures_and_table(tmp_path):
     import csv
 
