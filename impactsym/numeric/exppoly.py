@@ -25,8 +25,9 @@ differ in sign (a double root, or two roots closer than ``min_width``, is a tang
 float64 cannot resolve). A zero met exactly on a subdivision point counts only if
 :math:`F` has opposite signs at the nearest points of known sign on either side (a
 tangential touch, such as :math:`e^x - e x` at 1, is no sign change); one exactly at
-``hi`` is reported, the sign beyond ``hi`` not being examined. The bounds carry a margin of :math:`64 (n + 4)\\varepsilon` times
-the magnitude of the summed terms for rounding.
+``hi`` is reported, the sign beyond ``hi`` not being examined. The bounds carry a
+margin of :math:`64 (n + 4)\\varepsilon` times the magnitude of the summed terms for
+rounding.
 """
 
 from __future__ import annotations
