@@ -94,6 +94,37 @@ def test_energy_stays_balanced(alpha, f):
     assert np.all(seq.energy.rod(t) >= -1e-14)
 
 
+@pytest.mark.parametrize(("alpha", "f"), [(10.0, 5.0), (3.0, 1.0)])
+def test_long_chattering_horizons_are_refused_not_silently_wrong(alpha, f):
+    """Past t ~ 60 the float64 pieces cancel (for (10, 5) the energy balance was off by
+    89 at t = 100, silently): refused, naming the inputs and the time reached; a
+    horizon short of that time is accepted, and its balance holds there."""
+    with pytest.raises(ValueError, match=rf"alpha={alpha}, f={f}, t_end=100.0\).* t = ") as err:
+        impact_sequence(alpha, f, t_end=100.0)
+    reached = float(str(err.value).split("trusted up to t = ")[1].split(",")[0])
+    assert 40.0 <= reached < 100.0
+    seq = impact_sequence(alpha, f, t_end=reached)
+    t = np.linspace(0.0, reached, 4001)[1:-1]
+    scale = 0.5 * alpha + f * np.abs(seq.displacement(t))
+    ok = np.abs(seq.energy.balance(t)) < 1e-8 * scale
+    assert ok.mean() > 0.99  # a sample may land on an event, where limits differ
+
+
+def test_a_leaving_striker_runs_to_long_horizons():
+    """f = 0: once the striker has left, the rod vibrates freely (no growth)."""
+    for alpha in (0.3, 1.0, 20.0):
+        seq = impact_sequence(alpha, 0.0, t_end=1000.0)
+        assert seq.final
+        assert seq.restitution == impact_sequence(alpha, 0.0, t_end=60.0).restitution
+        t = np.linspace(900.0, 1000.0, 1001)
+        assert np.abs(seq.energy.balance(t)).max() < 1e-12 * max(alpha, 1.0)
+
+
+def test_a_piece_degree_overflow_names_the_inputs():
+    with pytest.raises(ValueError, match=r"alpha=10000.0, f=0.0, t_end=400.0\).*t = .*degree"):
+        impact_sequence(1e4, 0.0, t_end=400.0)
+
+
 def test_rod_energy_is_the_integral_over_the_rod():
     """E_rod = int_0^1 (w_t^2 + w_xi^2)/2 from w = phi(t - xi) - phi(t + xi - 2),
     by quadrature of the wave at the rod's points."""
@@ -171,6 +202,40 @@ def test_exp_poly_roots_finds_close_roots_and_exponential_ones():
     found = exp_poly_roots(np.array([1.0, -2.0, 1.0]), np.array([-1e-3]), 0.0, 2.0)
     assert found.size == 2
     assert exp_poly_roots(np.array([1.0]), np.array([0.5]), 0.0, 2.0).size == 0
+
+
+@pytest.mark.parametrize(
+    ("A", "B", "lo", "hi"),
+    [
+        # e^x - e x touches zero at 1 only (its minimum): 1 is a bisection node of [0, 2]
+        ([1.0], [0.0, -math.e], 0.0, 2.0),
+        ([1.0], [0.0, -math.e], 0.0, 1.7),
+        # (x - 1/2)^2 touches at a node of [0, 1], (x - 1/3)^2 off the nodes
+        ([], [0.25, -1.0, 1.0], 0.0, 1.0),
+        ([], [1.0 / 9.0, -2.0 / 3.0, 1.0], 0.0, 1.0),
+    ],
+)
+def test_exp_poly_roots_a_tangential_touch_is_no_sign_change(A, B, lo, hi):
+    # F >= 0 throughout: check by dense sampling that nothing crosses
+    x = np.linspace(lo, hi, 10001)
+    F = np.exp(x) * np.polynomial.polynomial.polyval(
+        x, A or [0.0]
+    ) + np.polynomial.polynomial.polyval(x, B)
+    assert F.min() > -1e-15
+    assert exp_poly_roots(np.array(A), np.array(B), lo, hi).size == 0
+
+
+def test_exp_poly_roots_a_crossing_on_a_node_is_still_a_root():
+    """Simple and triple zeros exactly at the first bisection node 1/2 of [0, 1] change
+    sign and are found exactly (first=True included)."""
+    simple = np.array([-0.5, 1.0])
+    triple = np.polynomial.polynomial.polyfromroots([0.5, 0.5, 0.5])
+    for B in (simple, -simple, triple, -triple):
+        assert exp_poly_roots(np.zeros(0), B, 0.0, 1.0).tolist() == [0.5]
+        assert exp_poly_roots(np.zeros(0), B, 0.0, 1.0, first=True).tolist() == [0.5]
+    # a tangency at a node followed by a crossing: only the crossing
+    B = np.polynomial.polynomial.polyfromroots([0.5, 0.5, 0.8])
+    assert exp_poly_roots(np.zeros(0), B, 0.0, 1.0) == pytest.approx([0.8], abs=1e-15)
 
 
 def test_quick_reproduction_writes_the_sequence_figures_and_table(tmp_path):

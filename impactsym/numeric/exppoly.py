@@ -22,8 +22,12 @@ sub-interval is thus either proven root-free, proven to hold exactly one simple 
 shrunk below ``min_width`` or to where :math:`|F|` is below its own rounding
 noise throughout; such a last interval counts as a root only if its end values
 differ in sign (a double root, or two roots closer than ``min_width``, is a tangency that
-float64 cannot resolve). The bounds carry a margin of :math:`64 (n + 4)\\varepsilon` times
-the magnitude of the summed terms for rounding.
+float64 cannot resolve). A zero met exactly on a subdivision point counts only if
+:math:`F` has opposite signs at the nearest points of known sign on either side (a
+tangential touch, such as :math:`e^x - e x` at 1, is no sign change); one exactly at
+``hi`` is reported, the sign beyond ``hi`` not being examined. The bounds carry a
+margin of :math:`64 (n + 4)\\varepsilon` times the magnitude of the summed terms for
+rounding.
 """
 
 from __future__ import annotations
@@ -168,6 +172,11 @@ def exp_poly_roots(
     True
     >>> exp_poly_roots(np.array([]), np.array([0.2, -1.0, 1.0]), 0.0, 1.0).round(10).tolist()
     [0.2763932023, 0.7236067977]
+
+    A tangential touch is no sign change, on a subdivision point or not:
+
+    >>> exp_poly_roots(np.array([]), np.array([0.25, -1.0, 1.0]), 0.0, 1.0).size
+    0
     """
     A, B = _trim(A), _trim(B)
     if hi <= lo or (A.size == 0 and B.size == 0):
@@ -177,27 +186,45 @@ def exp_poly_roots(
     M = max(A.size, B.size) + 12
     dA, dB = _derivative(A), _derivative(B)
     brackets: list[tuple[float, float]] = []
+    # Leaves come left to right. A sign change is judged between consecutive points of
+    # known nonzero sign (leaf ends, or the proven sign of a root-free leaf), so that
+    # an exact zero on a subdivision point counts only if F changes sign across it.
+    known = [lo, 0.0, None]  # last such point, its sign (0: none yet), an exact zero since
+
+    def visit(x: float, sign: float) -> None:
+        if sign == 0.0:
+            if known[2] is None and x > lo:
+                known[2] = x
+            return
+        if known[1] != 0.0 and sign != known[1] and known[0] < x:
+            z = known[2]
+            brackets.append((known[0], x) if z is None else (z, z))
+        known[:] = [x, sign, None]
+
     stack = [(lo, hi)]
-    while stack:
+    while stack and not (first and brackets):
         u, v = stack.pop()
         r = v - u
         powers = r ** _ORDER[: M + 1]
         T, rho0, rho1, noise = _taylor(A, B, u, r, M, powers)
         spread = float(np.abs(T[1:]) @ powers[1:])
-        if abs(T[0]) > spread + rho0:
-            continue  # no zero in [u, v]
+        if abs(T[0]) > spread + rho0:  # no zero in [u, v]: F has the sign of T_0
+            visit(u, np.sign(T[0]))
+            visit(v, np.sign(T[0]))
+            continue
         if rising_from_zero and u == lo and r > 0.0:
             rest = float(np.abs(T[3:]) @ powers[1:-2])
             if T[2] > rest + rho0 / (r * r):
+                visit(v, 1.0)
                 continue  # F = T1 z + z^2 (T2 + ...) > 0 on (lo, v]
         mono = abs(T[1]) > float((_ORDER[2 : M + 1] * np.abs(T[2:])) @ powers[1:-1]) + rho1
         flat = abs(T[0]) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
         if mono or flat or r <= min_width * max(1.0, abs(u)):
             (Fu, Fv), _ = _evaluate(A, B, np.array([u, v]), dA, dB)
-            if Fv == 0.0 or (Fu != 0.0 and (Fu < 0.0) != (Fv < 0.0)):
-                brackets.append((u, v))
-                if first:
-                    break
+            visit(u, np.sign(Fu))
+            if Fv == 0.0 and v == hi:
+                brackets.append((u, v))  # a zero at hi: the sign beyond is not examined
+            visit(v, np.sign(Fv))
             continue
         mid = u + 0.5 * r
         stack += [(mid, v), (u, mid)]  # left half first

@@ -38,11 +38,18 @@ and in flight :math:`p = -p_i`, :math:`Q = -Q_i`. Pieces are cut where an incomi
 ends, at events and at :math:`x = 2` (``_X_MAX``), so that no polynomial is evaluated
 far from its origin, where its monomials would cancel: the piece-local origin replaces
 high-precision arithmetic. The polynomials reach degree ~20 by :math:`t = 40` with
-alternating coefficients up to ~:math:`10^3`, so float64 keeps 11-13 digits: the
-energy balance holds to :math:`10^{-10}` and the striker position accumulated through
-the flights meets the rod end computed from the wave to :math:`10^{-11}` at every
-re-contact (both tested). An exponential part whose bound on its piece is below
-:math:`10^{-17}` is dropped (it is below rounding). The evaluated integrals of
+alternating coefficients up to ~:math:`10^3`, so float64 keeps 11-13 digits: in the
+tested cases (:math:`\alpha` from 0.05 to 20, :math:`f \le 1`, to :math:`t = 40`) the
+energy balance holds to :math:`10^{-10}` of :math:`\max(\alpha/2 + f|y|, 1)` and the
+striker position accumulated through the flights meets the rod end computed from the
+wave to :math:`10^{-11}` at every re-contact. The degree grows by about one per round
+trip, and while the striker keeps returning the cancellation wins within a few tens
+of transits (:math:`\alpha = 10, f = 5`: residual :math:`2 \cdot 10^{-5}` at
+:math:`t = 60`, 89 at :math:`t = 100`). So :func:`impact_sequence` checks the energy
+balance in the middle of every piece and refuses, naming ``alpha, f, t_end`` and the
+time reached, where the residual exceeds :math:`10^{-9}` of :math:`\alpha/2 + |f y|`
+(``_BALANCE_RTOL``): exact or refused, never silently wrong. An exponential part whose bound
+on its piece is below :math:`10^{-17}` is dropped (it is below rounding). The evaluated integrals of
 :math:`g` and :math:`g^2` (rod end position, rod energy) use Gauss-Legendre rules on
 pieces of degree >= 1 (exact for the polynomial part) rather than the closed form,
 whose repeated derivatives cancel for :math:`g^2`; the event loop advances the
@@ -79,6 +86,9 @@ _X_MAX = 2.0  # longest piece in x = tau / alpha for a non-constant exponential 
 _X_LONG = 40.0  # longest piece with a constant exponential polynomial (e^-40 ~ 4e-18)
 _NEGLIGIBLE = 1e-17
 _GAUSS = np.polynomial.legendre.leggauss(48)  # exact to degree 95 on a piece
+# Largest energy-balance residual, relative to alpha/2 + |f y|, at which the float64
+# pieces are still trusted (at piece starts); beyond it impact_sequence refuses.
+_BALANCE_RTOL = 1e-9
 
 
 def _exp_antiderivative(Q: np.ndarray, rate: float = 1.0) -> np.ndarray:
@@ -415,7 +425,14 @@ def impact_sequence(
     Raises
     ------
     ValueError, TypeError
-        For ``alpha <= 0``, ``f < 0``, ``t_end <= 0``, non-finite or non-scalar input.
+        For ``alpha <= 0``, ``f < 0``, ``t_end <= 0``, non-finite or non-scalar input;
+        and when the float64 pieces stop being exact before ``t_end`` (energy balance
+        residual above ``1e-9`` of :math:`\alpha/2 + |f y|` in the middle of a piece,
+        or a piece degree above 95): the message names ``alpha, f, t_end`` and the
+        time reached. Sequences that keep chattering are exact to about
+        :math:`t = 40`-:math:`60` (e.g. ``(10, 5)`` to 56, ``(3, 1)`` to 60,
+        ``(0.3, 1)`` to 40); ``f = 0`` sequences whose striker leaves run to any
+        ``t_end``.
     NotImplementedError
         For a finite ``kappa``.
     RuntimeError
@@ -457,117 +474,123 @@ def impact_sequence(
     in_contact, contact_start = True, 0.0
     j = 0  # incoming piece index
     final = False
-    while t < t_end:
-        # incoming piece j: the one holding t - 2; piece boundaries are compared in
-        # the time of arrival (start + 2) so that aligned pieces meet exactly
-        while j + 1 < len(pieces.start) and pieces.start[j + 1] + 2.0 <= t:
-            j += 1
-        s_in = pieces.start[j]
-        delta = max(t - (s_in + 2.0), 0.0) / alpha
-        p_in = pieces.p[j]
-        Q_in = pieces.q[j]
-        if Q_in.size:
-            Q_in = math.exp(-delta) * taylor_shift(Q_in, delta)
-        t_next = min((pieces.start[j + 1] if j + 1 < len(pieces.start) else t) + 2.0, t_end)
-        h = t_next - t
-        if final:  # free vibration: copy the reflected wave, no events
-            pieces.append(t, h, -p_in, -Q_in)
-            t = t_next
-            continue
-        if in_contact:
-            p_new = f - p_in
-            q0 = Q_in[0] if Q_in.size else 0.0
-            G0 = v + p_in + q0 - p_new
-            if Q_in.size:  # G = G0 + Q_in - q0 - 2 int Q_in
-                G = np.zeros(Q_in.size + 1)
-                G[:-1] = Q_in
-                G[1:] -= 2.0 * Q_in / np.arange(1, Q_in.size + 1)
-                G[0] = G0
-                B = G.copy()
-                B[:-1] += Q_in
-            else:  # below rounding the exponential part is dropped, as in _Pieces.append
-                G = np.array([G0 if abs(G0) >= _NEGLIGIBLE * max(1.0, abs(p_new)) else 0.0])
-                B = G
-            cap = _X_MAX if B.size > 1 else (_X_LONG if B[0] != 0.0 else math.inf)
-            if h > alpha * cap:
-                h = alpha * cap
-                t_next = t + h
-            X = h / alpha
-            if f + B[0] < 0.0:  # a tensile front: N jumps below zero
-                contacts.append((contact_start, t))
-                speeds.append(v)
-                flights.append((t, y, v))
-                in_contact = False
-                continue
-            # with B = 0, N = f >= 0 throughout: no sign change
-            root = exp_poly_roots(np.array([f]), B, 0.0, X, first=True) if B.any() else B[:0]
-            ended = root.size > 0
-            if ended:
-                X, h = float(root[0]), alpha * float(root[0])
-                t_next = t + h
-            pieces.append(t, h, p_new, G)
-            ex = math.exp(-X)
-            Gd = G.copy()
-            Gd[: Q_in.size] -= Q_in
-            v = p_new - p_in + ex * _horner(Gd, X)
-            R = _exp_antiderivative(Gd)
-            y += alpha * ((p_new - p_in) * X + R[0] - ex * _horner(R, X))
-            u = y
-            t = t_next
-            if ended:
-                contacts.append((contact_start, t))
-                speeds.append(v)
-                flights.append((t, y, v))
-                in_contact = False
-        else:
-            if Q_in.size and h > alpha * _X_MAX:
-                h = alpha * _X_MAX
-                t_next = t + h
-            X = h / alpha
-            R = _exp_antiderivative(Q_in) if Q_in.size else np.zeros(1)
-            C = np.array([u - y - 2 * alpha * R[0], -alpha * (2 * p_in + v), -0.5 * alpha * f])
+    try:
+        while t < t_end:
+            # incoming piece j: the one holding t - 2; piece boundaries are compared in
+            # the time of arrival (start + 2) so that aligned pieces meet exactly
+            while j + 1 < len(pieces.start) and pieces.start[j + 1] + 2.0 <= t:
+                j += 1
+            s_in = pieces.start[j]
+            delta = max(t - (s_in + 2.0), 0.0) / alpha
+            p_in = pieces.p[j]
+            Q_in = pieces.q[j]
             if Q_in.size:
-                A, Bgap = C, 2 * alpha * R
-                slope = C[0] + C[1] + 2 * alpha * (R[1] if R.size > 1 else 0.0)
+                Q_in = math.exp(-delta) * taylor_shift(Q_in, delta)
+            t_next = min((pieces.start[j + 1] if j + 1 < len(pieces.start) else t) + 2.0, t_end)
+            h = t_next - t
+            if final:  # free vibration: copy the reflected wave, no events
+                pieces.append(t, h, -p_in, -Q_in)
+                t = t_next
+                continue
+            if in_contact:
+                p_new = f - p_in
+                q0 = Q_in[0] if Q_in.size else 0.0
+                G0 = v + p_in + q0 - p_new
+                if Q_in.size:  # G = G0 + Q_in - q0 - 2 int Q_in
+                    G = np.zeros(Q_in.size + 1)
+                    G[:-1] = Q_in
+                    G[1:] -= 2.0 * Q_in / np.arange(1, Q_in.size + 1)
+                    G[0] = G0
+                    B = G.copy()
+                    B[:-1] += Q_in
+                else:  # below rounding the exponential part is dropped, as in _Pieces.append
+                    G = np.array([G0 if abs(G0) >= _NEGLIGIBLE * max(1.0, abs(p_new)) else 0.0])
+                    B = G
+                cap = _X_MAX if B.size > 1 else (_X_LONG if B[0] != 0.0 else math.inf)
+                if h > alpha * cap:
+                    h = alpha * cap
+                    t_next = t + h
+                X = h / alpha
+                if f + B[0] < 0.0:  # a tensile front: N jumps below zero
+                    contacts.append((contact_start, t))
+                    speeds.append(v)
+                    flights.append((t, y, v))
+                    in_contact = False
+                    continue
+                # with B = 0, N = f >= 0 throughout: no sign change
+                root = exp_poly_roots(np.array([f]), B, 0.0, X, first=True) if B.any() else B[:0]
+                ended = root.size > 0
+                if ended:
+                    X, h = float(root[0]), alpha * float(root[0])
+                    t_next = t + h
+                pieces.append(t, h, p_new, G)
+                ex = math.exp(-X)
+                Gd = G.copy()
+                Gd[: Q_in.size] -= Q_in
+                v = p_new - p_in + ex * _horner(Gd, X)
+                R = _exp_antiderivative(Gd)
+                y += alpha * ((p_new - p_in) * X + R[0] - ex * _horner(R, X))
+                u = y
+                t = t_next
+                if ended:
+                    contacts.append((contact_start, t))
+                    speeds.append(v)
+                    flights.append((t, y, v))
+                    in_contact = False
             else:
-                A, Bgap = np.zeros(0), C
-                slope = C[1]
-            opening = bool(flights) and flights[-1][0] == t
-            if opening and slope < 0.0:
-                # at a separation gap' = -N >= 0 exactly; clear a rounding-level slope
-                C[1] -= slope
-            lo_gap = C[0] + (2 * alpha * R[0] if Q_in.size else 0.0)
-            if lo_gap < 0.0:  # u - y >= 0 in flight; clear a rounding-level overlap
-                C[0] -= lo_gap
-            root = exp_poly_roots(A, Bgap, 0.0, X, first=True, rising_from_zero=opening)
-            ended = root.size > 0
-            if ended:
-                X, h = float(root[0]), alpha * float(root[0])
-                t_next = t + h
-            pieces.append(t, h, -p_in, -Q_in)
-            ex = math.exp(-X)
-            u += -2 * alpha * (p_in * X + (R[0] - ex * _horner(R, X) if Q_in.size else 0.0))
-            y += v * h + 0.5 * f / alpha * h * h
-            v += f / alpha * h
-            t = t_next
-            if ended:
-                if len(contacts) >= max_contacts:
-                    raise RuntimeError(
-                        f"impact_sequence({alpha!r}, {f!r}): more than max_contacts="
-                        f"{max_contacts} contacts before t = {t:.6g} < t_end = {t_end} "
-                        "(chatter); raise max_contacts or lower t_end"
-                    )
-                y = u
-                in_contact, contact_start = True, t
-            elif f == 0.0 and v < 0.0:
-                e_rod = 0.5 * alpha * (1.0 - v * v)  # energy balance
-                final = y < -math.sqrt(2.0 * max(e_rod, 0.0)) - 1e-12
+                if Q_in.size and h > alpha * _X_MAX:
+                    h = alpha * _X_MAX
+                    t_next = t + h
+                X = h / alpha
+                R = _exp_antiderivative(Q_in) if Q_in.size else np.zeros(1)
+                C = np.array([u - y - 2 * alpha * R[0], -alpha * (2 * p_in + v), -0.5 * alpha * f])
+                if Q_in.size:
+                    A, Bgap = C, 2 * alpha * R
+                    slope = C[0] + C[1] + 2 * alpha * (R[1] if R.size > 1 else 0.0)
+                else:
+                    A, Bgap = np.zeros(0), C
+                    slope = C[1]
+                opening = bool(flights) and flights[-1][0] == t
+                if opening and slope < 0.0:
+                    # at a separation gap' = -N >= 0 exactly; clear a rounding-level slope
+                    C[1] -= slope
+                lo_gap = C[0] + (2 * alpha * R[0] if Q_in.size else 0.0)
+                if lo_gap < 0.0:  # u - y >= 0 in flight; clear a rounding-level overlap
+                    C[0] -= lo_gap
+                root = exp_poly_roots(A, Bgap, 0.0, X, first=True, rising_from_zero=opening)
+                ended = root.size > 0
+                if ended:
+                    X, h = float(root[0]), alpha * float(root[0])
+                    t_next = t + h
+                pieces.append(t, h, -p_in, -Q_in)
+                ex = math.exp(-X)
+                u += -2 * alpha * (p_in * X + (R[0] - ex * _horner(R, X) if Q_in.size else 0.0))
+                y += v * h + 0.5 * f / alpha * h * h
+                v += f / alpha * h
+                t = t_next
+                if ended:
+                    if len(contacts) >= max_contacts:
+                        raise RuntimeError(
+                            f"impact_sequence({alpha!r}, {f!r}): more than max_contacts="
+                            f"{max_contacts} contacts before t = {t:.6g} < t_end = {t_end} "
+                            "(chatter); raise max_contacts or lower t_end"
+                        )
+                    y = u
+                    in_contact, contact_start = True, t
+                elif f == 0.0 and v < 0.0:
+                    e_rod = 0.5 * alpha * (1.0 - v * v)  # energy balance
+                    final = y < -math.sqrt(2.0 * max(e_rod, 0.0)) - 1e-12
+    except ValueError as exc:  # e.g. a piece degree beyond what taylor_shift handles
+        raise ValueError(
+            f"impact_sequence(alpha={alpha!r}, f={f!r}, t_end={t_end!r}): the float64 pieces "
+            f"fail at t = {t:.6g}: {exc}; lower t_end"
+        ) from exc
     if in_contact:
         contacts.append((contact_start, t_end))
     tables = _Tables.build(pieces, t)
     restitution = -float(speeds[-1]) if (final and f == 0.0) else math.nan
     stress = 2.0 * _g_max(tables, t_end - 1.0) if t_end > 1.0 else 0.0
-    return RodImpactSequence(
+    seq = RodImpactSequence(
         alpha,
         f,
         kappa,
@@ -580,3 +603,27 @@ def impact_sequence(
         tables,
         tuple(flights),
     )
+    _check_balance(seq)
+    return seq
+
+
+def _check_balance(seq: RodImpactSequence) -> None:
+    """Refuse a sequence whose energy balance fails by more than ``_BALANCE_RTOL``
+    (relative to :math:`\alpha/2 + |f y|`) in the middle of a piece: the float64 polynomial
+    pieces grow about one degree per round trip and their coefficients cancel, so past
+    some time (that depends on ``alpha, f``) the result is no longer exact."""
+    ends = np.r_[seq._tables.start, seq.t_end]
+    ts = 0.5 * (ends[:-1] + ends[1:])  # mid-piece: no event (jump) is evaluated
+    ts = ts[(ts > 0.0) & (ts < seq.t_end)]
+    residual = np.abs(seq.energy.balance(ts))
+    scale = 0.5 * seq.alpha + np.abs(seq.energy.work(ts))
+    bad = np.flatnonzero(residual > _BALANCE_RTOL * scale)
+    if bad.size:
+        k = bad[0]
+        good = float(ts[k - 1]) if k else 0.0
+        raise ValueError(
+            f"impact_sequence(alpha={seq.alpha!r}, f={seq.f!r}, t_end={seq.t_end!r}): the "
+            f"float64 pieces are no longer exact at t = {ts[k]:.8g} (energy balance residual "
+            f"{residual[k]:.2g} > {_BALANCE_RTOL:g} x (alpha/2 + |f y|)); they are trusted "
+            f"up to t = {good:.8g}, lower t_end"
+        )
