@@ -8,7 +8,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-from impactsym.results.files import MARKER, MARKER_HEADER, PARTIAL, write_text
+from impactsym.results.files import MARKER, MARKER_HEADER, is_partial, recording, write_text
 
 Progress = Callable[[str], None]
 
@@ -77,8 +77,19 @@ def check_output(out: str | Path) -> Path:
 
 
 def _recorded(out: Path) -> list[str]:
-    """Names of the files a former run recorded in the marker of ``out``."""
-    lines = (out / MARKER).read_text().splitlines()
+    """Names of the files a former run recorded in the marker of ``out``.
+
+    Only plain names inside ``out`` count; a marker that is not UTF-8 text was not
+    written by ``reproduce`` (or is damaged) and is refused before anything is deleted.
+    """
+    try:
+        lines = (out / MARKER).read_bytes().decode("utf-8").splitlines()
+    except UnicodeDecodeError:
+        raise OutputExistsError(
+            f"the marker file {str(out / MARKER)!r} is not UTF-8 text: it was not written "
+            "by impactsym reproduce or is damaged; nothing was deleted, choose a new "
+            "directory"
+        ) from None
     return [n for n in lines[1:] if n and "/" not in n and "\\" not in n and n not in (".", "..")]
 
 
@@ -87,11 +98,13 @@ def prepare_output(out: str | Path, *, force: bool) -> Path:
 
     A non-empty ``out`` is refused unless it holds the marker :data:`MARKER` of a
     former run and ``force`` is given; then the files that run recorded (and its
-    temporary files) are deleted, nothing else.
+    temporary files, named as :data:`impactsym.results.files.PARTIAL_NAME`) are deleted,
+    nothing else.
 
     >>> import tempfile
     >>> out = prepare_output(Path(tempfile.mkdtemp()) / "new", force=False)
-    >>> _ = write_text(out / "x.txt", "1")
+    >>> with recording(out):
+    ...     _ = write_text(out / "x.txt", "1")
     >>> prepare_output(out, force=False)
     Traceback (most recent call last):
         ...
@@ -119,12 +132,16 @@ def prepare_output(out: str | Path, *, force: bool) -> Path:
             raise OutputExistsError(
                 f"output directory {str(out)!r} is not empty; pass --force to overwrite it"
             )
-        for name in _recorded(out):
-            target = out / name
-            if target.is_file() or target.is_symlink():
-                target.unlink()
-        for partial in out.glob(f".*{PARTIAL}"):
-            partial.unlink()
+        # everything is checked before anything is deleted: recorded regular files (or
+        # links, never what they point to) and reproduce's own temporary files only
+        doomed = [
+            out / name
+            for name in _recorded(out)
+            if (out / name).is_symlink() or (out / name).is_file()
+        ]
+        doomed += [path for path in out.iterdir() if is_partial(path)]
+        for path in dict.fromkeys(doomed):
+            path.unlink(missing_ok=True)
     out.mkdir(parents=True, exist_ok=True)
     write_text(out / MARKER, MARKER_HEADER + "\n")
     return out
@@ -143,6 +160,12 @@ def reproduce(
 
     matplotlib.use("Agg")
     out = prepare_output(out, force=force)
+    with recording(out):
+        return _reproduce_into(out, quick=quick, progress=progress)
+
+
+def _reproduce_into(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
+    """The steps of :func:`reproduce` into the prepared directory ``out``."""
     written: list[Path] = []
     captions: dict[str, str] = {}
     start = time.perf_counter()

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import contextlib
 import numbers
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -22,6 +22,10 @@ if TYPE_CHECKING:
     import sympy as sp
 
 CONDITIONS = ("position", "force")
+#: Text and raw bytes: never numbers, and SymPy would parse them as code.
+_BYTES_OR_TEXT = (str, bytes, bytearray, memoryview, np.str_, np.bytes_)
+#: Anything that holds several values (lists, ranges, generators, SymPy tuples and arrays).
+_CONTAINERS = (Iterable, Mapping, np.ndarray)
 
 
 def check_condition(condition: object) -> str:
@@ -76,20 +80,37 @@ def real_array(
         ...
     ValueError: D must be >= 0, got -1.0
     """
-    is_scalar = np.ndim(value) == 0
-    if isinstance(value, (str, bytes)) or value is None:
+    if isinstance(value, _BYTES_OR_TEXT) or value is None:
         raise TypeError(f"{name} must be a real number or array, got {value!r}")
+    is_scalar = np.ndim(value) == 0
     try:
         raw = np.asarray(value)
     except Exception as exc:  # pragma: no cover - exotic array-likes
         raise TypeError(f"{name} must be a real number or array, got {value!r}") from exc
     if raw.dtype == object and raw.ndim == 0 and isinstance(value, numbers.Real):
-        raw = np.asarray(float(value))  # e.g. a SymPy Float or Fraction
+        try:
+            raw = np.asarray(float(value))  # e.g. a SymPy Float or Fraction
+        except OverflowError:  # an integer beyond the float range
+            digits = len(str(abs(int(value)))) if isinstance(value, numbers.Integral) else None
+            shown = f"an integer of {digits} digits" if digits else repr(value)
+            raise ValueError(
+                f"{name} must be a finite float, got {shown} (beyond the float range)"
+            ) from None
     if raw.dtype.kind not in "iuf":
         raise TypeError(
             f"{name} must be a real number or array of real numbers, got {value!r} "
             f"(dtype {raw.dtype})"
         )
+    if raw.ndim and not isinstance(value, np.ndarray):
+        # NumPy turns True into 1 inside a list of numbers; refuse it as for a scalar
+        items = np.asarray(value, dtype=object)
+        flags = np.frompyfunc(lambda x: isinstance(x, (bool, np.bool_)), 1, 1)(items)
+        if flags.any():
+            index = tuple(int(i[0]) for i in np.nonzero(flags.astype(bool)))
+            raise TypeError(
+                f"{name} must be a real number or array of real numbers, got the boolean "
+                f"{items[index]!r} at index {index} of {value!r}"
+            )
     arr = raw.astype(np.float64)
     bad = np.isnan(arr) | (np.isinf(arr) & ~(allow_inf & (arr > 0)))
     if bad.any():
@@ -125,7 +146,7 @@ def finish(result: np.ndarray, is_scalar: bool) -> float | np.ndarray:
 
 
 def reject_strings(name: str, value: object) -> None:
-    """Raise ``TypeError`` if ``value`` is or contains (at any depth) a string.
+    """Raise ``TypeError`` if ``value`` is or contains (at any depth) a string or bytes.
 
     SymPy parses strings as Python code, also the keys of a dict given to
     ``sympify(..., strict=True)`` and the entries of a list given to ``Matrix``; this
@@ -141,7 +162,7 @@ def reject_strings(name: str, value: object) -> None:
 
 
 def _scan_strings(name: str, value: object, where: str) -> None:
-    if isinstance(value, (str, bytes, np.str_, np.bytes_)):
+    if isinstance(value, _BYTES_OR_TEXT):
         raise TypeError(
             f"{name} must not contain strings (SymPy would run them as code), got {value!r}"
             + (f" at {where}" if where != name else "")
@@ -168,8 +189,9 @@ def as_sympy(name: str, value: object, *, finite: bool = False) -> sp.Basic:
     name
         Argument name used in error messages.
     value
-        A Python or NumPy number or a SymPy expression. Strings, ``None``, booleans
-        and containers are refused with ``TypeError``.
+        A Python or NumPy number or a SymPy expression. Strings, bytes, ``None``,
+        booleans and containers (anything iterable, such as lists, ranges, generators,
+        SymPy tuples, sets, matrices and arrays) are refused with ``TypeError``.
     finite
         Whether NaN and infinities (also inside an expression) are refused.
 
@@ -191,13 +213,15 @@ def as_sympy(name: str, value: object, *, finite: bool = False) -> sp.Basic:
         raise TypeError(f"{name} must be a number or SymPy expression, got {value!r}")
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
-    if isinstance(value, (list, tuple, dict, set, np.ndarray, sp.MatrixBase)):
+    if isinstance(value, (*_CONTAINERS, sp.MatrixBase, sp.NDimArray)):
         raise TypeError(f"{name} must be a single number or SymPy expression, got {value!r}")
     try:
         expr = sp.sympify(value, strict=True)
     except (sp.SympifyError, TypeError) as exc:
         raise TypeError(f"{name} must be a number or SymPy expression, got {value!r}") from exc
-    if not isinstance(expr, sp.Basic) or isinstance(expr, (sp.Tuple, sp.Dict)):
+    if not isinstance(expr, sp.Basic) or isinstance(
+        expr, (*_CONTAINERS, sp.MatrixBase, sp.NDimArray, sp.Set)
+    ):
         raise TypeError(f"{name} must be a single number or SymPy expression, got {value!r}")
     if finite:
         _check_finite(name, expr, name)

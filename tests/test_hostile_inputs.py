@@ -48,7 +48,7 @@ from impactsym.symbolic.laplace import (
     invert_rational,
     laplace_exp_poly,
 )
-from impactsym.validation import as_sympy, as_sympy_matrix, broadcast
+from impactsym.validation import as_sympy, as_sympy_matrix, broadcast, real_array
 
 CODE = "__import__('os').system('touch PWNED')"
 STRINGS = (CODE, "1", "x", b"1")
@@ -132,6 +132,41 @@ def test_strict_sympify_of_a_dict_would_run_code_so_as_sympy_scans_first():
 def test_as_sympy_refuses_non_expressions(value):
     with pytest.raises(TypeError, match="^kappa "):
         as_sympy("kappa", value)
+
+
+@pytest.mark.parametrize(
+    "value",
+    [range(3), sp.Array([1, 2]), sp.FiniteSet(1, 2), (i for i in (1, 2)), sp.Tuple(1)],
+    ids=["range", "Array", "FiniteSet", "generator", "Tuple"],
+)
+def test_as_sympy_refuses_every_container(value):
+    with pytest.raises(TypeError, match="^kappa must be a single number"):
+        as_sympy("kappa", value)
+
+
+@pytest.mark.parametrize("value", [bytearray(b"2"), memoryview(b"2"), b"2"])
+def test_bytes_are_refused_like_strings(value):
+    # SymPy would read bytearray(b"2") as its character code: Matrix([[50]])
+    with pytest.raises(TypeError, match=r"^M must not contain strings"):
+        as_sympy_matrix("M", [value])
+    with pytest.raises(TypeError, match="^D must be a real number"):
+        real_array("D", value)
+
+
+@pytest.mark.parametrize(
+    "value", [[True, 2], [1.5, np.True_], [[1, 2], [3, False]], (False,), [np.bool_(True)]]
+)
+def test_real_array_refuses_booleans_inside_arrays_as_for_scalars(value):
+    with pytest.raises(TypeError, match="^D must be a real number.*bool"):
+        real_array("D", value)
+    with pytest.raises(TypeError, match="^D must be a real number"):
+        real_array("D", True)
+
+
+@pytest.mark.parametrize("value", [10**400, -(10**400)], ids=["huge", "minus_huge"])
+def test_real_array_names_an_integer_beyond_the_float_range(value):
+    with pytest.raises(ValueError, match="^D must be a finite float.*401 digits"):
+        real_array("D", value)
 
 
 # -- section 2: every argument named, every limit right -------------------------------------

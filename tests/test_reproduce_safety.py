@@ -18,7 +18,7 @@ import pytest
 from impactsym.cli import main
 from impactsym.reproduce import check_output, prepare_output
 from impactsym.results import files
-from impactsym.results.files import MARKER, PARTIAL, atomic_path, write_text
+from impactsym.results.files import MARKER, PARTIAL, atomic_path, recording, write_text
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -74,13 +74,104 @@ def test_a_users_directory_with_files_is_never_emptied(sandbox, capsys):
 def test_force_deletes_only_the_files_a_former_run_recorded(sandbox):
     home, _ = sandbox
     out = prepare_output(home / "out", force=False)
-    write_text(out / "figure.csv", "old result")
+    with recording(out):
+        write_text(out / "figure.csv", "old result")
     (out / "added_by_user.txt").write_text("keep me")
-    (out / f".figure.csv.1.abcd{PARTIAL}").write_text("left by a killed run")
+    (out / f".figure.csv.1234.0123abcd{PARTIAL}").write_text("left by a killed run")
     assert (out / MARKER).read_text().splitlines()[1:] == ["figure.csv"]
     prepare_output(out, force=True)
     assert sorted(p.name for p in out.iterdir()) == [MARKER, "added_by_user.txt"]
     assert (out / "added_by_user.txt").read_text() == "keep me"
+
+
+def test_force_keeps_a_users_files_that_merely_end_in_partial(sandbox):
+    home, _ = sandbox
+    out = prepare_output(home / "out", force=False)
+    with recording(out):
+        write_text(out / "a.txt", "ours")
+    (out / f".draft{PARTIAL}").write_text("the user's draft")
+    (out / f".cache{PARTIAL}").mkdir()
+    (out / f".cache{PARTIAL}" / "x").write_text("the user's cache")
+    (out / f".b.txt.12.0123abcd{PARTIAL}").mkdir()  # our pattern, but a directory
+    (out / f".c.txt.12.0123abcd{PARTIAL}").symlink_to(home / "notes.txt")
+    prepare_output(out, force=True)
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        [
+            MARKER,
+            f".draft{PARTIAL}",
+            f".cache{PARTIAL}",
+            f".b.txt.12.0123abcd{PARTIAL}",
+            f".c.txt.12.0123abcd{PARTIAL}",
+        ]
+    )
+    assert (out / f".draft{PARTIAL}").read_text() == "the user's draft"
+    assert (out / f".cache{PARTIAL}" / "x").read_text() == "the user's cache"
+    assert (home / "notes.txt").read_text() == "the user's notes"
+
+
+def test_a_real_temporary_name_matches_the_pattern_force_deletes(tmp_path):
+    seen = []
+    with atomic_path(tmp_path / "table.csv") as tmp:
+        tmp.write_text("x")
+        seen.append(files.is_partial(tmp))
+    assert seen == [True]
+
+
+def test_an_exported_file_in_a_reproduce_directory_is_not_recorded_or_deleted(sandbox):
+    home, _ = sandbox
+    out = prepare_output(home / "out", force=False)
+    with recording(out):
+        write_text(out / "figure.csv", "old result")
+    assert main(["export", "python", str(out / "mine.py")]) == 0
+    assert main(["export", "latex", str(out / "mine.tex")]) == 0
+    assert (out / MARKER).read_text().splitlines()[1:] == ["figure.csv"]
+    prepare_output(out, force=True)
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, "mine.py", "mine.tex"]
+
+
+def test_recording_covers_only_its_own_directory(tmp_path):
+    out, other = prepare_output(tmp_path / "out", force=False), tmp_path / "other"
+    other.mkdir()
+    write_text(other / MARKER, "# a marker of another run\n")
+    with recording(out):
+        write_text(other / "x.txt", "x")
+    assert (other / MARKER).read_text() == "# a marker of another run\n"
+
+
+def test_a_marker_that_is_not_text_is_refused_before_anything_is_deleted(sandbox, capsys):
+    home, _ = sandbox
+    out = prepare_output(home / "out", force=False)
+    with recording(out):
+        write_text(out / "figure.csv", "old result")
+    (out / MARKER).write_bytes((out / MARKER).read_bytes() + b"\xff\xfe\n")
+    before = _snapshot(out)
+    assert main(["reproduce", "--quick", "--force", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("impactsym: error: the marker file")
+    assert "not UTF-8 text" in err
+    assert _snapshot(out) == before
+
+
+def test_marker_lines_are_whole_even_after_a_torn_one(sandbox, monkeypatch):
+    home, _ = sandbox
+    out = prepare_output(home / "out", force=False)
+    (out / MARKER).write_text((out / MARKER).read_text() + "torn")  # no final newline
+    with recording(out):
+        write_text(out / "a.txt", "a")
+    assert (out / MARKER).read_text().splitlines()[1:] == ["torn", "a.txt"]
+    # the marker is replaced whole: an interrupt while it is rewritten leaves it as it was
+    before = (out / MARKER).read_bytes()
+    real = Path.write_bytes
+
+    def interrupted(self, data):
+        real(self, data[: len(data) // 2])
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(Path, "write_bytes", interrupted)
+    with pytest.raises(KeyboardInterrupt), recording(out):
+        write_text(out / "b.txt", "b")
+    assert (out / MARKER).read_bytes() == before
+    assert not [p for p in out.iterdir() if p.name.endswith(PARTIAL)]
 
 
 def test_a_marker_cannot_name_files_outside_the_directory(sandbox):
