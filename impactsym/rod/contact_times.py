@@ -22,6 +22,8 @@ __all__ = ["ContactTimeMap", "contact_time", "contact_time_map"]
 
 #: Largest contact-spring pole |s| (time scale 1/|s|) for finite-kappa contact times.
 _FASTEST_POLE = 1e8
+#: Initial nodes per unit of sqrt((m + 1) x) on reflection interval m (tuned by cell counts).
+_INITIAL_DENSITY = {"N": 2.0, "y": 0.25}
 #: Default search horizons (rigid, finite stiffness).
 T_MAX_RIGID, T_MAX_ELASTIC = 100.0, 20.0
 
@@ -194,9 +196,13 @@ def _rigid_contact_times(which, alpha, f, t_max, chunk=32768):
             v0 = V0[row, m] + ff * V1[row, m]
             model = _RigidInterval(which, m, coef, al, ff, y0, v0)
             x_end = 2.0 * np.minimum(2.0, t_max - 2.0 * m) / al
-            # initial cells uniform in sqrt(x) (the Laguerre phase is ~ 2 sqrt(m x)),
-            # coarse: the halving refines where the bounds ask for it
-            n0 = 2 + np.ceil(0.25 * np.sqrt((m + 1) * x_end)).astype(np.int64)
+            # initial cells uniform in sqrt(x) (the Laguerre phase is ~ 2 sqrt(m x));
+            # the halving refines where the bounds ask for it. N: about one node per
+            # radian of phase, near the cells the bound on |N''| ends up needing (fewer
+            # halving rounds and cells; 0.25 of it costs 1.3x more); y (smoother,
+            # y'' = -alpha (N - f)/4) is decided on coarse cells
+            density = _INITIAL_DENSITY[which]
+            n0 = 2 + np.ceil(density * np.sqrt((m + 1) * x_end)).astype(np.int64)
             owner = np.repeat(np.arange(active.size), n0 + 1)
             first = np.cumsum(n0 + 1) - (n0 + 1)
             k = np.arange(owner.size) - first[owner]
