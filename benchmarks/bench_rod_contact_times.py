@@ -10,6 +10,8 @@ Run ``python benchmarks/bench_rod_contact_times.py [--n 100]``. In one run, on t
   running on the same kernel, and how many pairs it gets wrong;
 * a dense-sampling brute force (20,000 samples per reflection interval) on a subset,
   its time per pair and its disagreements;
+* with ``--atlas N``: the certified search alone on an ``N x N`` grid (the issue's
+  target: 500 x 500 per condition);
 * finite ``kappa``: the first call (symbolic series, once per process), a new
   ``(alpha, kappa)`` (its pole data) and the time per point of an ``f`` sweep.
 
@@ -99,7 +101,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=100)
     parser.add_argument("--brute", type=int, default=60, help="pairs for the brute force")
+    parser.add_argument(
+        "--atlas", type=int, default=0, help="also time the certified search alone on this grid"
+    )
     args = parser.parse_args()
+    if args.atlas:
+        atlas(args.atlas)
     A, F = np.meshgrid(np.geomspace(0.05, 10, args.n), np.linspace(0, 2, args.n))
     rng = np.random.default_rng(1)
     pick = rng.choice(A.size, size=min(args.brute, A.size), replace=False)
@@ -133,6 +140,19 @@ def main() -> None:
             f"sampled differs at {int(differ.sum())} pairs; brute force "
             f"{1e3 * t_brute:.0f} ms/pair, certified later than brute force at {int(late)} "
             f"of {pick.size}{note}"
+        )
+
+
+def atlas(n: int) -> None:
+    """CPU time of the certified search alone on an ``n x n`` atlas, per condition."""
+    A, F = np.meshgrid(np.geomspace(0.05, 10, n), np.linspace(0, 2, n))
+    for condition in ("force", "position"):
+        start = time.process_time()
+        contact_time(A, F, condition=condition)
+        spent = time.process_time() - start
+        print(
+            f"{condition:8s} {n} x {n} atlas: {spent:.2f} s CPU ({1e6 * spent / A.size:.0f} "
+            "us/pair)"
         )
 
 

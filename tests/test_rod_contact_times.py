@@ -128,6 +128,63 @@ def test_narrow_dips_are_found(a, force, condition):
     _compare(a, force, condition)
 
 
+def _reference_second_derivative(ref, which, k, tau):
+    """``d^2 g / d tau^2`` on interval ``k`` from the collocation series (g = N or y)."""
+    if which == "N":
+        series = [ref.coef[k]] + ([ref.coef[k - 1]] if k else [])
+    else:  # y = Phi_(k-1)(2) - Phi_(k-1)(tau) + Phi_k(tau)
+        series = [ref.icoef[k]] + ([-ref.icoef[k - 1]] if k else [])
+    return sum(cheb.chebval(tau - 1.0, cheb.chebder(c, 2)) for c in series)
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    st.floats(0.1, 5.0),
+    st.floats(0.0, 2.0),
+    st.integers(1, 12),
+    st.sampled_from(["N", "y"]),
+    st.integers(0, 2**32 - 1),
+)
+def test_second_derivative_bound_holds_on_random_cells(a, force, m, which, seed):
+    """The search is certified only if ``|g''| <= bound`` on every cell: checked on
+    random cells (including ``x = 0`` and whole intervals) against ``g''`` of the
+    independent delay-equation solution, 60 points per cell. A bound that is too small
+    anywhere lets :func:`first_sign_change` pass over a dip, i.e. miss a root."""
+    from impactsym.rod.contact_times import _interval_tables, _rigid_interval
+
+    ref = Characteristics(a, force, m + 1)
+    model = _rigid_interval(
+        which,
+        m,
+        _interval_tables(np.array([a]), m + 2),
+        np.zeros(1, int),
+        np.array([a]),
+        np.array([force]),
+    )
+    rng = np.random.default_rng(seed)
+    x_end = 4.0 / a
+    n_cells = 40
+    lo = np.where(rng.random(n_cells) < 0.2, 0.0, rng.uniform(0.0, x_end, n_cells))
+    hi = lo + (x_end - lo) * np.exp(rng.uniform(np.log(1e-3), 0.0, n_cells))
+    own = np.zeros(n_cells, int)
+    ga, dga, auxa = model(lo, own)
+    gb, dgb, auxb = model(hi, own)
+    # the mapping x = 2 tau / alpha and the model's values agree with the reference
+    for x, g in ((lo, ga), (hi, gb)):
+        t = 2.0 * m + 0.5 * a * x
+        want = ref.N(t) if which == "N" else ref.y(np.minimum(t, 2.0 * m + 2.0 - 1e-15))
+        np.testing.assert_allclose(g, want, rtol=0, atol=1e-8)
+    bound = model.bound(lo, hi, own, auxa, auxb, dga, dgb)
+    s = np.linspace(0.0, 1.0, 60)
+    x = lo[:, None] + s[None, :] * (hi - lo)[:, None]
+    sampled = np.abs(_reference_second_derivative(ref, which, m, 0.5 * a * x)) * (0.5 * a) ** 2
+    worst = sampled.max(axis=1)
+    assert np.all(worst <= bound * (1.0 + 1e-6) + 1e-6 * (1.0 + worst)), (
+        np.max(worst / bound),
+        which,
+    )
+
+
 def test_the_whole_issue_grid_is_decided_and_never_later_than_dense_sampling():
     A, F = np.meshgrid(np.geomspace(0.05, 10, 100), np.linspace(0, 2, 100))
     for condition in ("force", "position"):
