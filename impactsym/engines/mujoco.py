@@ -85,6 +85,7 @@ _OMEGA_DT = 0.03
 #: largest ``g dt / v0`` for the same accuracy under gravity
 _GRAVITY_DT = 0.005
 _RK_STEP = 0.02  # Runge-Kutta step in units of 1 / omega_max
+_GAMMA_RANGE = (1e-9, 1e9)  # stick_speed searches gamma = g / (omega0 v0) here
 
 
 def _check_solimp(solimp: object) -> tuple[float, ...]:
@@ -348,6 +349,13 @@ def _rho(mass, inverse_weight):
     return (1.0 / mass) / w
 
 
+def _timestep(timestep):
+    value, scalar = real_array("timestep", timestep, lower=0.0, strict=True)
+    if not scalar:
+        raise ValueError(f"timestep must be one number (seconds), got {timestep!r}")
+    return float(value)
+
+
 def _mass(mass):
     if mass is None:
         return None
@@ -408,7 +416,7 @@ def predict(
     v0, s_scalar = real_array("speed", speed, lower=0.0, strict=True)
     g, g_scalar = real_array("gravity", gravity, lower=0.0)
     if timestep is not None:
-        timestep = float(real_array("timestep", timestep, lower=0.0, strict=True)[0])
+        timestep = _timestep(timestep)
     m = _mass(mass)
     rho = _rho(m, inverse_weight)
     damp, stiff, _positive = _coefficients(solref, simp, timestep)
@@ -444,7 +452,9 @@ def stick_speed(
     :func:`impactsym.engines.release.release_margin` of
     ``(D, (1 - d') gamma, d' gamma)`` is positive; the boundary ``gamma*(D, d')`` is
     found by the Illinois method in ``log gamma`` and ``v* = g / (omega0 gamma*)``.
-    ``0.0`` without gravity.
+    ``0.0`` without gravity, or where the body releases for every ``gamma`` up to
+    ``1e9`` (e.g. no damping); ``inf`` where it sticks for every ``gamma`` down to
+    ``1e-9`` (every speed).
 
     >>> round(stick_speed(solref=(0.02, 0.5), solimp=(0.9, 0.9, 0.001), gravity=9.81), 5)
     0.11954
@@ -455,7 +465,12 @@ def stick_speed(
             f"stick_speed needs a flat solimp (d_min == d_max), got {simp!r}; use predict "
             "over speeds for a varying impedance"
         )
-    g = float(real_array("gravity", gravity, lower=0.0)[0])
+    g_arr, g_scalar = real_array("gravity", gravity, lower=0.0)
+    if not g_scalar:
+        raise ValueError(f"gravity must be one number here, got {gravity!r}")
+    g = float(g_arr)
+    if timestep is not None:
+        timestep = _timestep(timestep)
     m = _mass(mass)
     rho = np.asarray(_rho(m, inverse_weight), float)
     damp, stiff, _ = _coefficients(solref, simp, timestep)
@@ -473,8 +488,15 @@ def stick_speed(
     def margin(gamma, i):
         return release_margin(D[i], (1.0 - dp[i]) * gamma, dp[i] * gamma)
 
-    gamma = bracketed_illinois(margin, np.full(D.size, 1e-9), np.full(D.size, 1e9), log=True)
-    out = g / (omega * gamma)
+    every = np.arange(D.size)
+    lo, hi = np.full(D.size, _GAMMA_RANGE[0]), np.full(D.size, _GAMMA_RANGE[1])
+    never = margin(hi, every) <= 0  # releases even at gamma = 1e9 (the slowest impacts)
+    always = ~never & (margin(lo, every) > 0)  # sticks even at gamma = 1e-9 (the fastest)
+    out = np.where(never, 0.0, np.inf)
+    ok = np.flatnonzero(~never & ~always)
+    if ok.size:
+        gamma = bracketed_illinois(lambda x, i: margin(x, ok[i]), lo[ok], hi[ok], log=True)
+        out[ok] = g / (omega[ok] * gamma)
     return float(out[0]) if scalar else out
 
 
@@ -736,7 +758,7 @@ def solref_for(
         t_c, t_scalar = real_array("contact_time", contact_time, lower=0.0, strict=True)
         scalar = scalar and t_scalar
     if timestep is not None:
-        timestep = float(real_array("timestep", timestep, lower=0.0, strict=True)[0])
+        timestep = _timestep(timestep)
     m = _mass(mass)
     rho = _rho(m, inverse_weight)
     arrays = [e_t, v0, g, np.asarray(rho, float)] + ([t_c] if t_c is not None else [])
