@@ -430,10 +430,16 @@ def test_overdamped_default_solimp_sticks_and_returns():
 def test_work_is_capped_with_an_error_naming_solref(monkeypatch):
     import impactsym.engines.mujoco as mj
 
-    # dampratio 2: the static penetration lies inside the impedance width, where rest
-    # is not proven, so the integration runs to its horizon; a small cap shows the error
+    # static penetration inside the impedance width: rest is not provable, and the
+    # horizon needs > 400 000 steps: refused at once, naming the solref
+    with pytest.raises(ValueError, match=r"solref = \(0\.002, 10\)"):
+        predict(solref=(0.002, 10.0), speed=0.1, gravity=9.81)
+    # the same contact in the stiffness form is named in both forms
+    with pytest.raises(ValueError, match=r"\(-2500, -1000\)"):
+        predict(solref=(-2500.0, -1000.0), speed=0.1, gravity=9.81)
+    # the loop's own cap (a backstop) names it too
     monkeypatch.setattr(mj, "_MAX_RK_STEPS", 50)
-    with pytest.raises(ValueError, match="solref"):
+    with pytest.raises(ValueError, match="solref = "):
         mj.predict(solref=(0.02, 2.0), speed=0.01, gravity=9.81)
 
 

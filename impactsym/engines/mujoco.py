@@ -289,6 +289,11 @@ def _varying(damp, stiff, solimp, rho, gravity, speed):
     fmax = dp0 * force_dd(x, v, dd0)
     f_prev = force_dd(x, v, dd0)
     at_rest = _RestTest(damp, stiff, solimp, rho, g)
+    # under gravity, where rest cannot be proven (static penetration inside the
+    # impedance width), a sticking body runs to the horizon: refuse a long one at once
+    hopeless = (horizon / h > _MAX_RK_STEPS) & (g > 0) & ~at_rest.usable
+    if hopeless.any():
+        _too_long(damp, stiff, solimp, np.flatnonzero(hopeless)[0])
     for step in range(n_steps):
         if step % 8 == 0:
             stuck = at_rest(x, v) & ~done
@@ -300,14 +305,7 @@ def _varying(damp, stiff, solimp, rho, gravity, speed):
                 if done.all():
                     break
         if step >= _MAX_RK_STEPS:
-            i = np.flatnonzero(~done)[0]
-            raise ValueError(
-                f"predict: the contact with solref giving b = {damp[i]:.6g} 1/s, k = "
-                f"{stiff[i]:.6g} 1/s^2 (element {i}) neither releases nor settles "
-                f"within {_MAX_RK_STEPS} integration steps (a very overdamped solref "
-                f"with the varying solimp); use a flat solimp (d_min == d_max), whose "
-                f"prediction is in closed form"
-            )
+            _too_long(damp, stiff, solimp, np.flatnonzero(~done)[0])
         k1x, (k1v, _, _) = v, accel(x, v)
         k2x, (k2v, _, _) = v + 0.5 * h * k1v, accel(x + 0.5 * h * k1x, v + 0.5 * h * k1v)
         k3x, (k3v, _, _) = v + 0.5 * h * k2v, accel(x + 0.5 * h * k2x, v + 0.5 * h * k2v)
@@ -336,6 +334,20 @@ def _varying(damp, stiff, solimp, rho, gravity, speed):
             break
     e = np.where(done, e, 0.0)
     return tuple(a.reshape(shape) for a in (e, tc, by_pos & done, xmax, fmax))
+
+
+def _too_long(damp, stiff, solimp, i):
+    dmax = float(np.clip(solimp[1], _MIN_IMP, _MAX_IMP))
+    timeconst = 2.0 / (dmax * damp[i])
+    dampratio = 1.0 / (dmax * timeconst * np.sqrt(stiff[i]))
+    raise ValueError(
+        f"predict: solref = ({timeconst:.6g}, {dampratio:.6g}) (or equivalently "
+        f"({-stiff[i] * dmax**2:.6g}, {-damp[i] * dmax:.6g}); element {i}) needs more "
+        f"than {_MAX_RK_STEPS} integration steps with the varying solimp {solimp!r} "
+        f"(very overdamped, and rest is not provable: the static penetration lies within "
+        f"the impedance width); use a flat solimp (d_min == d_max), whose prediction is "
+        f"in closed form, or less damping"
+    )
 
 
 class _RestTest:
@@ -497,7 +509,16 @@ def predict(
     Returns
     -------
     Prediction
-        In seconds, metres and newtons.
+        In seconds, metres and newtons. With a varying ``solimp`` a body is reported
+        sticking as soon as its state provably never releases (beyond the impedance
+        width the equation is linear; see ``_RestTest``), not after a fixed horizon.
+
+    Raises
+    ------
+    ValueError
+        For bad input (named), and with a varying ``solimp`` when the integration would
+        need more than 400 000 steps (a very overdamped ``solref`` whose static
+        penetration lies within the impedance width), naming the ``solref``.
 
     Examples
     --------
