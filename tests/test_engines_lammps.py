@@ -99,3 +99,19 @@ def test_pressing_load_can_make_the_particle_stick():
     c = predict(kn=1e4, damping=200.0, mass=1.0, speed=0.01, gravity=9.81)
     assert math.isinf(c.contact_time)
     assert c.restitution == 0.0
+
+
+def test_mass_array_and_unreachable_restitution_are_named():
+    with pytest.raises(ValueError, match="mass must be one number"):
+        hooke_for(restitution=0.5, mass=[1.0, 2.0], contact_time=1e-3)
+    with pytest.raises(ValueError, match=r"restitution = 1e-30 is too small"):
+        hooke_for(restitution=1e-30, mass=1.0, contact_time=1e-3)
+    with pytest.raises(ValueError, match=r"restitution = 1e-30 is too small"):
+        coeff_restitution_for(1e-30)
+    # the position condition (textbook D < 1) still reaches it
+    c = hooke_for(restitution=1e-30, mass=1.0, contact_time=1e-3, limit_damping=False)
+    assert c.restitution == pytest.approx(1e-30, rel=1e-6)
+    # and a small target above the limit is still designed, e ~ 1 / (4 D^2)
+    c = hooke_for(restitution=1e-7, mass=1.0, contact_time=1e-3)
+    assert c.restitution == pytest.approx(1e-7, rel=1e-6)
+    assert c.damping_ratio == pytest.approx(0.5 / math.sqrt(1e-7), rel=1e-3)

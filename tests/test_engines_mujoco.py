@@ -381,3 +381,91 @@ def test_derived_contact_force_is_mujocos_efc_force(case):
         mc.x_dot: -float(data.efc_vel[0]),
     }
     assert float(mc.contact_force.subs(values)) == pytest.approx(data.efc_force[0], rel=1e-9)
+
+
+# -- review fixes: range ends, an overdamped body that sticks, refsafe after design ----
+def test_stick_speed_range_ends_are_answers_mujoco_confirms():
+    from impactsym.engines.mujoco import stick_speed
+
+    # undamped: it never sticks (it used to return the search end, 1.4e-10 m/s)
+    assert stick_speed(solref=(-1e4, 0.0), solimp=FLAT, gravity=9.81) == 0.0
+    e, t = mujoco_drop(
+        solref=(-1e4, 0.0), solimp=FLAT, speed=0.01, gravity=9.81, timestep=2e-6, t_max=0.1
+    )
+    assert e > 0.5
+    assert math.isfinite(t)
+    # hugely overdamped: it sticks at every speed (it used to return 1.96e11 m/s)
+    assert stick_speed(solref=(0.02, 1e3), solimp=FLAT, gravity=9.81) == math.inf
+    e, t = mujoco_drop(
+        solref=(0.02, 1e3), solimp=FLAT, speed=3.0, gravity=9.81, timestep=2e-5, t_max=0.3
+    )
+    assert e == 0.0
+    assert math.isinf(t)
+    # element-wise with an ordinary design in between
+    both = stick_speed(solref=([-1e4, 0.02, 0.02], [0.0, 0.5, 1e3]), solimp=FLAT, gravity=9.81)
+    assert both[0] == 0.0
+    assert both[2] == math.inf
+    assert 0.1 < both[1] < 0.2
+
+
+def test_overdamped_default_solimp_sticks_and_returns():
+    # it used to integrate ~3e6 Runge-Kutta steps (dampratio^2): now the rest is proven
+    p = predict(solref=(0.02, 20.0), speed=0.01, gravity=9.81)  # ~0.1 s
+    assert p.sticks
+    assert p.restitution == 0.0
+    assert math.isinf(p.contact_time)
+    # MuJoCo holds it too
+    _e, t = mujoco_drop(
+        solref=(0.02, 20.0), solimp=DEFAULT, speed=0.01, gravity=9.81, timestep=1e-5, t_max=0.3
+    )
+    assert math.isinf(t)
+    # it creeps into the static penetration of MuJoCo's equation, (1 - d) g = d^2 k x
+    d = 0.95
+    k = 1.0 / (d**2 * 0.02**2 * 20.0**2)
+    assert p.max_penetration == pytest.approx((1 - d) * 9.81 / (d**2 * k), rel=1e-4)
+    many = predict(solref=(0.02, [20.0, 200.0]), speed=[0.01, 1.0], gravity=9.81)
+    assert many.sticks.all()
+
+
+def test_work_is_capped_with_an_error_naming_solref(monkeypatch):
+    import impactsym.engines.mujoco as mj
+
+    # static penetration inside the impedance width: rest is not provable, and the
+    # horizon needs > 400 000 steps: refused at once, naming the solref
+    with pytest.raises(ValueError, match=r"solref = \(0\.002, 10\)"):
+        predict(solref=(0.002, 10.0), speed=0.1, gravity=9.81)
+    # the same contact in the stiffness form is named in both forms
+    with pytest.raises(ValueError, match=r"\(-2500, -1000\)"):
+        predict(solref=(-2500.0, -1000.0), speed=0.1, gravity=9.81)
+    # the loop's own cap (a backstop) names it too
+    monkeypatch.setattr(mj, "_MAX_RK_STEPS", 50)
+    with pytest.raises(ValueError, match="solref = "):
+        mj.predict(solref=(0.02, 2.0), speed=0.01, gravity=9.81)
+
+
+def test_refsafe_is_checked_on_the_final_varying_design(monkeypatch):
+    import impactsym.engines.mujoco as mj
+
+    # the varying design moves the timeconst below 2 timestep (the flat start is above)
+    with pytest.raises(ValueError, match=r"contact_time = 0\.0013932.*2 \* timestep"):
+        solref_for(restitution=0.5, speed=1.0, contact_time=0.0013932, timestep=0.001)
+    # MuJoCo with the design's timeconst raised to 2 timestep: contact time off by > 2 %
+    free = solref_for(restitution=0.5, speed=1.0, contact_time=0.0013932)
+    assert free.solref[0] < 0.002
+    _e, t = mujoco_drop(solref=(0.002, free.solref[1]), solimp=DEFAULT, speed=1.0, timestep=1e-6)
+    assert abs(t / 0.0013932 - 1) > 0.02
+    # a design whose prediction misses the targets is refused (tolerance made impossible)
+    monkeypatch.setattr(mj, "_DESIGN_TOL", 0.0)
+    with pytest.raises(ValueError, match="is not reached"):
+        solref_for(restitution=0.5, speed=1.0, contact_time=0.0013932)
+
+
+def test_array_arguments_that_must_be_one_number_are_named():
+    from impactsym.engines.mujoco import stick_speed
+
+    with pytest.raises(ValueError, match="gravity"):
+        stick_speed(solref=(0.02, 0.5), solimp=FLAT, gravity=[9.81, 1.0])
+    with pytest.raises(ValueError, match="timestep"):
+        predict(solref=(0.02, 0.5), speed=1.0, timestep=[1e-3])
+    with pytest.raises(ValueError, match="timestep"):
+        stick_speed(solref=(0.02, 0.5), solimp=FLAT, gravity=9.81, timestep=[1e-3])

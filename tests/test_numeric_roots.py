@@ -83,3 +83,20 @@ def test_failures_are_loud():
         bracketed_newton(lambda x: x - 0.3, lambda x: 1e-9 + 0 * x, 0.0, 1.0, max_iter=3)
     with pytest.raises(RuntimeError, match="did not converge"):
         bracketed_illinois(lambda x, i: np.where(x < 0.3, -1.0, 1.0), 0.0, 1.0, max_iter=3)
+
+
+def test_illinois_refuses_a_bracket_without_sign_change():
+    # regression: it used to return the bracket end (here 4.0) as if it were a root
+    with pytest.raises(ValueError, match="sign change"):
+        bracketed_illinois(lambda x, i: x**2 + 1.0, np.ones(2), np.full(2, 4.0))
+    with pytest.raises(ValueError, match="element 1"):  # wrong orientation, one element
+        bracketed_illinois(
+            lambda x, i: np.array([1.0, -1.0])[i] * (x - 2.0), np.ones(2), np.full(2, 3.0)
+        )
+    with pytest.raises(ValueError, match="sign change"):  # NaN at an end
+        bracketed_illinois(
+            lambda x, i: np.where(x < 1, np.nan, x - 2), np.zeros(1), np.full(1, 3.0)
+        )
+    # a root exactly on an end is still fine, at either end
+    ends = bracketed_illinois(lambda x, i: x - np.array([1.0, 4.0])[i], np.ones(2), np.full(2, 4.0))
+    np.testing.assert_array_equal(ends, [1.0, 4.0])

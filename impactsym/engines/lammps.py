@@ -60,6 +60,11 @@ def textbook_damping_ratio(restitution: Any) -> float | np.ndarray:
     return finish(-log_e / np.sqrt(np.pi**2 + log_e**2), scalar)
 
 
+#: largest damping ratio searched for a force-condition restitution (e there ~ 1.5e-8;
+#: the release loses its accuracy in double precision a little beyond)
+_D_MAX = 4096.0
+
+
 def _release(D, load, limit_damping):
     return linear_release(D, load, np.zeros_like(D), force=limit_damping, position=True)
 
@@ -169,9 +174,20 @@ def _damping_ratio_for(e: np.ndarray, limit_damping: bool) -> np.ndarray:
     def residual(D, i):
         return e[i] - _release(D, zero[i], True).restitution
 
+    every = np.arange(e.size)
     hi = np.full(e.shape, 1.0)
-    while np.any(residual(hi, np.arange(e.size)) < 0):
-        hi = np.where(residual(hi, np.arange(e.size)) < 0, 4.0 * hi, hi)
+    short = residual(hi, every) < 0
+    while short.any():
+        hi = np.where(short, 4.0 * hi, hi)
+        if hi.max() > _D_MAX:
+            i = np.flatnonzero(short)[0]
+            e_min = float(_release(np.array([_D_MAX]), np.zeros(1), True).restitution[0])
+            raise ValueError(
+                f"restitution = {float(e[i])!r} is too small: under limit_damping it needs "
+                f"a damping ratio above {_D_MAX:g} (e = {e_min:.3g} there; "
+                f"e ~ 1 / (4 D^2)), beyond what the release is resolved for"
+            )
+        short = residual(hi, every) < 0
     return bracketed_illinois(residual, np.full(e.shape, 1e-12), hi, rtol=1e-13)
 
 
@@ -218,7 +234,10 @@ def hooke_for(
         raise ValueError("give exactly one of contact_time and max_overlap")
     if max_overlap is not None and speed is None:
         raise ValueError("max_overlap needs the approach speed (speed=...)")
-    m = float(real_array("mass", mass, lower=0.0, strict=True)[0])
+    m_arr, m_scalar = real_array("mass", mass, lower=0.0, strict=True)
+    if not m_scalar:
+        raise ValueError(f"mass must be one number (the effective mass, kg), got {mass!r}")
+    m = float(m_arr)
     v = 1.0 if speed is None else real_array("speed", speed, lower=0.0, strict=True)[0]
     scalar = all(np.ndim(a) == 0 for a in (restitution, contact_time, max_overlap, speed))
     target = real_array(

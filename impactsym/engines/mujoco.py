@@ -85,6 +85,11 @@ _OMEGA_DT = 0.03
 #: largest ``g dt / v0`` for the same accuracy under gravity
 _GRAVITY_DT = 0.005
 _RK_STEP = 0.02  # Runge-Kutta step in units of 1 / omega_max
+_MAX_RK_STEPS = 400_000  # more is refused (a sticking contact is detected well before)
+#: solref_for refuses a design whose prediction misses a target by more than this
+#: (absolute in the restitution, relative in the contact time)
+_DESIGN_TOL = 1e-5
+_GAMMA_RANGE = (1e-9, 1e9)  # stick_speed searches gamma = g / (omega0 v0) here
 
 
 def _check_solimp(solimp: object) -> tuple[float, ...]:
@@ -283,7 +288,24 @@ def _varying(damp, stiff, solimp, rho, gravity, speed):
     _a0, dp0, dd0 = accel(x, v)
     fmax = dp0 * force_dd(x, v, dd0)
     f_prev = force_dd(x, v, dd0)
-    for _ in range(n_steps):
+    at_rest = _RestTest(damp, stiff, solimp, rho, g)
+    # under gravity, where rest cannot be proven (static penetration inside the
+    # impedance width), a sticking body runs to the horizon: refuse a long one at once
+    hopeless = (horizon / h > _MAX_RK_STEPS) & (g > 0) & ~at_rest.usable
+    if hopeless.any():
+        _too_long(damp, stiff, solimp, np.flatnonzero(hopeless)[0])
+    for step in range(n_steps):
+        if step % 8 == 0:
+            stuck = at_rest(x, v) & ~done
+            if stuck.any():
+                x_fut, f_fut = at_rest.future_max(x, v, stuck)
+                xmax = np.where(stuck, np.maximum(xmax, x_fut), xmax)
+                fmax = np.where(stuck, np.maximum(fmax, f_fut), fmax)
+                done |= stuck  # e stays 0.0 and tc inf: it sticks
+                if done.all():
+                    break
+        if step >= _MAX_RK_STEPS:
+            _too_long(damp, stiff, solimp, np.flatnonzero(~done)[0])
         k1x, (k1v, _, _) = v, accel(x, v)
         k2x, (k2v, _, _) = v + 0.5 * h * k1v, accel(x + 0.5 * h * k1x, v + 0.5 * h * k1v)
         k3x, (k3v, _, _) = v + 0.5 * h * k2v, accel(x + 0.5 * h * k2x, v + 0.5 * h * k2v)
@@ -312,6 +334,92 @@ def _varying(damp, stiff, solimp, rho, gravity, speed):
             break
     e = np.where(done, e, 0.0)
     return tuple(a.reshape(shape) for a in (e, tc, by_pos & done, xmax, fmax))
+
+
+def _too_long(damp, stiff, solimp, i):
+    dmax = float(np.clip(solimp[1], _MIN_IMP, _MAX_IMP))
+    timeconst = 2.0 / (dmax * damp[i])
+    dampratio = 1.0 / (dmax * timeconst * np.sqrt(stiff[i]))
+    raise ValueError(
+        f"predict: solref = ({timeconst:.6g}, {dampratio:.6g}) (or equivalently "
+        f"({-stiff[i] * dmax**2:.6g}, {-damp[i] * dmax:.6g}); element {i}) needs more "
+        f"than {_MAX_RK_STEPS} integration steps with the varying solimp {solimp!r} "
+        f"(very overdamped, and rest is not provable: the static penetration lies within "
+        f"the impedance width); use a flat solimp (d_min == d_max), whose prediction is "
+        f"in closed form, or less damping"
+    )
+
+
+class _RestTest:
+    """Proof that a contact of :func:`_varying` sticks from a state ``(x, v)`` on.
+
+    Beyond ``width`` the impedance is constant, ``d = d_max``, and the equation is
+    linear: ``u = x - x_s = A e^(l1 t) + B e^(l2 t)`` with ``l^2 + d' b l + d' d k = 0``
+    and ``x_s = (1 - d') g / (d' d k)``; the force threshold is
+    ``g + b v + d k x = F_s + c1 A e^(l1 t) + c2 B e^(l2 t)``, ``c = b l + d k``,
+    ``F_s = g + d k x_s``. If lower bounds of both sums over all ``t >= 0`` keep
+    ``x > width`` and the threshold positive, the state never leaves the linear region,
+    never loses the contact and never sees the force vanish: the body sticks.
+    """
+
+    def __init__(self, damp, stiff, solimp, rho, g):
+        self.width = solimp[2]
+        d = float(np.clip(solimp[1], _MIN_IMP, _MAX_IMP))
+        dp = _effective(d, rho)
+        self.dk = d * stiff
+        self.b = damp
+        with np.errstate(all="ignore"):
+            self.x_s = (1.0 - dp) * g / (dp * self.dk)
+            root = np.sqrt((0.25 * (dp * damp) ** 2 - dp * self.dk).astype(complex))
+        self.l1 = -0.5 * dp * damp - root  # fast
+        self.l2 = -0.5 * dp * damp + root  # slow
+        self.F_s = g + self.dk * self.x_s
+        self.dp = dp
+        self.usable = (g > 0) & (self.x_s > self.width) & (np.abs(root) > 1e-6 * np.abs(self.l1))
+
+    def _split(self, x, v, i=slice(None)):
+        u = x - self.x_s[i]
+        with np.errstate(all="ignore"):
+            A = (v - self.l2[i] * u) / (self.l1[i] - self.l2[i])
+        return A, u - A
+
+    @staticmethod
+    def _lower(p, q, real):
+        """Lower bound over ``t >= 0`` of ``p e^(l1 t) + q e^(l2 t)`` (``Re l < 0``)."""
+        return np.where(
+            real,
+            np.minimum(p.real, 0.0) + np.minimum(q.real, 0.0),
+            -(np.abs(p) + np.abs(q)),
+        )
+
+    def __call__(self, x, v):
+        if not self.usable.any():
+            return np.zeros(x.shape, bool)
+        A, B = self._split(x, v)
+        real = np.abs(self.l1.imag) == 0
+        with np.errstate(all="ignore"):
+            u_low = self._lower(A, B, real)
+            f_low = self._lower(
+                (self.b * self.l1 + self.dk) * A, (self.b * self.l2 + self.dk) * B, real
+            )
+            ok = (self.x_s + u_low > self.width * (1 + 1e-9)) & (self.F_s + f_low > 1e-9 * self.F_s)
+        return self.usable & ok & np.isfinite(u_low) & np.isfinite(f_low)
+
+    def future_max(self, x, v, mask, n=4001):
+        """Largest penetration and ``d' (g + b v + d k x)`` of the linear solution ahead."""
+        i = np.flatnonzero(mask)
+        A, B = self._split(x[i], v[i], i)
+        l1, l2 = self.l1[i], self.l2[i]
+        t_end = 12.0 / np.minimum(np.abs(l1.real), np.abs(l2.real))
+        t = np.linspace(0.0, 1.0, n)[:, None] * t_end
+        e1, e2 = np.exp(l1 * t), np.exp(l2 * t)
+        u = (A * e1 + B * e2).real
+        du = (A * l1 * e1 + B * l2 * e2).real
+        force = self.dp[i] * (self.F_s[i] + self.b[i] * du + self.dk[i] * u)
+        x_out, f_out = np.zeros(x.shape), np.zeros(x.shape)
+        x_out[i] = self.x_s[i] + u.max(axis=0)
+        f_out[i] = force.max(axis=0)
+        return x_out, f_out
 
 
 def _warn_timestep(damp, stiff, solimp, rho, gravity, speed, timestep, stacklevel=3):
@@ -346,6 +454,13 @@ def _rho(mass, inverse_weight):
         raise ValueError("inverse_weight needs mass (rho = (1/mass) / inverse_weight)")
     w, _ = real_array("inverse_weight", inverse_weight, lower=0.0, strict=True)
     return (1.0 / mass) / w
+
+
+def _timestep(timestep):
+    value, scalar = real_array("timestep", timestep, lower=0.0, strict=True)
+    if not scalar:
+        raise ValueError(f"timestep must be one number (seconds), got {timestep!r}")
+    return float(value)
 
 
 def _mass(mass):
@@ -394,7 +509,16 @@ def predict(
     Returns
     -------
     Prediction
-        In seconds, metres and newtons.
+        In seconds, metres and newtons. With a varying ``solimp`` a body is reported
+        sticking as soon as its state provably never releases (beyond the impedance
+        width the equation is linear; see ``_RestTest``), not after a fixed horizon.
+
+    Raises
+    ------
+    ValueError
+        For bad input (named), and with a varying ``solimp`` when the integration would
+        need more than 400 000 steps (a very overdamped ``solref`` whose static
+        penetration lies within the impedance width), naming the ``solref``.
 
     Examples
     --------
@@ -408,7 +532,7 @@ def predict(
     v0, s_scalar = real_array("speed", speed, lower=0.0, strict=True)
     g, g_scalar = real_array("gravity", gravity, lower=0.0)
     if timestep is not None:
-        timestep = float(real_array("timestep", timestep, lower=0.0, strict=True)[0])
+        timestep = _timestep(timestep)
     m = _mass(mass)
     rho = _rho(m, inverse_weight)
     damp, stiff, _positive = _coefficients(solref, simp, timestep)
@@ -444,7 +568,9 @@ def stick_speed(
     :func:`impactsym.engines.release.release_margin` of
     ``(D, (1 - d') gamma, d' gamma)`` is positive; the boundary ``gamma*(D, d')`` is
     found by the Illinois method in ``log gamma`` and ``v* = g / (omega0 gamma*)``.
-    ``0.0`` without gravity.
+    ``0.0`` without gravity, or where the body releases for every ``gamma`` up to
+    ``1e9`` (e.g. no damping); ``inf`` where it sticks for every ``gamma`` down to
+    ``1e-9`` (every speed).
 
     >>> round(stick_speed(solref=(0.02, 0.5), solimp=(0.9, 0.9, 0.001), gravity=9.81), 5)
     0.11954
@@ -455,7 +581,12 @@ def stick_speed(
             f"stick_speed needs a flat solimp (d_min == d_max), got {simp!r}; use predict "
             "over speeds for a varying impedance"
         )
-    g = float(real_array("gravity", gravity, lower=0.0)[0])
+    g_arr, g_scalar = real_array("gravity", gravity, lower=0.0)
+    if not g_scalar:
+        raise ValueError(f"gravity must be one number here, got {gravity!r}")
+    g = float(g_arr)
+    if timestep is not None:
+        timestep = _timestep(timestep)
     m = _mass(mass)
     rho = np.asarray(_rho(m, inverse_weight), float)
     damp, stiff, _ = _coefficients(solref, simp, timestep)
@@ -473,8 +604,15 @@ def stick_speed(
     def margin(gamma, i):
         return release_margin(D[i], (1.0 - dp[i]) * gamma, dp[i] * gamma)
 
-    gamma = bracketed_illinois(margin, np.full(D.size, 1e-9), np.full(D.size, 1e9), log=True)
-    out = g / (omega * gamma)
+    every = np.arange(D.size)
+    lo, hi = np.full(D.size, _GAMMA_RANGE[0]), np.full(D.size, _GAMMA_RANGE[1])
+    never = margin(hi, every) <= 0  # releases even at gamma = 1e9 (the slowest impacts)
+    always = ~never & (margin(lo, every) > 0)  # sticks even at gamma = 1e-9 (the fastest)
+    out = np.where(never, 0.0, np.inf)
+    ok = np.flatnonzero(~never & ~always)
+    if ok.size:
+        gamma = bracketed_illinois(lambda x, i: margin(x, ok[i]), lo[ok], hi[ok], log=True)
+        out[ok] = g / (omega[ok] * gamma)
     return float(out[0]) if scalar else out
 
 
@@ -712,7 +850,10 @@ def solref_for(
     ------
     ValueError
         When no ``solref`` reaches the target (e.g. the body sticks at that speed under
-        gravity), saying what would reach it.
+        gravity), saying what would reach it; when the design needs
+        ``timeconst < 2 timestep`` (MuJoCo would raise it); and when :func:`predict` of the
+        design misses a target by more than ``1e-5`` (absolute in the restitution,
+        relative in the contact time).
 
     Examples
     --------
@@ -736,7 +877,7 @@ def solref_for(
         t_c, t_scalar = real_array("contact_time", contact_time, lower=0.0, strict=True)
         scalar = scalar and t_scalar
     if timestep is not None:
-        timestep = float(real_array("timestep", timestep, lower=0.0, strict=True)[0])
+        timestep = _timestep(timestep)
     m = _mass(mass)
     rho = _rho(m, inverse_weight)
     arrays = [e_t, v0, g, np.asarray(rho, float)] + ([t_c] if t_c is not None else [])
@@ -752,14 +893,16 @@ def solref_for(
         dr = _design_flat_dampratio(e_f, v_f, g_f, tc, flat_imp, rho_f)
     else:
         tc, dr = _design_flat_both(e_f, v_f, g_f, t_f, flat_imp, rho_f)
-        if timestep is not None and np.any(tc < 2 * timestep):
-            raise ValueError(
-                f"contact_time needs timeconst = {float(tc.min()):.3g} s < 2 * timestep; "
-                f"MuJoCo would raise it to {2 * timestep:g} s. Use timestep <= "
-                f"{float(tc.min()) / 2:.3g} s or a longer contact_time"
-            )
     if not _is_flat(simp):
         tc, dr = _design_varying(e_f, v_f, g_f, t_f, tc, dr, simp, rho_f)
+    if timestep is not None and np.any(tc < 2 * timestep):  # on the final timeconst
+        i = int(np.argmin(tc))
+        raise ValueError(
+            f"contact_time = {float(t_f[i])!r} with restitution = {float(e_f[i])!r} "
+            f"needs timeconst = {float(tc[i]):.6g} s < 2 * timestep; MuJoCo would raise "
+            f"it to {2 * timestep:g} s. Use timestep <= {float(tc[i]) / 2:.3g} s or a "
+            f"longer contact_time"
+        )
     tc, dr = tc.reshape(shape), dr.reshape(shape)
     if form == "timeconst":
         solref = (tc, dr)
@@ -778,7 +921,34 @@ def solref_for(
         timestep=timestep,
         inverse_weight=inverse_weight,
     )
+    _check_design(pred, e_f, t_f, shape)
     return Design(solref, simp, pred)
+
+
+def _check_design(pred: Prediction, e_t, t_c, shape) -> None:
+    """Refuse a design whose prediction (with refsafe) misses the targets.
+
+    Tolerances: ``_DESIGN_TOL`` absolute in the restitution, relative in the contact
+    time (the designs converge to about ``1e-6``).
+    """
+    e = np.broadcast_to(pred.restitution, shape).ravel()
+    miss = np.abs(e - e_t) > _DESIGN_TOL
+    if t_c is not None:
+        t = np.broadcast_to(pred.contact_time, shape).ravel()
+        with np.errstate(invalid="ignore"):
+            miss |= ~(np.abs(t / t_c - 1.0) <= _DESIGN_TOL)
+    if miss.any():
+        i = np.flatnonzero(miss)[0]
+        wanted = f"restitution = {float(e_t[i])!r}" + (
+            "" if t_c is None else f", contact_time = {float(t_c[i])!r} s"
+        )
+        got = f"restitution {float(e[i]):.6g}" + (
+            "" if t_c is None else f", contact time {float(t[i]):.6g} s"
+        )
+        raise ValueError(
+            f"{wanted} (element {i}) is not reached within {_DESIGN_TOL:g}: the designed "
+            f"solref gives {got} in predict"
+        )
 
 
 def from_reduced(reduced: Any) -> dict[str, float]:

@@ -115,6 +115,8 @@ def bracketed_illinois(
     the flat indices of the elements they belong to; only unconverged elements are
     evaluated. An element is done when its bracket is narrower than
     ``max(atol, rtol * |x|)`` (``rtol`` alone in ``log x``) or ``fun`` is exactly zero.
+    A bracket without the sign change (or with NaN at an end) raises ``ValueError``:
+    the method would otherwise return a bracket end as if it were a root.
 
     >>> targets = np.array([2.0, 9.0])
     >>> root = bracketed_illinois(lambda x, i: x**2 - targets[i], np.ones(2), np.full(2, 4.0))
@@ -125,10 +127,20 @@ def bracketed_illinois(
     a = to(np.asarray(lo, dtype=float)).ravel().copy()
     b = to(np.asarray(hi, dtype=float)).ravel().copy()
     every = np.arange(a.size)
-    fa, fb = fun(back(a), every).astype(float), fun(back(b), every).astype(float)
+    fa = np.asarray(fun(back(a), every), dtype=float)
+    fb = np.asarray(fun(back(b), every), dtype=float)
+    bad = ~((fa <= 0) & (fb >= 0))  # NaN fails both
+    if bad.any():
+        i = np.flatnonzero(bad)[0]
+        raise ValueError(
+            f"bracketed_illinois needs a sign change, fun(lo) <= 0 <= fun(hi), in every "
+            f"bracket; element "
+            f"{i} has fun({float(back(a[i])):.6g}) = {fa[i]:.6g}, "
+            f"fun({float(back(b[i])):.6g}) = {fb[i]:.6g}"
+        )
     x = np.where(fa == 0, a, b)
     side = np.zeros(a.size, dtype=int)
-    active = np.flatnonzero(fa != 0)
+    active = np.flatnonzero((fa != 0) & (fb != 0))
     for _ in range(max_iter):
         if active.size == 0:
             return back(x)
