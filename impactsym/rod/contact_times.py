@@ -15,7 +15,7 @@ from numpy.typing import ArrayLike
 
 from impactsym.numeric.isolation import first_sign_change
 from impactsym.rod.elastic import T_LIMIT_ELASTIC, _elastic, _elastic_model
-from impactsym.rod.kernel import T_LIMIT, _rigid_tables, check_alpha
+from impactsym.rod.kernel import T_LIMIT, _rescale, _rigid_tables, check_alpha
 from impactsym.validation import broadcast, check_condition, finish, real_array
 
 __all__ = ["ContactTimeMap", "contact_time", "contact_time_map"]
@@ -113,12 +113,7 @@ class _RigidInterval:
                 tmp *= 1.0 / j
                 E_prev, E, tmp = E, tmp, E_prev
                 if scaled:
-                    big = np.abs(E) > 2.0**500
-                    if big.any():
-                        E[big] *= 2.0**-500
-                        E_prev[big] *= 2.0**-500
-                        log_scale[big] += 500 * np.log(2.0)
-                        scale[big] = np.exp(log_scale[big])
+                    _rescale(E, E_prev, scale, log_scale)
             Et = E * scale if scaled else E
             aj = self.coef[j][own]
             np.multiply(aj, Et, out=buf)

@@ -73,6 +73,17 @@ def check_alpha(alpha: np.ndarray) -> None:
         )
 
 
+def _rescale(E, E_prev, scale, log_scale):
+    """Keep a three-term recurrence in range: where ``|E| > 2**500``, divide the last two
+    terms by ``2**500`` and carry the factor in ``scale = exp(log_scale)`` (in place)."""
+    big = np.abs(E) > 2.0**500
+    if big.any():
+        E[big] *= 2.0**-500
+        E_prev[big] *= 2.0**-500
+        log_scale[big] += 500 * np.log(2.0)
+        scale[big] = np.exp(log_scale[big])
+
+
 def _rigid_tables(alpha, n_intervals):
     """Per-alpha coefficient tables of the rigid-contact kernel.
 
@@ -108,12 +119,7 @@ def _rigid_tables(alpha, n_intervals):
         I1 = I1[:, :width]
         if n > 0:
             E_prev, E = E, ((2 * n - 1 - x) * E - (n - 1) * E_prev) / n
-            big = np.abs(E) > 2.0**500
-            if big.any():
-                E[big] *= 2.0**-500
-                E_prev[big] *= 2.0**-500
-                log_scale[big] += 500 * np.log(2.0)
-                scale[big] = np.exp(log_scale[big])
+            _rescale(E, E_prev, scale, log_scale)
         true = E * scale
         B[:, n + 1 :] += (true - true_prev)[:, : K - n]
         if n > 0:  # I1_n = -I1_(n-1) - 2 (E_n - E_(n-1)), I2 likewise from I1
@@ -205,12 +211,7 @@ def _rigid_local(which, m, tau, a_idx, alpha, f, tables, derivative=False):
                 E_prev, E, tmp = E, tmp, E_prev
             if scaled:
                 scale, log_scale = scale[:n], log_scale[:n]
-                big = np.abs(E) > 2.0**500
-                if big.any():
-                    E[big] *= 2.0**-500
-                    E_prev[big] *= 2.0**-500
-                    log_scale[big] += 500 * np.log(2.0)
-                    scale[big] = np.exp(log_scale[big])
+                _rescale(E, E_prev, scale, log_scale)
                 E_true = E * scale
             else:
                 E_true = E
