@@ -1,6 +1,8 @@
-"""notebooks/04_engine_parameters.ipynb runs top to bottom from a clean kernel."""
+"""notebooks/04_engine_parameters.ipynb runs top to bottom from a clean kernel, and what
+its prose says about the printed numbers holds."""
 
 import os
+import re
 
 import pytest
 
@@ -22,3 +24,9 @@ def test_engine_notebook_runs_and_checks_the_engines():
     assert "LAMMPS: e = 0.30" in text
     images = [o for o in outputs if "image/png" in o.get("data", {})]
     assert len(images) >= 3
+    # "converges to the prediction ... at first order"
+    order = float(re.search(r"observed order of convergence in dt: ([\d.-]+)", text).group(1))
+    assert abs(order - 1) < 0.25
+    # "with limit_damping ... the achieved restitution is larger" than coeff_restitution
+    for asked, got in re.findall(r"coeff_restitution ([\d.]+): LAMMPS gives ([\d.]+)", text):
+        assert float(got) > float(asked)

@@ -1,5 +1,7 @@
-"""notebooks/05_until_rest.ipynb runs top to bottom from a clean kernel."""
+"""notebooks/05_until_rest.ipynb runs top to bottom from a clean kernel, and what its
+prose says about the printed numbers holds."""
 
+import math
 import re
 
 from notebook_runner import run_notebook
@@ -14,9 +16,36 @@ def test_until_rest_notebook_runs_and_shows_the_sequences():
     images = [o for o in outputs if "image/png" in o.get("data", {})]
     assert len(images) >= 6  # psi, two side-by-side sequences, the maps, rod sequences, rod maps
     # the rod: energy balanced, and the light striker's restitution as the closed form
-    residuals = [float(line.rsplit(" ", 1)[1]) for line in text.splitlines() if "residual" in line]
+    residuals = [
+        float(line.rsplit(" ", 1)[1])
+        for line in text.splitlines()
+        if "energy-balance residual" in line
+    ]
     assert len(residuals) == 2
     assert max(residuals) < 1e-9
     line = next(line for line in text.splitlines() if line.startswith("alpha = 0.05"))
     _, exact, closed, _ = (float(v) for v in re.findall(r"\d+\.\d+", line))
     assert abs(exact - closed) < 1e-10
+    # "the element can even catch the body from behind": v* < 0 at a contact after the first
+    behind = re.search(r"contact (\d+) starts with the body moving away: v\* = ([\d.-]+)", text)
+    assert int(behind.group(1)) > 1
+    assert float(behind.group(2)) < 0
+    # the light striker "loses a sizeable part of its speed": 1 - 2/e, about a quarter
+    loss = float(re.search(r"light striker: loses ([\d.]+)% of its speed", text).group(1))
+    assert 20 < loss < 30
+    assert abs(loss / 100 - (1 - 2 / math.e)) < 1e-3
+    # "from a mass ratio of order one on a second contact can start"
+    counts = [
+        int(c) for c in re.search(r"contacts per alpha: \[([\d, ]+)\]", text).group(1).split(",")
+    ]
+    assert len(counts) == 25
+    assert counts[0] == 1  # the light striker: one contact
+    assert max(counts) >= 2
+    assert 0.3 < float(re.search(r"second contact: ([\d.]+)", text).group(1)) < 3
+    # "the stress there exceeds the impact stress"
+    light_ratio, heavy_ratio = (
+        float(v)
+        for v in re.search(r"impact stress: ([\d.]+) \(alpha = 0.05\), ([\d.]+)", text).groups()
+    )
+    assert light_ratio > 1
+    assert heavy_ratio > 1
