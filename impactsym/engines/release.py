@@ -47,18 +47,33 @@ _SERIES = 1e-3  # below this |mu| tau the sinh/sin quotient is taken from its se
 
 
 def _basis(tau: np.ndarray, D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``exp(-D tau) C(tau)`` and ``exp(-D tau) S(tau)`` in every damping regime."""
+    """``exp(-D tau) C(tau)`` and ``exp(-D tau) S(tau)`` in every damping regime.
+
+    The underdamped closed form covers most points; the other regimes (overdamped,
+    the series near ``D = 1`` or ``tau = 0``) are evaluated only where they apply.
+    """
     one_minus = 1.0 - D * D
     mu = np.sqrt(np.abs(one_minus))
     x = mu * tau
-    sign = np.sign(one_minus)  # +1 underdamped, -1 overdamped
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
         ex = np.exp(-D * tau)
         small = x < _SERIES
-        if (one_minus > 0).all() and not small.any():  # common case: underdamped only
+        common = (one_minus > 0) & ~small
+        if common.all():  # underdamped only
             return ex * np.cos(x), ex * np.sin(x) / mu
+        tau, D, one_minus, mu, x, ex, small, common = np.broadcast_arrays(
+            tau, D, one_minus, mu, x, ex, small, common
+        )
+        c, s = np.empty(x.shape), np.empty(x.shape)
+        c[common] = ex[common] * np.cos(x[common])
+        s[common] = ex[common] * np.sin(x[common]) / mu[common]
+        rest = ~common
+        tau, D, one_minus, mu, x, ex, small = (
+            a[rest] for a in (tau, D, one_minus, mu, x, ex, small)
+        )
+        sign = np.sign(one_minus)  # +1 underdamped, -1 overdamped
         safe_mu = np.where(mu > 0, mu, 1.0)
-        # underdamped
+        # underdamped (tiny mu tau: the series below)
         c_u = ex * np.cos(x)
         s_u = ex * np.sin(x) / safe_mu
         # overdamped, written with decaying exponentials only
@@ -73,8 +88,8 @@ def _basis(tau: np.ndarray, D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         c_s = ex * (1.0 - sign * x * x / 2.0)
         s_s = ex * tau * (1.0 - sign * x * x / 6.0)
     under = one_minus > 0
-    c = np.where(small, c_s, np.where(under, c_u, c_o))
-    s = np.where(small, s_s, np.where(under, s_u, s_o))
+    c[rest] = np.where(small, c_s, np.where(under, c_u, c_o))
+    s[rest] = np.where(small, s_s, np.where(under, s_u, s_o))
     return c, s
 
 
@@ -156,16 +171,26 @@ def _first_crossing(D, level, h0, h1, exclude_start):
     second = ~first & np.isfinite(t2) & (g2 <= 0)
     lo = np.where(first, 0.0, np.where(second, t1, 0.0))
     hi = np.where(first, t1, np.where(second, t2, 1.0))
+    # the threshold at the bracket ends is known: level + h0 at 0, g1 and g2 at t1, t2
+    g_lo = np.where(first, level + h0, g1)
+    g_hi = np.where(first, g1, g2)
     found = (first | second) & ~zero
     if found.any():
         params = [a[found] for a in (D, level, h0, h1)]
+
+        def g_dg(t, d, lv, a, b):
+            h, dh = _homogeneous(t, d, a, b)
+            return lv + h, dh
+
         tau[found] = bracketed_newton(
-            lambda t, d, lv, a, b: lv + _homogeneous(t, d, a, b)[0],
-            lambda t, d, lv, a, b: _homogeneous(t, d, a, b)[1],
+            g_dg,
+            None,
             lo[found],
             hi[found],
             params,
             rtol=1e-13,
+            g_lo=g_lo[found],
+            g_hi=g_hi[found],
         )
     return tau
 
