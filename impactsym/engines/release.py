@@ -155,8 +155,13 @@ def release_margin(D, load, offset):
     return np.minimum.reduce([f1, f2, p2, c + delta, c])
 
 
-def _first_crossing(D, level, h0, h1, exclude_start):
-    """First ``tau > 0`` with ``level + h(tau) <= 0`` (``level >= 0``, ``level + h0 >= 0``)."""
+def _first_crossing(D, level, h0, h1, exclude_start, before=None):
+    """First ``tau > 0`` with ``level + h(tau) <= 0`` (``level >= 0``, ``level + h0 >= 0``).
+
+    With ``before``, a crossing proven to come after it is not solved for and reported
+    as ``inf`` (``level + h`` falls monotonically across its bracket, so it comes after
+    ``before`` when the bracket starts after it or the threshold is still positive there).
+    """
     tau = np.full(np.shape(D), np.inf)
     # level 0: the first zero of h itself, in closed form (h' has the initial values
     # (h1, -2 D h1 - h0), so the zeros of h are the "extrema" of that function's integral)
@@ -175,6 +180,12 @@ def _first_crossing(D, level, h0, h1, exclude_start):
     g_lo = np.where(first, level + h0, g1)
     g_hi = np.where(first, g1, g2)
     found = (first | second) & ~zero
+    if before is not None:
+        late = np.array(found & (lo > before))  # an array also when 0-d (item assignment)
+        k = found & ~late & (hi > before)
+        if k.any():
+            late[k] = level[k] + _homogeneous(before[k], D[k], h0[k], h1[k])[0] > 0
+        found &= ~late
     if found.any():
         params = [a[found] for a in (D, level, h0, h1)]
 
@@ -284,8 +295,9 @@ def linear_release(
     # position: z = c + h, h(0) = -c, h'(0) = 1 (z(0) = 0 is not a release)
     # without load and offset the force vanishes first (z = -2 D z' > 0 there)
     needed = position and not (force and not c.any() and not delta.any() and (D > 0).all())
+    # (solved only where it may come before the force release: the first one counts)
     tau_p = (
-        _first_crossing(D, c, -c, np.ones_like(D), np.ones(D.shape, bool))
+        _first_crossing(D, c, -c, np.ones_like(D), np.ones(D.shape, bool), before=tau_f)
         if needed
         else np.full(D.shape, np.inf)
     )
