@@ -121,12 +121,26 @@ def _extrema(D: np.ndarray, h0: np.ndarray, h1: np.ndarray) -> tuple[np.ndarray,
     return t1, t2
 
 
-def _extreme_values(D, level, h0, h1):
-    """First two extrema of ``h`` and the values of ``level + h`` there."""
-    t1, t2 = _extrema(D, h0, h1)
+def _extreme_values(D, level, h0, h1, skip=None, extrema=None):
+    """First two extrema of ``h`` and the values of ``level + h`` there.
+
+    Where ``skip`` is True the values are not evaluated and reported as ``inf``;
+    ``extrema`` are the extrema when the caller has them.
+    """
+    t1, t2 = _extrema(D, h0, h1) if extrema is None else extrema
+    if skip is not None and skip.any():
+        g1, g2 = np.full(np.shape(t1), np.inf), np.full(np.shape(t2), np.inf)
+        k = ~skip
+        if k.any():
+            g1[k], g2[k] = _values_at(t1[k], t2[k], D[k], level[k], h0[k], h1[k])
+        return t1, t2, g1, g2
+    return (t1, t2, *_values_at(t1, t2, D, level, h0, h1))
+
+
+def _values_at(t1, t2, D, level, h0, h1):
     g1 = level + _homogeneous(np.where(np.isfinite(t1), t1, 0.0), D, h0, h1)[0]
     g2 = level + _homogeneous(np.where(np.isfinite(t2), t2, 0.0), D, h0, h1)[0]
-    return t1, t2, np.where(np.isfinite(t1), g1, np.inf), np.where(np.isfinite(t2), g2, np.inf)
+    return np.where(np.isfinite(t1), g1, np.inf), np.where(np.isfinite(t2), g2, np.inf)
 
 
 def release_margin(D, load, offset):
@@ -171,7 +185,11 @@ def _first_crossing(D, level, h0, h1, exclude_start, before=None):
         tau[zero] = z1
         if zero.all():
             return tau
-    t1, t2, g1, g2 = _extreme_values(D, level, h0, h1)
+    # a crossing that must wait for the first extremum comes after ``before`` when that
+    # extremum does: its threshold values are not needed
+    extrema = _extrema(D, h0, h1)
+    skip = None if before is None else exclude_start & (extrema[0] > before)
+    t1, t2, g1, g2 = _extreme_values(D, level, h0, h1, skip, extrema)
     first = np.isfinite(t1) & (g1 <= 0) & ~exclude_start
     second = ~first & np.isfinite(t2) & (g2 <= 0)
     lo = np.where(first, 0.0, np.where(second, t1, 0.0))
