@@ -100,3 +100,27 @@ def test_illinois_refuses_a_bracket_without_sign_change():
     # a root exactly on an end is still fine, at either end
     ends = bracketed_illinois(lambda x, i: x - np.array([1.0, 4.0])[i], np.ones(2), np.full(2, 4.0))
     np.testing.assert_array_equal(ends, [1.0, 4.0])
+
+
+def test_known_end_values_and_a_joint_derivative_give_the_same_roots_as_brentq():
+    # the options callers use to save evaluations (dg=None: g returns (g, dg); the values
+    # at the bracket ends passed in) must not change the roots, nor hide a bad bracket
+    e, M = kepler_problems()
+    ref = kepler_by_brentq(e, M)
+
+    def g_dg(E, e, M):
+        return E - e * np.sin(E) - M, 1 - e * np.cos(E)
+
+    ends = [g_dg(M, e, M)[0], g_dg(M + e, e, M)[0]]
+    root = bracketed_newton(g_dg, None, M, M + e, [e, M], g_lo=ends[0], g_hi=ends[1])
+    np.testing.assert_allclose(root, ref, rtol=0, atol=4e-15)
+
+    def kepler(E, i):
+        return E - e[i] * np.sin(E) - M[i]
+
+    root = bracketed_illinois(kepler, M, M + e, f_lo=ends[0], f_hi=ends[1], rtol=1e-15)
+    np.testing.assert_allclose(root, ref, rtol=0, atol=1e-14)
+    with pytest.raises(ValueError, match="sign change"):
+        bracketed_newton(g_dg, None, M, M + e, [e, M], g_lo=ends[1] + 1.0, g_hi=ends[1])
+    with pytest.raises(ValueError, match="sign change"):
+        bracketed_illinois(kepler, M, M + e, f_lo=ends[1] + 1.0, f_hi=ends[1])

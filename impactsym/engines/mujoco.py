@@ -670,30 +670,55 @@ def _design_flat_dampratio(e_t, v0, g, tc, simp, rho):
     """Dampratio with timeconst ``tc`` giving restitution ``e_t`` (flat impedance)."""
     d = float(_impedance(np.zeros(()), simp))
 
+    n = e_t.size
+    # the last dampratio tried and its restitution, per element: the gap check below
+    # reads the restitution at the root the solver last evaluated instead of redoing it
+    last_dr, last_e = np.full(n, np.nan), np.full(n, np.nan)
+
     def e_of(dr, idx):
         damp, stiff, _ = _coefficients((tc[idx], dr), simp, None)
-        return _flat(damp, stiff, d, rho[idx], g[idx], v0[idx], extremes=False)[0]
+        e = _flat(damp, stiff, d, rho[idx], g[idx], v0[idx], extremes=False)[0]
+        last_dr[idx], last_e[idx] = dr, e
+        return e
+
+    def e_at(dr):
+        known = last_dr == dr
+        if known.all():
+            return last_e.copy()
+        out = last_e.copy()
+        out[~known] = e_of(dr[~known], np.flatnonzero(~known))
+        return out
 
     # e falls with the dampratio, continuously or by a jump where the release switches
     # from the force to the penetration (then refused below); one bracket suffices
-    n = e_t.size
     idx = np.arange(n)
-    lo, hi = np.full(n, 1e-3), np.full(n, 1e2)
+    # the ends as the solver (in log dampratio) sees them, so their restitutions serve it
+    lo, hi = np.exp(np.log(np.full(n, 1e-3))), np.exp(np.log(np.full(n, 1e2)))
+    e_lo = e_of(lo, idx)
     _unreachable(
         "the body sticks or rebounds too slowly for every dampratio in [1e-3, 100]",
-        e_of(lo, idx) <= e_t,
+        e_lo <= e_t,
         e_t,
         "a higher speed, less gravity or a shorter timeconst (contact_time=...) reaches it",
     )
-    hi = np.where(e_of(hi, idx) <= e_t, hi, np.nan)
+    e_hi = e_of(hi, idx)
+    hi = np.where(e_hi <= e_t, hi, np.nan)
     _unreachable(
         "even dampratio = 100 rebounds faster",
         np.isnan(hi),
         e_t,
         "a lower speed or more gravity reaches it",
     )
-    dr = bracketed_illinois(lambda x, i: e_t[i] - e_of(x, i), lo, hi, log=True, rtol=1e-10)
-    _check_gap(lambda x: e_of(x, idx), e_t, dr, "dampratio")
+    dr = bracketed_illinois(
+        lambda x, i: e_t[i] - e_of(x, i),
+        lo,
+        hi,
+        log=True,
+        rtol=1e-10,
+        f_lo=e_t - e_lo,
+        f_hi=e_t - e_hi,
+    )
+    _check_gap(lambda x: e_at(x) if x is dr else e_of(x, idx), e_t, dr, "dampratio")
     return dr
 
 

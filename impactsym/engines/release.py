@@ -47,18 +47,33 @@ _SERIES = 1e-3  # below this |mu| tau the sinh/sin quotient is taken from its se
 
 
 def _basis(tau: np.ndarray, D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``exp(-D tau) C(tau)`` and ``exp(-D tau) S(tau)`` in every damping regime."""
+    """``exp(-D tau) C(tau)`` and ``exp(-D tau) S(tau)`` in every damping regime.
+
+    The underdamped closed form covers most points; the other regimes (overdamped,
+    the series near ``D = 1`` or ``tau = 0``) are evaluated only where they apply.
+    """
     one_minus = 1.0 - D * D
     mu = np.sqrt(np.abs(one_minus))
     x = mu * tau
-    sign = np.sign(one_minus)  # +1 underdamped, -1 overdamped
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
         ex = np.exp(-D * tau)
         small = x < _SERIES
-        if (one_minus > 0).all() and not small.any():  # common case: underdamped only
+        common = (one_minus > 0) & ~small
+        if common.all():  # underdamped only
             return ex * np.cos(x), ex * np.sin(x) / mu
+        tau, D, one_minus, mu, x, ex, small, common = np.broadcast_arrays(
+            tau, D, one_minus, mu, x, ex, small, common
+        )
+        c, s = np.empty(x.shape), np.empty(x.shape)
+        c[common] = ex[common] * np.cos(x[common])
+        s[common] = ex[common] * np.sin(x[common]) / mu[common]
+        rest = ~common
+        tau, D, one_minus, mu, x, ex, small = (
+            a[rest] for a in (tau, D, one_minus, mu, x, ex, small)
+        )
+        sign = np.sign(one_minus)  # +1 underdamped, -1 overdamped
         safe_mu = np.where(mu > 0, mu, 1.0)
-        # underdamped
+        # underdamped (tiny mu tau: the series below)
         c_u = ex * np.cos(x)
         s_u = ex * np.sin(x) / safe_mu
         # overdamped, written with decaying exponentials only
@@ -73,8 +88,8 @@ def _basis(tau: np.ndarray, D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         c_s = ex * (1.0 - sign * x * x / 2.0)
         s_s = ex * tau * (1.0 - sign * x * x / 6.0)
     under = one_minus > 0
-    c = np.where(small, c_s, np.where(under, c_u, c_o))
-    s = np.where(small, s_s, np.where(under, s_u, s_o))
+    c[rest] = np.where(small, c_s, np.where(under, c_u, c_o))
+    s[rest] = np.where(small, s_s, np.where(under, s_u, s_o))
     return c, s
 
 
@@ -106,12 +121,26 @@ def _extrema(D: np.ndarray, h0: np.ndarray, h1: np.ndarray) -> tuple[np.ndarray,
     return t1, t2
 
 
-def _extreme_values(D, level, h0, h1):
-    """First two extrema of ``h`` and the values of ``level + h`` there."""
-    t1, t2 = _extrema(D, h0, h1)
+def _extreme_values(D, level, h0, h1, skip=None, extrema=None):
+    """First two extrema of ``h`` and the values of ``level + h`` there.
+
+    Where ``skip`` is True the values are not evaluated and reported as ``inf``;
+    ``extrema`` are the extrema when the caller has them.
+    """
+    t1, t2 = _extrema(D, h0, h1) if extrema is None else extrema
+    if skip is not None and skip.any():
+        g1, g2 = np.full(np.shape(t1), np.inf), np.full(np.shape(t2), np.inf)
+        k = ~skip
+        if k.any():
+            g1[k], g2[k] = _values_at(t1[k], t2[k], D[k], level[k], h0[k], h1[k])
+        return t1, t2, g1, g2
+    return (t1, t2, *_values_at(t1, t2, D, level, h0, h1))
+
+
+def _values_at(t1, t2, D, level, h0, h1):
     g1 = level + _homogeneous(np.where(np.isfinite(t1), t1, 0.0), D, h0, h1)[0]
     g2 = level + _homogeneous(np.where(np.isfinite(t2), t2, 0.0), D, h0, h1)[0]
-    return t1, t2, np.where(np.isfinite(t1), g1, np.inf), np.where(np.isfinite(t2), g2, np.inf)
+    return np.where(np.isfinite(t1), g1, np.inf), np.where(np.isfinite(t2), g2, np.inf)
 
 
 def release_margin(D, load, offset):
@@ -140,8 +169,13 @@ def release_margin(D, load, offset):
     return np.minimum.reduce([f1, f2, p2, c + delta, c])
 
 
-def _first_crossing(D, level, h0, h1, exclude_start):
-    """First ``tau > 0`` with ``level + h(tau) <= 0`` (``level >= 0``, ``level + h0 >= 0``)."""
+def _first_crossing(D, level, h0, h1, exclude_start, before=None):
+    """First ``tau > 0`` with ``level + h(tau) <= 0`` (``level >= 0``, ``level + h0 >= 0``).
+
+    With ``before``, a crossing proven to come after it is not solved for and reported
+    as ``inf`` (``level + h`` falls monotonically across its bracket, so it comes after
+    ``before`` when the bracket starts after it or the threshold is still positive there).
+    """
     tau = np.full(np.shape(D), np.inf)
     # level 0: the first zero of h itself, in closed form (h' has the initial values
     # (h1, -2 D h1 - h0), so the zeros of h are the "extrema" of that function's integral)
@@ -151,21 +185,41 @@ def _first_crossing(D, level, h0, h1, exclude_start):
         tau[zero] = z1
         if zero.all():
             return tau
-    t1, t2, g1, g2 = _extreme_values(D, level, h0, h1)
+    # a crossing that must wait for the first extremum comes after ``before`` when that
+    # extremum does: its threshold values are not needed
+    extrema = _extrema(D, h0, h1)
+    skip = None if before is None else exclude_start & (extrema[0] > before)
+    t1, t2, g1, g2 = _extreme_values(D, level, h0, h1, skip, extrema)
     first = np.isfinite(t1) & (g1 <= 0) & ~exclude_start
     second = ~first & np.isfinite(t2) & (g2 <= 0)
     lo = np.where(first, 0.0, np.where(second, t1, 0.0))
     hi = np.where(first, t1, np.where(second, t2, 1.0))
+    # the threshold at the bracket ends is known: level + h0 at 0, g1 and g2 at t1, t2
+    g_lo = np.where(first, level + h0, g1)
+    g_hi = np.where(first, g1, g2)
     found = (first | second) & ~zero
+    if before is not None:
+        late = np.array(found & (lo > before))  # an array also when 0-d (item assignment)
+        k = found & ~late & (hi > before)
+        if k.any():
+            late[k] = level[k] + _homogeneous(before[k], D[k], h0[k], h1[k])[0] > 0
+        found &= ~late
     if found.any():
         params = [a[found] for a in (D, level, h0, h1)]
+
+        def g_dg(t, d, lv, a, b):
+            h, dh = _homogeneous(t, d, a, b)
+            return lv + h, dh
+
         tau[found] = bracketed_newton(
-            lambda t, d, lv, a, b: lv + _homogeneous(t, d, a, b)[0],
-            lambda t, d, lv, a, b: _homogeneous(t, d, a, b)[1],
+            g_dg,
+            None,
             lo[found],
             hi[found],
             params,
             rtol=1e-13,
+            g_lo=g_lo[found],
+            g_hi=g_hi[found],
         )
     return tau
 
@@ -259,8 +313,9 @@ def linear_release(
     # position: z = c + h, h(0) = -c, h'(0) = 1 (z(0) = 0 is not a release)
     # without load and offset the force vanishes first (z = -2 D z' > 0 there)
     needed = position and not (force and not c.any() and not delta.any() and (D > 0).all())
+    # (solved only where it may come before the force release: the first one counts)
     tau_p = (
-        _first_crossing(D, c, -c, np.ones_like(D), np.ones(D.shape, bool))
+        _first_crossing(D, c, -c, np.ones_like(D), np.ones(D.shape, bool), before=tau_f)
         if needed
         else np.full(D.shape, np.inf)
     )

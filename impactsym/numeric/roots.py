@@ -18,13 +18,15 @@ ArrayFunction = Callable[..., np.ndarray]
 
 def bracketed_newton(
     g: ArrayFunction,
-    dg: ArrayFunction,
+    dg: ArrayFunction | None,
     lo: np.ndarray,
     hi: np.ndarray,
     params: Sequence[np.ndarray] = (),
     *,
     rtol: float = 4e-15,
     max_iter: int = 200,
+    g_lo: np.ndarray | None = None,
+    g_hi: np.ndarray | None = None,
 ) -> np.ndarray:
     """Solve ``g(x, *params) = 0`` elementwise for ``x`` in ``[lo, hi]``.
 
@@ -38,7 +40,8 @@ def bracketed_newton(
     ----------
     g, dg
         Function and its derivative in ``x``, called as ``g(x, *params)`` on
-        1-D arrays.
+        1-D arrays. With ``dg=None``, ``g`` returns the pair ``(g, dg)`` (one call per
+        iteration where both share work).
     lo, hi
         Bracket ends, broadcastable with ``params``.
     params
@@ -47,6 +50,9 @@ def bracketed_newton(
         Relative tolerance on the step (absolute near ``x = 0``).
     max_iter
         Iteration limit; more is an error, not a silent result.
+    g_lo, g_hi
+        ``g`` at ``lo`` and ``hi`` when the caller already has them (exactly as ``g``
+        would return them); else evaluated here.
 
     >>> root = bracketed_newton(lambda x, c: x**2 - c, lambda x, c: 2 * x,
     ...                         np.zeros(2), np.full(2, 3.0), [np.array([2.0, 4.0])])
@@ -59,9 +65,10 @@ def bracketed_newton(
     params = [np.broadcast_to(np.asarray(p, dtype=np.float64), shape).ravel() for p in params]
     if lo.size == 0:
         return lo.reshape(shape)
+    value = g if dg is not None else (lambda x, *q: g(x, *q)[0])
     with np.errstate(all="ignore"):
-        g_lo = g(lo, *params)
-        g_hi = g(hi, *params)
+        g_lo = value(lo, *params) if g_lo is None else np.broadcast_to(g_lo, shape).ravel()
+        g_hi = value(hi, *params) if g_hi is None else np.broadcast_to(g_hi, shape).ravel()
     if np.any(g_lo * g_hi > 0) or not np.all(np.isfinite(g_lo) & np.isfinite(g_hi)):
         raise ValueError("bracketed_newton needs a finite sign change in every bracket")
     rising = g_lo < g_hi
@@ -76,8 +83,8 @@ def bracketed_newton(
         p = [q[active] for q in params]
         xa, la, ha = x[active], lo[active], hi[active]
         with np.errstate(all="ignore"):
-            gx = g(xa, *p)
-            step = gx / dg(xa, *p)
+            gx, dgx = (g(xa, *p), dg(xa, *p)) if dg is not None else g(xa, *p)
+            step = gx / dgx
         below = (gx < 0) == rising[active]
         la = np.where(below, xa, la)
         ha = np.where(below, ha, xa)
@@ -106,6 +113,8 @@ def bracketed_illinois(
     rtol: float = 1e-13,
     atol: float = 0.0,
     max_iter: int = 400,
+    f_lo: np.ndarray | None = None,
+    f_hi: np.ndarray | None = None,
 ) -> np.ndarray:
     """Solve ``fun(x, index) = 0`` elementwise in ``[lo, hi]``, ``fun(lo) <= 0 < fun(hi)``.
 
@@ -117,6 +126,8 @@ def bracketed_illinois(
     ``max(atol, rtol * |x|)`` (``rtol`` alone in ``log x``) or ``fun`` is exactly zero.
     A bracket without the sign change (or with NaN at an end) raises ``ValueError``:
     the method would otherwise return a bracket end as if it were a root.
+    ``f_lo``, ``f_hi`` are ``fun`` at the bracket ends when the caller already has them
+    (exactly as ``fun`` returns them), saving those two evaluations.
 
     >>> targets = np.array([2.0, 9.0])
     >>> root = bracketed_illinois(lambda x, i: x**2 - targets[i], np.ones(2), np.full(2, 4.0))
@@ -127,8 +138,8 @@ def bracketed_illinois(
     a = to(np.asarray(lo, dtype=float)).ravel().copy()
     b = to(np.asarray(hi, dtype=float)).ravel().copy()
     every = np.arange(a.size)
-    fa = np.asarray(fun(back(a), every), dtype=float)
-    fb = np.asarray(fun(back(b), every), dtype=float)
+    fa = np.asarray(fun(back(a), every) if f_lo is None else f_lo, dtype=float).ravel().copy()
+    fb = np.asarray(fun(back(b), every) if f_hi is None else f_hi, dtype=float).ravel().copy()
     bad = ~((fa <= 0) & (fb >= 0))  # NaN fails both
     if bad.any():
         i = np.flatnonzero(bad)[0]
