@@ -98,6 +98,7 @@ class _ElasticModel:
         import mpmath as mp
 
         self.dps = dps
+        self._shift_cache: dict = {}
         self.parts: list[list] = []
         self.dparts: list[list] = []
         self.d2parts: list[list] = []
@@ -147,27 +148,74 @@ class _ElasticModel:
         with np.errstate(all="ignore"):
             return self._evaluate(u_terms, f, derivative)
 
+    def _shifted(self, derivative, k, centre):
+        """Float coefficients of term ``k`` re-expanded about ``u = centre`` (an odd
+        integer): per part ``(root, d0, d1, pair)`` with ``c(centre + e) = sum d_j e^j``.
+
+        The shift is done with mpmath at the model's precision from the exact pole
+        data, so the alternating, large coefficients of the later terms (up to ``1e9``
+        for ``alpha = 1.3, kappa = 20``) do not cancel in float64: with ``|e| <= 1`` the
+        rounding bound ``sum |d_j| |e|^j`` is close to the size of the term itself.
+        Cached per ``(derivative, k, centre)``, shared by every ``f``.
+        """
+        key = (derivative, k, centre)
+        cached = self._shift_cache.get(key)
+        if cached is not None:
+            return cached
+        import mpmath as mp
+
+        out = []
+        with mp.workdps(self.dps):
+            c = mp.mpf(centre)
+            for r, p0, p1, pair in (self.dparts if derivative else self.parts)[k]:
+                shifted = []
+                for coeffs in (p0, p1):
+                    n = len(coeffs)
+                    d = [
+                        mp.fsum(mp.binomial(j, i) * coeffs[j] * c ** (j - i) for j in range(i, n))
+                        for i in range(n)
+                    ]
+                    shifted.append(np.array([complex(x) for x in d]))
+                out.append((complex(r), shifted[0], shifted[1], pair))
+        self._shift_cache[key] = out
+        return out
+
     def _evaluate(self, u_terms, f, derivative):
         value = np.zeros(np.shape(f))
         bound = np.zeros(np.shape(f))
-        for k, parts in enumerate(self.dparts if derivative else self.parts):
+        n_parts = len(self.dparts if derivative else self.parts)
+        for k in range(n_parts):
             u = u_terms[k]
             arrived = u >= 0
             if not arrived.any():
                 continue
             ua, fa = u[arrived], f[arrived]
-            for r, p0, p1, pair in parts:
-                c0 = np.array([complex(c) for c in p0])
-                c1 = np.array([complex(c) for c in p1])
-                poly = np.zeros(ua.size, dtype=complex)
-                size = np.zeros(ua.size)
-                for q0, q1 in zip(c0[::-1], c1[::-1], strict=True):
-                    poly = poly * ua + (q0 + fa * q1)
-                    size = size * ua + np.abs(q0) + fa * np.abs(q1)
-                e = np.exp(complex(r) * ua)
-                weight = 2.0 if pair else 1.0
-                value[arrived] += weight * (poly * e).real
-                bound[arrived] += weight * size * np.abs(e) * (len(c0) + 4)
+            # centre 2j + 1 of the unit-2 cell [2j, 2j + 2] holding u; |e| <= 1
+            cell = np.minimum(np.floor(0.5 * ua), T_LIMIT_ELASTIC // 2).astype(np.int64)
+            for j in np.unique(cell):
+                sel = np.flatnonzero(cell == j)
+                centre = 2 * int(j) + 1
+                us, fs = ua[sel], fa[sel]
+                e_arg = us - centre
+                ae = np.abs(e_arg)
+                plain = self._shifted(derivative, k, 0)
+                for (r, c0, c1, pair), (_, b0, b1, _) in zip(
+                    self._shifted(derivative, k, centre), plain, strict=True
+                ):
+                    # per point the basis (about the centre or about u = 0) with the
+                    # smaller rounding bound: the fast pole's part is small in u only
+                    poly, size = _horner(c0, c1, e_arg, ae, fs)
+                    poly0, size0 = _horner(b0, b1, us, us, fs)
+                    use0 = size0 < size
+                    poly, size = np.where(use0, poly0, poly), np.where(use0, size0, size)
+                    e = np.exp(r * us)
+                    weight = 2.0 if pair else 1.0
+                    idx = np.flatnonzero(arrived)[sel]
+                    value[idx] += weight * (poly * e).real
+                    # Horner and coefficient rounding, and the exponential's argument
+                    # (relative error about |r u| eps, from r and r * u in float64)
+                    factor = len(c0) + 4 + 2.0 * abs(r) * us
+                    bound[idx] += weight * size * np.abs(e) * factor
         return value, bound * _EPS
 
     def second_derivative_bound(self, ta, tb, f):
@@ -207,6 +255,16 @@ class _ElasticModel:
                     term = poly * mp.exp(r * u)
                     total += 2 * mp.re(term) if pair else mp.re(term)
             return float(total)
+
+
+def _horner(c0, c1, x, ax, f):
+    """``sum (c0_j + f c1_j) x^j`` and ``sum (|c0_j| + f |c1_j|) |x|^j`` by Horner."""
+    poly = np.zeros(x.size, dtype=complex)
+    size = np.zeros(x.size)
+    for q0, q1 in zip(c0[::-1], c1[::-1], strict=True):
+        poly = poly * x + (q0 + f * q1)
+        size = size * ax + np.abs(q0) + f * np.abs(q1)
+    return poly, size
 
 
 def _derivative(coeffs: list, r) -> list:
