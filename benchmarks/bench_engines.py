@@ -21,7 +21,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's package
 from impactsym.engines import lammps, mujoco
-from impactsym.engines.runs import lammps_collision, mujoco_drop
+from impactsym.engines.runs import fine_timestep, lammps_collision, mujoco_drop
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
 DEFAULT = mujoco.DEFAULT_SOLIMP
@@ -34,20 +34,6 @@ def best_of(repeats, fn):
         fn()
         times.append(time.perf_counter() - start)
     return min(times)
-
-
-def textbook(e):
-    return -math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2)
-
-
-def timestep(solref, speed, gravity):
-    omega = (
-        max(1 / (solref[0] * solref[1]), 2 / solref[0])
-        if solref[0] > 0
-        else max(math.sqrt(-solref[0]), -solref[1])
-    )
-    dt = min(2e-5, 0.01 / omega)
-    return min(dt, 0.002 * speed / gravity) if gravity else dt
 
 
 def throughput(n):
@@ -80,15 +66,15 @@ def mujoco_rows(targets):
                         solimp=solimp,
                         speed=1.0,
                         gravity=gravity,
-                        timestep=timestep(sr, 1.0, gravity),
+                        timestep=fine_timestep(sr, 1.0, gravity),
                     )
-                    text = (mujoco.DEFAULT_TIMECONST, textbook(e))
+                    text = (mujoco.DEFAULT_TIMECONST, float(lammps.textbook_damping_ratio(e)))
                     e_text, _ = mujoco_drop(
                         solref=text,
                         solimp=solimp,
                         speed=1.0,
                         gravity=gravity,
-                        timestep=timestep(text, 1.0, gravity),
+                        timestep=fine_timestep(text, 1.0, gravity),
                     )
                     rows.append(
                         (

@@ -19,23 +19,10 @@ if os.environ.get("CI") == "true":
 else:
     pytest.importorskip("mujoco")
 
-from impactsym.engines.runs import mujoco_drop, mujoco_pendulum
+from impactsym.engines.runs import fine_timestep, mujoco_drop, mujoco_pendulum
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
 DEFAULT = (0.9, 0.95, 0.001, 0.5, 2.0)
-
-
-def _timestep(solref, speed, gravity):
-    """A MuJoCo timestep fine enough for 1 % (omega dt <= 0.01, g dt / v0 <= 0.002)."""
-    if solref[0] > 0:
-        omega = 1.0 / (solref[0] * solref[1])
-        omega = max(omega, 2.0 / solref[0])
-    else:
-        omega = max(math.sqrt(-solref[0]), -solref[1])
-    dt = min(2e-5, 0.01 / omega)
-    if gravity:
-        dt = min(dt, 0.002 * speed / gravity)
-    return dt
 
 
 def _textbook_dampratio(e):
@@ -117,7 +104,7 @@ def test_designed_restitution_is_what_mujoco_gives(gravity, solimp, tol):
             solimp=solimp,
             speed=speed,
             gravity=gravity,
-            timestep=_timestep(sr, speed, gravity),
+            timestep=fine_timestep(sr, speed, gravity),
         )
         assert e == pytest.approx(target, rel=tol)
         assert t == pytest.approx(design.contact_time[i], rel=0.02)
@@ -127,7 +114,7 @@ def test_designed_restitution_is_what_mujoco_gives(gravity, solimp, tol):
             solimp=solimp,
             speed=speed,
             gravity=gravity,
-            timestep=_timestep(text, speed, gravity),
+            timestep=fine_timestep(text, speed, gravity),
         )
         rows.append((target, e, e_text))
     # the textbook dampratio misses low targets by far more than the tolerance
@@ -154,7 +141,7 @@ def test_negative_solref_and_contact_time_design_in_mujoco(gravity):
                 solimp=FLAT,
                 speed=0.7,
                 gravity=gravity,
-                timestep=_timestep(sr, 0.7, gravity),
+                timestep=fine_timestep(sr, 0.7, gravity),
             )
             assert e == pytest.approx(target, rel=0.01)
             assert t == pytest.approx(0.01, rel=0.02)
@@ -295,7 +282,11 @@ def test_default_solimp_design_of_both_restitution_and_contact_time():
     for i, target in enumerate(targets):
         sr = (float(design.solref[0][i]), float(design.solref[1][i]))
         e, t = mujoco_drop(
-            solref=sr, solimp=DEFAULT, speed=0.7, gravity=9.81, timestep=_timestep(sr, 0.7, 9.81)
+            solref=sr,
+            solimp=DEFAULT,
+            speed=0.7,
+            gravity=9.81,
+            timestep=fine_timestep(sr, 0.7, 9.81),
         )
         assert e == pytest.approx(target, rel=0.02)
         assert t == pytest.approx(0.01, rel=0.02)

@@ -11,9 +11,30 @@ from __future__ import annotations
 
 import ctypes
 import importlib.metadata
+import math
 import os
 
 import numpy as np
+
+
+def fine_timestep(solref, speed: float, gravity: float) -> float:
+    """A MuJoCo timestep fine enough for 1 % in restitution and contact time.
+
+    It keeps ``omega dt <= 0.01`` (``omega`` the larger of the contact's natural
+    frequency and its damping rate, from either ``solref`` form), ``dt <= 2e-5`` and,
+    under gravity, ``g dt / v0 <= 0.002``.
+
+    >>> fine_timestep((0.02, 1.0), 1.0, 0.0)
+    2e-05
+    >>> round(fine_timestep((-1e8, -100.0), 1.0, 0.0), 9)
+    1e-06
+    """
+    if solref[0] > 0:
+        omega = max(1.0 / (solref[0] * solref[1]), 2.0 / solref[0])
+    else:
+        omega = max(math.sqrt(-solref[0]), -solref[1])
+    dt = min(2e-5, 0.01 / omega)
+    return min(dt, 0.002 * speed / gravity) if gravity else dt
 
 
 def mujoco_drop(*, solref, solimp, speed, gravity=0.0, timestep=1e-5, mass=1.0, t_max=1.0):
