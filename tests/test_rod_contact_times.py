@@ -128,6 +128,59 @@ def test_narrow_dips_are_found(a, force, condition):
     _compare(a, force, condition)
 
 
+@settings(max_examples=6, deadline=None)
+@given(
+    a=st.floats(math.log(0.05), math.log(10.0)).map(math.exp),
+    f1=st.floats(0.0, 2.0),
+    f2=st.floats(0.0, 2.0),
+    lam=st.floats(0.0, 1.0),
+)
+def test_contact_functions_are_affine_in_f_as_the_atlas_screening_assumes(a, f1, f2, lam):
+    """An atlas settles every ``f`` between two ``f`` whose ``g > 0`` is proved on a
+    reflection interval (``contact_times._screen_interval``): sound only because ``N``
+    and ``y`` are affine in ``f`` at fixed ``alpha``, checked here on the independent
+    delay-equation solution."""
+    t = np.linspace(0.013, 19.99, 41)
+    fm = (1.0 - lam) * f1 + lam * f2
+    refs = [Characteristics(a, force, 10) for force in (f1, f2, fm)]
+    for name in ("N", "y"):
+        g1, g2, gm = (getattr(ref, name)(t) for ref in refs)
+        np.testing.assert_allclose(gm, (1.0 - lam) * g1 + lam * g2, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("condition", ["force", "position"])
+def test_an_atlas_equals_the_search_pair_by_pair_with_far_fewer_searches(condition, monkeypatch):
+    """Screening a grid (pairs of equal ``alpha`` settled together where ``g > 0`` is
+    proved at both ends of a run of ``f``) gives the contact time of every pair, the
+    narrow dips of the issue included, and searches a fraction of the pairs."""
+    from impactsym.rod import contact_times as module
+
+    alphas = np.array([0.07515749760695055, 0.5767450137140747, 0.6606700471450271, 3.0])
+    f = np.r_[np.linspace(0.0, 2.0, 41), 14 / 13, 68 / 39, 62 / 39, 1.0]
+    A, F = np.meshgrid(alphas, f)
+    searched = []
+    search = module._search_interval
+
+    def counting(which, m, tables, row, *args):
+        searched.append(row.size)
+        return search(which, m, tables, row, *args)
+
+    monkeypatch.setattr(module, "_search_interval", counting)
+    t_max = 30.0
+    grid = contact_time(A, F, condition=condition, t_max=t_max)
+    n_grid = sum(searched)
+    pairs = [
+        contact_time(a, force, condition=condition, t_max=t_max)
+        for a, force in zip(A.ravel(), F.ravel(), strict=True)
+    ]
+    np.testing.assert_allclose(grid.ravel(), pairs, rtol=0, atol=1e-12)
+    # pair by pair: one search per pair and reflection interval up to its end
+    n_pairs = sum(searched) - n_grid
+    assert np.isinf(grid).any()
+    assert np.isfinite(grid).any()
+    assert n_grid < 0.5 * n_pairs, (n_grid, n_pairs)
+
+
 def _reference_second_derivative(ref, which, k, tau):
     """``d^2 g / d tau^2`` on interval ``k`` from the collocation series (g = N or y)."""
     if which == "N":
