@@ -114,7 +114,7 @@ def first_sign_change(
         [nodes[left], nodes[right], g[left], g[right], dg[left], dg[right], aux[left], aux[right]]
     )
     own = owner[left]
-    found_a, found_b, found_own = [], [], []
+    found, found_own = [], []  # rows a, b, g(a), g(b) of the decided cells
     for _ in range(max_rounds):
         if own.size > max_cells:
             raise RuntimeError(
@@ -165,8 +165,7 @@ def first_sign_change(
         pending[own[undecided]] = True
         done = relevant & decided & ~pending[own] & (a == first_change[own])
         if done.any():
-            found_a.append(a[done])
-            found_b.append(b[done])
+            found.append(cells[:4, done])
             found_own.append(own[done])
         if not undecided.any():
             break
@@ -185,9 +184,9 @@ def first_sign_change(
         own = np.concatenate([own_split, own_split, own[carry]])
     else:  # pragma: no cover - the halving ends at the tolerance long before
         raise RuntimeError("first_sign_change: cells not decided")
-    if not found_a:
+    if not found:
         return (result, ~weak) if certify else result
-    lo, hi = np.concatenate(found_a), np.concatenate(found_b)
+    lo, hi, g_lo, g_hi = np.concatenate(found, axis=1)
     who = np.concatenate(found_own)
     if who.size:
         cache: dict = {}
@@ -202,7 +201,9 @@ def first_sign_change(
                 return cache["slope"]
             return evaluate(x, w.astype(np.int64))[1]
 
-        result[who] = bracketed_newton(g_only, dg_only, lo, hi, [who.astype(np.float64)])
+        result[who] = bracketed_newton(
+            g_only, dg_only, lo, hi, [who.astype(np.float64)], g_lo=g_lo, g_hi=g_hi
+        )
     if certify:
         return result, ~weak & np.isnan(result)
     return result

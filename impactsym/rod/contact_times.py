@@ -25,10 +25,12 @@ __all__ = ["ContactTimeMap", "contact_time", "contact_time_map"]
 _FASTEST_POLE = 1e8
 #: Initial nodes per unit of sqrt((m + 1) x) on reflection interval m (tuned by cell counts).
 _INITIAL_DENSITY = {"N": 2.0, "y": 0.25}
-#: Pairs per certified search (bounds the memory of its cells), table entries per chunk
-#: of distinct alpha (the rigid tables hold O(n_alpha * t_max) numbers), and the stride
-#: in f of the first searched pairs of each alpha (:func:`_screen_interval`; tuned).
-_SEARCH_CHUNK, _TABLE_ENTRIES, _SCREEN_STRIDE = 32768, 2**22, 64
+#: Pairs per certified search (bounds the memory of its cells) and table entries per
+#: chunk of distinct alpha (the rigid tables hold O(n_alpha * t_max) numbers).
+_SEARCH_CHUNK, _TABLE_ENTRIES = 32768, 2**22
+#: Strides in f of the searched pairs per alpha (:func:`_screen_interval`), used where
+#: at least _SCREEN_MIN_PAIRS pairs per alpha are in contact (tuned on atlases).
+_SCREEN_STRIDES, _SCREEN_MIN_PAIRS = (64, 1), 16
 #: Default search horizons (rigid, finite stiffness).
 T_MAX_RIGID, T_MAX_ELASTIC = 100.0, 20.0
 
@@ -215,42 +217,42 @@ def _search_interval(which, m, tables, row, alpha, f, t_max):
     return x_root, positive
 
 
-def _screen_interval(search, row):
+def _screen_interval(search, row, strides):
     """First sign change on one reflection interval for pairs sorted by ``(alpha, f)``,
     searching only some of them.
 
     For a fixed ``alpha``, ``g = y`` or ``N`` is affine in ``f`` (:func:`_rigid_interval`):
     where ``g > 0`` is proved on the whole interval for ``f_1`` and ``f_2`` (``search``
     returns ``positive``), it holds for every ``f`` between them, whose search would find
-    no sign change. So every ``_SCREEN_STRIDE``-th pair of each ``alpha`` is searched,
-    and a run between two searched pairs is settled as a whole when both are proved
-    positive, else halved (its middle pair searched), until every pair is searched or
-    settled. ``search(positions) -> (x, positive)``; returns ``x`` per pair (NaN: no
-    sign change on this interval).
+    no sign change. So the pairs of each ``alpha`` are searched at the first stride, a
+    run between two searched pairs is settled as a whole when both are proved positive,
+    and the other runs are searched at the next stride, down to the last stride, 1.
+    ``search(positions) -> (x, positive)``; returns ``x`` per pair (NaN: no sign change
+    on this interval).
     """
     n = row.size
     x_root, positive = np.full(n, np.nan), np.zeros(n, dtype=bool)
     searched = np.zeros(n, dtype=bool)
-    start = np.flatnonzero(np.r_[True, row[1:] != row[:-1]])
-    count = np.diff(np.r_[start, n])
-    n_nodes = 1 + -(-(count - 1) // _SCREEN_STRIDE)
-    group = np.repeat(np.arange(start.size), n_nodes)
-    k = np.arange(group.size) - np.repeat(np.cumsum(n_nodes) - n_nodes, n_nodes)
-    todo = start[group] + np.minimum(k * _SCREEN_STRIDE, count[group] - 1)
-    same = group[1:] == group[:-1]
-    lo, hi = todo[:-1][same], todo[1:][same]
-    todo = np.unique(todo)
-    while True:
-        todo = todo[~searched[todo]]
+    lo = np.flatnonzero(np.r_[True, row[1:] != row[:-1]])
+    hi = np.r_[lo[1:], n] - 1
+    for stride in strides:
+        if lo.size == 0:
+            break
+        # nodes lo, lo + stride, ..., hi of every open run
+        count = 1 + -(-(hi - lo) // stride)
+        run = np.repeat(np.arange(lo.size), count)
+        k = np.arange(run.size) - np.repeat(np.cumsum(count) - count, count)
+        nodes = np.minimum(lo[run] + k * stride, hi[run])
+        todo = np.unique(nodes[~searched[nodes]])
         if todo.size:
             x_root[todo], positive[todo] = search(todo)
             searched[todo] = True
-        split = ~(positive[lo] & positive[hi]) & (hi - lo > 1)
-        if not split.any():
-            break
-        lo, hi = lo[split], hi[split]
-        mid = (lo + hi) // 2
-        lo, hi, todo = np.r_[lo, mid], np.r_[mid, hi], mid
+        same = run[1:] == run[:-1]
+        lo, hi = nodes[:-1][same], nodes[1:][same]
+        still = ~(positive[lo] & positive[hi]) & (hi - lo > 1)
+        lo, hi = lo[still], hi[still]
+    if lo.size:
+        raise ValueError(f"strides must end with 1, got {strides!r}")
     return x_root
 
 
@@ -283,7 +285,9 @@ def _rigid_contact_times(which, alpha, f, t_max):
             def search(pos, m=m, tables=tables, row=row, al=al, ff=ff):
                 return _search_interval(which, m, tables, row[pos], al[pos], ff[pos], t_max)
 
-            x_root = _screen_interval(search, row)
+            # screening pays where many pairs share an alpha; else search them all
+            crowded = active.size >= _SCREEN_MIN_PAIRS * (row[-1] - row[0] + 1)
+            x_root = _screen_interval(search, row, _SCREEN_STRIDES if crowded else (1,))
             hit = np.isfinite(x_root)
             out[lo + active[hit]] = 2.0 * m + 0.5 * al[hit] * x_root[hit]
             active = active[~hit]
