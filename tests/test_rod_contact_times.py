@@ -197,6 +197,23 @@ def test_an_atlas_equals_the_search_pair_by_pair_with_far_fewer_searches(
     assert n_grid < 0.8 * n_pairs, (n_grid, n_pairs)
 
 
+def test_chunks_of_tables_and_searches_do_not_change_the_contact_times(monkeypatch):
+    """Distinct alphas are split into chunks (table memory) and searches into batches
+    (cell memory); neither changes any contact time, nor do repeated pairs."""
+    from impactsym.rod import contact_times as module
+
+    rng = np.random.default_rng(11)
+    alpha = np.r_[np.exp(rng.uniform(np.log(0.05), np.log(10.0), 30)), 0.5, 0.5, 0.5]
+    f = np.r_[rng.uniform(0.0, 2.0, 30), 1.3, 0.2, 1.3]
+    want = {c: contact_time(alpha, f, condition=c, t_max=24.0) for c in ("force", "position")}
+    monkeypatch.setattr(module, "_TABLE_ENTRIES", 40)  # 3 alphas per chunk at t_max = 24
+    monkeypatch.setattr(module, "_SEARCH_CHUNK", 7)
+    for condition, times in want.items():
+        got = contact_time(alpha, f, condition=condition, t_max=24.0)
+        np.testing.assert_allclose(got, times, rtol=0, atol=1e-12)
+        assert got[-1] == got[-3]
+
+
 def _reference_second_derivative(ref, which, k, tau):
     """``d^2 g / d tau^2`` on interval ``k`` from the collocation series (g = N or y)."""
     if which == "N":
