@@ -197,6 +197,23 @@ def test_an_atlas_equals_the_search_pair_by_pair_with_far_fewer_searches(
     assert n_grid < 0.8 * n_pairs, (n_grid, n_pairs)
 
 
+@settings(max_examples=20, deadline=None)
+@given(
+    a=st.floats(math.log(0.05), math.log(10.0)).map(math.exp),
+    forces=st.lists(st.floats(0.0, 2.0), min_size=2, max_size=24),
+    condition=st.sampled_from(["force", "position"]),
+)
+def test_screening_random_pressing_forces_equals_the_search_pair_by_pair(a, forces, condition):
+    from impactsym.rod import contact_times as module
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(module, "_SCREEN_STRIDES", (4, 1))
+        patch.setattr(module, "_SCREEN_MIN_PAIRS", 1)
+        grid = contact_time(a, np.array(forces), condition=condition, t_max=20.0)
+    pairs = [contact_time(a, force, condition=condition, t_max=20.0) for force in forces]
+    np.testing.assert_allclose(grid, pairs, rtol=0, atol=1e-12)
+
+
 def test_chunks_of_tables_and_searches_do_not_change_the_contact_times(monkeypatch):
     """Distinct alphas are split into chunks (table memory) and searches into batches
     (cell memory); neither changes any contact time, nor do repeated pairs."""
