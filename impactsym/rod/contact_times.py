@@ -287,7 +287,8 @@ def _rigid_contact_times(which, alpha, f, t_max):
                 return _search_interval(which, m, tables, row[pos], al[pos], ff[pos], t_max)
 
             # screening pays where many pairs share an alpha; else search them all
-            crowded = active.size >= _SCREEN_MIN_PAIRS * (row[-1] - row[0] + 1)
+            n_alpha = 1 + np.count_nonzero(row[1:] != row[:-1])
+            crowded = active.size >= _SCREEN_MIN_PAIRS * n_alpha
             x_root = _screen_interval(search, row, _SCREEN_STRIDES if crowded else (1,))
             hit = np.isfinite(x_root)
             out[lo + active[hit]] = 2.0 * m + 0.5 * al[hit] * x_root[hit]
