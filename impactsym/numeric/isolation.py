@@ -19,6 +19,10 @@ as zero-free without proof only once ``M h^2 / 8 <= tol``: a dip of ``g`` below 
 that is shallower than ``tol`` may then be passed over (a tangential touch is not a
 sign change). The decided cell is refined by :func:`impactsym.numeric.bracketed_newton`.
 Rounding errors of the evaluation of ``g`` (about ``1e-13`` here) are below ``tol``.
+
+With ``certify=True`` the search also says for which owners it *proved* ``g > 0`` on
+the whole span of the nodes: no sign change, ``g > 0`` at every node, and every cell
+cleared by a lower bound or by monotonicity (none accepted only for its depth ``tol``).
 """
 
 from __future__ import annotations
@@ -43,7 +47,8 @@ def first_sign_change(
     tol: float = TOLERANCE,
     max_rounds: int = 80,
     max_cells: int = 2**24,
-) -> np.ndarray:
+    certify: bool = False,
+) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
     """First point where ``g`` goes from ``> 0`` to ``<= 0``, per owner; NaN if none.
 
     Parameters
@@ -62,6 +67,16 @@ def first_sign_change(
     tol, max_rounds, max_cells
         Acceptance depth (see the module notes) and work limits; beyond the limits a
         ``RuntimeError`` is raised, never a guess.
+    certify
+        Also return ``positive``: per owner, ``True`` where ``g > 0`` is proved on
+        the whole span of its nodes (then the root is NaN), ``False`` where a root was
+        found or a cell was only accepted for its depth (module notes).
+
+    Returns
+    -------
+    numpy.ndarray or tuple of numpy.ndarray
+        The first sign change per owner (NaN if none); with ``certify``, the pair
+        ``(roots, positive)``.
 
     Examples
     --------
@@ -77,10 +92,20 @@ def first_sign_change(
     >>> root = first_sign_change(evaluate, bound, nodes, owner, 2)
     >>> bool(np.allclose(root, np.arccos(c), rtol=0, atol=1e-14))
     True
+
+    With ``certify``: ``cos(x) + 1.5`` is proved positive on ``[0, 7]``; the touch of
+    ``cos(x) + 1`` at ``pi`` is no sign change, but not a proof of ``g > 0`` either:
+
+    >>> c = np.array([-1.5, -1.0])
+    >>> roots, positive = first_sign_change(evaluate, bound, nodes, owner, 2, certify=True)
+    >>> roots.tolist(), positive.tolist()
+    ([nan, nan], [True, False])
     """
     result = np.full(n_owners, np.nan)
+    # owners where g > 0 is not proved: a cell accepted for its depth only, or g <= 0
+    weak = np.zeros(n_owners, dtype=bool)
     if nodes.size == 0:
-        return result
+        return (result, ~weak) if certify else result
     g, dg, aux = evaluate(nodes, owner)
     left = np.flatnonzero(owner[1:] == owner[:-1])
     right = left + 1
@@ -89,7 +114,7 @@ def first_sign_change(
         [nodes[left], nodes[right], g[left], g[right], dg[left], dg[right], aux[left], aux[right]]
     )
     own = owner[left]
-    found_a, found_b, found_own = [], [], []
+    found, found_own = [], []  # rows a, b, g(a), g(b) of the decided cells
     for _ in range(max_rounds):
         if own.size > max_cells:
             raise RuntimeError(
@@ -101,6 +126,8 @@ def first_sign_change(
         ga, da = cells[2], cells[4]
         keep = (ga > 0) | ((ga == 0) & (da > 0))
         if not keep.all():
+            if certify:
+                weak[own[~keep]] = True
             cells, own = cells[:, keep], own[keep]
         if own.size == 0:
             break
@@ -118,7 +145,10 @@ def first_sign_change(
         lower = np.where(at_zero, np.where(da - q / (2 * h) > 0, np.inf, -np.inf), lower)
         change = (gb <= 0) & ~at_zero
         tiny = (q / 8 <= tol) | (h <= 4 * np.finfo(float).eps * np.maximum(np.abs(a), 1.0))
-        clear = ~change & ((lower > 0) | ((rising | falling) & ~at_zero) | tiny)
+        proved = (lower > 0) | ((rising | falling) & ~at_zero)
+        clear = ~change & (proved | tiny)
+        if certify:
+            weak[own[(clear & ~proved) | at_zero | (gb <= 0)]] = True
         decided = change & (rising | falling | tiny)
         # the first sign-change cell of each owner (sorted assignment: the smallest
         # a is written last); later cells play no part
@@ -135,8 +165,7 @@ def first_sign_change(
         pending[own[undecided]] = True
         done = relevant & decided & ~pending[own] & (a == first_change[own])
         if done.any():
-            found_a.append(a[done])
-            found_b.append(b[done])
+            found.append(cells[:4, done])
             found_own.append(own[done])
         if not undecided.any():
             break
@@ -155,9 +184,9 @@ def first_sign_change(
         own = np.concatenate([own_split, own_split, own[carry]])
     else:  # pragma: no cover - the halving ends at the tolerance long before
         raise RuntimeError("first_sign_change: cells not decided")
-    if not found_a:
-        return result
-    lo, hi = np.concatenate(found_a), np.concatenate(found_b)
+    if not found:
+        return (result, ~weak) if certify else result
+    lo, hi, g_lo, g_hi = np.concatenate(found, axis=1)
     who = np.concatenate(found_own)
     if who.size:
         cache: dict = {}
@@ -172,5 +201,9 @@ def first_sign_change(
                 return cache["slope"]
             return evaluate(x, w.astype(np.int64))[1]
 
-        result[who] = bracketed_newton(g_only, dg_only, lo, hi, [who.astype(np.float64)])
+        result[who] = bracketed_newton(
+            g_only, dg_only, lo, hi, [who.astype(np.float64)], g_lo=g_lo, g_hi=g_hi
+        )
+    if certify:
+        return result, ~weak & np.isnan(result)
     return result

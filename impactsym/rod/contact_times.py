@@ -2,11 +2,13 @@
 
 No sampling: the first sign change is isolated with rigorous bounds on the second
 derivative (:mod:`impactsym.numeric.isolation`) and refined with
-:func:`impactsym.numeric.bracketed_newton`.
+:func:`impactsym.numeric.bracketed_newton`. On a grid, rigid pairs of equal ``alpha``
+share the proofs that a reflection interval holds no sign change (:func:`_screen_interval`).
 """
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 from typing import Any
 
@@ -24,6 +26,12 @@ __all__ = ["ContactTimeMap", "contact_time", "contact_time_map"]
 _FASTEST_POLE = 1e8
 #: Initial nodes per unit of sqrt((m + 1) x) on reflection interval m (tuned by cell counts).
 _INITIAL_DENSITY = {"N": 2.0, "y": 0.25}
+#: Pairs per certified search (bounds the memory of its cells) and table entries per
+#: chunk of distinct alpha (the rigid tables hold O(n_alpha * t_max) numbers).
+_SEARCH_CHUNK, _TABLE_ENTRIES = 32768, 2**22
+#: Strides in f of the searched pairs per alpha (:func:`_screen_interval`), used where
+#: at least _SCREEN_MIN_PAIRS pairs per alpha are in contact (tuned on atlases).
+_SCREEN_STRIDES, _SCREEN_MIN_PAIRS = (64, 1), 16
 #: Default search horizons (rigid, finite stiffness).
 T_MAX_RIGID, T_MAX_ELASTIC = 100.0, 20.0
 
@@ -182,43 +190,111 @@ def _rigid_interval(which, m, tables, row, alpha, f):
     return _RigidInterval(which, m, coef, alpha, f, y0, v0)
 
 
-def _rigid_contact_times(which, alpha, f, t_max, chunk=32768):
+def _search_interval(which, m, tables, row, alpha, f, t_max):
+    """Certified first sign change of ``y`` or ``N`` on reflection interval ``m``.
+
+    Returns ``(x, positive)`` per pair: the root in ``x = 2 tau / alpha`` (NaN if none)
+    and whether ``g > 0`` was proved on the whole interval
+    (:func:`impactsym.numeric.isolation.first_sign_change` with ``certify=True``).
+    """
+    x_root, positive = np.full(alpha.size, np.nan), np.zeros(alpha.size, dtype=bool)
+    for start in range(0, alpha.size, _SEARCH_CHUNK):
+        sl = slice(start, start + _SEARCH_CHUNK)
+        al = alpha[sl]
+        model = _rigid_interval(which, m, tables, row[sl], al, f[sl])
+        x_end = 2.0 * np.minimum(2.0, t_max - 2.0 * m) / al
+        # initial cells uniform in sqrt(x) (the Laguerre phase is ~ 2 sqrt(m x)); the
+        # halving refines where the bounds ask for it. N: about one node per radian of
+        # phase, near the cells the bound on |N''| ends up needing (fewer halving rounds
+        # and cells); y (smoother, y'' = -alpha (N - f)/4) is decided on coarse cells
+        n0 = 2 + np.ceil(_INITIAL_DENSITY[which] * np.sqrt((m + 1) * x_end)).astype(np.int64)
+        owner = np.repeat(np.arange(al.size), n0 + 1)
+        first = np.cumsum(n0 + 1) - (n0 + 1)
+        k = np.arange(owner.size) - first[owner]
+        nodes = x_end[owner] * (k / n0[owner]) ** 2
+        x_root[sl], positive[sl] = first_sign_change(
+            model, model.bound, nodes, owner, al.size, certify=True
+        )
+    return x_root, positive
+
+
+def _screen_interval(search, row, strides):
+    """First sign change on one reflection interval for pairs sorted by ``(alpha, f)``,
+    searching only some of them.
+
+    For a fixed ``alpha``, ``g = y`` or ``N`` is affine in ``f`` (:func:`_rigid_interval`):
+    where ``g > 0`` is proved on the whole interval for ``f_1`` and ``f_2`` (``search``
+    returns ``positive``), it holds for every ``f`` between them, whose search would find
+    no sign change. So the pairs of each ``alpha`` are searched at the first stride, a
+    run between two searched pairs is settled as a whole when both are proved positive,
+    and the other runs are searched at the next stride, down to the last stride, 1.
+    ``search(positions) -> (x, positive)``; returns ``x`` per pair (NaN: no sign change
+    on this interval).
+    """
+    n = row.size
+    x_root, positive = np.full(n, np.nan), np.zeros(n, dtype=bool)
+    searched = np.zeros(n, dtype=bool)
+    lo = np.flatnonzero(np.r_[True, row[1:] != row[:-1]])
+    hi = np.r_[lo[1:], n] - 1
+    for stride in strides:
+        if lo.size == 0:
+            break
+        # nodes lo, lo + stride, ..., hi of every open run
+        count = 1 + -(-(hi - lo) // stride)
+        run = np.repeat(np.arange(lo.size), count)
+        k = np.arange(run.size) - np.repeat(np.cumsum(count) - count, count)
+        nodes = np.minimum(lo[run] + k * stride, hi[run])
+        todo = np.unique(nodes[~searched[nodes]])
+        if todo.size:
+            x_root[todo], positive[todo] = search(todo)
+            searched[todo] = True
+        same = run[1:] == run[:-1]
+        lo, hi = nodes[:-1][same], nodes[1:][same]
+        still = ~(positive[lo] & positive[hi]) & (hi - lo > 1)
+        lo, hi = lo[still], hi[still]
+    if lo.size:
+        raise ValueError(f"strides must end with 1, got {strides!r}")
+    return x_root
+
+
+def _rigid_contact_times(which, alpha, f, t_max):
     """First sign change of ``y`` or ``N`` in ``(0, t_max]`` for flat pairs; inf if none.
 
-    Interval 0 holds none: there :math:`N = y' = f + (1 - f) e^{-t/\\alpha} > 0`.
+    Interval 0 holds none: there :math:`N = y' = f + (1 - f) e^{-t/\\alpha} > 0`. On
+    every later interval the pairs still in contact are screened per ``alpha``
+    (:func:`_screen_interval`) with the certified search :func:`_search_interval`.
     """
-    result = np.full(alpha.size, np.inf)
     n_int = int(np.ceil(t_max / 2.0))
-    for start in range(0, alpha.size, chunk):
-        sl = slice(start, start + chunk)
-        al_all, f_all = alpha[sl], f[sl]
-        ua, row_all = np.unique(al_all, return_inverse=True)
-        row_all = row_all.ravel()
-        tables = _interval_tables(ua, n_int + 1)
-        out = np.full(al_all.size, np.inf)
-        active = np.arange(al_all.size)
+    order = np.lexsort((f, alpha))
+    a_sorted, f_sorted = alpha[order], f[order]
+    new = np.r_[True, a_sorted[1:] != a_sorted[:-1]] if a_sorted.size else np.ones(0, bool)
+    row_all = np.cumsum(new) - 1
+    # chunks of whole alpha groups: the tables hold O(n_alpha * n_int) numbers
+    per_chunk = max(1, _TABLE_ENTRIES // (n_int + 1))
+    edges = np.r_[np.flatnonzero(new)[::per_chunk], a_sorted.size]
+    out = np.full(a_sorted.size, np.inf)
+    for lo, hi in itertools.pairwise(edges):
+        al_all, f_all = a_sorted[lo:hi], f_sorted[lo:hi]
+        rows = row_all[lo:hi] - row_all[lo]
+        tables = _interval_tables(al_all[new[lo:hi]], n_int + 1)
+        active = np.arange(hi - lo)  # sorted by (alpha, f)
         for m in range(1, n_int):
             if active.size == 0:
                 break
-            row, al, ff = row_all[active], al_all[active], f_all[active]
-            model = _rigid_interval(which, m, tables, row, al, ff)
-            x_end = 2.0 * np.minimum(2.0, t_max - 2.0 * m) / al
-            # initial cells uniform in sqrt(x) (the Laguerre phase is ~ 2 sqrt(m x));
-            # the halving refines where the bounds ask for it. N: about one node per
-            # radian of phase, near the cells the bound on |N''| ends up needing (fewer
-            # halving rounds and cells; 0.25 of it costs 1.3x more); y (smoother,
-            # y'' = -alpha (N - f)/4) is decided on coarse cells
-            density = _INITIAL_DENSITY[which]
-            n0 = 2 + np.ceil(density * np.sqrt((m + 1) * x_end)).astype(np.int64)
-            owner = np.repeat(np.arange(active.size), n0 + 1)
-            first = np.cumsum(n0 + 1) - (n0 + 1)
-            k = np.arange(owner.size) - first[owner]
-            nodes = x_end[owner] * (k / n0[owner]) ** 2
-            roots = first_sign_change(model, model.bound, nodes, owner, active.size)
-            hit = np.isfinite(roots)
-            out[active[hit]] = 2.0 * m + 0.5 * al[hit] * roots[hit]
+            row, al, ff = rows[active], al_all[active], f_all[active]
+
+            def search(pos, m=m, tables=tables, row=row, al=al, ff=ff):
+                return _search_interval(which, m, tables, row[pos], al[pos], ff[pos], t_max)
+
+            # screening pays where many pairs share an alpha; else search them all
+            n_alpha = 1 + np.count_nonzero(row[1:] != row[:-1])
+            crowded = active.size >= _SCREEN_MIN_PAIRS * n_alpha
+            x_root = _screen_interval(search, row, _SCREEN_STRIDES if crowded else (1,))
+            hit = np.isfinite(x_root)
+            out[lo + active[hit]] = 2.0 * m + 0.5 * al[hit] * x_root[hit]
             active = active[~hit]
-        result[sl] = out
+    result = np.empty(alpha.size)
+    result[order] = out
     return result
 
 
@@ -286,8 +362,8 @@ def contact_time(
     the horizon).
 
     **Certified, not sampled.** Rigid contact: interval 0 has none
-    (:math:`N = y' = f + (1 - f) e^{-t/lpha} > 0`); on every later reflection
-    interval :math:`g = y` or :math:`N` is a Laguerre sum in :math:`x = 2	au/lpha`
+    (:math:`N = y' = f + (1 - f) e^{-t/\alpha} > 0`); on every later reflection
+    interval :math:`g = y` or :math:`N` is a Laguerre sum in :math:`x = 2\tau/\alpha`
     with rigorous bounds on :math:`|g''|` over any cell (:class:`_RigidInterval`);
     finite :math:`\kappa`: a sum of :math:`e^{pu}` times polynomials, bounded term by
     term. Cells are proved zero-free (interpolation and Taylor lower bounds) or
@@ -296,7 +372,11 @@ def contact_time(
     :func:`impactsym.numeric.bracketed_newton` to full precision. A sign change is
     needed: a tangential touch is not an end of contact, and a dip below zero
     shallower than ``1e-12`` (``impactsym.numeric.isolation.TOLERANCE``, in units of
-    :math:`y` resp. :math:`N`) may be passed over.
+    :math:`y` resp. :math:`N`) may be passed over. Rigid pairs of equal :math:`\alpha`
+    share proofs: :math:`g` is affine in :math:`f`, so :math:`g > 0` proved on an
+    interval for two :math:`f` holds for every :math:`f` between them
+    (:func:`_screen_interval`); an :math:`\alpha`-:math:`f` grid costs a few µs per
+    pair, scattered pairs tens of µs.
 
     Parameters
     ----------
@@ -328,8 +408,8 @@ def contact_time(
     Examples
     --------
     Classical rigid striker, :math:`f = 0`: the force is
-    :math:`e^{-t/lpha} + 2 e^{-(t-2)/lpha}(1 - (t-2)/lpha)` on :math:`2 < t < 4`
-    and vanishes at :math:`t = 2 + lpha(1 + e^{-2/lpha}/2)`:
+    :math:`e^{-t/\alpha} + 2 e^{-(t-2)/\alpha}(1 - (t-2)/\alpha)` on :math:`2 < t < 4`
+    and vanishes at :math:`t = 2 + \alpha(1 + e^{-2/\alpha}/2)`:
 
     >>> import numpy as np
     >>> t_c = contact_time(0.5, 0.0)
