@@ -458,14 +458,14 @@ def impact_sequence(
         if arr.ndim:
             raise TypeError(f"{name} must be a scalar, got an array of shape {arr.shape}")
     alpha, f, kappa, t_end = float(a_arr), float(f_arr), float(k_arr), float(t_arr)
-    if not math.isinf(kappa):
-        raise NotImplementedError(
-            f"impact_sequence: only rigid contact (kappa = inf) is implemented, got kappa={kappa}"
-        )
     if t_end > 1e4:
         raise ValueError(f"t_end must be <= 1e4, got {t_end}")
     if isinstance(max_contacts, bool) or not isinstance(max_contacts, int) or max_contacts < 1:
         raise ValueError(f"max_contacts must be a positive integer, got {max_contacts!r}")
+    if not math.isinf(kappa):
+        from impactsym.rod.elastic_continuation import elastic_sequence
+
+        return elastic_sequence(alpha, f, kappa, t_end, max_contacts)
 
     pieces = _Pieces(alpha)
     pieces.append(-2.0, 2.0, 0.0, np.zeros(0))  # rest before the impact
