@@ -409,7 +409,9 @@ def impact_sequence(
     f : float
         Pressing force :math:`F c / (EA v_0) \ge 0`.
     kappa : float, optional
-        Contact stiffness; only ``inf`` (rigid contact) is implemented.
+        Contact stiffness :math:`k_c L / (EA)`; ``inf`` is rigid contact, a finite value
+        is solved by :mod:`impactsym.rod.elastic_continuation` (a massless contact
+        spring; returns an :class:`~impactsym.rod.elastic_continuation.ElasticRodImpactSequence`).
     t_end : float, optional
         End of the simulated time (unit :math:`L / c`).
     max_contacts : int, optional
@@ -433,8 +435,6 @@ def impact_sequence(
         :math:`t = 40`-:math:`60` (e.g. ``(10, 5)`` to 56, ``(3, 1)`` to 60,
         ``(0.3, 1)`` to 40); ``f = 0`` sequences whose striker leaves run to any
         ``t_end``.
-    NotImplementedError
-        For a finite ``kappa``.
     RuntimeError
         When more than ``max_contacts`` contacts occur before ``t_end``.
 
@@ -463,9 +463,9 @@ def impact_sequence(
     if isinstance(max_contacts, bool) or not isinstance(max_contacts, int) or max_contacts < 1:
         raise ValueError(f"max_contacts must be a positive integer, got {max_contacts!r}")
     if not math.isinf(kappa):
-        from impactsym.rod.elastic_continuation import elastic_sequence
+        from impactsym.rod.elastic_continuation import _elastic_sequence
 
-        return elastic_sequence(alpha, f, kappa, t_end, max_contacts)
+        return _elastic_sequence(alpha, f, kappa, t_end, max_contacts)
 
     pieces = _Pieces(alpha)
     pieces.append(-2.0, 2.0, 0.0, np.zeros(0))  # rest before the impact

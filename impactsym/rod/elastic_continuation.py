@@ -21,29 +21,41 @@ are continuous (at :math:`t = 0`, :math:`N = g = 0`), so contact ends where :mat
 falls through zero and resumes where the gap :math:`u - y` closes.
 
 **Representation (exact, piecewise).** The homogeneous rates are the roots
-:math:`r_{1,2}` of :math:`P(s) = \alpha s^2 + \alpha\kappa s + \kappa` (a complex pair for
-:math:`\alpha\kappa < 4`, two real ones above, a double one at :math:`\alpha\kappa = 4`,
-decided in exact rational arithmetic of the two floats). On each piece of retarded time
-:math:`g(s) = p + \sum_r e^{r x} Q_r(x)`, :math:`x = s - s_0`, with complex float64
-polynomials :math:`Q_r` (conjugate for a complex pair, so the sum is real). The incoming
-wave carries the same rates, so the forcing is resonant: with :math:`W_r = r Q_r + Q_r'` of
-the incoming piece, the particular solution :math:`N = f + \sum_r e^{rx} M_r` has
-:math:`\alpha M_r'' + P'(r) M_r' = 2\alpha\kappa W_r` (degree + 1; + 2 at the double root,
-where :math:`P'(r) = 0`), then :math:`c_1 e^{r_1 x} + c_2 e^{r_2 x}` (or
-:math:`(c_1 + c_2 x) e^{r x}`) fits :math:`N(0)` and :math:`N'(0) = \kappa(y' - N + 2G)`.
-Pieces are cut where an incoming piece arrives, at events and after :math:`2/\min|r|`;
-exponential parts whose bound on the piece is below :math:`10^{-17}` are dropped.
+:math:`\sigma \pm \sqrt{d}` of :math:`P(s) = \alpha s^2 + \alpha\kappa s + \kappa`,
+:math:`\sigma = -\kappa/2`, :math:`d = \kappa^2/4 - \kappa/\alpha` (a complex pair for
+:math:`\alpha\kappa < 4`, a double root at :math:`\alpha\kappa = 4`, decided in exact
+rational arithmetic of the two floats). The incoming wave carries the same rates, so the
+forcing is resonant and every piece of :math:`g` stays in the family
+:math:`g(s) = p + \sum_r e^{r x} Q_r(x)`, :math:`x = s - s_0`, in one of two forms:
 
-**Where float64 is not enough.** Near critical contact damping, :math:`\alpha\kappa \to 4`
-but not equal, :math:`P'(r) = \pm\alpha(r_1 - r_2)` is small and the per-rate parts grow
-like :math:`|r_1 - r_2|^{-k}` while their sum stays moderate: every reflection that passes
-the contact adds a factor. The solver bounds the per-rate magnitude on every piece and
-refuses (``ValueError`` naming ``alpha``, ``kappa``, :math:`\alpha\kappa` and the time
-reached) where their rounding could exceed :math:`10^{-10}` (``_MAGNITUDE_LIMIT``); the
-energy balance is checked in the middle of every piece as for rigid contact. Exactly
-critical :math:`\alpha\kappa = 4` uses the confluent form and has no such loss. How far
-a sequence gets near the critical value is measured in the tests
-(``tests/test_rod_elastic_continuation.py``).
+* **confluent** (:math:`d \le \theta^2\sigma^2`, ``_CONFLUENT`` :math:`\theta = 0.9`: every
+  soft, critical and lightly damped contact, :math:`\alpha\kappa \le 21`): the single rate
+  :math:`\sigma` with :math:`N = f + e^{\sigma x} M(x)`, :math:`M'' - d M =
+  2\kappa(\sigma Q_i + Q_i')`, solved by the exact Taylor recurrence
+  :math:`m_{k+2} = (d m_k + F_k)/((k+1)(k+2))` from :math:`M(0) = N(0) - f`,
+  :math:`M'(0) = N'(0) - \sigma M(0)`, :math:`N'(0) = \kappa(y' - N + 2G)`. It is uniform
+  in :math:`d` (no division by :math:`r_1 - r_2`; :math:`d = 0` is exactly critical). On
+  pieces of length :math:`h \le 2/\sqrt{\sigma^2 + |d|}` the series is cut where its
+  remaining terms are provably below :math:`10^{-18}` of its size (``_TAIL``);
+* **split per rate** (a stiff contact, :math:`d > \theta^2\sigma^2`): two real rates,
+  a slow one :math:`\approx -1/\alpha` and a fast one :math:`\approx -\kappa`, with
+  :math:`\alpha M_r'' + P'(r) M_r' = 2\alpha\kappa (r Q_{i,r} + Q_{i,r}')` (degree + 1),
+  then :math:`c_1 e^{r_1 x} + c_2 e^{r_2 x}` fitted to :math:`N(0), N'(0)`. Pieces are at
+  most :math:`2/\min|r|` long; the fast part decays below rounding within
+  :math:`\sim 40/\kappa` and is dropped.
+
+Splitting per rate where the rates are close on the scale of a piece would cancel: the
+parts grow like :math:`|r_1 - r_2|^{-k}` after :math:`k` passages (with :math:`\alpha = 10,
+\kappa = 0.5` they reach :math:`10^9` by :math:`t = 17`), which is why the confluent form
+is used there. Pieces are also cut where an incoming piece arrives and at events; terms
+whose bound on a piece is below :math:`10^{-17}` (whole rates) or :math:`10^{-18}`
+(trailing coefficients) are dropped. The degree still grows with every reflection that
+meets the contact, and chattering sequences lose float64 digits after some 30-40
+transits, as for rigid contact: the solver bounds the terms of every piece (refusing
+where their rounding could exceed :math:`10^{-8}`, ``_MAGNITUDE_LIMIT``) and checks the
+energy balance in the middle of every piece to :math:`10^{-9}` (as
+:func:`impactsym.rod.impact_sequence` does for rigid contact); a ``ValueError`` names
+``alpha, f, kappa, t_end`` and the time reached. Never a silently inexact result.
 
 **Events, certified.** Separation is the first sign change of
 :math:`N(x) = N(0) + \sum_r [(e^{rx} - 1) M_r(x) + M_r(x) - M_r(0)]` (increment form: no
@@ -104,12 +116,22 @@ def _rates(alpha: float, kappa: float) -> tuple[np.ndarray, float | None]:
     :math:`\sigma` is returned with ``d`` (the confluent form); else (a stiff contact) the
     two real roots and ``None``.
     """
-    d = Fraction(kappa) ** 2 / 4 - Fraction(kappa) / Fraction(alpha)  # exact
     sigma = -0.5 * kappa
-    if d <= Fraction(_CONFLUENT) ** 2 * Fraction(sigma) ** 2:
-        return np.array([complex(sigma)]), float(d)
-    big = sigma - math.sqrt(float(d))  # no cancellation; the product is kappa / alpha
-    return np.array([complex(kappa / alpha / big), complex(big)]), None
+    ratio = 1 - 4 / (Fraction(alpha) * Fraction(kappa))  # d / sigma^2, exact
+    if ratio <= Fraction(_CONFLUENT) ** 2:
+        try:
+            d = float(Fraction(sigma) ** 2 * ratio)
+        except OverflowError:
+            d = math.inf
+        if not math.isfinite(d):
+            raise ValueError(
+                f"alpha={alpha!r}, kappa={kappa!r}: kappa^2 / 4 - kappa / alpha overflows float64"
+            )
+        return np.array([complex(sigma)]), d
+    root = math.sqrt(float(ratio))  # in (theta, 1): no cancellation below
+    big = sigma * (1.0 + root)
+    small = -2.0 / (1.0 + root) / alpha  # the product of the roots is kappa / alpha
+    return np.array([complex(small), complex(big)]), None
 
 
 def _der(c: np.ndarray) -> np.ndarray:
@@ -122,7 +144,7 @@ def _der(c: np.ndarray) -> np.ndarray:
 
 def _integ(c: np.ndarray) -> np.ndarray:
     """Antiderivative vanishing at 0 along the last axis (one coefficient longer)."""
-    out = np.zeros(c.shape[:-1] + (c.shape[-1] + 1,), dtype=c.dtype)
+    out = np.zeros((*c.shape[:-1], c.shape[-1] + 1), dtype=c.dtype)
     out[..., 1:] = c / np.arange(1, c.shape[-1] + 1)
     return out
 
@@ -130,7 +152,7 @@ def _integ(c: np.ndarray) -> np.ndarray:
 def _pad(c: np.ndarray, n: int) -> np.ndarray:
     if c.shape[-1] >= n:
         return c
-    out = np.zeros(c.shape[:-1] + (n,), dtype=c.dtype)
+    out = np.zeros((*c.shape[:-1], n), dtype=c.dtype)
     out[..., : c.shape[-1]] = c
     return out
 
@@ -144,7 +166,7 @@ def _expm1(z: np.ndarray) -> np.ndarray:
 def _polyval(Q: np.ndarray, x: np.ndarray) -> np.ndarray:
     """``Q[..., r, :]`` evaluated at ``x`` (Horner); result ``x.shape + (n_rates,)``
     when ``Q`` is 2-D, or broadcast row-wise when ``Q`` has the leading axes of ``x``."""
-    out = np.zeros(np.broadcast_shapes(x.shape + (1,), Q.shape[:-1]), dtype=complex)
+    out = np.zeros(np.broadcast_shapes((*x.shape, 1), Q.shape[:-1]), dtype=complex)
     xx = x[..., None]
     for k in range(Q.shape[-1] - 1, -1, -1):
         out = out * xx + Q[..., k]
@@ -295,10 +317,10 @@ class _Tables:
         if derivative:
             Q = self.rates[:, None] * Q + _der(Q)
         lead = (i.size,) + (1,) * (x.ndim - 1)
-        out = np.zeros(x.shape + (self.rates.size,), dtype=complex)
+        out = np.zeros((*x.shape, self.rates.size), dtype=complex)
         xx = x[..., None]
         for k in range(Q.shape[-1] - 1, -1, -1):
-            out = out * xx + Q[:, :, k].reshape(lead + (self.rates.size,))
+            out = out * xx + Q[:, :, k].reshape((*lead, self.rates.size))
         return (np.exp(xx * self.rates) * out).sum(axis=-1).real
 
     def _at(self, s, derivative: bool) -> np.ndarray:
@@ -425,14 +447,40 @@ def _first_change(value, slope, second, X: float, what: str, where: str) -> floa
     return None if np.isnan(root[0]) else float(root[0])
 
 
-def elastic_sequence(
+def _elastic_sequence(
     alpha: float, f: float, kappa: float, t_end: float, max_contacts: int
 ) -> ElasticRodImpactSequence:
     """The finite-``kappa`` branch of :func:`impactsym.rod.impact_sequence` (arguments
-    already validated there: scalars, ``alpha, kappa > 0`` finite, ``f >= 0``)."""
+    already validated there: scalars, ``alpha, kappa > 0`` finite, ``f >= 0``).
+
+    Overflow in extreme parameters is not warned about but refused: every table must be
+    finite and the energy balance must hold."""
+    where = f"impact_sequence(alpha={alpha!r}, f={f!r}, kappa={kappa!r}, t_end={t_end!r})"
+    with np.errstate(over="ignore", invalid="ignore"):
+        seq = _solve(alpha, f, kappa, t_end, max_contacts, where)
+        tab = seq._tables
+        numbers = (tab.p, tab.q, tab.G1, tab.G2, np.array(seq.separation_speeds))
+        if not (
+            all(np.all(np.isfinite(a)) for a in numbers) and np.isfinite(seq.max_fixed_end_stress)
+        ):
+            raise ValueError(f"{where}: float64 overflows (the parameters are too extreme)")
+        try:
+            _check_balance(seq)
+        except ValueError as exc:
+            hint = (
+                "; a very soft contact: the striker position u + N/kappa amplifies the "
+                "rounding of N by 1/kappa"
+                if kappa < 1e-3
+                else ""
+            )
+            raise ValueError(f"{exc} (kappa={kappa!r}{hint})") from exc
+    return seq
+
+
+def _solve(alpha, f, kappa, t_end, max_contacts, where) -> ElasticRodImpactSequence:
+    """The event loop of :func:`_elastic_sequence`."""
     rates, d = _rates(alpha, kappa)
     nr = rates.size
-    where = f"impact_sequence(alpha={alpha!r}, f={f!r}, kappa={kappa!r}, t_end={t_end!r})"
     if d is None:
         span = _SPAN / float(np.min(np.abs(rates)))
     else:  # |sqrt(d)| span <= 2 as well: the confluent series stays short and exact
@@ -478,10 +526,11 @@ def elastic_sequence(
                         QN[1] = np.conj(QN[0])  # a conjugate pair: the sum is real
                 Qg = QN - _pad(Qi, QN.shape[-1])
                 _check_magnitude(QN, rates, h, max(1.0, abs(f)), where, t)
+                CN = _second(QN, rates)
                 root = _first_change(
                     lambda x, QN=QN, N0=N: N0 + _increment(QN, rates, x),
                     lambda x, QN=QN: _slope(QN, rates, x),
-                    lambda a, b, C=_second(QN, rates): _bound_second(C, rates, a, b),
+                    lambda a, b, CN=CN: _bound_second(CN, rates, a, b),
                     h,
                     "end of contact",
                     where,
@@ -492,7 +541,9 @@ def elastic_sequence(
                 dNX = float(_slope(QN, rates, np.array([X]))[0])
                 GX = p_in + (_exp_sum(Qi, rates, X) if exp_in else 0.0)
                 # u' = N - 2G: u(X) - u(0) = f X + int(N - f) - 2 (p_in X + int(G - p_in))
-                ints = _integral(QN, rates, np.array([X])) - 2.0 * _integral(Qi, rates, np.array([X]))
+                ints = _integral(QN, rates, np.array([X])) - 2.0 * _integral(
+                    Qi, rates, np.array([X])
+                )
                 u += (f - 2.0 * p_in) * X + float(ints[0])
                 v = dNX / kappa + NX - 2.0 * GX
                 t += X
@@ -520,15 +571,13 @@ def elastic_sequence(
 
                 def gap(x, v0=v0, gap0=gap0, Qi=Qi, p_in=p_in):
                     out = gap0 - (2.0 * p_in + v0) * x - 0.5 * f / alpha * x * x
-                    return out - 2.0 * _integral(Qi, rates, x) if exp_in else out
+                    return out - 2.0 * _integral(Qi, rates, x)  # zero for an empty Qi
 
                 def gap_slope(x, v0=v0, Qi=Qi, p_in=p_in):
-                    G = p_in + (_exp_values(Qi, rates, x) if exp_in else 0.0)
-                    return -2.0 * G - v0 - f / alpha * x
+                    return -2.0 * (p_in + _exp_values(Qi, rates, x)) - v0 - f / alpha * x
 
                 def gap_second(a, b, W=W):
-                    extra = 2.0 * _bound_second(W, rates, a, b) if exp_in else 0.0
-                    return f / alpha + extra
+                    return f / alpha + 2.0 * _bound_second(W, rates, a, b)
 
                 if opening and gap_slope(np.array([0.0]))[0] <= 0.0:
                     raise ValueError(
@@ -563,7 +612,7 @@ def elastic_sequence(
     tables = _Tables.build(pieces, t)
     restitution = -float(speeds[-1]) if (final and f == 0.0) else math.nan
     stress = 2.0 * _g_max(tables, t_end - 1.0) if t_end > 1.0 else 0.0
-    seq = ElasticRodImpactSequence(
+    return ElasticRodImpactSequence(
         alpha,
         f,
         kappa,
@@ -576,15 +625,10 @@ def elastic_sequence(
         tables,
         tuple(flights),
     )
-    try:
-        _check_balance(seq)
-    except ValueError as exc:
-        raise ValueError(f"{exc} (kappa={kappa!r})") from exc
-    return seq
 
 
 def _forced(Qi, rates, alpha, kappa):
-    """Per-rate polynomials ``M_r`` (``M_r(0) = 0``) of the particular solution of
+    r"""Per-rate polynomials ``M_r`` (``M_r(0) = 0``) of the particular solution of
     :math:`\alpha N'' + \alpha\kappa N' + \kappa N = 2\alpha\kappa G'` (two distinct
     rates) and :math:`\sum_r M_r'(0)`."""
     nr = rates.size
@@ -623,7 +667,7 @@ def _confluent(Qi, sigma, d, kappa, h, A0, dN, where, t):
         size += abs(term) * h**K
         last = abs(m[K]) * h**K + abs(m[K - 1]) * h ** (K - 1)
         q = abs(d) * h * h / ((K + 1) * (K + 2))
-        if K >= n + 1 and q <= 0.5 and last <= _TAIL * max(size, 1.0):
+        if n + 1 <= K and q <= 0.5 and last <= _TAIL * max(size, 1.0):
             break
         if K + 1 >= _MAX_COEFFICIENTS:
             raise ValueError(
