@@ -231,3 +231,10 @@ def test_float64_limit_is_a_clear_refusal():
 def test_chatter_limit_raises():
     with pytest.raises(RuntimeError, match="max_contacts"):
         impact_sequence(0.3, 0.3, kappa=100.0, t_end=20.0, max_contacts=3)
+
+
+def test_plot_shows_the_spring_energy():
+    ax = impact_sequence(1.0, 0.3, kappa=50.0, t_end=6.0).plot()
+    labels = [line.get_label() for line in ax.lines]
+    assert any("spring" in label for label in labels)
+    assert r"\kappa = 50" in ax.get_title()
