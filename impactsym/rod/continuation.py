@@ -434,7 +434,8 @@ def impact_sequence(
         time reached. Sequences that keep chattering are exact to about
         :math:`t = 40`-:math:`60` (e.g. ``(10, 5)`` to 56, ``(3, 1)`` to 60,
         ``(0.3, 1)`` to 40); ``f = 0`` sequences whose striker leaves run to any
-        ``t_end``.
+        ``t_end``. A finite ``kappa`` is checked the same way (the message also names
+        ``kappa``; chattering sequences typically hold to :math:`t = 30`-:math:`40`).
     RuntimeError
         When more than ``max_contacts`` contacts occur before ``t_end``.
 
