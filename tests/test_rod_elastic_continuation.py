@@ -238,3 +238,16 @@ def test_plot_shows_the_spring_energy():
     labels = [line.get_label() for line in ax.lines]
     assert any("spring" in label for label in labels)
     assert r"\kappa = 50" in ax.get_title()
+
+
+@pytest.mark.parametrize(("alpha", "f", "kappa"), [(1.0, 0.5, 20.0), (0.3, 0.3, 100.0)])
+def test_max_fixed_end_stress_is_the_maximum(alpha, f, kappa):
+    """The branch-and-bound maximum is at least every sampled value and is met by a
+    dense sampling around the sampled peak."""
+    seq = impact_sequence(alpha, f, kappa=kappa)
+    t = np.linspace(0.0, seq.t_end, 40001)
+    stress = seq.fixed_end_stress(t)
+    i = int(np.argmax(stress))
+    fine = np.linspace(t[max(i - 1, 0)], t[min(i + 1, t.size - 1)], 200001)
+    sampled = max(stress.max(), seq.fixed_end_stress(fine).max())
+    assert 0.0 <= seq.max_fixed_end_stress - sampled < 1e-9
