@@ -23,7 +23,12 @@ FLOORS = [
     ),
     ("impactsym.rod.elastic", "impactsym.contact.api", "impactsym.contact.bounce"),
     ("impactsym.rod.api", "impactsym.rod.contact_times", "impactsym.rod.codegen"),
-    ("impactsym.rod.continuation", "impactsym.multibody", "impactsym.engines"),
+    (
+        "impactsym.rod.continuation",
+        "impactsym.rod.elastic_continuation",
+        "impactsym.multibody",
+        "impactsym.engines",
+    ),
     ("impactsym.plotting", "impactsym.export", "impactsym.results"),
     ("impactsym.reproduce", "impactsym.cli", "impactsym.__main__"),
 ]

@@ -175,8 +175,7 @@ def test_invalid_input_is_refused():
         impact_sequence(1.0, 0.0, t_end=-1.0)
     with pytest.raises(TypeError, match="alpha"):
         impact_sequence("1", 0.0)
-    with pytest.raises(NotImplementedError, match="kappa"):
-        impact_sequence(1.0, 0.0, kappa=100.0)
+    assert impact_sequence(1.0, 0.0, kappa=100.0, t_end=5.0).kappa == 100.0  # finite kappa
     with pytest.raises(ValueError, match="max_contacts"):
         impact_sequence(1.0, 0.0, max_contacts=0)
     with pytest.raises(RuntimeError, match="max_contacts=5 contacts"):

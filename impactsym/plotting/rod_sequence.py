@@ -34,12 +34,16 @@ def plot_sequence(seq: RodImpactSequence, *, ax: Axes | None = None, n_points: i
     ax.plot(t, energy.striker(t), label=r"striker $\alpha y'^2/2$")
     ax.plot(t, energy.rod(t), label="rod (elastic + kinetic)")
     ax.plot(t, energy.work(t), label=r"work of $f$: $f y$", ls="--")
+    if hasattr(energy, "spring"):  # a finite contact stiffness
+        ax.plot(t, energy.spring(t), label=r"contact spring $N^2/(2\kappa)$")
     for start, end in seq.contacts:
         ax.axvspan(start, end, color="0.85", zorder=0)
     ax.set_xlabel(r"$t\,/\,(L/c)$")
     ax.set_ylabel(r"energy $/\,(m_{rod} v_0^2)$")
+    stiffness = "" if np.isinf(seq.kappa) else rf", $\kappa = {seq.kappa:g}$"
     ax.set_title(
-        rf"$\alpha = {seq.alpha:g}$, $f = {seq.f:g}$: {len(seq.contacts)} contact(s) (grey)"
+        rf"$\alpha = {seq.alpha:g}$, $f = {seq.f:g}${stiffness}: "
+        f"{len(seq.contacts)} contact(s) (grey)"
     )
     ax.legend(loc="best", fontsize="small")
     return ax

@@ -9,7 +9,9 @@
 * :mod:`~impactsym.rod.contact_times` -- :func:`contact_time`, :func:`contact_time_map`;
 * :mod:`~impactsym.rod.codegen` -- the NumPy-only source that ``impactsym export`` writes;
 * :mod:`~impactsym.rod.continuation` -- :func:`impact_sequence`: the impact continued past
-  separation (flight, re-contact), energy split and fixed-end stress.
+  separation (flight, re-contact), energy split and fixed-end stress;
+* :mod:`~impactsym.rod.elastic_continuation` -- the same with a finite contact stiffness
+  (:class:`ElasticRodImpactSequence`).
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ _NAMES = {
     "numpy_source": "impactsym.rod.codegen",
     "impact_sequence": "impactsym.rod.continuation",
     "RodImpactSequence": "impactsym.rod.continuation",
+    "ElasticRodImpactSequence": "impactsym.rod.elastic_continuation",
 }
 __all__ = sorted(_NAMES)
 __getattr__, __dir__ = lazy_names(__name__, _NAMES)

@@ -409,7 +409,9 @@ def impact_sequence(
     f : float
         Pressing force :math:`F c / (EA v_0) \ge 0`.
     kappa : float, optional
-        Contact stiffness; only ``inf`` (rigid contact) is implemented.
+        Contact stiffness :math:`k_c L / (EA)`; ``inf`` is rigid contact, a finite value
+        is solved by :mod:`impactsym.rod.elastic_continuation` (a massless contact
+        spring; returns an :class:`~impactsym.rod.elastic_continuation.ElasticRodImpactSequence`).
     t_end : float, optional
         End of the simulated time (unit :math:`L / c`).
     max_contacts : int, optional
@@ -432,9 +434,8 @@ def impact_sequence(
         time reached. Sequences that keep chattering are exact to about
         :math:`t = 40`-:math:`60` (e.g. ``(10, 5)`` to 56, ``(3, 1)`` to 60,
         ``(0.3, 1)`` to 40); ``f = 0`` sequences whose striker leaves run to any
-        ``t_end``.
-    NotImplementedError
-        For a finite ``kappa``.
+        ``t_end``. A finite ``kappa`` is checked the same way (the message also names
+        ``kappa``; chattering sequences typically hold to :math:`t = 30`-:math:`40`).
     RuntimeError
         When more than ``max_contacts`` contacts occur before ``t_end``.
 
@@ -458,14 +459,14 @@ def impact_sequence(
         if arr.ndim:
             raise TypeError(f"{name} must be a scalar, got an array of shape {arr.shape}")
     alpha, f, kappa, t_end = float(a_arr), float(f_arr), float(k_arr), float(t_arr)
-    if not math.isinf(kappa):
-        raise NotImplementedError(
-            f"impact_sequence: only rigid contact (kappa = inf) is implemented, got kappa={kappa}"
-        )
     if t_end > 1e4:
         raise ValueError(f"t_end must be <= 1e4, got {t_end}")
     if isinstance(max_contacts, bool) or not isinstance(max_contacts, int) or max_contacts < 1:
         raise ValueError(f"max_contacts must be a positive integer, got {max_contacts!r}")
+    if not math.isinf(kappa):
+        from impactsym.rod.elastic_continuation import _elastic_sequence
+
+        return _elastic_sequence(alpha, f, kappa, t_end, max_contacts)
 
     pieces = _Pieces(alpha)
     pieces.append(-2.0, 2.0, 0.0, np.zeros(0))  # rest before the impact

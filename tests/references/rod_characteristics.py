@@ -149,3 +149,76 @@ class UnilateralGrid:
         """:math:`\\sigma(1, t) = 2 g(t - 1)`, linear interpolation on the grid."""
         s = np.asarray(t) - 1.0
         return np.where(s < 0, 0.0, 2 * np.interp(s, self.t, self.g))
+
+
+class SpringGrid:
+    """Rod impact through a massless contact spring ``kappa``, with separation and
+    re-contact, on a uniform grid (reference for :mod:`impactsym.rod.elastic_continuation`).
+
+    The characteristics as in :class:`UnilateralGrid`, with the spring compression
+    :math:`z = y - u` (contact while :math:`N = \\kappa z > 0`): in contact
+    :math:`\\alpha v' = f - N`, :math:`N' = \\kappa (v - N + 2 g_i)`, :math:`u' = N - 2 g_i`
+    and the outgoing wave is :math:`g = N - g_i`; in flight :math:`g = -g_i`,
+    :math:`u' = -2 g_i`, :math:`v' = f/\\alpha`. A contact step is the exact solution of
+    this linear system for a linearly interpolated :math:`g_i` (the matrix exponential of
+    the system augmented by :math:`1, g_i, g_i'`, computed once by
+    ``scipy.linalg.expm``); contact ends at the step where :math:`N < 0`, resumes where
+    :math:`u < y`, the event time interpolated linearly and the step's end state kept.
+    First order in the step at the events; no polynomial, no root isolation, no
+    Laplace transform.
+    """
+
+    def __init__(
+        self, alpha: float, f: float, kappa: float, t_end: float, steps_per_transit: int = 4000
+    ):
+        from scipy.linalg import expm
+
+        h = 1.0 / steps_per_transit
+        lag = 2 * steps_per_transit
+        n = round(t_end / h)
+        # state (v, N, u, 1, g_i, g_i'): constant coefficients
+        A = np.zeros((6, 6))
+        A[0, 1], A[0, 3] = -1.0 / alpha, f / alpha
+        A[1, 0], A[1, 1], A[1, 4] = kappa, -kappa, 2.0 * kappa
+        A[2, 1], A[2, 4] = 1.0, -2.0
+        A[4, 5] = 1.0
+        E = expm(A * h)
+        g = np.zeros(n + 1 + lag)  # g[k + lag] = g(k h)
+        v, N, y, u = 1.0, 0.0, 0.0, 0.0
+        contact, start = True, 0.0
+        self.contacts, self.separation_speeds = [], []
+        self.t = h * np.arange(n + 1)
+        for k in range(n):
+            gi0, gi1 = g[k], g[k + 1]
+            if contact:
+                v1, N1, u1 = (E @ np.array([v, N, u, 1.0, gi0, (gi1 - gi0) / h]))[:3]
+                if N1 < 0.0:
+                    te = k * h + h * N / (N - N1) if N > 0 else k * h
+                    self.contacts.append((start, te))
+                    self.separation_speeds.append(v + (v1 - v) * (te - k * h) / h)
+                    contact = False
+                    v, N, u, y = v1, 0.0, u1, u1
+                    g[k + 1 + lag] = -gi1
+                else:
+                    v, N, u = v1, N1, u1
+                    y = u + N / kappa
+                    g[k + 1 + lag] = N - gi1
+            else:
+                gap0 = u - y
+                u += -h * (gi0 + gi1)
+                y += v * h + 0.5 * f / alpha * h * h
+                v += f / alpha * h
+                gap1 = u - y
+                if gap1 < 0.0:
+                    start = k * h + h * gap0 / (gap0 - gap1)
+                    contact = True
+                    y, N = u, 0.0
+                g[k + 1 + lag] = -gi1
+        if contact:
+            self.contacts.append((start, t_end))
+        self.g = g[lag:]
+
+    def fixed_end_stress(self, t: np.ndarray) -> np.ndarray:
+        """:math:`\\sigma(1, t) = 2 g(t - 1)`, linear interpolation on the grid."""
+        s = np.asarray(t) - 1.0
+        return np.where(s < 0, 0.0, 2 * np.interp(s, self.t, self.g))
