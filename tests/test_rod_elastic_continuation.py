@@ -251,3 +251,16 @@ def test_max_fixed_end_stress_is_the_maximum(alpha, f, kappa):
     fine = np.linspace(t[max(i - 1, 0)], t[min(i + 1, t.size - 1)], 200001)
     sampled = max(stress.max(), seq.fixed_end_stress(fine).max())
     assert -1e-12 < seq.max_fixed_end_stress - sampled < 1e-9  # B&B stops within 1e-13
+
+
+@pytest.mark.parametrize("kappa", [math.inf, 2.0])
+def test_time_functions_at_t_end_are_left_limits(kappa):
+    # a wave front reaches the struck end exactly at t_end = 40 (g' jumps at every even
+    # s); evaluating g(t_end) from the last piece but g(t_end - 2) from the piece that
+    # starts there mixed one-sided limits and broke the energy balance by 4e-3
+    seq = impact_sequence(1.0, 0.5, kappa=kappa, t_end=40.0)
+    before = 40.0 - 1e-9
+    for name in ("velocity", "displacement", "contact_force"):
+        at_end, left = getattr(seq, name)(40.0), getattr(seq, name)(before)
+        assert abs(at_end - left) < 1e-7, name
+    assert abs(seq.energy.balance(40.0)) < 1e-11

@@ -293,11 +293,17 @@ class RodImpactSequence:
     _flights: tuple = field(repr=False)  # (t0, y0, v0) per flight
 
     def _times(self, t) -> np.ndarray:
-        """``t`` as a float array, refused beyond ``t_end`` (nothing is known there)."""
+        """``t`` as a float array, refused beyond ``t_end`` (nothing is known there).
+
+        At ``t_end`` itself the pieces of ``g`` stop, while a piece of the delayed
+        ``g(t - 2)`` may start exactly there (a wave front); the time functions take their
+        left limits at ``t_end``, evaluated one ulp earlier, so that both delays are
+        one-sided alike.
+        """
         tt, _ = real_array("t", t)
         if np.any(tt > self.t_end):
             raise ValueError(f"t must be <= t_end = {self.t_end}, got {float(tt.max())!r}")
-        return tt
+        return np.where(tt == self.t_end, np.nextafter(self.t_end, -np.inf), tt)
 
     @property
     def energy(self) -> RodSequenceEnergy:
