@@ -21,7 +21,7 @@ def test_until_rest_notebook_runs_and_shows_the_sequences():
         for line in text.splitlines()
         if "energy-balance residual" in line
     ]
-    assert len(residuals) == 2
+    assert len(residuals) == 4  # two rigid, two finite-kappa sequences
     assert max(residuals) < 1e-9
     line = next(line for line in text.splitlines() if line.startswith("alpha = 0.05"))
     _, exact, closed, _ = (float(v) for v in re.findall(r"\d+\.\d+", line))
@@ -49,3 +49,12 @@ def test_until_rest_notebook_runs_and_shows_the_sequences():
     )
     assert light_ratio > 1
     assert heavy_ratio > 1
+
+    # section 7: a stiff contact spring approaches the rigid restitution like 1/kappa
+    rigid = float(re.search(r"f = 0: restitution ([\d.]+)", text).group(1))
+    rows = re.findall(r"kappa = (\S+): restitution ([\d.]+), kappa x error ([-\d.]+)", text)
+    kappas, errors = [float(r[0]) for r in rows], [float(r[1]) - rigid for r in rows]
+    assert kappas == [1e2, 1e3, 1e4]
+    assert abs(errors[0]) > abs(errors[1]) > abs(errors[2]) > 0
+    scaled = [k * e for k, e in zip(kappas, errors, strict=True)]
+    assert abs(scaled[2] / scaled[1] - 1) < 0.05  # "settles to a constant"

@@ -9,12 +9,14 @@ import numpy as np
 
 from impactsym.results.files import save_figure, write_csv
 
-CASES = ((1.0, 0.0), (20.0, 0.0), (1.0, 0.5))
+#: (alpha, f, kappa) of the sequences drawn; the last one with a finite contact spring.
+CASES = ((1.0, 0.0, np.inf), (20.0, 0.0, np.inf), (1.0, 0.5, np.inf), (1.0, 0.5, 10.0))
 
 CAPTIONS = {
-    "rod_sequence": "Rod impact continued past separation (rigid contact): energy of the "
-    "striker, of the rod (elastic + kinetic) and work of the pressing force over time; "
-    "grey: contact. f = 0: the striker leaves, part of its energy stays in the rod as "
+    "rod_sequence": "Rod impact continued past separation (rigid contact, and in the last "
+    "panel a contact spring kappa = 10): energy of the striker, of the rod (elastic + "
+    "kinetic), of the contact spring and work of the pressing force over time; grey: "
+    "contact. f = 0: the striker leaves, part of its energy stays in the rod as "
     "vibration; f > 0: it returns and chatters on the vibrating rod end.",
     "rod_sequence_stress": "Largest compressive stress at the fixed end up to t = 40 over "
     "the mass ratio (f = 0), with the light-striker value 2 (1 + exp(-2/alpha)) and the "
@@ -36,10 +38,12 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
 
     files: list[Path] = []
     progress("rod impact sequences with energy split")
-    axes = plt.figure(figsize=(8, 8)).subplots(len(CASES), 1)
-    for ax, (alpha, f) in zip(axes, CASES, strict=True):
+    axes = plt.figure(figsize=(8, 10.5)).subplots(len(CASES), 1)
+    for ax, (alpha, f, kappa) in zip(axes, CASES, strict=True):
         plots.plot_sequence(
-            impact_sequence(alpha, f, t_end=40.0), ax=ax, n_points=801 if quick else 8001
+            impact_sequence(alpha, f, kappa=kappa, t_end=40.0),
+            ax=ax,
+            n_points=801 if quick else 8001,
         )
     files += save_figure(axes[0], out, "rod_sequence")
 
