@@ -16,9 +16,13 @@ exponential part summed to order :math:`M` with the Lagrange-type tail bound
 
 If the first bound is below :math:`|T_0|`, :math:`F` has no zero in :math:`I`; if the
 second is below :math:`|T_1|`, :math:`F` is strictly monotone on :math:`I` and has a zero
-there exactly when its end values differ in sign. Otherwise :math:`I` is halved. Every
+there exactly when its end values differ in sign. Both tests are one-sided, which is
+sharper and as rigorous: with :math:`z = x - u \\in [0, r]`, a term :math:`T_k z^k` of the
+sign of :math:`T_0` can only move :math:`F` away from zero, so only the terms of the
+opposite sign enter the sum (:math:`\\sum_{k \\ge 1} \\max(-\\operatorname{sgn}(T_0) T_k,
+0) r^k`; the same for :math:`F'` with :math:`T_1`). Otherwise :math:`I` is halved. Every
 sub-interval is thus either proven root-free, proven to hold exactly one simple root
-(bracketed, then polished by :func:`impactsym.numeric.roots.bracketed_newton`), or has
+(bracketed, then polished by :func:`impactsym.numeric.roots.bracketed_newton_scalar`), or has
 shrunk below ``min_width`` or to where :math:`|F|` is below its own rounding
 noise throughout; such a last interval counts as a root only if its end values
 differ in sign (a double root, or two roots closer than ``min_width``, is a tangency that
@@ -36,7 +40,7 @@ import math
 
 import numpy as np
 
-from impactsym.numeric.roots import bracketed_newton
+from impactsym.numeric.roots import bracketed_newton_scalar
 
 __all__ = ["exp_poly_roots", "taylor_shift"]
 
@@ -79,49 +83,63 @@ def _horner(c: np.ndarray, x):
     return out
 
 
-def _derivative(c: np.ndarray) -> np.ndarray:
-    return c[1:] * np.arange(1, c.size)
-
-
-def _evaluate(A, B, x, dA=None, dB=None):
-    """``F(x)`` and ``F'(x)`` at a float array ``x``."""
-    dA = _derivative(A) if dA is None else dA
-    dB = _derivative(B) if dB is None else dB
-    if A.size == 0:  # a plain polynomial: no exponential (which could overflow)
-        return _horner(B, x), _horner(dB, x)
-    a = _horner(A, x)
-    ex = np.exp(x)
-    return ex * a + _horner(B, x), ex * (a + _horner(dA, x)) + _horner(dB, x)
+def _value_slope(A: list, B: list, x: float) -> tuple[float, float]:
+    """``F(x)`` and ``F'(x)`` at one float, Horner in plain Python (``A``, ``B`` lists)."""
+    b = db = 0.0
+    for c in reversed(B):
+        db = db * x + b
+        b = b * x + c
+    if not A:  # a plain polynomial: no exponential (which could overflow)
+        return b, db
+    a = da = 0.0
+    for c in reversed(A):
+        da = da * x + a
+        a = a * x + c
+    ex = math.exp(x)
+    return ex * a + b, ex * (a + da) + db
 
 
 def _trim(c) -> np.ndarray:
     c = np.asarray(c, dtype=float)
+    if c.size and c[-1] != 0.0:
+        return c
     nz = np.flatnonzero(c)
     return c[: nz[-1] + 1] if nz.size else c[:0]
+
+
+# _EXPAND[i, k] = 1 / (k - i)! (zero for k < i): e^z z^i = sum_k _EXPAND[i, k] z^k
+_LAG = np.subtract.outer(np.arange(171), np.arange(96)).T  # k - i
+_EXPAND = np.where(_LAG >= 0, _INVFACT[np.maximum(_LAG, 0)], 0.0)
+
+
+def _shifted(c: np.ndarray, u: float) -> tuple[np.ndarray, np.ndarray]:
+    """``c(x + u)`` and the magnitude of its summands (for rounding bounds)."""
+    if u == 0.0 or c.size < 2:  # no shift: the identity (or a constant)
+        return c, np.abs(c)
+    S = _shift_matrix(c.size, u)
+    return S @ c, (S if u >= 0.0 else np.abs(S)) @ np.abs(c)
 
 
 def _taylor(A, B, u, r, M, powers):
     """Taylor coefficients ``T`` of ``F`` at ``u`` (orders 0..M) and the bounds
     ``(rho0, rho1)`` of the omitted tail plus rounding for ``F`` and ``F'`` on
     ``[u, u + r]``, and the rounding part of ``rho0`` alone (``powers = r**k``)."""
-    T = np.zeros(M + 1)
-    Tmag = np.zeros(M + 1)  # magnitude of the summands of each T_k, for rounding
-    if B.size:
-        S = _shift_matrix(B.size, u)
-        T[: B.size] += S @ B
-        Tmag[: B.size] += (S if u >= 0.0 else np.abs(S)) @ np.abs(B)
+    Au, Amag = _shifted(A, u)
+    Bu, Bmag = _shifted(B, u)
     rho0 = rho1 = 0.0
-    if A.size:
-        S = _shift_matrix(A.size, u)
-        Au = S @ A
-        Amag = (S if u >= 0.0 else np.abs(S)) @ np.abs(A)
-        eu, er = math.exp(u), math.exp(r)
-        for i in range(A.size):  # e^z Au(z) = sum_k z^k sum_i Au[i] / (k - i)!
-            T[i:] += (eu * Au[i]) * _INVFACT[: M + 1 - i]
-            Tmag[i:] += (eu * Amag[i]) * _INVFACT[: M + 1 - i]
-            K = M - i + 1  # first omitted power of e^z in this term: order i + K = M + 1
-            rho0 += eu * abs(Au[i]) * er * powers[M] * r * _INVFACT[K]
-            rho1 += eu * abs(Au[i]) * er * powers[M] * (i * _INVFACT[K] + _INVFACT[K - 1])
+    if A.size:  # e^z Au(z) = sum_k z^k sum_i Au[i] / (k - i)!
+        eu = math.exp(u)
+        expand = _EXPAND[: A.size, : M + 1]
+        T = (eu * Au) @ expand
+        Tmag = (eu * Amag) @ expand
+        K = M - np.arange(A.size) + 1  # first omitted power of e^z in term i: i + K = M + 1
+        tail = eu * math.exp(r) * powers[M] * np.abs(Au)
+        rho0 = float(tail @ _INVFACT[K]) * r
+        rho1 = float(tail @ (_ORDER[: A.size] * _INVFACT[K] + _INVFACT[K - 1]))
+    else:
+        T, Tmag = np.zeros(M + 1), np.zeros(M + 1)
+    T[: B.size] += Bu
+    Tmag[: B.size] += Bmag
     guard = 64.0 * (M + 4) * _EPS * 4.0
     noise = guard * float(Tmag @ powers)
     rho1 += guard * float((_ORDER[1 : M + 1] * Tmag[1:]) @ powers[:-1])
@@ -184,7 +202,7 @@ def exp_poly_roots(
     if A.size and max(abs(lo), abs(hi)) > 600.0:
         raise ValueError(f"exp_poly_roots: e^x overflows on [{lo!r}, {hi!r}]; rescale x")
     M = max(A.size, B.size) + 12
-    dA, dB = _derivative(A), _derivative(B)
+    Al, Bl = A.tolist(), B.tolist()
     brackets: list[tuple[float, float]] = []
     # Leaves come left to right. A sign change is judged between consecutive points of
     # known nonzero sign (leaf ends, or the proven sign of a root-free leaf), so that
@@ -207,20 +225,27 @@ def exp_poly_roots(
         r = v - u
         powers = r ** _ORDER[: M + 1]
         T, rho0, rho1, noise = _taylor(A, B, u, r, M, powers)
-        spread = float(np.abs(T[1:]) @ powers[1:])
-        if abs(T[0]) > spread + rho0:  # no zero in [u, v]: F has the sign of T_0
-            visit(u, np.sign(T[0]))
-            visit(v, np.sign(T[0]))
+        T0 = float(T[0])
+        s0 = 1.0 if T0 > 0.0 else -1.0
+        # one-sided: only terms of the sign opposite to T_0 can bring F to zero
+        against = float(np.maximum(-s0 * T[1:], 0.0) @ powers[1:])
+        if T0 != 0.0 and abs(T0) > against + rho0:  # no zero in [u, v]: F has T_0's sign
+            visit(u, s0)
+            visit(v, s0)
             continue
         if rising_from_zero and u == lo and r > 0.0:
-            rest = float(np.abs(T[3:]) @ powers[1:-2])
+            rest = float(np.maximum(-T[3:], 0.0) @ powers[1:-2])
             if T[2] > rest + rho0 / (r * r):
                 visit(v, 1.0)
                 continue  # F = T1 z + z^2 (T2 + ...) > 0 on (lo, v]
-        mono = abs(T[1]) > float((_ORDER[2 : M + 1] * np.abs(T[2:])) @ powers[1:-1]) + rho1
-        flat = abs(T[0]) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
+        T1 = float(T[1])
+        s1 = 1.0 if T1 > 0.0 else -1.0
+        slope_against = float(np.maximum(-s1 * _ORDER[2 : M + 1] * T[2:], 0.0) @ powers[1:-1])
+        mono = T1 != 0.0 and abs(T1) > slope_against + rho1
+        spread = float(np.abs(T[1:]) @ powers[1:])
+        flat = abs(T0) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
         if mono or flat or r <= min_width * max(1.0, abs(u)):
-            (Fu, Fv), _ = _evaluate(A, B, np.array([u, v]), dA, dB)
+            Fu, Fv = _value_slope(Al, Bl, u)[0], _value_slope(Al, Bl, v)[0]
             visit(u, np.sign(Fu))
             if Fv == 0.0 and v == hi:
                 brackets.append((u, v))  # a zero at hi: the sign beyond is not examined
@@ -230,12 +255,5 @@ def exp_poly_roots(
         stack += [(mid, v), (u, mid)]  # left half first
     if not brackets:
         return np.empty(0)
-    lo_b = np.array([b[0] for b in brackets])
-    hi_b = np.array([b[1] for b in brackets])
-    roots = bracketed_newton(
-        lambda x: _evaluate(A, B, x, dA, dB)[0],
-        lambda x: _evaluate(A, B, x, dA, dB)[1],
-        lo_b,
-        hi_b,
-    )
-    return np.sort(roots)
+    roots = [bracketed_newton_scalar(lambda x: _value_slope(Al, Bl, x), a, b) for a, b in brackets]
+    return np.sort(np.array(roots))

@@ -73,11 +73,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cache
 
 import numpy as np
 from numpy.polynomial import polynomial as npoly
 
-from impactsym.numeric.exppoly import _horner, _trim, exp_poly_roots, taylor_shift
+from impactsym.numeric.exppoly import _trim, exp_poly_roots, taylor_shift
 from impactsym.validation import real_array
 
 __all__ = ["RodImpactSequence", "RodSequenceEnergy", "impact_sequence"]
@@ -85,33 +86,69 @@ __all__ = ["RodImpactSequence", "RodSequenceEnergy", "impact_sequence"]
 _X_MAX = 2.0  # longest piece in x = tau / alpha for a non-constant exponential part
 _X_LONG = 40.0  # longest piece with a constant exponential polynomial (e^-40 ~ 4e-18)
 _NEGLIGIBLE = 1e-17
+_MAX_COEFFICIENTS = 96  # the Gauss rule below is exact to degree 95
 _GAUSS = np.polynomial.legendre.leggauss(48)  # exact to degree 95 on a piece
 # Largest energy-balance residual, relative to alpha/2 + |f y|, at which the float64
 # pieces are still trusted (at piece starts); beyond it impact_sequence refuses.
 _BALANCE_RTOL = 1e-9
 
 
-def _exp_antiderivative(Q: np.ndarray, rate: float = 1.0) -> np.ndarray:
-    """``R = sum_j Q^(j) / r^(j+1)``, so that
-    :math:`\\int_0^x e^{-r x'} Q = R(0) - e^{-r x} R(x)`."""
-    R = np.zeros(Q.size)
-    D = Q.copy()
-    for j in range(Q.size):
-        R[: D.size] += D / rate ** (j + 1)
-        D = D[1:] * np.arange(1, D.size)
-    return R
+def _exp_antiderivative(Q: list) -> list:
+    """``R = sum_j Q^(j)``, so that :math:`\\int_0^x e^{-x'} Q = R(0) - e^{-x} R(x)`.
+
+    The derivatives are formed and summed in the order of the original NumPy loop
+    (``D_j = (D_{j-1})'``, ``R += D_j`` for ``j = 0, 1, ...``), bit for bit: the event
+    sequence of a long chattering impact is sensitive to the last bits of ``R``, and the
+    refusal horizons documented in :func:`impact_sequence` were measured with this order.
+    Short polynomials in plain Python, longer ones by a cumulative product and sum.
+    """
+    n = len(Q)
+    if n <= _SHORT:
+        R = list(Q)
+        D = R
+        for _ in range(1, n):
+            D = [D[k + 1] * (k + 1) for k in range(len(D) - 1)]
+            for k, d in enumerate(D):
+                R[k] += d
+        return R
+    W, gather = _antiderivative_plan(n)
+    W = W.copy()
+    W[:, 0] = Q
+    D = np.append(np.cumprod(W, axis=1), 0.0)  # D[(k + j) n + j] = Q^(j)_k
+    return np.cumsum(D[gather], axis=1)[:, -1].tolist()
 
 
-def _bound_exp_part(Q: np.ndarray, X: float) -> float:
-    """Upper bound of :math:`|e^{-x} Q(x)|` on :math:`[0, X]`."""
-    if Q.size == 0:
-        return 0.0
-    k = np.arange(Q.size, dtype=float)
-    peak = np.minimum(k, X)  # x^k e^-x is largest at x = k
-    with np.errstate(divide="ignore"):
-        m = np.exp(k * np.log(np.where(peak > 0, peak, 1.0)) - peak)
-    m[0] = 1.0
-    return float(np.abs(Q) @ m)
+_SHORT = 10
+
+
+@cache
+def _antiderivative_plan(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Factors ``m, m - 1, ...`` whose running product (row ``m``, after ``Q_m``) gives
+    the coefficient ``m`` of each derivative, and where coefficient ``k`` of derivative
+    ``j`` sits in it (``n * n``: a zero)."""
+    m, i = np.arange(n)[:, None], np.arange(n)[None, :]
+    W = np.where(i <= m, m - i + 1.0, 1.0)
+    k, j = np.arange(n)[:, None], np.arange(n)[None, :]
+    return W, np.where(k + j < n, (k + j) * n + j, n * n)
+
+
+def _horner(c, x: float) -> float:
+    out = 0.0
+    for ck in reversed(c):
+        out = out * x + ck
+    return out
+
+
+def _bound_exp_part(Q, X: float) -> float:
+    """Upper bound of :math:`|e^{-x} Q(x)|` on :math:`[0, X]`
+    (:math:`x^k e^{-x}` is largest at :math:`x = k`)."""
+    total = 0.0
+    for k, c in enumerate(Q):
+        if c == 0.0:
+            continue
+        peak = min(k, X)
+        total += abs(c) * (math.exp(k * math.log(peak) - peak) if peak > 0 else 1.0)
+    return total
 
 
 @dataclass
@@ -123,13 +160,21 @@ class _Pieces:
     p: list = field(default_factory=list)
     q: list = field(default_factory=list)
 
-    def append(self, s0: float, h: float, p: float, Q: np.ndarray) -> None:
-        Q = _trim(Q)
-        if Q.size and _bound_exp_part(Q, h / self.alpha) < _NEGLIGIBLE * max(1.0, abs(p)):
-            Q = np.zeros(0)
+    def append(self, s0: float, h: float, p: float, Q: list) -> None:
+        """Add the piece ``p + e^{-x} Q(x)`` (``Q`` a list of floats, lowest order first)
+        on ``[s0, s0 + h]``."""
+        while Q and Q[-1] == 0.0:
+            Q = Q[:-1]
+        if len(Q) > _MAX_COEFFICIENTS:
+            raise ValueError(
+                f"polynomial degree {len(Q) - 1} exceeds {_MAX_COEFFICIENTS - 1} at s = {s0!r}"
+            )
+        small = _NEGLIGIBLE * max(1.0, abs(p))
+        if Q and abs(Q[0]) < small and _bound_exp_part(Q, h / self.alpha) < small:
+            Q = []  # (the bound is at least |Q[0]|: the first test only saves its cost)
         if h <= 0.0:
             return
-        if self.q and Q.size == 0 and self.q[-1].size == 0 and self.p[-1] == p:
+        if self.q and not Q and not self.q[-1] and self.p[-1] == p:
             return  # the constant piece before goes on (a piece ends where the next starts)
         self.start.append(s0)
         self.p.append(p)
@@ -151,10 +196,10 @@ class _Tables:
     def build(cls, pieces: _Pieces, s_end: float) -> _Tables:
         a = pieces.alpha
         n = len(pieces.start)
-        deg = max((q.size for q in pieces.q), default=1)
+        deg = max((len(q) for q in pieces.q), default=1)
         q = np.zeros((n, max(deg, 1)))
         for i, Q in enumerate(pieces.q):
-            q[i, : Q.size] = Q
+            q[i, : len(Q)] = Q
         start = np.array(pieces.start)
         p = np.array(pieces.p)
         h = np.diff(np.r_[start, s_end])
@@ -369,28 +414,66 @@ class RodImpactSequence:
 
 
 def _g_max(tab: _Tables, s_end: float) -> float:
-    """Largest value of ``g`` on ``[0, s_end]``: piece ends and zeros of ``Q' - Q``."""
-    best = 0.0
+    """Largest value of ``g`` on ``[0, s_end]``: piece ends and zeros of ``Q' - Q``.
+
+    Only pieces that can reach the largest value are searched for their zeros of
+    ``Q' - Q``: ``floor``, the largest of ``g`` sampled at ``_G_SAMPLES`` points of
+    every piece, is a value that ``g`` takes, and a piece whose upper bound
+    ``p + max |e^{-x} Q|`` is below it cannot hold the maximum. The result is the
+    largest value at the candidates (ends and critical points) of the other pieces.
+    """
     a = tab.alpha
     ends = np.r_[tab.start[1:], np.inf]
-    for i in range(len(tab.start)):
-        s0 = tab.start[i]
-        if s0 >= s_end or ends[i] <= 0.0:
-            continue
-        lo, hi = max(s0, 0.0), min(ends[i], s_end)
-        Q = _trim(tab.q[i])
-        if Q.size and tab.p[i] + _bound_exp_part(Q, (hi - s0) / a) <= best:
+    live = np.flatnonzero((tab.start < s_end) & (ends > 0.0))
+    s0 = tab.start[live]
+    lo, hi = np.maximum(s0, 0.0), np.minimum(ends[live], s_end)
+    xlo, xhi = (lo - s0) / a, (hi - s0) / a
+    x = xlo[:, None] + (xhi - xlo)[:, None] * np.linspace(0.0, 1.0, _G_SAMPLES)
+    q = tab.q[live]
+    p = tab.p[live]
+    floor = float((p[:, None] + np.exp(-x) * _polyval_rows(q[:, None, :], x)).max())
+    # upper bounds p + sum_k |q_k| max x^k e^-x (x^k e^-x is largest at x = k)
+    k = np.arange(q.shape[1], dtype=float)
+    peak = np.minimum(k, xhi[:, None])
+    with np.errstate(divide="ignore"):
+        m = np.exp(k * np.log(np.where(peak > 0, peak, 1.0)) - peak)
+    m[:, 0] = 1.0
+    bound = p + (np.abs(q) * m).sum(axis=1)
+    constant = ~q.any(axis=1)
+    best = max(0.0, float(p[constant].max())) if constant.any() else 0.0
+    keep = np.flatnonzero(~constant & (bound >= floor))
+    for i, s0_i, lo_i, hi_i, X, bound_i in zip(
+        live[keep].tolist(),
+        s0[keep],
+        lo[keep],
+        hi[keep],
+        xhi[keep].tolist(),
+        bound[keep],
+        strict=True,
+    ):
+        if bound_i <= best:
             continue  # cannot beat the best value so far
-        cand = [lo, hi]
+        Q = _trim(tab.q[i])
+        cand = [lo_i, hi_i]
         if Q.size > 1:
             crit = exp_poly_roots(
-                np.zeros(0), npoly.polysub(npoly.polyder(Q), Q), (lo - s0) / a, (hi - s0) / a
+                np.zeros(0), npoly.polysub(npoly.polyder(Q), Q), (lo_i - s0_i) / a, X
             )
-            cand += list(s0 + a * crit)
-        x = (np.array(cand) - s0) / a
-        vals = tab.p[i] + np.exp(-x) * npoly.polyval(x, Q) if Q.size else np.full(x.size, tab.p[i])
+            cand += list(s0_i + a * crit)
+        xc = (np.array(cand) - s0_i) / a
+        vals = tab.p[i] + np.exp(-xc) * npoly.polyval(xc, Q)
         best = max(best, float(vals.max()))
     return best
+
+
+_G_SAMPLES = 9
+
+
+def _first_root(A: np.ndarray, B: list, X: float, *, rising_from_zero: bool = False):
+    """First certified zero with sign change of :math:`e^x A + B` in :math:`(0, X]`, or
+    ``None`` (:func:`impactsym.numeric.exppoly.exp_poly_roots`)."""
+    root = exp_poly_roots(A, np.array(B), 0.0, X, first=True, rising_from_zero=rising_from_zero)
+    return float(root[0]) if root.size else None
 
 
 def impact_sequence(
@@ -475,45 +558,47 @@ def impact_sequence(
         return _elastic_sequence(alpha, f, kappa, t_end, max_contacts)
 
     pieces = _Pieces(alpha)
-    pieces.append(-2.0, 2.0, 0.0, np.zeros(0))  # rest before the impact
+    pieces.append(-2.0, 2.0, 0.0, [])  # rest before the impact
+    starts = pieces.start
     contacts, speeds, flights = [], [], []
     t, v, y, u = 0.0, 1.0, 0.0, 0.0  # time, striker velocity and position, rod end
     in_contact, contact_start = True, 0.0
     j = 0  # incoming piece index
     final = False
+    # The pieces' polynomials are lists of plain floats: at degree < ~20 Python's
+    # arithmetic beats NumPy's cost per call on such small arrays.
     try:
         while t < t_end:
             # incoming piece j: the one holding t - 2; piece boundaries are compared in
             # the time of arrival (start + 2) so that aligned pieces meet exactly
-            while j + 1 < len(pieces.start) and pieces.start[j + 1] + 2.0 <= t:
+            while j + 1 < len(starts) and starts[j + 1] + 2.0 <= t:
                 j += 1
-            s_in = pieces.start[j]
+            s_in = starts[j]
             delta = max(t - (s_in + 2.0), 0.0) / alpha
             p_in = pieces.p[j]
             Q_in = pieces.q[j]
-            if Q_in.size:
-                Q_in = math.exp(-delta) * taylor_shift(Q_in, delta)
-            t_next = min((pieces.start[j + 1] if j + 1 < len(pieces.start) else t) + 2.0, t_end)
+            if Q_in and delta > 0.0:
+                Q_in = (math.exp(-delta) * taylor_shift(np.array(Q_in), delta)).tolist()
+            t_next = min((starts[j + 1] if j + 1 < len(starts) else t) + 2.0, t_end)
             h = t_next - t
             if final:  # free vibration: copy the reflected wave, no events
-                pieces.append(t, h, -p_in, -Q_in)
+                pieces.append(t, h, -p_in, [-c for c in Q_in])
                 t = t_next
                 continue
             if in_contact:
                 p_new = f - p_in
-                q0 = Q_in[0] if Q_in.size else 0.0
+                q0 = Q_in[0] if Q_in else 0.0
                 G0 = v + p_in + q0 - p_new
-                if Q_in.size:  # G = G0 + Q_in - q0 - 2 int Q_in
-                    G = np.zeros(Q_in.size + 1)
-                    G[:-1] = Q_in
-                    G[1:] -= 2.0 * Q_in / np.arange(1, Q_in.size + 1)
-                    G[0] = G0
-                    B = G.copy()
-                    B[:-1] += Q_in
+                if Q_in:  # G = G0 + Q_in - q0 - 2 int Q_in
+                    n = len(Q_in)
+                    G = [G0] + [Q_in[k] - 2.0 * Q_in[k - 1] / k for k in range(1, n)]
+                    G.append(-2.0 * Q_in[n - 1] / n)
+                    B = [G[k] + Q_in[k] for k in range(n)]
+                    B.append(G[n])
                 else:  # below rounding the exponential part is dropped, as in _Pieces.append
-                    G = np.array([G0 if abs(G0) >= _NEGLIGIBLE * max(1.0, abs(p_new)) else 0.0])
+                    G = [G0 if abs(G0) >= _NEGLIGIBLE * max(1.0, abs(p_new)) else 0.0]
                     B = G
-                cap = _X_MAX if B.size > 1 else (_X_LONG if B[0] != 0.0 else math.inf)
+                cap = _X_MAX if len(B) > 1 else (_X_LONG if B[0] != 0.0 else math.inf)
                 if h > alpha * cap:
                     h = alpha * cap
                     t_next = t + h
@@ -525,15 +610,16 @@ def impact_sequence(
                     in_contact = False
                     continue
                 # with B = 0, N = f >= 0 throughout: no sign change
-                root = exp_poly_roots(np.array([f]), B, 0.0, X, first=True) if B.any() else B[:0]
-                ended = root.size > 0
+                root = _first_root(np.array([f]), B, X) if any(B) else None
+                ended = root is not None
                 if ended:
-                    X, h = float(root[0]), alpha * float(root[0])
+                    X, h = root, alpha * root
                     t_next = t + h
                 pieces.append(t, h, p_new, G)
                 ex = math.exp(-X)
                 Gd = G.copy()
-                Gd[: Q_in.size] -= Q_in
+                for k in range(len(Q_in)):
+                    Gd[k] -= Q_in[k]
                 v = p_new - p_in + ex * _horner(Gd, X)
                 R = _exp_antiderivative(Gd)
                 y += alpha * ((p_new - p_in) * X + R[0] - ex * _horner(R, X))
@@ -545,33 +631,33 @@ def impact_sequence(
                     flights.append((t, y, v))
                     in_contact = False
             else:
-                if Q_in.size and h > alpha * _X_MAX:
+                if Q_in and h > alpha * _X_MAX:
                     h = alpha * _X_MAX
                     t_next = t + h
                 X = h / alpha
-                R = _exp_antiderivative(Q_in) if Q_in.size else np.zeros(1)
-                C = np.array([u - y - 2 * alpha * R[0], -alpha * (2 * p_in + v), -0.5 * alpha * f])
-                if Q_in.size:
-                    A, Bgap = C, 2 * alpha * R
-                    slope = C[0] + C[1] + 2 * alpha * (R[1] if R.size > 1 else 0.0)
+                R = _exp_antiderivative(Q_in) if Q_in else [0.0]
+                C = [u - y - 2 * alpha * R[0], -alpha * (2 * p_in + v), -0.5 * alpha * f]
+                if Q_in:
+                    A, Bgap = C, [2 * alpha * r for r in R]
+                    slope = C[0] + C[1] + 2 * alpha * (R[1] if len(R) > 1 else 0.0)
                 else:
-                    A, Bgap = np.zeros(0), C
+                    A, Bgap = [], C
                     slope = C[1]
                 opening = bool(flights) and flights[-1][0] == t
                 if opening and slope < 0.0:
                     # at a separation gap' = -N >= 0 exactly; clear a rounding-level slope
                     C[1] -= slope
-                lo_gap = C[0] + (2 * alpha * R[0] if Q_in.size else 0.0)
+                lo_gap = C[0] + (2 * alpha * R[0] if Q_in else 0.0)
                 if lo_gap < 0.0:  # u - y >= 0 in flight; clear a rounding-level overlap
                     C[0] -= lo_gap
-                root = exp_poly_roots(A, Bgap, 0.0, X, first=True, rising_from_zero=opening)
-                ended = root.size > 0
+                root = _first_root(np.array(A), Bgap, X, rising_from_zero=opening)
+                ended = root is not None
                 if ended:
-                    X, h = float(root[0]), alpha * float(root[0])
+                    X, h = root, alpha * root
                     t_next = t + h
-                pieces.append(t, h, -p_in, -Q_in)
+                pieces.append(t, h, -p_in, [-c for c in Q_in])
                 ex = math.exp(-X)
-                u += -2 * alpha * (p_in * X + (R[0] - ex * _horner(R, X) if Q_in.size else 0.0))
+                u += -2 * alpha * (p_in * X + (R[0] - ex * _horner(R, X) if Q_in else 0.0))
                 y += v * h + 0.5 * f / alpha * h * h
                 v += f / alpha * h
                 t = t_next
