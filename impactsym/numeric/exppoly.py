@@ -121,29 +121,39 @@ def _shifted(c: np.ndarray, u: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _taylor(A, B, u, r, M, powers):
-    """Taylor coefficients ``T`` of ``F`` at ``u`` (orders 0..M) and the bounds
-    ``(rho0, rho1)`` of the omitted tail plus rounding for ``F`` and ``F'`` on
-    ``[u, u + r]``, and the rounding part of ``rho0`` alone (``powers = r**k``)."""
+    """Taylor coefficients ``T`` of ``F`` at ``u`` (orders 0..M), the bound ``rho0`` of
+    the omitted tail plus rounding for ``F`` on ``[u, u + r]``, the rounding part of it
+    alone, and ``slope_bound()``, the same bound ``rho1`` for ``F'`` (computed only
+    when asked for: most intervals are decided without it). ``powers = r**k``."""
     Au, Amag = _shifted(A, u)
     Bu, Bmag = _shifted(B, u)
-    rho0 = rho1 = 0.0
+    guard = 64.0 * (M + 4) * _EPS * 4.0
+    tail0 = tail1 = 0.0
     if A.size:  # e^z Au(z) = sum_k z^k sum_i Au[i] / (k - i)!
         eu = math.exp(u)
-        expand = _EXPAND[: A.size, : M + 1]
-        T = (eu * Au) @ expand
-        Tmag = (eu * Amag) @ expand
-        K = M - np.arange(A.size) + 1  # first omitted power of e^z in term i: i + K = M + 1
-        tail = eu * math.exp(r) * powers[M] * np.abs(Au)
-        rho0 = float(tail @ _INVFACT[K]) * r
-        rho1 = float(tail @ (_ORDER[: A.size] * _INVFACT[K] + _INVFACT[K - 1]))
+        if eu != 1.0:
+            Au, Amag = eu * Au, eu * Amag
+        if A.size == 1:
+            T = float(Au[0]) * _EXPAND[0, : M + 1]
+            Tmag = float(Amag[0]) * _EXPAND[0, : M + 1]
+        else:
+            T = Au @ _EXPAND[: A.size, : M + 1]
+            Tmag = Amag @ _EXPAND[: A.size, : M + 1]
+        scale = math.exp(r) * powers[M]
+        for i, a in enumerate(Au.tolist()):
+            K = M - i + 1  # first omitted power of e^z in term i: order i + K = M + 1
+            tail0 += abs(a) * scale * r * _INVFACT[K]
+            tail1 += abs(a) * scale * (i * _INVFACT[K] + _INVFACT[K - 1])
     else:
         T, Tmag = np.zeros(M + 1), np.zeros(M + 1)
     T[: B.size] += Bu
     Tmag[: B.size] += Bmag
-    guard = 64.0 * (M + 4) * _EPS * 4.0
     noise = guard * float(Tmag @ powers)
-    rho1 += guard * float((_ORDER[1 : M + 1] * Tmag[1:]) @ powers[:-1])
-    return T, rho0 + noise, rho1, noise
+
+    def slope_bound() -> float:
+        return tail1 + guard * float((_ORDER[1 : M + 1] * Tmag[1:]) @ powers[:-1])
+
+    return T, tail0 + noise, slope_bound, noise
 
 
 def exp_poly_roots(
@@ -224,7 +234,7 @@ def exp_poly_roots(
         u, v = stack.pop()
         r = v - u
         powers = r ** _ORDER[: M + 1]
-        T, rho0, rho1, noise = _taylor(A, B, u, r, M, powers)
+        T, rho0, slope_bound, noise = _taylor(A, B, u, r, M, powers)
         T0 = float(T[0])
         s0 = 1.0 if T0 > 0.0 else -1.0
         # one-sided: only terms of the sign opposite to T_0 can bring F to zero
@@ -241,7 +251,7 @@ def exp_poly_roots(
         T1 = float(T[1])
         s1 = 1.0 if T1 > 0.0 else -1.0
         slope_against = float(np.maximum(-s1 * _ORDER[2 : M + 1] * T[2:], 0.0) @ powers[1:-1])
-        mono = T1 != 0.0 and abs(T1) > slope_against + rho1
+        mono = T1 != 0.0 and abs(T1) > slope_against + slope_bound()
         spread = float(np.abs(T[1:]) @ powers[1:])
         flat = abs(T0) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
         if mono or flat or r <= min_width * max(1.0, abs(u)):

@@ -253,9 +253,13 @@ class _Tables:
 
     def integral(self, s: np.ndarray, square: bool = False) -> np.ndarray:
         """:math:`\\int_{-2}^{s} g` (or of :math:`g^2`)."""
+        return self.integrals(s)[1 if square else 0]
+
+    def integrals(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:math:`\\int_{-2}^{s} g` and :math:`\\int_{-2}^{s} g^2` from one pass."""
         i = self.locate(s)
         i1, i2 = self._partial(i, s - self.start[i])
-        return (self.G2[i] + i2) if square else (self.G1[i] + i1)
+        return self.G1[i] + i1, self.G2[i] + i2
 
 
 def _polyval_rows(C: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -296,7 +300,21 @@ class RodSequenceEnergy:
         return tab.integral(tt, square=True) - tab.integral(tt - 2.0, square=True)
 
     def balance(self, t):
-        return self.striker(t) + self.rod(t) - self.work(t) - 0.5 * self.sequence.alpha
+        return self._balance_and_work(t)[0]
+
+    def _balance_and_work(self, t):
+        """``balance(t)`` and ``work(t)``, the integrals of ``g`` and ``g^2`` taken in
+        one pass at ``t`` and ``t - 2`` (the same numbers as :meth:`rod` and
+        :meth:`work` compute separately)."""
+        seq = self.sequence
+        tt = seq._times(t)
+        now, before = seq._tables.integrals(tt), seq._tables.integrals(tt - 2.0)
+        rod = now[1] - before[1]
+        work = seq.f * seq._striker_position(tt, now[0] - before[0])
+        striker = 0.5 * seq.alpha * seq.velocity(tt) ** 2
+        if np.ndim(t) == 0:
+            striker, rod, work = float(striker), float(rod), float(work)
+        return striker + rod - work - 0.5 * seq.alpha, work
 
 
 @dataclass(frozen=True)
@@ -377,14 +395,19 @@ class RodImpactSequence:
     def displacement(self, t):
         """Striker displacement :math:`y(t)`."""
         tt = self._times(t)
-        y = np.asarray(self.rod_end_displacement(tt), dtype=float)
+        y = self._striker_position(tt, np.asarray(self.rod_end_displacement(tt), dtype=float))
+        return float(y) if np.ndim(t) == 0 else y
+
+    def _striker_position(self, tt, u):
+        """:math:`y` at the times ``tt`` (checked) given the rod end position ``u`` there."""
+        y = u
         if self._flights:
             k, fl = self._flight_index(tt)
             data = np.array(self._flights)
             t0, y0, v0 = data[np.clip(k, 0, None)].T
             d = tt - t0
             y = np.where(fl, y0 + v0 * d + 0.5 * self.f / self.alpha * d * d, y)
-        return float(y) if np.ndim(t) == 0 else y
+        return y
 
     def velocity(self, t):
         """Striker velocity :math:`y'(t)`."""
@@ -431,14 +454,23 @@ def _g_max(tab: _Tables, s_end: float) -> float:
     x = xlo[:, None] + (xhi - xlo)[:, None] * np.linspace(0.0, 1.0, _G_SAMPLES)
     q = tab.q[live]
     p = tab.p[live]
-    floor = float((p[:, None] + np.exp(-x) * _polyval_rows(q[:, None, :], x)).max())
-    # upper bounds p + sum_k |q_k| max x^k e^-x (x^k e^-x is largest at x = k)
+    sampled = p[:, None] + np.exp(-x) * _polyval_rows(q[:, None, :], x)
+    floor = float(sampled.max())
+    # upper bounds: |e^-x c(x)| <= sum_k |c_k| max x^k e^-x (largest at x = k) for
+    # c = Q, and for c = Q' - Q a Lipschitz constant L of g in x; between two
+    # samples a, b = a + d, g <= (g(a) + g(b) + L d) / 2 (plus rounding)
     k = np.arange(q.shape[1], dtype=float)
     peak = np.minimum(k, xhi[:, None])
     with np.errstate(divide="ignore"):
         m = np.exp(k * np.log(np.where(peak > 0, peak, 1.0)) - peak)
     m[:, 0] = 1.0
-    bound = p + (np.abs(q) * m).sum(axis=1)
+    size = (np.abs(q) * m).sum(axis=1)
+    slope = np.abs(np.c_[q[:, 1:] * k[1:], np.zeros(len(q))] - q)
+    lipschitz = (slope * m).sum(axis=1)
+    step = (xhi - xlo) / (_G_SAMPLES - 1)
+    pairs = 0.5 * (sampled[:, 1:] + sampled[:, :-1]).max(axis=1)
+    rounding = 64.0 * q.shape[1] * np.finfo(float).eps * (size + np.abs(p))
+    bound = np.minimum(p + size, pairs + 0.5 * lipschitz * step + rounding)
     constant = ~q.any(axis=1)
     best = max(0.0, float(p[constant].max())) if constant.any() else 0.0
     keep = np.flatnonzero(~constant & (bound >= floor))
@@ -466,7 +498,7 @@ def _g_max(tab: _Tables, s_end: float) -> float:
     return best
 
 
-_G_SAMPLES = 9
+_G_SAMPLES = 33
 
 
 def _first_root(A: np.ndarray, B: list, X: float, *, rising_from_zero: bool = False):
@@ -708,8 +740,9 @@ def _check_balance(seq: RodImpactSequence) -> None:
     ends = np.r_[seq._tables.start, seq.t_end]
     ts = 0.5 * (ends[:-1] + ends[1:])  # mid-piece: no event (jump) is evaluated
     ts = ts[(ts > 0.0) & (ts < seq.t_end)]
-    residual = np.abs(seq.energy.balance(ts))
-    scale = 0.5 * seq.alpha + np.abs(seq.energy.work(ts))
+    residual, work = seq.energy._balance_and_work(ts)
+    residual = np.abs(residual)
+    scale = 0.5 * seq.alpha + np.abs(work)
     bad = np.flatnonzero(residual > _BALANCE_RTOL * scale)
     if bad.size:
         k = bad[0]
