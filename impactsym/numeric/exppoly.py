@@ -37,19 +37,21 @@ rounding.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
 from impactsym.numeric.roots import bracketed_newton_scalar
 
-__all__ = ["exp_poly_roots", "taylor_shift"]
+__all__ = ["exp_poly_positive", "exp_poly_roots", "taylor_shift"]
 
-_EPS = np.finfo(float).eps
+_EPS = float(np.finfo(float).eps)
 
 
 _FACT = np.array([math.factorial(k) for k in range(171)], dtype=float)
 _BINOM = np.array([[math.comb(b, a) for b in range(96)] for a in range(96)], dtype=float)
 _INVFACT = 1.0 / _FACT
+_INVFACT_LIST = _INVFACT.tolist()
 _ORDER = np.arange(171, dtype=float)
 _EXPONENT = np.maximum(np.subtract.outer(np.arange(-96, 0), np.arange(-96, 0)) * -1, 0)
 
@@ -120,15 +122,12 @@ def _shifted(c: np.ndarray, u: float) -> tuple[np.ndarray, np.ndarray]:
     return S @ c, (S if u >= 0.0 else np.abs(S)) @ np.abs(c)
 
 
-def _taylor(A, B, u, r, M, powers):
-    """Taylor coefficients ``T`` of ``F`` at ``u`` (orders 0..M), the bound ``rho0`` of
-    the omitted tail plus rounding for ``F`` on ``[u, u + r]``, the rounding part of it
-    alone, and ``slope_bound()``, the same bound ``rho1`` for ``F'`` (computed only
-    when asked for: most intervals are decided without it). ``powers = r**k``."""
+def _coefficients(A, B, u, M):
+    """Taylor coefficients ``T`` of ``F`` at ``u`` (orders 0..M), the magnitudes of
+    their summands (for rounding) and :math:`e^u |A(x + u)|` coefficientwise (for the
+    omitted orders): what does not depend on the interval's length."""
     Au, Amag = _shifted(A, u)
     Bu, Bmag = _shifted(B, u)
-    guard = 64.0 * (M + 4) * _EPS * 4.0
-    tail0 = tail1 = 0.0
     if A.size:  # e^z Au(z) = sum_k z^k sum_i Au[i] / (k - i)!
         eu = math.exp(u)
         if eu != 1.0:
@@ -139,21 +138,101 @@ def _taylor(A, B, u, r, M, powers):
         else:
             T = Au @ _EXPAND[: A.size, : M + 1]
             Tmag = Amag @ _EXPAND[: A.size, : M + 1]
-        scale = math.exp(r) * powers[M]
-        for i, a in enumerate(Au.tolist()):
-            K = M - i + 1  # first omitted power of e^z in term i: order i + K = M + 1
-            tail0 += abs(a) * scale * r * _INVFACT[K]
-            tail1 += abs(a) * scale * (i * _INVFACT[K] + _INVFACT[K - 1])
+        absA = np.abs(Au).tolist()
     else:
-        T, Tmag = np.zeros(M + 1), np.zeros(M + 1)
+        T, Tmag, absA = np.zeros(M + 1), np.zeros(M + 1), []
     T[: B.size] += Bu
     Tmag[: B.size] += Bmag
+    return T, Tmag, absA
+
+
+def _taylor(coefficients, r, M, powers):
+    """The Taylor coefficients ``T`` at ``u`` (from :func:`_coefficients`), the bound
+    ``rho0`` of the omitted tail plus rounding for ``F`` on ``[u, u + r]``, the rounding
+    part of it alone, and ``slope_bound()``, the same bound ``rho1`` for ``F'``
+    (computed only when asked for: most intervals are decided without it).
+    ``powers = r**k``."""
+    T, Tmag, absA = coefficients
+    guard = 64.0 * (M + 4) * _EPS * 4.0
+    tail0 = tail1 = 0.0
+    if absA:
+        scale = math.exp(r) * powers[M]
+        for i, a in enumerate(absA):
+            K = M - i + 1  # first omitted power of e^z in term i: order i + K = M + 1
+            tail0 += a * scale * r * _INVFACT[K]
+            tail1 += a * scale * (i * _INVFACT[K] + _INVFACT[K - 1])
     noise = guard * float(Tmag @ powers)
 
     def slope_bound() -> float:
         return tail1 + guard * float((_ORDER[1 : M + 1] * Tmag[1:]) @ powers[:-1])
 
     return T, tail0 + noise, slope_bound, noise
+
+
+def exp_poly_positive(A: Sequence[float], B: Sequence[float], hi: float) -> bool:
+    """Whether :math:`F(x) = e^x A(x) + B(x)` is proven positive on :math:`[0, hi]`: a
+    cheap certificate, no root search.
+
+    With the Taylor coefficients :math:`T_k = B_k + \\sum_i A_i / (k - i)!` of
+    :math:`F` at 0 and :math:`0 \\le x \\le hi`,
+
+    .. math::
+
+        F(x) \\ge T_0 + \\sum_{1 \\le k < K} \\min(T_k, 0)\\, hi^k - \\rho_K, \\qquad
+        \\rho_K = e^{hi} \\sum_i |A_i| \\frac{hi^K}{(K - i)!},
+
+    the bound of the omitted orders of :func:`exp_poly_roots`; if every :math:`A_i \\ge 0`
+    the omitted orders are themselves nonnegative and :math:`K = len(B)`,
+    :math:`\\rho_K = 0`. ``K`` grows from ``max(len(A), len(B))`` until the bound is decided or 20
+    orders more have not sufficed. ``True`` when the bound is positive beyond the
+    rounding margin of :func:`exp_poly_roots`; ``False`` says nothing (search with
+    :func:`exp_poly_roots`). Plain Python floats: meant for event loops that test
+    many small pieces.
+
+    Parameters
+    ----------
+    A, B
+        Coefficients, lowest order first (lists of floats, either may be empty).
+    hi
+        Right end of the interval (``hi >= 0``).
+
+    Examples
+    --------
+    :math:`e^x + 1 - 2x` is positive on :math:`[0, 1]` (its minimum is :math:`3 - 2
+    \\ln 2`); :math:`e^x - 3` is not:
+
+    >>> exp_poly_positive([1.0], [1.0, -2.0], 1.0), exp_poly_positive([1.0], [-3.0], 1.0)
+    (True, False)
+    """
+    n, m = len(B), len(A)
+    nonnegative = all(a >= 0.0 for a in A)
+    last = n if nonnegative else max(n, m) + 20
+    e_hi = 1.0 if nonnegative else math.exp(hi)
+    guard = 64.0 * (max(m, n) + 16) * _EPS * 4.0
+    lower = mag = 0.0
+    power = 1.0  # hi ** k
+    for k in range(max(last, 1)):
+        T = B[k] if k < n else 0.0
+        Tmag = abs(T)
+        for i in range(min(k + 1, m)):
+            term = A[i] * _INVFACT_LIST[k - i]
+            T += term
+            Tmag += abs(term)
+        if k == 0 and T <= 0.0:
+            return False
+        if k == 0 or T < 0.0:
+            lower += T * power
+        mag += Tmag * power
+        power *= hi
+        if k + 1 >= max(n, m) and not nonnegative:  # every (k + 1 - i)! defined
+            # omitted orders k + 1, ...: term i contributes at most
+            # |A_i| e^hi hi^(k+1) / (k + 1 - i)!
+            tail = e_hi * power * sum(abs(a) * _INVFACT_LIST[k + 1 - i] for i, a in enumerate(A))
+            if lower - tail > guard * mag:
+                return True
+            if lower <= guard * mag or tail < 1e-3 * guard * mag:
+                return False  # more orders only lower the bound
+    return lower > guard * mag
 
 
 def exp_poly_roots(
@@ -230,11 +309,14 @@ def exp_poly_roots(
         known[:] = [x, sign, None]
 
     stack = [(lo, hi)]
+    at = [math.nan, None]  # the last expansion point and its coefficients
     while stack and not (first and brackets):
         u, v = stack.pop()
         r = v - u
         powers = r ** _ORDER[: M + 1]
-        T, rho0, slope_bound, noise = _taylor(A, B, u, r, M, powers)
+        if u != at[0]:  # a left half keeps its left end: the same coefficients
+            at[:] = [u, _coefficients(A, B, u, M)]
+        T, rho0, slope_bound, noise = _taylor(at[1], r, M, powers)
         T0 = float(T[0])
         s0 = 1.0 if T0 > 0.0 else -1.0
         # one-sided: only terms of the sign opposite to T_0 can bring F to zero

@@ -78,7 +78,7 @@ from functools import cache
 import numpy as np
 from numpy.polynomial import polynomial as npoly
 
-from impactsym.numeric.exppoly import _trim, exp_poly_roots, taylor_shift
+from impactsym.numeric.exppoly import _trim, exp_poly_positive, exp_poly_roots, taylor_shift
 from impactsym.validation import real_array
 
 __all__ = ["RodImpactSequence", "RodSequenceEnergy", "impact_sequence"]
@@ -641,8 +641,12 @@ def impact_sequence(
                     flights.append((t, y, v))
                     in_contact = False
                     continue
-                # with B = 0, N = f >= 0 throughout: no sign change
-                root = _first_root(np.array([f]), B, X) if any(B) else None
+                # with B = 0, N = f >= 0 throughout: no sign change; most pieces are
+                # proven positive by the cheap certificate, the others searched
+                if not any(B) or exp_poly_positive([f], B, X):
+                    root = None
+                else:
+                    root = _first_root(np.array([f]), B, X)
                 ended = root is not None
                 if ended:
                     X, h = root, alpha * root
@@ -682,7 +686,10 @@ def impact_sequence(
                 lo_gap = C[0] + (2 * alpha * R[0] if Q_in else 0.0)
                 if lo_gap < 0.0:  # u - y >= 0 in flight; clear a rounding-level overlap
                     C[0] -= lo_gap
-                root = _first_root(np.array(A), Bgap, X, rising_from_zero=opening)
+                if not opening and exp_poly_positive(A, Bgap, X):
+                    root = None  # the gap stays open (the cheap certificate)
+                else:
+                    root = _first_root(np.array(A), Bgap, X, rising_from_zero=opening)
                 ended = root is not None
                 if ended:
                     X, h = root, alpha * root
