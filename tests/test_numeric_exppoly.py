@@ -1,0 +1,114 @@
+"""The exponential-polynomial machinery, :mod:`impactsym.numeric.exppoly`, against mpmath:
+the cheap positivity certificate never certifies a function with a zero, the one-sided
+Taylor exclusion finds every planted root, and its roots agree with mpmath's.
+
+(Tangential touches and roots on subdivision nodes are tested with the rod sequence in
+``tests/test_rod_continuation.py``.)"""
+
+from __future__ import annotations
+
+import math
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+from impactsym.numeric.exppoly import exp_poly_positive, exp_poly_roots
+
+
+def value(A, B, x):
+    """F(x) = e^x A(x) + B(x) in 40-digit arithmetic from the float64 coefficients."""
+    with mp.workdps(40):
+        x = mp.mpf(x)
+        a = sum((mp.mpf(c) * x**k for k, c in enumerate(A)), mp.mpf(0))
+        b = sum((mp.mpf(c) * x**k for k, c in enumerate(B)), mp.mpf(0))
+        return mp.exp(x) * a + b
+
+
+def rod_like(rng, n_b):
+    """Coefficients shaped like the rod's pieces: alternating, growing, or factorial-like."""
+    k = np.arange(n_b)
+    scale = rng.choice([1.0, 2.0, 5.0]) ** k / np.array([math.factorial(int(i)) for i in k])
+    return (rng.normal(size=n_b) * scale * rng.choice([1.0, 100.0])).tolist()
+
+
+def planted(rng, root):
+    """A random F with a simple zero at ``root`` (the constant of B adjusted)."""
+    A = rng.normal(size=rng.integers(0, 4))
+    A[rng.random(A.size) < 0.3] = 0.0  # sparse A: a leading term alone must count
+    A = A.tolist()
+    B = rod_like(rng, int(rng.integers(1, 18)))
+    B[0] -= float(value(A, B, root))
+    return A, B
+
+
+def test_positive_certificate_is_never_given_to_a_function_with_a_zero():
+    rng = np.random.default_rng(7)
+    refused = 0
+    for _ in range(400):
+        root = rng.uniform(0.01, 2.0)
+        A, B = planted(rng, root)
+        hi = rng.uniform(root, 2.5)
+        if float(value(A, B, 0.0)) <= 0.0:
+            continue
+        refused += 1
+        assert not exp_poly_positive(A, B, hi), (A, B, hi, root)
+    assert refused > 100
+
+
+def test_positive_certificate_holds_where_it_is_given_and_is_not_vacuous():
+    """Where the certificate is given, F > 0 at 2001 points in mpmath and exp_poly_roots
+    finds nothing; and it is given for most functions that stay well above zero."""
+    rng = np.random.default_rng(8)
+    given = clear = 0
+    for _ in range(300):
+        A = rng.normal(size=rng.integers(0, 4)).tolist()
+        B = rod_like(rng, int(rng.integers(0, 18)))
+        hi = rng.uniform(0.0, 2.0)
+        x = np.linspace(0.0, hi, 2001)
+        lowest = min(float(value(A, B, xi)) for xi in x[::50])
+        if exp_poly_positive(A, B, hi):
+            given += 1
+            assert min(float(value(A, B, xi)) for xi in x) > 0.0, (A, B, hi)
+            assert exp_poly_roots(np.array(A), np.array(B), 0.0, hi).size == 0
+        # clearly positive, B nearly constant and A small: the certificate must see it
+        small_rest = np.abs(B[1:]).sum() * 2.0 ** len(B) + sum(map(abs, A)) * math.exp(hi)
+        if lowest > 0 and len(B) > 1 and B[0] > 10 * small_rest:
+            clear += 1
+            assert exp_poly_positive(A, B, hi)
+    assert given > 30
+    assert clear > 0
+
+
+def test_contact_and_flight_shapes():
+    """The rod's contact function f e^x + B and a flight gap with A = (c0, c1, -alpha f / 2)."""
+    assert exp_poly_positive([0.5], [1.0, -0.5, 0.1], 2.0)
+    assert not exp_poly_positive([0.5], [-0.6, 0.0, 0.0], 2.0)  # F(0) < 0
+    assert not exp_poly_positive([0.0], [0.0], 1.0)  # F = 0 is not positive
+    assert exp_poly_positive([1.0], [], 1.0)  # F = e^x
+    # 1/2 - x^2 e^x (zero at 0.54): the omitted orders of a term of A that starts
+    # beyond B's length still count
+    assert not exp_poly_positive([0.0, 0.0, -1.0], [0.5], 1.0)
+    assert exp_poly_positive([0.0, 0.0, -1.0], [0.5], 0.3)
+    # a gap that closes at x = 1.5: (1.5 - x)(1 + x) e^x, as e^x A
+    assert not exp_poly_positive([1.5, 0.5, -1.0], [], 2.0)
+    assert exp_poly_positive([1.5, 0.5, -1.0], [], 0.5)  # (a sufficient test: not to 1.5)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_roots_planted_anywhere_are_found_and_agree_with_mpmath(seed):
+    rng = np.random.default_rng(100 + seed)
+    for _ in range(30):
+        root = rng.uniform(0.05, 1.95)
+        A, B = planted(rng, root)
+        found = exp_poly_roots(np.array(A), np.array(B), 0.0, 2.0)
+        slope = abs(float(mp.diff(lambda x, A=A, B=B: value(A, B, x), root)))
+        if slope < 1e-6:
+            continue  # (nearly) a double root: float64 cannot place it
+        assert np.abs(found - root).min() < 1e-9 / min(slope, 1.0), (A, B, root, found)
+        for r in found:  # every root reported is a zero of F (to its rounding)
+            with mp.workdps(40):
+                exact = mp.findroot(lambda x, A=A, B=B: value(A, B, x), mp.mpf(r))
+            assert abs(float(exact) - r) < 1e-12, (A, B, r)
+        first = exp_poly_roots(np.array(A), np.array(B), 0.0, 2.0, first=True)
+        assert first.tolist() == found[:1].tolist()
