@@ -71,13 +71,13 @@ def test_positive_certificate_holds_where_it_is_given_and_is_not_vacuous():
             given += 1
             assert min(float(value(A, B, xi)) for xi in x) > 0.0, (A, B, hi)
             assert exp_poly_roots(np.array(A), np.array(B), 0.0, hi).size == 0
-        # clearly positive, B nearly constant and A small: the certificate must see it
-        small_rest = np.abs(B[1:]).sum() * 2.0 ** len(B) + sum(map(abs, A)) * math.exp(hi)
-        if lowest > 0 and len(B) > 1 and B[0] > 10 * small_rest:
+        if lowest > 0.0:
             clear += 1
-            assert exp_poly_positive(A, B, hi)
-    assert given > 30
-    assert clear > 0
+        # a clearly positive one (B nearly the constant 1, A small) is always seen
+        B = [1.0] + [1e-3 * rng.normal() / math.factorial(k) for k in range(rng.integers(17))]
+        A = (1e-2 * rng.normal(size=rng.integers(0, 4))).tolist()
+        assert exp_poly_positive(A, B, hi), (A, B, hi)
+    assert given > 0.3 * clear
 
 
 def test_contact_and_flight_shapes():
