@@ -57,7 +57,7 @@ def test_positive_certificate_is_never_given_to_a_function_with_a_zero():
 
 
 def test_positive_certificate_holds_where_it_is_given_and_is_not_vacuous():
-    """Where the certificate is given, F > 0 at 2001 points in mpmath and exp_poly_roots
+    """Where the certificate is given, F > 0 at 401 points in mpmath and exp_poly_roots
     finds nothing; and it is given for most functions that stay well above zero."""
     rng = np.random.default_rng(8)
     given = clear = 0
@@ -65,8 +65,8 @@ def test_positive_certificate_holds_where_it_is_given_and_is_not_vacuous():
         A = rng.normal(size=rng.integers(0, 4)).tolist()
         B = rod_like(rng, int(rng.integers(0, 18)))
         hi = rng.uniform(0.0, 2.0)
-        x = np.linspace(0.0, hi, 2001)
-        lowest = min(float(value(A, B, xi)) for xi in x[::50])
+        x = np.linspace(0.0, hi, 401)
+        lowest = min(float(value(A, B, xi)) for xi in x[::20])
         if exp_poly_positive(A, B, hi):
             given += 1
             assert min(float(value(A, B, xi)) for xi in x) > 0.0, (A, B, hi)
