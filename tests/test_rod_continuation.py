@@ -339,3 +339,30 @@ def test_one_pass_energy_balance_is_the_sum_of_its_parts():
     scalar = e.balance(3.3)
     assert isinstance(scalar, float)
     assert scalar == float(e.striker(3.3) + e.rod(3.3) - e.work(3.3) - 0.5)
+
+
+def test_fewer_gauss_nodes_for_low_degree_pieces_change_only_rounding(monkeypatch):
+    """Integrals of g and g^2 with 24/32/48 nodes by degree against 48 nodes everywhere,
+    and single pieces against mpmath quadrature."""
+    import impactsym.rod.continuation as continuation
+
+    t = np.linspace(0.0, 29.9, 3001)
+    fast = [impact_sequence(a, f, t_end=30.0) for a, f in SHORTCUT_CASES]
+    monkeypatch.setattr(
+        continuation, "_GAUSS_BY_DEGREE", [(96, np.polynomial.legendre.leggauss(48))]
+    )
+    for (alpha, f), seq in zip(SHORTCUT_CASES, fast, strict=True):
+        slow = impact_sequence(alpha, f, t_end=30.0)
+        assert np.abs(seq.energy.rod(t) - slow.energy.rod(t)).max() < 1e-13
+        assert np.abs(seq.rod_end_displacement(t) - slow.rod_end_displacement(t)).max() < 1e-13
+    tab = fast[1]._tables  # alpha = 1, f = 0.5
+    for i in np.flatnonzero(tab.degree > 0)[:: max(1, int((tab.degree > 0).sum()) // 6)]:
+        h = min(tab.start[i + 1] - tab.start[i], 1.0)
+        i1, i2 = tab._partial(np.array([i]), np.array([h]))
+        Q = tab.q[i][: tab.degree[i] + 1][::-1].tolist()
+
+        def g(s, i=i, Q=Q):
+            return tab.p[i] + mp.exp(-s) * mp.polyval(Q, s)
+
+        assert float(i1[0]) == pytest.approx(float(mp.quad(g, [0, h])), abs=1e-13)
+        assert float(i2[0]) == pytest.approx(float(mp.quad(lambda s: g(s) ** 2, [0, h])), abs=1e-13)

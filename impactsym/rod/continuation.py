@@ -86,8 +86,15 @@ __all__ = ["RodImpactSequence", "RodSequenceEnergy", "impact_sequence"]
 _X_MAX = 2.0  # longest piece in x = tau / alpha for a non-constant exponential part
 _X_LONG = 40.0  # longest piece with a constant exponential polynomial (e^-40 ~ 4e-18)
 _NEGLIGIBLE = 1e-17
-_MAX_COEFFICIENTS = 96  # the Gauss rule below is exact to degree 95
-_GAUSS = np.polynomial.legendre.leggauss(48)  # exact to degree 95 on a piece
+_MAX_COEFFICIENTS = 96  # the 48-node Gauss rule below is exact to degree 95
+# Gauss-Legendre rules for the integrals of g and g^2 on a piece, by the degree d of its
+# Q: exact for the polynomial part of g^2 (degree 2d) with nodes to spare for the
+# exponential factor on x <= 2 (48 nodes: exact to degree 95)
+_GAUSS_BY_DEGREE = [
+    (8, np.polynomial.legendre.leggauss(24)),
+    (16, np.polynomial.legendre.leggauss(32)),
+    (_MAX_COEFFICIENTS, np.polynomial.legendre.leggauss(48)),
+]
 # Largest energy-balance residual, relative to alpha/2 + |f y|, at which the float64
 # pieces are still trusted (at piece starts); beyond it impact_sequence refuses.
 _BALANCE_RTOL = 1e-9
@@ -191,6 +198,7 @@ class _Tables:
     q: np.ndarray  # (pieces, degree + 1)
     G1: np.ndarray  # int_{s_first}^{start} g
     G2: np.ndarray  # int_{s_first}^{start} g^2
+    degree: np.ndarray  # of each piece's Q (0 also for Q = 0)
 
     @classmethod
     def build(cls, pieces: _Pieces, s_end: float) -> _Tables:
@@ -203,7 +211,8 @@ class _Tables:
         start = np.array(pieces.start)
         p = np.array(pieces.p)
         h = np.diff(np.r_[start, s_end])
-        tab = cls(a, start, p, q, np.zeros(n), np.zeros(n))
+        degree = np.array([max(len(Q) - 1, 0) for Q in pieces.q])
+        tab = cls(a, start, p, q, np.zeros(n), np.zeros(n), degree)
         i1, i2 = tab._partial(np.arange(n), h)
         tab.G1[1:] = np.cumsum(i1)[:-1]
         tab.G2[1:] = np.cumsum(i2)[:-1]
@@ -213,9 +222,10 @@ class _Tables:
         """Integrals of ``g`` and ``g^2`` over ``[start_i, start_i + tau]``.
 
         Closed form for pieces with a constant ``Q`` (the only ones longer than
-        ``_X_MAX``); Gauss-Legendre with ``_GAUSS`` nodes otherwise (exact for the
-        polynomial part, and the exponential factor on ``x <= 2`` is resolved to
-        rounding), which avoids the large derivatives of the closed form.
+        ``_X_MAX``); Gauss-Legendre otherwise, with 24 to 48 nodes by the degree of
+        ``Q`` (``_GAUSS_BY_DEGREE``: exact for the polynomial part, and the exponential
+        factor on ``x <= 2`` is resolved to rounding), which avoids the large
+        derivatives of the closed form.
         """
         a = self.alpha
         i, tau = np.broadcast_arrays(np.asarray(i), np.asarray(tau, dtype=float))
@@ -225,19 +235,26 @@ class _Tables:
         e2 = -np.expm1(-2.0 * x)
         int1 = a * (p * x + q0 * e1)
         int2 = a * (p * p * x + 2.0 * p * q0 * e1 + 0.5 * q0 * q0 * e2)
-        high = self.q.shape[1] > 1 and np.any(self.q[i, 1:] != 0.0, axis=-1)
-        if np.any(high):
-            k = np.flatnonzero(np.ravel(high))
-            ii, xx = np.ravel(i)[k], np.ravel(x)[k]
-            nodes = 0.5 * xx[:, None] * (1.0 + _GAUSS[0][None, :])
-            vals = self.p[ii][:, None] + np.exp(-nodes) * _polyval_rows(
-                self.q[ii][:, None, :], nodes
-            )
-            w = 0.5 * a * xx[:, None] * _GAUSS[1][None, :]
+        degree = self.degree[i]
+        if np.any(degree > 0):
             int1 = np.array(int1, dtype=float).ravel()
             int2 = np.array(int2, dtype=float).ravel()
-            int1[k] = (w * vals).sum(axis=1)
-            int2[k] = (w * vals * vals).sum(axis=1)
+            flat_i, flat_x, flat_d = np.ravel(i), np.ravel(x), np.ravel(degree)
+            low = 0
+            for top, (z, weight) in _GAUSS_BY_DEGREE:  # nodes enough for the degree
+                k = np.flatnonzero((flat_d > low) & (flat_d <= top))
+                low = top
+                if k.size == 0:
+                    continue
+                ii, xx = flat_i[k], flat_x[k]
+                nodes = 0.5 * xx[:, None] * (1.0 + z[None, :])
+                d = int(flat_d[k].max()) + 1
+                vals = self.p[ii][:, None] + np.exp(-nodes) * _polyval_rows(
+                    self.q[ii, :d][:, None, :], nodes
+                )
+                w = 0.5 * a * xx[:, None] * weight[None, :]
+                int1[k] = (w * vals).sum(axis=1)
+                int2[k] = (w * vals * vals).sum(axis=1)
             int1, int2 = int1.reshape(x.shape), int2.reshape(x.shape)
         return int1, int2
 
