@@ -112,3 +112,21 @@ def test_roots_planted_anywhere_are_found_and_agree_with_mpmath(seed):
             assert abs(float(exact) - r) < 1e-12, (A, B, r)
         first = exp_poly_roots(np.array(A), np.array(B), 0.0, 2.0, first=True)
         assert first.tolist() == found[:1].tolist()
+
+
+def test_the_written_out_cases_agree_with_the_general_certificate():
+    """A = [a] and A quadratic take shortcuts; a trailing zero in A takes the general
+    loop, which must decide every case the same way."""
+    rng = np.random.default_rng(9)
+    decided = 0
+    for _ in range(3000):
+        A = (rng.normal(size=rng.choice([1, 3])) * rng.choice([0.01, 1.0, 10.0])).tolist()
+        if len(A) == 1:
+            A = [abs(A[0])]
+        B = rod_like(rng, int(rng.integers(1, 20)))
+        B[0] = abs(B[0]) + rng.choice([0.0, 1.0, 10.0])
+        hi = rng.uniform(0.0, 2.0)
+        fast = exp_poly_positive(A, B, hi)
+        assert fast == exp_poly_positive([*A, 0.0], B, hi), (A, B, hi)
+        decided += fast
+    assert 300 < decided < 2700

@@ -52,6 +52,7 @@ _FACT = np.array([math.factorial(k) for k in range(171)], dtype=float)
 _BINOM = np.array([[math.comb(b, a) for b in range(96)] for a in range(96)], dtype=float)
 _INVFACT = 1.0 / _FACT
 _INVFACT_LIST = _INVFACT.tolist()
+_INVFACT_PADDED = [0.0, 0.0, *_INVFACT_LIST]
 _ORDER = np.arange(171, dtype=float)
 _EXPONENT = np.maximum(np.subtract.outer(np.arange(-96, 0), np.arange(-96, 0)) * -1, 0)
 
@@ -205,6 +206,10 @@ def exp_poly_positive(A: Sequence[float], B: Sequence[float], hi: float) -> bool
     (True, False)
     """
     n, m = len(B), len(A)
+    if m <= 1 and n and (m == 0 or A[0] >= 0.0):  # the rod's contact: f e^x + B(x)
+        return _constant_times_exp_positive(A[0] if m else 0.0, B, hi)
+    if m == 3 and n:  # the rod's flight gap: A quadratic
+        return _quadratic_times_exp_positive(A, B, hi)
     nonnegative = all(a >= 0.0 for a in A)
     last = n if nonnegative else max(n, m) + 20
     e_hi = 1.0 if nonnegative else math.exp(hi)
@@ -228,6 +233,58 @@ def exp_poly_positive(A: Sequence[float], B: Sequence[float], hi: float) -> bool
             # omitted orders k + 1, ...: term i contributes at most
             # |A_i| e^hi hi^(k+1) / (k + 1 - i)!
             tail = e_hi * power * sum(abs(a) * _INVFACT_LIST[k + 1 - i] for i, a in enumerate(A))
+            if lower - tail > guard * mag:
+                return True
+            if lower <= guard * mag or tail < 1e-3 * guard * mag:
+                return False  # more orders only lower the bound
+    return lower > guard * mag
+
+
+def _constant_times_exp_positive(a: float, B: Sequence[float], hi: float) -> bool:
+    """:func:`exp_poly_positive` for ``A = [a]``, ``a >= 0``, ``B`` not empty: the same
+    bound (:math:`T_k = B_k + a / k!`, orders from ``len(B)`` on dropped), fewer steps."""
+    guard = 64.0 * (len(B) + 16) * _EPS * 4.0
+    lower = B[0] + a
+    if lower <= 0.0:
+        return False
+    mag = abs(B[0]) + a
+    power = 1.0
+    for b, c in zip(B[1:], _INVFACT_LIST[1:], strict=False):
+        power *= hi
+        term = a * c
+        T = b + term
+        if T < 0.0:
+            lower += T * power
+        mag += (abs(b) + term) * power
+    return lower > guard * mag
+
+
+def _quadratic_times_exp_positive(A: Sequence[float], B: Sequence[float], hi: float) -> bool:
+    """:func:`exp_poly_positive` for ``len(A) == 3``, ``B`` not empty: the same bound and
+    the same growth of ``K``, the sums over ``A`` written out."""
+    a0, a1, a2 = A
+    n = len(B)
+    if a0 >= 0.0 and a1 >= 0.0 and a2 >= 0.0:
+        last, e_hi = n, 1.0  # the omitted orders are nonnegative
+    else:
+        last, e_hi = max(n, 3) + 20, math.exp(hi)
+    inv = _INVFACT_PADDED  # inv[k + 2] = 1 / k!, zero for k < 0
+    guard = 64.0 * (max(3, n) + 16) * _EPS * 4.0
+    lower = mag = 0.0
+    power = 1.0  # hi ** k
+    for k in range(last):
+        t0, t1, t2 = a0 * inv[k + 2], a1 * inv[k + 1], a2 * inv[k]
+        b = B[k] if k < n else 0.0
+        T = b + t0 + t1 + t2
+        if k == 0 and T <= 0.0:
+            return False
+        if k == 0 or T < 0.0:
+            lower += T * power
+        mag += (abs(b) + abs(t0) + abs(t1) + abs(t2)) * power
+        power *= hi
+        if k + 1 >= max(n, 3) and e_hi != 1.0:
+            K = k + 1  # omitted orders K, ...: term i at most |A_i| e^hi hi^K / (K - i)!
+            tail = e_hi * power * (abs(a0) * inv[K + 2] + abs(a1) * inv[K + 1] + abs(a2) * inv[K])
             if lower - tail > guard * mag:
                 return True
             if lower <= guard * mag or tail < 1e-3 * guard * mag:
