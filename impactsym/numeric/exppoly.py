@@ -115,20 +115,24 @@ _LAG = np.subtract.outer(np.arange(171), np.arange(96)).T  # k - i
 _EXPAND = np.where(_LAG >= 0, _INVFACT[np.maximum(_LAG, 0)], 0.0)
 
 
-def _shifted(c: np.ndarray, u: float) -> tuple[np.ndarray, np.ndarray]:
-    """``c(x + u)`` and the magnitude of its summands (for rounding bounds)."""
-    if u == 0.0 or c.size < 2:  # no shift: the identity (or a constant)
+def _shifted(c: np.ndarray, S, Smag) -> tuple[np.ndarray, np.ndarray]:
+    """``c(x + u)`` and the magnitude of its summands (for rounding bounds), with ``S``
+    a shift matrix by ``u`` of at least ``c.size`` rows (its leading block shifts
+    ``c``; ``None``: no shift) and ``Smag = |S|``."""
+    if S is None or c.size < 2:  # no shift: the identity (or a constant)
         return c, np.abs(c)
-    S = _shift_matrix(c.size, u)
-    return S @ c, (S if u >= 0.0 else np.abs(S)) @ np.abs(c)
+    n = c.size
+    return S[:n, :n] @ c, Smag[:n, :n] @ np.abs(c)
 
 
 def _coefficients(A, B, u, M):
     """Taylor coefficients ``T`` of ``F`` at ``u`` (orders 0..M), the magnitudes of
     their summands (for rounding) and :math:`e^u |A(x + u)|` coefficientwise (for the
     omitted orders): what does not depend on the interval's length."""
-    Au, Amag = _shifted(A, u)
-    Bu, Bmag = _shifted(B, u)
+    S = _shift_matrix(max(A.size, B.size), u) if u != 0.0 else None
+    Smag = S if u >= 0.0 else np.abs(S)
+    Au, Amag = _shifted(A, S, Smag)
+    Bu, Bmag = _shifted(B, S, Smag)
     if A.size:  # e^z Au(z) = sum_k z^k sum_i Au[i] / (k - i)!
         eu = math.exp(u)
         if eu != 1.0:
