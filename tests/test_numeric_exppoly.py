@@ -130,3 +130,43 @@ def test_the_written_out_cases_agree_with_the_general_certificate():
         assert fast == exp_poly_positive([*A, 0.0], B, hi), (A, B, hi)
         decided += fast
     assert 300 < decided < 2700
+
+
+def opening(rng, slope):
+    """A random F with F(0) = 0 exactly and F'(0) = slope (up to rounding), A quadratic or
+    not, as a gap that opens at a separation."""
+    A = (rng.normal(size=rng.choice([1, 2, 3, 4])) * rng.choice([0.1, 1.0])).tolist()
+    B = rod_like(rng, int(rng.integers(3, 16)))
+    B[0] = -A[0]
+    B[1] = slope - (A[0] + (A[1] if len(A) > 1 else 0.0))
+    return A, B
+
+
+def test_rising_certificate_is_never_given_to_a_gap_that_closes_again():
+    rng = np.random.default_rng(12)
+    checked = 0
+    for _ in range(400):
+        A, B = opening(rng, rng.choice([0.0, 0.0, abs(rng.normal())]))
+        root = rng.uniform(0.05, 2.0)
+        B[2] -= float(value(A, B, root)) / root**2  # F(root) = 0, F(0), F'(0) unchanged
+        if float(mp.diff(lambda x, A=A, B=B: value(A, B, x), root)) == 0.0:
+            continue
+        checked += 1
+        hi = rng.uniform(root, 2.5)
+        assert not exp_poly_positive(A, B, hi, rising_from_zero=True), (A, B, hi, root)
+    assert checked > 300
+
+
+def test_rising_certificate_holds_where_it_is_given():
+    rng = np.random.default_rng(13)
+    given = 0
+    for _ in range(300):
+        A, B = opening(rng, rng.choice([0.0, abs(rng.normal())]))
+        hi = rng.uniform(0.0, 2.0)
+        if exp_poly_positive(A, B, hi, rising_from_zero=True):
+            given += 1
+            x = np.linspace(0.0, hi, 201)[1:]
+            assert min(float(value(A, B, xi)) for xi in x) > 0.0, (A, B, hi)
+            found = exp_poly_roots(np.array(A), np.array(B), 0.0, hi, rising_from_zero=True)
+            assert found.size == 0
+    assert given > 30

@@ -174,7 +174,9 @@ def _taylor(coefficients, r, M, powers):
     return T, tail0 + noise, slope_bound, noise
 
 
-def exp_poly_positive(A: Sequence[float], B: Sequence[float], hi: float) -> bool:
+def exp_poly_positive(
+    A: Sequence[float], B: Sequence[float], hi: float, *, rising_from_zero: bool = False
+) -> bool:
     """Whether :math:`F(x) = e^x A(x) + B(x)` is proven positive on :math:`[0, hi]`: a
     cheap certificate, no root search.
 
@@ -188,11 +190,16 @@ def exp_poly_positive(A: Sequence[float], B: Sequence[float], hi: float) -> bool
 
     the bound of the omitted orders of :func:`exp_poly_roots`; if every :math:`A_i \\ge 0`
     the omitted orders are themselves nonnegative and :math:`K = len(B)`,
-    :math:`\\rho_K = 0`. ``K`` grows from ``max(len(A), len(B))`` until the bound is decided or 20
-    orders more have not sufficed. ``True`` when the bound is positive beyond the
-    rounding margin of :func:`exp_poly_roots`; ``False`` says nothing (search with
-    :func:`exp_poly_roots`). Plain Python floats: meant for event loops that test
-    many small pieces.
+    :math:`\\rho_K = 0`. ``K`` grows from ``max(len(A), len(B))`` until the bound is
+    decided or 20 orders more have not sufficed. ``True`` when the bound is positive
+    beyond the rounding margin of :func:`exp_poly_roots`; ``False`` says nothing
+    (search with :func:`exp_poly_roots`). Plain Python floats: meant for event loops
+    that test many small pieces.
+
+    With ``rising_from_zero`` the caller knows :math:`F(0) = 0` and :math:`F'(0) \\ge 0`
+    (a gap that opens) and positivity on :math:`(0, hi]` is proven as in
+    :func:`exp_poly_roots`: :math:`F(x) \\ge x^2 \\bigl(T_2 + \\sum_{k \\ge 3}
+    \\min(T_k, 0)\\, hi^{k-2}\\bigr) - \\rho_K`, with :math:`T_0, T_1` left out.
 
     Parameters
     ----------
@@ -200,6 +207,8 @@ def exp_poly_positive(A: Sequence[float], B: Sequence[float], hi: float) -> bool
         Coefficients, lowest order first (lists of floats, either may be empty).
     hi
         Right end of the interval (``hi >= 0``).
+    rising_from_zero
+        :math:`F(0) = 0` and :math:`F'(0) \\ge 0` are known (see above).
 
     Examples
     --------
@@ -208,14 +217,20 @@ def exp_poly_positive(A: Sequence[float], B: Sequence[float], hi: float) -> bool
 
     >>> exp_poly_positive([1.0], [1.0, -2.0], 1.0), exp_poly_positive([1.0], [-3.0], 1.0)
     (True, False)
+
+    :math:`e^x - 1 - x` rises from a double zero at 0:
+
+    >>> exp_poly_positive([1.0], [-1.0, -1.0], 2.0, rising_from_zero=True)
+    True
     """
     n, m = len(B), len(A)
-    if m <= 1 and n and (m == 0 or A[0] >= 0.0):  # the rod's contact: f e^x + B(x)
+    lead = 2 if rising_from_zero else 0  # the first coefficient in the bound
+    if not lead and m <= 1 and n and (m == 0 or A[0] >= 0.0):  # the rod's contact
         return _constant_times_exp_positive(A[0] if m else 0.0, B, hi)
     if m == 3 and n:  # the rod's flight gap: A quadratic
-        return _quadratic_times_exp_positive(A, B, hi)
+        return _quadratic_times_exp_positive(A, B, hi, lead)
     nonnegative = all(a >= 0.0 for a in A)
-    last = n if nonnegative else max(n, m) + 20
+    last = max(n, lead + 1) if nonnegative else max(n, m, lead + 1) + 20
     e_hi = 1.0 if nonnegative else math.exp(hi)
     guard = 64.0 * (max(m, n) + 16) * _EPS * 4.0
     lower = mag = 0.0
@@ -227,13 +242,15 @@ def exp_poly_positive(A: Sequence[float], B: Sequence[float], hi: float) -> bool
             term = A[i] * _INVFACT_LIST[k - i]
             T += term
             Tmag += abs(term)
-        if k == 0 and T <= 0.0:
-            return False
-        if k == 0 or T < 0.0:
+        if k == lead:
+            if T <= 0.0:
+                return False
+            lower += T * power
+        elif k > lead and T < 0.0:
             lower += T * power
         mag += Tmag * power
         power *= hi
-        if k + 1 >= max(n, m) and not nonnegative:  # every (k + 1 - i)! defined
+        if k + 1 >= max(n, m, lead + 1) and not nonnegative:  # every (k + 1 - i)! defined
             # omitted orders k + 1, ...: term i contributes at most
             # |A_i| e^hi hi^(k+1) / (k + 1 - i)!
             tail = e_hi * power * sum(abs(a) * _INVFACT_LIST[k + 1 - i] for i, a in enumerate(A))
@@ -263,16 +280,20 @@ def _constant_times_exp_positive(a: float, B: Sequence[float], hi: float) -> boo
     return lower > guard * mag
 
 
-def _quadratic_times_exp_positive(A: Sequence[float], B: Sequence[float], hi: float) -> bool:
-    """:func:`exp_poly_positive` for ``len(A) == 3``, ``B`` not empty: the same bound and
-    the same growth of ``K``, the sums over ``A`` written out."""
+def _quadratic_times_exp_positive(
+    A: Sequence[float], B: Sequence[float], hi: float, lead: int
+) -> bool:
+    """:func:`exp_poly_positive` for ``len(A) == 3``, ``B`` not empty (``lead``: 2 if
+    rising from zero, else 0): the same bound and the same growth of ``K``, the sums
+    over ``A`` written out."""
     a0, a1, a2 = A
     n = len(B)
     if a0 >= 0.0 and a1 >= 0.0 and a2 >= 0.0:
-        last, e_hi = n, 1.0  # the omitted orders are nonnegative
+        last, e_hi = max(n, lead + 1), 1.0  # the omitted orders are nonnegative
     else:
         last, e_hi = max(n, 3) + 20, math.exp(hi)
     inv = _INVFACT_PADDED  # inv[k + 2] = 1 / k!, zero for k < 0
+    first_tail = max(n, 3)
     guard = 64.0 * (max(3, n) + 16) * _EPS * 4.0
     lower = mag = 0.0
     power = 1.0  # hi ** k
@@ -280,13 +301,15 @@ def _quadratic_times_exp_positive(A: Sequence[float], B: Sequence[float], hi: fl
         t0, t1, t2 = a0 * inv[k + 2], a1 * inv[k + 1], a2 * inv[k]
         b = B[k] if k < n else 0.0
         T = b + t0 + t1 + t2
-        if k == 0 and T <= 0.0:
-            return False
-        if k == 0 or T < 0.0:
+        if k == lead:
+            if T <= 0.0:
+                return False
+            lower += T * power
+        elif k > lead and T < 0.0:
             lower += T * power
         mag += (abs(b) + abs(t0) + abs(t1) + abs(t2)) * power
         power *= hi
-        if k + 1 >= max(n, 3) and e_hi != 1.0:
+        if k + 1 >= first_tail and e_hi != 1.0:
             K = k + 1  # omitted orders K, ...: term i at most |A_i| e^hi hi^K / (K - i)!
             tail = e_hi * power * (abs(a0) * inv[K + 2] + abs(a1) * inv[K + 1] + abs(a2) * inv[K])
             if lower - tail > guard * mag:
