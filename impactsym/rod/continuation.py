@@ -325,12 +325,12 @@ class RodSequenceEnergy:
         return tab.integral(tt, square=True) - tab.integral(tt - 2.0, square=True)
 
     def balance(self, t):
-        return self._balance_and_work(t)[0]
+        return self.striker(t) + self.rod(t) - self.work(t) - 0.5 * self.sequence.alpha
 
-    def _balance_and_work(self, t):
-        """``balance(t)`` and ``work(t)``, the integrals of ``g`` and ``g^2`` taken in
-        one pass at ``t`` and ``t - 2`` (the same numbers as :meth:`rod` and
-        :meth:`work` compute separately)."""
+    def _rigid_balance_and_work(self, t):
+        """:meth:`balance` and :meth:`work` of a rigid-contact sequence, the integrals of
+        ``g`` and ``g^2`` taken in one pass at ``t`` and ``t - 2`` (the same numbers as
+        the methods compute separately; not for subclasses, which add terms)."""
         seq = self.sequence
         tt = seq._times(t)
         now, before = seq._tables.integrals(tt), seq._tables.integrals(tt - 2.0)
@@ -772,7 +772,11 @@ def _check_balance(seq: RodImpactSequence) -> None:
     ends = np.r_[seq._tables.start, seq.t_end]
     ts = 0.5 * (ends[:-1] + ends[1:])  # mid-piece: no event (jump) is evaluated
     ts = ts[(ts > 0.0) & (ts < seq.t_end)]
-    residual, work = seq.energy._balance_and_work(ts)
+    energy = seq.energy
+    if type(energy) is RodSequenceEnergy:  # rigid contact: both integrals in one pass
+        residual, work = energy._rigid_balance_and_work(ts)
+    else:  # a subclass (finite kappa) adds its own terms
+        residual, work = energy.balance(ts), energy.work(ts)
     residual = np.abs(residual)
     scale = 0.5 * seq.alpha + np.abs(work)
     bad = np.flatnonzero(residual > _BALANCE_RTOL * scale)
