@@ -376,21 +376,22 @@ def exp_poly_roots(
         raise ValueError(f"exp_poly_roots: e^x overflows on [{lo!r}, {hi!r}]; rescale x")
     M = max(A.size, B.size) + 12
     Al, Bl = A.tolist(), B.tolist()
-    brackets: list[tuple[float, float]] = []
+    brackets: list[tuple] = []  # (lo, hi, F(lo), F(hi)), the values None if not evaluated
     # Leaves come left to right. A sign change is judged between consecutive points of
     # known nonzero sign (leaf ends, or the proven sign of a root-free leaf), so that
     # an exact zero on a subdivision point counts only if F changes sign across it.
-    known = [lo, 0.0, None]  # last such point, its sign (0: none yet), an exact zero since
+    known = [lo, 0.0, None, None]  # last such point, its sign (0: none yet), an exact zero
+    # since, F there if evaluated
 
-    def visit(x: float, sign: float) -> None:
+    def visit(x: float, sign: float, value: float | None = None) -> None:
         if sign == 0.0:
             if known[2] is None and x > lo:
                 known[2] = x
             return
         if known[1] != 0.0 and sign != known[1] and known[0] < x:
             z = known[2]
-            brackets.append((known[0], x) if z is None else (z, z))
-        known[:] = [x, sign, None]
+            brackets.append((known[0], x, known[3], value) if z is None else (z, z, 0.0, 0.0))
+        known[:] = [x, sign, None, value]
 
     stack = [(lo, hi)]
     at = [math.nan, None]  # the last expansion point and its coefficients
@@ -422,14 +423,22 @@ def exp_poly_roots(
         flat = abs(T0) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
         if mono or flat or r <= min_width * max(1.0, abs(u)):
             Fu, Fv = _value_slope(Al, Bl, u)[0], _value_slope(Al, Bl, v)[0]
-            visit(u, np.sign(Fu))
+            visit(u, _sign(Fu), Fu)
             if Fv == 0.0 and v == hi:
-                brackets.append((u, v))  # a zero at hi: the sign beyond is not examined
-            visit(v, np.sign(Fv))
+                brackets.append((u, v, Fu, Fv))  # a zero at hi: the sign beyond not examined
+            visit(v, _sign(Fv), Fv)
             continue
         mid = u + 0.5 * r
         stack += [(mid, v), (u, mid)]  # left half first
     if not brackets:
         return np.empty(0)
-    roots = [bracketed_newton_scalar(lambda x: _value_slope(Al, Bl, x), a, b) for a, b in brackets]
+    roots = [
+        bracketed_newton_scalar(lambda x: _value_slope(Al, Bl, x), a, b, g_lo=ga, g_hi=gb)
+        for a, b, ga, gb in brackets
+    ]
     return np.sort(np.array(roots))
+
+
+def _sign(x: float) -> float:
+    """``numpy.sign`` of one float (NaN stays NaN)."""
+    return 1.0 if x > 0.0 else -1.0 if x < 0.0 else x
