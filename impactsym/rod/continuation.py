@@ -466,9 +466,12 @@ def _g_max(tab: _Tables, s_end: float) -> float:
 
     Only pieces that can reach the largest value are searched for their zeros of
     ``Q' - Q``: ``floor``, the largest of ``g`` sampled at ``_G_SAMPLES`` points of
-    every piece, is a value that ``g`` takes, and a piece whose upper bound
-    ``p + max |e^{-x} Q|`` is below it cannot hold the maximum. The result is the
-    largest value at the candidates (ends and critical points) of the other pieces.
+    every piece, is a value that ``g`` takes, and a piece whose upper bound is below it
+    cannot hold the maximum. The bound is the smaller of ``p + max |e^{-x} Q|`` and,
+    with ``L`` a bound of ``|g'|`` on the piece (in ``x``), the largest
+    ``(g(a) + g(b) + L (b - a)) / 2`` over neighbouring samples ``a, b`` (plus a
+    rounding margin). The result is the largest value at the candidates (ends and
+    critical points) of the other pieces, as if every piece had been searched.
     """
     a = tab.alpha
     ends = np.r_[tab.start[1:], np.inf]
