@@ -627,6 +627,10 @@ def impact_sequence(
     final = False
     # The pieces' polynomials are lists of plain floats: at degree < ~20 Python's
     # arithmetic beats NumPy's cost per call on such small arrays.
+    # A flight copies the incoming piece with its sign flipped, so the antiderivative
+    # of the copy is the flipped one of the incoming piece, bit for bit: kept per piece
+    # index for the flight that meets the copy two time units later.
+    antiderivatives: dict[int, list] = {}
     try:
         while t < t_end:
             # incoming piece j: the one holding t - 2; piece boundaries are compared in
@@ -699,7 +703,10 @@ def impact_sequence(
                     h = alpha * _X_MAX
                     t_next = t + h
                 X = h / alpha
-                R = _exp_antiderivative(Q_in) if Q_in else [0.0]
+                if Q_in and delta == 0.0 and j in antiderivatives:
+                    R = antiderivatives[j]
+                else:
+                    R = _exp_antiderivative(Q_in) if Q_in else [0.0]
                 C = [u - y - 2 * alpha * R[0], -alpha * (2 * p_in + v), -0.5 * alpha * f]
                 if Q_in:
                     A, Bgap = C, [2 * alpha * r for r in R]
@@ -722,7 +729,10 @@ def impact_sequence(
                 if ended:
                     X, h = root, alpha * root
                     t_next = t + h
+                count = len(pieces.q)
                 pieces.append(t, h, -p_in, [-c for c in Q_in])
+                if len(pieces.q) > count and pieces.q[-1]:  # (trailing zeros add nothing)
+                    antiderivatives[count] = [-r for r in R[: len(pieces.q[-1])]]
                 ex = math.exp(-X)
                 u += -2 * alpha * (p_in * X + (R[0] - ex * _horner(R, X) if Q_in else 0.0))
                 y += v * h + 0.5 * f / alpha * h * h
