@@ -274,15 +274,19 @@ SHORTCUT_CASES = [(0.3, 0.0), (1.0, 0.5), (0.3, 1.0), (2.0, 0.3), (0.12, 0.6), (
 @pytest.mark.parametrize(("alpha", "f"), SHORTCUT_CASES)
 def test_cheap_certificates_change_no_event(alpha, f, monkeypatch):
     """The sequence with every piece searched by exp_poly_roots (the certificate
-    exp_poly_positive switched off) is the same, event for event, bit for bit."""
+    exp_poly_positive switched off) and every antiderivative computed afresh (none
+    carried over from a flight's copy) is the same, event for event, bit for bit."""
     import impactsym.rod.continuation as continuation
 
     fast = impact_sequence(alpha, f, t_end=30.0)
     monkeypatch.setattr(continuation, "exp_poly_positive", lambda A, B, hi, **_: False)
+    monkeypatch.setattr(continuation, "_REUSE_ANTIDERIVATIVES", False)
     slow = impact_sequence(alpha, f, t_end=30.0)
     assert fast.contacts == slow.contacts
     assert fast.separation_speeds == slow.separation_speeds
     assert fast.max_fixed_end_stress == slow.max_fixed_end_stress
+    assert np.array_equal(fast._tables.q, slow._tables.q)
+    assert fast._flights == slow._flights
 
 
 @pytest.mark.parametrize(("alpha", "f"), SHORTCUT_CASES)

@@ -134,6 +134,7 @@ def _exp_antiderivative(Q: list) -> list:
 
 
 _SHORT = 10
+_REUSE_ANTIDERIVATIVES = True  # see impact_sequence (a test switches it off)
 
 
 @cache
@@ -703,7 +704,7 @@ def impact_sequence(
                     h = alpha * _X_MAX
                     t_next = t + h
                 X = h / alpha
-                if Q_in and delta == 0.0 and j in antiderivatives:
+                if Q_in and delta == 0.0 and _REUSE_ANTIDERIVATIVES and j in antiderivatives:
                     R = antiderivatives[j]
                 else:
                     R = _exp_antiderivative(Q_in) if Q_in else [0.0]
