@@ -31,7 +31,11 @@ float64 cannot resolve). A zero met exactly on a subdivision point counts only i
 tangential touch, such as :math:`e^x - e x` at 1, is no sign change); one exactly at
 ``hi`` is reported, the sign beyond ``hi`` not being examined. The bounds carry a
 margin of :math:`64 (n + 4)\\varepsilon` times the magnitude of the summed terms for
-rounding.
+rounding. A left half keeps its expansion point, and its coefficients are reused.
+
+**A cheap certificate.** :func:`exp_poly_positive` is the first (one-sided) test on
+:math:`[0, hi]` alone, in plain Python floats and without a search: an event loop that
+tests many pieces calls it first and :func:`exp_poly_roots` only where it says nothing.
 """
 
 from __future__ import annotations
