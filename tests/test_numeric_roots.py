@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from impactsym.numeric.roots import bracketed_illinois, bracketed_newton
+from impactsym.numeric.roots import bracketed_illinois, bracketed_newton, bracketed_newton_scalar
 
 
 def kepler_problems(n: int = 400) -> tuple[np.ndarray, np.ndarray]:
@@ -124,3 +124,38 @@ def test_known_end_values_and_a_joint_derivative_give_the_same_roots_as_brentq()
         bracketed_newton(g_dg, None, M, M + e, [e, M], g_lo=ends[1] + 1.0, g_hi=ends[1])
     with pytest.raises(ValueError, match="sign change"):
         bracketed_illinois(kepler, M, M + e, f_lo=ends[1] + 1.0, f_hi=ends[1])
+
+
+def test_scalar_newton_matches_the_vectorized_one_and_brentq():
+    """bracketed_newton_scalar runs the same iteration one root at a time."""
+    e, M = kepler_problems(200)
+    vector = bracketed_newton(
+        lambda E, e, M: E - e * np.sin(E) - M, lambda E, e, M: 1 - e * np.cos(E), M, M + e, [e, M]
+    )
+    scalar = np.array(
+        [
+            bracketed_newton_scalar(
+                lambda E, ei=ei, Mi=Mi: (E - ei * np.sin(E) - Mi, 1 - ei * np.cos(E)), Mi, Mi + ei
+            )
+            for ei, Mi in zip(e, M, strict=True)
+        ]
+    )
+    np.testing.assert_allclose(scalar, kepler_by_brentq(e, M), rtol=0, atol=4e-15)
+    np.testing.assert_allclose(scalar, vector, rtol=0, atol=4e-15)
+
+
+def test_scalar_newton_bisects_at_a_triple_root_and_keeps_exact_ends():
+    root = bracketed_newton_scalar(lambda x: ((x - 0.3) ** 3, 3 * (x - 0.3) ** 2), 0.0, 1.0)
+    assert abs(root - 0.3) < 1e-5
+    assert bracketed_newton_scalar(lambda x: (x * x - 4.0, 2 * x), 2.0, 3.0) == 2.0
+    assert bracketed_newton_scalar(lambda x: (x - 3.0, 1.0), 0.0, 3.0) == 3.0
+    # a flat derivative (g' = 0 at the midpoint) bisects instead of dividing by zero
+    root = bracketed_newton_scalar(lambda x: (x**3 - 0.001, 3 * x * x), -1.0, 1.0)
+    assert root == pytest.approx(0.1, abs=1e-15)
+
+
+def test_scalar_newton_failures_are_loud():
+    with pytest.raises(ValueError, match="sign change"):
+        bracketed_newton_scalar(lambda x: (x * x + 1.0, 2 * x), -1.0, 1.0)
+    with pytest.raises(ValueError, match="sign change"):
+        bracketed_newton_scalar(lambda x: (float("nan"), 1.0), 0.0, 1.0)

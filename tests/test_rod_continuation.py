@@ -266,3 +266,106 @@ def test_result_plots_itself():
     matplotlib.use("Agg")
     ax = impact_sequence(1.0, 0.5, t_end=6.0).plot()
     assert len(ax.lines) == 3
+
+
+SHORTCUT_CASES = [(0.3, 0.0), (1.0, 0.5), (0.3, 1.0), (2.0, 0.3), (0.12, 0.6), (5.0, 0.9)]
+
+
+@pytest.mark.parametrize(("alpha", "f"), SHORTCUT_CASES)
+def test_cheap_certificates_change_no_event(alpha, f, monkeypatch):
+    """The sequence with every piece searched by exp_poly_roots (the certificate
+    exp_poly_positive switched off) and every antiderivative computed afresh (none
+    carried over from a flight's copy) is the same, event for event, bit for bit."""
+    import impactsym.rod.continuation as continuation
+
+    fast = impact_sequence(alpha, f, t_end=30.0)
+    monkeypatch.setattr(continuation, "exp_poly_positive", lambda A, B, hi, **_: False)
+    monkeypatch.setattr(continuation, "_REUSE_ANTIDERIVATIVES", False)
+    slow = impact_sequence(alpha, f, t_end=30.0)
+    assert fast.contacts == slow.contacts
+    assert fast.separation_speeds == slow.separation_speeds
+    assert fast.max_fixed_end_stress == slow.max_fixed_end_stress
+    assert np.array_equal(fast._tables.q, slow._tables.q)
+    assert fast._flights == slow._flights
+
+
+@pytest.mark.parametrize(("alpha", "f"), SHORTCUT_CASES)
+def test_pruned_stress_maximum_is_the_exhaustive_one(alpha, f):
+    """max_fixed_end_stress against a search of every piece (ends and zeros of
+    Q' - Q, none skipped), and never below dense samples of the stress."""
+    seq = impact_sequence(alpha, f, t_end=30.0)
+    tab, s_end = seq._tables, 29.0
+    ends = np.r_[tab.start[1:], np.inf]
+    best = 0.0
+    for i, s0 in enumerate(tab.start):
+        if s0 >= s_end or ends[i] <= 0.0:
+            continue
+        lo, hi = (max(s0, 0.0) - s0) / alpha, (min(ends[i], s_end) - s0) / alpha
+        Q = np.trim_zeros(tab.q[i], "b")
+        x = [lo, hi]
+        if Q.size > 1:
+            dQ = np.polynomial.polynomial.polyder(Q)
+            x += list(exp_poly_roots(np.zeros(0), np.polynomial.polynomial.polysub(dQ, Q), lo, hi))
+        x = np.array(x)
+        poly = np.polynomial.polynomial.polyval(x, Q) if Q.size else 0.0 * x
+        best = max(best, float((tab.p[i] + np.exp(-x) * poly).max()))
+    assert seq.max_fixed_end_stress == pytest.approx(2.0 * best, rel=0, abs=1e-13)
+    dense = seq.fixed_end_stress(np.linspace(0.0, 30.0, 60001))
+    assert seq.max_fixed_end_stress >= dense.max() - 1e-13
+
+
+def test_exp_antiderivative_is_the_straightforward_sum_bit_for_bit():
+    """R = sum_j Q^(j) in the order of the plain loop over derivatives (the refusal
+    horizons depend on its last bits), and int_0^x e^-s Q = R(0) - e^-x R(x) (mpmath)."""
+    from impactsym.rod.continuation import _exp_antiderivative, _horner
+
+    rng = np.random.default_rng(11)
+    for n in [0, 1, 2, 5, 9, 10, 11, 17, 30]:
+        Q = rng.normal(size=n) * 3.0 ** rng.uniform(-3, 3, n) * (-2.0) ** np.arange(n)
+        R, D = np.zeros(n), Q.copy()
+        for _ in range(n):  # the straightforward loop
+            R[: D.size] += D
+            D = D[1:] * np.arange(1, D.size)
+        assert _exp_antiderivative(Q.tolist()) == R.tolist()
+        if n:
+            x = 1.3
+            exact = mp.quad(lambda s, Q=Q: mp.exp(-s) * mp.polyval(Q[::-1].tolist(), s), [0, x])
+            closed = R[0] - math.exp(-x) * _horner(R.tolist(), x)
+            assert closed == pytest.approx(float(exact), rel=1e-12, abs=1e-12 * np.abs(R).max())
+
+
+def test_one_pass_energy_balance_of_the_check_is_the_sum_of_its_parts():
+    seq = impact_sequence(1.0, 0.5, t_end=12.0)
+    t = np.linspace(0.0, 12.0, 501)
+    e = seq.energy
+    balance, work = e._rigid_balance_and_work(t)
+    assert np.array_equal(balance, e.striker(t) + e.rod(t) - e.work(t) - 0.5)
+    assert np.array_equal(balance, e.balance(t))
+    assert np.array_equal(work, e.work(t))
+
+
+def test_fewer_gauss_nodes_for_low_degree_pieces_change_only_rounding(monkeypatch):
+    """Integrals of g and g^2 with 24/32/48 nodes by degree against 48 nodes everywhere,
+    and single pieces against mpmath quadrature."""
+    import impactsym.rod.continuation as continuation
+
+    t = np.linspace(0.0, 29.9, 3001)
+    fast = [impact_sequence(a, f, t_end=30.0) for a, f in SHORTCUT_CASES]
+    monkeypatch.setattr(
+        continuation, "_GAUSS_BY_DEGREE", [(96, np.polynomial.legendre.leggauss(48))]
+    )
+    for (alpha, f), seq in zip(SHORTCUT_CASES, fast, strict=True):
+        slow = impact_sequence(alpha, f, t_end=30.0)
+        assert np.abs(seq.energy.rod(t) - slow.energy.rod(t)).max() < 1e-13
+        assert np.abs(seq.rod_end_displacement(t) - slow.rod_end_displacement(t)).max() < 1e-13
+    tab = fast[1]._tables  # alpha = 1, f = 0.5
+    for i in np.flatnonzero(tab.degree > 0)[:: max(1, int((tab.degree > 0).sum()) // 6)]:
+        h = min(tab.start[i + 1] - tab.start[i], 1.0)
+        i1, i2 = tab._partial(np.array([i]), np.array([h]))
+        Q = tab.q[i][: tab.degree[i] + 1][::-1].tolist()
+
+        def g(s, i=i, Q=Q):
+            return tab.p[i] + mp.exp(-s) * mp.polyval(Q, s)
+
+        assert float(i1[0]) == pytest.approx(float(mp.quad(g, [0, h])), abs=1e-13)
+        assert float(i2[0]) == pytest.approx(float(mp.quad(lambda s: g(s) ** 2, [0, h])), abs=1e-13)

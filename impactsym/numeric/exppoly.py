@@ -16,9 +16,13 @@ exponential part summed to order :math:`M` with the Lagrange-type tail bound
 
 If the first bound is below :math:`|T_0|`, :math:`F` has no zero in :math:`I`; if the
 second is below :math:`|T_1|`, :math:`F` is strictly monotone on :math:`I` and has a zero
-there exactly when its end values differ in sign. Otherwise :math:`I` is halved. Every
+there exactly when its end values differ in sign. Both tests are one-sided, which is
+sharper and as rigorous: with :math:`z = x - u \\in [0, r]`, a term :math:`T_k z^k` of the
+sign of :math:`T_0` can only move :math:`F` away from zero, so only the terms of the
+opposite sign enter the sum (:math:`\\sum_{k \\ge 1} \\max(-\\operatorname{sgn}(T_0) T_k,
+0) r^k`; the same for :math:`F'` with :math:`T_1`). Otherwise :math:`I` is halved. Every
 sub-interval is thus either proven root-free, proven to hold exactly one simple root
-(bracketed, then polished by :func:`impactsym.numeric.roots.bracketed_newton`), or has
+(bracketed, then polished by :func:`impactsym.numeric.roots.bracketed_newton_scalar`), or has
 shrunk below ``min_width`` or to where :math:`|F|` is below its own rounding
 noise throughout; such a last interval counts as a root only if its end values
 differ in sign (a double root, or two roots closer than ``min_width``, is a tangency that
@@ -27,25 +31,32 @@ float64 cannot resolve). A zero met exactly on a subdivision point counts only i
 tangential touch, such as :math:`e^x - e x` at 1, is no sign change); one exactly at
 ``hi`` is reported, the sign beyond ``hi`` not being examined. The bounds carry a
 margin of :math:`64 (n + 4)\\varepsilon` times the magnitude of the summed terms for
-rounding.
+rounding. A left half keeps its expansion point, and its coefficients are reused.
+
+**A cheap certificate.** :func:`exp_poly_positive` is the first (one-sided) test on
+:math:`[0, hi]` alone, in plain Python floats and without a search: an event loop that
+tests many pieces calls it first and :func:`exp_poly_roots` only where it says nothing.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
-from impactsym.numeric.roots import bracketed_newton
+from impactsym.numeric.roots import bracketed_newton_scalar
 
-__all__ = ["exp_poly_roots", "taylor_shift"]
+__all__ = ["exp_poly_positive", "exp_poly_roots", "taylor_shift"]
 
-_EPS = np.finfo(float).eps
+_EPS = float(np.finfo(float).eps)
 
 
 _FACT = np.array([math.factorial(k) for k in range(171)], dtype=float)
 _BINOM = np.array([[math.comb(b, a) for b in range(96)] for a in range(96)], dtype=float)
 _INVFACT = 1.0 / _FACT
+_INVFACT_LIST = _INVFACT.tolist()
+_INVFACT_PADDED = [0.0, 0.0, *_INVFACT_LIST]
 _ORDER = np.arange(171, dtype=float)
 _EXPONENT = np.maximum(np.subtract.outer(np.arange(-96, 0), np.arange(-96, 0)) * -1, 0)
 
@@ -79,53 +90,237 @@ def _horner(c: np.ndarray, x):
     return out
 
 
-def _derivative(c: np.ndarray) -> np.ndarray:
-    return c[1:] * np.arange(1, c.size)
-
-
-def _evaluate(A, B, x, dA=None, dB=None):
-    """``F(x)`` and ``F'(x)`` at a float array ``x``."""
-    dA = _derivative(A) if dA is None else dA
-    dB = _derivative(B) if dB is None else dB
-    if A.size == 0:  # a plain polynomial: no exponential (which could overflow)
-        return _horner(B, x), _horner(dB, x)
-    a = _horner(A, x)
-    ex = np.exp(x)
-    return ex * a + _horner(B, x), ex * (a + _horner(dA, x)) + _horner(dB, x)
+def _value_slope(A: list, B: list, x: float) -> tuple[float, float]:
+    """``F(x)`` and ``F'(x)`` at one float, Horner in plain Python (``A``, ``B`` lists)."""
+    b = db = 0.0
+    for c in reversed(B):
+        db = db * x + b
+        b = b * x + c
+    if not A:  # a plain polynomial: no exponential (which could overflow)
+        return b, db
+    a = da = 0.0
+    for c in reversed(A):
+        da = da * x + a
+        a = a * x + c
+    ex = math.exp(x)
+    return ex * a + b, ex * (a + da) + db
 
 
 def _trim(c) -> np.ndarray:
     c = np.asarray(c, dtype=float)
+    if c.size and c[-1] != 0.0:
+        return c
     nz = np.flatnonzero(c)
     return c[: nz[-1] + 1] if nz.size else c[:0]
 
 
-def _taylor(A, B, u, r, M, powers):
-    """Taylor coefficients ``T`` of ``F`` at ``u`` (orders 0..M) and the bounds
-    ``(rho0, rho1)`` of the omitted tail plus rounding for ``F`` and ``F'`` on
-    ``[u, u + r]``, and the rounding part of ``rho0`` alone (``powers = r**k``)."""
-    T = np.zeros(M + 1)
-    Tmag = np.zeros(M + 1)  # magnitude of the summands of each T_k, for rounding
-    if B.size:
-        S = _shift_matrix(B.size, u)
-        T[: B.size] += S @ B
-        Tmag[: B.size] += (S if u >= 0.0 else np.abs(S)) @ np.abs(B)
-    rho0 = rho1 = 0.0
-    if A.size:
-        S = _shift_matrix(A.size, u)
-        Au = S @ A
-        Amag = (S if u >= 0.0 else np.abs(S)) @ np.abs(A)
-        eu, er = math.exp(u), math.exp(r)
-        for i in range(A.size):  # e^z Au(z) = sum_k z^k sum_i Au[i] / (k - i)!
-            T[i:] += (eu * Au[i]) * _INVFACT[: M + 1 - i]
-            Tmag[i:] += (eu * Amag[i]) * _INVFACT[: M + 1 - i]
-            K = M - i + 1  # first omitted power of e^z in this term: order i + K = M + 1
-            rho0 += eu * abs(Au[i]) * er * powers[M] * r * _INVFACT[K]
-            rho1 += eu * abs(Au[i]) * er * powers[M] * (i * _INVFACT[K] + _INVFACT[K - 1])
+# _EXPAND[i, k] = 1 / (k - i)! (zero for k < i): e^z z^i = sum_k _EXPAND[i, k] z^k
+_LAG = np.subtract.outer(np.arange(171), np.arange(96)).T  # k - i
+_EXPAND = np.where(_LAG >= 0, _INVFACT[np.maximum(_LAG, 0)], 0.0)
+
+
+def _shifted(c: np.ndarray, S, Smag) -> tuple[np.ndarray, np.ndarray]:
+    """``c(x + u)`` and the magnitude of its summands (for rounding bounds), with ``S``
+    a shift matrix by ``u`` of at least ``c.size`` rows (its leading block shifts
+    ``c``; ``None``: no shift) and ``Smag = |S|``."""
+    if S is None or c.size < 2:  # no shift: the identity (or a constant)
+        return c, np.abs(c)
+    n = c.size
+    return S[:n, :n] @ c, Smag[:n, :n] @ np.abs(c)
+
+
+def _coefficients(A, B, u, M):
+    """Taylor coefficients ``T`` of ``F`` at ``u`` (orders 0..M), the magnitudes of
+    their summands (for rounding) and :math:`e^u |A(x + u)|` coefficientwise (for the
+    omitted orders): what does not depend on the interval's length."""
+    S = _shift_matrix(max(A.size, B.size), u) if u != 0.0 else None
+    Smag = S if u >= 0.0 else np.abs(S)
+    Au, Amag = _shifted(A, S, Smag)
+    Bu, Bmag = _shifted(B, S, Smag)
+    if A.size:  # e^z Au(z) = sum_k z^k sum_i Au[i] / (k - i)!
+        eu = math.exp(u)
+        if eu != 1.0:
+            Au, Amag = eu * Au, eu * Amag
+        if A.size == 1:
+            T = float(Au[0]) * _EXPAND[0, : M + 1]
+            Tmag = float(Amag[0]) * _EXPAND[0, : M + 1]
+        else:
+            T = Au @ _EXPAND[: A.size, : M + 1]
+            Tmag = Amag @ _EXPAND[: A.size, : M + 1]
+        absA = np.abs(Au).tolist()
+    else:
+        T, Tmag, absA = np.zeros(M + 1), np.zeros(M + 1), []
+    T[: B.size] += Bu
+    Tmag[: B.size] += Bmag
+    return T, Tmag, absA
+
+
+def _taylor(coefficients, r, M, powers):
+    """The Taylor coefficients ``T`` at ``u`` (from :func:`_coefficients`), the bound
+    ``rho0`` of the omitted tail plus rounding for ``F`` on ``[u, u + r]``, the rounding
+    part of it alone, and ``slope_bound()``, the same bound ``rho1`` for ``F'``
+    (computed only when asked for: most intervals are decided without it).
+    ``powers = r**k``."""
+    T, Tmag, absA = coefficients
     guard = 64.0 * (M + 4) * _EPS * 4.0
+    tail0 = tail1 = 0.0
+    if absA:
+        scale = math.exp(r) * powers[M]
+        for i, a in enumerate(absA):
+            K = M - i + 1  # first omitted power of e^z in term i: order i + K = M + 1
+            tail0 += a * scale * r * _INVFACT[K]
+            tail1 += a * scale * (i * _INVFACT[K] + _INVFACT[K - 1])
     noise = guard * float(Tmag @ powers)
-    rho1 += guard * float((_ORDER[1 : M + 1] * Tmag[1:]) @ powers[:-1])
-    return T, rho0 + noise, rho1, noise
+
+    def slope_bound() -> float:
+        return tail1 + guard * float((_ORDER[1 : M + 1] * Tmag[1:]) @ powers[:-1])
+
+    return T, tail0 + noise, slope_bound, noise
+
+
+def exp_poly_positive(
+    A: Sequence[float], B: Sequence[float], hi: float, *, rising_from_zero: bool = False
+) -> bool:
+    """Whether :math:`F(x) = e^x A(x) + B(x)` is proven positive on :math:`[0, hi]`: a
+    cheap certificate, no root search.
+
+    With the Taylor coefficients :math:`T_k = B_k + \\sum_i A_i / (k - i)!` of
+    :math:`F` at 0 and :math:`0 \\le x \\le hi`,
+
+    .. math::
+
+        F(x) \\ge T_0 + \\sum_{1 \\le k < K} \\min(T_k, 0)\\, hi^k - \\rho_K, \\qquad
+        \\rho_K = e^{hi} \\sum_i |A_i| \\frac{hi^K}{(K - i)!},
+
+    the bound of the omitted orders of :func:`exp_poly_roots`; if every :math:`A_i \\ge 0`
+    the omitted orders are themselves nonnegative and :math:`K = len(B)`,
+    :math:`\\rho_K = 0`. ``K`` grows from ``max(len(A), len(B))`` until the bound is
+    decided or 20 orders more have not sufficed. ``True`` when the bound is positive
+    beyond the rounding margin of :func:`exp_poly_roots`; ``False`` says nothing
+    (search with :func:`exp_poly_roots`). Plain Python floats: meant for event loops
+    that test many small pieces.
+
+    With ``rising_from_zero`` the caller knows :math:`F(0) = 0` and :math:`F'(0) \\ge 0`
+    (a gap that opens) and positivity on :math:`(0, hi]` is proven as in
+    :func:`exp_poly_roots`: :math:`F(x) \\ge x^2 \\bigl(T_2 + \\sum_{k \\ge 3}
+    \\min(T_k, 0)\\, hi^{k-2}\\bigr) - \\rho_K`, with :math:`T_0, T_1` left out.
+
+    Parameters
+    ----------
+    A, B
+        Coefficients, lowest order first (lists of floats, either may be empty).
+    hi
+        Right end of the interval (``hi >= 0``).
+    rising_from_zero
+        :math:`F(0) = 0` and :math:`F'(0) \\ge 0` are known (see above).
+
+    Examples
+    --------
+    :math:`e^x + 1 - 2x` is positive on :math:`[0, 1]` (its minimum is :math:`3 - 2
+    \\ln 2`); :math:`e^x - 3` is not:
+
+    >>> exp_poly_positive([1.0], [1.0, -2.0], 1.0), exp_poly_positive([1.0], [-3.0], 1.0)
+    (True, False)
+
+    :math:`e^x - 1 - x` rises from a double zero at 0:
+
+    >>> exp_poly_positive([1.0], [-1.0, -1.0], 2.0, rising_from_zero=True)
+    True
+    """
+    n, m = len(B), len(A)
+    lead = 2 if rising_from_zero else 0  # the first coefficient in the bound
+    if not lead and m <= 1 and n and (m == 0 or A[0] >= 0.0):  # the rod's contact
+        return _constant_times_exp_positive(A[0] if m else 0.0, B, hi)
+    if m == 3 and n:  # the rod's flight gap: A quadratic
+        return _quadratic_times_exp_positive(A, B, hi, lead)
+    nonnegative = all(a >= 0.0 for a in A)
+    last = max(n, lead + 1) if nonnegative else max(n, m, lead + 1) + 20
+    e_hi = 1.0 if nonnegative else math.exp(hi)
+    guard = 64.0 * (max(m, n) + 16) * _EPS * 4.0
+    lower = mag = 0.0
+    power = 1.0  # hi ** k
+    for k in range(max(last, 1)):
+        T = B[k] if k < n else 0.0
+        Tmag = abs(T)
+        for i in range(min(k + 1, m)):
+            term = A[i] * _INVFACT_LIST[k - i]
+            T += term
+            Tmag += abs(term)
+        if k == lead:
+            if T <= 0.0:
+                return False
+            lower += T * power
+        elif k > lead and T < 0.0:
+            lower += T * power
+        mag += Tmag * power
+        power *= hi
+        if k + 1 >= max(n, m, lead + 1) and not nonnegative:  # every (k + 1 - i)! defined
+            # omitted orders k + 1, ...: term i contributes at most
+            # |A_i| e^hi hi^(k+1) / (k + 1 - i)!
+            tail = e_hi * power * sum(abs(a) * _INVFACT_LIST[k + 1 - i] for i, a in enumerate(A))
+            if lower - tail > guard * mag:
+                return True
+            if lower <= guard * mag or tail < 1e-3 * guard * mag:
+                return False  # more orders only lower the bound
+    return lower > guard * mag
+
+
+def _constant_times_exp_positive(a: float, B: Sequence[float], hi: float) -> bool:
+    """:func:`exp_poly_positive` for ``A = [a]``, ``a >= 0``, ``B`` not empty: the same
+    bound (:math:`T_k = B_k + a / k!`, orders from ``len(B)`` on dropped), fewer steps."""
+    guard = 64.0 * (len(B) + 16) * _EPS * 4.0
+    lower = B[0] + a
+    if lower <= 0.0:
+        return False
+    mag = abs(B[0]) + a
+    power = 1.0
+    for b, c in zip(B[1:], _INVFACT_LIST[1:], strict=False):
+        power *= hi
+        term = a * c
+        T = b + term
+        if T < 0.0:
+            lower += T * power
+        mag += (abs(b) + term) * power
+    return lower > guard * mag
+
+
+def _quadratic_times_exp_positive(
+    A: Sequence[float], B: Sequence[float], hi: float, lead: int
+) -> bool:
+    """:func:`exp_poly_positive` for ``len(A) == 3``, ``B`` not empty (``lead``: 2 if
+    rising from zero, else 0): the same bound and the same growth of ``K``, the sums
+    over ``A`` written out."""
+    a0, a1, a2 = A
+    n = len(B)
+    if a0 >= 0.0 and a1 >= 0.0 and a2 >= 0.0:
+        last, e_hi = max(n, lead + 1), 1.0  # the omitted orders are nonnegative
+    else:
+        last, e_hi = max(n, 3) + 20, math.exp(hi)
+    inv = _INVFACT_PADDED  # inv[k + 2] = 1 / k!, zero for k < 0
+    first_tail = max(n, 3)
+    guard = 64.0 * (max(3, n) + 16) * _EPS * 4.0
+    lower = mag = 0.0
+    power = 1.0  # hi ** k
+    for k in range(last):
+        t0, t1, t2 = a0 * inv[k + 2], a1 * inv[k + 1], a2 * inv[k]
+        b = B[k] if k < n else 0.0
+        T = b + t0 + t1 + t2
+        if k == lead:
+            if T <= 0.0:
+                return False
+            lower += T * power
+        elif k > lead and T < 0.0:
+            lower += T * power
+        mag += (abs(b) + abs(t0) + abs(t1) + abs(t2)) * power
+        power *= hi
+        if k + 1 >= first_tail and e_hi != 1.0:
+            K = k + 1  # omitted orders K, ...: term i at most |A_i| e^hi hi^K / (K - i)!
+            tail = e_hi * power * (abs(a0) * inv[K + 2] + abs(a1) * inv[K + 1] + abs(a2) * inv[K])
+            if lower - tail > guard * mag:
+                return True
+            if lower <= guard * mag or tail < 1e-3 * guard * mag:
+                return False  # more orders only lower the bound
+    return lower > guard * mag
 
 
 def exp_poly_roots(
@@ -184,58 +379,70 @@ def exp_poly_roots(
     if A.size and max(abs(lo), abs(hi)) > 600.0:
         raise ValueError(f"exp_poly_roots: e^x overflows on [{lo!r}, {hi!r}]; rescale x")
     M = max(A.size, B.size) + 12
-    dA, dB = _derivative(A), _derivative(B)
-    brackets: list[tuple[float, float]] = []
+    Al, Bl = A.tolist(), B.tolist()
+    brackets: list[tuple] = []  # (lo, hi, F(lo), F(hi)), the values None if not evaluated
     # Leaves come left to right. A sign change is judged between consecutive points of
     # known nonzero sign (leaf ends, or the proven sign of a root-free leaf), so that
     # an exact zero on a subdivision point counts only if F changes sign across it.
-    known = [lo, 0.0, None]  # last such point, its sign (0: none yet), an exact zero since
+    known = [lo, 0.0, None, None]  # last such point, its sign (0: none yet), an exact zero
+    # since, F there if evaluated
 
-    def visit(x: float, sign: float) -> None:
+    def visit(x: float, sign: float, value: float | None = None) -> None:
         if sign == 0.0:
             if known[2] is None and x > lo:
                 known[2] = x
             return
         if known[1] != 0.0 and sign != known[1] and known[0] < x:
             z = known[2]
-            brackets.append((known[0], x) if z is None else (z, z))
-        known[:] = [x, sign, None]
+            brackets.append((known[0], x, known[3], value) if z is None else (z, z, 0.0, 0.0))
+        known[:] = [x, sign, None, value]
 
     stack = [(lo, hi)]
+    at = [math.nan, None]  # the last expansion point and its coefficients
     while stack and not (first and brackets):
         u, v = stack.pop()
         r = v - u
         powers = r ** _ORDER[: M + 1]
-        T, rho0, rho1, noise = _taylor(A, B, u, r, M, powers)
-        spread = float(np.abs(T[1:]) @ powers[1:])
-        if abs(T[0]) > spread + rho0:  # no zero in [u, v]: F has the sign of T_0
-            visit(u, np.sign(T[0]))
-            visit(v, np.sign(T[0]))
+        if u != at[0]:  # a left half keeps its left end: the same coefficients
+            at[:] = [u, _coefficients(A, B, u, M)]
+        T, rho0, slope_bound, noise = _taylor(at[1], r, M, powers)
+        T0 = float(T[0])
+        s0 = 1.0 if T0 > 0.0 else -1.0
+        # one-sided: only terms of the sign opposite to T_0 can bring F to zero
+        against = float(np.maximum(-s0 * T[1:], 0.0) @ powers[1:])
+        if T0 != 0.0 and abs(T0) > against + rho0:  # no zero in [u, v]: F has T_0's sign
+            visit(u, s0)
+            visit(v, s0)
             continue
         if rising_from_zero and u == lo and r > 0.0:
-            rest = float(np.abs(T[3:]) @ powers[1:-2])
+            rest = float(np.maximum(-T[3:], 0.0) @ powers[1:-2])
             if T[2] > rest + rho0 / (r * r):
                 visit(v, 1.0)
                 continue  # F = T1 z + z^2 (T2 + ...) > 0 on (lo, v]
-        mono = abs(T[1]) > float((_ORDER[2 : M + 1] * np.abs(T[2:])) @ powers[1:-1]) + rho1
-        flat = abs(T[0]) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
+        T1 = float(T[1])
+        s1 = 1.0 if T1 > 0.0 else -1.0
+        slope_against = float(np.maximum(-s1 * _ORDER[2 : M + 1] * T[2:], 0.0) @ powers[1:-1])
+        mono = T1 != 0.0 and abs(T1) > slope_against + slope_bound()
+        spread = float(np.abs(T[1:]) @ powers[1:])
+        flat = abs(T0) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
         if mono or flat or r <= min_width * max(1.0, abs(u)):
-            (Fu, Fv), _ = _evaluate(A, B, np.array([u, v]), dA, dB)
-            visit(u, np.sign(Fu))
+            Fu, Fv = _value_slope(Al, Bl, u)[0], _value_slope(Al, Bl, v)[0]
+            visit(u, _sign(Fu), Fu)
             if Fv == 0.0 and v == hi:
-                brackets.append((u, v))  # a zero at hi: the sign beyond is not examined
-            visit(v, np.sign(Fv))
+                brackets.append((u, v, Fu, Fv))  # a zero at hi: the sign beyond not examined
+            visit(v, _sign(Fv), Fv)
             continue
         mid = u + 0.5 * r
         stack += [(mid, v), (u, mid)]  # left half first
     if not brackets:
         return np.empty(0)
-    lo_b = np.array([b[0] for b in brackets])
-    hi_b = np.array([b[1] for b in brackets])
-    roots = bracketed_newton(
-        lambda x: _evaluate(A, B, x, dA, dB)[0],
-        lambda x: _evaluate(A, B, x, dA, dB)[1],
-        lo_b,
-        hi_b,
-    )
-    return np.sort(roots)
+    roots = [
+        bracketed_newton_scalar(lambda x: _value_slope(Al, Bl, x), a, b, g_lo=ga, g_hi=gb)
+        for a, b, ga, gb in brackets
+    ]
+    return np.sort(np.array(roots))
+
+
+def _sign(x: float) -> float:
+    """``numpy.sign`` of one float (NaN stays NaN)."""
+    return 1.0 if x > 0.0 else -1.0 if x < 0.0 else x

@@ -4,11 +4,15 @@
   bracket, with Newton steps that fall back to bisection whenever they would leave the
   bracket (so it converges for every point, even near a double root);
 * :func:`bracketed_illinois` does the same without derivatives (regula falsi with the
-  Illinois modification).
+  Illinois modification);
+* :func:`bracketed_newton_scalar` is :func:`bracketed_newton` for one root in plain
+  Python floats, for callers that polish one root at a time (an event loop), where
+  NumPy's cost per call on one-element arrays would dominate.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -102,6 +106,77 @@ def bracketed_newton(
     raise RuntimeError(
         f"bracketed_newton: {active.size} roots did not converge in {max_iter} steps"
     )
+
+
+def bracketed_newton_scalar(
+    g: Callable[[float], tuple[float, float]],
+    lo: float,
+    hi: float,
+    *,
+    rtol: float = 4e-15,
+    max_iter: int = 200,
+    g_lo: float | None = None,
+    g_hi: float | None = None,
+) -> float:
+    """Solve ``g(x) = 0`` for one ``x`` in ``[lo, hi]``, in plain Python floats.
+
+    The same iteration as :func:`bracketed_newton` (Newton steps inside the shrinking
+    sign-change bracket, bisection where a step would leave it or is not less than
+    half the step before last, the same stopping rule), one element at a time: for a
+    single root the per-call cost of NumPy on one-element arrays would dominate.
+
+    Parameters
+    ----------
+    g
+        ``g(x) -> (value, derivative)`` at a float.
+    lo, hi
+        The bracket; ``g(lo)`` and ``g(hi)`` must be finite and not of the same sign.
+    rtol, max_iter
+        As for :func:`bracketed_newton`.
+    g_lo, g_hi
+        ``g(lo)`` and ``g(hi)`` (values only) when the caller already has them.
+
+    >>> root = bracketed_newton_scalar(lambda x: (x * x - 2.0, 2.0 * x), 0.0, 3.0)
+    >>> bool(abs(root - 2.0**0.5) < 1e-15)
+    True
+    """
+    lo, hi = float(lo), float(hi)
+    g_lo = g(lo)[0] if g_lo is None else float(g_lo)
+    g_hi = g(hi)[0] if g_hi is None else float(g_hi)
+    if g_lo * g_hi > 0 or not (math.isfinite(g_lo) and math.isfinite(g_hi)):
+        raise ValueError("bracketed_newton_scalar needs a finite sign change in the bracket")
+    if g_lo == 0:
+        return lo
+    if g_hi == 0:
+        return hi
+    rising = g_lo < g_hi
+    x = 0.5 * (lo + hi)
+    step_before_last = last_step = hi - lo
+    for _ in range(max_iter):
+        gx, dgx = g(x)
+        if dgx != 0.0:
+            step = gx / dgx
+        else:  # as NumPy divides: +-inf, or NaN for 0/0 (both bisect)
+            step = math.nan if gx == 0.0 or math.isnan(gx) else math.copysign(math.inf, gx)
+        if (gx < 0) == rising:
+            lo = x
+        else:
+            hi = x
+        new = x - step
+        scale = max(abs(x), 1.0) * rtol
+        converged = abs(step) <= scale
+        slow = abs(step) > 0.5 * abs(step_before_last)
+        if (not (lo < new < hi) or slow) and not converged:
+            new = 0.5 * (lo + hi)
+        else:
+            new = min(max(new, lo), hi)
+        step_before_last, last_step = last_step, new - x
+        if gx == 0:
+            return x
+        x = new
+        if converged or hi - lo <= scale:
+            return x
+    raise RuntimeError(f"bracketed_newton_scalar: no convergence in {max_iter} steps")
 
 
 def bracketed_illinois(

@@ -60,9 +60,13 @@ positions with the closed form.
 :math:`e^x \bigl[(u_0 - y_0) - \alpha(2p_i + v_0)x - \tfrac{\alpha f}{2}x^2 - 2\alpha
 P_i(0)\bigr] + 2\alpha P_i(x)` on a flight piece (:math:`P_i = \sum_j Q_i^{(j)}`,
 :math:`\int_0^x e^{-x}Q_i = P_i(0) - e^{-x} P_i(x)`); both are exponential polynomials
-:math:`e^x A + B` isolated by :func:`impactsym.numeric.exppoly.exp_poly_roots` (Taylor
-enclosures: every sub-interval is proven root-free or monotone) and polished by
-:func:`impactsym.numeric.roots.bracketed_newton`.
+:math:`e^x A + B`. Most pieces hold no event, and
+:func:`impactsym.numeric.exppoly.exp_poly_positive` proves that without a search (a
+one-sided bound of the Taylor series at the piece's start); the others are isolated by
+:func:`impactsym.numeric.exppoly.exp_poly_roots` (Taylor enclosures: every sub-interval
+is proven root-free or monotone) and polished by
+:func:`impactsym.numeric.roots.bracketed_newton_scalar`. The pieces' polynomials are
+lists of plain floats in the loop (NumPy's cost per call dominates at these sizes).
 
 **Energy** (unit :math:`m_{rod} v_0^2`): striker :math:`\alpha y'^2/2`, work of the
 pressing force :math:`f y`, rod :math:`\int_0^1 (w_t^2 + w_\xi^2)/2 \, d\xi =
@@ -73,11 +77,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cache
 
 import numpy as np
 from numpy.polynomial import polynomial as npoly
 
-from impactsym.numeric.exppoly import _horner, _trim, exp_poly_roots, taylor_shift
+from impactsym.numeric.exppoly import _trim, exp_poly_positive, exp_poly_roots, taylor_shift
 from impactsym.validation import real_array
 
 __all__ = ["RodImpactSequence", "RodSequenceEnergy", "impact_sequence"]
@@ -85,33 +90,81 @@ __all__ = ["RodImpactSequence", "RodSequenceEnergy", "impact_sequence"]
 _X_MAX = 2.0  # longest piece in x = tau / alpha for a non-constant exponential part
 _X_LONG = 40.0  # longest piece with a constant exponential polynomial (e^-40 ~ 4e-18)
 _NEGLIGIBLE = 1e-17
-_GAUSS = np.polynomial.legendre.leggauss(48)  # exact to degree 95 on a piece
+_MAX_COEFFICIENTS = 96  # the 48-node Gauss rule below is exact to degree 95
+# Gauss-Legendre rules for the integrals of g and g^2 on a piece, by the degree d of its
+# Q: exact for the polynomial part of g^2 (degree 2d) with nodes to spare for the
+# exponential factor on x <= 2 (48 nodes: exact to degree 95)
+_GAUSS_BY_DEGREE = [
+    (8, np.polynomial.legendre.leggauss(24)),
+    (16, np.polynomial.legendre.leggauss(32)),
+    (_MAX_COEFFICIENTS, np.polynomial.legendre.leggauss(48)),
+]
 # Largest energy-balance residual, relative to alpha/2 + |f y|, at which the float64
 # pieces are still trusted (at piece starts); beyond it impact_sequence refuses.
 _BALANCE_RTOL = 1e-9
 
 
-def _exp_antiderivative(Q: np.ndarray, rate: float = 1.0) -> np.ndarray:
-    """``R = sum_j Q^(j) / r^(j+1)``, so that
-    :math:`\\int_0^x e^{-r x'} Q = R(0) - e^{-r x} R(x)`."""
-    R = np.zeros(Q.size)
-    D = Q.copy()
-    for j in range(Q.size):
-        R[: D.size] += D / rate ** (j + 1)
-        D = D[1:] * np.arange(1, D.size)
-    return R
+def _exp_antiderivative(Q: list) -> list:
+    """``R = sum_j Q^(j)``, so that :math:`\\int_0^x e^{-x'} Q = R(0) - e^{-x} R(x)`.
+
+    The derivatives are formed and summed in the order of the original NumPy loop
+    (``D_j = (D_{j-1})'``, ``R += D_j`` for ``j = 0, 1, ...``), bit for bit: the event
+    sequence of a long chattering impact is sensitive to the last bits of ``R``, and the
+    refusal horizons documented in :func:`impact_sequence` were measured with this order.
+    (Measured: the nested order ``R_k = Q_k + (k + 1) R_{k+1}`` keeps ``(10, 5)`` and
+    ``(3, 1)`` balanced to ``1e-11`` up to ``t = 100``, where this order is refused at
+    ``t`` ~ 57 and 61: the horizons come from this sum, not from the pieces themselves;
+    changing it changes those documented results, so it is left for its own change.)
+    Short polynomials in plain Python, longer ones by a cumulative product and sum.
+    """
+    n = len(Q)
+    if n <= _SHORT:
+        R = list(Q)
+        D = R
+        for _ in range(1, n):
+            D = [D[k + 1] * (k + 1) for k in range(len(D) - 1)]
+            for k, d in enumerate(D):
+                R[k] += d
+        return R
+    W, gather = _antiderivative_plan(n)
+    W = W.copy()
+    W[:n, 0] = Q
+    D = np.cumprod(W, axis=1).ravel()  # D[(k + j) n + j] = Q^(j)_k; D[n n] = 0
+    return np.cumsum(D[gather], axis=1)[:, -1].tolist()
 
 
-def _bound_exp_part(Q: np.ndarray, X: float) -> float:
-    """Upper bound of :math:`|e^{-x} Q(x)|` on :math:`[0, X]`."""
-    if Q.size == 0:
-        return 0.0
-    k = np.arange(Q.size, dtype=float)
-    peak = np.minimum(k, X)  # x^k e^-x is largest at x = k
-    with np.errstate(divide="ignore"):
-        m = np.exp(k * np.log(np.where(peak > 0, peak, 1.0)) - peak)
-    m[0] = 1.0
-    return float(np.abs(Q) @ m)
+_SHORT = 10
+_REUSE_ANTIDERIVATIVES = True  # see impact_sequence (a test switches it off)
+
+
+@cache
+def _antiderivative_plan(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Factors ``m, m - 1, ...`` whose running product (row ``m``, after ``Q_m``) gives
+    the coefficient ``m`` of each derivative, and where coefficient ``k`` of derivative
+    ``j`` sits in it (``n * n``: the zero row below)."""
+    m, i = np.arange(n)[:, None], np.arange(n)[None, :]
+    W = np.vstack([np.where(i <= m, m - i + 1.0, 1.0), np.zeros(n)])  # a last row of 0
+    k, j = np.arange(n)[:, None], np.arange(n)[None, :]
+    return W, np.where(k + j < n, (k + j) * n + j, n * n)
+
+
+def _horner(c, x: float) -> float:
+    out = 0.0
+    for ck in reversed(c):
+        out = out * x + ck
+    return out
+
+
+def _bound_exp_part(Q, X: float) -> float:
+    """Upper bound of :math:`|e^{-x} Q(x)|` on :math:`[0, X]`
+    (:math:`x^k e^{-x}` is largest at :math:`x = k`)."""
+    total = 0.0
+    for k, c in enumerate(Q):
+        if c == 0.0:
+            continue
+        peak = min(k, X)
+        total += abs(c) * (math.exp(k * math.log(peak) - peak) if peak > 0 else 1.0)
+    return total
 
 
 @dataclass
@@ -123,13 +176,21 @@ class _Pieces:
     p: list = field(default_factory=list)
     q: list = field(default_factory=list)
 
-    def append(self, s0: float, h: float, p: float, Q: np.ndarray) -> None:
-        Q = _trim(Q)
-        if Q.size and _bound_exp_part(Q, h / self.alpha) < _NEGLIGIBLE * max(1.0, abs(p)):
-            Q = np.zeros(0)
+    def append(self, s0: float, h: float, p: float, Q: list) -> None:
+        """Add the piece ``p + e^{-x} Q(x)`` (``Q`` a list of floats, lowest order first)
+        on ``[s0, s0 + h]``."""
+        while Q and Q[-1] == 0.0:
+            Q = Q[:-1]
+        if len(Q) > _MAX_COEFFICIENTS:
+            raise ValueError(
+                f"polynomial degree {len(Q) - 1} exceeds {_MAX_COEFFICIENTS - 1} at s = {s0!r}"
+            )
+        small = _NEGLIGIBLE * max(1.0, abs(p))
+        if Q and abs(Q[0]) < small and _bound_exp_part(Q, h / self.alpha) < small:
+            Q = []  # (the bound is at least |Q[0]|: the first test only saves its cost)
         if h <= 0.0:
             return
-        if self.q and Q.size == 0 and self.q[-1].size == 0 and self.p[-1] == p:
+        if self.q and not Q and not self.q[-1] and self.p[-1] == p:
             return  # the constant piece before goes on (a piece ends where the next starts)
         self.start.append(s0)
         self.p.append(p)
@@ -146,19 +207,21 @@ class _Tables:
     q: np.ndarray  # (pieces, degree + 1)
     G1: np.ndarray  # int_{s_first}^{start} g
     G2: np.ndarray  # int_{s_first}^{start} g^2
+    degree: np.ndarray  # of each piece's Q (0 also for Q = 0)
 
     @classmethod
     def build(cls, pieces: _Pieces, s_end: float) -> _Tables:
         a = pieces.alpha
         n = len(pieces.start)
-        deg = max((q.size for q in pieces.q), default=1)
+        deg = max((len(q) for q in pieces.q), default=1)
         q = np.zeros((n, max(deg, 1)))
         for i, Q in enumerate(pieces.q):
-            q[i, : Q.size] = Q
+            q[i, : len(Q)] = Q
         start = np.array(pieces.start)
         p = np.array(pieces.p)
         h = np.diff(np.r_[start, s_end])
-        tab = cls(a, start, p, q, np.zeros(n), np.zeros(n))
+        degree = np.array([max(len(Q) - 1, 0) for Q in pieces.q])
+        tab = cls(a, start, p, q, np.zeros(n), np.zeros(n), degree)
         i1, i2 = tab._partial(np.arange(n), h)
         tab.G1[1:] = np.cumsum(i1)[:-1]
         tab.G2[1:] = np.cumsum(i2)[:-1]
@@ -168,9 +231,10 @@ class _Tables:
         """Integrals of ``g`` and ``g^2`` over ``[start_i, start_i + tau]``.
 
         Closed form for pieces with a constant ``Q`` (the only ones longer than
-        ``_X_MAX``); Gauss-Legendre with ``_GAUSS`` nodes otherwise (exact for the
-        polynomial part, and the exponential factor on ``x <= 2`` is resolved to
-        rounding), which avoids the large derivatives of the closed form.
+        ``_X_MAX``); Gauss-Legendre otherwise, with 24 to 48 nodes by the degree of
+        ``Q`` (``_GAUSS_BY_DEGREE``: exact for the polynomial part, and the exponential
+        factor on ``x <= 2`` is resolved to rounding), which avoids the large
+        derivatives of the closed form.
         """
         a = self.alpha
         i, tau = np.broadcast_arrays(np.asarray(i), np.asarray(tau, dtype=float))
@@ -180,19 +244,26 @@ class _Tables:
         e2 = -np.expm1(-2.0 * x)
         int1 = a * (p * x + q0 * e1)
         int2 = a * (p * p * x + 2.0 * p * q0 * e1 + 0.5 * q0 * q0 * e2)
-        high = self.q.shape[1] > 1 and np.any(self.q[i, 1:] != 0.0, axis=-1)
-        if np.any(high):
-            k = np.flatnonzero(np.ravel(high))
-            ii, xx = np.ravel(i)[k], np.ravel(x)[k]
-            nodes = 0.5 * xx[:, None] * (1.0 + _GAUSS[0][None, :])
-            vals = self.p[ii][:, None] + np.exp(-nodes) * _polyval_rows(
-                self.q[ii][:, None, :], nodes
-            )
-            w = 0.5 * a * xx[:, None] * _GAUSS[1][None, :]
+        degree = self.degree[i]
+        if np.any(degree > 0):
             int1 = np.array(int1, dtype=float).ravel()
             int2 = np.array(int2, dtype=float).ravel()
-            int1[k] = (w * vals).sum(axis=1)
-            int2[k] = (w * vals * vals).sum(axis=1)
+            flat_i, flat_x, flat_d = np.ravel(i), np.ravel(x), np.ravel(degree)
+            low = 0
+            for top, (z, weight) in _GAUSS_BY_DEGREE:  # nodes enough for the degree
+                k = np.flatnonzero((flat_d > low) & (flat_d <= top))
+                low = top
+                if k.size == 0:
+                    continue
+                ii, xx = flat_i[k], flat_x[k]
+                nodes = 0.5 * xx[:, None] * (1.0 + z[None, :])
+                d = int(flat_d[k].max()) + 1
+                vals = self.p[ii][:, None] + np.exp(-nodes) * _polyval_rows(
+                    self.q[ii, :d][:, None, :], nodes
+                )
+                w = 0.5 * a * xx[:, None] * weight[None, :]
+                int1[k] = (w * vals).sum(axis=1)
+                int2[k] = (w * vals * vals).sum(axis=1)
             int1, int2 = int1.reshape(x.shape), int2.reshape(x.shape)
         return int1, int2
 
@@ -208,9 +279,13 @@ class _Tables:
 
     def integral(self, s: np.ndarray, square: bool = False) -> np.ndarray:
         """:math:`\\int_{-2}^{s} g` (or of :math:`g^2`)."""
+        return self.integrals(s)[1 if square else 0]
+
+    def integrals(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:math:`\\int_{-2}^{s} g` and :math:`\\int_{-2}^{s} g^2` from one pass."""
         i = self.locate(s)
         i1, i2 = self._partial(i, s - self.start[i])
-        return (self.G2[i] + i2) if square else (self.G1[i] + i1)
+        return self.G1[i] + i1, self.G2[i] + i2
 
 
 def _polyval_rows(C: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -252,6 +327,20 @@ class RodSequenceEnergy:
 
     def balance(self, t):
         return self.striker(t) + self.rod(t) - self.work(t) - 0.5 * self.sequence.alpha
+
+    def _rigid_balance_and_work(self, t):
+        """:meth:`balance` and :meth:`work` of a rigid-contact sequence, the integrals of
+        ``g`` and ``g^2`` taken in one pass at ``t`` and ``t - 2`` (the same numbers as
+        the methods compute separately; not for subclasses, which add terms)."""
+        seq = self.sequence
+        tt = seq._times(t)
+        now, before = seq._tables.integrals(tt), seq._tables.integrals(tt - 2.0)
+        rod = now[1] - before[1]
+        work = seq.f * seq._striker_position(tt, now[0] - before[0])
+        striker = 0.5 * seq.alpha * seq.velocity(tt) ** 2
+        if np.ndim(t) == 0:
+            striker, rod, work = float(striker), float(rod), float(work)
+        return striker + rod - work - 0.5 * seq.alpha, work
 
 
 @dataclass(frozen=True)
@@ -332,14 +421,19 @@ class RodImpactSequence:
     def displacement(self, t):
         """Striker displacement :math:`y(t)`."""
         tt = self._times(t)
-        y = np.asarray(self.rod_end_displacement(tt), dtype=float)
+        y = self._striker_position(tt, np.asarray(self.rod_end_displacement(tt), dtype=float))
+        return float(y) if np.ndim(t) == 0 else y
+
+    def _striker_position(self, tt, u):
+        """:math:`y` at the times ``tt`` (checked) given the rod end position ``u`` there."""
+        y = u
         if self._flights:
             k, fl = self._flight_index(tt)
             data = np.array(self._flights)
             t0, y0, v0 = data[np.clip(k, 0, None)].T
             d = tt - t0
             y = np.where(fl, y0 + v0 * d + 0.5 * self.f / self.alpha * d * d, y)
-        return float(y) if np.ndim(t) == 0 else y
+        return y
 
     def velocity(self, t):
         """Striker velocity :math:`y'(t)`."""
@@ -369,28 +463,78 @@ class RodImpactSequence:
 
 
 def _g_max(tab: _Tables, s_end: float) -> float:
-    """Largest value of ``g`` on ``[0, s_end]``: piece ends and zeros of ``Q' - Q``."""
-    best = 0.0
+    """Largest value of ``g`` on ``[0, s_end]``: piece ends and zeros of ``Q' - Q``.
+
+    Only pieces that can reach the largest value are searched for their zeros of
+    ``Q' - Q``: ``floor``, the largest of ``g`` sampled at ``_G_SAMPLES`` points of
+    every piece, is a value that ``g`` takes, and a piece whose upper bound is below it
+    cannot hold the maximum. The bound is the smaller of ``p + max |e^{-x} Q|`` and,
+    with ``L`` a bound of ``|g'|`` on the piece (in ``x``), the largest
+    ``(g(a) + g(b) + L (b - a)) / 2`` over neighbouring samples ``a, b`` (plus a
+    rounding margin). The result is the largest value at the candidates (ends and
+    critical points) of the other pieces, as if every piece had been searched.
+    """
     a = tab.alpha
     ends = np.r_[tab.start[1:], np.inf]
-    for i in range(len(tab.start)):
-        s0 = tab.start[i]
-        if s0 >= s_end or ends[i] <= 0.0:
-            continue
-        lo, hi = max(s0, 0.0), min(ends[i], s_end)
-        Q = _trim(tab.q[i])
-        if Q.size and tab.p[i] + _bound_exp_part(Q, (hi - s0) / a) <= best:
+    live = np.flatnonzero((tab.start < s_end) & (ends > 0.0))
+    s0 = tab.start[live]
+    lo, hi = np.maximum(s0, 0.0), np.minimum(ends[live], s_end)
+    xlo, xhi = (lo - s0) / a, (hi - s0) / a
+    x = xlo[:, None] + (xhi - xlo)[:, None] * np.linspace(0.0, 1.0, _G_SAMPLES)
+    q = tab.q[live]
+    p = tab.p[live]
+    sampled = p[:, None] + np.exp(-x) * _polyval_rows(q[:, None, :], x)
+    floor = float(sampled.max())
+    # upper bounds: |e^-x c(x)| <= sum_k |c_k| max x^k e^-x (largest at x = k) for
+    # c = Q, and for c = Q' - Q a Lipschitz constant L of g in x; between two
+    # samples a, b = a + d, g <= (g(a) + g(b) + L d) / 2 (plus rounding)
+    k = np.arange(q.shape[1], dtype=float)
+    peak = np.minimum(k, xhi[:, None])
+    with np.errstate(divide="ignore"):
+        m = np.exp(k * np.log(np.where(peak > 0, peak, 1.0)) - peak)
+    m[:, 0] = 1.0
+    size = (np.abs(q) * m).sum(axis=1)
+    slope = np.abs(np.c_[q[:, 1:] * k[1:], np.zeros(len(q))] - q)
+    lipschitz = (slope * m).sum(axis=1)
+    step = (xhi - xlo) / (_G_SAMPLES - 1)
+    pairs = 0.5 * (sampled[:, 1:] + sampled[:, :-1]).max(axis=1)
+    rounding = 64.0 * q.shape[1] * np.finfo(float).eps * (size + np.abs(p))
+    bound = np.minimum(p + size, pairs + 0.5 * lipschitz * step + rounding)
+    constant = ~q.any(axis=1)
+    best = max(0.0, float(p[constant].max())) if constant.any() else 0.0
+    keep = np.flatnonzero(~constant & (bound >= floor))
+    for i, s0_i, lo_i, hi_i, X, bound_i in zip(
+        live[keep].tolist(),
+        s0[keep],
+        lo[keep],
+        hi[keep],
+        xhi[keep].tolist(),
+        bound[keep],
+        strict=True,
+    ):
+        if bound_i <= best:
             continue  # cannot beat the best value so far
-        cand = [lo, hi]
+        Q = _trim(tab.q[i])
+        cand = [lo_i, hi_i]
         if Q.size > 1:
             crit = exp_poly_roots(
-                np.zeros(0), npoly.polysub(npoly.polyder(Q), Q), (lo - s0) / a, (hi - s0) / a
+                np.zeros(0), npoly.polysub(npoly.polyder(Q), Q), (lo_i - s0_i) / a, X
             )
-            cand += list(s0 + a * crit)
-        x = (np.array(cand) - s0) / a
-        vals = tab.p[i] + np.exp(-x) * npoly.polyval(x, Q) if Q.size else np.full(x.size, tab.p[i])
+            cand += list(s0_i + a * crit)
+        xc = (np.array(cand) - s0_i) / a
+        vals = tab.p[i] + np.exp(-xc) * npoly.polyval(xc, Q)
         best = max(best, float(vals.max()))
     return best
+
+
+_G_SAMPLES = 33
+
+
+def _first_root(A: np.ndarray, B: list, X: float, *, rising_from_zero: bool = False):
+    """First certified zero with sign change of :math:`e^x A + B` in :math:`(0, X]`, or
+    ``None`` (:func:`impactsym.numeric.exppoly.exp_poly_roots`)."""
+    root = exp_poly_roots(A, np.array(B), 0.0, X, first=True, rising_from_zero=rising_from_zero)
+    return float(root[0]) if root.size else None
 
 
 def impact_sequence(
@@ -475,45 +619,51 @@ def impact_sequence(
         return _elastic_sequence(alpha, f, kappa, t_end, max_contacts)
 
     pieces = _Pieces(alpha)
-    pieces.append(-2.0, 2.0, 0.0, np.zeros(0))  # rest before the impact
+    pieces.append(-2.0, 2.0, 0.0, [])  # rest before the impact
+    starts = pieces.start
     contacts, speeds, flights = [], [], []
     t, v, y, u = 0.0, 1.0, 0.0, 0.0  # time, striker velocity and position, rod end
     in_contact, contact_start = True, 0.0
     j = 0  # incoming piece index
     final = False
+    # The pieces' polynomials are lists of plain floats: at degree < ~20 Python's
+    # arithmetic beats NumPy's cost per call on such small arrays.
+    # A flight copies the incoming piece with its sign flipped, so the antiderivative
+    # of the copy is the flipped one of the incoming piece, bit for bit: kept per piece
+    # index for the flight that meets the copy two time units later.
+    antiderivatives: dict[int, list] = {}
     try:
         while t < t_end:
             # incoming piece j: the one holding t - 2; piece boundaries are compared in
             # the time of arrival (start + 2) so that aligned pieces meet exactly
-            while j + 1 < len(pieces.start) and pieces.start[j + 1] + 2.0 <= t:
+            while j + 1 < len(starts) and starts[j + 1] + 2.0 <= t:
                 j += 1
-            s_in = pieces.start[j]
+            s_in = starts[j]
             delta = max(t - (s_in + 2.0), 0.0) / alpha
             p_in = pieces.p[j]
             Q_in = pieces.q[j]
-            if Q_in.size:
-                Q_in = math.exp(-delta) * taylor_shift(Q_in, delta)
-            t_next = min((pieces.start[j + 1] if j + 1 < len(pieces.start) else t) + 2.0, t_end)
+            if Q_in and delta > 0.0:
+                Q_in = (math.exp(-delta) * taylor_shift(np.array(Q_in), delta)).tolist()
+            t_next = min((starts[j + 1] if j + 1 < len(starts) else t) + 2.0, t_end)
             h = t_next - t
             if final:  # free vibration: copy the reflected wave, no events
-                pieces.append(t, h, -p_in, -Q_in)
+                pieces.append(t, h, -p_in, [-c for c in Q_in])
                 t = t_next
                 continue
             if in_contact:
                 p_new = f - p_in
-                q0 = Q_in[0] if Q_in.size else 0.0
+                q0 = Q_in[0] if Q_in else 0.0
                 G0 = v + p_in + q0 - p_new
-                if Q_in.size:  # G = G0 + Q_in - q0 - 2 int Q_in
-                    G = np.zeros(Q_in.size + 1)
-                    G[:-1] = Q_in
-                    G[1:] -= 2.0 * Q_in / np.arange(1, Q_in.size + 1)
-                    G[0] = G0
-                    B = G.copy()
-                    B[:-1] += Q_in
+                if Q_in:  # G = G0 + Q_in - q0 - 2 int Q_in
+                    n = len(Q_in)
+                    G = [G0] + [Q_in[k] - 2.0 * Q_in[k - 1] / k for k in range(1, n)]
+                    G.append(-2.0 * Q_in[n - 1] / n)
+                    B = [G[k] + Q_in[k] for k in range(n)]
+                    B.append(G[n])
                 else:  # below rounding the exponential part is dropped, as in _Pieces.append
-                    G = np.array([G0 if abs(G0) >= _NEGLIGIBLE * max(1.0, abs(p_new)) else 0.0])
+                    G = [G0 if abs(G0) >= _NEGLIGIBLE * max(1.0, abs(p_new)) else 0.0]
                     B = G
-                cap = _X_MAX if B.size > 1 else (_X_LONG if B[0] != 0.0 else math.inf)
+                cap = _X_MAX if len(B) > 1 else (_X_LONG if B[0] != 0.0 else math.inf)
                 if h > alpha * cap:
                     h = alpha * cap
                     t_next = t + h
@@ -524,16 +674,21 @@ def impact_sequence(
                     flights.append((t, y, v))
                     in_contact = False
                     continue
-                # with B = 0, N = f >= 0 throughout: no sign change
-                root = exp_poly_roots(np.array([f]), B, 0.0, X, first=True) if B.any() else B[:0]
-                ended = root.size > 0
+                # with B = 0, N = f >= 0 throughout: no sign change; most pieces are
+                # proven positive by the cheap certificate, the others searched
+                if not any(B) or exp_poly_positive([f], B, X):
+                    root = None
+                else:
+                    root = _first_root(np.array([f]), B, X)
+                ended = root is not None
                 if ended:
-                    X, h = float(root[0]), alpha * float(root[0])
+                    X, h = root, alpha * root
                     t_next = t + h
                 pieces.append(t, h, p_new, G)
                 ex = math.exp(-X)
                 Gd = G.copy()
-                Gd[: Q_in.size] -= Q_in
+                for k in range(len(Q_in)):
+                    Gd[k] -= Q_in[k]
                 v = p_new - p_in + ex * _horner(Gd, X)
                 R = _exp_antiderivative(Gd)
                 y += alpha * ((p_new - p_in) * X + R[0] - ex * _horner(R, X))
@@ -545,33 +700,42 @@ def impact_sequence(
                     flights.append((t, y, v))
                     in_contact = False
             else:
-                if Q_in.size and h > alpha * _X_MAX:
+                if Q_in and h > alpha * _X_MAX:
                     h = alpha * _X_MAX
                     t_next = t + h
                 X = h / alpha
-                R = _exp_antiderivative(Q_in) if Q_in.size else np.zeros(1)
-                C = np.array([u - y - 2 * alpha * R[0], -alpha * (2 * p_in + v), -0.5 * alpha * f])
-                if Q_in.size:
-                    A, Bgap = C, 2 * alpha * R
-                    slope = C[0] + C[1] + 2 * alpha * (R[1] if R.size > 1 else 0.0)
+                if Q_in and delta == 0.0 and _REUSE_ANTIDERIVATIVES and j in antiderivatives:
+                    R = antiderivatives[j]
                 else:
-                    A, Bgap = np.zeros(0), C
+                    R = _exp_antiderivative(Q_in) if Q_in else [0.0]
+                C = [u - y - 2 * alpha * R[0], -alpha * (2 * p_in + v), -0.5 * alpha * f]
+                if Q_in:
+                    A, Bgap = C, [2 * alpha * r for r in R]
+                    slope = C[0] + C[1] + 2 * alpha * (R[1] if len(R) > 1 else 0.0)
+                else:
+                    A, Bgap = [], C
                     slope = C[1]
                 opening = bool(flights) and flights[-1][0] == t
                 if opening and slope < 0.0:
                     # at a separation gap' = -N >= 0 exactly; clear a rounding-level slope
                     C[1] -= slope
-                lo_gap = C[0] + (2 * alpha * R[0] if Q_in.size else 0.0)
+                lo_gap = C[0] + (2 * alpha * R[0] if Q_in else 0.0)
                 if lo_gap < 0.0:  # u - y >= 0 in flight; clear a rounding-level overlap
                     C[0] -= lo_gap
-                root = exp_poly_roots(A, Bgap, 0.0, X, first=True, rising_from_zero=opening)
-                ended = root.size > 0
+                if exp_poly_positive(A, Bgap, X, rising_from_zero=opening):
+                    root = None  # the gap stays open (the cheap certificate)
+                else:
+                    root = _first_root(np.array(A), Bgap, X, rising_from_zero=opening)
+                ended = root is not None
                 if ended:
-                    X, h = float(root[0]), alpha * float(root[0])
+                    X, h = root, alpha * root
                     t_next = t + h
-                pieces.append(t, h, -p_in, -Q_in)
+                count = len(pieces.q)
+                pieces.append(t, h, -p_in, [-c for c in Q_in])
+                if len(pieces.q) > count and pieces.q[-1]:  # (trailing zeros add nothing)
+                    antiderivatives[count] = [-r for r in R[: len(pieces.q[-1])]]
                 ex = math.exp(-X)
-                u += -2 * alpha * (p_in * X + (R[0] - ex * _horner(R, X) if Q_in.size else 0.0))
+                u += -2 * alpha * (p_in * X + (R[0] - ex * _horner(R, X) if Q_in else 0.0))
                 y += v * h + 0.5 * f / alpha * h * h
                 v += f / alpha * h
                 t = t_next
@@ -622,8 +786,13 @@ def _check_balance(seq: RodImpactSequence) -> None:
     ends = np.r_[seq._tables.start, seq.t_end]
     ts = 0.5 * (ends[:-1] + ends[1:])  # mid-piece: no event (jump) is evaluated
     ts = ts[(ts > 0.0) & (ts < seq.t_end)]
-    residual = np.abs(seq.energy.balance(ts))
-    scale = 0.5 * seq.alpha + np.abs(seq.energy.work(ts))
+    energy = seq.energy
+    if type(energy) is RodSequenceEnergy:  # rigid contact: both integrals in one pass
+        residual, work = energy._rigid_balance_and_work(ts)
+    else:  # a subclass (finite kappa) adds its own terms
+        residual, work = energy.balance(ts), energy.work(ts)
+    residual = np.abs(residual)
+    scale = 0.5 * seq.alpha + np.abs(work)
     bad = np.flatnonzero(residual > _BALANCE_RTOL * scale)
     if bad.size:
         k = bad[0]
