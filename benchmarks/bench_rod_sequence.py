@@ -7,6 +7,10 @@ draws with ``f = 0``, Saint-Venant's problem), follows each rigid-contact impact
 (target < 10 s), the time per sequence for ``f = 0`` and ``f > 0``, the number of
 contacts and the largest energy-balance residual on a 2001-point grid of each sequence.
 
+``--n-kappa 40`` more sequences with a finite contact stiffness (``kappa`` log-uniform in
+[1, 1e4], same ``alpha`` and ``f`` draws) print their time per sequence and residual
+(no target in the issue; reported so that a regression shows).
+
 The library runs in one process. ``--processes 2`` spreads the sequences over worker
 processes (the total is then the wall time of the pool, start-up included); the
 residuals are computed afterwards, outside the timing, in a second pass.
@@ -15,11 +19,14 @@ residuals are computed afterwards, outside the timing, in a second pass.
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's package
 from impactsym.rod import impact_sequence
 
 
@@ -48,6 +55,7 @@ def main() -> None:
     parser.add_argument("--n", type=int, default=1000)
     parser.add_argument("--seed", type=int, default=10)
     parser.add_argument("--processes", type=int, default=1)
+    parser.add_argument("--n-kappa", type=int, default=40)
     args = parser.parse_args()
     rng = np.random.default_rng(args.seed)
     alpha = np.exp(rng.uniform(np.log(0.1), np.log(10.0), args.n))
@@ -82,6 +90,35 @@ def main() -> None:
         f"(alpha = {alpha[times.argmax()]:.3g}, f = {f[times.argmax()]:.3g})"
     )
     print(f"largest energy-balance residual: {worst:.1e}")
+    finite_kappa(rng, args.n_kappa)
+
+
+def finite_kappa(rng: np.random.Generator, n: int) -> None:
+    """Time per finite-kappa sequence to t = 40 and the largest relative residual."""
+    if n <= 0:
+        return
+    alpha = np.exp(rng.uniform(np.log(0.1), np.log(10.0), n))
+    f = np.where(rng.random(n) < 0.5, 0.0, rng.uniform(0.0, 1.0, n))
+    kappa = np.exp(rng.uniform(0.0, np.log(1e4), n))
+    t = np.linspace(0.0, 40.0, 2001)
+    times, worst, refused = [], 0.0, 0
+    for a, ff, k in zip(alpha, f, kappa, strict=True):
+        t0 = time.perf_counter()
+        try:
+            seq = impact_sequence(a, ff, kappa=k, t_end=40.0)
+        except ValueError:  # refused: float64 no longer exact before t = 40
+            refused += 1
+            continue
+        times.append(time.perf_counter() - t0)
+        balance = seq.energy.balance(t) / (0.5 * a + np.abs(seq.energy.work(t)))
+        worst = max(worst, float(np.abs(balance).max()))
+    times = np.array(times)
+    print(
+        f"{n} finite-kappa sequences to t = 40 (kappa in [1, 1e4]): "
+        f"{np.median(times) * 1e3:.0f} ms median, {times.mean() * 1e3:.0f} ms mean, "
+        f"slowest {times.max():.2f} s; {refused} refused; "
+        f"largest relative energy-balance residual {worst:.1e}"
+    )
 
 
 if __name__ == "__main__":
