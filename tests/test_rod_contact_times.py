@@ -248,6 +248,7 @@ def _reference_second_derivative(ref, which, k, tau):
     st.sampled_from(["N", "y"]),
     st.integers(0, 2**32 - 1),
 )
+@example(1.0, 1.0, 1, "y", 0)  # f = 1: N = f, all a_j = 0; the bound at x = 0 was 0 * inf
 def test_second_derivative_bound_holds_on_random_cells(a, force, m, which, seed):
     """The search is certified only if ``|g''| <= bound`` on every cell: checked on
     random cells (including ``x = 0`` and whole intervals) against ``g''`` of the

@@ -159,7 +159,8 @@ class _RigidInterval:
         positive = a > 0
         with np.errstate(divide="ignore", invalid="ignore"):
             inv = np.where(positive, 1.0 / a, np.inf)
-            M1 = np.minimum(C1, 0.5 * C0 + self.J1[own] * inv)  # |N'|
+            J1 = self.J1[own]  # J1 = 0 (e.g. N = f, all a_j = 0) must not meet 1/a = inf
+            M1 = np.minimum(C1, 0.5 * C0 + np.where(J1 > 0.0, J1 * inv, 0.0))  # |N'|
             end = np.maximum(np.abs(Sa), np.abs(Sb))
             sup = np.minimum(C0, end + 0.5 * h * M1)  # |N - f|
             if self.which == "y":
