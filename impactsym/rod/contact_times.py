@@ -310,7 +310,7 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max, *, tables=True):
     ``g'(0) > 0`` (``N' = kappa``, ``y' = 1``). Per group the time function is the
     certified piecewise polynomial :class:`impactsym.rod.elastic_table._CellTable`
     (built once, shared by every ``f``): on a cell where its proven error
-    :math:`\epsilon_A + f \epsilon_B` is at most ``_TABLE_TOLERANCE`` the polynomial
+    :math:`\\epsilon_A + f \\epsilon_B` is at most ``_TABLE_TOLERANCE`` the polynomial
     is the function searched (and :math:`|A''| + f |B''|` bounds its second
     derivative), elsewhere the pole sums of :mod:`impactsym.rod.elastic` (with their
     own 1e-12 rounding bound and mpmath fallback) and

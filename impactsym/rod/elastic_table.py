@@ -1,7 +1,7 @@
 """Finite contact stiffness as a certified piecewise polynomial, linear in ``f``.
 
 For one :math:`(\\alpha, \\kappa)` the time function :math:`g = y` or :math:`N` is, on
-each cell :math:`[c - w, c + w]` of a mesh of :math:`[0, 2 n]` whose nodes include the
+each cell :math:`[c - w, c + w]` of a mesh of :math:`[0, 2n]` whose nodes include the
 reflection times :math:`2k`,
 
 .. math::
@@ -9,32 +9,40 @@ reflection times :math:`2k`,
     g(c + w x) = A(x) + f B(x) + \\epsilon(x), \\qquad |x| \\le 1, \\quad
     |\\epsilon| \\le \\epsilon_A + f \\epsilon_B,
 
-with real polynomials :math:`A, B` of degree ``DEGREE`` in float64 and proven bounds
-:math:`\\epsilon_A, \\epsilon_B`. Built once per :math:`(\\alpha, \\kappa)` from the
-exact pole data of :class:`impactsym.rod.elastic._ElasticModel`:
+with real polynomials :math:`A, B` in float64 and proven bounds :math:`\\epsilon_A,
+\\epsilon_B` (which include the rounding of a Horner evaluation of :math:`A + f B`).
+Built once per :math:`(\\alpha, \\kappa)` (and shared by every ``f``) from the exact pole
+data of :class:`impactsym.rod.elastic._ElasticModel`, where every arrived term :math:`k`
+is :math:`\\sum_p e^{pu} P_{kp}(u)`, :math:`u = t - 2k`, over the poles :math:`p` of
+:math:`s^{m_0} (\\alpha s^2 + \\alpha\\kappa s + \\kappa)^n`:
 
-* every arrived term :math:`k` is :math:`\\sum_p e^{pu} P_{kp}(u)`, :math:`u = t - 2k`;
-  its polynomials are re-expanded with mpmath about the centre :math:`u_0 = C - 2k` of
-  the reflection interval :math:`[C - 1, C + 1]` (no float cancellation of their large
-  alternating coefficients);
-* the two contact poles :math:`\\bar p \\pm \\delta`, :math:`\\bar p = -\\kappa/2`, are
-  kept apart when :math:`|\\delta| \\ge 1`; nearer critical contact damping
+* **groups.** A group is :math:`e^{\\lambda u} S(u)` with a polynomial (or truncated
+  series) :math:`S` given about a few points, each rounded once from mpmath. The two
+  contact poles :math:`\\bar p \\pm \\delta`, :math:`\\bar p = -\\kappa/2`, are kept
+  apart when :math:`|\\delta| \\ge 1`; nearer critical contact damping
   (:math:`\\alpha\\kappa \\approx 4`, where the per-pole parts grow like
-  :math:`|2\\delta|^{1-2n}` and cancel) they are merged in mpmath into one real series
-  :math:`e^{\\bar p u} K(u)`, :math:`K(u_0 + e) = \\sum_\\pm e^{\\pm\\delta(u_0 + e)}
-  P_\\pm(u_0 + e)`, truncated where the Lagrange bound
-  :math:`\\sum_j |P_{\\pm j}| |\\delta|^{D-j+1} e^{|\\delta|}/(D-j+1)!` on
-  :math:`|e| \\le 1` is below ``1e-20`` (the working precision is raised with the
-  cancellation);
-* on a cell every group :math:`e^{\\lambda u} S(u)` becomes
-  :math:`e^{\\lambda u_c} S(u_c + w x) e^{\\lambda w x}`; cells are so small that
-  :math:`|\\lambda| w \\le 1` for every group still alive (a group counts as dead, and
-  only its bound enters :math:`\\epsilon`, once it is below ``1e-18``), and
-  :math:`e^{\\lambda w x}` is summed to degree ``DEGREE`` with the tail
-  :math:`z^{D+1} e^z/(D+1)!`, :math:`z = |\\lambda| w`; product terms above the degree
-  are dropped into :math:`\\epsilon` with the sum of their absolute coefficients, and
-  every float operation is covered by a rounding bound (:math:`\\gamma_n`-style, with a
-  factor-two margin).
+  :math:`|2\\delta|^{1-2n}` and cancel) they are merged in mpmath, at a precision raised
+  with the cancellation, into one real series :math:`e^{\\bar p u} K(u)`,
+  :math:`K(u_0 + e) = \\sum_\\pm e^{\\pm\\delta(u_0 + e)} P_\\pm(u_0 + e)`, truncated where
+  the Lagrange bound :math:`\\sum_j |P_{\\pm j}| R^j (|\\delta| R)^{D-j+1}
+  e^{|\\delta| R}/(D-j+1)!` on :math:`|e| \\le R` is below ``1e-20``. Slow exponentials
+  (:math:`|\\lambda| \\le 4`, and :math:`\\lambda = 0`) of the older terms are summed over
+  the terms in mpmath (their parts cancel each other, by a factor 40 for ``y``); the young
+  terms, whose fast and slow parts cancel each other, stay per term.
+* **cells.** Cells are so short that :math:`|\\lambda| w \\le 1` for every group still
+  alive (a group whose size on the cell is below ``1e-18`` only adds that bound to
+  :math:`\\epsilon`). On a cell a group is :math:`e^{\\lambda u_c} S(u_c + w x)
+  e^{\\lambda w x}`: the shift of :math:`S` from the basis point with the smallest bound,
+  :math:`e^{\\lambda w x}` to degree :math:`D` (the terms' polynomial degree plus 19) with
+  the tail :math:`z^{D+1} e^z/(D+1)!`, :math:`z = |\\lambda| w`, product orders above
+  :math:`D` dropped with the sum of their absolute values, and a rounding bound for every
+  float step (:math:`\\gamma_n`-style with a factor-two margin).
+* **repair.** A cell whose bound still exceeds ``_TARGET`` has its worst terms recomputed
+  exactly about the cell centre in mpmath (all their poles at once, so the cancellation
+  happens there) and rounded once.
+
+:mod:`impactsym.rod.contact_times` searches the polynomial wherever
+:math:`\\epsilon_A + f\\epsilon_B \\le 10^{-12}` and the pole sums elsewhere.
 """
 
 from __future__ import annotations
@@ -82,7 +90,7 @@ def _required_dps(name: str, alpha: float, kappa: float, n_terms: int) -> int:
     if two_delta >= 2.0 * _MERGE or two_delta == 0.0:
         return 40
     n_max = max(n for _, _, n, _ in _elastic_series(name, n_terms))
-    return 40 + int(math.ceil(2 * n_max * max(0.0, -math.log10(two_delta)))) + 10
+    return 40 + math.ceil(2 * n_max * max(0.0, -math.log10(two_delta))) + 10
 
 
 class _CellTable:
@@ -246,8 +254,8 @@ def _across_terms(lam) -> bool:
 def _family_group(parts_by_term, centre, lam, pbar, merge):
     """All arrived terms' parts with exponent ``lam`` (``0``, a contact root, or
     ``pbar`` for the merged contact poles) as one group, summed in mpmath:
-    :math:`\sum_k e^{\lambda (t - 2k)} S_k(t - 2k) = e^{\lambda (t - C)} \sum_k
-    e^{\lambda (C - 2k)} S_k(t - 2k)` about ``t = C -+ 1/2`` (``k = C/2`` in the
+    :math:`\\sum_k e^{\\lambda (t - 2k)} S_k(t - 2k) = e^{\\lambda (t - C)} \\sum_k
+    e^{\\lambda (C - 2k)} S_k(t - 2k)` about ``t = C -+ 1/2`` (``k = C/2`` in the
     group, so that ``u = t - C``). The terms of one family cancel each other (the
     ``f`` parts of ``y`` by a factor 40), which float64 would not resolve."""
     import mpmath as mp
@@ -349,7 +357,7 @@ def _merged_basis(contact, pbar, u0, radius, exact=False):
     return (float(u0), fa, fb, ta, tb, float(radius))
 
 
-def _interval_cells(centre: int, groups: list, DEGREE: int, n_terms: int):  # noqa: N803
+def _interval_cells(centre: int, groups: list, DEGREE: int, n_terms: int):
     """Mesh and coefficients on the reflection interval ``[centre - 1, centre + 1]``.
 
     ``groups``: ``(k, lam, weight, bases)`` (:func:`_term_groups`), ``u = t - 2k``.
@@ -396,9 +404,11 @@ def _interval_cells(centre: int, groups: list, DEGREE: int, n_terms: int):  # no
         decay = np.exp(lam.real * (u_c - w))  # |e^{lam u}| <= decay on the cell
         best = None
         for basis in bases:
-            part = _basis_part(lam, weight, basis, u_c, w, decay, DEGREE)
+            with np.errstate(all="ignore"):  # overflow: an infinite bound, never chosen
+                part = _basis_part(lam, weight, basis, u_c, w, decay, DEGREE)
             if part is None:
                 continue
+            part[2][~np.isfinite(part[2])] = np.inf
             if best is None:
                 best = part
                 continue
@@ -410,6 +420,8 @@ def _interval_cells(centre: int, groups: list, DEGREE: int, n_terms: int):  # no
                 np.where(better, part[3], best[3]),
             )
         qa, qb, e, m = best
+        qa, qb = np.where(np.isfinite(qa), qa, 0.0), np.where(np.isfinite(qb), qb, 0.0)
+        m = np.where(np.isfinite(m), m, np.inf)
         row = k if float(k).is_integer() else n_terms  # family groups: k = centre / 2
         A[row] += qa
         B[row] += qb
@@ -466,7 +478,7 @@ def _mp_cell(parts, u_c, w, degree, skip):
     return out[0], out[1], errs[0], errs[1], mags[0], mags[1]
 
 
-def _basis_part(lam, weight, basis, u_c, w, decay, DEGREE):  # noqa: N803
+def _basis_part(lam, weight, basis, u_c, w, decay, DEGREE):
     """One group's coefficients on every cell from one basis: ``(A, B, err, mag)``
     (``err, mag`` of shape ``(2, n_cells)``; ``err`` inf where the basis is not valid)."""
     ub, sa, sb, tau_a, tau_b, radius = basis
