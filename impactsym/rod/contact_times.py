@@ -338,16 +338,38 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max, *, tables=True):
                 f"below 1/{_FASTEST_POLE:g}; use kappa=inf (rigid contact), its limit"
             )
         if tables:
+            # interval by interval, so that later cells are repaired (mpmath) and
+            # searched only for the f still in contact
             table = _cell_table(name, ag, kg, n_terms)
             evaluate, bound = _table_search(table, model, name, ag, kg, fm)
-            base = np.append(table.lo[table.lo < t_max], t_max)
-        else:
-            evaluate, bound = _pole_search(model, name, ag, kg, fm)
-            step = min(0.1, 0.25 * ag, 0.5 / np.sqrt(model.fastest))
-            base = np.union1d(
-                np.linspace(0.0, t_max, int(np.ceil(t_max / step)) + 1),
-                np.arange(2.0, t_max, 2.0),
-            )
+            active = np.arange(members.size)
+            for m in range(n_terms):
+                start, end = 2.0 * m, min(2.0 * m + 2.0, t_max)
+                if start >= t_max or active.size == 0:
+                    break
+                base = np.append(table.lo[(table.lo >= start) & (table.lo < end)], end)
+                owner = np.repeat(np.arange(active.size), base.size)
+                nodes = np.tile(base, active.size)
+                roots = first_sign_change(
+                    lambda t, own, ev=evaluate, active=active: ev(t, active[own]),
+                    lambda ta, tb, own, *ends, bd=bound, active=active: bd(
+                        ta, tb, active[own], *ends
+                    ),
+                    nodes,
+                    owner,
+                    active.size,
+                    max_cells=2**22,
+                )
+                hit = np.isfinite(roots)
+                result[members[active[hit]]] = roots[hit]
+                active = active[~hit]
+            continue
+        evaluate, bound = _pole_search(model, name, ag, kg, fm)
+        step = min(0.1, 0.25 * ag, 0.5 / np.sqrt(model.fastest))
+        base = np.union1d(
+            np.linspace(0.0, t_max, int(np.ceil(t_max / step)) + 1),
+            np.arange(2.0, t_max, 2.0),
+        )
         owner = np.repeat(np.arange(members.size), base.size)
         nodes = np.tile(base, members.size)
         roots = first_sign_change(evaluate, bound, nodes, owner, members.size, max_cells=2**22)
@@ -376,7 +398,13 @@ def _table_search(table, model, name, ag, kg, fm):
     pole_evaluate, pole_bound = _pole_search(model, name, ag, kg, fm)
 
     def usable(i, ff):
-        return table.err_a[i] + ff * table.err_b[i] <= _TABLE_TOLERANCE
+        ok = table.err_a[i] + ff * table.err_b[i] <= _TABLE_TOLERANCE
+        if not ok.all():
+            waiting = i[~ok][table.pending(i[~ok])]
+            if waiting.size:  # repair in mpmath where first needed, then look again
+                table.repair(waiting)
+                ok = table.err_a[i] + ff * table.err_b[i] <= _TABLE_TOLERANCE
+        return ok
 
     def evaluate(t, own):
         i, ff = table.cell(t), fm[own]

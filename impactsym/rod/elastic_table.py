@@ -106,6 +106,8 @@ class _CellTable:
         dps = _required_dps(name, alpha, kappa, n_terms)
         model = _elastic_model(name, alpha, kappa, n_terms, dps)
         self.fastest = model.fastest
+        self._model, self._dps = model, dps
+        self._pending: dict = {}  # cell -> data for repair()
         cells = []
         with mp.workdps(dps):
             pbar = -mp.mpf(kappa) / 2
@@ -120,6 +122,8 @@ class _CellTable:
 
         def skip(r):  # roots whose parts are in a family summed over the terms
             return _across_terms(complex(pbar) if (merged and r != 0) else complex(r))
+
+        self._skip = skip
 
         families = {g[0] for t in groups_by_term for g in t[0] if _across_terms(g[0])}
         fast = [g[0] for t in groups_by_term for g in t[0] if not _across_terms(g[0])]
@@ -145,45 +149,79 @@ class _CellTable:
                         lam_mp = next(p[0] for p in model.parts[-1] if complex(p[0]) == lam)
                     groups.append(_family_group(old, 2 * m + 1, lam_mp, pbar, merged))
             lo, hi, c, w, A, B, err, mag = _interval_cells(2 * m + 1, groups, degree, m + 1)
-            # cells whose float bound is too coarse: the worst terms exactly (mpmath)
-            n_groups = len(groups)
-            summation = _EPS * n_groups * mag.sum(axis=0)
-            total = err.sum(axis=0) + summation
-            for i in np.flatnonzero(total.sum(axis=0) > 0.5 * _TARGET):
-                order = np.argsort(-err[:, :, i].sum(axis=1))
-                for j in order:
-                    if err[:, :, i].sum() + summation[:, i].sum() <= 0.5 * _TARGET:
-                        break
-                    if err[j, :, i].sum() <= 0.125 * _TARGET:
-                        break  # many small float errors: mpmath would not pay
-                    if j == m + 1:
-                        continue  # the families summed over the terms in mpmath already
-                    with mp.workdps(dps):
-                        qa, qb, ea, eb, ma, mb = _mp_cell(
-                            model.parts[j],
-                            c[i] - 2 * j,
-                            w[i],
-                            degree,
-                            (lambda r: False) if j in young else skip,
-                        )
-                    A[j, i], B[j, i] = qa, qb
-                    err[j, :, i] = ea, eb
-                    mag[j, :, i] = ma, mb
-                    summation[:, i] = _EPS * n_groups * mag[:, :, i].sum(axis=0)
-            A, B = A.sum(axis=0), B.sum(axis=0)
-            # the sum over the groups, and a Horner evaluation of A + f B (|x| <= 1)
-            horner = _EPS * (2 * degree + 4)
-            err_a = err[:, 0].sum(axis=0) + summation[0] + horner * np.abs(A).sum(axis=1)
-            err_b = err[:, 1].sum(axis=0) + summation[1] + horner * np.abs(B).sum(axis=1)
-            cells.append((lo, hi, c, w, A, B, err_a, err_b))
+            offset = sum(cell[0].size for cell in cells)
+            bad = (err.sum(axis=0) + _EPS * len(groups) * mag.sum(axis=0)).sum(axis=0)
+            for i in np.flatnonzero(bad > 0.5 * _TARGET):  # repaired when first needed
+                self._pending[offset + i] = (
+                    m,
+                    c[i],
+                    w[i],
+                    A[:, i],
+                    B[:, i],
+                    err[:, :, i],
+                    mag[:, :, i],
+                    len(groups),
+                    frozenset(young),
+                )
+            cells.append((lo, hi, c, w, *self._finish(A, B, err, mag, len(groups))))
         self.lo, self.hi, self.c, self.w, self.A, self.B, self.err_a, self.err_b = (
             np.concatenate([cell[i] for cell in cells]) for i in range(8)
         )
-        n = np.arange(degree + 1)
+        self.d2_a, self.d2_b = self._second_derivative_bounds(self.A, self.B, self.w)
+
+    def _second_derivative_bounds(self, A, B, w):
+        n = np.arange(self.degree + 1)
         d2 = n * (n - 1)
-        self.d2_a = (np.abs(self.A) @ d2) / self.w**2 * (1 + 1e-12)
-        self.d2_b = (np.abs(self.B) @ d2) / self.w**2 * (1 + 1e-12)
-        self.max_error = float(max(self.err_a.max(), self.err_b.max()))
+        return (np.abs(A) @ d2) / w**2 * (1 + 1e-12), (np.abs(B) @ d2) / w**2 * (1 + 1e-12)
+
+    def _finish(self, A, B, err, mag, n_groups):
+        """Sum of the rows (terms, families) with its bound: the sum over the groups
+        and a Horner evaluation of ``A + f B`` (``|x| <= 1``)."""
+        A, B = A.sum(axis=0), B.sum(axis=0)
+        summation = _EPS * n_groups * mag.sum(axis=0)
+        horner = _EPS * (2 * self.degree + 4)
+        err_a = err[:, 0].sum(axis=0) + summation[0] + horner * np.abs(A).sum(axis=-1)
+        err_b = err[:, 1].sum(axis=0) + summation[1] + horner * np.abs(B).sum(axis=-1)
+        return A, B, err_a, err_b
+
+    def repair(self, cells: np.ndarray) -> None:
+        """Recompute the worst terms of pending ``cells`` exactly about the cell centre
+        (mpmath, all their poles at once so that they cancel there), until the rows'
+        float bound is below ``_TARGET / 2`` or the rest is many small errors."""
+        import mpmath as mp
+
+        for gi in np.unique(cells):
+            job = self._pending.pop(int(gi), None)
+            if job is None:
+                continue
+            m, c, w, A, B, err, mag, n_groups, young = job
+            A, B, err, mag = A.copy(), B.copy(), err.copy(), mag.copy()
+            for j in np.argsort(-err.sum(axis=1)):
+                if err.sum() + _EPS * n_groups * mag.sum() <= 0.5 * _TARGET:
+                    break
+                if err[j].sum() <= 0.125 * _TARGET:
+                    break  # many small float errors: mpmath would not pay
+                if j == m + 1:
+                    continue  # the families summed over the terms in mpmath already
+                with mp.workdps(self._dps):
+                    qa, qb, ea, eb, ma, mb = _mp_cell(
+                        self._model.parts[j],
+                        c - 2 * j,
+                        w,
+                        self.degree,
+                        (lambda r: False) if j in young else self._skip,
+                    )
+                A[j], B[j], err[j], mag[j] = qa, qb, (ea, eb), (ma, mb)
+            a, b, ea, eb = self._finish(
+                A[:, None], B[:, None], err[:, :, None], mag[:, :, None], n_groups
+            )
+            self.A[gi], self.B[gi], self.err_a[gi], self.err_b[gi] = a[0], b[0], ea[0], eb[0]
+            da, db = self._second_derivative_bounds(a, b, self.w[gi : gi + 1])
+            self.d2_a[gi], self.d2_b[gi] = da[0], db[0]
+
+    def pending(self, cells: np.ndarray) -> np.ndarray:
+        """Which of ``cells`` still wait for :meth:`repair`."""
+        return np.array([int(i) in self._pending for i in np.ravel(cells)], dtype=bool)
 
     def cell(self, t: np.ndarray) -> np.ndarray:
         """Index of the cell holding ``t`` (the right one at a node)."""
