@@ -14,8 +14,11 @@ Run ``python benchmarks/bench_rod_contact_times.py [--n 100]``. In one run, on t
   target: 500 x 500 per condition under 10 s, i.e. 40 us per pair);
 * the certified search on as many scattered pairs (every ``alpha`` distinct: nothing
   for the per-``alpha`` screening of a grid to share);
-* finite ``kappa``: the first call (symbolic series, once per process), a new
-  ``(alpha, kappa)`` (its pole data) and the time per point of an ``f`` sweep.
+* finite ``kappa``: the symbolic series (once per process), then per point of an
+  ``f`` sweep (200 points, the cell table built in the timed call) and of an
+  ``alpha``-``f`` map at fixed ``kappa`` (one table per ``alpha``), the cell tables
+  against the former pointwise search on the pole sums (``--kappa-only`` runs this
+  part alone).
 
 Times are CPU seconds of this process (``time.process_time``), robust against a
 loaded machine; ``--repeat k`` quotes the best of ``k`` runs of the certified search.
@@ -179,23 +182,55 @@ def atlas(n: int, repeat: int = 1) -> None:
 
 
 def finite_stiffness() -> None:
+    """Finite ``kappa`` (issue 11, item 3): cell tables against the former pointwise
+    search (pole sums, ``tables=False``), on an ``f`` sweep at fixed ``(alpha, kappa)``
+    and on an ``alpha``-``f`` map at fixed ``kappa`` (every table build counted)."""
+    from impactsym.rod.contact_times import _elastic_contact_times
+    from impactsym.rod.elastic import _elastic_series
+    from impactsym.rod.elastic_table import _cell_table
+
     start = time.process_time()
-    contact_time(1.0, 0.2, kappa=50.0)
-    first = time.process_time() - start
-    start = time.process_time()
-    contact_time(0.7, 0.2, kappa=30.0)
-    fresh = time.process_time() - start
+    _elastic_series("N", 11), _elastic_series("Y", 11)
+    print(f"finite kappa: symbolic series (once per process) {time.process_time() - start:.2f} s")
     f = np.linspace(0.0, 2.0, 200)
-    contact_time(1.3, 0.0, kappa=20.0)
-    start = time.process_time()
-    contact_time(1.3, f, kappa=20.0)
-    sweep = (time.process_time() - start) / f.size
-    print(
-        f"finite kappa (t_max = 20): first call {first:.2f} s, a new (alpha, kappa) "
-        f"{fresh:.2f} s, then {1e3 * sweep:.2f} ms per point of an f sweep"
-    )
+    for a, k in ((1.3, 20.0), (0.7, 30.0), (0.05, 10.0), (1.0, 4.0)):
+        alpha, kappa = np.full(f.size, a), np.full(f.size, k)
+        for which in ("N", "y"):
+            _cell_table.cache_clear()
+            start = time.process_time()
+            new = _elastic_contact_times(which, alpha, f, kappa, 20.0)
+            t_new = time.process_time() - start
+            start = time.process_time()
+            _elastic_contact_times(which, alpha, f, kappa, 20.0)
+            t_cached = time.process_time() - start
+            # the former search costs the same per point at any f count: 20 of them
+            sub = slice(None, None, 10)
+            start = time.process_time()
+            old = _elastic_contact_times(which, alpha[sub], f[sub], kappa[sub], 20.0, tables=False)
+            t_old = (time.process_time() - start) / old.size
+            new = new[sub]
+            same = np.isinf(new) == np.isinf(old)
+            both = np.isfinite(new) & np.isfinite(old)
+            diff = np.max(np.abs(new[both] - old[both]), initial=0.0)
+            print(
+                f"  f sweep alpha={a}, kappa={k}, {which}: tables {1e3 * t_new / f.size:.2f} "
+                f"ms/point (table built in the call), {1e3 * t_cached / f.size:.3f} ms/point "
+                f"(table cached); former {1e3 * t_old:.2f} ms/point; max |difference| "
+                f"{diff:.1e}, inf agree {bool(same.all())}"
+            )
+    A, F = np.meshgrid(np.geomspace(0.1, 10.0, 10), np.linspace(0.0, 2.0, 50))
+    for which in ("N", "y"):
+        _cell_table.cache_clear()
+        start = time.process_time()
+        _elastic_contact_times(which, A.ravel(), F.ravel(), np.full(A.size, 20.0), 20.0)
+        spent = time.process_time() - start
+        print(
+            f"  alpha-f map 10 x 50 at kappa=20, {which}: {1e3 * spent / A.size:.2f} ms/point "
+            "(10 table builds included)"
+        )
 
 
 if __name__ == "__main__":
-    main()
+    if "--kappa-only" not in sys.argv:
+        main()
     finite_stiffness()

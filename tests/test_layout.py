@@ -21,7 +21,12 @@ FLOORS = [
         "impactsym.rod.derivation",
         "impactsym.rod.kernel",
     ),
-    ("impactsym.rod.elastic", "impactsym.contact.api", "impactsym.contact.bounce"),
+    (
+        "impactsym.rod.elastic",
+        "impactsym.rod.elastic_table",
+        "impactsym.contact.api",
+        "impactsym.contact.bounce",
+    ),
     ("impactsym.rod.api", "impactsym.rod.contact_times", "impactsym.rod.codegen"),
     (
         "impactsym.rod.continuation",

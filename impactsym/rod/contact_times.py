@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike
 
 from impactsym.numeric.isolation import first_sign_change
 from impactsym.rod.elastic import T_LIMIT_ELASTIC, _elastic, _elastic_model
+from impactsym.rod.elastic_table import _cell_table
 from impactsym.rod.kernel import T_LIMIT, _rescale, _rigid_tables, check_alpha
 from impactsym.validation import broadcast, check_condition, finish, real_array
 
@@ -32,6 +33,9 @@ _SEARCH_CHUNK, _TABLE_ENTRIES = 32768, 2**22
 #: Strides in f of the searched pairs per alpha (:func:`_screen_interval`), used where
 #: at least _SCREEN_MIN_PAIRS pairs per alpha are in contact (tuned on atlases).
 _SCREEN_STRIDES, _SCREEN_MIN_PAIRS = (64, 1), 16
+#: Largest proven error of the finite-kappa cell polynomials (units of ``y`` resp.
+#: ``N``) for them to stand for the function; the measured error is about 1e-14.
+_TABLE_TOLERANCE = 1e-12
 #: Default search horizons (rigid, finite stiffness).
 T_MAX_RIGID, T_MAX_ELASTIC = 100.0, 20.0
 
@@ -299,13 +303,21 @@ def _rigid_contact_times(which, alpha, f, t_max):
     return result
 
 
-def _elastic_contact_times(which, alpha, f, kappa, t_max):
+def _elastic_contact_times(which, alpha, f, kappa, t_max, *, tables=True):
     """First sign change in ``(0, t_max]`` for flat pairs with finite ``kappa``.
 
-    Pairs are grouped by ``(alpha, kappa)`` (one pole model each); ``g`` starts at
-    ``g(0) = 0`` with ``g'(0) > 0`` (``N' = kappa``, ``y' = 1``). The reflection times
-    ``2k`` are nodes; the bound on ``|g''|`` is
-    :meth:`impactsym.rod.elastic._ElasticModel.second_derivative_bound`.
+    Pairs are grouped by ``(alpha, kappa)``; ``g`` starts at ``g(0) = 0`` with
+    ``g'(0) > 0`` (``N' = kappa``, ``y' = 1``). Per group the time function is the
+    certified piecewise polynomial :class:`impactsym.rod.elastic_table._CellTable`
+    (built once, shared by every ``f``): on a cell where its proven error
+    :math:`\\epsilon_A + f \\epsilon_B` is at most ``_TABLE_TOLERANCE`` the polynomial
+    is the function searched (and :math:`|A''| + f |B''|` bounds its second
+    derivative), elsewhere the pole sums of :mod:`impactsym.rod.elastic` (with their
+    own 1e-12 rounding bound and mpmath fallback) and
+    :meth:`impactsym.rod.elastic._ElasticModel.second_derivative_bound`. The cell
+    edges (they include the reflection times ``2k``) are the initial nodes of
+    :func:`impactsym.numeric.isolation.first_sign_change`. ``tables=False`` searches
+    the pole sums alone (the former method, kept for the benchmark).
     """
     name = "Y" if which == "y" else "N"
     result = np.full(alpha.size, np.inf)
@@ -316,26 +328,47 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max):
     for g_index, (ag, kg) in enumerate(groups):
         members = np.flatnonzero(inverse == g_index)
         fm = f[members]
-        model = _elastic_model(name, float(ag), float(kg), n_terms)
+        ag, kg = float(ag), float(kg)
+        model = _elastic_model(name, ag, kg, n_terms)
         if model.fastest > _FASTEST_POLE:
             raise ValueError(
-                f"kappa = {float(kg)!r} (alpha = {float(ag)!r}) is too stiff for a certified "
+                f"kappa = {kg!r} (alpha = {ag!r}) is too stiff for a certified "
                 f"finite-kappa contact time: the contact spring's time scale "
                 f"1/{model.fastest:.3g} is "
                 f"below 1/{_FASTEST_POLE:g}; use kappa=inf (rigid contact), its limit"
             )
-
-        def evaluate(t, own, ag=ag, kg=kg, fm=fm):
-            value = _elastic(name, t, float(ag), float(kg), fm[own])
-            slope = _elastic(name, t, float(ag), float(kg), fm[own], True)
-            return value, slope, value
-
-        def bound(ta, tb, own, _a, _b, _da, _db, model=model, fm=fm):
-            return model.second_derivative_bound(ta, tb, fm[own])
-
-        step = min(0.1, 0.25 * float(ag), 0.5 / np.sqrt(model.fastest))
+        if tables:
+            # interval by interval, so that later cells are repaired (mpmath) and
+            # searched only for the f still in contact
+            table = _cell_table(name, ag, kg, n_terms)
+            evaluate, bound = _table_search(table, model, name, ag, kg, fm)
+            active = np.arange(members.size)
+            for m in range(n_terms):
+                start, end = 2.0 * m, min(2.0 * m + 2.0, t_max)
+                if start >= t_max or active.size == 0:
+                    break
+                base = np.append(table.lo[(table.lo >= start) & (table.lo < end)], end)
+                owner = np.repeat(np.arange(active.size), base.size)
+                nodes = np.tile(base, active.size)
+                roots = first_sign_change(
+                    lambda t, own, ev=evaluate, active=active: ev(t, active[own]),
+                    lambda ta, tb, own, *ends, bd=bound, active=active: bd(
+                        ta, tb, active[own], *ends
+                    ),
+                    nodes,
+                    owner,
+                    active.size,
+                    max_cells=2**22,
+                )
+                hit = np.isfinite(roots)
+                result[members[active[hit]]] = roots[hit]
+                active = active[~hit]
+            continue
+        evaluate, bound = _pole_search(model, name, ag, kg, fm)
+        step = min(0.1, 0.25 * ag, 0.5 / np.sqrt(model.fastest))
         base = np.union1d(
-            np.linspace(0.0, t_max, int(np.ceil(t_max / step)) + 1), np.arange(2.0, t_max, 2.0)
+            np.linspace(0.0, t_max, int(np.ceil(t_max / step)) + 1),
+            np.arange(2.0, t_max, 2.0),
         )
         owner = np.repeat(np.arange(members.size), base.size)
         nodes = np.tile(base, members.size)
@@ -343,6 +376,55 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max):
         hit = np.isfinite(roots)
         result[members[hit]] = roots[hit]
     return result
+
+
+def _pole_search(model, name, ag, kg, fm):
+    """``evaluate`` and ``bound`` for :func:`first_sign_change` from the pole sums."""
+
+    def evaluate(t, own):
+        value = _elastic(name, t, ag, kg, fm[own])
+        slope = _elastic(name, t, ag, kg, fm[own], True)
+        return value, slope, value
+
+    def bound(ta, tb, own, _a, _b, _da, _db):
+        return model.second_derivative_bound(ta, tb, fm[own])
+
+    return evaluate, bound
+
+
+def _table_search(table, model, name, ag, kg, fm):
+    """``evaluate`` and ``bound`` from the cell table, the pole sums on its cells whose
+    error bound exceeds ``_TABLE_TOLERANCE`` for the ``f`` at hand."""
+    pole_evaluate, pole_bound = _pole_search(model, name, ag, kg, fm)
+
+    def usable(i, ff):
+        ok = table.err_a[i] + ff * table.err_b[i] <= _TABLE_TOLERANCE
+        if not ok.all():
+            waiting = i[~ok][table.pending(i[~ok])]
+            if waiting.size:  # repair in mpmath where first needed, then look again
+                table.repair(waiting)
+                ok = table.err_a[i] + ff * table.err_b[i] <= _TABLE_TOLERANCE
+        return ok
+
+    def evaluate(t, own):
+        i, ff = table.cell(t), fm[own]
+        ok = usable(i, ff)
+        value, slope = np.empty(t.size), np.empty(t.size)
+        value[ok], slope[ok] = table.evaluate(t[ok], ff[ok], i[ok])
+        if not ok.all():
+            value[~ok], slope[~ok], _ = pole_evaluate(t[~ok], own[~ok])
+        value[t == 0.0] = 0.0  # exact: y(0) = N(0) = 0
+        return value, slope, value
+
+    def bound(ta, tb, own, *ends):
+        i, ff = table.cell(0.5 * (ta + tb)), fm[own]
+        ok = usable(i, ff)
+        M = table.d2_a[i] + ff * table.d2_b[i]
+        if not ok.all():
+            M[~ok] = pole_bound(ta[~ok], tb[~ok], own[~ok], *(e[~ok] for e in ends))
+        return M
+
+    return evaluate, bound
 
 
 def contact_time(

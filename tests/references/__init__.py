@@ -6,6 +6,8 @@ Nothing here is derived from impactsym: each module solves the paper's problems 
   mpmath matrix exponential and bracketed root refinement.
 * :mod:`references.rod_characteristics` -- the rigid rod impact of section 1 by
   d'Alembert's solution and a neutral delay equation (Chebyshev collocation).
+* :mod:`references.rod_elastic_delay` -- the rod impact with a finite contact stiffness
+  by d'Alembert's solution and a delay ODE (method of steps, SciPy DOP853).
 * :mod:`references.multibody_systems` -- the section-3 test systems written with
   ``sympy.physics.mechanics`` and their full nonlinear simulation with SciPy.
 * :mod:`references.bounce` -- the bounce sequence until rest by an event-driven SciPy
