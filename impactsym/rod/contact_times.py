@@ -448,8 +448,11 @@ def contact_time(
     (:math:`N = y' = f + (1 - f) e^{-t/\alpha} > 0`); on every later reflection
     interval :math:`g = y` or :math:`N` is a Laguerre sum in :math:`x = 2\tau/\alpha`
     with rigorous bounds on :math:`|g''|` over any cell (:class:`_RigidInterval`);
-    finite :math:`\kappa`: a sum of :math:`e^{pu}` times polynomials, bounded term by
-    term. Cells are proved zero-free (interpolation and Taylor lower bounds) or
+    finite :math:`\kappa`: per :math:`(\alpha, \kappa)` a table of cells on which
+    :math:`g = A(x) + f B(x)` is one real polynomial pair with a proven error bound
+    (:mod:`impactsym.rod.elastic_table`, built once and shared by every :math:`f`), and
+    where that bound exceeds ``1e-12`` the pole sums :math:`e^{pu}` times polynomials,
+    bounded term by term. Cells are proved zero-free (interpolation and Taylor lower bounds) or
     monotone, or halved (:func:`impactsym.numeric.isolation.first_sign_change`); the
     first sign-change cell, monotone, is refined with
     :func:`impactsym.numeric.bracketed_newton` to full precision. A sign change is
