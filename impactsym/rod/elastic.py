@@ -80,8 +80,11 @@ def _principal_parts(num: list, lead, poles: list, index: int) -> list:
         if k == index:
             continue
         d = r - o  # (d + e)**(-mo) = sum_j binom(-mo, j) d**(-mo-j) e**j
-        factor = [mp.binomial(-mo, j) * d ** (-mo - j) for j in range(m)]
-        series = [mp.fsum(series[i] * factor[j - i] for i in range(j + 1)) for j in range(m)]
+        inv = 1 / d  # binom(-mo, j) = (-1)**j binom(mo + j - 1, j), an exact integer
+        factor = [d ** (-mo)]
+        for j in range(1, m):
+            factor.append(factor[-1] * inv * mp.mpf(-(mo + j - 1)) / j)
+        series = [mp.fdot(series[: j + 1], factor[j::-1]) for j in range(m)]
     return [series[m - 1 - p] / (lead * mp.factorial(p)) for p in range(m)]
 
 
@@ -273,8 +276,13 @@ def _derivative(coeffs: list, r) -> list:
     return [r * coeffs[p] + ((p + 1) * coeffs[p + 1] if p + 1 < n else 0) for p in range(n)]
 
 
-@lru_cache(maxsize=64)
 def _elastic_model(name: str, alpha: float, kappa: float, n_terms: int, dps: int = 40):
+    """The cached :class:`_ElasticModel` (one cache key whether ``dps`` is given or not)."""
+    return _cached_model(name, float(alpha), float(kappa), int(n_terms), int(dps))
+
+
+@lru_cache(maxsize=64)
+def _cached_model(name: str, alpha: float, kappa: float, n_terms: int, dps: int):
     return _ElasticModel(name, alpha, kappa, n_terms, dps)
 
 
