@@ -18,7 +18,14 @@ from numpy.typing import ArrayLike
 from impactsym.numeric.isolation import first_sign_change
 from impactsym.rod.elastic import T_LIMIT_ELASTIC, _elastic, _elastic_model
 from impactsym.rod.elastic_table import _cell_table
-from impactsym.rod.kernel import T_LIMIT, _rescale, _rigid_tables, check_alpha
+from impactsym.rod.kernel import (
+    T_LIMIT,
+    _next_integrals,
+    _next_laguerre,
+    _rescale,
+    _rigid_tables,
+    check_alpha,
+)
 from impactsym.validation import broadcast, check_condition, finish, real_array
 
 __all__ = ["ContactTimeMap", "contact_time", "contact_time_map"]
@@ -117,13 +124,8 @@ class _RigidInterval:
             I1 = -2.0 * np.expm1(-0.5 * x)
             I2 = 2.0 * x - 2.0 * I1
         for j in range(m + 1):
-            if j > 0:  # E_j = ((2j - 1 - x) E_(j-1) - (j - 1) E_(j-2)) / j, in place
-                np.subtract(2 * j - 1, x, out=tmp)
-                tmp *= E
-                E_prev *= j - 1
-                tmp -= E_prev
-                tmp *= 1.0 / j
-                E_prev, E, tmp = E, tmp, E_prev
+            if j > 0:
+                E, E_prev, tmp = _next_laguerre(j, x, E, E_prev, tmp)
                 if scaled:
                     _rescale(E, E_prev, scale, log_scale)
             Et = E * scale if scaled else E
@@ -131,16 +133,8 @@ class _RigidInterval:
             np.multiply(aj, Et, out=buf)
             S0 += buf
             if is_y:
-                if j > 0:  # I1_j = -I1_(j-1) - 2 (E_j - E_(j-1)); I2 likewise from I1
-                    np.subtract(E, E_prev, out=buf)
-                    if scaled:
-                        buf *= scale
-                    buf *= -2.0
-                    buf -= I1  # I1_j
-                    np.subtract(buf, I1, out=I1)  # I1_j - I1_(j-1)
-                    I1 *= -2.0
-                    I1 -= I2  # I2_j, in the old I1 buffer
-                    I1, I2, buf = buf, I1, I2
+                if j > 0:
+                    I1, I2, buf = _next_integrals(E, E_prev, I1, I2, buf, scale if scaled else None)
                 np.multiply(aj, I1, out=buf)
                 S1 += buf
                 np.multiply(aj, I2, out=buf)

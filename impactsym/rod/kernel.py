@@ -84,6 +84,33 @@ def _rescale(E, E_prev, scale, log_scale):
         scale[big] = np.exp(log_scale[big])
 
 
+def _next_laguerre(j, x, E, E_prev, spare):
+    """One step of :math:`E_j = ((2j - 1 - x) E_{j-1} - (j - 1) E_{j-2}) / j`, in place
+    in the three buffers; returns ``(E_j, E_(j-1), spare)``."""
+    np.subtract(2 * j - 1, x, out=spare)
+    spare *= E
+    E_prev *= -(j - 1)
+    spare += E_prev
+    spare *= 1.0 / j
+    return spare, E, E_prev
+
+
+def _next_integrals(E, E_prev, I1, I2, spare, scale=None):
+    """One step of the integrals of ``y``: :math:`I1_j = -I1_{j-1} - 2 (E_j - E_{j-1})`,
+    :math:`I2_j = -2 (I1_j - I1_{j-1}) - I2_{j-1}` (``E`` times ``scale`` where the
+    recurrence is rescaled), in place in the three buffers; returns
+    ``(I1_j, I2_j, spare)``."""
+    np.subtract(E, E_prev, out=spare)
+    if scale is not None:
+        spare *= scale
+    spare *= -2.0
+    spare -= I1  # I1_j
+    np.subtract(spare, I1, out=I1)
+    I1 *= -2.0
+    I1 -= I2  # I2_j, stored in the old I1 buffer
+    return spare, I1, I2
+
+
 def _rigid_tables(alpha, n_intervals):
     """Per-alpha coefficient tables of the rigid-contact kernel.
 
@@ -202,13 +229,8 @@ def _rigid_local(which, m, tau, a_idx, alpha, f, tables, derivative=False):
             n = n_active[j]
             a1, a2 = acc1[lo : lo + n], acc2[lo : lo + n]
             x, E, E_prev, tmp = x[:n], E[:n], E_prev[:n], tmp[:n]
-            if j > 0:  # E_j = ((2j - 1 - x) E_(j-1) - (j - 1) E_(j-2)) / j
-                np.subtract(2 * j - 1, x, out=tmp)
-                tmp *= E
-                E_prev *= -(j - 1)
-                tmp += E_prev
-                tmp *= 1.0 / j
-                E_prev, E, tmp = E, tmp, E_prev
+            if j > 0:
+                E, E_prev, tmp = _next_laguerre(j, x, E, E_prev, tmp)
             if scaled:
                 scale, log_scale = scale[:n], log_scale[:n]
                 _rescale(E, E_prev, scale, log_scale)
@@ -217,16 +239,8 @@ def _rigid_local(which, m, tau, a_idx, alpha, f, tables, derivative=False):
                 E_true = E
             if which == "y":
                 I1, I2 = I1[:n], I2[:n]
-                if j > 0:  # I1_j = -I1_(j-1) - 2 (E_j - E_(j-1)); I2 likewise from I1
-                    np.subtract(E, E_prev, out=tmp)
-                    if scaled:
-                        tmp *= scale
-                    tmp *= -2.0
-                    tmp -= I1  # I1_j
-                    np.subtract(tmp, I1, out=I1)
-                    I1 *= -2.0
-                    I1 -= I2  # I2_j, stored in the old I1 buffer
-                    I1, I2, tmp = tmp, I1, I2
+                if j > 0:
+                    I1, I2, tmp = _next_integrals(E, E_prev, I1, I2, tmp, scale if scaled else None)
                 term = I1 if derivative else I2
             elif derivative:
                 S = S[:n]
