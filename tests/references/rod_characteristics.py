@@ -82,7 +82,26 @@ class Characteristics:
         )
 
 
-class UnilateralGrid:
+def _flight_step(u, y, v, gi0, gi1, h, accel):
+    """One step of the flight: the free end :math:`u' = -2 g_i` (trapezoidal, exact for
+    a linearly interpolated :math:`g_i`), the striker under the constant acceleration
+    :math:`f/\\alpha`; returns ``(u, y, v)``."""
+    return u - h * (gi0 + gi1), y + v * h + 0.5 * accel * h * h, v + accel * h
+
+
+class _Grid:
+    """What the grid references share: the wave ``g`` on the times ``t``."""
+
+    t: np.ndarray
+    g: np.ndarray
+
+    def fixed_end_stress(self, t: np.ndarray) -> np.ndarray:
+        """:math:`\\sigma(1, t) = 2 g(t - 1)`, linear interpolation on the grid."""
+        s = np.asarray(t) - 1.0
+        return np.where(s < 0, 0.0, 2 * np.interp(s, self.t, self.g))
+
+
+class UnilateralGrid(_Grid):
     """Rigid rod impact with separation and re-contact on a uniform grid (reference).
 
     The same characteristics, written for the striker velocity instead of the wave:
@@ -129,9 +148,7 @@ class UnilateralGrid:
                     g[k + 1 + lag] = v + gi1
             else:
                 gap0 = u - y
-                u += -h * (gi0 + gi1)
-                y += v * h + 0.5 * f / alpha * h * h
-                v += f / alpha * h
+                u, y, v = _flight_step(u, y, v, gi0, gi1, h, f / alpha)
                 gap1 = u - y
                 if gap1 < 0.0:
                     start = k * h + h * gap0 / (gap0 - gap1)
@@ -145,13 +162,8 @@ class UnilateralGrid:
             self.contacts.append((start, t_end))
         self.g = g[lag:]
 
-    def fixed_end_stress(self, t: np.ndarray) -> np.ndarray:
-        """:math:`\\sigma(1, t) = 2 g(t - 1)`, linear interpolation on the grid."""
-        s = np.asarray(t) - 1.0
-        return np.where(s < 0, 0.0, 2 * np.interp(s, self.t, self.g))
 
-
-class SpringGrid:
+class SpringGrid(_Grid):
     """Rod impact through a massless contact spring ``kappa``, with separation and
     re-contact, on a uniform grid (reference for :mod:`impactsym.rod.elastic_continuation`).
 
@@ -205,9 +217,7 @@ class SpringGrid:
                     g[k + 1 + lag] = N - gi1
             else:
                 gap0 = u - y
-                u += -h * (gi0 + gi1)
-                y += v * h + 0.5 * f / alpha * h * h
-                v += f / alpha * h
+                u, y, v = _flight_step(u, y, v, gi0, gi1, h, f / alpha)
                 gap1 = u - y
                 if gap1 < 0.0:
                     start = k * h + h * gap0 / (gap0 - gap1)
@@ -217,8 +227,3 @@ class SpringGrid:
         if contact:
             self.contacts.append((start, t_end))
         self.g = g[lag:]
-
-    def fixed_end_stress(self, t: np.ndarray) -> np.ndarray:
-        """:math:`\\sigma(1, t) = 2 g(t - 1)`, linear interpolation on the grid."""
-        s = np.asarray(t) - 1.0
-        return np.where(s < 0, 0.0, 2 * np.interp(s, self.t, self.g))
