@@ -170,3 +170,11 @@ def test_rising_certificate_holds_where_it_is_given():
             found = exp_poly_roots(np.array(A), np.array(B), 0.0, hi, rising_from_zero=True)
             assert found.size == 0
     assert given > 30
+
+
+@pytest.mark.parametrize("hi", [-1.0, math.nan, math.inf])
+def test_exp_poly_positive_refuses_an_interval_it_cannot_bound(hi):
+    # with hi < 0 the bound min(T_k, 0) hi^k is no bound: e^x - 0.5 + 2x, negative at
+    # x = -1, was "proven" positive for hi = -1
+    with pytest.raises(ValueError, match="hi must be finite and >= 0"):
+        exp_poly_positive([1.0], [-0.5, 2.0], hi)

@@ -227,6 +227,8 @@ def exp_poly_positive(
     >>> exp_poly_positive([1.0], [-1.0, -1.0], 2.0, rising_from_zero=True)
     True
     """
+    if not 0.0 <= hi < math.inf:  # the bound assumes 0 <= x <= hi; NaN fails here too
+        raise ValueError(f"exp_poly_positive: hi must be finite and >= 0, got {hi!r}")
     n, m = len(B), len(A)
     lead = 2 if rising_from_zero else 0  # the first coefficient in the bound
     if not lead and m <= 1 and n and (m == 0 or A[0] >= 0.0):  # the rod's contact
