@@ -178,3 +178,16 @@ def test_exp_poly_positive_refuses_an_interval_it_cannot_bound(hi):
     # x = -1, was "proven" positive for hi = -1
     with pytest.raises(ValueError, match="hi must be finite and >= 0"):
         exp_poly_positive([1.0], [-0.5, 2.0], hi)
+
+
+@pytest.mark.parametrize(("lo", "hi"), [(0.0, math.nan), (math.nan, 1.0), (0.0, math.inf)])
+def test_exp_poly_roots_refuses_a_non_finite_interval(lo, hi):
+    # a NaN end used to subdivide for ever
+    with pytest.raises(ValueError, match="lo and hi must be finite"):
+        exp_poly_roots(np.array([]), np.array([-3.0, 1.0]), lo, hi)
+
+
+def test_exp_poly_roots_gives_up_on_an_interval_far_longer_than_its_scale():
+    # [0, 1e300] for x - 3 used to subdivide for ever (the Taylor powers overflow)
+    with np.errstate(all="ignore"), pytest.raises(RuntimeError, match="more than 100000 cells"):
+        exp_poly_roots(np.array([]), np.array([-3.0, 1.0]), 0.0, 1e300)

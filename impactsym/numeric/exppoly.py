@@ -325,6 +325,11 @@ def _quadratic_times_exp_positive(
     return lower > guard * mag
 
 
+#: Cells :func:`exp_poly_roots` may examine before it gives up (the rod's pieces need
+#: fewer than 200 in the benchmark of rod sequences).
+_MAX_CELLS = 100_000
+
+
 def exp_poly_roots(
     A: np.ndarray,
     B: np.ndarray,
@@ -375,6 +380,8 @@ def exp_poly_roots(
     >>> exp_poly_roots(np.array([]), np.array([0.25, -1.0, 1.0]), 0.0, 1.0).size
     0
     """
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ValueError(f"exp_poly_roots: lo and hi must be finite, got [{lo!r}, {hi!r}]")
     A, B = _trim(A), _trim(B)
     if hi <= lo or (A.size == 0 and B.size == 0):
         return np.empty(0)
@@ -401,7 +408,14 @@ def exp_poly_roots(
 
     stack = [(lo, hi)]
     at = [math.nan, None]  # the last expansion point and its coefficients
+    budget = _MAX_CELLS
     while stack and not (first and brackets):
+        budget -= 1
+        if budget < 0:  # e.g. an interval far longer than the scale of F (a hang else)
+            raise RuntimeError(
+                f"exp_poly_roots: more than {_MAX_CELLS} cells on [{lo!r}, {hi!r}]; "
+                "the interval is too long for the variation of F, shorten or rescale it"
+            )
         u, v = stack.pop()
         r = v - u
         powers = r ** _ORDER[: M + 1]
