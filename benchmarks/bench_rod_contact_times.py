@@ -15,10 +15,10 @@ Run ``python benchmarks/bench_rod_contact_times.py [--n 100]``. In one run, on t
 * the certified search on as many scattered pairs (every ``alpha`` distinct: nothing
   for the per-``alpha`` screening of a grid to share);
 * finite ``kappa``: the symbolic series (once per process), then per point of an
-  ``f`` sweep (200 points, the cell table built in the timed call) and of an
-  ``alpha``-``f`` map at fixed ``kappa`` (one table per ``alpha``), the cell tables
-  against the former pointwise search on the pole sums (``--kappa-only`` runs this
-  part alone).
+  ``f`` sweep (200 points, the table built in the timed call) and of ``alpha``-``f``
+  maps at fixed ``kappa`` (one table per ``alpha``): the Taylor tables of the delay
+  equations (the default) against the mpmath cell tables and the pointwise search on
+  the pole sums (``--kappa-only`` runs this part alone).
 
 Times are CPU seconds of this process (``time.process_time``), robust against a
 loaded machine; ``--repeat k`` quotes the best of ``k`` runs of the certified search.
@@ -182,52 +182,67 @@ def atlas(n: int, repeat: int = 1) -> None:
 
 
 def finite_stiffness() -> None:
-    """Finite ``kappa`` (issue 11, item 3): cell tables against the former pointwise
-    search (pole sums, ``tables=False``), on an ``f`` sweep at fixed ``(alpha, kappa)``
-    and on an ``alpha``-``f`` map at fixed ``kappa`` (every table build counted)."""
+    """Finite ``kappa`` (issue 11, item 3): the Taylor tables of the delay equations
+    (``method="taylor"``, the default) against the mpmath cell tables of the pole data
+    (``"cells"``, the method before) and the pointwise search on the pole sums
+    (``"poles"``, the first method), on ``f`` sweeps at fixed ``(alpha, kappa)`` and on
+    ``alpha``-``f`` maps at fixed ``kappa`` (every table build counted)."""
     from impactsym.rod.contact_times import _elastic_contact_times
-    from impactsym.rod.elastic import _elastic_series
+    from impactsym.rod.elastic import _cached_model, _elastic_series
     from impactsym.rod.elastic_table import _cell_table
+    from impactsym.rod.elastic_taylor import taylor_table
+
+    def cold(which, alpha, f, kappa, method):
+        """CPU seconds of one call with every table and pole model built anew."""
+        for cache in (_cell_table, _cached_model, taylor_table):
+            cache.cache_clear()
+        start = time.process_time()
+        out = _elastic_contact_times(which, alpha, f, kappa, 20.0, method=method)
+        return out, time.process_time() - start
 
     start = time.process_time()
     _elastic_series("N", 11), _elastic_series("Y", 11)
     print(f"finite kappa: symbolic series (once per process) {time.process_time() - start:.2f} s")
+    print("  ms per point, tables built in the call; max |difference| to 'poles'")
     f = np.linspace(0.0, 2.0, 200)
-    for a, k in ((1.3, 20.0), (0.7, 30.0), (0.05, 10.0), (1.0, 4.0)):
+    sub = slice(None, None, 10)  # the pointwise search costs the same per point at any count
+    for a, k in ((1.3, 20.0), (0.7, 30.0), (0.05, 10.0), (1.0, 4.0), (50.0, 2.0)):
         alpha, kappa = np.full(f.size, a), np.full(f.size, k)
         for which in ("N", "y"):
-            _cell_table.cache_clear()
-            start = time.process_time()
-            new = _elastic_contact_times(which, alpha, f, kappa, 20.0)
-            t_new = time.process_time() - start
-            start = time.process_time()
-            _elastic_contact_times(which, alpha, f, kappa, 20.0)
-            t_cached = time.process_time() - start
-            # the former search costs the same per point at any f count: 20 of them
-            sub = slice(None, None, 10)
-            start = time.process_time()
-            old = _elastic_contact_times(which, alpha[sub], f[sub], kappa[sub], 20.0, tables=False)
-            t_old = (time.process_time() - start) / old.size
-            new = new[sub]
-            same = np.isinf(new) == np.isinf(old)
-            both = np.isfinite(new) & np.isfinite(old)
-            diff = np.max(np.abs(new[both] - old[both]), initial=0.0)
+            taylor, t_taylor = cold(which, alpha, f, kappa, "taylor")
+            cells, t_cells = cold(which, alpha, f, kappa, "cells")
+            poles, t_poles = cold(which, alpha[sub], f[sub], kappa[sub], "poles")
+            diffs = []
+            for new in (taylor[sub], cells[sub]):
+                both = np.isfinite(new) & np.isfinite(poles)
+                same = np.array_equal(np.isinf(new), np.isinf(poles))
+                diff = np.max(np.abs(new[both] - poles[both]), initial=0.0)
+                diffs.append(diff if same else np.inf)
             print(
-                f"  f sweep alpha={a}, kappa={k}, {which}: tables {1e3 * t_new / f.size:.2f} "
-                f"ms/point (table built in the call), {1e3 * t_cached / f.size:.3f} ms/point "
-                f"(table cached); former {1e3 * t_old:.2f} ms/point; max |difference| "
-                f"{diff:.1e}, inf agree {bool(same.all())}"
+                f"  f sweep (200) alpha={a}, kappa={k}, {which}: taylor "
+                f"{1e3 * t_taylor / f.size:.2f}, cells {1e3 * t_cells / f.size:.2f}, poles "
+                f"{1e3 * t_poles / poles.size:.1f} ms/point; |taylor - poles| {diffs[0]:.1e}, "
+                f"|cells - poles| {diffs[1]:.1e}"
             )
-    A, F = np.meshgrid(np.geomspace(0.1, 10.0, 10), np.linspace(0.0, 2.0, 50))
-    for which in ("N", "y"):
-        _cell_table.cache_clear()
-        start = time.process_time()
-        _elastic_contact_times(which, A.ravel(), F.ravel(), np.full(A.size, 20.0), 20.0)
-        spent = time.process_time() - start
-        print(
-            f"  alpha-f map 10 x 50 at kappa=20, {which}: {1e3 * spent / A.size:.2f} ms/point "
-            "(10 table builds included)"
-        )
+    for n_alpha, n_f, k in ((10, 50, 20.0), (40, 50, 20.0), (20, 100, 4.0)):
+        A, F = np.meshgrid(np.geomspace(0.1, 10.0, n_alpha), np.linspace(0.0, 2.0, n_f))
+        alpha, kappa = A.ravel(), np.full(A.size, k)
+        for which in ("N", "y"):
+            taylor, t_taylor = cold(which, alpha, F.ravel(), kappa, "taylor")
+            line = (
+                f"  alpha-f map {n_alpha} x {n_f} at kappa={k}, {which}: taylor "
+                f"{1e3 * t_taylor / A.size:.2f} ms/point"
+            )
+            if n_alpha == 10:  # the mpmath cell tables take minutes on the larger maps
+                cells, t_cells = cold(which, alpha, F.ravel(), kappa, "cells")
+                both = np.isfinite(taylor) & np.isfinite(cells)
+                diff = np.max(np.abs(taylor[both] - cells[both]), initial=0.0)
+                same = np.array_equal(np.isinf(taylor), np.isinf(cells))
+                line += (
+                    f", cells {1e3 * t_cells / A.size:.2f} ms/point ({t_cells / t_taylor:.0f}x); "
+                    f"|taylor - cells| {diff:.1e}, inf agree {same}"
+                )
+            print(line + f" ({n_alpha} table builds included)")
 
 
 if __name__ == "__main__":

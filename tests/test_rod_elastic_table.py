@@ -5,7 +5,8 @@
   a fixed random grid and near critical contact damping, the ``inf`` guarantee;
 * the proven error bound of every cell against the pole sums evaluated with mpmath at
   90 digits (a different evaluation of the exact pole data, not the float assembly);
-* the former pointwise search (``tables=False``) on an ``f`` sweep.
+* the former pointwise search (``method="poles"``) on an ``f`` sweep, where the Taylor
+  table (the default) and the mpmath cell table (``method="cells"``) must agree with it.
 """
 
 from __future__ import annotations
@@ -105,8 +106,9 @@ def test_f_sweep_equals_the_pointwise_pole_search(a, k):
     f = np.linspace(0.0, 2.0, 12)
     alpha, kappa = np.full(f.size, a), np.full(f.size, k)
     for which in ("N", "y"):
-        new = _elastic_contact_times(which, alpha, f, kappa, 10.0)
-        old = _elastic_contact_times(which, alpha, f, kappa, 10.0, tables=False)
-        assert np.array_equal(np.isinf(new), np.isinf(old))
-        finite = np.isfinite(new)
-        assert np.max(np.abs(new[finite] - old[finite]), initial=0.0) < 1e-11
+        old = _elastic_contact_times(which, alpha, f, kappa, 10.0, method="poles")
+        for method in ("taylor", "cells"):
+            new = _elastic_contact_times(which, alpha, f, kappa, 10.0, method=method)
+            assert np.array_equal(np.isinf(new), np.isinf(old)), method
+            finite = np.isfinite(new)
+            assert np.max(np.abs(new[finite] - old[finite]), initial=0.0) < 1e-11, method

@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike
 from impactsym.numeric.isolation import first_sign_change
 from impactsym.rod.elastic import T_LIMIT_ELASTIC, _elastic, _elastic_model
 from impactsym.rod.elastic_table import _cell_table
+from impactsym.rod.elastic_taylor import MAX_CELLS, cells_per_interval, fastest_rate, taylor_table
 from impactsym.rod.kernel import (
     T_LIMIT,
     _next_integrals,
@@ -297,22 +298,29 @@ def _rigid_contact_times(which, alpha, f, t_max):
     return result
 
 
-def _elastic_contact_times(which, alpha, f, kappa, t_max, *, tables=True):
-    """First sign change in ``(0, t_max]`` for flat pairs with finite ``kappa``.
+def _elastic_contact_times(which, alpha, f, kappa, t_max, *, method="taylor"):
+    r"""First sign change in ``(0, t_max]`` for flat pairs with finite ``kappa``.
 
     Pairs are grouped by ``(alpha, kappa)``; ``g`` starts at ``g(0) = 0`` with
-    ``g'(0) > 0`` (``N' = kappa``, ``y' = 1``). Per group the time function is the
-    certified piecewise polynomial :class:`impactsym.rod.elastic_table._CellTable`
-    (built once, shared by every ``f``): on a cell where its proven error
-    :math:`\\epsilon_A + f \\epsilon_B` is at most ``_TABLE_TOLERANCE`` the polynomial
-    is the function searched (and :math:`|A''| + f |B''|` bounds its second
+    ``g'(0) > 0`` (``N' = kappa``, ``y' = 1``). Per group the time function is a
+    certified piecewise polynomial :math:`g = A + f B` (built once, shared by every
+    ``f``): the Taylor table of the delay equations,
+    :class:`impactsym.rod.elastic_taylor.TaylorTable` (``method="taylor"``, float64,
+    milliseconds), or for springs too stiff for it (more than
+    ``elastic_taylor.MAX_CELLS`` cells per reflection interval) and with
+    ``method="cells"`` the mpmath cell table of the pole data,
+    :class:`impactsym.rod.elastic_table._CellTable`. On a cell where the table's proven
+    error :math:`\epsilon_A + f \epsilon_B` is at most ``_TABLE_TOLERANCE`` the
+    polynomial is the function searched (and :math:`|A''| + f |B''|` bounds its second
     derivative), elsewhere the pole sums of :mod:`impactsym.rod.elastic` (with their
     own 1e-12 rounding bound and mpmath fallback) and
     :meth:`impactsym.rod.elastic._ElasticModel.second_derivative_bound`. The cell
     edges (they include the reflection times ``2k``) are the initial nodes of
-    :func:`impactsym.numeric.isolation.first_sign_change`. ``tables=False`` searches
-    the pole sums alone (the former method, kept for the benchmark).
+    :func:`impactsym.numeric.isolation.first_sign_change`. ``method="poles"`` searches
+    the pole sums alone (the method before the tables, kept for the benchmark).
     """
+    if method not in ("taylor", "cells", "poles"):
+        raise ValueError(f"method must be 'taylor', 'cells' or 'poles', got {method!r}")
     name = "Y" if which == "y" else "N"
     result = np.full(alpha.size, np.inf)
     n_terms = int(t_max // 2) + 1
@@ -323,18 +331,25 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max, *, tables=True):
         members = np.flatnonzero(inverse == g_index)
         fm = f[members]
         ag, kg = float(ag), float(kg)
-        model = _elastic_model(name, ag, kg, n_terms)
-        if model.fastest > _FASTEST_POLE:
+        fastest = fastest_rate(ag, kg)
+        if fastest > _FASTEST_POLE:
             raise ValueError(
                 f"kappa = {kg!r} (alpha = {ag!r}) is too stiff for a certified "
                 f"finite-kappa contact time: the contact spring's time scale "
-                f"1/{model.fastest:.3g} is "
+                f"1/{fastest:.3g} is "
                 f"below 1/{_FASTEST_POLE:g}; use kappa=inf (rigid contact), its limit"
             )
-        if tables:
+
+        def model(name=name, ag=ag, kg=kg):  # the pole data, built only where needed
+            return _elastic_model(name, ag, kg, n_terms)
+
+        if method != "poles":
             # interval by interval, so that later cells are repaired (mpmath) and
             # searched only for the f still in contact
-            table = _cell_table(name, ag, kg, n_terms)
+            if method == "taylor" and cells_per_interval(ag, kg) <= MAX_CELLS:
+                table = taylor_table(ag, kg, n_terms).view(which)
+            else:
+                table = _cell_table(name, ag, kg, n_terms)
             evaluate, bound = _table_search(table, model, name, ag, kg, fm)
             active = np.arange(members.size)
             for m in range(n_terms):
@@ -359,7 +374,7 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max, *, tables=True):
                 active = active[~hit]
             continue
         evaluate, bound = _pole_search(model, name, ag, kg, fm)
-        step = min(0.1, 0.25 * ag, 0.5 / np.sqrt(model.fastest))
+        step = min(0.1, 0.25 * ag, 0.5 / np.sqrt(fastest))
         base = np.union1d(
             np.linspace(0.0, t_max, int(np.ceil(t_max / step)) + 1),
             np.arange(2.0, t_max, 2.0),
@@ -373,7 +388,8 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max, *, tables=True):
 
 
 def _pole_search(model, name, ag, kg, fm):
-    """``evaluate`` and ``bound`` for :func:`first_sign_change` from the pole sums."""
+    """``evaluate`` and ``bound`` for :func:`first_sign_change` from the pole sums
+    (``model()`` returns the cached :class:`impactsym.rod.elastic._ElasticModel`)."""
 
     def evaluate(t, own):
         value = _elastic(name, t, ag, kg, fm[own])
@@ -381,7 +397,7 @@ def _pole_search(model, name, ag, kg, fm):
         return value, slope, value
 
     def bound(ta, tb, own, _a, _b, _da, _db):
-        return model.second_derivative_bound(ta, tb, fm[own])
+        return model().second_derivative_bound(ta, tb, fm[own])
 
     return evaluate, bound
 

@@ -1,0 +1,287 @@
+r"""Finite contact stiffness from the delay equations: a certified Taylor table in float64.
+
+The rod's free end carries an outgoing wave :math:`g(t)` and the incoming one
+:math:`G(t) = g(t - 2)` (:math:`g = 0` before the impact); its force is :math:`g + G`,
+its velocity :math:`u' = g - G`. With the massless contact spring :math:`N = \kappa(y - u)`
+the persistent-contact problem is, for :math:`t \ge 0`,
+
+.. math::
+
+    y' = v, \qquad \alpha v' = f - N, \qquad N = g + G, \qquad
+    N' = \kappa (v - g + G), \qquad y(0) = 0,\ v(0) = 1,\ N(0) = 0.
+
+**Table.** Every reflection interval :math:`[2m, 2m + 2]` is cut into the same
+:math:`n = 2^j` cells of width :math:`h` (so a cell's :math:`G` is exactly the
+:math:`g` of the same cell one interval earlier). On each cell, in
+:math:`\xi = (t - t_0)/h \in [0, 1]`, :math:`y, v, g` are polynomials of degree
+:math:`D + 1, D, D` whose Taylor coefficients follow from the equations
+(:math:`(k+1) v_{k+1} = h (f\delta_{k0} - g_k - G_k)/\alpha`, :math:`(k+1)(g_{k+1} +
+G_{k+1}) = h\kappa (v_k - g_k + G_k)`, :math:`(k+1) y_{k+1} = h v_k`), started from the
+correctly rounded end values of the cell before (``math.fsum``). Cells are short,
+:math:`h |p| \le 2` for both roots :math:`p` of :math:`\alpha s^2 + \alpha\kappa s +
+\kappa`, and :math:`D = 30`, so the truncation is far below rounding. By linearity
+everything is :math:`A + f B` (:math:`A`: :math:`f = 0`, :math:`v(0) = 1`; :math:`B`:
+:math:`f = 1`, :math:`v(0) = 0`).
+
+**Error bound (a posteriori, from passivity).** The float polynomials satisfy the
+equations up to residuals :math:`r_0 = \tilde y' - \tilde v`, :math:`r_1 = \alpha\tilde
+v' - f + \tilde N`, :math:`r_2 = \tilde N' - \kappa(\tilde v - \tilde g + \tilde G)`
+(computed from the stored coefficients with a rounding bound; they include the
+truncation) and jumps at the cell ends. The error :math:`e` of :math:`v, N, g` solves
+the same striker-spring-rod system driven by :math:`-r_1, -r_2`, whose energy
+:math:`E = \alpha e_v^2/2 + e_N^2/(2\kappa) + \int_{t-2}^t e_g^2` changes at the rate
+:math:`-e_v r_1 - e_N r_2/\kappa` (the rod and the spring are lossless, the striker
+free). Hence :math:`q = \sqrt{2E}` obeys
+
+.. math::
+
+    q(t) \le \int_0^t \Bigl(\frac{|r_1|}{\sqrt\alpha} + \frac{|r_2|}{\sqrt\kappa}\Bigr)
+    + \sum_{\text{jumps}} \Bigl(\sqrt\alpha |\Delta v| + \frac{|\Delta N|}{\sqrt\kappa}
+    \Bigr), \qquad |e_N| \le \sqrt\kappa\, q, \qquad
+    |e_y(t)| \le \int_0^t \Bigl(\frac{q}{\sqrt\alpha} + |r_0|\Bigr) + \sum |\Delta y|,
+
+with :math:`\int_{\text{cell}} |r| \le h \sum_k |r_k|/(k + 1)`. The table's bound adds the
+rounding of forming :math:`\tilde N = \tilde g + \tilde G` and of a Horner evaluation.
+The bound grows with :math:`\kappa` and :math:`1/\alpha` (the energy estimate cannot see
+that rounding does not pump the contact resonance); where it exceeds the caller's
+tolerance the caller falls back on :mod:`impactsym.rod.elastic_table`.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from impactsym.numeric.eft import sum_with_bound, two_prod, two_sum
+
+#: Polynomial degree of ``v`` and ``g`` on a cell (``y``: one more).
+DEGREE = 24
+#: Largest ``h |p|`` on a cell, ``p`` a root of ``alpha s^2 + alpha kappa s + kappa``.
+_REACH = 1.0
+#: Most cells per reflection interval (beyond: the contact spring is too stiff for
+#: this table, see :func:`taylor_table`).
+MAX_CELLS = 256
+_EPS = float(np.finfo(np.float64).eps)
+_U = 0.5 * _EPS  # unit roundoff
+#: Largest sum of the absolute coefficients of a cell's ``N`` (its Horner rounding
+#: bound is ``(DEGREE + 4) eps`` times it) before the cells are halved.
+_COEFFICIENT_SUM = 100.0
+#: Fewest cells per reflection interval (the later intervals' polynomials grow in degree).
+_MIN_CELLS = 16
+
+
+def fastest_rate(alpha: float, kappa: float) -> float:
+    """Largest modulus of the roots of :math:`\\alpha s^2 + \\alpha\\kappa s + \\kappa`:
+    :math:`\\sqrt{\\kappa/\\alpha}` for a complex pair, else :math:`(\\kappa + \\sqrt{\\kappa^2 -
+    4\\kappa/\\alpha})/2`."""
+    disc = kappa * kappa - 4.0 * kappa / alpha
+    return math.sqrt(kappa / alpha) if disc <= 0 else 0.5 * (kappa + math.sqrt(disc))
+
+
+def cells_per_interval(alpha: float, kappa: float) -> int:
+    """Cells per reflection interval: the least power of two ``n >= _MIN_CELLS`` with
+    ``(2/n) fastest_rate(alpha, kappa) <= _REACH``."""
+    fastest = fastest_rate(alpha, kappa)
+    if not math.isfinite(fastest):
+        raise ValueError(f"kappa = {kappa!r} (alpha = {alpha!r}) overflows float64")
+    n = _MIN_CELLS
+    while 2.0 / n * fastest > _REACH:
+        n *= 2
+    return n
+
+
+class TaylorTable:
+    """``y`` and ``N`` for one ``(alpha, kappa)`` on ``[0, 2 n_intervals]``.
+
+    Attributes per cell ``i`` (``lo[i] <= t <= hi[i]``, width ``h``):
+    ``Y_a, Y_b`` (degree ``DEGREE + 1``) and ``N_a, N_b`` (degree ``DEGREE``) in
+    ``xi = (t - lo)/h``, lowest order first; proven bounds ``err_y_a, err_y_b,
+    err_n_a, err_n_b`` of ``|g - (A + f B)|`` on the cell (including a Horner
+    evaluation's rounding). :meth:`view` gives the search interface of one of them.
+    """
+
+    def __init__(self, alpha: float, kappa: float, n_intervals: int) -> None:
+        self.alpha, self.kappa = float(alpha), float(kappa)
+        n = cells_per_interval(self.alpha, self.kappa)
+        if n > MAX_CELLS:
+            raise ValueError(
+                f"kappa = {kappa!r} (alpha = {alpha!r}) needs {n} Taylor cells per "
+                f"reflection interval (at most {MAX_CELLS})"
+            )
+        while True:
+            self._build(n, n_intervals)
+            # polynomials whose coefficients cancel (the later reflections raise their
+            # degree) cost their Horner rounding: halve the cells while that shows
+            size = max(np.abs(c).sum(axis=-1).max() for c in (self.N_a, self.N_b))
+            if size <= _COEFFICIENT_SUM or 2 * n > MAX_CELLS:
+                break
+            n *= 2
+        self.cells_per_interval = n
+
+    def _build(self, n: int, n_intervals: int) -> None:
+        """Coefficients on ``n`` cells per interval, then :meth:`_bound`."""
+        self.h = h = 2.0 / n
+        total = n * n_intervals
+        self.lo = np.arange(total) * h
+        self.hi = self.lo + h
+        D = DEGREE
+        # coefficients [rhs (A, B), cell, order]; the constant coefficients of y, v, N
+        # are double-double (+ Y_lo, V_lo, N_lo): a cell starts exactly where the one
+        # before ends, up to u^2. G = g(t - 2) is double-double too, with a bound dG on
+        # its distance from the exact alternating sum of the N before.
+        Y = np.zeros((2, total, D + 2))
+        V = np.zeros((2, total, D + 1))
+        N = np.zeros((2, total, D + 1))
+        Y_lo, V_lo, N_lo = (np.zeros((2, total)) for _ in range(3))
+        G_hi, G_lo, dG = (np.zeros((2, total, D + 1)) for _ in range(3))
+        c_v = [h / (self.alpha * (k + 1)) for k in range(D)]
+        c_n = [h * self.kappa / (k + 1) for k in range(D)]
+        c_y = [h / (k + 1) for k in range(D + 1)]
+        # (y, v, N) at the next cell start, as (high, low) pairs
+        state = [[(0.0, 0.0), (1.0, 0.0), (0.0, 0.0)], [(0.0, 0.0)] * 3]
+        for m in range(n_intervals):
+            cells = slice(m * n, (m + 1) * n)
+            if m:  # G_m = N_(m-1) - G_(m-1), exactly up to dG
+                before = slice((m - 1) * n, m * n)
+                s, e = two_sum(N[:, before], -G_hi[:, before])
+                t = e - G_lo[:, before]
+                t[..., 0] += N_lo[:, before]
+                G_hi[:, cells], G_lo[:, cells] = two_sum(s, t)
+                dG[:, cells] = dG[:, before] + 2 * _U * (np.abs(e) + np.abs(G_lo[:, before]))
+                dG[:, cells, 0] += 2 * _U * np.abs(N_lo[:, before])
+            G_all = (G_hi[:, cells] + G_lo[:, cells]).tolist()
+            for rhs, force in ((0, 0.0), (1, 1.0)):
+                (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
+                for i, G in zip(range(m * n, (m + 1) * n), G_all[rhs], strict=True):
+                    v, w, y = [v0] * (D + 1), [n0] * (D + 1), [y0] * (D + 2)
+                    for k in range(D):
+                        vk, wk = v[k], w[k]
+                        v[k + 1] = c_v[k] * ((force if k == 0 else 0.0) - wk)
+                        w[k + 1] = c_n[k] * ((vk - wk) + 2.0 * G[k])
+                        y[k + 1] = c_y[k] * vk
+                    y[D + 1] = c_y[D] * v[D]
+                    V[rhs, i], N[rhs, i], Y[rhs, i] = v, w, y
+                    V_lo[rhs, i], N_lo[rhs, i], Y_lo[rhs, i] = v0_lo, n0_lo, y0_lo
+                    v.append(v0_lo)
+                    w.append(n0_lo)
+                    y.append(y0_lo)
+                    (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = (_end(c) for c in (y, v, w))
+                state[rhs] = [(y0, y0_lo), (v0, v0_lo), (n0, n0_lo)]
+        self._bound(Y, V, N, (Y_lo, V_lo, N_lo), G_hi, G_lo, dG)
+
+    def _bound(self, Y, V, N, lows, G_hi, G_lo, dG):
+        """Residuals, jumps and the energy bound (module notes); sets the tables."""
+        alpha, kappa, h = self.alpha, self.kappa, self.h
+        Y_lo, V_lo, N_lo = lows
+        D = DEGREE
+        kp1 = np.arange(D + 1) + 1.0
+        pad = np.zeros_like(V[..., :1])
+        v_next = np.concatenate([V[..., 1:], pad], axis=-1)
+        n_next = np.concatenate([N[..., 1:], pad], axis=-1)
+        force = np.zeros_like(V)
+        force[1, :, 0] = 1.0
+        at0 = np.zeros_like(V)  # the low parts, as order-0 coefficients
+        v_low, n_low = at0.copy(), at0.copy()
+        v_low[..., 0], n_low[..., 0] = V_lo, N_lo
+        # r0 = y' - v
+        p, e = two_prod(kp1 / h, Y[..., 1:])
+        r0, b0 = sum_with_bound([p, e, -V, -v_low], 1)
+        # r1 = alpha v' - f + N
+        x1, x2 = two_prod(kp1, v_next)
+        p, e = two_prod(alpha / h, x1)
+        rest = (alpha / h) * x2
+        r1, b1 = sum_with_bound([p, e, rest, -force, N, n_low], 2)
+        b1 += _U * np.abs(rest)
+        # r2 = N' - kappa (v - N + 2 G), G = G_hi + G_lo (+- dG)
+        terms = [*two_prod(kp1 / h, n_next)]
+        for factor, x in (
+            (-kappa, V),
+            (-kappa, v_low),
+            (kappa, N),
+            (kappa, n_low),
+            (-2.0 * kappa, G_hi),
+            (-2.0 * kappa, G_lo),
+        ):
+            terms += two_prod(factor, x)
+        r2, b2 = sum_with_bound(terms, 7)
+        b2 += 2.0 * kappa * dG
+        # integrals over a cell: h int_0^1 |sum r_k xi^k| <= h sum |r_k| / (k + 1)
+        mean = h / kp1
+        margin = 1.0 + 1e-9
+        i0 = (np.abs(r0) + b0) @ mean
+        i1 = (np.abs(r1) + b1) @ mean
+        i2 = (np.abs(r2) + b2) @ mean
+        # jumps at the cell starts: the low part is the correctly rounded remainder
+        j_v, j_n, j_y = (1.000001 * _U * np.abs(c) for c in (V_lo, N_lo, Y_lo))
+        sqa, sqk = math.sqrt(alpha), math.sqrt(kappa)
+        q = np.cumsum(i1 / sqa + i2 / sqk + sqa * j_v + j_n / sqk, axis=-1) * margin
+        sigma = np.cumsum(i0 + i2 / kappa + j_y + j_n / kappa, axis=-1) * margin
+        e_n = sqk * q
+        e_y = q * (1.0 + 1.0 / sqk) + sigma
+        # the tables hold the high parts: |low| and a Horner evaluation's rounding
+        horner_n = _EPS * (D + 4) * np.abs(N).sum(axis=-1) + np.abs(N_lo)
+        horner_y = _EPS * (D + 5) * np.abs(Y).sum(axis=-1) + np.abs(Y_lo)
+        self.N_a, self.N_b = N
+        self.Y_a, self.Y_b = Y
+        self.err_n_a, self.err_n_b = (e_n + horner_n) * margin
+        self.err_y_a, self.err_y_b = (e_y + horner_y) * margin
+
+    def view(self, which: str) -> _TableView:
+        """The search interface (``"y"`` or ``"N"``) of
+        :func:`impactsym.rod.contact_times._table_search`."""
+        if which == "y":
+            return _TableView(self, self.Y_a, self.Y_b, self.err_y_a, self.err_y_b)
+        return _TableView(self, self.N_a, self.N_b, self.err_n_a, self.err_n_b)
+
+
+def _end(coefficients: list) -> tuple[float, float]:
+    """The exact sum of ``coefficients`` (the value at ``xi = 1``) as ``(high, low)``:
+    ``high`` correctly rounded, ``low`` the correctly rounded remainder."""
+    high = math.fsum(coefficients)
+    coefficients.append(-high)
+    return high, math.fsum(coefficients)
+
+
+class _TableView:
+    """One time function of a :class:`TaylorTable` as cells with ``evaluate``,
+    error bounds ``err_a, err_b`` and second-derivative bounds ``d2_a, d2_b``."""
+
+    def __init__(self, table, A, B, err_a, err_b):
+        self.lo, self.hi, self.h = table.lo, table.hi, table.h
+        self.A, self.B, self.err_a, self.err_b = A, B, err_a, err_b
+        n = np.arange(A.shape[1])
+        d2 = n * (n - 1.0) / self.h**2 * (1.0 + 1e-12)
+        self.d2_a, self.d2_b = np.abs(A) @ d2, np.abs(B) @ d2
+
+    def cell(self, t: np.ndarray) -> np.ndarray:
+        """Index of the cell holding ``t`` (the right one at a node)."""
+        return np.clip(np.searchsorted(self.lo, t, side="right") - 1, 0, self.lo.size - 1)
+
+    def evaluate(self, t: np.ndarray, f: np.ndarray, index: np.ndarray | None = None):
+        """``g`` and ``dg/dt`` of the polynomial at ``t`` for ``f``."""
+        i = self.cell(t) if index is None else index
+        x = (t - self.lo[i]) / self.h
+        A, B = self.A[i], self.B[i]
+        value = A[:, -1] + f * B[:, -1]
+        slope = np.zeros_like(value)
+        for k in range(A.shape[1] - 2, -1, -1):
+            slope = slope * x + value
+            value = value * x + (A[:, k] + f * B[:, k])
+        return value, slope / self.h
+
+    @staticmethod
+    def pending(cells: np.ndarray) -> np.ndarray:
+        """No cell waits for a repair (the bound is final)."""
+        return np.zeros(np.size(cells), dtype=bool)
+
+    @staticmethod
+    def repair(cells: np.ndarray) -> None:
+        """Nothing to repair."""
+
+
+@lru_cache(maxsize=64)
+def taylor_table(alpha: float, kappa: float, n_intervals: int) -> TaylorTable:
+    """The cached :class:`TaylorTable` of ``(alpha, kappa)`` over ``n_intervals``."""
+    return TaylorTable(alpha, kappa, n_intervals)

@@ -1,0 +1,141 @@
+"""Taylor tables of the delay equations (finite kappa), against independent references.
+
+* the proven error bound of the table against the pole sums of the Laplace series
+  evaluated with mpmath at 90 digits (another derivation: the Laplace-domain solution,
+  not the time-domain equations the table integrates);
+* the delay ODE of :mod:`references.rod_elastic_delay` (d'Alembert, method of steps,
+  SciPy DOP853), for values and contact times;
+* planted errors: a coefficient of the table spoiled after it was computed must show in
+  its a-posteriori bound (the bound is a property of the stored polynomials, not a
+  promise about how they were made).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from references.rod_elastic_delay import ElasticDelay
+
+from impactsym.rod import contact_time
+from impactsym.rod.contact_times import _TABLE_TOLERANCE, _elastic_contact_times
+from impactsym.rod.elastic import _elastic_model
+from impactsym.rod.elastic_taylor import MAX_CELLS, TaylorTable, cells_per_interval
+
+CASES = [
+    (1.3, 20.0),
+    (1.0, 4.0),  # critical contact damping: a double root
+    (1.0, 3.999),  # nearly critical: the pole parts cancel
+    (0.05, 1.0),  # light striker, underdamped contact
+    (50.0, 2.0),  # heavy striker
+    (0.01, 0.5),  # very light striker
+    (2.0, 100.0),  # stiff contact (256 cells per interval)
+]
+
+
+def _samples(table, rng, n=30):
+    first = table.hi <= 2.0  # every cell end of the first interval, and random points
+    return np.concatenate([rng.uniform(0.0, table.hi[-1], n), table.lo[first]])
+
+
+@pytest.mark.parametrize(("a", "k"), CASES)
+def test_error_bound_holds_against_90_digit_pole_sums(a, k):
+    table = TaylorTable(a, k, 8)
+    rng = np.random.default_rng(7)
+    for name, which in (("N", "N"), ("Y", "y")):
+        reference = _elastic_model(name, a, k, 8, 90)
+        view = table.view(which)
+        t = _samples(table, rng)
+        f = rng.uniform(0.0, 3.0, t.size)
+        value, _ = view.evaluate(t, f)
+        exact = np.array([reference.evaluate_mp(x, y) for x, y in zip(t, f, strict=True)])
+        i = view.cell(t)
+        bound = view.err_a[i] + f * view.err_b[i]
+        assert np.all(np.abs(value - exact) <= bound), (name, np.max(np.abs(value - exact) / bound))
+        # and the bound is useful: the table stands for the function on every cell
+        assert np.max(view.err_a + 3.0 * view.err_b) <= _TABLE_TOLERANCE, name
+
+
+@pytest.mark.parametrize(("a", "force", "k"), [(1.3, 0.4, 20.0), (0.2, 1.0, 20.0), (5.0, 0.0, 3.0)])
+def test_values_agree_with_the_delay_ode(a, force, k):
+    ref = ElasticDelay(a, force, k, t_max=12.0)
+    table = TaylorTable(a, k, 6)
+    t = np.linspace(0.0, 12.0, 121)
+    for which, fn in (("N", ref.N), ("y", ref.y)):
+        value, _ = table.view(which).evaluate(t, np.full(t.size, force))
+        expected = np.array([fn(x) for x in t])
+        assert np.max(np.abs(value - expected)) < 1e-9, which
+
+
+@pytest.mark.parametrize(
+    ("array", "cell", "order", "affected"),
+    [("N", 37, 2, "Ny"), ("V", 5, 0, "Ny"), ("Y", 60, 1, "y")],
+)
+def test_a_planted_error_shows_in_the_bound(monkeypatch, array, cell, order, affected):
+    """Spoil one stored coefficient (of ``N``, of the internal ``v``, of ``y``) by
+    1e-8 after the recurrence: the table is then wrong by up to ~1e-8 from that cell on
+    (``y`` does not feed back into ``N``), and its bound must still contain the truth and
+    rise to that size where it is affected."""
+    a, k, force = 1.3, 20.0, 0.5
+    original = TaylorTable._bound
+
+    def spoiled(self, Y, V, N, *rest):
+        {"N": N, "V": V, "Y": Y}[array][:, cell, order] += 1e-8
+        return original(self, Y, V, N, *rest)
+
+    monkeypatch.setattr(TaylorTable, "_bound", spoiled)
+    table = TaylorTable(a, k, 3)
+    rng = np.random.default_rng(5)
+    for name, which in (("N", "N"), ("Y", "y")):
+        reference = _elastic_model(name, a, k, 3, 60)
+        view = table.view(which)
+        t = np.concatenate([rng.uniform(0.0, 6.0, 25), view.lo[cell : cell + 3] + 1e-3])
+        f = np.full(t.size, force)
+        value, _ = view.evaluate(t, f)
+        exact = np.array([reference.evaluate_mp(x, force) for x in t])
+        i = view.cell(t)
+        bound = view.err_a[i] + force * view.err_b[i]
+        assert np.all(np.abs(value - exact) <= bound), (name, array)
+        after = view.lo >= view.hi[cell]
+        if which in affected:
+            assert np.min(view.err_a[after]) > 1e-11, (name, array)  # noticed, not ignored
+        assert np.max(view.err_a[view.hi <= view.lo[cell]]) < 1e-12  # before: untouched
+
+
+def test_cells_follow_the_fastest_rate_and_stiff_springs_go_to_the_cell_table():
+    assert cells_per_interval(1.0, 4.0) == 16  # |p| = 2: the floor of 16 cells
+    assert cells_per_interval(1.3, 20.0) == 64  # |p| = 18.9: 2/64 * 18.9 <= 1
+    assert cells_per_interval(0.3, 1000.0) > MAX_CELLS
+    with pytest.raises(ValueError, match="Taylor cells"):
+        TaylorTable(0.3, 1000.0, 2)
+    # the stiff pair is still answered (mpmath cell table), the same as the pole search
+    f = np.array([0.0, 0.7])
+    got = _elastic_contact_times("N", np.full(2, 0.3), f, np.full(2, 1000.0), 6.0)
+    old = _elastic_contact_times("N", np.full(2, 0.3), f, np.full(2, 1000.0), 6.0, method="poles")
+    assert np.allclose(got, old, rtol=0, atol=1e-11)
+
+
+def test_unknown_method_is_refused():
+    with pytest.raises(ValueError, match="method"):
+        _elastic_contact_times("N", np.ones(1), np.ones(1), np.ones(1), 4.0, method="fast")
+
+
+@pytest.mark.slow
+@settings(max_examples=12, deadline=None, derandomize=True)
+@given(
+    a=st.floats(0.05, 20.0),
+    force=st.floats(0.0, 2.0),
+    k=st.floats(0.5, 60.0),
+)
+def test_contact_times_agree_with_the_delay_ode(a, force, k):
+    ref = ElasticDelay(a, force, k, t_max=10.0)
+    for condition in ("force", "position"):
+        expected = ref.contact_time(condition)
+        got = contact_time(a, force, condition=condition, kappa=k, t_max=10.0)
+        if math.isinf(expected):
+            assert math.isinf(got), (condition, got)
+        else:
+            assert abs(got - expected) < 1e-9, (condition, got, expected)
