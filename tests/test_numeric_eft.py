@@ -52,4 +52,4 @@ def test_sum_with_bound_is_tight_where_the_terms_cancel():
     assert total[0] == 3.0 + 2.0**-30
     # u |s| + gamma_3^2 sum |t| = 3e-16 + 2e-31 * 2e16: far below the plain sum's error
     assert bound[0] < 2e-14
-    assert (1e16 + 3.0 - 1e16) + 2.0**-30 != total[0]
+    assert total[0] != (1e16 + 3.0 - 1e16) + 2.0**-30

@@ -460,11 +460,14 @@ def contact_time(
     with rigorous bounds on :math:`|g''|` over any cell (:class:`_RigidInterval`);
     finite :math:`\kappa`: per :math:`(\alpha, \kappa)` a table of cells on which
     :math:`g = A(x) + f B(x)` is one real polynomial pair with a proven error bound
-    (:mod:`impactsym.rod.elastic_table`, built once and shared by every :math:`f`), and
-    where that bound exceeds ``1e-12`` the pole sums :math:`e^{pu}` times polynomials,
-    bounded term by term. Cells are proved zero-free (interpolation and Taylor lower bounds) or
-    monotone, or halved (:func:`impactsym.numeric.isolation.first_sign_change`); the
-    first sign-change cell, monotone, is refined with
+    (the Taylor recurrences of the delay equations in float64 with an a-posteriori
+    energy bound, :mod:`impactsym.rod.elastic_taylor`; for very stiff springs the
+    mpmath table :mod:`impactsym.rod.elastic_table`; built once and shared by every
+    :math:`f`), and where that bound exceeds ``1e-12`` the pole sums :math:`e^{pu}`
+    times polynomials, bounded term by term. Cells are proved zero-free (interpolation
+    and Taylor lower bounds) or monotone, or halved
+    (:func:`impactsym.numeric.isolation.first_sign_change`); the first sign-change
+    cell, monotone, is refined with
     :func:`impactsym.numeric.bracketed_newton` to full precision. A sign change is
     needed: a tangential touch is not an end of contact, and a dip below zero
     shallower than ``1e-12`` (``impactsym.numeric.isolation.TOLERANCE``, in units of
