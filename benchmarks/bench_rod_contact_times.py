@@ -190,11 +190,11 @@ def finite_stiffness() -> None:
     from impactsym.rod.contact_times import _elastic_contact_times
     from impactsym.rod.elastic import _cached_model, _elastic_series
     from impactsym.rod.elastic_table import _cell_table
-    from impactsym.rod.elastic_taylor import taylor_table
+    from impactsym.rod.elastic_taylor import _taylor_table
 
     def cold(which, alpha, f, kappa, method):
         """CPU seconds of one call with every table and pole model built anew."""
-        for cache in (_cell_table, _cached_model, taylor_table):
+        for cache in (_cell_table, _cached_model, _taylor_table):
             cache.cache_clear()
         start = time.process_time()
         out = _elastic_contact_times(which, alpha, f, kappa, 20.0, method=method)

@@ -24,6 +24,7 @@ FLOORS = [
     (
         "impactsym.rod.elastic",
         "impactsym.rod.elastic_table",
+        "impactsym.rod.elastic_taylor",
         "impactsym.contact.api",
         "impactsym.contact.bounce",
     ),

@@ -249,6 +249,9 @@ def _reference_second_derivative(ref, which, k, tau):
     st.integers(0, 2**32 - 1),
 )
 @example(1.0, 1.0, 1, "y", 0)  # f = 1: N = f, all a_j = 0; the bound at x = 0 was 0 * inf
+# f = 1, m = 1: N = 1 + 2 e^(-tau/alpha), |N_xx| = 1/2 at x = 0, exactly the bound; the
+# collocation series' second derivative is 6e-6 high there (its own accuracy at an end)
+@example(3.0, 1.0, 1, "N", 0)
 def test_second_derivative_bound_holds_on_random_cells(a, force, m, which, seed):
     """The search is certified only if ``|g''| <= bound`` on every cell: checked on
     random cells (including ``x = 0`` and whole intervals) against ``g''`` of the
@@ -283,7 +286,7 @@ def test_second_derivative_bound_holds_on_random_cells(a, force, m, which, seed)
     x = lo[:, None] + s[None, :] * (hi - lo)[:, None]
     sampled = np.abs(_reference_second_derivative(ref, which, m, 0.5 * a * x)) * (0.5 * a) ** 2
     worst = sampled.max(axis=1)
-    assert np.all(worst <= bound * (1.0 + 1e-6) + 1e-6 * (1.0 + worst)), (
+    assert np.all(worst <= bound * (1.0 + 2e-5) + 1e-6 * (1.0 + worst)), (
         np.max(worst / bound),
         which,
     )

@@ -23,7 +23,7 @@ from references.rod_elastic_delay import ElasticDelay
 from impactsym.rod import contact_time
 from impactsym.rod.contact_times import _TABLE_TOLERANCE, _elastic_contact_times
 from impactsym.rod.elastic import _elastic_model
-from impactsym.rod.elastic_taylor import MAX_CELLS, TaylorTable, cells_per_interval
+from impactsym.rod.elastic_taylor import MAX_CELLS, TaylorTable, _cells_per_interval
 
 CASES = [
     (1.3, 20.0),
@@ -106,9 +106,9 @@ def test_a_planted_error_shows_in_the_bound(monkeypatch, array, cell, order, aff
 
 
 def test_cells_follow_the_fastest_rate_and_stiff_springs_go_to_the_cell_table():
-    assert cells_per_interval(1.0, 4.0) == 16  # |p| = 2: the floor of 16 cells
-    assert cells_per_interval(1.3, 20.0) == 64  # |p| = 18.9: 2/64 * 18.9 <= 1
-    assert cells_per_interval(0.3, 1000.0) > MAX_CELLS
+    assert _cells_per_interval(1.0, 4.0) == 16  # |p| = 2: the floor of 16 cells
+    assert _cells_per_interval(1.3, 20.0) == 64  # |p| = 18.9: 2/64 * 18.9 <= 1
+    assert _cells_per_interval(0.3, 1000.0) > MAX_CELLS
     with pytest.raises(ValueError, match="Taylor cells"):
         TaylorTable(0.3, 1000.0, 2)
     # the stiff pair is still answered (mpmath cell table), the same as the pole search
@@ -139,3 +139,18 @@ def test_contact_times_agree_with_the_delay_ode(a, force, k):
             assert math.isinf(got), (condition, got)
         else:
             assert abs(got - expected) < 1e-9, (condition, got, expected)
+
+
+@pytest.mark.parametrize(("a", "k"), [(1.3, 20.0), (0.2, 20.0), (3.0, 2.0)])
+def test_screened_f_sweep_equals_the_search_pair_by_pair(a, k):
+    """g = A + f B: a proof of g > 0 on an interval for two forces holds for every force
+    between them, so a sweep searches only some forces per interval; the contact times
+    must be those of the search of every pair on its own (no screening for one pair)."""
+    f = np.linspace(0.0, 2.0, 97)
+    for which in ("N", "y"):
+        swept = _elastic_contact_times(which, np.full(f.size, a), f, np.full(f.size, k), 20.0)
+        alone = [
+            _elastic_contact_times(which, np.array([a]), np.array([x]), np.array([k]), 20.0)[0]
+            for x in f
+        ]
+        assert np.array_equal(swept, alone), which

@@ -201,7 +201,9 @@ def plot_contact_time_atlas(
     ax.set_xscale("log")
     ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
     ax.set_ylabel(r"pressing force $f$")
-    ax.set_title(f"{condition} condition (grey: sticks up to t = {study.t_max:g})")
+    ax.set_title(
+        f"{condition} condition{_stiffness(study)} (grey: sticks up to t = {study.t_max:g})"
+    )
     return ax
 
 
@@ -234,8 +236,13 @@ def plot_contact_time_ratio(study: ContactTimeMap, *, ax: Axes | None = None) ->
     ax.set_xscale("log")
     ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
     ax.set_ylabel(r"pressing force $f$")
-    ax.set_title("contact-time ratio, position / force condition")
+    ax.set_title("contact-time ratio, position / force condition" + _stiffness(study))
     return ax
+
+
+def _stiffness(study: ContactTimeMap) -> str:
+    """``", kappa = ..."`` for a finite contact stiffness, else nothing (rigid)."""
+    return "" if np.isinf(study.kappa) else rf", $\kappa = {study.kappa:g}$"
 
 
 def plot_contact_time_atlases(study: ContactTimeMap, *, axes: Sequence[Axes] | None = None):

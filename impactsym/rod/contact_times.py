@@ -18,7 +18,12 @@ from numpy.typing import ArrayLike
 from impactsym.numeric.isolation import first_sign_change
 from impactsym.rod.elastic import T_LIMIT_ELASTIC, _elastic, _elastic_model
 from impactsym.rod.elastic_table import _cell_table
-from impactsym.rod.elastic_taylor import MAX_CELLS, cells_per_interval, fastest_rate, taylor_table
+from impactsym.rod.elastic_taylor import (
+    MAX_CELLS,
+    _cells_per_interval,
+    _fastest_rate,
+    _taylor_table,
+)
 from impactsym.rod.kernel import (
     T_LIMIT,
     _next_integrals,
@@ -329,9 +334,10 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max, *, method="taylor"):
     inverse = inverse.ravel()
     for g_index, (ag, kg) in enumerate(groups):
         members = np.flatnonzero(inverse == g_index)
+        members = members[np.argsort(f[members], kind="stable")]  # screened in order of f
         fm = f[members]
         ag, kg = float(ag), float(kg)
-        fastest = fastest_rate(ag, kg)
+        fastest = _fastest_rate(ag, kg)
         if fastest > _FASTEST_POLE:
             raise ValueError(
                 f"kappa = {kg!r} (alpha = {ag!r}) is too stiff for a certified "
@@ -346,8 +352,8 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max, *, method="taylor"):
         if method != "poles":
             # interval by interval, so that later cells are repaired (mpmath) and
             # searched only for the f still in contact
-            if method == "taylor" and cells_per_interval(ag, kg) <= MAX_CELLS:
-                table = taylor_table(ag, kg, n_terms).view(which)
+            if method == "taylor" and _cells_per_interval(ag, kg) <= MAX_CELLS:
+                table = _taylor_table(ag, kg, n_terms).view(which)
             else:
                 table = _cell_table(name, ag, kg, n_terms)
             evaluate, bound = _table_search(table, model, name, ag, kg, fm)
@@ -357,18 +363,24 @@ def _elastic_contact_times(which, alpha, f, kappa, t_max, *, method="taylor"):
                 if start >= t_max or active.size == 0:
                     break
                 base = np.append(table.lo[(table.lo >= start) & (table.lo < end)], end)
-                owner = np.repeat(np.arange(active.size), base.size)
-                nodes = np.tile(base, active.size)
-                roots = first_sign_change(
-                    lambda t, own, ev=evaluate, active=active: ev(t, active[own]),
-                    lambda ta, tb, own, *ends, bd=bound, active=active: bd(
-                        ta, tb, active[own], *ends
-                    ),
-                    nodes,
-                    owner,
-                    active.size,
-                    max_cells=2**22,
-                )
+
+                def search(pos, base=base, active=active, evaluate=evaluate, bound=bound):
+                    pairs = active[pos]
+                    return first_sign_change(
+                        lambda t, own: evaluate(t, pairs[own]),
+                        lambda ta, tb, own, *ends: bound(ta, tb, pairs[own], *ends),
+                        np.tile(base, pos.size),
+                        np.repeat(np.arange(pos.size), base.size),
+                        pos.size,
+                        max_cells=2**22,
+                        certify=True,
+                    )
+
+                # g = A + f B is affine in f: proofs of g > 0 are shared between the
+                # forces (not on interval 0, where g(0) = 0 leaves nothing to prove)
+                crowded = m > 0 and active.size >= _SCREEN_MIN_PAIRS
+                rows = np.zeros(active.size, dtype=np.int64)
+                roots = _screen_interval(search, rows, _SCREEN_STRIDES if crowded else (1,))
                 hit = np.isfinite(roots)
                 result[members[active[hit]]] = roots[hit]
                 active = active[~hit]

@@ -12,7 +12,7 @@ the persistent-contact problem is, for :math:`t \ge 0`,
 
 **Table.** Every reflection interval :math:`[2m, 2m + 2]` is cut into the same
 :math:`n = 2^j \ge 16` cells of width :math:`h`, :math:`h |p| \le 1` for the roots
-:math:`p` of :math:`\alpha s^2 + \alpha\kappa s + \kappa` (:func:`cells_per_interval`;
+:math:`p` of :math:`\alpha s^2 + \alpha\kappa s + \kappa` (:func:`_cells_per_interval`;
 halved again while a cell's coefficients sum to more than 100, where the later
 reflections raise the polynomials' degree). On a cell, in :math:`\xi = (t - t_0)/h \in
 [0, 1]`, :math:`v, N` have degree ``DEGREE`` and :math:`y` one more, with the Taylor
@@ -71,7 +71,7 @@ DEGREE = 24
 #: Largest ``h |p|`` on a cell, ``p`` a root of ``alpha s^2 + alpha kappa s + kappa``.
 _REACH = 1.0
 #: Most cells per reflection interval (beyond: the contact spring is too stiff for
-#: this table, see :func:`taylor_table`).
+#: this table, see :func:`_taylor_table`).
 MAX_CELLS = 256
 _EPS = float(np.finfo(np.float64).eps)
 _U = 0.5 * _EPS  # unit roundoff
@@ -82,7 +82,7 @@ _COEFFICIENT_SUM = 100.0
 _MIN_CELLS = 16
 
 
-def fastest_rate(alpha: float, kappa: float) -> float:
+def _fastest_rate(alpha: float, kappa: float) -> float:
     """Largest modulus of the roots of :math:`\\alpha s^2 + \\alpha\\kappa s + \\kappa`:
     :math:`\\sqrt{\\kappa/\\alpha}` for a complex pair, else :math:`(\\kappa + \\sqrt{\\kappa^2 -
     4\\kappa/\\alpha})/2`."""
@@ -90,10 +90,10 @@ def fastest_rate(alpha: float, kappa: float) -> float:
     return math.sqrt(kappa / alpha) if disc <= 0 else 0.5 * (kappa + math.sqrt(disc))
 
 
-def cells_per_interval(alpha: float, kappa: float) -> int:
+def _cells_per_interval(alpha: float, kappa: float) -> int:
     """Cells per reflection interval: the least power of two ``n >= _MIN_CELLS`` with
-    ``(2/n) fastest_rate(alpha, kappa) <= _REACH``."""
-    fastest = fastest_rate(alpha, kappa)
+    ``(2/n) _fastest_rate(alpha, kappa) <= _REACH``."""
+    fastest = _fastest_rate(alpha, kappa)
     if not math.isfinite(fastest):
         raise ValueError(f"kappa = {kappa!r} (alpha = {alpha!r}) overflows float64")
     n = _MIN_CELLS
@@ -114,7 +114,7 @@ class TaylorTable:
 
     def __init__(self, alpha: float, kappa: float, n_intervals: int) -> None:
         self.alpha, self.kappa = float(alpha), float(kappa)
-        n = cells_per_interval(self.alpha, self.kappa)
+        n = _cells_per_interval(self.alpha, self.kappa)
         if n > MAX_CELLS:
             raise ValueError(
                 f"kappa = {kappa!r} (alpha = {alpha!r}) needs {n} Taylor cells per "
@@ -292,6 +292,6 @@ class _TableView:
 
 
 @lru_cache(maxsize=64)
-def taylor_table(alpha: float, kappa: float, n_intervals: int) -> TaylorTable:
+def _taylor_table(alpha: float, kappa: float, n_intervals: int) -> TaylorTable:
     """The cached :class:`TaylorTable` of ``(alpha, kappa)`` over ``n_intervals``."""
     return TaylorTable(alpha, kappa, n_intervals)
