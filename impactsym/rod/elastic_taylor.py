@@ -164,20 +164,29 @@ class TaylorTable:
             G_all = (G_hi[:, cells] + G_lo[:, cells]).tolist()
             for rhs, force in ((0, 0.0), (1, 1.0)):
                 (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
-                for i, G in zip(range(m * n, (m + 1) * n), G_all[rhs], strict=True):
-                    v, w, y = [v0] * (D + 1), [n0] * (D + 1), [y0] * (D + 2)
-                    for k in range(D):
-                        vk, wk = v[k], w[k]
-                        v[k + 1] = c_v[k] * ((force if k == 0 else 0.0) - wk)
-                        w[k + 1] = c_n[k] * ((vk - wk) + 2.0 * G[k])
-                        y[k + 1] = c_y[k] * vk
-                    y[D + 1] = c_y[D] * v[D]
-                    V[rhs, i], N[rhs, i], Y[rhs, i] = v, w, y
-                    V_lo[rhs, i], N_lo[rhs, i], Y_lo[rhs, i] = v0_lo, n0_lo, y0_lo
-                    v.append(v0_lo)
-                    w.append(n0_lo)
-                    y.append(y0_lo)
-                    (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = (_end(c) for c in (y, v, w))
+                rows = []
+                for G in G_all[rhs]:
+                    v, w, y = [v0], [n0], [y0]
+                    vk, wk, fk = v0, n0, force
+                    for cv, cn, cy, Gk in zip(c_v, c_n, c_y, G):  # orders 1 .. D
+                        vk, wk, yk = cv * (fk - wk), cn * ((vk - wk) + 2.0 * Gk), cy * vk
+                        v.append(vk)
+                        w.append(wk)
+                        y.append(yk)
+                        fk = 0.0
+                    y.append(c_y[D] * vk)
+                    rows.append((v, w, y, v0_lo, n0_lo, y0_lo))
+                    (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = (
+                        _end(y, y0_lo),
+                        _end(v, v0_lo),
+                        _end(w, n0_lo),
+                    )
+                V[rhs, cells] = [r[0] for r in rows]
+                N[rhs, cells] = [r[1] for r in rows]
+                Y[rhs, cells] = [r[2] for r in rows]
+                V_lo[rhs, cells], N_lo[rhs, cells], Y_lo[rhs, cells] = np.array(
+                    [r[3:] for r in rows]
+                ).T
                 state[rhs] = [(y0, y0_lo), (v0, v0_lo), (n0, n0_lo)]
         self._bound(Y, V, N, (Y_lo, V_lo, N_lo), G_hi, G_lo, dG)
 
@@ -246,12 +255,12 @@ class TaylorTable:
         return _TableView(self, self.N_a, self.N_b, self.err_n_a, self.err_n_b)
 
 
-def _end(coefficients: list) -> tuple[float, float]:
-    """The exact sum of ``coefficients`` (the value at ``xi = 1``) as ``(high, low)``:
-    ``high`` correctly rounded, ``low`` the correctly rounded remainder."""
-    high = math.fsum(coefficients)
-    coefficients.append(-high)
-    return high, math.fsum(coefficients)
+def _end(coefficients: list, low: float) -> tuple[float, float]:
+    """The exact value at ``xi = 1`` of a polynomial whose constant coefficient is
+    ``coefficients[0] + low``, as ``(high, low)``: ``high`` correctly rounded, ``low``
+    the correctly rounded remainder."""
+    high = math.fsum([*coefficients, low])
+    return high, math.fsum([*coefficients, low, -high])
 
 
 class _TableView:
