@@ -168,7 +168,8 @@ class TaylorTable:
                 for G in G_all[rhs]:
                     v, w, y = [v0], [n0], [y0]
                     vk, wk, fk = v0, n0, force
-                    for cv, cn, cy, Gk in zip(c_v, c_n, c_y, G):  # orders 1 .. D
+                    # orders 1 .. D (c_v, c_n have D entries; c_y, G one more)
+                    for cv, cn, cy, Gk in zip(c_v, c_n, c_y, G, strict=False):
                         vk, wk, yk = cv * (fk - wk), cn * ((vk - wk) + 2.0 * Gk), cy * vk
                         v.append(vk)
                         w.append(wk)
