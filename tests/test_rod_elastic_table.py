@@ -15,6 +15,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from references.rod_elastic_delay import ElasticDelay
 
 from impactsym.rod import contact_force, contact_time, displacement
@@ -47,6 +49,17 @@ def _random_grid(n, seed):
     ],
 )
 def test_contact_time_agrees_with_the_delay_ode(a, force, k):
+    _agrees_with_the_delay_ode(a, force, k)
+
+
+@pytest.mark.slow
+@settings(max_examples=12, deadline=None, derandomize=True)
+@given(a=st.floats(0.05, 20.0), force=st.floats(0.0, 2.0), k=st.floats(0.5, 60.0))
+def test_contact_times_agree_with_the_delay_ode(a, force, k):
+    _agrees_with_the_delay_ode(a, force, k)
+
+
+def _agrees_with_the_delay_ode(a, force, k):
     ref = ElasticDelay(a, force, k, t_max=10.0)
     for condition in ("force", "position"):
         expected = ref.contact_time(condition)

@@ -4,7 +4,7 @@
   evaluated with mpmath at 90 digits (another derivation: the Laplace-domain solution,
   not the time-domain equations the table integrates);
 * the delay ODE of :mod:`references.rod_elastic_delay` (d'Alembert, method of steps,
-  SciPy DOP853), for values and contact times;
+  SciPy DOP853), for values (its contact times: ``test_rod_elastic_table.py``);
 * planted errors: a coefficient of the table spoiled after it was computed must show in
   its a-posteriori bound (the bound is a property of the stored polynomials, not a
   promise about how they were made).
@@ -12,15 +12,10 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 from references.rod_elastic_delay import ElasticDelay
 
-from impactsym.rod import contact_time
 from impactsym.rod.contact_times import _TABLE_TOLERANCE, _elastic_contact_times
 from impactsym.rod.elastic import _elastic_model
 from impactsym.rod.elastic_taylor import MAX_CELLS, TaylorTable, _cells_per_interval
@@ -121,24 +116,6 @@ def test_cells_follow_the_fastest_rate_and_stiff_springs_go_to_the_cell_table():
 def test_unknown_method_is_refused():
     with pytest.raises(ValueError, match="method"):
         _elastic_contact_times("N", np.ones(1), np.ones(1), np.ones(1), 4.0, method="fast")
-
-
-@pytest.mark.slow
-@settings(max_examples=12, deadline=None, derandomize=True)
-@given(
-    a=st.floats(0.05, 20.0),
-    force=st.floats(0.0, 2.0),
-    k=st.floats(0.5, 60.0),
-)
-def test_contact_times_agree_with_the_delay_ode(a, force, k):
-    ref = ElasticDelay(a, force, k, t_max=10.0)
-    for condition in ("force", "position"):
-        expected = ref.contact_time(condition)
-        got = contact_time(a, force, condition=condition, kappa=k, t_max=10.0)
-        if math.isinf(expected):
-            assert math.isinf(got), (condition, got)
-        else:
-            assert abs(got - expected) < 1e-9, (condition, got, expected)
 
 
 @pytest.mark.parametrize(("a", "k"), [(1.3, 20.0), (0.2, 20.0), (3.0, 2.0)])
