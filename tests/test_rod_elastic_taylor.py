@@ -28,6 +28,7 @@ CASES = [
     (50.0, 2.0),  # heavy striker
     (0.01, 0.5),  # very light striker
     (2.0, 100.0),  # stiff contact (256 cells per interval)
+    (1.0, 1e-4),  # very soft contact: the y bound exceeds 1e-12 late (pole sums there)
 ]
 
 
@@ -51,7 +52,8 @@ def test_error_bound_holds_against_90_digit_pole_sums(a, k):
         bound = view.err_a[i] + f * view.err_b[i]
         assert np.all(np.abs(value - exact) <= bound), (name, np.max(np.abs(value - exact) / bound))
         # and the bound is useful: the table stands for the function on every cell
-        assert np.max(view.err_a + 3.0 * view.err_b) <= _TABLE_TOLERANCE, name
+        if k >= 0.5:
+            assert np.max(view.err_a + 3.0 * view.err_b) <= _TABLE_TOLERANCE, name
 
 
 @pytest.mark.parametrize(("a", "force", "k"), [(1.3, 0.4, 20.0), (0.2, 1.0, 20.0), (5.0, 0.0, 3.0)])
@@ -118,7 +120,7 @@ def test_unknown_method_is_refused():
         _elastic_contact_times("N", np.ones(1), np.ones(1), np.ones(1), 4.0, method="fast")
 
 
-@pytest.mark.parametrize(("a", "k"), [(1.3, 20.0), (0.2, 20.0), (3.0, 2.0)])
+@pytest.mark.parametrize(("a", "k"), [(1.3, 20.0), (0.2, 20.0), (3.0, 2.0), (1.0, 1e-4)])
 def test_screened_f_sweep_equals_the_search_pair_by_pair(a, k):
     """g = A + f B: a proof of g > 0 on an interval for two forces holds for every force
     between them, so a sweep searches only some forces per interval; the contact times

@@ -48,7 +48,8 @@ and, as :math:`y = u + N/\kappa` with the rod-end displacement :math:`u = \int_{
 (so :math:`|e_u| \le \sqrt 2 \|e_g\|_{L^2(t-2, t)} \le q`),
 :math:`|e_y| \le q (1 + 1/\sqrt\kappa) + |\sigma|` with the defect :math:`\sigma = \tilde y
 - \tilde u - \tilde N/\kappa`, :math:`|\sigma| \le \int (|r_0| + |r_2|/\kappa) + \sum
-(|\Delta y| + |\Delta N|/\kappa)`. Over a cell :math:`\int |r| \le h \sum_k |r_k|/(k + 1)`.
+(|\Delta y| + |\Delta N|/\kappa)`; for a very soft spring the smaller bound is
+:math:`|e_y| \le \int (q/\sqrt\alpha + |r_0|) + \sum |\Delta y|`. Over a cell :math:`\int |r| \le h \sum_k |r_k|/(k + 1)`.
 The table's bound per cell adds the low parts and the rounding of a Horner evaluation of
 :math:`A + fB` (:math:`t - t_0` and the division by :math:`h = 2^{1-j}` are exact). It is
 about ``1e-13`` up to :math:`t = 20`, where the true error is about ``1e-14``; a cell whose
@@ -239,7 +240,10 @@ class TaylorTable:
         q = np.cumsum(i1 / sqa + i2 / sqk + sqa * j_v + j_n / sqk, axis=-1) * margin
         sigma = np.cumsum(i0 + i2 / kappa + j_y + j_n / kappa, axis=-1) * margin
         e_n = sqk * q
-        e_y = q * (1.0 + 1.0 / sqk) + sigma
+        # two bounds of e_y, both valid: through y = u + N/kappa (tight unless the
+        # spring is very soft), and e_y = int e_v with |e_v| <= q / sqrt(alpha)
+        through_v = np.cumsum(h * q / sqa + i0 + j_y, axis=-1) * margin
+        e_y = np.minimum(q * (1.0 + 1.0 / sqk) + sigma, through_v)
         # the tables hold the high parts: |low| and a Horner evaluation's rounding
         horner_n = _EPS * (D + 4) * np.abs(N).sum(axis=-1) + np.abs(N_lo)
         horner_y = _EPS * (D + 5) * np.abs(Y).sum(axis=-1) + np.abs(Y_lo)
