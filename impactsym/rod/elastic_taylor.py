@@ -49,7 +49,8 @@ and, as :math:`y = u + N/\kappa` with the rod-end displacement :math:`u = \int_{
 :math:`|e_y| \le q (1 + 1/\sqrt\kappa) + |\sigma|` with the defect :math:`\sigma = \tilde y
 - \tilde u - \tilde N/\kappa`, :math:`|\sigma| \le \int (|r_0| + |r_2|/\kappa) + \sum
 (|\Delta y| + |\Delta N|/\kappa)`; for a very soft spring the smaller bound is
-:math:`|e_y| \le \int (q/\sqrt\alpha + |r_0|) + \sum |\Delta y|`. Over a cell :math:`\int |r| \le h \sum_k |r_k|/(k + 1)`.
+:math:`|e_y| \le \int (q/\sqrt\alpha + |r_0|) + \sum |\Delta y|`. Over a cell
+:math:`\int |r| \le h \sum_k |r_k|/(k + 1)`.
 The table's bound per cell adds the low parts and the rounding of a Horner evaluation of
 :math:`A + fB` (:math:`t - t_0` and the division by :math:`h = 2^{1-j}` are exact). It is
 about ``1e-13`` up to :math:`t = 20`, where the true error is about ``1e-14``; a cell whose
