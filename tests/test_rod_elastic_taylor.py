@@ -69,13 +69,19 @@ def test_values_agree_with_the_delay_ode(a, force, k):
 
 @pytest.mark.parametrize(
     ("array", "cell", "order", "affected"),
-    [("N", 37, 2, "Ny"), ("V", 5, 0, "Ny"), ("Y", 60, 1, "y")],
+    [
+        ("N", 37, 2, "Ny"),
+        ("N", 37, 0, "Ny"),  # a constant coefficient: a jump at the cell start
+        ("V", 5, 0, "Ny"),
+        ("Y", 60, 1, "y"),
+        ("Y", 37, 0, "y"),
+    ],
 )
 def test_a_planted_error_shows_in_the_bound(monkeypatch, array, cell, order, affected):
-    """Spoil one stored coefficient (of ``N``, of the internal ``v``, of ``y``) by
-    1e-8 after the recurrence: the table is then wrong by up to ~1e-8 from that cell on
-    (``y`` does not feed back into ``N``), and its bound must still contain the truth and
-    rise to that size where it is affected."""
+    """Spoil one stored coefficient (of ``N``, of the internal ``v``, of ``y``; constant
+    coefficients too, which make jumps) by 1e-8 after the recurrence: the table is then
+    wrong by up to ~1e-8 from that cell on (``y`` does not feed back into ``N``), and its
+    bound must still contain the truth and rise to that size where it is affected."""
     a, k, force = 1.3, 20.0, 0.5
     original = TaylorTable._bound
 

@@ -21,7 +21,7 @@ recurrences of the equations, :math:`(k+1) v_{k+1} = h (f\delta_{k0} - N_k)/\alp
 starts from the exact end value of the one before, kept as a double-double constant
 coefficient (correctly rounded ``math.fsum`` and its correctly rounded remainder); the
 incoming wave :math:`G` of a cell is the alternating sum of the earlier intervals' ``N`` on
-the same cell, kept in double-double with a bound on its distance from the exact sum. By
+the same cell, kept in double-double. By
 linearity everything is :math:`A + f B` (:math:`A`: :math:`f = 0`, :math:`v(0) = 1`;
 :math:`B`: :math:`f = 1`, :math:`v(0) = 0`).
 
@@ -32,8 +32,12 @@ residuals :math:`r_0 = \tilde y' - \tilde v`, :math:`r_1 = \alpha\tilde v' - f +
 :math:`r_2 = \tilde N' - \kappa(\tilde v - \tilde N + 2\tilde G)`, polynomials evaluated
 from the stored coefficients with error-free transformations
 (:mod:`impactsym.numeric.eft`: the bound is that of the coefficients, not of their
-evaluation; the truncation is part of it), and jumps of order :math:`u^2` at the cell
-ends. The error :math:`e` of :math:`v, N, g` solves the same striker-spring-rod system
+evaluation; the truncation is part of it), and jumps at the cell ends (of order
+:math:`u^2`). Everything the bound uses is measured on the stored arrays, by sums exact to
+:math:`u^2`: the residuals, the jumps, and the distance of the stored
+:math:`\tilde G` from the exact alternating sum of the stored :math:`\tilde N` (that sum
+*is* :math:`\tilde G`, so the rod's relations hold exactly); how the coefficients were made
+does not enter. The error :math:`e` of :math:`v, N, g` solves the same striker-spring-rod system
 driven by :math:`-r_1, -r_2`; its energy :math:`E = \alpha e_v^2/2 + e_N^2/(2\kappa) +
 \int_{t-2}^t e_g^2` changes at the rate :math:`-e_v r_1 - e_N r_2/\kappa` (rod and spring
 are lossless, the striker is free). Hence :math:`q = \sqrt{2E}` obeys
@@ -141,13 +145,13 @@ class TaylorTable:
         D = DEGREE
         # coefficients [rhs (A, B), cell, order]; the constant coefficients of y, v, N
         # are double-double (+ Y_lo, V_lo, N_lo): a cell starts exactly where the one
-        # before ends, up to u^2. G = g(t - 2) is double-double too, with a bound dG on
-        # its distance from the exact alternating sum of the N before.
+        # before ends, up to u^2. G = g(t - 2), the alternating sum of the N before,
+        # is double-double too. (The bound measures both afterwards, in _bound.)
         Y = np.zeros((2, total, D + 2))
         V = np.zeros((2, total, D + 1))
         N = np.zeros((2, total, D + 1))
         Y_lo, V_lo, N_lo = (np.zeros((2, total)) for _ in range(3))
-        G_hi, G_lo, dG = (np.zeros((2, total, D + 1)) for _ in range(3))
+        G_hi, G_lo = np.zeros((2, total, D + 1)), np.zeros((2, total, D + 1))
         c_v = [h / (self.alpha * (k + 1)) for k in range(D)]
         c_n = [h * self.kappa / (k + 1) for k in range(D)]
         c_y = [h / (k + 1) for k in range(D + 1)]
@@ -155,14 +159,12 @@ class TaylorTable:
         state = [[(0.0, 0.0), (1.0, 0.0), (0.0, 0.0)], [(0.0, 0.0)] * 3]
         for m in range(n_intervals):
             cells = slice(m * n, (m + 1) * n)
-            if m:  # G_m = N_(m-1) - G_(m-1), exactly up to dG
+            if m:  # G_m = N_(m-1) - G_(m-1), nearly exactly
                 before = slice((m - 1) * n, m * n)
                 s, e = two_sum(N[:, before], -G_hi[:, before])
                 t = e - G_lo[:, before]
                 t[..., 0] += N_lo[:, before]
                 G_hi[:, cells], G_lo[:, cells] = two_sum(s, t)
-                dG[:, cells] = dG[:, before] + 2 * _U * (np.abs(e) + np.abs(G_lo[:, before]))
-                dG[:, cells, 0] += 2 * _U * np.abs(N_lo[:, before])
             G_all = (G_hi[:, cells] + G_lo[:, cells]).tolist()
             for rhs, force in ((0, 0.0), (1, 1.0)):
                 (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
@@ -191,13 +193,15 @@ class TaylorTable:
                     [r[3:] for r in rows]
                 ).T
                 state[rhs] = [(y0, y0_lo), (v0, v0_lo), (n0, n0_lo)]
-        self._bound(Y, V, N, (Y_lo, V_lo, N_lo), G_hi, G_lo, dG)
+        self._bound(Y, V, N, (Y_lo, V_lo, N_lo), G_hi, G_lo, n)
 
-    def _bound(self, Y, V, N, lows, G_hi, G_lo, dG):
-        """Residuals, jumps and the energy bound (module notes); sets the tables."""
+    def _bound(self, Y, V, N, lows, G_hi, G_lo, n):
+        """Residuals, jumps and the energy bound (module notes), all measured on the
+        stored arrays (``n`` cells per interval); sets the tables."""
         alpha, kappa, h = self.alpha, self.kappa, self.h
         Y_lo, V_lo, N_lo = lows
         D = DEGREE
+        dG = _incoming_wave_defect(N, N_lo, G_hi, G_lo, n)
         kp1 = np.arange(D + 1) + 1.0
         pad = np.zeros_like(V[..., :1])
         v_next = np.concatenate([V[..., 1:], pad], axis=-1)
@@ -235,8 +239,9 @@ class TaylorTable:
         i0 = (np.abs(r0) + b0) @ mean
         i1 = (np.abs(r1) + b1) @ mean
         i2 = (np.abs(r2) + b2) @ mean
-        # jumps at the cell starts: the low part is the correctly rounded remainder
-        j_v, j_n, j_y = (1.000001 * _U * np.abs(c) for c in (V_lo, N_lo, Y_lo))
+        # jumps at the cell starts (from the end of the cell before, or the initial state)
+        j_v = _jumps(V, V_lo, np.array([1.0, 0.0]))
+        j_n, j_y = _jumps(N, N_lo, np.zeros(2)), _jumps(Y, Y_lo, np.zeros(2))
         sqa, sqk = math.sqrt(alpha), math.sqrt(kappa)
         q = np.cumsum(i1 / sqa + i2 / sqk + sqa * j_v + j_n / sqk, axis=-1) * margin
         sigma = np.cumsum(i0 + i2 / kappa + j_y + j_n / kappa, axis=-1) * margin
@@ -259,6 +264,33 @@ class TaylorTable:
         if which == "y":
             return _TableView(self, self.Y_a, self.Y_b, self.err_y_a, self.err_y_b)
         return _TableView(self, self.N_a, self.N_b, self.err_n_a, self.err_n_b)
+
+
+def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray) -> np.ndarray:
+    """Bounds on ``|start of cell i - end of cell i - 1|`` (cell 0: ``- initial``) of the
+    polynomials ``C`` (``[rhs, cell, order]``) with low constant parts ``C_lo``, from an
+    exact-to-``u^2`` cascaded sum of all the coefficients involved."""
+    terms = [C[:, 1:, 0], C_lo[:, 1:]]
+    terms += [-C[:, :-1, k] for k in range(C.shape[-1])] + [-C_lo[:, :-1]]
+    later, bound = sum_with_bound(terms)
+    first, first_bound = sum_with_bound([C[:, :1, 0], C_lo[:, :1], -initial[:, None]])
+    return np.concatenate([np.abs(first) + first_bound, np.abs(later) + bound], axis=1)
+
+
+def _incoming_wave_defect(N, N_lo, G_hi, G_lo, n):
+    """Bounds on ``|G - (G_hi + G_lo)|`` per coefficient, ``G`` the exact alternating sum
+    ``G_m = N_(m-1) - G_(m-1)`` of the stored ``N`` (``n`` cells per interval; ``G = 0``
+    on the first interval): the defect of each step, summed with a bound, accumulates."""
+    dG = np.zeros_like(G_hi)
+    n_low = np.zeros_like(N)
+    n_low[..., 0] = N_lo
+    for start in range(n, N.shape[1], n):
+        now, before = slice(start, start + n), slice(start - n, start)
+        terms = [N[:, before], n_low[:, before], -G_hi[:, before], -G_lo[:, before]]
+        step, bound = sum_with_bound([*terms, -G_hi[:, now], -G_lo[:, now]])
+        dG[:, now] = dG[:, before] + np.abs(step) + bound
+    dG[:, n:] *= 1.0 + 1e-9
+    return dG
 
 
 def _end(coefficients: list, low: float) -> tuple[float, float]:
