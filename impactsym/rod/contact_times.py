@@ -484,9 +484,10 @@ def contact_time(
     needed: a tangential touch is not an end of contact, and a dip below zero
     shallower than ``1e-12`` (``impactsym.numeric.isolation.TOLERANCE``, in units of
     :math:`y` resp. :math:`N`) may be passed over; with a finite :math:`\kappa`, whose
-    table may itself be off by up to ``1e-12``, shallower than ``2e-12``. Rigid pairs of equal :math:`\alpha`
-    share proofs: :math:`g` is affine in :math:`f`, so :math:`g > 0` proved on an
-    interval for two :math:`f` holds for every :math:`f` between them
+    table may itself be off by up to ``1e-12``, shallower than ``2e-12``. Rigid pairs
+    of equal :math:`\alpha` share proofs: :math:`g` is affine in :math:`f`, so
+    :math:`g > 0` proved on an interval for two :math:`f` holds for every :math:`f`
+    between them
     (:func:`_screen_interval`); an :math:`\alpha`-:math:`f` grid costs a few µs per
     pair, scattered pairs tens of µs.
 
