@@ -201,16 +201,15 @@ class TaylorTable:
         alpha, kappa, h = self.alpha, self.kappa, self.h
         Y_lo, V_lo, N_lo = lows
         D = DEGREE
-        dG = _incoming_wave_defect(N, N_lo, G_hi, G_lo, n)
         kp1 = np.arange(D + 1) + 1.0
         pad = np.zeros_like(V[..., :1])
         v_next = np.concatenate([V[..., 1:], pad], axis=-1)
         n_next = np.concatenate([N[..., 1:], pad], axis=-1)
         force = np.zeros_like(V)
         force[1, :, 0] = 1.0
-        at0 = np.zeros_like(V)  # the low parts, as order-0 coefficients
-        v_low, n_low = at0.copy(), at0.copy()
+        v_low, n_low = np.zeros_like(V), np.zeros_like(V)  # low parts as order-0 terms
         v_low[..., 0], n_low[..., 0] = V_lo, N_lo
+        dG = _incoming_wave_defect(N, n_low, G_hi, G_lo, n)
         # r0 = y' - v
         p, e = two_prod(kp1 / h, Y[..., 1:])
         r0, b0 = sum_with_bound([p, e, -V, -v_low], 1)
@@ -277,13 +276,12 @@ def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray) -> np.ndarray:
     return np.concatenate([np.abs(first) + first_bound, np.abs(later) + bound], axis=1)
 
 
-def _incoming_wave_defect(N, N_lo, G_hi, G_lo, n):
+def _incoming_wave_defect(N, n_low, G_hi, G_lo, n):
     """Bounds on ``|G - (G_hi + G_lo)|`` per coefficient, ``G`` the exact alternating sum
-    ``G_m = N_(m-1) - G_(m-1)`` of the stored ``N`` (``n`` cells per interval; ``G = 0``
-    on the first interval): the defect of each step, summed with a bound, accumulates."""
+    ``G_m = N_(m-1) - G_(m-1)`` of the stored ``N + n_low`` (``n_low``: the low constant
+    parts as order-0 coefficients; ``n`` cells per interval; ``G = 0`` on the first
+    interval): the defect of each step, summed with a bound, accumulates."""
     dG = np.zeros_like(G_hi)
-    n_low = np.zeros_like(N)
-    n_low[..., 0] = N_lo
     for start in range(n, N.shape[1], n):
         now, before = slice(start, start + n), slice(start - n, start)
         terms = [N[:, before], n_low[:, before], -G_hi[:, before], -G_lo[:, before]]
