@@ -5,6 +5,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 import numpy as np
+import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
@@ -53,3 +54,8 @@ def test_sum_with_bound_is_tight_where_the_terms_cancel():
     # u |s| + gamma_3^2 sum |t| = 3e-16 + 2e-31 * 2e16: far below the plain sum's error
     assert bound[0] < 2e-14
     assert total[0] != (1e16 + 3.0 - 1e16) + 2.0**-30
+
+
+def test_sum_with_bound_refuses_no_terms():
+    with pytest.raises(ValueError, match="at least one term"):
+        sum_with_bound([])

@@ -139,3 +139,25 @@ def test_screened_f_sweep_equals_the_search_pair_by_pair(a, k):
             for x in f
         ]
         assert np.array_equal(swept, alone), which
+
+
+@pytest.mark.parametrize(
+    ("args", "error", "match"),
+    [
+        ((-1.0, 20.0, 3), ValueError, "alpha must be > 0"),
+        ((1.0, float("nan"), 3), ValueError, "kappa"),
+        ((1.0, float("inf"), 3), ValueError, "kappa"),
+        (("1.0", 20.0, 3), TypeError, "alpha"),
+        ((np.ones(2), 20.0, 3), TypeError, "alpha must be a real number"),
+        ((1.0, 20.0, 0), ValueError, "n_intervals must be >= 1"),
+        ((1.0, 20.0, 2.5), TypeError, "n_intervals must be an integer"),
+    ],
+)
+def test_bad_table_input_is_refused_with_its_name(args, error, match):
+    with pytest.raises(error, match=match):
+        TaylorTable(*args)
+
+
+def test_unknown_time_function_is_refused():
+    with pytest.raises(ValueError, match="which must be 'y' or 'N'"):
+        TaylorTable(1.0, 4.0, 1).view("v")

@@ -55,6 +55,8 @@ def sum_with_bound(terms: list[np.ndarray], n_products: int = 0) -> tuple[np.nda
     """``(s, bound)``: the cascaded sum of ``terms`` (arrays of one shape) and a bound on
     ``|s - exact sum|``, plus ``TINY`` for each of ``n_products`` two-products whose
     terms are among them."""
+    if not terms:
+        raise ValueError("sum_with_bound needs at least one term, got none")
     terms = np.broadcast_arrays(*terms)
     s = terms[0].astype(float, copy=True)
     err = np.zeros_like(s)

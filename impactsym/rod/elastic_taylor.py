@@ -66,11 +66,13 @@ bound exceeds the caller's tolerance is searched on the pole sums
 from __future__ import annotations
 
 import math
+import numbers
 from functools import lru_cache
 
 import numpy as np
 
 from impactsym.numeric.eft import sum_with_bound, two_prod, two_sum
+from impactsym.validation import real_array
 
 #: Polynomial degree of ``v`` and ``g`` on a cell (``y``: one more).
 DEGREE = 24
@@ -119,7 +121,18 @@ class TaylorTable:
     """
 
     def __init__(self, alpha: float, kappa: float, n_intervals: int) -> None:
-        self.alpha, self.kappa = float(alpha), float(kappa)
+        checked = {
+            name: real_array(name, value, lower=0.0, strict=True)
+            for name, value in (("alpha", alpha), ("kappa", kappa))
+        }
+        for name, (_, scalar) in checked.items():
+            if not scalar:
+                raise TypeError(f"{name} must be a real number, got an array")
+        if isinstance(n_intervals, bool) or not isinstance(n_intervals, numbers.Integral):
+            raise TypeError(f"n_intervals must be an integer, got {n_intervals!r}")
+        if n_intervals < 1:
+            raise ValueError(f"n_intervals must be >= 1, got {n_intervals!r}")
+        self.alpha, self.kappa = (float(value) for value, _ in checked.values())
         n = _cells_per_interval(self.alpha, self.kappa)
         if n > MAX_CELLS:
             raise ValueError(
@@ -260,6 +273,8 @@ class TaylorTable:
     def view(self, which: str) -> _TableView:
         """The search interface (``"y"`` or ``"N"``) of
         :func:`impactsym.rod.contact_times._table_search`."""
+        if which not in ("y", "N"):
+            raise ValueError(f"which must be 'y' or 'N', got {which!r}")
         if which == "y":
             return _TableView(self, self.Y_a, self.Y_b, self.err_y_a, self.err_y_b)
         return _TableView(self, self.N_a, self.N_b, self.err_n_a, self.err_n_b)
