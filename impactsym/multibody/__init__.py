@@ -1,7 +1,11 @@
 """Penalty contacts in multibody systems (paper section 3).
 
+* :mod:`~impactsym.multibody.equations` -- ``M(q) u' = F`` from matrices or a
+  ``sympy.physics.mechanics`` model;
 * :mod:`~impactsym.multibody.reduction` -- :func:`reduce_contact`: ``M q'' = F + n lambda``
-  with ``lambda = -d z' - k z`` reduced to one scalar oscillator (:class:`ReducedContact`);
+  with ``lambda = -d z' - k z`` reduced to one scalar oscillator;
+* :mod:`~impactsym.multibody.oscillator` -- :class:`ReducedContact`, that oscillator and its
+  section-2 contact time, restitution and stick/release verdict;
 * :mod:`~impactsym.multibody.design` -- penalty parameters ``k, d`` for a wanted behaviour;
 * :mod:`~impactsym.multibody.simulation` -- example systems and a full NumPy simulation
   with event location, the judge of the reduction.
@@ -13,7 +17,7 @@ from impactsym._lazy import lazy_names
 
 _NAMES = {
     "reduce_contact": "impactsym.multibody.reduction",
-    "ReducedContact": "impactsym.multibody.reduction",
+    "ReducedContact": "impactsym.multibody.oscillator",
     "stick_damping": "impactsym.multibody.design",
     "damping_for_restitution": "impactsym.multibody.design",
     "penalty_for_targets": "impactsym.multibody.design",
