@@ -10,7 +10,6 @@ from __future__ import annotations
 import itertools
 import json
 import math
-import re
 import subprocess
 import sys
 from pathlib import Path
@@ -32,22 +31,10 @@ from impactsym.contact import (
     stick_boundary,
 )
 from impactsym.export import formula, latex_document, python_module
-from impactsym.multibody import (
-    damping_for_restitution,
-    penalty_for_targets,
-    reduce_contact,
-    stick_damping,
-)
 from impactsym.rod import RodImpact, latex_formulas
 from impactsym.rod import contact_force as rod_force
 from impactsym.rod import contact_time as rod_contact_time
 from impactsym.rod import displacement as rod_displacement
-from impactsym.symbolic.laplace import (
-    check_delay,
-    geometric_delay_series,
-    invert_rational,
-    laplace_exp_poly,
-)
 from impactsym.validation import as_sympy, as_sympy_matrix, broadcast, real_array
 
 CODE = "__import__('os').system('touch PWNED')"
@@ -56,7 +43,6 @@ NOT_NUMBERS = (None, True, object(), {"a": 1}, [1.0])
 SETTINGS = settings(
     max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )
-x, v = sp.symbols("x v")
 s, t = sp.symbols("s t")
 
 
@@ -76,32 +62,12 @@ def _attempt(call):
         return None, exc
 
 
-def particle(k=1.0, d=0.0, load=0.1):
-    return reduce_contact([[1.0]], [load], x, [x], [v], {x: 0, v: 1}, k, d)
-
-
 # -- strings never reach SymPy's parser ----------------------------------------------------
 
 
 @pytest.mark.parametrize(
     ("call", "name"),
     [
-        (lambda: reduce_contact([[CODE]], [0], x, [x], [v], {x: 0, v: 1}, 1, 0), "M"),
-        (lambda: reduce_contact([[1]], [CODE], x, [x], [v], {x: 0, v: 1}, 1, 0), "F"),
-        (lambda: reduce_contact([[1]], [[0], [CODE]], x, [x], [v], {x: 0}, 1, 0), "F"),
-        (lambda: reduce_contact([[1]], [0], [CODE], [x], [v], {x: 0, v: 1}, 1, 0), "g"),
-        (lambda: reduce_contact([[1]], [0], x, [x], [v], {CODE: 0, v: 1}, 1, 0), "at"),
-        (lambda: reduce_contact([[1]], [0], x, [x], [v], {x: CODE, v: 1}, 1, 0), "at"),
-        (lambda: reduce_contact([[1]], [0], x, [x], [v], {x: 0, v: 1}, CODE, 0), "k"),
-        (lambda: reduce_contact([[1]], [0], x, [x], [v], {x: 0, v: 1}, 1, [CODE]), "d"),
-        (lambda: reduce_contact([[1]], [0], x, [CODE], [v], {x: 0, v: 1}, 1, 0), "q"),
-        (lambda: invert_rational(CODE, s, t), "F"),
-        (lambda: invert_rational(1 / s, CODE, t), "s"),
-        (lambda: check_delay(CODE), "delay"),
-        (lambda: check_delay(2 - x, {x: (0, CODE)}), "bounds"),
-        (lambda: laplace_exp_poly(CODE, t, s), "g"),
-        (lambda: geometric_delay_series([(0, CODE)], 1, -1 / (s + 1), 2, 3), "numerator"),
-        (lambda: geometric_delay_series([(0, 1)], 1, CODE, 2, 3), "bp"),
         (lambda: RodImpact(kappa=CODE), "kappa"),
         (lambda: RodImpact(kappa=[CODE]), "kappa"),
         (lambda: RodImpact().residuals(1 / s, CODE), "Y"),
@@ -111,15 +77,6 @@ def particle(k=1.0, d=0.0, load=0.1):
 def test_strings_carrying_code_are_refused_by_name(call, name):
     with pytest.raises(TypeError, match=rf"^{name}\b.*(string|symbols|Symbol|real number)"):
         call()
-
-
-@pytest.mark.parametrize("values", [{"k": "x"}, {sp.Symbol("k"): CODE}, {CODE: 1}])
-def test_reduced_contact_subs_refuses_strings(values):
-    k = sp.Symbol("k", positive=True)
-    r = reduce_contact([[1]], [0], x, [x], [v], {x: 0, v: 1}, k, 0)
-    with pytest.raises(TypeError, match="values .*string"):
-        r.subs(values)
-    assert r.subs({k: 4}).omega0 == 2.0
 
 
 def test_strict_sympify_of_a_dict_would_run_code_so_as_sympy_scans_first():
@@ -539,56 +496,6 @@ def test_bounce_sequence_at_huge_damping_warns_nothing():
     from impactsym import bounce_sequence
 
     assert bounce_sequence(1e300, 1.0, condition="force").n_contacts == 1
-
-
-# -- multibody ------------------------------------------------------------------------------
-
-
-def test_reduce_contact_names_nan_in_F_as_nan():
-    with pytest.raises(ValueError, match=r"^F must be finite, got NaN at F\[1, 0\]"):
-        reduce_contact(np.eye(2), [0.0, math.nan], x, [x, v], [v, x], {x: 0, v: 1}, 1, 0)
-
-
-def test_reduce_contact_names_penalty_arrays_of_different_lengths():
-    with pytest.raises(ValueError, match=r"^k \(shape \(3,\)\) and d \(shape \(2,\)\)"):
-        particle(k=[1.0, 2.0, 3.0], d=[0.1, 0.2])
-    with pytest.raises(ValueError, match=r"^k \(shape \(2,\)\) and d \(shape \(3,\)\)"):
-        particle().with_penalty([1.0, 2.0], [0.1, 0.2, 0.3])
-
-
-@pytest.mark.parametrize(
-    ("k", "d", "pattern"),
-    [(math.nan, 0.0, "^k must be finite"), (0.0, 0.0, "^k must be > 0"), (1.0, -1.0, "^d ")],
-)
-def test_reduce_contact_penalties_are_validated(k, d, pattern):
-    with pytest.raises(ValueError, match=pattern):
-        particle(k=k, d=d)
-
-
-@pytest.mark.parametrize("k", [1e-300, 1e300, 1e-30])
-def test_penalty_design_errors_name_the_input(k):
-    r = particle()
-    for call in (
-        lambda: stick_damping(r, k),
-        lambda: damping_for_restitution(r, k, 0.5),
-    ):
-        value, error = _attempt(call)
-        if error is not None:
-            assert f"k = {k!r}" in str(error)
-        else:
-            assert np.isfinite(value)
-
-
-@pytest.mark.parametrize("contact_time", [1e-300, 1e300, 1e30])
-def test_penalty_for_targets_refuses_extreme_contact_times_by_name(contact_time):
-    with pytest.raises(ValueError, match=re.escape(f"contact_time = {contact_time!r}")):
-        penalty_for_targets(particle(), restitution=0.5, contact_time=contact_time)
-
-
-@pytest.mark.parametrize("bad", [math.nan, -1.0, 0.0, 1.0, CODE])
-def test_penalty_design_targets_are_validated(bad):
-    with pytest.raises((ValueError, TypeError), match="^restitution "):
-        damping_for_restitution(particle(), 1.0, bad)
 
 
 # -- the generated NumPy module --------------------------------------------------------------

@@ -4,6 +4,9 @@ the reduced model and in the full nonlinear SciPy simulation."""
 
 from __future__ import annotations
 
+import math
+import re
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -11,7 +14,7 @@ from references.multibody_systems import FullSimulation, bar_system
 
 from impactsym.multibody.design import damping_for_restitution, penalty_for_targets, stick_damping
 from impactsym.multibody.reduction import reduce_contact
-from impactsym.multibody.simulation import falling_bar, simulate_contact
+from impactsym.multibody.simulation import falling_bar
 
 x, v = sp.symbols("x v")
 m, k, d = sp.symbols("m k d", positive=True)
@@ -59,9 +62,10 @@ def test_penalty_for_targets_delivers_in_the_full_simulation():
     assert design.restitution("force") == pytest.approx(0.5, rel=1e-9)
     assert design.contact_time("force") == pytest.approx(2e-3, rel=1e-9)
     assert dd == pytest.approx(damping_for_restitution(reduced, kk, 0.5), rel=1e-9)
-    full = simulate_contact(ex, kk, dd, 0.5, condition="force")
-    assert float(full.contact_time) == pytest.approx(2e-3, rel=0.02)
-    assert float(full.restitution) == pytest.approx(0.5, rel=0.02)
+    sim = FullSimulation(bar_system())
+    t_full, e_full = sim.contact(kk, dd, 0.5, "force", 40 / np.sqrt(kk / ex.reduce().m_eff))
+    assert t_full == pytest.approx(2e-3, rel=0.02)
+    assert e_full == pytest.approx(0.5, rel=0.02)
 
 
 def test_design_bad_input_is_refused():
@@ -81,3 +85,41 @@ def test_design_bad_input_is_refused():
         stick_damping(particle(), 1.0, condition="gap")
     with pytest.raises(ValueError, match="^contact_time must"):
         penalty_for_targets(particle(), restitution=0.5, contact_time=0.0)
+
+
+def _attempt(call):
+    """``(value, None)``, or ``(None, error)`` for a ``ValueError``."""
+    try:
+        return call(), None
+    except ValueError as exc:
+        return None, exc
+
+
+@pytest.mark.parametrize("k", [1e-300, 1e300, 1e-30])
+def test_penalty_design_errors_name_the_input(k):
+    r = particle(force=0.1)
+    for call in (
+        lambda: stick_damping(r, k),
+        lambda: damping_for_restitution(r, k, 0.5),
+    ):
+        value, error = _attempt(call)
+        if error is not None:
+            assert f"k = {k!r}" in str(error)
+        else:
+            assert np.isfinite(value)
+
+
+@pytest.mark.parametrize("contact_time", [1e-300, 1e300, 1e30])
+def test_penalty_for_targets_refuses_extreme_contact_times_by_name(contact_time):
+    with pytest.raises(ValueError, match=re.escape(f"contact_time = {contact_time!r}")):
+        penalty_for_targets(particle(force=0.1), restitution=0.5, contact_time=contact_time)
+
+
+@pytest.mark.parametrize(
+    "bad", [math.nan, -1.0, 0.0, 1.0, "__import__('os').system('touch PWNED')"]
+)
+def test_penalty_design_targets_are_validated(bad, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises((ValueError, TypeError), match="^restitution "):
+        damping_for_restitution(particle(force=0.1), 1.0, bad)
+    assert not (tmp_path / "PWNED").exists(), "a string input was run as code"

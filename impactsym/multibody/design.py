@@ -13,7 +13,10 @@ hyperbola
     \omega_0 = \sqrt{(k + \Delta c)/\tilde m},
 
 and cross the stick/release boundary ``D = D*(f)`` of section 2
-(:func:`impactsym.contact.stick_boundary`) where ``D = D*(beta / (2 D))``.
+(:func:`impactsym.contact.stick_boundary`) where ``D = D*(beta / (2 D))``. Each target is
+a monotone scalar equation along that line, solved by bracketing and the Illinois method
+(:func:`impactsym.numeric.roots.bracketed_illinois`), vectorized over ``k``
+(``docs/physics.md``, sections 2 and 3).
 """
 
 from __future__ import annotations
@@ -27,8 +30,6 @@ from impactsym.numeric.roots import bracketed_illinois
 from impactsym.validation import check_condition, finish, inputs_named, real_array
 
 __all__ = ["damping_for_restitution", "penalty_for_targets", "stick_damping"]
-
-#: ``fun(x, index)``: values at ``x`` for the elements ``index`` of the problem
 
 
 def _numeric_reduction(reduced: object) -> ReducedContact:

@@ -4,7 +4,9 @@ The reference for :mod:`impactsym.multibody`'s reduced oscillator, usable withou
 SciPy: two planar systems whose effective contact mass differs clearly from every
 body mass (a falling bar, a double pendulum striking a wall), a vectorized fixed-step
 RK4 with event location (NumPy only; the tests check it against
-``scipy.integrate.solve_ivp``), and the sweeps that compare reduced and full models.
+``scipy.integrate.solve_ivp``), and the sweeps that compare reduced and full models
+(``docs/physics.md``, section 3). Horizons ``t_max`` are normalized, in units of
+``1 / omega`` with ``omega = sqrt(k / m~)``; ``tau_max`` is their former name.
 """
 
 from __future__ import annotations
@@ -215,8 +217,8 @@ class _Equations:
         accel = np.linalg.solve(M, (F + normal * lam[:, None])[..., None])[..., 0]
         return np.concatenate([y[self.n :], accel.T])
 
-    def normal_speed(self, y: np.ndarray) -> np.ndarray:
-        """``g' = n(q)^T q'`` per sample."""
+    def normal_velocity(self, y: np.ndarray) -> np.ndarray:
+        """Signed normal velocity ``g' = n(q)^T q'`` per sample (positive: approaching)."""
         _, _, normal, _ = self.parts(y)
         return np.einsum("bi,bi->b", normal, y[self.n :].T)
 
@@ -242,6 +244,22 @@ class SimulatedContact:
     contact_time: np.ndarray  #: contact time (``inf``: still in contact at the horizon)
     restitution: np.ndarray  #: ``-g'(t_c) / g'(0)`` (``0.0`` when still in contact)
 
+    @property
+    def sticks(self) -> np.ndarray:
+        """``True`` where the contact lasts beyond the horizon (``contact_time`` is ``inf``)."""
+        return ~np.isfinite(self.contact_time)
+
+
+def _former_horizon(t_max: float, tau_max: float | None, default: float) -> float:
+    """The horizon ``t_max``, or its former name ``tau_max`` if given (both must agree)."""
+    if tau_max is None:
+        return t_max
+    if t_max != default and t_max != tau_max:
+        raise TypeError(
+            f"t_max = {t_max!r} and its former name tau_max = {tau_max!r} disagree; give t_max"
+        )
+    return tau_max
+
 
 def simulate_contact(
     example: MultibodyExample,
@@ -250,8 +268,9 @@ def simulate_contact(
     speed: Any,
     *,
     condition: str | Sequence[str] = "force",
-    tau_max: float = 40.0,
+    t_max: float = 40.0,
     steps: int = 50,
+    tau_max: float | None = None,
 ) -> SimulatedContact:
     r"""Contact time and restitution of the full nonlinear penalty model.
 
@@ -267,7 +286,11 @@ def simulate_contact(
         t_c = \min\{t > 0 : c(t) = 0\}, \qquad c = g \ \text{or}\ k g + d \dot g,
         \qquad e = -\dot g(t_c) / \dot g(0),
 
-    and ``t_c = inf``, ``e = 0`` when there is no crossing before ``tau_max / omega``.
+    and ``t_c = inf``, ``e = 0`` when there is no crossing before ``t_max / omega``
+    (``t_max`` is a normalized horizon, in units of ``1 / omega``; ``tau_max`` is its
+    former name, still accepted). The reference for the reduction
+    (``docs/physics.md``, section 3); fixed steps in ``1 / omega`` keep all cases of a
+    sweep in one vectorized loop.
 
     Without gravity and damping the bar bounces off after about half a period of the
     reduced oscillator, ``pi / omega``, with ``e`` about 1:
@@ -278,6 +301,7 @@ def simulate_contact(
     >>> round(float(sim.contact_time * omega), 2), round(float(sim.restitution), 2)
     (3.13, 1.01)
     """
+    t_max = _former_horizon(t_max, tau_max, 40.0)
     k_arr, _ = real_array("k", k, lower=0.0, strict=True)
     d_arr, _ = real_array("d", d, lower=0.0)
     v_arr, _ = real_array("speed", speed, lower=0.0, strict=True)
@@ -292,11 +316,11 @@ def simulate_contact(
     y = np.array(
         [np.full(k_b.size, float(q)) for q in example.q0] + [v_b * c for c in example.direction]
     )
-    v0 = eq.normal_speed(y)
+    v0 = eq.normal_velocity(y)
     t_c, e = np.full(k_b.size, np.inf), np.zeros(k_b.size)
     active = np.arange(k_b.size)
     c_old = eq.condition(y, k_b, d_b, force)
-    for step in range(int(np.ceil(tau_max * steps))):
+    for step in range(int(np.ceil(t_max * steps))):
         if active.size == 0:
             break
         ka, da, ha, fa = k_b[active], d_b[active], h[active], force[active]
@@ -309,7 +333,7 @@ def simulate_contact(
             args = (ha[sel], ka[sel], da[sel], fa[sel])
             theta, y_c = _locate(eq, y_old[:, sel], *args)
             t_c[active[sel]] = (step + theta) * ha[sel]
-            e[active[sel]] = -eq.normal_speed(y_c) / v0[active[sel]]
+            e[active[sel]] = -eq.normal_velocity(y_c) / v0[active[sel]]
         y[:, active] = y_new
         c_old[active] = c_new
         active = active[~crossed]
@@ -368,7 +392,7 @@ class Agreement:
     """Reduced against full model over a sweep of ``(k, d, speed)`` for one example.
 
     ``m_eff`` is the effective mass, ``t_full[condition]`` the simulated contact times
-    (``inf``: still in contact at ``tau_max / sqrt(k / m_eff)``),
+    (``inf``: still in contact at ``t_max / sqrt(k / m_eff)``),
     ``t_reduced[(projection, condition)]`` the predictions,
     ``D[projection]``, ``f[projection]``, ``omega0[projection]`` the section-2
     parameters of the reduced oscillator.
@@ -379,12 +403,17 @@ class Agreement:
     k: np.ndarray
     d: np.ndarray
     speed: np.ndarray
-    tau_max: float
+    t_max: float
     t_full: dict[str, np.ndarray]
     t_reduced: dict[tuple[str, str], np.ndarray]
     D: dict[str, np.ndarray]
     f: dict[str, np.ndarray]
     omega0: dict[str, np.ndarray]
+
+    @property
+    def tau_max(self) -> float:
+        """Former name of ``t_max``, the normalized simulation horizon."""
+        return self.t_max
 
     def summary(self) -> list[dict[str, Any]]:
         """Hit rate of the stick/release verdict and contact-time errors, per case."""
@@ -441,8 +470,9 @@ def agreement_sweep(
     dampings: Sequence[float] = tuple(np.geomspace(0.05, 2.0, 7)),
     forces: Sequence[float] = tuple(np.geomspace(0.05, 5.0, 7)),
     max_speed: float = 2.0,
-    tau_max: float = 40.0,
+    t_max: float = 40.0,
     steps: int = 50,
+    tau_max: float | None = None,
 ) -> Agreement:
     r"""Sweep ``(k, d, speed)`` and compare the reduced model with the full simulation.
 
@@ -457,12 +487,15 @@ def agreement_sweep(
 
     Grid points with ``v > max_speed`` (in the units of the example's speeds) are left
     out: the reduction is an impact model, not one for large configuration changes.
+    ``t_max`` is the normalized horizon of :func:`simulate_contact` (former name
+    ``tau_max``, still accepted).
 
     >>> a = agreement_sweep(double_pendulum(), omegas=(1000.0,), dampings=(0.1,),
     ...                     forces=(0.5,), steps=20)
     >>> [(row["projection"], row["condition"], row["hit_rate"]) for row in a.summary()][:2]
     [('impulse', 'position', 1.0), ('impulse', 'force', 1.0)]
     """
+    t_max = _former_horizon(t_max, tau_max, 40.0)
     m_eff = example.reduce().m_eff
     rest = reduce_at_speeds(example, [1e-9]).load / m_eff
     omega, D, f = np.meshgrid(omegas, dampings, forces, indexing="ij")
@@ -479,7 +512,7 @@ def agreement_sweep(
         np.tile(d, 2),
         np.tile(speed, 2),
         condition=cond,
-        tau_max=tau_max,
+        t_max=t_max,
         steps=steps,
     ).contact_time
     t_full = {c: t_all[i * k.size : (i + 1) * k.size] for i, c in enumerate(conditions)}
@@ -491,10 +524,10 @@ def agreement_sweep(
         for c in conditions:
             t_red = np.asarray(red.contact_time(c), dtype=float)
             # beyond the simulated horizon the full model cannot tell release from sticking
-            horizon = tau_max / np.sqrt(k / m_eff)  # as in simulate_contact
+            horizon = t_max / np.sqrt(k / m_eff)  # as in simulate_contact
             t_reduced[(projection, c)] = np.where(t_red > horizon, np.inf, t_red)
     return Agreement(
-        example.name, m_eff, k, d, speed, tau_max, t_full, t_reduced, D_out, f_out, w_out
+        example.name, m_eff, k, d, speed, t_max, t_full, t_reduced, D_out, f_out, w_out
     )
 
 
@@ -531,8 +564,3 @@ def convergence_study(
         red = reduce_at_speeds(example, speed, projection=projection).with_penalty(k, d)
         out[projection] = np.asarray(red.contact_time(condition), dtype=float) / t_full - 1
     return out
-
-
-# ---------------------------------------------------------------------------------
-# the reproduce step
-# ---------------------------------------------------------------------------------

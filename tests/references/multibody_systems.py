@@ -132,6 +132,11 @@ class FullSimulation:
 
     def contact_time(self, k, d, speed, condition, t_max):
         """First time the condition (g or k g + d g') turns negative; inf before t_max."""
+        return self.contact(k, d, speed, condition, t_max)[0]
+
+    def contact(self, k, d, speed, condition, t_max):
+        """``(t_c, e)``: the contact time as in :meth:`contact_time` and the restitution
+        ``e = -g'(t_c) / g'(0)`` (``inf, 0.0`` when still in contact at ``t_max``)."""
         n = self.n
 
         def parts(y):
@@ -158,4 +163,8 @@ class FullSimulation:
         )
         if sol.status == -1:
             raise RuntimeError(sol.message)
-        return float(sol.t_events[0][0]) if sol.t_events[0].size else np.inf
+        if not sol.t_events[0].size:
+            return np.inf, 0.0
+        _, u0, normal0, _ = parts(np.asarray(y0, dtype=float))
+        _, u_c, normal_c, _ = parts(sol.y_events[0][0])
+        return float(sol.t_events[0][0]), float(-(normal_c @ u_c) / (normal0 @ u0))
