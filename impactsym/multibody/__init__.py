@@ -7,8 +7,10 @@
 * :mod:`~impactsym.multibody.oscillator` -- :class:`ReducedContact`, that oscillator and its
   section-2 contact time, restitution and stick/release verdict;
 * :mod:`~impactsym.multibody.design` -- penalty parameters ``k, d`` for a wanted behaviour;
-* :mod:`~impactsym.multibody.simulation` -- example systems and a full NumPy simulation
-  with event location, the judge of the reduction.
+* :mod:`~impactsym.multibody.examples` -- the example systems, a falling bar and a double
+  pendulum;
+* :mod:`~impactsym.multibody.simulation` -- a full NumPy simulation with event location,
+  the judge of the reduction, and the sweeps comparing the two.
 """
 
 from __future__ import annotations

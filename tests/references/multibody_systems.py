@@ -1,6 +1,6 @@
 """Reference systems and the SciPy full simulation for the multibody tests.
 
-The two systems are built here independently of ``impactsym.multibody.simulation``, the
+The two systems are built here independently of ``impactsym.multibody.examples``, the
 way users write them: the falling bar with ``sympy.physics.mechanics.System``, the
 double pendulum with ``KanesMethod``. The full nonlinear penalty simulation uses
 ``scipy.integrate.solve_ivp`` (DOP853) with terminal events.
