@@ -1,4 +1,4 @@
-"""Benchmark of the multibody reduction (issue: paper section 3).
+"""Benchmark of the multibody reduction (paper section 3).
 
 Prints, measured in one run:
   * reduce_contact for the double pendulum (KanesMethod model and matrices);
@@ -22,7 +22,7 @@ from references.multibody_systems import FullSimulation, pendulum_kane
 
 from impactsym.multibody import reduce_contact
 from impactsym.multibody.design import penalty_for_targets, stick_damping
-from impactsym.multibody.simulation import double_pendulum
+from impactsym.multibody.examples import double_pendulum
 
 
 def timed(fn, *args, **kwargs):

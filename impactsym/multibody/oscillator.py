@@ -7,7 +7,6 @@ effective mass, damping, stiffness and load of the normal motion
 its contact time, restitution and stick/release verdict (section 2). Only ``d~ = d +
 delta_d`` and ``c~ = k + delta_c`` depend on the penalty ``k, d``, so the object keeps
 ``delta_d``, ``delta_c`` and sweeps ``(k, d)`` without a new reduction.
-
 """
 
 from __future__ import annotations
@@ -37,7 +36,7 @@ Scalar = Any  # a float, a NumPy array (vectorized k, d) or a SymPy expression
 class ReducedContact:
     """The scalar contact oscillator ``m~ z'' + d~ z' + c~ z = F_n`` of a multibody contact.
 
-    Built by :func:`reduce_contact`. Attributes are Python floats for numeric input,
+    Built by :func:`~impactsym.multibody.reduction.reduce_contact`. Attributes are Python floats for numeric input,
     NumPy arrays where ``k`` or ``d`` are arrays, and SymPy expressions when symbols
     remain; :meth:`subs` turns a symbolic reduction into a numeric one.
 
