@@ -155,3 +155,12 @@ def test_penalty_arrays_of_different_lengths_are_named():
 def test_penalties_are_validated(k, d, pattern):
     with pytest.raises(ValueError, match=pattern):
         hostile_particle(k=k, d=d)
+
+
+def test_reduced_contact_is_importable_from_its_former_homes():
+    import impactsym.multibody
+    from impactsym.multibody import oscillator, reduction
+
+    assert reduction.ReducedContact is oscillator.ReducedContact
+    assert impactsym.multibody.ReducedContact is oscillator.ReducedContact
+    assert isinstance(hostile_particle(), oscillator.ReducedContact)
