@@ -36,9 +36,10 @@ Scalar = Any  # a float, a NumPy array (vectorized k, d) or a SymPy expression
 class ReducedContact:
     """The scalar contact oscillator ``m~ z'' + d~ z' + c~ z = F_n`` of a multibody contact.
 
-    Built by :func:`~impactsym.multibody.reduction.reduce_contact`. Attributes are Python floats for numeric input,
-    NumPy arrays where ``k`` or ``d`` are arrays, and SymPy expressions when symbols
-    remain; :meth:`subs` turns a symbolic reduction into a numeric one.
+    Built by :func:`~impactsym.multibody.reduction.reduce_contact`. Attributes are
+    Python floats for numeric input, NumPy arrays where ``k`` or ``d`` are arrays, and
+    SymPy expressions when symbols remain; :meth:`subs` turns a symbolic reduction into a
+    numeric one.
 
     Attributes
     ----------
