@@ -45,13 +45,16 @@ def test_quick_reproduction_writes_figures_tables_and_formulas(tmp_path):
     assert math.isinf(float(first["D_star_force"]))
 
 
-@pytest.mark.parametrize("plot", [plot_contact_time_map, plot_restitution_map])
-def test_maps_at_full_reproduce_resolution_are_small_vector_files(tmp_path, plot):
+@pytest.mark.parametrize("quantity", ["contact_time", "restitution"])
+def test_maps_at_full_reproduce_resolution_are_small_vector_files(tmp_path, quantity):
     # 400 x 400 cells, as `impactsym reproduce` draws them: the cells are rasterized, the
     # PDF stays under 1 MB (5.8 MB as vector quads) and keeps its text as text
-    paths = {
-        p.suffix: p for p in save_figure(plot(condition="force", n_points=400), tmp_path, "map")
-    }
+    D, f, tau_c, e = results.map_grid(condition="force", n_points=400)
+    if quantity == "contact_time":
+        ax = plot_contact_time_map(D, f, tau_c, condition="force")
+    else:
+        ax = plot_restitution_map(D, f, e, sticks=tau_c == math.inf, condition="force")
+    paths = {p.suffix: p for p in save_figure(ax, tmp_path, "map")}
     pdf, png = paths[".pdf"], paths[".png"]
     assert pdf.stat().st_size < MEGABYTE
     assert b"/Subtype /Image" in pdf.read_bytes()
