@@ -8,7 +8,8 @@ notebooks and papers. Map cells are rasterized in vector output, so PDFs stay sm
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Sequence
+from typing import Any
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -18,10 +19,10 @@ from matplotlib.colors import ListedColormap, LogNorm
 from impactsym.plotting.contact import COLORS, LABELS
 from impactsym.validation import check_condition
 
-if TYPE_CHECKING:
-    from collections.abc import Sequence
-
-    from impactsym.contact.bounce import BounceMap, BounceSequence
+#: A :class:`~impactsym.contact.bounce.BounceSequence` or
+#: :class:`~impactsym.contact.bounce.BounceMap`; plotting never imports the compute
+#: modules, not even for type annotations (the import graph stays one way).
+BounceSequence = BounceMap = Any
 
 QUANTITIES = {
     "n_contacts": "number of contacts $N$ (sticking one included)",

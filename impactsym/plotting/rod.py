@@ -10,7 +10,7 @@ and papers. Map cells are rasterized in vector output.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import Any
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -19,9 +19,10 @@ from matplotlib.colors import LogNorm
 
 from impactsym.validation import check_condition
 
-if TYPE_CHECKING:
-    from impactsym.rod.contact_times import ContactTimeMap
-    from impactsym.rod.history import TimeHistory
+#: :class:`~impactsym.rod.contact_times.ContactTimeMap` and
+#: :class:`~impactsym.rod.history.TimeHistory`; plotting never imports the compute
+#: modules, not even for type annotations (the import graph stays one way).
+ContactTimeMap = TimeHistory = Any
 
 #: quantity -> (attribute of TimeHistory, its contact-time attribute, axis label)
 QUANTITIES = {

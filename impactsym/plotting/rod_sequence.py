@@ -7,14 +7,15 @@ axes and returns it.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import Any
 
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
 
-if TYPE_CHECKING:
-    from impactsym.rod.continuation import RodImpactSequence
+#: A rod impact sequence (:func:`impactsym.rod.impact_sequence`); plotting never imports
+#: the compute modules, not even for type annotations (the import graph stays one way).
+RodImpactSequence = Any
 
 
 def _horizon(seq: RodImpactSequence) -> float:

@@ -18,8 +18,6 @@ import numpy as np
 from impactsym.rod.api import contact_force, displacement
 from impactsym.rod.contact_times import contact_time
 
-__all__ = ["TimeHistory", "time_history"]
-
 
 @dataclass(frozen=True)
 class TimeHistory:
@@ -56,11 +54,11 @@ class TimeHistory:
         return plot_time_history([self], quantity, ax=ax)
 
 
-def sample_times(t_max: float, n_points: int) -> np.ndarray:
+def _sample_times(t_max: float, n_points: int) -> np.ndarray:
     """``n_points`` samples on ``[0, t_max)`` plus the left limits just before the
     reflections ``t = 2, 4, ...`` (sharp jumps of a rigid contact).
 
-    >>> sample_times(4.0, 4).tolist()
+    >>> _sample_times(4.0, 4).tolist()
     [0.0, 1.0, 1.999999999999, 2.0, 3.0, 3.999999999999]
     """
     t = np.linspace(0.0, t_max, n_points, endpoint=False)
@@ -94,7 +92,7 @@ def time_history(
     >>> h.t[0], h.t_max, bool(h.contact_force[0] == 1.0)
     (np.float64(0.0), 4.0, True)
     """
-    t = sample_times(t_max, n_points)
+    t = _sample_times(t_max, n_points)
     return TimeHistory(
         alpha=float(alpha),
         f=float(f),
