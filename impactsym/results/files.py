@@ -22,12 +22,14 @@ from impactsym._files import (
 )
 
 __all__ = [
+    "DPI",
     "MARKER",
     "MARKER_HEADER",
     "PARTIAL",
     "PARTIAL_NAME",
     "atomic_path",
     "is_partial",
+    "rasterize_meshes",
     "recording",
     "save_figure",
     "write_csv",
@@ -36,21 +38,46 @@ __all__ = [
 ]
 
 
+#: Resolution of PNG figures and of the rasterized meshes inside PDF figures.
+DPI = 150
+
+
+def rasterize_meshes(fig) -> None:
+    """Mark every mesh of ``fig`` (``pcolormesh``, ``pcolor``, filled contours) rasterized.
+
+    In vector output a mesh is one path per cell (a 400 x 400 map is several MB of PDF);
+    rasterized it is one image at :data:`DPI`, while axes, text and lines stay vector.
+    """
+    from matplotlib.collections import PolyQuadMesh, QuadMesh
+    from matplotlib.contour import ContourSet
+
+    for ax in fig.axes:
+        for artist in ax.collections:
+            if isinstance(artist, QuadMesh | PolyQuadMesh) or (
+                isinstance(artist, ContourSet) and artist.filled
+            ):
+                artist.set_rasterized(True)
+
+
 def save_figure(ax, out: Path, stem: str) -> list[Path]:
-    """Save the figure of ``ax`` as PNG and PDF (atomically), close it, return both paths."""
+    """Save the figure of ``ax`` as PNG and PDF (atomically), close it, return both paths.
+
+    Meshes are rasterized in the PDF (:func:`rasterize_meshes`), which keeps every map
+    under 1 MB; a fixed creation date keeps the PDF byte-for-byte reproducible.
+    """
     import matplotlib.pyplot as plt
 
     fig = ax.figure
     try:
         fig.tight_layout()
+        rasterize_meshes(fig)
         paths = [out / f"{stem}.png", out / f"{stem}.pdf"]
         for path in paths:
             with atomic_path(path) as tmp:
-                # a fixed creation date keeps the PDF byte-for-byte reproducible
                 fig.savefig(
                     tmp,
                     format=path.suffix[1:],
-                    dpi=150,
+                    dpi=DPI,
                     metadata={"CreationDate": None} if path.suffix == ".pdf" else None,
                 )
     finally:
