@@ -49,8 +49,10 @@ def plot_contact_surface(
     check_condition(condition)
     if ax is None:
         ax = plt.figure(figsize=(7, 5.5)).add_subplot(projection="3d")
-    ax.plot_surface(D, f, first, color="tab:blue", alpha=0.8, linewidth=0, label="contact time")
-    ax.plot_surface(D, f, second, color="tab:orange", alpha=0.6, linewidth=0, label="second root")
+    # the sheets are meshes: rasterized in vector output, axes and labels stay vector
+    sheets = {"linewidth": 0, "rasterized": True}
+    ax.plot_surface(D, f, first, color="tab:blue", alpha=0.8, label="contact time", **sheets)
+    ax.plot_surface(D, f, second, color="tab:orange", alpha=0.6, label="second root", **sheets)
     ax.plot(*fold, color="k", lw=2.0, label="fold (ridge)")
     ax.set_xlabel("damping $D$")
     ax.set_ylabel("pressing force $f$")
