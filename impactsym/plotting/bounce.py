@@ -19,11 +19,6 @@ from matplotlib.colors import ListedColormap, LogNorm
 from impactsym.plotting.contact import COLORS, LABELS
 from impactsym.validation import check_condition
 
-#: A :class:`~impactsym.contact.bounce.BounceSequence` or
-#: :class:`~impactsym.contact.bounce.BounceMap`; plotting never imports the compute
-#: modules, not even for type annotations (the import graph stays one way).
-BounceSequence = BounceMap = Any
-
 QUANTITIES = {
     "n_contacts": "number of contacts $N$ (sticking one included)",
     "time_to_rest": r"time to rest $\omega_0 t_\mathrm{rest}$",
@@ -31,7 +26,7 @@ QUANTITIES = {
 
 
 def plot_bounce_sequence(
-    seq: BounceSequence,
+    seq: Any,
     *,
     ax: Axes | None = None,
     t_max: float | None = None,
@@ -77,7 +72,7 @@ def plot_bounce_sequence(
     return ax
 
 
-def _horizon(sequences: Sequence[BounceSequence], t_max: float | None) -> float:
+def _horizon(sequences: Sequence[Any], t_max: float | None) -> float:
     """``t_max``, or a little beyond the last contact start of ``sequences``."""
     if t_max is not None:
         return t_max
@@ -86,7 +81,7 @@ def _horizon(sequences: Sequence[BounceSequence], t_max: float | None) -> float:
 
 
 def plot_bounce_sequences(
-    sequences: Sequence[BounceSequence], *, axes: Sequence[Axes] | None = None
+    sequences: Sequence[Any], *, axes: Sequence[Axes] | None = None
 ) -> Sequence[Axes]:
     """Sequences side by side (one axes each), on a common time axis.
 
@@ -106,7 +101,7 @@ def plot_bounce_sequences(
 
 
 def plot_bounce_map(
-    result: BounceMap,
+    result: Any,
     *,
     quantity: str = "n_contacts",
     boundary: tuple[np.ndarray, np.ndarray] | None = None,

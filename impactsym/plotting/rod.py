@@ -19,11 +19,6 @@ from matplotlib.colors import LogNorm
 
 from impactsym.validation import check_condition
 
-#: :class:`~impactsym.rod.contact_times.ContactTimeMap` and
-#: :class:`~impactsym.rod.history.TimeHistory`; plotting never imports the compute
-#: modules, not even for type annotations (the import graph stays one way).
-ContactTimeMap = TimeHistory = Any
-
 #: quantity -> (attribute of TimeHistory, its contact-time attribute, axis label)
 QUANTITIES = {
     "y": (
@@ -36,7 +31,7 @@ QUANTITIES = {
 
 
 def plot_time_history(
-    histories: Sequence[TimeHistory], quantity: str = "N", *, ax: Axes | None = None
+    histories: Sequence[Any], quantity: str = "N", *, ax: Axes | None = None
 ) -> Axes:
     r"""Time history of :math:`y(t)` or :math:`N(t)` for a few :math:`(\alpha, f)`.
 
@@ -108,14 +103,14 @@ def _ordinal(k: int) -> str:
     return {1: "1st", 2: "2nd", 3: "3rd"}.get(k, f"{k}th")
 
 
-def _atlas_frame(study: ContactTimeMap, ax: Axes | None):
+def _atlas_frame(study: Any, ax: Axes | None):
     if ax is None:
         ax = plt.figure(figsize=(6, 4.5)).add_subplot()
     ae, fe = _pcolor_edges(study.alpha, True), _pcolor_edges(study.f, False)
     return ax, ae, fe
 
 
-def _shade_sticking(ax: Axes, study: ContactTimeMap, sticks: np.ndarray, color: str) -> None:
+def _shade_sticking(ax: Axes, study: Any, sticks: np.ndarray, color: str) -> None:
     """Grey shading (rasterized) and a smooth outline where the striker sticks."""
     if not sticks.any():
         return
@@ -129,7 +124,7 @@ def _shade_sticking(ax: Axes, study: ContactTimeMap, sticks: np.ndarray, color: 
         )
 
 
-def _mark_intervals(ax: Axes, study: ContactTimeMap, condition: str) -> None:
+def _mark_intervals(ax: Axes, study: Any, condition: str) -> None:
     """Boundaries between the regions whose first contact ends on the 1st, 2nd, ...
     reflection interval (white lines), each region labelled once."""
     interval = study.interval(condition=condition)
@@ -161,15 +156,15 @@ def _mark_intervals(ax: Axes, study: ContactTimeMap, condition: str) -> None:
 
 
 def plot_contact_time_atlas(
-    study: ContactTimeMap, *, condition: str = "force", ax: Axes | None = None
+    study: Any, *, condition: str = "force", ax: Axes | None = None
 ) -> Axes:
     r"""Contact time of one condition over the :math:`\alpha`-:math:`f` plane (an atlas).
 
     Colour: :math:`t_c` (rasterized mesh, so that PDFs stay small); black lines:
     smooth contours of :math:`t_c`; white lines and labels: the regions where the
     first contact ends on the 1st, 2nd, 3rd, ... reflection interval
-    (:meth:`ContactTimeMap.interval`); grey: the striker sticks (no sign change up
-    to ``study.t_max``).
+    (:meth:`~impactsym.rod.contact_times.ContactTimeMap.interval`); grey: the striker
+    sticks (no sign change up to ``study.t_max``).
 
     >>> from impactsym.rod import contact_time_map
     >>> ax = plot_contact_time_atlas(contact_time_map([0.5, 5.0], [0.0, 0.5]), condition="position")
@@ -203,7 +198,7 @@ def plot_contact_time_atlas(
     return ax
 
 
-def plot_contact_time_ratio(study: ContactTimeMap, *, ax: Axes | None = None) -> Axes:
+def plot_contact_time_ratio(study: Any, *, ax: Axes | None = None) -> Axes:
     r"""Ratio of the contact times, position over force condition.
 
     Near 1 (white) the two conditions agree (colours saturate at 1/4 and 4; black
@@ -236,12 +231,12 @@ def plot_contact_time_ratio(study: ContactTimeMap, *, ax: Axes | None = None) ->
     return ax
 
 
-def _stiffness(study: ContactTimeMap) -> str:
+def _stiffness(study: Any) -> str:
     """``", kappa = ..."`` for a finite contact stiffness, else nothing (rigid)."""
     return "" if np.isinf(study.kappa) else rf", $\kappa = {study.kappa:g}$"
 
 
-def plot_contact_time_atlases(study: ContactTimeMap, *, axes: Sequence[Axes] | None = None):
+def plot_contact_time_atlases(study: Any, *, axes: Sequence[Axes] | None = None):
     """The three atlases side by side: force, position, ratio. Returns the axes.
 
     >>> from impactsym.rod import contact_time_map
@@ -259,7 +254,7 @@ def plot_contact_time_atlases(study: ContactTimeMap, *, axes: Sequence[Axes] | N
 
 
 def plot_stiffness_comparison(
-    histories: Sequence[TimeHistory], quantity: str = "N", *, ax: Axes | None = None
+    histories: Sequence[Any], quantity: str = "N", *, ax: Axes | None = None
 ) -> Axes:
     r"""``y`` or ``N`` of one :math:`(\alpha, f)` for several contact stiffnesses
     :math:`\kappa` (one :class:`~impactsym.rod.history.TimeHistory` each; ``inf``: rigid).

@@ -13,18 +13,14 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
 
-#: A rod impact sequence (:func:`impactsym.rod.impact_sequence`); plotting never imports
-#: the compute modules, not even for type annotations (the import graph stays one way).
-RodImpactSequence = Any
 
-
-def _horizon(seq: RodImpactSequence) -> float:
+def _horizon(seq: Any) -> float:
     """The time up to which ``seq`` is known (``t_max``; ``t_end`` in older sequences)."""
     t_max = getattr(seq, "t_max", None)
     return float(seq.t_end if t_max is None else t_max)
 
 
-def plot_sequence(seq: RodImpactSequence, *, ax: Axes | None = None, n_points: int = 4001) -> Axes:
+def plot_sequence(seq: Any, *, ax: Axes | None = None, n_points: int = 4001) -> Axes:
     r"""Energy split over time with the contact intervals shaded.
 
     Striker kinetic energy :math:`\alpha y'^2/2`, rod energy (elastic + kinetic), the
@@ -60,9 +56,7 @@ def plot_sequence(seq: RodImpactSequence, *, ax: Axes | None = None, n_points: i
     return ax
 
 
-def plot_fixed_end_stress(
-    sequences: Sequence[RodImpactSequence], *, ax: Axes | None = None
-) -> Axes:
+def plot_fixed_end_stress(sequences: Sequence[Any], *, ax: Axes | None = None) -> Axes:
     r"""Largest compressive stress at the fixed end over :math:`\alpha`.
 
     One point per sequence (all of one ``f`` and horizon), against the light-striker
@@ -92,7 +86,7 @@ def plot_fixed_end_stress(
     return ax
 
 
-def plot_restitution(sequences: Sequence[RodImpactSequence], *, ax: Axes | None = None) -> Axes:
+def plot_restitution(sequences: Sequence[Any], *, ax: Axes | None = None) -> Axes:
     r"""Coefficient of restitution of Saint-Venant's problem (:math:`f = 0`) over
     :math:`\alpha`, one point per sequence, against the classical values: :math:`e = 1`
     of the rigid-body (massless-spring) theory and the single-contact light-striker value
