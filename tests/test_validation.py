@@ -127,3 +127,74 @@ def test_real_array_names_an_integer_beyond_the_float_range(value):
 def test_broadcast_names_every_argument():
     with pytest.raises(ValueError, match=r"^a \(shape \(2,\)\), b \(shape \(3,\)\) and c"):
         broadcast(a=np.zeros(2), b=np.zeros(3), c=np.zeros(4))
+
+
+# -- the gate's functions one by one ---------------------------------------------------------
+
+
+def test_check_condition_accepts_the_two_names_only():
+    from impactsym.validation import check_condition
+
+    assert check_condition("force") == "force"
+    assert check_condition("position") == "position"
+    for bad in ("Force", "velocity", "", None, 1):
+        with pytest.raises((ValueError, TypeError), match="condition"):
+            check_condition(bad)
+
+
+def test_real_array_bounds_name_the_first_offending_entry():
+    with pytest.raises(ValueError, match=r"^f must be >= 0, got -2\.0 \(at index \(1,\)"):
+        real_array("f", [1.0, -2.0, -3.0], lower=0.0)
+    with pytest.raises(ValueError, match=r"^alpha must be > 0, got 0\.0$"):
+        real_array("alpha", 0.0, lower=0.0, strict=True)
+    with pytest.raises(ValueError, match="^kappa must be"):
+        real_array("kappa", np.inf, lower=0.0, strict=True)
+    arr, scalar = real_array("kappa", np.inf, lower=0.0, strict=True, allow_inf=True)
+    assert scalar
+    assert arr == np.inf
+    arr, scalar = real_array("t", [[0, 1], [2, 3]])
+    assert not scalar
+    assert arr.dtype == np.float64
+    assert arr.shape == (2, 2)
+    with pytest.raises(ValueError, match="^t must be finite"):
+        real_array("t", [0.0, np.nan])
+
+
+def test_finish_gives_floats_for_scalars_and_float_arrays_otherwise():
+    from impactsym.validation import finish
+
+    assert type(finish(np.asarray(2), True)) is float
+    out = finish(np.arange(3), False)
+    assert out.dtype == np.float64
+    assert out.tolist() == [0.0, 1.0, 2.0]
+
+
+def test_reject_strings_names_where_the_string_hides():
+    from impactsym.validation import reject_strings
+
+    reject_strings("M", [[1, 2], (3, {4: 5.0})])  # numbers anywhere: fine
+    with pytest.raises(TypeError, match=r"at M\[1\]\[0\] key 'k'$"):
+        reject_strings("M", [1, [{"k": 2}]])
+    with pytest.raises(TypeError, match=r"at M\[0\]\[1\]$"):
+        reject_strings("M", np.array([[1, "x"]], dtype=object))
+
+
+def test_as_sympy_finite_refuses_infinities_inside_expressions():
+    y = sp.Symbol("y")
+    assert as_sympy("g", 2 * y + 1) == 2 * y + 1
+    with pytest.raises(ValueError, match="^g "):
+        as_sympy("g", y + sp.oo, finite=True)
+    with pytest.raises(ValueError, match=r"^M "):
+        as_sympy_matrix("M", [[1, sp.nan]], finite=True)
+    assert as_sympy_matrix("M", [1, 2]).shape == (2, 1)
+
+
+def test_inputs_named_adds_the_inputs_to_a_deep_failure():
+    from impactsym.validation import inputs_named
+
+    deep = r"^design\(k = <array of shape \(2,\)>, e = 0\.5\): x$"
+    with pytest.raises(ValueError, match=deep), inputs_named("design", k=np.ones(2), e=0.5):
+        raise ArithmeticError("x")
+    # not a numerical failure: passed through
+    with pytest.raises(KeyError), inputs_named("design", k=1.0):
+        raise KeyError("k")
