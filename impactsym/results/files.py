@@ -48,14 +48,18 @@ def rasterize_meshes(fig) -> None:
     In vector output a mesh is one path per cell (a 400 x 400 map is several MB of PDF);
     rasterized it is one image at :data:`DPI`, while axes, text and lines stay vector.
     """
-    from matplotlib.collections import PolyQuadMesh, QuadMesh
+    from matplotlib import collections
     from matplotlib.contour import ContourSet
 
+    # pcolor's PolyQuadMesh exists from Matplotlib 3.8 on
+    meshes = tuple(
+        kind
+        for kind in (collections.QuadMesh, getattr(collections, "PolyQuadMesh", None))
+        if kind is not None
+    )
     for ax in fig.axes:
         for artist in ax.collections:
-            if isinstance(artist, QuadMesh | PolyQuadMesh) or (
-                isinstance(artist, ContourSet) and artist.filled
-            ):
+            if isinstance(artist, meshes) or (isinstance(artist, ContourSet) and artist.filled):
                 artist.set_rasterized(True)
 
 
