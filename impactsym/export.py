@@ -17,6 +17,7 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
+from impactsym._files import write_text
 from impactsym.contact import derivation
 from impactsym.contact.derivation import NUMERIC_AUX, D, f, tau
 
@@ -295,8 +296,6 @@ def write_python_module(path: str | Path) -> Path:
     >>> path.read_text().count("def contact_function_")
     2
     """
-    from impactsym.results.files import write_text
-
     return write_text(path, python_module())
 
 
@@ -307,6 +306,4 @@ def write_latex_document(path: str | Path, n_terms: int = 3) -> Path:
     >>> write_latex_document(pathlib.Path(tempfile.mkdtemp()) / "f.tex").suffix
     '.tex'
     """
-    from impactsym.results.files import write_text
-
     return write_text(path, latex_document(n_terms))

@@ -5,6 +5,7 @@ from __future__ import annotations
 import hashlib
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -100,3 +101,32 @@ def test_mujoco_refuses_an_unreachable_target_with_exit_code_2(capsys):
     argv = ["mujoco", "--restitution", "0.1", "--speed", "1", "--gravity", "9.81"]
     assert main([*argv, "--solimp", "0.9", "0.9", "0.001", "0.5", "2"]) == 2
     assert "cannot be reached" in capsys.readouterr().err
+
+
+# -- hostile input --------------------------------------------------------------------------
+
+CODE = "__import__('os').system('touch PWNED')"
+
+
+def test_cli_latex_with_code_as_a_name_is_an_unknown_formula(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["latex", CODE]) == 2
+    assert "no formula named" in capsys.readouterr().err
+    assert not (tmp_path / "PWNED").exists()
+
+
+def test_cli_export_into_a_directory_fails_cleanly(tmp_path, capsys):
+    target = tmp_path / "a_directory"
+    target.mkdir()
+    (target / "keep.txt").write_text("mine")
+    assert main(["export", "python", str(target)]) == 2
+    assert capsys.readouterr().err.startswith("impactsym: error:")
+    assert (target / "keep.txt").read_text() == "mine"
+    assert sorted(p.name for p in Path(tmp_path).iterdir()) == ["a_directory"]
+
+
+def test_cli_export_writes_atomically(tmp_path):
+    target = tmp_path / "m.py"
+    assert main(["export", "python", str(target)]) == 0
+    assert [p.name for p in tmp_path.iterdir()] == ["m.py"]
+    assert "def boundary_force" in target.read_text()

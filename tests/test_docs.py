@@ -38,8 +38,7 @@ def documented_modules() -> set[str]:
 
 
 def package_modules() -> set[str]:
-    """Every public module of the package; former names (aliases of a moved module) and
-    private modules excluded."""
+    """Every public module of the package (private modules such as ``_files`` excluded)."""
     names = set()
     for path in (ROOT / "impactsym").rglob("*.py"):
         parts = path.relative_to(ROOT).with_suffix("").parts
@@ -48,8 +47,7 @@ def package_modules() -> set[str]:
         if any(part.startswith("_") for part in parts):
             continue
         name = ".".join(parts)
-        if importlib.import_module(name).__name__ == name:  # an alias resolves elsewhere
-            names.add(name)
+        names.add(name)
     return names
 
 

@@ -173,3 +173,66 @@ def test_latex_policy_skips_only_outside_ci(monkeypatch):
     monkeypatch.setenv("CI", "true")
     with pytest.raises(pytest.fail.Exception, match="CI is set"):
         require_latex()
+
+
+# -- the generated NumPy module refuses hostile input ----------------------------------
+
+GENERATED_PROBE = r"""
+import json, sys
+sys.modules["sympy"] = None
+sys.modules["impactsym"] = None
+sys.path.insert(0, sys.argv[1])
+import impactsym_numpy as m
+CODE = "__import__('os').system('touch PWNED')"
+calls = {
+    "nan D": lambda: m.boundary_force(float("nan"), 0.2),
+    "string f": lambda: m.boundary_position(0.5, CODE),
+    "negative tau": lambda: m.contact_function_force(-1.0, 0.5, 0.2),
+    "bool f": lambda: m.ridge_time_force(0.5, True),
+    "complex D": lambda: m.contact_function_position(1.0, 0.5j, 0.2),
+    "shapes": lambda: m.boundary_force([0.1, 0.2], [0.1, 0.2, 0.3]),
+    "huge D": lambda: m.boundary_force(1e100, 0.0),
+    "inf t": lambda: m.rod_displacement(float("inf"), 1.0, 0.0),
+    "zero alpha": lambda: m.rod_contact_force(1.0, 0.0, 0.0),
+    "string alpha": lambda: m.rod_displacement(1.0, CODE, 0.0),
+    "list of strings": lambda: m.rod_displacement(["1"], 1.0, 0.0),
+}
+out = {}
+for label, call in calls.items():
+    try:
+        out[label] = ["no error", repr(call())]
+    except Exception as exc:
+        out[label] = [type(exc).__name__, str(exc)]
+out["fine"] = ["value", m.boundary_force(0.5, 0.2)]
+print(json.dumps(out))
+"""
+
+
+def test_generated_module_validates_its_inputs_in_a_clean_interpreter(tmp_path):
+    (tmp_path / "impactsym_numpy.py").write_text(python_module())
+    run = subprocess.run(
+        [sys.executable, "-c", GENERATED_PROBE, str(tmp_path)],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=tmp_path,
+    )
+    got = json.loads(run.stdout)
+    expected = {
+        "nan D": ("ValueError", "D must be finite, got nan"),
+        "string f": ("TypeError", "f must be a real number or array, got"),
+        "negative tau": ("ValueError", "tau must be >= 0, got -1.0"),
+        "bool f": ("TypeError", "f must be a real number or array of real numbers"),
+        "complex D": ("TypeError", "D must be a real number or array of real numbers"),
+        "shapes": ("ValueError", "D (shape (2,)) and f (shape (3,)) cannot be broadcast"),
+        "huge D": ("ValueError", "D must be <= 1e+08"),
+        "inf t": ("ValueError", "t must be finite, got inf"),
+        "zero alpha": ("ValueError", "alpha must be > 0, got 0.0"),
+        "string alpha": ("TypeError", "alpha must be a real number or array"),
+        "list of strings": ("TypeError", "t must be a real number or array of real numbers"),
+    }
+    for label, (kind, start) in expected.items():
+        assert got[label][0] == kind, (label, got[label])
+        assert got[label][1].startswith(start), (label, got[label])
+    assert 0 < got["fine"][1] < 1
+    assert not (tmp_path / "PWNED").exists()

@@ -1,60 +1,77 @@
-"""The package's architecture: imports run one way and the kernels need no SymPy."""
+"""The package's architecture, drawn from every import (module and function level).
+
+Imports run one way: no circle between files; a module imports only its own floor or
+lower ones, with one exception, the ``.plot()`` method of a result object, which
+imports its figure from :mod:`impactsym.plotting` (and plotting, in turn, imports no
+compute module at all); no private name crosses a module boundary; no file is over
+600 lines; the kernels need no SymPy; options are keyword-only.
+"""
 
 from __future__ import annotations
 
 import ast
 import subprocess
 import sys
+from dataclasses import dataclass
+from functools import cache
 from pathlib import Path
 
 import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "impactsym"
+MAX_LINES = 600
 
-#: Floors from the ground up; a module may import (at module level) only its own floor
-#: or lower ones. Imports inside functions (``.plot()`` methods, lazy engines) are free.
+#: Floors from the ground up; a module may import only its own floor or lower ones. A
+#: prefix names a module and everything below it (``impactsym.rod.elastic`` covers
+#: ``rod/elastic.py`` as well as ``rod/elastic/taylor.py``); the longest prefix wins. A
+#: prefix that matches no file is allowed (a module yet to come), a file that no prefix
+#: matches is an error.
 FLOORS = [
-    ("impactsym._lazy", "impactsym.validation", "impactsym.numeric", "impactsym.symbolic"),
-    (
+    (  # ground: shared helpers, no physics
+        "impactsym._lazy",
+        "impactsym._files",
+        "impactsym.validation",
+        "impactsym.numeric",
+        "impactsym.symbolic",
+    ),
+    (  # derivations and kernels
         "impactsym.contact.derivation",
         "impactsym.contact.flight",
+        "impactsym.contact.kernel",
         "impactsym.rod.derivation",
         "impactsym.rod.kernel",
     ),
-    (
-        "impactsym.rod.elastic",
-        "impactsym.rod.elastic_table",
-        "impactsym.rod.elastic_taylor",
+    (  # the wings' solvers and public faces
+        "impactsym.contact.release",
         "impactsym.contact.api",
         "impactsym.contact.bounce",
+        "impactsym.rod.elastic",
+        "impactsym.rod.codegen",
+        "impactsym.rod.api",
+        "impactsym.rod.contact_times",
+        "impactsym.rod.history",
+        "impactsym.rod.sequence",
+        "impactsym.rod.sequence_rigid",
+        "impactsym.rod.sequence_elastic",
     ),
-    ("impactsym.rod.api", "impactsym.rod.contact_times", "impactsym.rod.codegen"),
-    (
-        "impactsym.rod.continuation",
-        "impactsym.rod.elastic_continuation",
-        "impactsym.multibody",
-        "impactsym.engines",
-    ),
-    ("impactsym.plotting", "impactsym.export", "impactsym.results"),
+    ("impactsym.multibody",),  # on top of the section-2 contact
+    ("impactsym.engines",),  # MuJoCo and LAMMPS, bridged to contact and multibody
+    ("impactsym.plotting", "impactsym.export"),  # presentation
+    ("impactsym.results",),
     ("impactsym.reproduce", "impactsym.cli", "impactsym.__main__"),
 ]
-ALIASES = {"oscillator", "laplace", "penalty_design", "penalty_simulation"}
-#: Subpackage ``__init__`` modules hold lazy names only: the ground floor.
-PACKAGES = {"impactsym.contact", "impactsym.rod"}
+#: The wings that compute; plotting imports none of them, at any level.
+COMPUTE = (
+    "impactsym.contact",
+    "impactsym.rod",
+    "impactsym.multibody",
+    "impactsym.engines",
+    "impactsym.numeric",
+    "impactsym.symbolic",
+)
 
-
-def floor_of(module: str) -> int:
-    if module in PACKAGES:
-        return 0
-    best = None
-    for level, prefixes in enumerate(FLOORS):
-        for prefix in prefixes:
-            matches = module == prefix or module.startswith(prefix + ".")
-            if matches and (best is None or len(prefix) > best[1]):
-                best = (level, len(prefix))
-    if best is None:
-        raise AssertionError(f"{module} has no floor in tests/test_layout.py")
-    return best[0]
+#: Subpackages whose ``__init__`` holds lazy names (or nothing): the ground floor.
+LAZY_PACKAGES = {*COMPUTE, "impactsym.plotting", "impactsym.results"}
 
 
 def module_name(path: Path) -> str:
@@ -62,34 +79,183 @@ def module_name(path: Path) -> str:
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
-def top_level_imports(path: Path) -> set[str]:
-    out = set()
-    for node in ast.parse(path.read_text()).body:  # module level only
-        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-            out.add(node.module)
-        elif isinstance(node, ast.Import):
-            out.update(alias.name for alias in node.names)
-    return {m for m in out if m.startswith("impactsym.")}
+@cache
+def modules() -> dict[str, Path]:
+    return {
+        module_name(p): p for p in sorted(PACKAGE.rglob("*.py")) if "__pycache__" not in p.parts
+    }
 
 
-def package_modules() -> list[Path]:
-    return [
-        p
-        for p in sorted(PACKAGE.rglob("*.py"))
-        if p.parent != PACKAGE or (p.stem not in ALIASES and p.stem != "__init__")
-    ]
+def is_package(module: str) -> bool:
+    path = modules().get(module)
+    return path is not None and path.name == "__init__.py"
+
+
+def floor_of(module: str) -> int | None:
+    """The floor of ``module``; subpackage ``__init__`` files (lazy names only) and the
+    package root are on the ground floor; ``None`` if no prefix matches."""
+    if module == "impactsym" or (is_package(module) and module in LAZY_PACKAGES):
+        return 0
+    best = None
+    for level, prefixes in enumerate(FLOORS):
+        for prefix in prefixes:
+            if (module == prefix or module.startswith(prefix + ".")) and (
+                best is None or len(prefix) > best[1]
+            ):
+                best = (level, len(prefix))
+    return None if best is None else best[0]
+
+
+def listed(items) -> str:
+    """The offending modules, one a line, for the assertion message."""
+    return "\n" + "\n".join(str(item) for item in items)
+
+
+@dataclass(frozen=True)
+class Import:
+    source: str  #: the importing module
+    target: str  #: the imported module of the package
+    names: tuple[str, ...]  #: names taken from ``target`` (empty: the module itself)
+    function: str | None  #: the enclosing function, ``None`` at module level
+    line: int
+
+    def __str__(self) -> str:
+        where = f" in {self.function}()" if self.function else ""
+        names = f" ({', '.join(self.names)})" if self.names else ""
+        return f"{self.source}:{self.line}{where} -> {self.target}{names}"
+
+
+def resolve(name: str) -> str | None:
+    """The package module ``name`` refers to (its longest existing prefix)."""
+    while name and name not in modules():
+        name = name.rpartition(".")[0]
+    return name or None
+
+
+def walk(node: ast.AST, function: str | None = None):
+    """Every import node under ``node`` with the name of its enclosing function."""
+    for child in ast.iter_child_nodes(node):
+        if isinstance(child, ast.Import | ast.ImportFrom):
+            yield child, function
+        inner = child.name if isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef) else None
+        yield from walk(child, inner or function)
+
+
+@cache
+def imports() -> tuple[Import, ...]:
+    """All imports between files of the package (also under ``if TYPE_CHECKING:``)."""
+    found = []
+    for source, path in modules().items():
+        for node, function in walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                targets = [(alias.name, ()) for alias in node.names]
+            else:
+                base = node.module or ""
+                if node.level:
+                    package = source if is_package(source) else source.rpartition(".")[0]
+                    for _ in range(node.level - 1):
+                        package = package.rpartition(".")[0]
+                    base = f"{package}.{base}" if base else package
+                targets = []
+                for alias in node.names:
+                    sub = f"{base}.{alias.name}"
+                    targets.append((sub, ()) if sub in modules() else (base, (alias.name,)))
+            for name, names in targets:
+                target = resolve(name)
+                if target is not None and target != source:
+                    found.append(Import(source, target, names, function, node.lineno))
+    return tuple(found)
+
+
+def test_every_module_has_a_floor():
+    homeless = [m for m in modules() if floor_of(m) is None]
+    assert homeless == [], listed(homeless)
+
+
+def test_no_import_circles():
+    graph: dict[str, set[str]] = {m: set() for m in modules()}
+    for edge in imports():
+        graph[edge.source].add(edge.target)
+    # Tarjan's strongly connected components; a component of two or more is a circle
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    circles = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in sorted(graph[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                circles.append(" <-> ".join(sorted(component)))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    assert circles == [], listed(circles)
 
 
 def test_imports_never_run_up_a_floor():
     upward = []
-    for path in package_modules():
-        name = module_name(path)
-        if name == "impactsym":
-            continue
-        for target in top_level_imports(path):
-            if floor_of(target) > floor_of(name):
-                upward.append(f"{name} -> {target}")
-    assert upward == []
+    for edge in imports():
+        src, dst = floor_of(edge.source), floor_of(edge.target)
+        if src is None or dst is None or dst <= src:
+            continue  # a module without a floor is reported by its own test
+        if edge.function == "plot" and edge.target.startswith("impactsym.plotting."):
+            continue  # the one allowed upward call: a result object's .plot()
+        upward.append(str(edge))
+    assert upward == [], listed(upward)
+
+
+def test_plotting_imports_no_compute_module():
+    computing = [
+        str(edge)
+        for edge in imports()
+        if edge.source.startswith("impactsym.plotting")
+        and any(edge.target == w or edge.target.startswith(w + ".") for w in COMPUTE)
+    ]
+    assert computing == [], listed(computing)
+
+
+def test_no_private_name_crosses_a_module_boundary():
+    private = [
+        str(edge)
+        for edge in imports()
+        for name in edge.names
+        if name.startswith("_") and not name.startswith("__")
+    ]
+    assert private == [], listed(private)
+
+
+def test_no_file_is_over_600_lines():
+    long = {
+        name: n
+        for name, path in modules().items()
+        if (n := len(path.read_text(encoding="utf-8").splitlines())) > MAX_LINES
+    }
+    assert long == {}, listed(f"{name}: {n} lines" for name, n in long.items())
+
+
+def test_the_layout_check_sees_function_level_imports_and_names_them():
+    # the check itself: it sees .plot()'s function-level import, and its floors take
+    # the subpackages of the target layout
+    edges = [str(e) for e in imports() if e.source == "impactsym.contact.bounce"]
+    assert any(" in plot() -> impactsym.plotting.bounce" in e for e in edges), edges
+    assert floor_of("impactsym.rod.elastic.taylor") == floor_of("impactsym.rod.elastic")
+    assert floor_of("impactsym.engines.mujoco.model") == floor_of("impactsym.engines.lammps")
+    assert floor_of("impactsym.contact.kernel") < floor_of("impactsym.contact.api")
 
 
 def test_kernels_and_root_finders_import_without_sympy():
@@ -111,23 +277,6 @@ def test_kernels_and_root_finders_import_without_sympy():
     assert float(run.stdout) == pytest.approx(float(__import__("numpy").exp(-0.5)), rel=1e-14)
 
 
-@pytest.mark.parametrize(
-    ("old", "new"),
-    [
-        ("oscillator", "contact.derivation"),
-        ("laplace", "symbolic.laplace"),
-        ("penalty_design", "multibody.design"),
-        ("penalty_simulation", "multibody.simulation"),
-    ],
-)
-def test_former_module_names_are_the_new_modules(old, new):
-    import importlib
-
-    assert importlib.import_module(f"impactsym.{old}") is importlib.import_module(
-        f"impactsym.{new}"
-    )
-
-
 #: Options are keyword-only everywhere (docs/vocabulary.md).
 OPTIONS = {"condition", "kappa", "t_max", "n_points", "ax", "axes"}
 #: An earlier contract: ReducedContact methods whose only argument is the condition.
@@ -140,8 +289,7 @@ def public_callables():
     import importlib
     import inspect
 
-    for path in package_modules():
-        name = module_name(path)
+    for name in modules():
         if name.endswith("__main__") or "._" in name:
             continue
         module = importlib.import_module(name)
@@ -165,4 +313,4 @@ def test_options_are_keyword_only_in_every_public_function():
             subject = qualname in SUBJECT
             if param.name in OPTIONS and param.kind is not param.KEYWORD_ONLY and not subject:
                 positional.append(f"{qualname}({param.name})")
-    assert positional == []
+    assert positional == [], listed(positional)

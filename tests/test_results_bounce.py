@@ -1,4 +1,4 @@
-"""The bounce-sequence step of ``impactsym reproduce`` and its figures."""
+"""The bounce-sequence step of ``impactsym reproduce`` (:mod:`impactsym.results.bounce`)."""
 
 from __future__ import annotations
 
@@ -6,11 +6,8 @@ import csv
 import math
 
 import matplotlib
-import numpy as np
-import pytest
 
 from impactsym.contact import bounce_sequence
-from impactsym.plotting.bounce import plot_bounce_map
 from impactsym.results import bounce as results
 
 matplotlib.use("Agg")
@@ -47,12 +44,3 @@ def test_quick_reproduction_writes_sequences_maps_and_tables(tmp_path):
     assert len(grid) == 25 * 21
     no_force = [r for r in grid if float(r["f"]) == 0 and 0 < float(r["D"]) < 1]
     assert all(r["n_force"] == "1" and math.isinf(float(r["rest_force"])) for r in no_force)
-
-
-def test_map_plot_refuses_what_it_cannot_show():
-    from impactsym.contact.bounce import bounce_map
-
-    with pytest.raises(ValueError, match="quantity"):
-        plot_bounce_map(bounce_map(np.ones((2, 2)), 0.1, condition="force"), quantity="speed")
-    with pytest.raises(ValueError, match="2-D"):
-        plot_bounce_map(bounce_map([0.1, 0.2], 0.1, condition="force"))

@@ -1,5 +1,4 @@
-"""The spring-damper step of ``impactsym reproduce`` (:mod:`impactsym.results.contact`)
-and the size of its figures (:mod:`impactsym.plotting.contact`)."""
+"""The spring-damper step of ``impactsym reproduce`` (:mod:`impactsym.results.contact`)."""
 
 from __future__ import annotations
 
@@ -7,11 +6,8 @@ import csv
 import math
 
 import matplotlib
-import pytest
 
-from impactsym.plotting.contact import plot_contact_time_map, plot_restitution_map
 from impactsym.results import contact as results
-from impactsym.results.files import save_figure
 
 matplotlib.use("Agg")
 
@@ -43,16 +39,3 @@ def test_quick_reproduction_writes_figures_tables_and_formulas(tmp_path):
     assert float(first["f"]) == 0.0
     assert float(first["D_star_position"]) == 1.0
     assert math.isinf(float(first["D_star_force"]))
-
-
-@pytest.mark.parametrize("plot", [plot_contact_time_map, plot_restitution_map])
-def test_maps_at_full_reproduce_resolution_are_small_vector_files(tmp_path, plot):
-    # 400 x 400 cells, as `impactsym reproduce` draws them: the cells are rasterized, the
-    # PDF stays under 1 MB (5.8 MB as vector quads) and keeps its text as text
-    paths = {
-        p.suffix: p for p in save_figure(plot(condition="force", n_points=400), tmp_path, "map")
-    }
-    pdf, png = paths[".pdf"], paths[".png"]
-    assert pdf.stat().st_size < MEGABYTE
-    assert b"/Subtype /Image" in pdf.read_bytes()
-    assert png.stat().st_size > 0

@@ -1,39 +1,10 @@
-"""The multibody step of ``impactsym reproduce`` (:mod:`impactsym.results.multibody`) and
-its figures (:mod:`impactsym.plotting.multibody`)."""
+"""The multibody step of ``impactsym reproduce`` (:mod:`impactsym.results.multibody`)."""
 
 from __future__ import annotations
 
 import json
 import subprocess
 import sys
-
-from impactsym.multibody.simulation import falling_bar
-
-
-def test_figures_return_their_axes():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from impactsym.multibody.simulation import agreement_sweep
-    from impactsym.plotting.multibody import plot_agreement, plot_convergence, plot_verdict_map
-
-    agreement = agreement_sweep(
-        falling_bar(),
-        omegas=(300.0,),
-        dampings=(0.1, 1.0),
-        forces=(0.2, 2.0),
-        steps=16,
-        tau_max=25.0,
-    )
-    for plot in (plot_agreement, plot_verdict_map):
-        fig, ax = plt.subplots()
-        assert plot(agreement, condition="force", ax=ax) is ax
-        plt.close(fig)
-    fig, ax = plt.subplots()
-    assert plot_convergence([1.0, 10.0], {"impulse": [0.1, 0.01]}, ax=ax) is ax
-    plt.close(fig)
 
 
 def test_reproduce_step_writes_its_files_without_scipy(tmp_path):

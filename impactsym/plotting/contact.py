@@ -1,70 +1,59 @@
 """Figures of the spring-damper contact (paper section 2, Fig. 1a and 1b, and maps).
 
-Every function takes an optional Matplotlib axes (3-D axes for the surface) and
-returns it, so figures compose in notebooks and papers.
+The functions draw arrays computed by the caller (:mod:`impactsym.contact`, or the
+grids of :mod:`impactsym.results.contact`); each takes an optional Matplotlib axes (3-D
+axes for the surface) and returns it, so figures compose in notebooks and papers. Map
+cells are rasterized in vector output (PDF, SVG): a 400 x 400 map is 5.8 MB as vector
+quads and well under 1 MB as an image, while axes, labels and lines stay vector.
 """
 
 from __future__ import annotations
+
+from collections.abc import Mapping
 
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
 
-from impactsym.contact import contact_surface, contact_time, restitution, stick_boundary
 from impactsym.validation import check_condition
 
 LABELS = {"position": "position condition", "force": "force condition"}
 COLORS = {"position": "tab:blue", "force": "tab:red"}
 
 
-def boundary_curve(
-    *, condition: str, f_max: float = 2.0, n_points: int = 400
-) -> tuple[np.ndarray, ...]:
-    """``(D*, f)`` along the stick boundary for ``0 < f <= f_max`` (log-spaced).
-
-    >>> d_star, f = boundary_curve(condition="position", f_max=1.0, n_points=3)
-    >>> f.tolist(), bool(d_star[0] > d_star[-1])
-    ([0.0001, 0.01, 1.0], True)
-    """
-    f = np.geomspace(f_max * 1e-4, f_max, n_points)
-    return stick_boundary(f, condition=condition), f
-
-
 def plot_contact_surface(
+    D: np.ndarray,
+    f: np.ndarray,
+    first: np.ndarray,
+    second: np.ndarray,
+    fold: tuple[np.ndarray, np.ndarray, np.ndarray],
     *,
     condition: str = "force",
     ax: Axes | None = None,
-    D_max: float = 1.5,
-    f_max: float = 1.0,
-    n_points: int = 60,
 ) -> Axes:
     r"""Paper's Fig. 1a: the implicit surface :math:`g(\tau, D, f) = 0` over the D-f plane.
 
-    Shows the lower sheet (contact time), the upper sheet (``g`` rising through zero
-    after its first minimum) and the fold between them, where
-    :math:`\partial g/\partial\tau = 0` and the surface turns over; beyond it the body
-    sticks and the surface has no points.
+    Draws the lower sheet ``first`` (contact time), the upper sheet ``second`` (``g``
+    rising through zero after its first minimum) over the grid ``D, f``, and the fold
+    ``(D, f, tau)`` between them, where :math:`\partial g/\partial\tau = 0` and the
+    surface turns over; beyond it the body sticks and the surface has no points
+    (:func:`impactsym.contact.contact_surface`; the grid of
+    :func:`impactsym.results.contact.surface_grid` ends exactly on the fold).
 
-    >>> ax = plot_contact_surface(condition="force", n_points=6)
+    >>> from impactsym.results.contact import surface_grid
+    >>> ax = plot_contact_surface(*surface_grid(condition="force", n_points=6))
     >>> ax.get_zlabel()
     '$\\tau$ with $g(\\tau, D, f) = 0$'
     """
     check_condition(condition)
     if ax is None:
         ax = plt.figure(figsize=(7, 5.5)).add_subplot(projection="3d")
-    # grid in (s, f) with D = s * min(D*(f), D_max): the sheets end exactly on the fold
-    n = n_points
-    f_line = np.linspace(f_max / n, f_max, n)
-    reach = np.minimum(stick_boundary(f_line, condition=condition), D_max)
-    s = np.linspace(0.0, 1.0 - 1e-9, n)[:, None]
-    D, f = s * reach, np.broadcast_to(f_line, (n, n))
-    first, second, _ = contact_surface(D, f, condition=condition)
-    ax.plot_surface(D, f, first, color="tab:blue", alpha=0.8, linewidth=0, label="contact time")
-    ax.plot_surface(D, f, second, color="tab:orange", alpha=0.6, linewidth=0, label="second root")
-    on_fold = reach < D_max
-    _, _, ridge = contact_surface(reach[on_fold], f_line[on_fold], condition=condition)
-    ax.plot(reach[on_fold], f_line[on_fold], ridge, color="k", lw=2.0, label="fold (ridge)")
+    # the sheets are meshes: rasterized in vector output, axes and labels stay vector
+    sheets = {"linewidth": 0, "rasterized": True}
+    ax.plot_surface(D, f, first, color="tab:blue", alpha=0.8, label="contact time", **sheets)
+    ax.plot_surface(D, f, second, color="tab:orange", alpha=0.6, label="second root", **sheets)
+    ax.plot(*fold, color="k", lw=2.0, label="fold (ridge)")
     ax.set_xlabel("damping $D$")
     ax.set_ylabel("pressing force $f$")
     ax.set_zlabel(r"$\tau$ with $g(\tau, D, f) = 0$")
@@ -75,32 +64,37 @@ def plot_contact_surface(
 
 
 def plot_stick_boundary(
-    *, ax: Axes | None = None, f_range: tuple[float, float] = (1e-3, 10.0), D_max: float = 2.5
+    f: np.ndarray,
+    boundaries: Mapping[str, np.ndarray],
+    *,
+    ax: Axes | None = None,
+    D_max: float = 2.5,
 ) -> Axes:
-    """Paper's Fig. 1b: stick/release boundaries of both conditions in the D-f plane.
+    """Paper's Fig. 1b: stick/release boundaries ``{condition: D*(f)}`` in the D-f plane.
 
     The pressing force is on a log axis: as ``f -> 0`` the position boundary tends to
     ``D* = 1`` and the force boundary grows without bound (like ``f**(-1/4) / 2``).
 
-    >>> ax = plot_stick_boundary()
+    >>> from impactsym.contact import stick_boundary
+    >>> f = np.geomspace(1e-3, 10.0, 50)
+    >>> ax = plot_stick_boundary(f, {c: stick_boundary(f, condition=c) for c in LABELS})
     >>> [line.get_label() for line in ax.get_lines()][:2]
     ['$D^*(f)$, position condition', '$D^*(f)$, force condition']
     """
     if ax is None:
         ax = plt.figure(figsize=(6, 4.5)).add_subplot()
-    f = np.geomspace(*f_range, 400)
-    for condition in ("position", "force"):
+    for condition, d_star in boundaries.items():
         ax.plot(
-            stick_boundary(f, condition=condition),
+            d_star,
             f,
-            color=COLORS[condition],
+            color=COLORS[check_condition(condition)],
             lw=2,
             label=f"$D^*(f)$, {LABELS[condition]}",
         )
     ax.axvline(1.0, color="0.6", lw=0.8, ls="--", label="critical damping $D = 1$")
     ax.set_yscale("log")
     ax.set_xlim(0, D_max)
-    ax.set_ylim(*f_range)
+    ax.set_ylim(float(np.min(f)), float(np.max(f)))
     ax.text(0.05, 0.08, "release", transform=ax.transAxes, fontsize=12)
     ax.text(0.6, 0.6, "stick", transform=ax.transAxes, fontsize=12)
     ax.set_xlabel("damping $D$")
@@ -111,29 +105,24 @@ def plot_stick_boundary(
 
 
 def _map(
-    quantity,
+    D: np.ndarray,
+    f: np.ndarray,
+    values: np.ndarray,
+    sticks: np.ndarray,
+    boundary: tuple[np.ndarray, np.ndarray] | None,
     label: str,
     title: str,
     condition: str,
     ax: Axes | None,
-    D_max: float,
-    f_max: float,
-    n_points: int,
 ) -> Axes:
-    """Color map of ``quantity(D, f, condition)`` over the D-f plane; grey where it sticks."""
+    """Color map of ``values`` over the D-f grid; grey where it ``sticks``, rasterized."""
     check_condition(condition)
     if ax is None:
         ax = plt.figure(figsize=(6, 4.5)).add_subplot()
-    D, f = np.meshgrid(np.linspace(0, D_max, n_points), np.linspace(0, f_max, n_points))
-    values = quantity(D, f, condition=condition)
-    stuck = np.isinf(contact_time(D, f, condition=condition))
-    # the cells are rasterized in vector output (PDF, SVG): a 400 x 400 map is 5.8 MB as
-    # vector quads and well under 1 MB as an image; axes, labels and the boundary line
-    # stay vector
     mesh = ax.pcolormesh(
         D,
         f,
-        np.ma.masked_where(stuck, values),
+        np.ma.masked_where(sticks, values),
         shading="auto",
         cmap="viridis",
         rasterized=True,
@@ -141,68 +130,80 @@ def _map(
     ax.pcolormesh(
         D,
         f,
-        np.ma.masked_where(~stuck, np.ones_like(values)),
+        np.ma.masked_where(~sticks, np.ones_like(values)),
         shading="auto",
         cmap=ListedColormap(["0.85"]),
         rasterized=True,
     )
-    d_star, f_line = boundary_curve(condition=condition, f_max=f_max)
-    ax.plot(d_star, f_line, color="k", lw=1.5, label="stick boundary")
-    ax.set_xlim(0, D_max)
-    ax.set_ylim(0, f_max)
+    if boundary is not None:
+        ax.plot(*boundary, color="k", lw=1.5, label="stick boundary")
+    ax.set_xlim(float(np.min(D)), float(np.max(D)))
+    ax.set_ylim(float(np.min(f)), float(np.max(f)))
     ax.figure.colorbar(mesh, ax=ax, label=label)
     ax.set_xlabel("damping $D$")
     ax.set_ylabel("pressing force $f$")
-    ax.legend(loc="upper right", title="grey: sticks")
+    ax.legend(handles=ax.get_lines(), loc="upper right", title="grey: sticks")
     ax.set_title(f"{title}, {LABELS[condition]}")
     return ax
 
 
 def plot_contact_time_map(
+    D: np.ndarray,
+    f: np.ndarray,
+    tau_c: np.ndarray,
     *,
     condition: str = "force",
+    boundary: tuple[np.ndarray, np.ndarray] | None = None,
     ax: Axes | None = None,
-    D_max: float = 1.5,
-    f_max: float = 1.0,
-    n_points: int = 300,
 ) -> Axes:
-    r"""Normalized contact time :math:`\tau_c(D, f)` over the D-f plane; grey: sticking.
+    r"""Normalized contact time :math:`\tau_c(D, f)` over a D-f grid; grey: sticking
+    (``tau_c = inf``); black line: ``boundary = (D*, f)`` if given.
 
-    >>> plot_contact_time_map(condition="position", n_points=8).get_title()
+    >>> from impactsym.results.contact import map_grid
+    >>> D, f, tau_c, _ = map_grid(condition="position", n_points=8)
+    >>> plot_contact_time_map(D, f, tau_c, condition="position").get_title()
     'Contact time, position condition'
     """
+    tau_c = np.asarray(tau_c, dtype=float)
     return _map(
-        contact_time,
+        D,
+        f,
+        tau_c,
+        np.isinf(tau_c),
+        boundary,
         r"contact time $\tau_c$",
         "Contact time",
         condition,
         ax,
-        D_max,
-        f_max,
-        n_points,
     )
 
 
 def plot_restitution_map(
+    D: np.ndarray,
+    f: np.ndarray,
+    e: np.ndarray,
     *,
+    sticks: np.ndarray,
     condition: str = "force",
+    boundary: tuple[np.ndarray, np.ndarray] | None = None,
     ax: Axes | None = None,
-    D_max: float = 1.5,
-    f_max: float = 1.0,
-    n_points: int = 300,
 ) -> Axes:
-    """Coefficient of restitution :math:`e(D, f)` over the D-f plane; grey: sticking.
+    """Coefficient of restitution :math:`e(D, f)` over a D-f grid; grey where it
+    ``sticks``; black line: ``boundary = (D*, f)`` if given.
 
-    >>> plot_restitution_map(condition="force", n_points=8).get_title()
+    >>> from impactsym.results.contact import map_grid
+    >>> D, f, tau_c, e = map_grid(condition="force", n_points=8)
+    >>> plot_restitution_map(D, f, e, sticks=np.isinf(tau_c)).get_title()
     'Coefficient of restitution, force condition'
     """
     return _map(
-        restitution,
+        D,
+        f,
+        np.asarray(e, dtype=float),
+        np.asarray(sticks, dtype=bool),
+        boundary,
         "restitution $e$",
         "Coefficient of restitution",
         condition,
         ax,
-        D_max,
-        f_max,
-        n_points,
     )

@@ -1,6 +1,8 @@
 """Figures of the multibody penalty-contact analysis (paper section 3).
 
-Every function takes an optional Matplotlib ``ax`` and returns it.
+The functions draw what :mod:`impactsym.multibody` computed (agreement sweeps,
+convergence studies, stick boundaries and iso-restitution curves of a design); each
+takes an optional Matplotlib ``ax`` and returns it.
 """
 
 from __future__ import annotations
@@ -92,13 +94,17 @@ def plot_agreement(agreement: Any, *, condition: str = "force", ax: Any = None) 
 
 
 def plot_verdict_map(
-    agreement: Any, *, condition: str = "force", projection: str = "impulse", ax: Any = None
+    agreement: Any,
+    *,
+    condition: str = "force",
+    projection: str = "impulse",
+    boundary: tuple[np.ndarray, np.ndarray] | None = None,
+    ax: Any = None,
 ) -> Any:
     """Sweep points in the ``(f, D)`` plane of the reduced model, marked by the verdict
-    of the full simulation, over the section-2 stick boundary ``D*(f)``."""
+    of the full simulation, over the section-2 stick boundary ``boundary = (D*, f)``
+    (:func:`impactsym.contact.stick_boundary` of ``condition``) if given."""
     check_condition(condition)
-    from impactsym.contact import stick_boundary
-
     ax = _axes(ax)
     D, f = agreement.D[projection], agreement.f[projection]
     stick_full = ~np.isfinite(agreement.t_full[condition])
@@ -122,14 +128,9 @@ def plot_verdict_map(
             color="C3",
             label=f"reduced verdict wrong ({wrong.sum()})",
         )
-    f_line = np.geomspace(min(f.min(), 1e-2), max(f.max(), 10.0), 200)
-    ax.plot(
-        f_line,
-        stick_boundary(f_line, condition=condition),
-        color="k",
-        lw=1.2,
-        label=r"section 2: $D^*(f)$",
-    )
+    if boundary is not None:
+        d_star, f_line = boundary
+        ax.plot(f_line, d_star, color="k", lw=1.2, label=r"section 2: $D^*(f)$")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_ylim(0.8 * D.min(), 1.25 * D.max())
@@ -171,32 +172,29 @@ def plot_convergence(
 
 
 def plot_design_region(
-    reduced: Any,
     k: Any,
+    boundaries: Mapping[str, Any],
     *,
     ax: Any = None,
-    conditions: Sequence[str] = ("position", "force"),
-    restitutions: Sequence[float] = (),
+    restitution_curves: Mapping[float, Any] | None = None,
     restitution_condition: str = "force",
     design: tuple[float, float] | None = None,
 ) -> Any:
     """Admissible penalty parameters of a reduced contact over the stiffnesses ``k``.
 
-    Draws the stick boundary ``d*(k)`` for each condition (release below, stick above),
-    optional iso-restitution curves ``d(k)`` under ``restitution_condition`` and a
-    design point.
+    Draws the stick boundaries ``{condition: d*(k)}``
+    (:func:`impactsym.multibody.design.stick_damping`; release below, stick above), the
+    iso-restitution curves ``{e: d(k)}`` under ``restitution_condition``
+    (:func:`impactsym.multibody.design.damping_for_restitution`) and a design point.
     """
-    from impactsym.multibody.design import damping_for_restitution, stick_damping
-
     check_condition(restitution_condition)
     ax = _axes(ax)
     k = np.asarray(k, dtype=float)
-    for style, condition in zip(("-", "--"), conditions, strict=False):
+    for style, (condition, d_star) in zip(("-", "--"), boundaries.items(), strict=False):
         check_condition(condition)
-        d_star = np.asarray(stick_damping(reduced, k, condition=condition), dtype=float)
+        d_star = np.asarray(d_star, dtype=float)
         ax.plot(k, d_star, color="k", ls=style, label=f"stick boundary ({condition})")
-    for i, e in enumerate(restitutions):
-        d_e = damping_for_restitution(reduced, k, e, condition=restitution_condition)
+    for i, (e, d_e) in enumerate((restitution_curves or {}).items()):
         ax.plot(k, d_e, color=f"C{i}", lw=0.9, label=f"$e = {e:g}$ ({restitution_condition})")
     if design is not None:
         ax.plot(*design, marker="*", ms=12, color="C3", ls="none", label="design")

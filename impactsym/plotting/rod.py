@@ -1,87 +1,84 @@
 """Figures of the rod impact (paper section 1): time histories and contact-time maps.
 
-Every function takes an optional Matplotlib axes (or a sequence of them) and returns
-it, so figures compose in notebooks and papers.
+The functions draw results computed by the caller
+(:class:`~impactsym.rod.history.TimeHistory`,
+:class:`~impactsym.rod.contact_times.ContactTimeMap`); each takes an optional
+Matplotlib axes (or a sequence of them) and returns it, so figures compose in notebooks
+and papers. Map cells are rasterized in vector output.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.colors import LogNorm
 
-from impactsym.rod.api import contact_force, displacement
-from impactsym.rod.contact_times import ContactTimeMap, contact_time
 from impactsym.validation import check_condition
 
+#: quantity -> (attribute of TimeHistory, its contact-time attribute, axis label)
 QUANTITIES = {
-    "y": (displacement, "position", r"striker displacement $y\,/\,(v_0 L/c)$"),
-    "N": (contact_force, "force", r"contact force $N\,/\,(E A v_0/c)$"),
+    "y": (
+        "displacement",
+        "contact_time_position",
+        r"striker displacement $y\,/\,(v_0 L/c)$",
+    ),
+    "N": ("contact_force", "contact_time_force", r"contact force $N\,/\,(E A v_0/c)$"),
 }
 
 
 def plot_time_history(
-    cases: Sequence[tuple[float, float]],
-    quantity: str = "N",
-    *,
-    t_max: float = 12.0,
-    kappa: float = np.inf,
-    ax: Axes | None = None,
-    n_points: int = 6001,
+    histories: Sequence[Any], quantity: str = "N", *, ax: Axes | None = None
 ) -> Axes:
     r"""Time history of :math:`y(t)` or :math:`N(t)` for a few :math:`(\alpha, f)`.
 
-    The persistent-contact solution (:func:`impactsym.rod.displacement`,
-    :func:`impactsym.rod.contact_force`); dotted vertical lines mark the reflection
-    times :math:`t = 2, 4, \dots` (a reflected wave returns to the struck end), and a
-    dot marks the first zero crossing (the contact time of the position condition
-    for ``y``, of the force condition for ``N``).
+    One line per :class:`~impactsym.rod.history.TimeHistory` (the persistent-contact
+    solution, :func:`impactsym.rod.history.time_history`); dotted vertical lines mark
+    the reflection times :math:`t = 2, 4, \dots` (a reflected wave returns to the
+    struck end), and a dot marks the first zero crossing (the contact time of the
+    position condition for ``y``, of the force condition for ``N``).
 
     Parameters
     ----------
-    cases
-        ``(alpha, f)`` pairs, one line each.
+    histories
+        One line each; the time axis ends at the largest ``t_max``.
     quantity
         ``"y"`` or ``"N"``.
-    t_max
-        End of the time axis.
-    kappa
-        Contact stiffness (``inf``: rigid).
     ax
         Axes to draw into (a new figure if omitted).
-    n_points
-        Time samples per line.
 
     Examples
     --------
-    >>> ax = plot_time_history([(1.0, 0.0)], "N", t_max=4.0, n_points=50)
+    >>> from impactsym.rod.history import time_history
+    >>> ax = plot_time_history([time_history(1.0, 0.0, t_max=4.0, n_points=50)], "N")
     >>> [float(x) for x in ax.get_xlim()]
     [0.0, 4.0]
     >>> plt.close(ax.figure)
     """
-    fn, condition, ax, t = _time_axes(quantity, ax, t_max, n_points)
-    for alpha, f in cases:
+    values, zero, ax = _time_axes(quantity, ax, max(h.t_max for h in histories))
+    for h in histories:
         (line,) = ax.plot(
-            t, fn(t, alpha, f, kappa=kappa), lw=1.3, label=rf"$\alpha={alpha:g},\ f={f:g}$"
+            h.t, getattr(h, values), lw=1.3, label=rf"$\alpha={h.alpha:g},\ f={h.f:g}$"
         )
-        tc = contact_time(alpha, f, condition=condition, kappa=kappa, t_max=t_max)
+        tc = getattr(h, zero)
         if np.isfinite(tc):
             ax.plot([tc], [0.0], "o", color=line.get_color(), ms=5)
+    kappa = histories[0].kappa
     stiffness = "rigid contact" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
     ax.set_title(f"Rod impact, persistent contact, {stiffness}; dots: first zero")
     ax.legend(fontsize="small", loc="best")
     return ax
 
 
-def _time_axes(quantity: str, ax: Axes | None, t_max: float, n_points: int):
-    """Time function and condition of ``quantity``, the axes framed for a time history
-    (labels, zero line, dotted reflection times), and the sample times."""
+def _time_axes(quantity: str, ax: Axes | None, t_max: float):
+    """Attribute names of ``quantity`` and its zero, and the axes framed for a time
+    history (labels, zero line, dotted reflection times)."""
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be 'y' or 'N', got {quantity!r}")
-    fn, condition, ylabel = QUANTITIES[quantity]
+    values, zero, ylabel = QUANTITIES[quantity]
     if ax is None:
         ax = plt.figure(figsize=(7, 4)).add_subplot()
     for k in range(2, int(t_max) + 1, 2):
@@ -90,13 +87,7 @@ def _time_axes(quantity: str, ax: Axes | None, t_max: float, n_points: int):
     ax.set_xlim(0, t_max)
     ax.set_xlabel(r"time $t\,/\,(L/c)$ (dotted: reflections return)")
     ax.set_ylabel(ylabel)
-    return fn, condition, ax, _times(t_max, n_points)
-
-
-def _times(t_max: float, n_points: int) -> np.ndarray:
-    """Samples on [0, t_max) plus the left limits at the reflections (sharp jumps)."""
-    t = np.linspace(0.0, t_max, n_points, endpoint=False)
-    return np.union1d(t, np.arange(2.0, t_max + 1e-9, 2.0) - 1e-12)
+    return values, zero, ax
 
 
 def _pcolor_edges(values: np.ndarray, log: bool) -> np.ndarray:
@@ -112,14 +103,14 @@ def _ordinal(k: int) -> str:
     return {1: "1st", 2: "2nd", 3: "3rd"}.get(k, f"{k}th")
 
 
-def _atlas_frame(study: ContactTimeMap, ax: Axes | None):
+def _atlas_frame(study: Any, ax: Axes | None):
     if ax is None:
         ax = plt.figure(figsize=(6, 4.5)).add_subplot()
     ae, fe = _pcolor_edges(study.alpha, True), _pcolor_edges(study.f, False)
     return ax, ae, fe
 
 
-def _shade_sticking(ax: Axes, study: ContactTimeMap, sticks: np.ndarray, color: str) -> None:
+def _shade_sticking(ax: Axes, study: Any, sticks: np.ndarray, color: str) -> None:
     """Grey shading (rasterized) and a smooth outline where the striker sticks."""
     if not sticks.any():
         return
@@ -133,7 +124,7 @@ def _shade_sticking(ax: Axes, study: ContactTimeMap, sticks: np.ndarray, color: 
         )
 
 
-def _mark_intervals(ax: Axes, study: ContactTimeMap, condition: str) -> None:
+def _mark_intervals(ax: Axes, study: Any, condition: str) -> None:
     """Boundaries between the regions whose first contact ends on the 1st, 2nd, ...
     reflection interval (white lines), each region labelled once."""
     interval = study.interval(condition=condition)
@@ -165,15 +156,15 @@ def _mark_intervals(ax: Axes, study: ContactTimeMap, condition: str) -> None:
 
 
 def plot_contact_time_atlas(
-    study: ContactTimeMap, *, condition: str = "force", ax: Axes | None = None
+    study: Any, *, condition: str = "force", ax: Axes | None = None
 ) -> Axes:
     r"""Contact time of one condition over the :math:`\alpha`-:math:`f` plane (an atlas).
 
     Colour: :math:`t_c` (rasterized mesh, so that PDFs stay small); black lines:
     smooth contours of :math:`t_c`; white lines and labels: the regions where the
     first contact ends on the 1st, 2nd, 3rd, ... reflection interval
-    (:meth:`ContactTimeMap.interval`); grey: the striker sticks (no sign change up
-    to ``study.t_max``).
+    (:meth:`~impactsym.rod.contact_times.ContactTimeMap.interval`); grey: the striker
+    sticks (no sign change up to ``study.t_max``).
 
     >>> from impactsym.rod import contact_time_map
     >>> ax = plot_contact_time_atlas(contact_time_map([0.5, 5.0], [0.0, 0.5]), condition="position")
@@ -207,7 +198,7 @@ def plot_contact_time_atlas(
     return ax
 
 
-def plot_contact_time_ratio(study: ContactTimeMap, *, ax: Axes | None = None) -> Axes:
+def plot_contact_time_ratio(study: Any, *, ax: Axes | None = None) -> Axes:
     r"""Ratio of the contact times, position over force condition.
 
     Near 1 (white) the two conditions agree (colours saturate at 1/4 and 4; black
@@ -240,12 +231,12 @@ def plot_contact_time_ratio(study: ContactTimeMap, *, ax: Axes | None = None) ->
     return ax
 
 
-def _stiffness(study: ContactTimeMap) -> str:
+def _stiffness(study: Any) -> str:
     """``", kappa = ..."`` for a finite contact stiffness, else nothing (rigid)."""
     return "" if np.isinf(study.kappa) else rf", $\kappa = {study.kappa:g}$"
 
 
-def plot_contact_time_atlases(study: ContactTimeMap, *, axes: Sequence[Axes] | None = None):
+def plot_contact_time_atlases(study: Any, *, axes: Sequence[Axes] | None = None):
     """The three atlases side by side: force, position, ratio. Returns the axes.
 
     >>> from impactsym.rod import contact_time_map
@@ -263,26 +254,23 @@ def plot_contact_time_atlases(study: ContactTimeMap, *, axes: Sequence[Axes] | N
 
 
 def plot_stiffness_comparison(
-    alpha: float,
-    f: float,
-    kappas: Sequence[float] = (10.0, 100.0, np.inf),
-    quantity: str = "N",
-    *,
-    t_max: float = 8.0,
-    ax: Axes | None = None,
-    n_points: int = 8001,
+    histories: Sequence[Any], quantity: str = "N", *, ax: Axes | None = None
 ) -> Axes:
-    r"""``y`` or ``N`` for several contact stiffnesses :math:`\kappa` (``inf``: rigid).
+    r"""``y`` or ``N`` of one :math:`(\alpha, f)` for several contact stiffnesses
+    :math:`\kappa` (one :class:`~impactsym.rod.history.TimeHistory` each; ``inf``: rigid).
 
-    >>> ax = plot_stiffness_comparison(1.0, 0.2, (50.0, np.inf), t_max=3.0, n_points=100)
+    >>> from impactsym.rod.history import time_history
+    >>> runs = [time_history(1.0, 0.2, kappa=k, t_max=3.0, n_points=100) for k in (50.0, np.inf)]
+    >>> ax = plot_stiffness_comparison(runs)
     >>> [line.get_label() for line in ax.lines if not line.get_label().startswith("_")]
     ['$\\kappa = 50$', 'rigid']
     >>> plt.close(ax.figure)
     """
-    fn, _, ax, t = _time_axes(quantity, ax, t_max, n_points)
-    for kappa in kappas:
-        label = "rigid" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
-        ax.plot(t, fn(t, alpha, f, kappa=kappa), lw=1.2, label=label)
-    ax.set_title(rf"Contact stiffness, $\alpha = {alpha:g}$, $f = {f:g}$")
+    values, _, ax = _time_axes(quantity, ax, max(h.t_max for h in histories))
+    for h in histories:
+        label = "rigid" if np.isinf(h.kappa) else rf"$\kappa = {h.kappa:g}$"
+        ax.plot(h.t, getattr(h, values), lw=1.2, label=label)
+    first = histories[0]
+    ax.set_title(rf"Contact stiffness, $\alpha = {first.alpha:g}$, $f = {first.f:g}$")
     ax.legend(fontsize="small")
     return ax

@@ -1,20 +1,26 @@
-"""Figures of the rod impact continued past separation (:mod:`impactsym.rod.continuation`).
+"""Figures of the rod impact continued past separation (:func:`impactsym.rod.impact_sequence`).
 
-Every function takes an optional Matplotlib axes and returns it.
+The functions draw sequences computed by the caller; each takes an optional Matplotlib
+axes and returns it.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
 
-from impactsym.rod.continuation import RodImpactSequence, impact_sequence
+
+def _horizon(seq: Any) -> float:
+    """The time up to which ``seq`` is known (``t_max``; ``t_end`` in older sequences)."""
+    t_max = getattr(seq, "t_max", None)
+    return float(seq.t_end if t_max is None else t_max)
 
 
-def plot_sequence(seq: RodImpactSequence, *, ax: Axes | None = None, n_points: int = 4001) -> Axes:
+def plot_sequence(seq: Any, *, ax: Axes | None = None, n_points: int = 4001) -> Axes:
     r"""Energy split over time with the contact intervals shaded.
 
     Striker kinetic energy :math:`\alpha y'^2/2`, rod energy (elastic + kinetic), the
@@ -23,13 +29,14 @@ def plot_sequence(seq: RodImpactSequence, *, ax: Axes | None = None, n_points: i
 
     Examples
     --------
+    >>> from impactsym.rod import impact_sequence
     >>> ax = plot_sequence(impact_sequence(1.0, 0.0, t_end=8.0), n_points=50)
     >>> len(ax.lines)
     3
     """
     if ax is None:
         ax = plt.figure(figsize=(8, 3.5)).add_subplot()
-    t = np.linspace(0.0, seq.t_end, n_points)[:-1]
+    t = np.linspace(0.0, _horizon(seq), n_points)[:-1]
     energy = seq.energy
     ax.plot(t, energy.striker(t), label=r"striker $\alpha y'^2/2$")
     ax.plot(t, energy.rod(t), label="rod (elastic + kinetic)")
@@ -49,30 +56,27 @@ def plot_sequence(seq: RodImpactSequence, *, ax: Axes | None = None, n_points: i
     return ax
 
 
-def plot_fixed_end_stress(
-    alpha: Sequence[float],
-    f: float = 0.0,
-    *,
-    t_end: float = 40.0,
-    ax: Axes | None = None,
-) -> Axes:
+def plot_fixed_end_stress(sequences: Sequence[Any], *, ax: Axes | None = None) -> Axes:
     r"""Largest compressive stress at the fixed end over :math:`\alpha`.
 
-    With the light-striker value :math:`2(1 + e^{-2/\alpha})` (the reflected front
-    meets the next one) and the rod as a massless spring, :math:`\sqrt{\alpha}`
-    (unit :math:`E v_0 / c`, the impact stress).
+    One point per sequence (all of one ``f`` and horizon), against the light-striker
+    value :math:`2(1 + e^{-2/\alpha})` (the reflected front meets the next one) and the
+    rod as a massless spring, :math:`\sqrt{\alpha}` (unit :math:`E v_0 / c`, the impact
+    stress).
 
     Examples
     --------
-    >>> ax = plot_fixed_end_stress([0.5, 2.0], t_end=6.0)
+    >>> from impactsym.rod import impact_sequence
+    >>> ax = plot_fixed_end_stress([impact_sequence(a, 0.0, t_end=6.0) for a in (0.5, 2.0)])
     >>> len(ax.lines)
     3
     """
     if ax is None:
         ax = plt.figure(figsize=(6, 4)).add_subplot()
-    alpha = np.asarray(alpha, dtype=float)
-    stress = [impact_sequence(a, f, t_end=t_end).max_fixed_end_stress for a in alpha]
-    ax.plot(alpha, stress, "o-", ms=3, label=rf"exact, $f = {f:g}$, $t \leq {t_end:g}$")
+    alpha = np.array([seq.alpha for seq in sequences], dtype=float)
+    stress = [seq.max_fixed_end_stress for seq in sequences]
+    f, t_max = sequences[0].f, _horizon(sequences[0])
+    ax.plot(alpha, stress, "o-", ms=3, label=rf"exact, $f = {f:g}$, $t \leq {t_max:g}$")
     ax.plot(alpha, 2 * (1 + np.exp(-2 / alpha)), ":", label=r"$2(1 + e^{-2/\alpha})$")
     ax.plot(alpha, np.sqrt(alpha), "--", label=r"massless spring $\sqrt{\alpha}$")
     ax.set_xscale("log")
@@ -82,25 +86,24 @@ def plot_fixed_end_stress(
     return ax
 
 
-def plot_restitution(
-    alpha: Sequence[float], *, t_end: float = 60.0, ax: Axes | None = None
-) -> Axes:
+def plot_restitution(sequences: Sequence[Any], *, ax: Axes | None = None) -> Axes:
     r"""Coefficient of restitution of Saint-Venant's problem (:math:`f = 0`) over
-    :math:`\alpha`, against the classical values: :math:`e = 1` of the rigid-body
-    (massless-spring) theory and the single-contact light-striker value
+    :math:`\alpha`, one point per sequence, against the classical values: :math:`e = 1`
+    of the rigid-body (massless-spring) theory and the single-contact light-striker value
     :math:`2 \exp(-1 - e^{-2/\alpha}/2)` (valid while one contact ends before
     :math:`t = 4`).
 
     Examples
     --------
-    >>> ax = plot_restitution([0.5, 2.0], t_end=20.0)
+    >>> from impactsym.rod import impact_sequence
+    >>> ax = plot_restitution([impact_sequence(a, 0.0, t_end=20.0) for a in (0.5, 2.0)])
     >>> len(ax.lines)
     3
     """
     if ax is None:
         ax = plt.figure(figsize=(6, 4)).add_subplot()
-    alpha = np.asarray(alpha, dtype=float)
-    e = [impact_sequence(a, 0.0, t_end=t_end).restitution for a in alpha]
+    alpha = np.array([seq.alpha for seq in sequences], dtype=float)
+    e = [seq.restitution for seq in sequences]
     ax.plot(alpha, e, "o-", ms=3, label="exact (all contacts)")
     light = 2 * np.exp(-1 - np.exp(-2 / alpha) / 2)
     ax.plot(alpha, np.where(alpha < 1.7, light, np.nan), ":", label="one contact, light striker")

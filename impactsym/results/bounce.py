@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from impactsym.contact.bounce import bounce_map, bounce_sequence
+from impactsym.results.contact import boundary_curve
 from impactsym.results.files import save_figure, write_csv
 
 CONDITIONS = ("position", "force")
@@ -41,10 +42,10 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     progress("bounce sequences, both conditions side by side")
     rows = []
     for i, (D, f) in enumerate(SEQUENCES):
-        axes = plots.plot_bounce_sequences(D, f)
+        sequences = [bounce_sequence(D, f, condition=c) for c in CONDITIONS]
+        axes = plots.plot_bounce_sequences(sequences)
         files += save_figure(axes[0], out, f"bounce_sequence_{i + 1}")
-        for condition in CONDITIONS:
-            seq = bounce_sequence(D, f, condition=condition)
+        for condition, seq in zip(CONDITIONS, sequences, strict=True):
             rows += [
                 (D, f, CONDITIONS.index(condition), n, *values)
                 for n, values in enumerate(
@@ -80,13 +81,14 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     for condition in CONDITIONS:
         progress(f"number of contacts and time to rest over D-f ({condition} condition)")
         result = bounce_map(D, f, condition=condition)
+        line = boundary_curve(condition=condition, f_max=float(f.max()))
         files += save_figure(
-            plots.plot_bounce_map(result, quantity="n_contacts"),
+            plots.plot_bounce_map(result, quantity="n_contacts", boundary=line),
             out,
             f"bounce_contacts_map_{condition}",
         )
         files += save_figure(
-            plots.plot_bounce_map(result, quantity="time_to_rest"),
+            plots.plot_bounce_map(result, quantity="time_to_rest", boundary=line),
             out,
             f"bounce_time_to_rest_map_{condition}",
         )

@@ -1,4 +1,9 @@
-"""Section-2 results for ``impactsym reproduce``: Fig. 1a/1b, maps, tables, formulas."""
+"""Section-2 results for ``impactsym reproduce``: Fig. 1a/1b, maps, tables, formulas.
+
+The grids the figures draw (:func:`boundary_curve`, :func:`surface_grid`,
+:func:`map_grid`) are computed here with :mod:`impactsym.contact`, so that
+:mod:`impactsym.plotting.contact` only draws; notebooks use them too.
+"""
 
 from __future__ import annotations
 
@@ -8,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from impactsym.contact import contact_time, restitution, stick_boundary
+from impactsym.contact import contact_surface, contact_time, restitution, stick_boundary
 from impactsym.contact.derivation import latex_formulas
 from impactsym.results.files import save_figure, write_csv, write_text
 
@@ -31,6 +36,62 @@ CAPTIONS = {
 }
 
 
+def boundary_curve(
+    *, condition: str, f_max: float = 2.0, n_points: int = 400
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(D*, f)`` along the stick boundary for ``0 < f <= f_max`` (log-spaced).
+
+    >>> d_star, f = boundary_curve(condition="position", f_max=1.0, n_points=3)
+    >>> f.tolist(), bool(d_star[0] > d_star[-1])
+    ([0.0001, 0.01, 1.0], True)
+    """
+    f = np.geomspace(f_max * 1e-4, f_max, n_points)
+    return stick_boundary(f, condition=condition), f
+
+
+def surface_grid(
+    *, condition: str, D_max: float = 1.5, f_max: float = 1.0, n_points: int = 60
+) -> tuple[np.ndarray, ...]:
+    r"""The sheets of :math:`g(\tau, D, f) = 0` on a grid that ends on the fold.
+
+    Returns ``D, f, first, second, (D_fold, f_fold, tau_fold)`` for
+    :func:`impactsym.plotting.contact.plot_contact_surface`: the grid is
+    ``D = s min(D*(f), D_max)``, ``0 <= s < 1``, so that both sheets
+    (:func:`impactsym.contact.contact_surface`) end exactly on the fold.
+
+    >>> D, f, first, second, fold = surface_grid(condition="force", n_points=4)
+    >>> D.shape, len(fold)
+    ((4, 4), 3)
+    """
+    n = n_points
+    f_line = np.linspace(f_max / n, f_max, n)
+    reach = np.minimum(stick_boundary(f_line, condition=condition), D_max)
+    s = np.linspace(0.0, 1.0 - 1e-9, n)[:, None]
+    D, f = s * reach, np.broadcast_to(f_line, (n, n))
+    first, second, _ = contact_surface(D, f, condition=condition)
+    on_fold = reach < D_max
+    _, _, ridge = contact_surface(reach[on_fold], f_line[on_fold], condition=condition)
+    return D, f, first, second, (reach[on_fold], f_line[on_fold], ridge)
+
+
+def map_grid(
+    *, condition: str, D_max: float = 1.5, f_max: float = 1.0, n_points: int = 300
+) -> tuple[np.ndarray, ...]:
+    """``D, f, tau_c, e`` on an ``n_points x n_points`` grid of ``[0, D_max] x [0, f_max]``.
+
+    >>> D, f, tau_c, e = map_grid(condition="force", n_points=3)
+    >>> tau_c.shape
+    (3, 3)
+    """
+    D, f = np.meshgrid(np.linspace(0, D_max, n_points), np.linspace(0, f_max, n_points))
+    return (
+        D,
+        f,
+        contact_time(D, f, condition=condition),
+        restitution(D, f, condition=condition),
+    )
+
+
 def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Path]:
     """Write the spring-damper figures, tables and formulas into ``out``."""
     from impactsym.plotting import contact as plots
@@ -39,19 +100,19 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     files: list[Path] = []
 
     progress("Fig. 1a: contact-time surface (force condition)")
-    files += save_figure(
-        plots.plot_contact_surface(condition="force", n_points=n_surface),
-        out,
-        "fig1a_contact_surface_force",
-    )
-    files += save_figure(
-        plots.plot_contact_surface(condition="position", n_points=n_surface),
-        out,
-        "fig1a_contact_surface_position",
-    )
+    for condition in ("force", "position"):
+        files += save_figure(
+            plots.plot_contact_surface(
+                *surface_grid(condition=condition, n_points=n_surface), condition=condition
+            ),
+            out,
+            f"fig1a_contact_surface_{condition}",
+        )
 
     progress("Fig. 1b: stick/release boundaries")
-    files += save_figure(plots.plot_stick_boundary(), out, "fig1b_stick_boundary")
+    f_line = np.geomspace(1e-3, 10.0, 400)
+    curves = {c: stick_boundary(f_line, condition=c) for c in CONDITIONS}
+    files += save_figure(plots.plot_stick_boundary(f_line, curves), out, "fig1b_stick_boundary")
     f = np.concatenate([[0.0], np.geomspace(1e-4, 10.0, n_boundary)])
     boundary = {c: stick_boundary(f, condition=c) for c in CONDITIONS}
     files.append(
@@ -64,13 +125,17 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
 
     for condition in CONDITIONS:
         progress(f"contact-time and restitution maps ({condition} condition)")
+        D, fg, tau_c, e = map_grid(condition=condition, n_points=n_map)
+        line = boundary_curve(condition=condition, f_max=1.0)
         files += save_figure(
-            plots.plot_contact_time_map(condition=condition, n_points=n_map),
+            plots.plot_contact_time_map(D, fg, tau_c, condition=condition, boundary=line),
             out,
             f"contact_time_map_{condition}",
         )
         files += save_figure(
-            plots.plot_restitution_map(condition=condition, n_points=n_map),
+            plots.plot_restitution_map(
+                D, fg, e, sticks=np.isinf(tau_c), condition=condition, boundary=line
+            ),
             out,
             f"restitution_map_{condition}",
         )

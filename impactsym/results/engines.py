@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from impactsym.engines import lammps, mujoco
+from impactsym.engines.survey import stick_map, textbook_restitution
 from impactsym.results.files import save_figure, write_csv, write_text
 
 CAPTIONS = {
@@ -42,11 +43,12 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
 
     files: list[Path] = []
     progress("textbook against exact restitution")
+    curve = np.linspace(0.02, 0.98, 30 if quick else 120)
     files += save_figure(
-        plots.plot_textbook_error(n_points=30 if quick else 120), out, "engines_textbook_error"
+        plots.plot_textbook_error(curve, textbook_restitution(curve)), out, "engines_textbook_error"
     )
     targets = np.linspace(0.05, 0.95, 19 if quick else 91)
-    achieved = plots.textbook_restitution(targets)
+    achieved = textbook_restitution(targets)
     files.append(
         write_csv(
             out / "engines_textbook_error.csv",
@@ -55,8 +57,13 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
         )
     )
     progress("MuJoCo stick map under gravity")
+    n = 40 if quick else 160
+    speed, dampratio = np.geomspace(0.01, 3.0, n), np.geomspace(0.05, 2.0, n)
+    verdict, restitution = stick_map(speed, dampratio, 9.81)
     files += save_figure(
-        plots.plot_stick_map(n_points=40 if quick else 160), out, "engines_mujoco_stick_map"
+        plots.plot_stick_map(speed, dampratio, verdict, restitution, gravity=9.81),
+        out,
+        "engines_mujoco_stick_map",
     )
     progress("worked designs")
     designs = {}

@@ -1,166 +1,87 @@
-"""File writing for ``impactsym reproduce`` and ``impactsym export``: atomic and recorded.
+"""File writing for ``impactsym reproduce``: figures (PNG and rasterized PDF) and CSV tables.
 
-Every file is written to a temporary name in its target directory (``.NAME.XXXX.partial``)
-and renamed with :func:`os.replace` once it is complete, so that an interrupted run
-never leaves a truncated file under a final name. A directory created by
-``impactsym reproduce`` holds the marker file :data:`MARKER`; each file ``reproduce``
-completes in it (inside :func:`recording`) is recorded there, and a later ``--force``
-run deletes only the recorded files and its own temporary files (see
-:mod:`impactsym.reproduce`). Files written by anything else (``impactsym export`` into
-the same directory, say) are never recorded.
+Everything goes through the atomic, recorded writer :mod:`impactsym._files`; its names
+(:data:`MARKER`, :func:`atomic_path`, :func:`recording`, :func:`write_text`, ...) are
+available here too, since ``reproduce`` and its result writers use them together.
 """
 
 from __future__ import annotations
 
-import contextlib
-import contextvars
 import csv
-import os
-import re
-import secrets
-from collections.abc import Iterator
 from pathlib import Path
 
-#: Name of the marker file ``impactsym reproduce`` keeps in its output directory.
-MARKER = ".impactsym-reproduce"
-#: First line of the marker file; the following lines name the files it wrote.
-MARKER_HEADER = "# written by impactsym reproduce; --force deletes only the files listed here"
-#: Suffix of temporary files (removed on failure or interrupt).
-PARTIAL = ".partial"
-#: The names :func:`atomic_path` gives its temporary files, ``.NAME.<pid>.<8 hex>.partial``.
-PARTIAL_NAME = re.compile(r"\..+\.[0-9]+\.[0-9a-f]{8}" + re.escape(PARTIAL), re.DOTALL)
-
-#: The directory whose marker records completed files (set by :func:`recording` only).
-_RECORDING: contextvars.ContextVar[Path | None] = contextvars.ContextVar(
-    "impactsym_recording", default=None
+from impactsym._files import (
+    MARKER,
+    MARKER_HEADER,
+    PARTIAL,
+    PARTIAL_NAME,
+    atomic_path,
+    is_partial,
+    recording,
+    write_text,
 )
 
+__all__ = [
+    "DPI",
+    "MARKER",
+    "MARKER_HEADER",
+    "PARTIAL",
+    "PARTIAL_NAME",
+    "atomic_path",
+    "is_partial",
+    "rasterize_meshes",
+    "recording",
+    "save_figure",
+    "write_csv",
+    "write_records",
+    "write_text",
+]
 
-def is_partial(path: str | Path) -> bool:
-    """Whether ``path`` is a temporary file :func:`atomic_path` left: a regular file (not
-    a symbolic link or directory) under a name of the form :data:`PARTIAL_NAME`.
 
-    >>> import tempfile
-    >>> folder = Path(tempfile.mkdtemp())
-    >>> ours, users = folder / ".a.txt.123.0123abcd.partial", folder / ".draft.partial"
-    >>> _ = ours.write_text(""), users.write_text("")
-    >>> is_partial(ours), is_partial(users)
-    (True, False)
+#: Resolution of PNG figures and of the rasterized meshes inside PDF figures.
+DPI = 150
+
+
+def rasterize_meshes(fig) -> None:
+    """Mark every mesh of ``fig`` (``pcolormesh``, ``pcolor``, filled contours) rasterized.
+
+    In vector output a mesh is one path per cell (a 400 x 400 map is several MB of PDF);
+    rasterized it is one image at :data:`DPI`, while axes, text and lines stay vector.
     """
-    path = Path(path)
-    return PARTIAL_NAME.fullmatch(path.name) is not None and (
-        path.is_file() and not path.is_symlink()
+    from matplotlib import collections
+    from matplotlib.contour import ContourSet
+
+    # pcolor's PolyQuadMesh exists from Matplotlib 3.8 on
+    meshes = tuple(
+        kind
+        for kind in (collections.QuadMesh, getattr(collections, "PolyQuadMesh", None))
+        if kind is not None
     )
-
-
-@contextlib.contextmanager
-def recording(out: str | Path) -> Iterator[None]:
-    """Within this block, files completed in directory ``out`` are recorded in its marker.
-
-    Only ``impactsym reproduce`` opens this block; files written elsewhere, or outside
-    the block, are never recorded (so ``--force`` never deletes them).
-
-    >>> import tempfile
-    >>> out = Path(tempfile.mkdtemp())
-    >>> _ = write_text(out / MARKER, MARKER_HEADER + "\\n")
-    >>> _ = write_text(out / "not_recorded.txt", "x")
-    >>> with recording(out):
-    ...     _ = write_text(out / "recorded.txt", "x")
-    >>> (out / MARKER).read_text().splitlines()[1:]
-    ['recorded.txt']
-    """
-    token = _RECORDING.set(Path(out).resolve())
-    try:
-        yield
-    finally:
-        _RECORDING.reset(token)
-
-
-@contextlib.contextmanager
-def atomic_path(path: str | Path) -> Iterator[Path]:
-    """Yield a temporary path next to ``path``; rename it to ``path`` when the block ends.
-
-    If the block raises (including ``KeyboardInterrupt``) the temporary file is
-    removed and ``path`` is left as it was.
-
-    >>> import tempfile
-    >>> target = Path(tempfile.mkdtemp()) / "a.txt"
-    >>> with atomic_path(target) as tmp:
-    ...     _ = tmp.write_text("done")
-    >>> target.read_text(), sorted(p.name for p in target.parent.iterdir())
-    ('done', ['a.txt'])
-    """
-    path = Path(path)
-    if not path.parent.is_dir():
-        raise FileNotFoundError(f"directory {str(path.parent)!r} does not exist")
-    # a fresh name, created by the writer itself so that it gets the usual permissions
-    tmp = path.parent / f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}{PARTIAL}"
-    try:
-        yield tmp
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    _record(path)
-
-
-def _record(path: Path) -> None:
-    """Add ``path`` to the marker of its directory if :func:`recording` that directory.
-
-    The marker is rewritten whole under a temporary name and renamed, so that it never
-    holds a torn line; a name that cannot be one line is not recorded (and so never
-    deleted).
-    """
-    directory = _RECORDING.get()
-    marker = path.parent / MARKER
-    if (
-        directory is None
-        or path.name == MARKER
-        or "\n" in path.name
-        or "\r" in path.name
-        or not marker.is_file()
-        or path.parent.resolve() != directory
-    ):
-        return
-    try:
-        line = path.name.encode("utf-8") + b"\n"
-    except UnicodeEncodeError:  # a name that is not text: never recorded, never deleted
-        return
-    old = marker.read_bytes()
-    if old and not old.endswith(b"\n"):
-        old += b"\n"
-    with atomic_path(marker) as tmp:
-        tmp.write_bytes(old + line)
-
-
-def write_text(path: str | Path, text: str) -> Path:
-    """Write ``text`` to ``path`` atomically; return ``path``.
-
-    >>> import tempfile
-    >>> write_text(Path(tempfile.mkdtemp()) / "b.txt", "x").read_text()
-    'x'
-    """
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        tmp.write_text(text, encoding="utf-8")
-    return path
+    for ax in fig.axes:
+        for artist in ax.collections:
+            if isinstance(artist, meshes) or (isinstance(artist, ContourSet) and artist.filled):
+                artist.set_rasterized(True)
 
 
 def save_figure(ax, out: Path, stem: str) -> list[Path]:
-    """Save the figure of ``ax`` as PNG and PDF (atomically), close it, return both paths."""
+    """Save the figure of ``ax`` as PNG and PDF (atomically), close it, return both paths.
+
+    Meshes are rasterized in the PDF (:func:`rasterize_meshes`), which keeps every map
+    under 1 MB; a fixed creation date keeps the PDF byte-for-byte reproducible.
+    """
     import matplotlib.pyplot as plt
 
     fig = ax.figure
     try:
         fig.tight_layout()
+        rasterize_meshes(fig)
         paths = [out / f"{stem}.png", out / f"{stem}.pdf"]
         for path in paths:
             with atomic_path(path) as tmp:
-                # a fixed creation date keeps the PDF byte-for-byte reproducible
                 fig.savefig(
                     tmp,
                     format=path.suffix[1:],
-                    dpi=150,
+                    dpi=DPI,
                     metadata={"CreationDate": None} if path.suffix == ".pdf" else None,
                 )
     finally:

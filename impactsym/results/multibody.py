@@ -50,6 +50,27 @@ CAPTIONS = {
 }
 
 
+def verdict_boundary(
+    agreement: Any, *, condition: str, projection: str = "impulse", n_points: int = 200
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(D*, f)``: the section-2 stick boundary over the pressing forces of
+    ``agreement`` under ``projection`` (at least ``1e-2 ... 10``), for
+    :func:`impactsym.plotting.multibody.plot_verdict_map`.
+
+    >>> agreement = agreement_sweep(
+    ...     falling_bar(), omegas=(300.0,), dampings=(0.1,), forces=(0.2,), steps=16
+    ... )
+    >>> d_star, f = verdict_boundary(agreement, condition="force", n_points=3)
+    >>> [round(float(v), 4) for v in f]
+    [0.01, 0.3162, 10.0]
+    """
+    from impactsym.contact import stick_boundary
+
+    f = np.asarray(agreement.f[projection], dtype=float)
+    f_line = np.geomspace(min(f.min(), 1e-2), max(f.max(), 10.0), n_points)
+    return stick_boundary(f_line, condition=condition), f_line
+
+
 def _design_example(example: MultibodyExample | None = None) -> dict[str, Any]:
     """The worked penalty design: the bar at 0.5 m/s should release with ``e = 0.5``
     after 2 ms under the force condition; the full simulation checks the design."""
@@ -80,6 +101,7 @@ def write(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
     """Write the multibody figures, tables and formulas into ``out``; return the files."""
     import matplotlib.pyplot as plt
 
+    from impactsym.multibody.design import damping_for_restitution, stick_damping
     from impactsym.plotting.multibody import (
         plot_agreement,
         plot_convergence,
@@ -118,7 +140,8 @@ def write(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
     fig, axes = plt.subplots(2, 2, figsize=(10, 9))
     for row, agreement in zip(axes, agreements, strict=True):
         for ax, condition in zip(row, ("position", "force"), strict=True):
-            plot_verdict_map(agreement, condition=condition, ax=ax)
+            line = verdict_boundary(agreement, condition=condition)
+            plot_verdict_map(agreement, condition=condition, boundary=line, ax=ax)
     save(fig, "multibody_verdict_map")
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
     for ax, (name, conv) in zip(axes, convergence.items(), strict=True):
@@ -135,12 +158,15 @@ def write(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
     bar = falling_bar().reduce(1.0, 0.0, design["speed"])
     fig, ax = plt.subplots(figsize=(6, 4.5))
     k_line = design["k"] * np.geomspace(0.1, 10.0, 5 if quick else 40)
+    conditions = ("force",) if quick else ("position", "force")
+    restitutions = () if quick else (0.2, design["target_restitution"], 0.8)
     plot_design_region(
-        bar,
         k_line,
+        {c: stick_damping(bar, k_line, condition=c) for c in conditions},
         ax=ax,
-        conditions=("force",) if quick else ("position", "force"),
-        restitutions=() if quick else (0.2, design["target_restitution"], 0.8),
+        restitution_curves={
+            e: damping_for_restitution(bar, k_line, e, condition="force") for e in restitutions
+        },
         design=(design["k"], design["d"]),
     )
     ax.set_title("falling bar at 0.5 m/s: admissible penalty parameters")

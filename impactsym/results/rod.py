@@ -53,19 +53,25 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
 
     from impactsym.plotting import rod as plots
     from impactsym.rod import RodImpact, contact_time_map, latex_formulas
+    from impactsym.rod.history import time_history
 
     files: list[Path] = []
 
     progress("time histories with reflection times")
     axes = plt.figure(figsize=(8, 7.5)).subplots(2, 1, sharex=True)
     n_points = 801 if quick else 6001
-    plots.plot_time_history(CASES, "y", ax=axes[0], n_points=n_points)
-    plots.plot_time_history(CASES, "N", ax=axes[1], n_points=n_points)
+    histories = [time_history(alpha, f, n_points=n_points) for alpha, f in CASES]
+    plots.plot_time_history(histories, "y", ax=axes[0])
+    plots.plot_time_history(histories, "N", ax=axes[1])
     axes[0].set_xlabel("")
     files += save_figure(axes[0], out, "rod_time_histories")
 
     progress("finite contact stiffness")
-    ax = plots.plot_stiffness_comparison(1.0, 0.2, (10.0, 100.0, np.inf), "N")
+    runs = [
+        time_history(1.0, 0.2, kappa=kappa, t_max=8.0, n_points=8001)
+        for kappa in (10.0, 100.0, np.inf)
+    ]
+    ax = plots.plot_stiffness_comparison(runs, "N")
     files += save_figure(ax, out, "rod_finite_stiffness")
 
     progress("contact-time atlases (force and position condition)")

@@ -1,0 +1,110 @@
+"""Sampled time histories of the rod impact, ready to draw (paper section 1).
+
+:func:`time_history` evaluates the persistent-contact solution :math:`y(t)`,
+:math:`N(t)` (:func:`impactsym.rod.displacement`, :func:`impactsym.rod.contact_force`)
+on a time grid that also holds the left limits at the reflections :math:`t = 2, 4,
+\\dots` (where :math:`N` jumps for a rigid contact), together with the contact times
+of both conditions (:func:`impactsym.rod.contact_time`), so that
+:mod:`impactsym.plotting.rod` only draws. See docs/physics.md#1-rod-impact-paper-1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from impactsym.rod.api import contact_force, displacement
+from impactsym.rod.contact_times import contact_time
+
+
+@dataclass(frozen=True)
+class TimeHistory:
+    """:math:`y(t)` and :math:`N(t)` of one :math:`(\\alpha, f, \\kappa)` on ``t``.
+
+    Attributes
+    ----------
+    alpha, f, kappa
+        Mass ratio, pressing force, contact stiffness (``inf``: rigid).
+    t_max
+        End of the time axis (the samples cover ``[0, t_max)``).
+    t
+        Sample times, with the left limits just before ``t = 2, 4, ...``.
+    displacement, contact_force
+        :math:`y(t)` and :math:`N(t)` on ``t``.
+    contact_time_position, contact_time_force
+        First sign change of :math:`y` resp. :math:`N` up to ``t_max`` (``inf``: none).
+    """
+
+    alpha: float
+    f: float
+    kappa: float
+    t_max: float
+    t: np.ndarray
+    displacement: np.ndarray
+    contact_force: np.ndarray
+    contact_time_position: float
+    contact_time_force: float
+
+    def plot(self, quantity: str = "N", *, ax: Any = None) -> Any:
+        """``y`` or ``N`` over time (see :func:`impactsym.plotting.rod.plot_time_history`)."""
+        from impactsym.plotting.rod import plot_time_history
+
+        return plot_time_history([self], quantity, ax=ax)
+
+
+def _sample_times(t_max: float, n_points: int) -> np.ndarray:
+    """``n_points`` samples on ``[0, t_max)`` plus the left limits just before the
+    reflections ``t = 2, 4, ...`` (sharp jumps of a rigid contact).
+
+    >>> _sample_times(4.0, 4).tolist()
+    [0.0, 1.0, 1.999999999999, 2.0, 3.0, 3.999999999999]
+    """
+    t = np.linspace(0.0, t_max, n_points, endpoint=False)
+    return np.union1d(t, np.arange(2.0, t_max + 1e-9, 2.0) - 1e-12)
+
+
+def time_history(
+    alpha: float,
+    f: float,
+    *,
+    kappa: float = np.inf,
+    t_max: float = 12.0,
+    n_points: int = 6001,
+) -> TimeHistory:
+    """Sample :math:`y`, :math:`N` and the contact times of one rod impact.
+
+    Parameters
+    ----------
+    alpha, f
+        Mass ratio :math:`M / m_{rod}` and pressing force (normalized).
+    kappa
+        Contact stiffness (``inf``: rigid).
+    t_max
+        End of the time axis (also the horizon of the contact-time search).
+    n_points
+        Time samples on ``[0, t_max)`` (the left limits at the reflections are added).
+
+    Examples
+    --------
+    >>> h = time_history(1.0, 0.0, t_max=4.0, n_points=50)
+    >>> h.t[0], h.t_max, bool(h.contact_force[0] == 1.0)
+    (np.float64(0.0), 4.0, True)
+    """
+    t = _sample_times(t_max, n_points)
+    return TimeHistory(
+        alpha=float(alpha),
+        f=float(f),
+        kappa=float(kappa),
+        t_max=float(t_max),
+        t=t,
+        displacement=np.asarray(displacement(t, alpha, f, kappa=kappa)),
+        contact_force=np.asarray(contact_force(t, alpha, f, kappa=kappa)),
+        contact_time_position=float(
+            contact_time(alpha, f, condition="position", kappa=kappa, t_max=t_max)
+        ),
+        contact_time_force=float(
+            contact_time(alpha, f, condition="force", kappa=kappa, t_max=t_max)
+        ),
+    )

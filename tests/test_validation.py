@@ -1,0 +1,200 @@
+"""The one gate for inputs (:mod:`impactsym.validation`): strings never reach SymPy's
+parser, numbers are real, finite and named when refused, shapes are named.
+
+The string refusals are checked where users meet them, at the entrances of every wing
+that takes symbolic input (multibody, symbolic, rod); all of them go through
+:func:`~impactsym.validation.as_sympy` / :func:`~impactsym.validation.as_sympy_matrix`.
+Every test runs in a fresh temporary working directory: the strings carrying code would
+create the file ``PWNED`` there if SymPy's parser ever saw them (docs/security.md).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from impactsym.multibody import reduce_contact
+from impactsym.rod import RodImpact
+from impactsym.symbolic.laplace import (
+    check_delay,
+    geometric_delay_series,
+    invert_rational,
+    laplace_exp_poly,
+)
+from impactsym.validation import as_sympy, as_sympy_matrix, broadcast, real_array
+
+CODE = "__import__('os').system('touch PWNED')"
+NOT_NUMBERS = (None, True, object(), {"a": 1}, [1.0])
+x, v = sp.symbols("x v")
+s, t = sp.symbols("s t")
+
+
+@pytest.fixture(autouse=True)
+def no_code_runs(tmp_path, monkeypatch):
+    """Run in an empty directory; afterwards no string may have been executed."""
+    monkeypatch.chdir(tmp_path)
+    yield
+    assert not (tmp_path / "PWNED").exists(), "a string input was run as code"
+
+
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda: reduce_contact([[CODE]], [0], x, [x], [v], {x: 0, v: 1}, 1, 0), "M"),
+        (lambda: reduce_contact([[1]], [CODE], x, [x], [v], {x: 0, v: 1}, 1, 0), "F"),
+        (lambda: reduce_contact([[1]], [[0], [CODE]], x, [x], [v], {x: 0}, 1, 0), "F"),
+        (lambda: reduce_contact([[1]], [0], [CODE], [x], [v], {x: 0, v: 1}, 1, 0), "g"),
+        (lambda: reduce_contact([[1]], [0], x, [x], [v], {CODE: 0, v: 1}, 1, 0), "at"),
+        (lambda: reduce_contact([[1]], [0], x, [x], [v], {x: CODE, v: 1}, 1, 0), "at"),
+        (lambda: reduce_contact([[1]], [0], x, [x], [v], {x: 0, v: 1}, CODE, 0), "k"),
+        (lambda: reduce_contact([[1]], [0], x, [x], [v], {x: 0, v: 1}, 1, [CODE]), "d"),
+        (lambda: reduce_contact([[1]], [0], x, [CODE], [v], {x: 0, v: 1}, 1, 0), "q"),
+        (lambda: invert_rational(CODE, s, t), "F"),
+        (lambda: invert_rational(1 / s, CODE, t), "s"),
+        (lambda: check_delay(CODE), "delay"),
+        (lambda: check_delay(2 - x, {x: (0, CODE)}), "bounds"),
+        (lambda: laplace_exp_poly(CODE, t, s), "g"),
+        (lambda: geometric_delay_series([(0, CODE)], 1, -1 / (s + 1), 2, 3), "numerator"),
+        (lambda: geometric_delay_series([(0, 1)], 1, CODE, 2, 3), "bp"),
+        (lambda: RodImpact(kappa=CODE), "kappa"),
+        (lambda: RodImpact(kappa=[CODE]), "kappa"),
+        (lambda: RodImpact().residuals(1 / s, CODE), "Y"),
+        (lambda: as_sympy_matrix("M", np.array([[CODE]])), "M"),
+    ],
+)
+def test_strings_carrying_code_are_refused_by_name(call, name):
+    with pytest.raises(TypeError, match=rf"^{name}\b.*(string|symbols|Symbol|real number)"):
+        call()
+
+
+@pytest.mark.parametrize("values", [{"k": "x"}, {sp.Symbol("k"): CODE}, {CODE: 1}])
+def test_reduced_contact_subs_refuses_strings(values):
+    k = sp.Symbol("k", positive=True)
+    r = reduce_contact([[1]], [0], x, [x], [v], {x: 0, v: 1}, k, 0)
+    with pytest.raises(TypeError, match="values .*string"):
+        r.subs(values)
+    assert r.subs({k: 4}).omega0 == 2.0
+
+
+def test_strict_sympify_of_a_dict_would_run_code_so_as_sympy_scans_first():
+    # the reason for the scan: SymPy parses dict keys even with strict=True
+    with pytest.raises(TypeError, match="string"):
+        as_sympy("values", {CODE: 1})
+
+
+@pytest.mark.parametrize("value", NOT_NUMBERS)
+def test_as_sympy_refuses_non_expressions(value):
+    with pytest.raises(TypeError, match="^kappa "):
+        as_sympy("kappa", value)
+
+
+@pytest.mark.parametrize(
+    "value",
+    [range(3), sp.Array([1, 2]), sp.FiniteSet(1, 2), (i for i in (1, 2)), sp.Tuple(1)],
+    ids=["range", "Array", "FiniteSet", "generator", "Tuple"],
+)
+def test_as_sympy_refuses_every_container(value):
+    with pytest.raises(TypeError, match="^kappa must be a single number"):
+        as_sympy("kappa", value)
+
+
+@pytest.mark.parametrize("value", [bytearray(b"2"), memoryview(b"2"), b"2"])
+def test_bytes_are_refused_like_strings(value):
+    # SymPy would read bytearray(b"2") as its character code: Matrix([[50]])
+    with pytest.raises(TypeError, match=r"^M must not contain strings"):
+        as_sympy_matrix("M", [value])
+    with pytest.raises(TypeError, match="^D must be a real number"):
+        real_array("D", value)
+
+
+@pytest.mark.parametrize(
+    "value", [[True, 2], [1.5, np.True_], [[1, 2], [3, False]], (False,), [np.bool_(True)]]
+)
+def test_real_array_refuses_booleans_inside_arrays_as_for_scalars(value):
+    with pytest.raises(TypeError, match="^D must be a real number.*bool"):
+        real_array("D", value)
+    with pytest.raises(TypeError, match="^D must be a real number"):
+        real_array("D", True)
+
+
+@pytest.mark.parametrize("value", [10**400, -(10**400)], ids=["huge", "minus_huge"])
+def test_real_array_names_an_integer_beyond_the_float_range(value):
+    with pytest.raises(ValueError, match="^D must be a finite float.*401 digits"):
+        real_array("D", value)
+
+
+def test_broadcast_names_every_argument():
+    with pytest.raises(ValueError, match=r"^a \(shape \(2,\)\), b \(shape \(3,\)\) and c"):
+        broadcast(a=np.zeros(2), b=np.zeros(3), c=np.zeros(4))
+
+
+# -- the gate's functions one by one ---------------------------------------------------------
+
+
+def test_check_condition_accepts_the_two_names_only():
+    from impactsym.validation import check_condition
+
+    assert check_condition("force") == "force"
+    assert check_condition("position") == "position"
+    for bad in ("Force", "velocity", "", None, 1):
+        with pytest.raises((ValueError, TypeError), match="condition"):
+            check_condition(bad)
+
+
+def test_real_array_bounds_name_the_first_offending_entry():
+    with pytest.raises(ValueError, match=r"^f must be >= 0, got -2\.0 \(at index \(1,\)"):
+        real_array("f", [1.0, -2.0, -3.0], lower=0.0)
+    with pytest.raises(ValueError, match=r"^alpha must be > 0, got 0\.0$"):
+        real_array("alpha", 0.0, lower=0.0, strict=True)
+    with pytest.raises(ValueError, match="^kappa must be"):
+        real_array("kappa", np.inf, lower=0.0, strict=True)
+    arr, scalar = real_array("kappa", np.inf, lower=0.0, strict=True, allow_inf=True)
+    assert scalar
+    assert arr == np.inf
+    arr, scalar = real_array("t", [[0, 1], [2, 3]])
+    assert not scalar
+    assert arr.dtype == np.float64
+    assert arr.shape == (2, 2)
+    with pytest.raises(ValueError, match="^t must be finite"):
+        real_array("t", [0.0, np.nan])
+
+
+def test_finish_gives_floats_for_scalars_and_float_arrays_otherwise():
+    from impactsym.validation import finish
+
+    assert type(finish(np.asarray(2), True)) is float
+    out = finish(np.arange(3), False)
+    assert out.dtype == np.float64
+    assert out.tolist() == [0.0, 1.0, 2.0]
+
+
+def test_reject_strings_names_where_the_string_hides():
+    from impactsym.validation import reject_strings
+
+    reject_strings("M", [[1, 2], (3, {4: 5.0})])  # numbers anywhere: fine
+    with pytest.raises(TypeError, match=r"at M\[1\]\[0\] key 'k'$"):
+        reject_strings("M", [1, [{"k": 2}]])
+    with pytest.raises(TypeError, match=r"at M\[0\]\[1\]$"):
+        reject_strings("M", np.array([[1, "x"]], dtype=object))
+
+
+def test_as_sympy_finite_refuses_infinities_inside_expressions():
+    y = sp.Symbol("y")
+    assert as_sympy("g", 2 * y + 1) == 2 * y + 1
+    with pytest.raises(ValueError, match="^g "):
+        as_sympy("g", y + sp.oo, finite=True)
+    with pytest.raises(ValueError, match=r"^M "):
+        as_sympy_matrix("M", [[1, sp.nan]], finite=True)
+    assert as_sympy_matrix("M", [1, 2]).shape == (2, 1)
+
+
+def test_inputs_named_adds_the_inputs_to_a_deep_failure():
+    from impactsym.validation import inputs_named
+
+    deep = r"^design\(k = <array of shape \(2,\)>, e = 0\.5\): x$"
+    with pytest.raises(ValueError, match=deep), inputs_named("design", k=np.ones(2), e=0.5):
+        raise ArithmeticError("x")
+    # not a numerical failure: passed through
+    with pytest.raises(KeyError), inputs_named("design", k=1.0):
+        raise KeyError("k")
