@@ -30,8 +30,9 @@ FLOORS = [
     ),
     ("impactsym.rod.api", "impactsym.rod.contact_times", "impactsym.rod.codegen"),
     (
-        "impactsym.rod.continuation",
-        "impactsym.rod.elastic_continuation",
+        "impactsym.rod.sequence",
+        "impactsym.rod.sequence_rigid",
+        "impactsym.rod.sequence_elastic",
         "impactsym.multibody",
         "impactsym.engines",
     ),

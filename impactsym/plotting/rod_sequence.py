@@ -1,4 +1,4 @@
-"""Figures of the rod impact continued past separation (:mod:`impactsym.rod.continuation`).
+"""Figures of the rod impact continued past separation (:mod:`impactsym.rod.sequence`).
 
 Every function takes an optional Matplotlib axes and returns it.
 """
@@ -6,12 +6,16 @@ Every function takes an optional Matplotlib axes and returns it.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
 
-from impactsym.rod.continuation import RodImpactSequence, impact_sequence
+from impactsym.rod import impact_sequence
+
+if TYPE_CHECKING:
+    from impactsym.rod import RodImpactSequence
 
 
 def plot_sequence(seq: RodImpactSequence, *, ax: Axes | None = None, n_points: int = 4001) -> Axes:
