@@ -1,7 +1,7 @@
 """Certified real roots of exponential polynomials :math:`F(x) = e^x A(x) + B(x)` (NumPy only).
 
 Separation and re-contact of the continued rod impact are roots of such functions on a
-bounded piece :math:`[lo, hi]` (:mod:`impactsym.rod.continuation`). Sampling can miss a
+bounded piece :math:`[lo, hi]` (:mod:`impactsym.rod.sequence_rigid`). Sampling can miss a
 pair of close roots; this module cannot, up to floating-point rounding:
 
 **Isolation by Taylor enclosures.** On a sub-interval :math:`I = [u, u + r]`, with the

@@ -227,7 +227,7 @@ def impact_sequence(
     if np.isinf(kappa):
         model = RigidStep(alpha, f, t_max=t_max)
     else:
-        model = ElasticStep(alpha, f, kappa, t_max=t_max)
+        model = ElasticStep(alpha, f, kappa=kappa, t_max=t_max)
     return follow(model, t_max=t_max, max_contacts=max_contacts)
 
 

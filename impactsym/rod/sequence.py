@@ -290,10 +290,12 @@ class SequenceState:
 class StepModel(Protocol):
     """What :func:`follow` needs from a contact law (internal protocol).
 
-    ``starts`` and ``p`` are the growing lists of piece starts and constants of
-    :math:`g` (the model appends to them). Each step method advances ``state`` over one
-    piece that ends no later than ``t_next`` (the arrival of the next incoming piece,
-    or ``t_max``) and returns whether an event ends it.
+    ``starts`` is the growing list of the starts of the pieces of :math:`g` (the model
+    appends to it as it solves them). Each step method advances ``state`` over one piece
+    that ends no later than ``t_next`` (the arrival of the next incoming piece, or
+    ``t_max``) and returns whether an event ends it; the piece may be shorter (the model's
+    own cap on piece lengths) or empty (rigid contact: a tensile front ends the contact
+    at once).
     """
 
     alpha: float

@@ -195,8 +195,9 @@ def _shift(Q: np.ndarray, rates: np.ndarray, delta: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class _Tables:
-    """Padded arrays of the pieces for vectorized evaluation (the interface of
-    ``impactsym.rod.continuation._Tables``: ``g``, ``integral``; plus ``dg``)."""
+    """Padded arrays of the pieces for vectorized evaluation: ``start``, ``g``,
+    ``integral`` (what :class:`impactsym.rod.sequence.RodImpactSequence` reads) and ``dg``
+    (:class:`impactsym.rod.sequence.ElasticRodImpactSequence`)."""
 
     rates: np.ndarray
     start: np.ndarray
@@ -306,7 +307,7 @@ class ElasticStep:
 
     errstate: dict = {"over": "ignore", "invalid": "ignore"}  # noqa: RUF012 (read only)
 
-    def __init__(self, alpha: float, f: float, kappa: float, *, t_max: float) -> None:
+    def __init__(self, alpha: float, f: float, *, kappa: float, t_max: float) -> None:
         self.alpha, self.f, self.kappa = alpha, f, kappa
         self.where = f"impact_sequence(alpha={alpha!r}, f={f!r}, kappa={kappa!r}, t_max={t_max!r})"
         self.rates, self.d = _rates(alpha, kappa)
@@ -507,7 +508,7 @@ def _confluent(Qi, sigma, d, kappa, h, A0, dN, where, t):
         if K + 1 >= _MAX_COEFFICIENTS:
             raise ValueError(
                 f"{where}: the confluent series at t = {t:.6g} needs more than "
-                f"{_MAX_COEFFICIENTS} coefficients; lower t_end"
+                f"{_MAX_COEFFICIENTS} coefficients; lower t_max"
             )
         k += 1
     return np.array(m, dtype=complex)[None, :]
@@ -548,7 +549,7 @@ def _check_magnitude(Q, rates, h, scale, where, t) -> None:
         raise ValueError(
             f"{where}: the polynomial pieces cancel (their degree grows with every "
             f"reflection that meets the contact): terms of size {mag:.2g} at t = {t:.6g} "
-            "would lose more than 1e-8 in float64; lower t_end"
+            "would lose more than 1e-8 in float64; lower t_max"
         )
 
 

@@ -91,7 +91,9 @@ class _Pieces:
 
 @dataclass(frozen=True)
 class _Tables:
-    """Padded arrays of the pieces for vectorized evaluation."""
+    """Padded arrays of the pieces for vectorized evaluation: ``start``, ``g``,
+    ``integral`` and ``integrals`` (what :class:`impactsym.rod.sequence.RodImpactSequence`
+    and its energy read)."""
 
     alpha: float
     start: np.ndarray
