@@ -1,4 +1,4 @@
-"""Benchmark of the continued rod impact (issue 10, part 2): 10**3 sequences to t = 40.
+"""Benchmark of the continued rod impact: 10**3 sequences to t = 40.
 
 Run ``python benchmarks/bench_rod_sequence.py [--n 1000] [--seed 10] [--processes 1]``.
 Draws ``alpha`` log-uniformly in [0.1, 10] and ``f`` uniformly in [0, 1] (half of the
@@ -9,7 +9,7 @@ contacts and the largest energy-balance residual on a 2001-point grid of each se
 
 ``--n-kappa 40`` more sequences with a finite contact stiffness (``kappa`` log-uniform in
 [1, 1e4], same ``alpha`` and ``f`` draws) print their time per sequence and residual
-(no target in the issue; reported so that a regression shows).
+(no target; reported so that a regression shows).
 
 The library runs in one process. ``--processes 2`` spreads the sequences over worker
 processes (the total is then the wall time of the pool, start-up included); the
@@ -35,7 +35,7 @@ def timed(cases: list[tuple[float, float]]) -> list[tuple[float, int]]:
     out = []
     for alpha, f in cases:
         t0 = time.perf_counter()
-        seq = impact_sequence(alpha, f, t_end=40.0)
+        seq = impact_sequence(alpha, f, t_max=40.0)
         out.append((time.perf_counter() - t0, len(seq.contacts)))
     return out
 
@@ -45,7 +45,7 @@ def residual(cases: list[tuple[float, float]]) -> float:
     t = np.linspace(0.0, 40.0, 2001)[:-1]
     worst = 0.0
     for alpha, f in cases:
-        balance = impact_sequence(alpha, f, t_end=40.0).energy.balance(t)
+        balance = impact_sequence(alpha, f, t_max=40.0).energy.balance(t)
         worst = max(worst, float(np.abs(balance).max()))
     return worst
 
@@ -105,7 +105,7 @@ def finite_kappa(rng: np.random.Generator, n: int) -> None:
     for a, ff, k in zip(alpha, f, kappa, strict=True):
         t0 = time.perf_counter()
         try:
-            seq = impact_sequence(a, ff, kappa=k, t_end=40.0)
+            seq = impact_sequence(a, ff, kappa=k, t_max=40.0)
         except ValueError:  # refused: float64 no longer exact before t = 40
             refused += 1
             continue

@@ -1,9 +1,7 @@
 """The exponential-polynomial machinery, :mod:`impactsym.numeric.exppoly`, against mpmath:
 the cheap positivity certificate never certifies a function with a zero, the one-sided
-Taylor exclusion finds every planted root, and its roots agree with mpmath's.
-
-(Tangential touches and roots on subdivision nodes are tested with the rod sequence in
-``tests/test_rod_continuation.py``.)"""
+Taylor exclusion finds every planted root, and its roots agree with mpmath's; a tangential
+touch is no sign change, and a root on a subdivision node is found."""
 
 from __future__ import annotations
 
@@ -191,3 +189,53 @@ def test_exp_poly_roots_gives_up_on_an_interval_far_longer_than_its_scale():
     # [0, 1e300] for x - 3 used to subdivide for ever (the Taylor powers overflow)
     with np.errstate(all="ignore"), pytest.raises(RuntimeError, match="more than 100000 cells"):
         exp_poly_roots(np.array([]), np.array([-3.0, 1.0]), 0.0, 1e300)
+
+
+def test_exp_poly_roots_finds_close_roots_and_exponential_ones():
+    roots = [0.3, 0.3 + 1e-6, 0.9, 1.7]
+    B = np.polynomial.polynomial.polyfromroots(roots)
+    found = exp_poly_roots(np.zeros(0), B, 0.0, 2.0)
+    assert np.abs(found - roots).max() < 1e-9
+    # e^x - 1 - 2x: zero at 0 (excluded, the left end) and one more, by mpmath
+    found = exp_poly_roots(np.array([1.0]), np.array([-1.0, -2.0]), 0.0, 3.0)
+    root = mp.findroot(lambda x: mp.exp(x) - 1 - 2 * x, 1.3)
+    assert found.size == 1
+    assert found[0] == pytest.approx(float(root), abs=1e-14)
+    # (x - 1)^2 e^x - 1e-3 has two roots near 1 +- 0.0316
+    found = exp_poly_roots(np.array([1.0, -2.0, 1.0]), np.array([-1e-3]), 0.0, 2.0)
+    assert found.size == 2
+    assert exp_poly_roots(np.array([1.0]), np.array([0.5]), 0.0, 2.0).size == 0
+
+
+@pytest.mark.parametrize(
+    ("A", "B", "lo", "hi"),
+    [
+        # e^x - e x touches zero at 1 only (its minimum): 1 is a bisection node of [0, 2]
+        ([1.0], [0.0, -math.e], 0.0, 2.0),
+        ([1.0], [0.0, -math.e], 0.0, 1.7),
+        # (x - 1/2)^2 touches at a node of [0, 1], (x - 1/3)^2 off the nodes
+        ([], [0.25, -1.0, 1.0], 0.0, 1.0),
+        ([], [1.0 / 9.0, -2.0 / 3.0, 1.0], 0.0, 1.0),
+    ],
+)
+def test_exp_poly_roots_a_tangential_touch_is_no_sign_change(A, B, lo, hi):
+    # F >= 0 throughout: check by dense sampling that nothing crosses
+    x = np.linspace(lo, hi, 10001)
+    F = np.exp(x) * np.polynomial.polynomial.polyval(
+        x, A or [0.0]
+    ) + np.polynomial.polynomial.polyval(x, B)
+    assert F.min() > -1e-15
+    assert exp_poly_roots(np.array(A), np.array(B), lo, hi).size == 0
+
+
+def test_exp_poly_roots_a_crossing_on_a_node_is_still_a_root():
+    """Simple and triple zeros exactly at the first bisection node 1/2 of [0, 1] change
+    sign and are found exactly (first=True included)."""
+    simple = np.array([-0.5, 1.0])
+    triple = np.polynomial.polynomial.polyfromroots([0.5, 0.5, 0.5])
+    for B in (simple, -simple, triple, -triple):
+        assert exp_poly_roots(np.zeros(0), B, 0.0, 1.0).tolist() == [0.5]
+        assert exp_poly_roots(np.zeros(0), B, 0.0, 1.0, first=True).tolist() == [0.5]
+    # a tangency at a node followed by a crossing: only the crossing
+    B = np.polynomial.polynomial.polyfromroots([0.5, 0.5, 0.8])
+    assert exp_poly_roots(np.zeros(0), B, 0.0, 1.0) == pytest.approx([0.8], abs=1e-15)

@@ -1,7 +1,7 @@
 """Certified real roots of exponential polynomials :math:`F(x) = e^x A(x) + B(x)` (NumPy only).
 
 Separation and re-contact of the continued rod impact are roots of such functions on a
-bounded piece :math:`[lo, hi]` (:mod:`impactsym.rod.continuation`). Sampling can miss a
+bounded piece :math:`[lo, hi]` (:mod:`impactsym.rod.sequence_rigid`). Sampling can miss a
 pair of close roots; this module cannot, up to floating-point rounding:
 
 **Isolation by Taylor enclosures.** On a sub-interval :math:`I = [u, u + r]`, with the
@@ -45,49 +45,19 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from impactsym.numeric.poly import shift_matrix, trim
 from impactsym.numeric.roots import bracketed_newton_scalar
 
-__all__ = ["exp_poly_positive", "exp_poly_roots", "taylor_shift"]
+__all__ = ["exp_poly_positive", "exp_poly_roots"]
 
 _EPS = float(np.finfo(float).eps)
 
 
 _FACT = np.array([math.factorial(k) for k in range(171)], dtype=float)
-_BINOM = np.array([[math.comb(b, a) for b in range(96)] for a in range(96)], dtype=float)
 _INVFACT = 1.0 / _FACT
 _INVFACT_LIST = _INVFACT.tolist()
 _INVFACT_PADDED = [0.0, 0.0, *_INVFACT_LIST]
 _ORDER = np.arange(171, dtype=float)
-_EXPONENT = np.maximum(np.subtract.outer(np.arange(-96, 0), np.arange(-96, 0)) * -1, 0)
-
-
-def _shift_matrix(n: int, u: float) -> np.ndarray:
-    """Matrix ``S`` with ``S @ c`` the coefficients of ``c(x + u)`` (``n`` coefficients)."""
-    if n > _BINOM.shape[0]:
-        raise ValueError(f"polynomial degree {n - 1} exceeds {_BINOM.shape[0] - 1}")
-    if u == 0.0:
-        return np.eye(n)
-    powers = np.cumprod(np.full(n, float(u)))
-    powers[1:] = powers[:-1]
-    powers[0] = 1.0
-    return _BINOM[:n, :n] * powers[_EXPONENT[:n, :n]]
-
-
-def taylor_shift(c: np.ndarray, u: float) -> np.ndarray:
-    """Coefficients (lowest order first) of :math:`c(x + u)`.
-
-    >>> taylor_shift(np.array([0.0, 0.0, 1.0]), 2.0).tolist()
-    [4.0, 4.0, 1.0]
-    """
-    c = np.asarray(c, dtype=float)
-    return _shift_matrix(c.size, u) @ c if c.size > 1 else c.copy()
-
-
-def _horner(c: np.ndarray, x):
-    out = 0.0 * x
-    for ck in c[::-1]:
-        out = out * x + ck
-    return out
 
 
 def _value_slope(A: list, B: list, x: float) -> tuple[float, float]:
@@ -104,14 +74,6 @@ def _value_slope(A: list, B: list, x: float) -> tuple[float, float]:
         a = a * x + c
     ex = math.exp(x)
     return ex * a + b, ex * (a + da) + db
-
-
-def _trim(c) -> np.ndarray:
-    c = np.asarray(c, dtype=float)
-    if c.size and c[-1] != 0.0:
-        return c
-    nz = np.flatnonzero(c)
-    return c[: nz[-1] + 1] if nz.size else c[:0]
 
 
 # _EXPAND[i, k] = 1 / (k - i)! (zero for k < i): e^z z^i = sum_k _EXPAND[i, k] z^k
@@ -133,7 +95,7 @@ def _coefficients(A, B, u, M):
     """Taylor coefficients ``T`` of ``F`` at ``u`` (orders 0..M), the magnitudes of
     their summands (for rounding) and :math:`e^u |A(x + u)|` coefficientwise (for the
     omitted orders): what does not depend on the interval's length."""
-    S = _shift_matrix(max(A.size, B.size), u) if u != 0.0 else None
+    S = shift_matrix(max(A.size, B.size), u) if u != 0.0 else None
     Smag = S if u >= 0.0 else np.abs(S)
     Au, Amag = _shifted(A, S, Smag)
     Bu, Bmag = _shifted(B, S, Smag)
@@ -382,7 +344,7 @@ def exp_poly_roots(
     """
     if not (math.isfinite(lo) and math.isfinite(hi)):
         raise ValueError(f"exp_poly_roots: lo and hi must be finite, got [{lo!r}, {hi!r}]")
-    A, B = _trim(A), _trim(B)
+    A, B = trim(A), trim(B)
     if hi <= lo or (A.size == 0 and B.size == 0):
         return np.empty(0)
     if A.size and max(abs(lo), abs(hi)) > 600.0:

@@ -14,12 +14,6 @@ import numpy as np
 from matplotlib.axes import Axes
 
 
-def _horizon(seq: Any) -> float:
-    """The time up to which ``seq`` is known (``t_max``; ``t_end`` in older sequences)."""
-    t_max = getattr(seq, "t_max", None)
-    return float(seq.t_end if t_max is None else t_max)
-
-
 def plot_sequence(seq: Any, *, ax: Axes | None = None, n_points: int = 4001) -> Axes:
     r"""Energy split over time with the contact intervals shaded.
 
@@ -30,13 +24,13 @@ def plot_sequence(seq: Any, *, ax: Axes | None = None, n_points: int = 4001) -> 
     Examples
     --------
     >>> from impactsym.rod import impact_sequence
-    >>> ax = plot_sequence(impact_sequence(1.0, 0.0, t_end=8.0), n_points=50)
+    >>> ax = plot_sequence(impact_sequence(1.0, 0.0, t_max=8.0), n_points=50)
     >>> len(ax.lines)
     3
     """
     if ax is None:
         ax = plt.figure(figsize=(8, 3.5)).add_subplot()
-    t = np.linspace(0.0, _horizon(seq), n_points)[:-1]
+    t = np.linspace(0.0, seq.t_max, n_points)[:-1]
     energy = seq.energy
     ax.plot(t, energy.striker(t), label=r"striker $\alpha y'^2/2$")
     ax.plot(t, energy.rod(t), label="rod (elastic + kinetic)")
@@ -67,7 +61,7 @@ def plot_fixed_end_stress(sequences: Sequence[Any], *, ax: Axes | None = None) -
     Examples
     --------
     >>> from impactsym.rod import impact_sequence
-    >>> ax = plot_fixed_end_stress([impact_sequence(a, 0.0, t_end=6.0) for a in (0.5, 2.0)])
+    >>> ax = plot_fixed_end_stress([impact_sequence(a, 0.0, t_max=6.0) for a in (0.5, 2.0)])
     >>> len(ax.lines)
     3
     """
@@ -75,7 +69,7 @@ def plot_fixed_end_stress(sequences: Sequence[Any], *, ax: Axes | None = None) -
         ax = plt.figure(figsize=(6, 4)).add_subplot()
     alpha = np.array([seq.alpha for seq in sequences], dtype=float)
     stress = [seq.max_fixed_end_stress for seq in sequences]
-    f, t_max = sequences[0].f, _horizon(sequences[0])
+    f, t_max = sequences[0].f, sequences[0].t_max
     ax.plot(alpha, stress, "o-", ms=3, label=rf"exact, $f = {f:g}$, $t \leq {t_max:g}$")
     ax.plot(alpha, 2 * (1 + np.exp(-2 / alpha)), ":", label=r"$2(1 + e^{-2/\alpha})$")
     ax.plot(alpha, np.sqrt(alpha), "--", label=r"massless spring $\sqrt{\alpha}$")
@@ -96,7 +90,7 @@ def plot_restitution(sequences: Sequence[Any], *, ax: Axes | None = None) -> Axe
     Examples
     --------
     >>> from impactsym.rod import impact_sequence
-    >>> ax = plot_restitution([impact_sequence(a, 0.0, t_end=20.0) for a in (0.5, 2.0)])
+    >>> ax = plot_restitution([impact_sequence(a, 0.0, t_max=20.0) for a in (0.5, 2.0)])
     >>> len(ax.lines)
     3
     """

@@ -41,7 +41,7 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     axes = plt.figure(figsize=(8, 10.5)).subplots(len(CASES), 1)
     for ax, (alpha, f, kappa) in zip(axes, CASES, strict=True):
         plots.plot_sequence(
-            impact_sequence(alpha, f, kappa=kappa, t_end=40.0),
+            impact_sequence(alpha, f, kappa=kappa, t_max=40.0),
             ax=ax,
             n_points=801 if quick else 8001,
         )
@@ -49,10 +49,10 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
 
     alpha = np.geomspace(0.05, 50.0, 9 if quick else 61)
     progress("fixed-end stress over alpha")
-    stress = [impact_sequence(a, 0.0, t_end=40.0) for a in alpha]
+    stress = [impact_sequence(a, 0.0, t_max=40.0) for a in alpha]
     files += save_figure(plots.plot_fixed_end_stress(stress), out, "rod_sequence_stress")
     progress("restitution over alpha")
-    sequences = [impact_sequence(a, 0.0, t_end=60.0) for a in alpha]
+    sequences = [impact_sequence(a, 0.0, t_max=60.0) for a in alpha]
     files += save_figure(plots.plot_restitution(sequences), out, "rod_restitution")
     rows = [
         [a, len(seq.contacts), seq.restitution, seq.max_fixed_end_stress]

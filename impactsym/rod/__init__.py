@@ -5,13 +5,14 @@
   (eq. (2)) and their exact term-by-term inversion (:class:`RodImpact`);
 * :mod:`~impactsym.rod.kernel` -- NumPy only: the rigid-contact :math:`y(t)`, :math:`N(t)`;
 * :mod:`~impactsym.rod.elastic` -- mpmath pole data for a finite contact stiffness;
-* :mod:`~impactsym.rod.api` -- :func:`displacement`, :func:`contact_force`;
+* :mod:`~impactsym.rod.api` -- :func:`displacement`, :func:`contact_force`,
+  :func:`impact_sequence` (the impact continued past separation: flight, re-contact);
 * :mod:`~impactsym.rod.contact_times` -- :func:`contact_time`, :func:`contact_time_map`;
 * :mod:`~impactsym.rod.codegen` -- the NumPy-only source that ``impactsym export`` writes;
-* :mod:`~impactsym.rod.continuation` -- :func:`impact_sequence`: the impact continued past
-  separation (flight, re-contact), energy split and fixed-end stress;
-* :mod:`~impactsym.rod.elastic_continuation` -- the same with a finite contact stiffness
-  (:class:`ElasticRodImpactSequence`).
+* :mod:`~impactsym.rod.sequence` -- its result objects (:class:`RodImpactSequence`,
+  :class:`ElasticRodImpactSequence`: energy split, fixed-end stress) and its one event loop,
+  over the step models :mod:`~impactsym.rod.sequence_rigid` (rigid contact) and
+  :mod:`~impactsym.rod.sequence_elastic` (a finite contact stiffness).
 """
 
 from __future__ import annotations
@@ -27,9 +28,9 @@ _NAMES = {
     "contact_time_map": "impactsym.rod.contact_times",
     "ContactTimeMap": "impactsym.rod.contact_times",
     "numpy_source": "impactsym.rod.codegen",
-    "impact_sequence": "impactsym.rod.continuation",
-    "RodImpactSequence": "impactsym.rod.continuation",
-    "ElasticRodImpactSequence": "impactsym.rod.elastic_continuation",
+    "impact_sequence": "impactsym.rod.api",
+    "RodImpactSequence": "impactsym.rod.sequence",
+    "ElasticRodImpactSequence": "impactsym.rod.sequence",
 }
 __all__ = sorted(_NAMES)
 __getattr__, __dir__ = lazy_names(__name__, _NAMES)

@@ -137,3 +137,98 @@ def contact_force(
     1.0
     """
     return _evaluate("N", t, alpha, f, kappa)
+
+
+def impact_sequence(
+    alpha: float,
+    f: float,
+    *,
+    kappa: float = np.inf,
+    t_max: float | None = None,
+    max_contacts: int = 2000,
+    t_end: float | None = None,
+):
+    r"""Follow the rod impact through separations, flights and re-contacts to ``t_max``.
+
+    In contact the outgoing wave obeys the delay equation of paper section 1 (rigid:
+    :math:`\alpha g' + g = f + \alpha g'(t-2) - g(t-2)`; with a contact spring
+    :math:`N = \kappa (y - u)`), in flight :math:`g(t) = -g(t-2)` and
+    :math:`\alpha y'' = f`. One event loop (:func:`impactsym.rod.sequence.follow`) runs
+    the rigid step model (:mod:`impactsym.rod.sequence_rigid`) or, for a finite
+    ``kappa``, the contact-spring one (:mod:`impactsym.rod.sequence_elastic`); events are
+    certified roots. See docs/physics.md#the-rod-impact-continued-past-separation.
+
+    Parameters
+    ----------
+    alpha : float
+        Mass ratio :math:`M / m_{rod} > 0`.
+    f : float
+        Pressing force :math:`F c / (EA v_0) \ge 0`.
+    kappa : float, optional
+        Contact stiffness :math:`k_c L / (EA) > 0`; ``inf`` (default) is rigid contact.
+    t_max : float, optional
+        End of the simulated time (unit :math:`L / c`, at most ``1e4``); default 40.
+    max_contacts : int, optional
+        Limit on the number of contacts before ``t_max``: a light striker pressed by
+        ``f > 0`` chatters on the vibrating rod end with ever shorter flights.
+    t_end : float, optional
+        Former name of ``t_max`` (give one of the two).
+
+    Returns
+    -------
+    RodImpactSequence or ElasticRodImpactSequence
+        (:mod:`impactsym.rod.sequence`), the latter for a finite ``kappa``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For ``alpha <= 0``, ``f < 0``, ``kappa <= 0``, ``t_max <= 0``, non-finite or
+        non-scalar input, both ``t_max`` and ``t_end``; and when the float64 pieces stop
+        being exact before ``t_max`` (energy balance residual above ``1e-9`` of
+        :math:`\alpha/2 + |f y|` in the middle of a piece): the message names the
+        arguments and the time reached.
+    RuntimeError
+        When more than ``max_contacts`` contacts occur before ``t_max``.
+
+    Examples
+    --------
+    A light striker (:math:`\alpha < 1.7`, :math:`f = 0`) leaves at
+    :math:`t = 2 + \alpha(1 + e^{-2/\alpha}/2)`, after the first reflection returned:
+
+    >>> seq = impact_sequence(0.5, 0.0)
+    >>> start, end = seq.contacts[0]
+    >>> bool(abs(end - (2 + 0.5 * (1 + np.exp(-4.0) / 2))) < 1e-13)
+    True
+    >>> bool(abs(seq.restitution - 2 * np.exp(-1 - np.exp(-4.0) / 2)) < 1e-13)
+    True
+    """
+    from impactsym.rod.sequence import follow
+    from impactsym.rod.sequence_elastic import ElasticStep
+    from impactsym.rod.sequence_rigid import RigidStep
+
+    if t_end is not None:
+        if t_max is not None:
+            raise TypeError("impact_sequence: give t_max or its former name t_end, not both")
+        t_max = t_end
+    if t_max is None:
+        t_max = 40.0
+    a_arr, _ = real_array("alpha", alpha, lower=0.0, strict=True)
+    f_arr, _ = real_array("f", f, lower=0.0)
+    k_arr, _ = real_array("kappa", kappa, lower=0.0, strict=True, allow_inf=True)
+    t_arr, _ = real_array("t_max", t_max, lower=0.0, strict=True)
+    for name, arr in (("alpha", a_arr), ("f", f_arr), ("kappa", k_arr), ("t_max", t_arr)):
+        if arr.ndim:
+            raise TypeError(f"{name} must be a scalar, got an array of shape {arr.shape}")
+    alpha, f, kappa, t_max = float(a_arr), float(f_arr), float(k_arr), float(t_arr)
+    if t_max > 1e4:
+        raise ValueError(f"t_max must be <= 1e4, got {t_max}")
+    if isinstance(max_contacts, bool) or not isinstance(max_contacts, int) or max_contacts < 1:
+        raise ValueError(f"max_contacts must be a positive integer, got {max_contacts!r}")
+    if np.isinf(kappa):
+        model = RigidStep(alpha, f, t_max=t_max)
+    else:
+        model = ElasticStep(alpha, f, kappa=kappa, t_max=t_max)
+    return follow(model, t_max=t_max, max_contacts=max_contacts)
+
+
+__all__ += ["impact_sequence"]

@@ -165,7 +165,7 @@ class UnilateralGrid(_Grid):
 
 class SpringGrid(_Grid):
     """Rod impact through a massless contact spring ``kappa``, with separation and
-    re-contact, on a uniform grid (reference for :mod:`impactsym.rod.elastic_continuation`).
+    re-contact, on a uniform grid (reference for :mod:`impactsym.rod.sequence_elastic`).
 
     The characteristics as in :class:`UnilateralGrid`, with the spring compression
     :math:`z = y - u` (contact while :math:`N = \\kappa z > 0`): in contact

@@ -1,0 +1,145 @@
+r"""Polynomial helpers written once (NumPy only): evaluation, calculus, shifts, trimming.
+
+Coefficients are stored lowest order first, along the last axis of an array (or in a
+plain list of floats, where the rod sequence's event loop keeps them: at degree < ~20
+Python's arithmetic beats NumPy's cost per call). Used by
+:mod:`impactsym.numeric.exppoly` and the rod impact sequence
+(:mod:`impactsym.rod.sequence_rigid`, :mod:`impactsym.rod.sequence_elastic`); see
+docs/physics.md#the-rod-impact-continued-past-separation.
+
+Internal: none of these names is part of the public interface of the package.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+_MAX_SHIFT = 96  # coefficients that taylor_shift handles (binomials exact in float64)
+_BINOM = np.array(
+    [[math.comb(b, a) for b in range(_MAX_SHIFT)] for a in range(_MAX_SHIFT)], dtype=float
+)
+_EXPONENT = np.maximum(
+    np.subtract.outer(np.arange(-_MAX_SHIFT, 0), np.arange(-_MAX_SHIFT, 0)) * -1, 0
+)
+
+
+def horner(c, x):
+    """:math:`\\sum_k c_k x^k` by Horner's scheme (``c`` a list or 1-D array; ``x`` a
+    float or an array, broadcast).
+
+    >>> horner([1.0, -2.0, 3.0], 2.0)
+    9.0
+    """
+    out = 0.0 * x
+    for ck in reversed(c):
+        out = out * x + ck
+    return out
+
+
+def polyval_rows(C: np.ndarray, x) -> np.ndarray:
+    """Row-wise Horner: ``sum_k C[..., k] x**k``, the leading axes of ``C`` broadcast
+    against ``x`` (real or complex, in the type of ``C`` and ``x``).
+
+    >>> polyval_rows(np.array([[1.0, 1.0], [0.0, 2.0]]), np.array([3.0, 3.0])).tolist()
+    [4.0, 6.0]
+    """
+    out = np.zeros(np.broadcast_shapes(np.shape(x), C.shape[:-1]), dtype=np.result_type(C, x))
+    for k in range(C.shape[-1] - 1, -1, -1):
+        out = out * x + C[..., k]
+    return out
+
+
+def derivative(c: np.ndarray) -> np.ndarray:
+    """Derivative along the last axis, zero padded to the same length.
+
+    >>> derivative(np.array([1.0, 2.0, 3.0])).tolist()
+    [2.0, 6.0, 0.0]
+    """
+    out = np.zeros_like(c)
+    n = c.shape[-1]
+    out[..., : n - 1] = c[..., 1:] * np.arange(1, n)
+    return out
+
+
+def antiderivative(c: np.ndarray) -> np.ndarray:
+    """Antiderivative vanishing at 0 along the last axis (one coefficient longer).
+
+    >>> antiderivative(np.array([1.0, 2.0, 3.0])).tolist()
+    [0.0, 1.0, 1.0, 1.0]
+    """
+    out = np.zeros((*c.shape[:-1], c.shape[-1] + 1), dtype=c.dtype)
+    out[..., 1:] = c / np.arange(1, c.shape[-1] + 1)
+    return out
+
+
+def exp_antiderivative(Q: list) -> list:
+    r"""``R`` with :math:`\int_0^x e^{-\xi} Q(\xi)\,d\xi = R(0) - e^{-x} R(x)`: the sum
+    :math:`R = \sum_j Q^{(j)}` of all derivatives (``Q`` a list of floats).
+
+    Summed from the top, :math:`R_k = Q_k + (k + 1) R_{k+1}`: one rounding per
+    coefficient, where summing the derivatives one after another lets large factorial
+    terms cancel (docs/physics.md#the-rod-impact-continued-past-separation).
+
+    >>> exp_antiderivative([0.0, 0.0, 1.0])  # x^2 + 2x + 2
+    [2.0, 2.0, 1.0]
+    """
+    R = list(Q)
+    for k in range(len(R) - 2, -1, -1):
+        R[k] += (k + 1) * R[k + 1]
+    return R
+
+
+def pad(c: np.ndarray, n: int) -> np.ndarray:
+    """``c`` zero padded to ``n`` coefficients along the last axis (``c`` itself if it
+    has as many already).
+
+    >>> pad(np.array([1.0]), 3).tolist()
+    [1.0, 0.0, 0.0]
+    """
+    if c.shape[-1] >= n:
+        return c
+    out = np.zeros((*c.shape[:-1], n), dtype=c.dtype)
+    out[..., : c.shape[-1]] = c
+    return out
+
+
+def trim(c) -> np.ndarray:
+    """``c`` as a float array without trailing zero coefficients.
+
+    >>> trim([1.0, 0.0, 2.0, 0.0, 0.0]).tolist()
+    [1.0, 0.0, 2.0]
+    """
+    c = np.asarray(c, dtype=float)
+    if c.size and c[-1] != 0.0:
+        return c
+    nz = np.flatnonzero(c)
+    return c[: nz[-1] + 1] if nz.size else c[:0]
+
+
+def shift_matrix(n: int, u: float) -> np.ndarray:
+    """Matrix ``S`` with ``S @ c`` the coefficients of ``c(x + u)`` (``n <= 96``
+    coefficients: the binomials are exact in float64 up to there).
+
+    >>> shift_matrix(2, 3.0).tolist()
+    [[1.0, 3.0], [0.0, 1.0]]
+    """
+    if n > _BINOM.shape[0]:
+        raise ValueError(f"polynomial degree {n - 1} exceeds {_BINOM.shape[0] - 1}")
+    if u == 0.0:
+        return np.eye(n)
+    powers = np.cumprod(np.full(n, float(u)))
+    powers[1:] = powers[:-1]
+    powers[0] = 1.0
+    return _BINOM[:n, :n] * powers[_EXPONENT[:n, :n]]
+
+
+def taylor_shift(c: np.ndarray, u: float) -> np.ndarray:
+    """Coefficients (lowest order first) of :math:`c(x + u)`.
+
+    >>> taylor_shift(np.array([0.0, 0.0, 1.0]), 2.0).tolist()
+    [4.0, 4.0, 1.0]
+    """
+    c = np.asarray(c, dtype=float)
+    return shift_matrix(c.size, u) @ c if c.size > 1 else c.copy()
