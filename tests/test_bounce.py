@@ -14,7 +14,7 @@ from references.bounce import simulate
 from scipy.integrate import solve_ivp
 
 from impactsym.contact import bounce_sequence, contact_time, restitution
-from impactsym.contact.api import _contact_time, _z_dot
+from impactsym.contact.kernel import first_release, z_dot
 from impactsym.contact.bounce import _chi, _recontact, bounce_map, physical_bounce
 from impactsym.contact.derivation import (
     REGIMES,
@@ -90,7 +90,7 @@ def test_restart_kernel_matches_contact_time_at_the_first_impact():
     start = (np.zeros_like(damping), np.ones_like(damping))
     for condition in ("position", "force"):
         plain = contact_time(damping, force, condition=condition)
-        restart = _contact_time(condition, damping, force, state=start)
+        restart = first_release(damping, force, state=start, condition=condition)
         assert np.array_equal(np.isinf(plain), np.isinf(restart))
         ok = np.isfinite(plain)
         np.testing.assert_allclose(restart[ok], plain[ok], rtol=1e-13, atol=1e-13)
@@ -129,13 +129,13 @@ def _ode_contact(d, fr, z_start, v_start):
 )
 def test_contact_time_from_a_deflected_state_against_ode(d, fr, z_start, v_start):
     arrays = [np.array([value]) for value in (d, fr, z_start, v_start)]
-    tau_c = _contact_time("force", arrays[0], arrays[1], state=tuple(arrays[2:]))[0]
+    tau_c = first_release(arrays[0], arrays[1], state=tuple(arrays[2:]), condition="force")[0]
     expected, speed = _ode_contact(d, fr, z_start, v_start)
     if math.isinf(expected):
         assert math.isinf(tau_c)
         return
     assert tau_c == pytest.approx(expected, rel=1e-9)
-    departure = -_z_dot(True)(*(np.array([tau_c]), *arrays))[0]
+    departure = -z_dot(restart=True)(*(np.array([tau_c]), *arrays))[0]
     assert departure == pytest.approx(speed, rel=1e-8)
 
 

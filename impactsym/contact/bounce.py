@@ -90,7 +90,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.contact import flight as _flight
-from impactsym.contact.api import _contact_time, _inputs, _kernels, _z_dot
+from impactsym.contact.kernel import first_release, flat_inputs, kernels, z_dot
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.validation import check_condition, finish, real_array
@@ -115,7 +115,7 @@ _TANGENT = 1e-13
 @cache
 def _restart_z() -> Any:
     """z(tau; D, f, z0, v0) of a contact started from (z0, v0) (its position function)."""
-    return _kernels("position", True).g
+    return kernels(condition="position", restart=True).g
 
 
 def _recontact(ratio: np.ndarray) -> np.ndarray:
@@ -180,13 +180,13 @@ def _sequences(
         speed = np.zeros(active.size)  # speed of departure, first-impact units
         if condition == "position":  # contact k = first impact at speed va, f_k = f/va
             f_k = fr / va
-            tau_c = _contact_time("position", d, f_k)
+            tau_c = first_release(d, f_k, condition="position")
             out = np.isfinite(tau_c)
-            speed[out] = -_z_dot()(tau_c[out], d[out], f_k[out]) * va[out]
+            speed[out] = -z_dot()(tau_c[out], d[out], f_k[out]) * va[out]
         else:
-            tau_c = _contact_time("force", d, fr, state=(za, va))
+            tau_c = first_release(d, fr, state=(za, va), condition="force")
             out = np.isfinite(tau_c)
-            speed[out] = -_z_dot(True)(tau_c[out], d[out], fr[out], za[out], va[out])
+            speed[out] = -z_dot(restart=True)(tau_c[out], d[out], fr[out], za[out], va[out])
         accel = 2.0 * d * fr
         ratio = np.zeros(active.size)
         if condition == "force":  # r = 2 D^2 f / u < 1/2 unless rounding at the fold
@@ -442,7 +442,7 @@ def bounce_map(D: ArrayLike, f: ArrayLike, *, condition: str, max_contacts: int 
     [608.025, 143.756, 0.0]
     """
     max_contacts = _max_contacts(max_contacts)
-    (damping, force), shape, _ = _inputs(condition, D=D, f=f)
+    (damping, force), shape, _ = flat_inputs(condition=condition, D=D, f=f)
     padded = _sequences(condition, damping, force, max_contacts)
     return BounceMap(
         D=damping.reshape(shape),
