@@ -14,7 +14,6 @@ from references.bounce import simulate
 from scipy.integrate import solve_ivp
 
 from impactsym.contact import bounce_sequence, contact_time, restitution
-from impactsym.contact.kernel import first_release, z_dot
 from impactsym.contact.bounce import _chi, _recontact, bounce_map, physical_bounce
 from impactsym.contact.derivation import (
     REGIMES,
@@ -27,6 +26,7 @@ from impactsym.contact.derivation import (
     z0,
 )
 from impactsym.contact.flight import FreeFlight, r, s, u, x
+from impactsym.contact.kernel import first_release, z_dot
 
 
 def _rows(seq):

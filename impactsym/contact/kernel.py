@@ -83,7 +83,12 @@ class PiecewiseInD:
             }
         else:  # the under-damped form is valid at D = 1 (sinc at omega = 0)
             masks = {"underdamped": damping <= 1, "overdamped": damping > 1}
-        out = np.empty(np.broadcast_shapes(*(np.shape(a) for a in args)))
+        shape = np.broadcast_shapes(*(np.shape(a) for a in args))
+        for regime, mask in masks.items():
+            if mask.all():  # one regime: no masking and copying
+                out = self.functions[regime](*args, *_aux(regime, damping))
+                return np.broadcast_to(out, shape).copy()  # writable, of the full shape
+        out = np.empty(shape)
         for regime, mask in masks.items():
             if mask.any():
                 sub = [a[mask] for a in args]
@@ -153,6 +158,59 @@ def kernels(*, condition: str, restart: bool = False) -> Kernels:
 def z_dot(*, restart: bool = False) -> PiecewiseInD:
     """Internal: the penetration rate z'(tau; D, f[, z0, v0]) as a NumPy function."""
     return PiecewiseInD("z_dot", with_tau=True, critical_separate=False, restart=restart)
+
+
+class Homogeneous:
+    r"""Internal: :math:`h` and :math:`h'` of :math:`h'' + 2Dh' + h = 0`, :math:`h(0) = h_0`,
+    :math:`h'(0) = h_1`, as one NumPy function ``(tau, D, h0, h1) -> (h, h')``.
+
+    .. math::  h = h_0 C + (h_1 + D h_0) S, \qquad h' = h_1 C - (h_0 + D h_1) S,
+
+    with the damped basis :math:`C` (state :math:`(1, -D)`, :math:`e^{-D\tau}\cos\omega\tau`
+    when under-damped) and :math:`S` (state :math:`(0, 1)`), the unloaded (``f = 0``)
+    restart position forms of :class:`impactsym.contact.derivation.SpringDamperRestart`:
+    two closed-form evaluations give both ``h`` and ``h'``.
+    """
+
+    def __init__(self) -> None:
+        self.functions = {}
+        for r in ("underdamped", "overdamped"):
+            form = sp.sympify(
+                derivation.spring_damper_restart(r).numeric_forms["g_position"], strict=True
+            )
+            args = (tau, D) + derivation.NUMERIC_AUX[r]
+            c = form.subs({f: 0, z0: 1, v0: -D}).subs(derivation.mu - D, derivation.sigma)
+            s = form.subs({f: 0, z0: 0, v0: 1})
+            self.functions[r] = (
+                lambdify(args, c, name=f"C_{r}"),
+                lambdify(args, s, name=f"S_{r}"),
+            )
+
+    def basis(self, t: np.ndarray, damping: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``C(tau)`` and ``S(tau)`` on flat arrays of one length."""
+        under = damping <= 1  # the under-damped form is valid at D = 1 (sinc)
+        for regime, everywhere in (("underdamped", under), ("overdamped", ~under)):
+            if np.all(everywhere):  # one regime: no masking and copying
+                aux = _aux(regime, damping)
+                return tuple(fn(t, damping, *aux) for fn in self.functions[regime])
+        c, s = np.empty(t.shape), np.empty(t.shape)
+        for regime, mask in (("underdamped", under), ("overdamped", ~under)):
+            sub = (t[mask], damping[mask])
+            aux = _aux(regime, sub[1])
+            c[mask], s[mask] = (fn(*sub, *aux) for fn in self.functions[regime])
+        return c, s
+
+    def __call__(
+        self, t: np.ndarray, damping: np.ndarray, h0: np.ndarray, h1: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        c, s = self.basis(t, damping)
+        return c * h0 + s * (h1 + damping * h0), c * h1 - s * (h0 + damping * h1)
+
+
+@cache
+def homogeneous() -> Homogeneous:
+    """Internal: the (cached) :class:`Homogeneous` solution of the section-2 oscillator."""
+    return Homogeneous()
 
 
 def ridge(
