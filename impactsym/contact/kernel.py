@@ -19,7 +19,7 @@ maximum (or from impact) to :math:`\tau_r`, where a safeguarded Newton iteration
 Near-tangent, almost sticking cases are never missed. ``g`` is evaluated with its decay
 scaled out (:meth:`Kernels.scaled_g`) so that its sign survives underflow. Where the
 closed forms lose double precision (far over-damped ``D``, a huge static penetration)
-:func:`limits` decides from asymptotes (physics.md, section 2, *Numerics*).
+:func:`limits` decides from asymptotes (physics.md, section 2, *Numerics of the contact time*).
 """
 
 from __future__ import annotations
@@ -314,7 +314,7 @@ def limits(
       :math:`D \ge 2 D^*_\infty(f)`, twice the large-``f`` boundary
       :math:`D^*_\infty = (16\pi f^2)^{-1/3}`; closer to the boundary the sign of the
       first minimum of ``z`` is below double-precision rounding, and the point is refused
-      (physics.md, section 2, *Numerics*).
+      (physics.md, section 2, *Numerics of the contact time*).
     """
     with np.errstate(over="ignore"):
         static = damping * force * 2.0  # not 2 D first: 2 D may overflow where f = 0

@@ -205,7 +205,7 @@ def hooke_for(
     With ``limit_damping`` the damping ratio solves the force-condition restitution
     ``e_force(D) = e`` (paper section 2, ``f = 0``); without it the textbook
     ``D = -ln e / sqrt(pi^2 + ln^2 e)``. Then ``omega0 = tau_c(D) / t_c`` (or
-    ``z_max(D) v / delta_max``), ``kn = m omega0^2`` and ``eta_n = 2 D m omega0``.
+    ``max_penetration(D) v / delta_max``), ``kn = m omega0^2`` and ``eta_n = 2 D m omega0``.
     No pressing load (particle-particle collisions).
 
     Parameters
