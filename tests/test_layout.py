@@ -27,6 +27,8 @@ FLOORS = [
         "impactsym.rod.elastic_taylor",
         "impactsym.contact.api",
         "impactsym.contact.bounce",
+        "impactsym.contact.kernel",
+        "impactsym.contact.release",
     ),
     ("impactsym.rod.api", "impactsym.rod.contact_times", "impactsym.rod.codegen"),
     (

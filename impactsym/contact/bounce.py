@@ -156,7 +156,7 @@ def _sequences(
         # than floats reach (D f below ~1e-300): that body counts as never coming back
         with np.errstate(all="ignore"):
             reach = 2.0 * speed / accel if condition == "position" else 2.0 / ratio
-        back = out & (accel > 0) & np.isfinite(reach) & np.isfinite(t[active] + reach)
+            back = out & (accel > 0) & np.isfinite(reach) & np.isfinite(t[active] + reach)
         idx, d, u, a = active[back], d[back], speed[back], accel[back]
         t_release = t[idx] + tau_c[back]
         if condition == "position":
