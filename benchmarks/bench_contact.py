@@ -1,4 +1,4 @@
-"""Benchmark of the spring-damper contact (issue: paper section 2).
+"""Benchmark of the spring-damper contact (paper section 2, impactsym.contact.api).
 
 Prints, measured in one run:
   * contact_time on a 1000 x 1000 (D, f) grid, per condition (target < 2 s);

@@ -28,11 +28,7 @@ from dataclasses import dataclass
 from functools import cache
 
 import numpy as np
-import sympy as sp
 
-from impactsym.contact import derivation
-from impactsym.contact.derivation import D, f, tau, v0, z0
-from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.validation import broadcast, check_condition, real_array
 
@@ -58,6 +54,13 @@ class PiecewiseInD:
     def __init__(
         self, name: str, with_tau: bool, critical_separate: bool, restart: bool = False
     ) -> None:
+        # SymPy is imported on first use only: importing the kernel stays cheap
+        import sympy as sp
+
+        from impactsym.contact import derivation
+        from impactsym.contact.derivation import D, f, tau, v0, z0
+        from impactsym.numeric.codegen import lambdify
+
         self.name = name
         self.critical_separate = critical_separate
         regimes = derivation.REGIMES if critical_separate else ("underdamped", "overdamped")
@@ -167,20 +170,19 @@ class Homogeneous:
     .. math::  h = h_0 C + (h_1 + D h_0) S, \qquad h' = h_1 C - (h_0 + D h_1) S,
 
     with the damped basis :math:`C` (state :math:`(1, -D)`, :math:`e^{-D\tau}\cos\omega\tau`
-    when under-damped) and :math:`S` (state :math:`(0, 1)`), the unloaded (``f = 0``)
-    restart position forms of :class:`impactsym.contact.derivation.SpringDamperRestart`:
-    two closed-form evaluations give both ``h`` and ``h'``.
+    when under-damped) and :math:`S` (state :math:`(0, 1)`) of
+    :attr:`impactsym.contact.derivation.SpringDamperContact.numeric_basis`: two
+    closed-form evaluations give both ``h`` and ``h'``.
     """
 
     def __init__(self) -> None:
+        from impactsym.contact import derivation  # SymPy on first use only
+        from impactsym.numeric.codegen import lambdify
+
         self.functions = {}
         for r in ("underdamped", "overdamped"):
-            form = sp.sympify(
-                derivation.spring_damper_restart(r).numeric_forms["g_position"], strict=True
-            )
-            args = (tau, D) + derivation.NUMERIC_AUX[r]
-            c = form.subs({f: 0, z0: 1, v0: -D}).subs(derivation.mu - D, derivation.sigma)
-            s = form.subs({f: 0, z0: 0, v0: 1})
+            args = (derivation.tau, derivation.D) + derivation.NUMERIC_AUX[r]
+            c, s = derivation.spring_damper(r).numeric_basis
             self.functions[r] = (
                 lambdify(args, c, name=f"C_{r}"),
                 lambdify(args, s, name=f"S_{r}"),
