@@ -245,3 +245,23 @@ def test_restart_reduces_to_the_first_impact():
         for condition in ("position", "force"):
             difference = restart.g[condition].subs(start) - plain.g[condition]
             assert sp.simplify(difference) == 0
+
+
+@pytest.mark.parametrize("regime", ["underdamped", "overdamped"])
+def test_numeric_basis_is_the_homogeneous_solution_from_its_states(regime):
+    # C from (1, -D) and S from (0, 1), against the display-form solution (30 digits)
+    model = spring_damper(regime)
+    restart = spring_damper_restart(regime)
+    for d_value in SAMPLE_D[regime]:
+        d = sp.Rational(str(d_value))
+        aux = {
+            omega: sp.sqrt(1 - d**2),
+            sigma: sp.sqrt(d**2 - 1),
+            mu: d + sp.sqrt(d**2 - 1),
+        }
+        for form, state in zip(model.numeric_basis, ({z0: 1, v0: -d}, {z0: 0, v0: 1}), strict=True):
+            for t_value in (sp.Rational(1, 3), sp.Integer(4)):
+                point = {D: d, tau: t_value, f: 0, **state}
+                got = form.subs(aux).subs(point).evalf(30)
+                want = restart.z.subs(point).evalf(30)
+                assert abs(got - want) < 1e-25, (regime, d_value, t_value)
