@@ -87,15 +87,15 @@ class PiecewiseInD:
         else:  # the under-damped form is valid at D = 1 (sinc at omega = 0)
             masks = {"underdamped": damping <= 1, "overdamped": damping > 1}
         shape = np.broadcast_shapes(*(np.shape(a) for a in args))
-        for regime, mask in masks.items():
-            if mask.all():  # one regime: no masking and copying
-                out = self.functions[regime](*args, *_aux(regime, damping))
-                return np.broadcast_to(out, shape).copy()  # writable, of the full shape
+        present = [(regime, mask) for regime, mask in masks.items() if mask.any()]
+        if len(present) == 1 and np.shape(damping) == shape:  # one regime: no masking
+            regime = present[0][0]
+            out = self.functions[regime](*args, *_aux(regime, damping))
+            return np.broadcast_to(out, shape).copy()  # writable, of the full shape
         out = np.empty(shape)
-        for regime, mask in masks.items():
-            if mask.any():
-                sub = [a[mask] for a in args]
-                out[mask] = self.functions[regime](*sub, *_aux(regime, sub[self.d_index]))
+        for regime, mask in present:
+            sub = [a[mask] for a in args]
+            out[mask] = self.functions[regime](*sub, *_aux(regime, sub[self.d_index]))
         return out
 
 
