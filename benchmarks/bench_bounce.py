@@ -1,4 +1,4 @@
-"""Benchmark of the bounce sequence until rest (issue 10, part 1).
+"""Benchmark of the bounce sequence until rest (paper section 2, impactsym.contact.bounce).
 
 Prints, measured in one run:
   * bounce_map for 10^5 random (D, f), D in [0, 2], f in [0, 1], per condition, with

@@ -1,4 +1,4 @@
-"""Benchmark of the spring-damper contact (issue: paper section 2).
+"""Benchmark of the spring-damper contact (paper section 2, impactsym.contact.api).
 
 Prints, measured in one run:
   * contact_time on a 1000 x 1000 (D, f) grid, per condition (target < 2 s);
@@ -27,11 +27,11 @@ from impactsym import contact_time, stick_boundary
 CONDITIONS = ("position", "force")
 
 
-def best_of(repeats, fn, *args):
+def best_of(repeats, fn, *args, **options):
     times = []
     for _ in range(repeats):
         start = time.perf_counter()
-        result = fn(*args)
+        result = fn(*args, **options)
         times.append(time.perf_counter() - start)
     return min(times), result
 
@@ -54,10 +54,10 @@ def solve_ivp_contact(d, f, condition):
 
 def boundary_reference(f, condition, guess):
     """30-digit D* from the first minimum of g (g' = 0 polished near the float ridge)."""
-    from impactsym.contact.api import _kernels
+    from impactsym.contact.kernel import kernels
 
     def minimum(d):
-        ridge = float(_kernels(condition).ridge(np.array([float(d)]), np.array([f]))[0])
+        ridge = float(kernels(condition=condition).ridge(np.array([float(d)]), np.array([f]))[0])
 
         def slope(t):
             h = mp.mpf("1e-12")
@@ -80,7 +80,7 @@ def main() -> None:
     contact_time(0.3, 0.3, condition="force")
     per_point = {}
     for condition in CONDITIONS:
-        seconds, grid = best_of(3, contact_time, D, f, condition)
+        seconds, grid = best_of(3, contact_time, D, f, condition=condition)
         per_point[condition] = seconds / D.size
         print(
             f"  contact_time, 10^6-point grid, {condition:8s}: {seconds:.3f} s "
@@ -118,7 +118,7 @@ def main() -> None:
     f_values = np.geomspace(1e-3, 20, 1000)
     for condition in CONDITIONS:
         stick_boundary(f_values[:2], condition=condition)
-        seconds, d_star = best_of(5, stick_boundary, f_values, condition)
+        seconds, d_star = best_of(5, stick_boundary, f_values, condition=condition)
         check = f_values[::100]
         errors = [
             abs(float(ds) - float(boundary_reference(fv, condition, float(ds)))) / ds

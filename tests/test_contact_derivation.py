@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import mpmath as mp
 import numpy as np
 import pytest
@@ -18,7 +20,10 @@ from impactsym.contact.derivation import (
     regime_of,
     sigma,
     spring_damper,
+    spring_damper_restart,
     tau,
+    v0,
+    z0,
 )
 
 SAMPLE_D = {
@@ -174,3 +179,89 @@ def test_latex_forms_and_bad_names():
         model.latex("g", condition="pressure")
     with pytest.raises(ValueError, match="regime must be one of"):
         SpringDamperContact("critically")
+
+
+CODE = "__import__('os').system('touch PWNED')"
+
+
+@pytest.fixture
+def no_code_runs(tmp_path, monkeypatch):
+    """Run in an empty directory; afterwards no string may have been executed."""
+    monkeypatch.chdir(tmp_path)
+    yield
+    assert not (tmp_path / "PWNED").exists(), "a string input was run as code"
+
+
+@pytest.mark.usefixtures("no_code_runs")
+@pytest.mark.parametrize("value", [math.nan, -1.0, [0.5, 1.0], CODE])
+def test_regime_of_refuses_what_is_not_a_damping_ratio(value):
+    with pytest.raises((ValueError, TypeError), match="^D "):
+        regime_of(value)
+
+
+# -- symbolic: the contact from an arbitrary initial state ---------------------------------
+REGIME_POINTS = {
+    "underdamped": sp.Rational(37, 100),
+    "critical": 1,
+    "overdamped": sp.Rational(13, 5),
+}
+
+
+@pytest.mark.parametrize("regime", REGIMES)
+def test_restart_solution_solves_the_contact_equation_from_its_initial_state(regime):
+    model = spring_damper_restart(regime)
+    z = model.z  # symbolic in D (D = 1 substituted in the critical regime)
+    d = D if regime != "critical" else 1
+    residual = sp.diff(z, tau, 2) + 2 * d * sp.diff(z, tau) + z - 2 * d * f
+    assert sp.simplify(residual) == 0
+    assert sp.simplify(z.subs(tau, 0) - z0) == 0
+    assert sp.simplify(sp.diff(z, tau).subs(tau, 0) - v0) == 0
+    z_dot = model.z_dot
+    assert sp.simplify(sp.diff(z, tau) - z_dot) == 0
+
+
+@pytest.mark.parametrize("regime", REGIMES)
+def test_restart_contact_function_and_ridge_at_a_point(regime):
+    """g = 2Dz' + z and dg/dtau = 0 at the closed-form ridge time (numbers, 30 digits)."""
+    model = spring_damper_restart(regime)
+    d = REGIME_POINTS[regime]
+    z_start = sp.Rational(1, 2) if regime == "overdamped" else sp.Rational(1, 10)
+    point = {D: d, f: sp.Rational(1, 20), z0: z_start, v0: sp.Rational(1, 5)}
+    g = model.g["force"].subs(point)
+    z = model.z.subs(point)
+    assert abs(sp.N((g - 2 * d * sp.diff(z, tau) - z).subs(tau, sp.Rational(7, 3)), 30)) < 1e-25
+    assert bool(model.ridge_exists["force"].subs(point))
+    ridge = sp.N(model.ridge_time["force"].subs(point), 30)
+    assert ridge > 0
+    slope = sp.diff(model.g["force"].subs(point), tau).subs(tau, ridge)
+    assert abs(sp.N(slope, 30)) < 1e-25
+
+
+def test_restart_reduces_to_the_first_impact():
+    for regime in REGIMES:
+        start = {z0: 0, v0: 1}
+        plain = SpringDamperContact(regime)
+        restart = spring_damper_restart(regime)
+        for condition in ("position", "force"):
+            difference = restart.g[condition].subs(start) - plain.g[condition]
+            assert sp.simplify(difference) == 0
+
+
+@pytest.mark.parametrize("regime", ["underdamped", "overdamped"])
+def test_numeric_basis_is_the_homogeneous_solution_from_its_states(regime):
+    # C from (1, -D) and S from (0, 1), against the display-form solution (30 digits)
+    model = spring_damper(regime)
+    restart = spring_damper_restart(regime)
+    for d_value in SAMPLE_D[regime]:
+        d = sp.Rational(str(d_value))
+        aux = {
+            omega: sp.sqrt(1 - d**2),
+            sigma: sp.sqrt(d**2 - 1),
+            mu: d + sp.sqrt(d**2 - 1),
+        }
+        for form, state in zip(model.numeric_basis, ({z0: 1, v0: -d}, {z0: 0, v0: 1}), strict=True):
+            for t_value in (sp.Rational(1, 3), sp.Integer(4)):
+                point = {D: d, tau: t_value, f: 0, **state}
+                got = form.subs(aux).subs(point).evalf(30)
+                want = restart.z.subs(point).evalf(30)
+                assert abs(got - want) < 1e-25, (regime, d_value, t_value)

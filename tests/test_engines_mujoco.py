@@ -8,10 +8,8 @@ import os
 import numpy as np
 import pytest
 import sympy as sp
-from scipy.integrate import solve_ivp
 
 from impactsym.engines.mujoco import from_reduced, impedance, predict, solref_for
-from impactsym.engines.release import linear_release
 from impactsym.multibody import reduce_contact
 
 if os.environ.get("CI") == "true":
@@ -27,39 +25,6 @@ DEFAULT = (0.9, 0.95, 0.001, 0.5, 2.0)
 
 def _textbook_dampratio(e):
     return -math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2)
-
-
-# -- the kernel against independent ODE integration -----------------------------------
-def test_linear_release_matches_event_integration_in_every_regime():
-    rng = np.random.default_rng(3)
-    D = np.concatenate([rng.uniform(0.0, 2.5, 36), [0.0, 1.0, 1.0 - 1e-7, 1.0 + 1e-7]])
-    c = rng.uniform(0, 3, D.size) * (rng.random(D.size) < 0.7)
-    delta = rng.uniform(0, 2, D.size) * (rng.random(D.size) < 0.7)
-    rel = linear_release(D, c, delta)
-    for i in range(D.size):
-
-        def rhs(t, y, i=i):
-            return [y[1], c[i] - 2 * D[i] * y[1] - y[0]]
-
-        def force(t, y, i=i):
-            return 2 * D[i] * y[1] + y[0] + delta[i]
-
-        def position(t, y):
-            return y[0] if t > 1e-9 else 1.0
-
-        force.terminal = position.terminal = True
-        force.direction = position.direction = -1
-        sol = solve_ivp(rhs, (0, 200), [0, 1], events=[force, position], rtol=1e-12, atol=1e-14)
-        if sol.status == 1 and abs(sol.y[1, -1]) < 1e-8:
-            continue  # z -> 0+ only asymptotically (D >= 1, c = 0): round-off 'crossing'
-        if sol.status == 1:
-            assert rel.tau_c[i] == pytest.approx(sol.t[-1], rel=1e-7)
-            assert rel.restitution[i] == pytest.approx(-sol.y[1, -1], abs=1e-7)
-            tie = abs(force(0, sol.y[:, -1]) - sol.y[0, -1]) < 1e-9
-            assert tie or rel.by_position[i] == (len(sol.t_events[1]) > 0)
-        else:
-            assert math.isinf(rel.tau_c[i])
-            assert rel.restitution[i] == 0.0
 
 
 def test_varying_integrator_agrees_with_closed_form_when_the_impedance_is_flat():
@@ -290,19 +255,6 @@ def test_default_solimp_design_of_both_restitution_and_contact_time():
         )
         assert e == pytest.approx(target, rel=0.02)
         assert t == pytest.approx(0.01, rel=0.02)
-
-
-def test_position_threshold_is_the_papers_position_condition_with_the_same_load():
-    # the trajectory is paper section 2's with 2 D f = load; only the thresholds differ
-    from impactsym.contact import contact_time, restitution
-
-    D = np.array([0.1, 0.4, 0.8, 0.95])
-    f = np.array([0.05, 0.3, 0.2, 0.01])
-    rel = linear_release(D, 2 * D * f, np.zeros_like(D), force=False)
-    np.testing.assert_allclose(rel.tau_c, contact_time(D, f, condition="position"), rtol=1e-9)
-    np.testing.assert_allclose(rel.restitution, restitution(D, f, condition="position"), atol=1e-9)
-    rel = linear_release(D, 2 * D * f, np.zeros_like(D), position=False)
-    np.testing.assert_allclose(rel.tau_c, contact_time(D, f, condition="force"), rtol=1e-9)
 
 
 def test_stick_speed_is_where_mujoco_starts_to_hold_the_body():

@@ -3,9 +3,13 @@
 * :mod:`~impactsym.contact.derivation` -- SymPy: the normalized solution in every damping
   regime, the contact functions of both conditions, the ridge and the stick/release
   boundary (:class:`SpringDamperContact`);
-* :mod:`~impactsym.contact.api` -- vectorized NumPy functions built from those closed forms:
+* :mod:`~impactsym.contact.kernel` -- internal: those closed forms lambdified and evaluated
+  piecewise in ``D``, the ridge-bracketed contact-time root, the limits;
+* :mod:`~impactsym.contact.api` -- the public functions on that kernel:
   :func:`contact_time`, :func:`restitution`, :func:`stick_boundary`,
   :func:`contact_surface`, and :func:`physical_contact` in physical units;
+* :mod:`~impactsym.contact.release` -- the loaded oscillator with an offset force threshold
+  and two thresholds, solved once for the engine models (:func:`linear_release`);
 * :mod:`~impactsym.contact.flight` -- SymPy: the free flight after a release and the
   relaxing element (the re-contact equation);
 * :mod:`~impactsym.contact.bounce` -- the bounce sequence until rest

@@ -1,317 +1,37 @@
-r"""Spring-damper contact (paper section 2): fast vectorized numbers.
+r"""Spring-damper contact (paper section 2): contact time, restitution, stick boundary.
 
-Contact times, coefficients of restitution and the stick/release boundary, computed
-from the closed forms of :mod:`impactsym.contact.derivation` (lambdified once, on first use).
-
-The first root of :math:`g(\tau, D, f)` is bracketed without any time sampling: the
-closed-form ridge time :math:`\tau_r(D, f)` is the first local minimum of ``g``; the
-body sticks when :math:`g(\tau_r) \ge 0` (later minima lie higher, and without a
-minimum ``g`` decays monotonically to :math:`2Df \ge 0`); otherwise ``g`` falls
-monotonically from the preceding maximum (or from impact) to :math:`\tau_r`, and a
-safeguarded Newton iteration polishes the root in that bracket. Near-tangent, almost
-sticking cases are therefore never missed.
+The public face of the section-2 contact: validated, broadcasting functions for
+:math:`z'' + 2Dz' + z = 2Df`, :math:`z(0) = 0`, :math:`z'(0) = 1`, ending at the first
+sign change of :math:`g = z` (position condition) or :math:`g = 2Dz' + z` (force
+condition) (`docs/physics.md, section 2 <../physics.html#2-spring-damper-contact-paper-2>`_).
+The numbers come from the closed forms of :mod:`impactsym.contact.derivation`, evaluated
+by :mod:`impactsym.contact.kernel` (ridge-bracketed Newton iteration, no time sampling).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cache
 
 import numpy as np
-import sympy as sp
 
-from impactsym.contact import derivation
-from impactsym.contact.derivation import D, f, tau, v0, z0
-from impactsym.numeric.codegen import lambdify
+from impactsym.contact.kernel import (
+    B_MAX,
+    C_LARGE_F,
+    D_FAR,
+    F_FAR,
+    F_LARGE,
+    boundary_value,
+    first_release,
+    flat_inputs,
+    kernels,
+    limits,
+    ridge,
+    z_dot,
+)
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.validation import broadcast, check_condition, finish, real_array
 
 ArrayLike = float | np.ndarray
-
-
-def _aux(regime: str, damping: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Auxiliary arguments of the numeric forms, computed without cancellation."""
-    if regime == "underdamped":
-        return (np.sqrt((1.0 - damping) * (1.0 + damping)),)
-    if regime == "critical":
-        return ()
-    spread = np.sqrt(damping - 1.0) * np.sqrt(damping + 1.0)  # no overflow for D > 1e154
-    return spread, damping + spread
-
-
-class _PiecewiseInD:
-    """A numeric form evaluated regime by regime (masks on D), as one NumPy function.
-
-    Arguments ``([tau,] D, f)``, or ``([tau,] D, f, z0, v0)`` for a contact started from
-    an arbitrary state (``restart``, :class:`impactsym.contact.derivation.SpringDamperRestart`).
-    """
-
-    def __init__(
-        self, name: str, with_tau: bool, critical_separate: bool, restart: bool = False
-    ) -> None:
-        self.name = name
-        self.critical_separate = critical_separate
-        regimes = derivation.REGIMES if critical_separate else ("underdamped", "overdamped")
-        model = derivation.spring_damper_restart if restart else derivation.spring_damper
-        self.d_index = 1 if with_tau else 0
-        leading = (tau, D, f)[1 - self.d_index :] + ((z0, v0) if restart else ())
-        self.functions = {
-            r: lambdify(
-                leading + derivation.NUMERIC_AUX[r],
-                sp.sympify(model(r).numeric_forms[name], strict=True),
-                name=f"{name}_{r}",
-            )
-            for r in regimes
-        }
-
-    def __call__(self, *args: np.ndarray) -> np.ndarray:
-        damping = args[self.d_index]
-        if self.critical_separate:
-            masks = {
-                "underdamped": damping < 1,
-                "critical": damping == 1,
-                "overdamped": damping > 1,
-            }
-        else:  # the under-damped form is valid at D = 1 (sinc at omega = 0)
-            masks = {"underdamped": damping <= 1, "overdamped": damping > 1}
-        out = np.empty(np.broadcast_shapes(*(np.shape(a) for a in args)))
-        for regime, mask in masks.items():
-            if mask.any():
-                sub = [a[mask] for a in args]
-                out[mask] = self.functions[regime](*sub, *_aux(regime, sub[self.d_index]))
-        return out
-
-
-@dataclass(frozen=True)
-class _Kernels:
-    g: _PiecewiseInD
-    oscillation: _PiecewiseInD
-    oscillation_dot: _PiecewiseInD
-    ridge: _PiecewiseInD
-    ridge_exists: _PiecewiseInD
-    boundary_slope: _PiecewiseInD
-
-    def scaled_g(
-        self, t: np.ndarray, damping: np.ndarray, force: np.ndarray, *state: np.ndarray
-    ) -> np.ndarray:
-        """g exp(c tau) = oscillation + 2Df exp(c tau): the sign of g without underflow."""
-        return self.oscillation(t, damping, force, *state) + _static_part(t, damping, force)
-
-    def scaled_g_dot(
-        self, t: np.ndarray, damping: np.ndarray, force: np.ndarray, *state: np.ndarray
-    ) -> np.ndarray:
-        """d/dtau of :meth:`scaled_g`."""
-        rate = _decay_rate(damping)
-        static = _static_part(t, damping, force)
-        return self.oscillation_dot(t, damping, force, *state) + rate * static
-
-
-def _decay_rate(damping: np.ndarray) -> np.ndarray:
-    """Decay rate c of the slowest mode (``derivation.DECAY``): D for D <= 1, else 1/mu."""
-    mu_ = _aux("overdamped", np.maximum(damping, 1.0))[1]
-    return np.where(damping <= 1, damping, 1.0 / mu_)
-
-
-def _static_part(t: np.ndarray, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
-    static = 2.0 * damping * force
-    with np.errstate(over="ignore", invalid="ignore"):
-        grown = static * np.exp(_decay_rate(damping) * t)
-    return np.where(static > 0, grown, 0.0)  # no 0 * inf
-
-
-@cache
-def _kernels(condition: str, restart: bool = False) -> _Kernels:
-    """Numeric forms of one condition; ``restart``: from an arbitrary state (z0, v0)."""
-
-    def piece(name: str, with_tau: bool = True, critical: bool = False) -> _PiecewiseInD:
-        return _PiecewiseInD(
-            f"{name}_{condition}", with_tau=with_tau, critical_separate=critical, restart=restart
-        )
-
-    return _Kernels(
-        g=piece("g"),
-        oscillation=piece("g_oscillation"),
-        oscillation_dot=piece("g_oscillation_dot"),
-        ridge=piece("ridge", with_tau=False, critical=True),
-        ridge_exists=piece("ridge_exists", with_tau=False, critical=True),
-        boundary_slope=piece("g_D"),
-    )
-
-
-@cache
-def _z_dot(restart: bool = False) -> _PiecewiseInD:
-    return _PiecewiseInD("z_dot", with_tau=True, critical_separate=False, restart=restart)
-
-
-def _ridge(
-    condition: str, damping: np.ndarray, force: np.ndarray, state: tuple[np.ndarray, ...] = ()
-) -> np.ndarray:
-    """Ridge time: the first local minimum of g after impact; NaN where g has none.
-
-    ``state`` = ``(z0, v0)`` arrays: the contact starts from that state instead.
-    """
-    k = _kernels(condition, bool(state))
-    exists = k.ridge_exists(damping, force, *state) > 0.5
-    ridge = np.full(damping.shape, np.nan)
-    ridge[exists] = k.ridge(damping[exists], force[exists], *(a[exists] for a in state))
-    return ridge
-
-
-def _boundary_value(condition: str, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
-    """G(D, f) = g at the ridge time (the infimum 2Df of g where g has no minimum)."""
-    ridge = _ridge(condition, damping, force)
-    exists = ~np.isnan(ridge)
-    minimum = 2.0 * damping * force
-    if exists.any():
-        minimum[exists] = _kernels(condition).g(ridge[exists], damping[exists], force[exists])
-    return minimum
-
-
-#: Damping ratio above which the far over-damped limit replaces the closed-form kernels
-#: (their exponentials lose accuracy beyond about 1e9 and overflow beyond 1e154).
-_D_FAR = 1e8
-#: Pressing force below which the force-condition boundary D* = f^(-1/4)/2 lies above
-#: ``_D_FAR``, where that asymptote is exact to double precision (relative correction
-#: of order 2/D*^2 < 1e-16).
-_F_FAR = (0.5 / _D_FAR) ** 4
-
-
-def _far_overdamped(
-    condition: str, damping: np.ndarray, force: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    r"""Contact time and restitution for :math:`D > 10^8` (the far over-damped limit).
-
-    Position condition: an over-damped body never comes back out (:math:`D^* \le 1`).
-    Force condition: the body sticks for :math:`D \ge D^*(f) = f^{-1/4}/2`; for
-    :math:`f = 0` the normalized force :math:`a_1 e^{\lambda_1 \tau} + a_2 e^{\lambda_2
-    \tau}` has its root in closed form, with :math:`\lambda_1 = -1/\mu`,
-    :math:`\lambda_2 = -\mu`, :math:`\mu = D + \sigma`, :math:`\sigma = \sqrt{D^2 - 1}`,
-
-    .. math:: \tau_c = \frac{\ln\left((2 D \mu - 1)\mu^2\right)}{2\sigma}, \qquad
-              e = \frac{e^{-\tau_c/\mu}/\mu - \mu e^{-\mu \tau_c}}{2\sigma},
-
-    evaluated through logarithms (no overflow up to the largest float). The rest,
-    :math:`0 < f < (0.5/D)^4`, is refused.
-    """
-    tau_c, e = np.full(damping.shape, np.inf), np.zeros(damping.shape)
-    if condition == "position":
-        return tau_c, e
-    free = force == 0
-    d = damping[free]
-    root = np.sqrt((1.0 - 1.0 / d) * (1.0 + 1.0 / d))
-    sigma = d * root
-    log_mu = np.log(d) + np.log1p(root)
-    # ln(2 D mu - 1) = ln 2 + ln D + ln mu up to 1/(2 D mu) < 3e-17, below rounding
-    log_ratio = np.log(2.0) + np.log(d) + 3.0 * log_mu
-    tau_c[free] = log_ratio / 2.0 / sigma
-    slow = np.exp(-tau_c[free] * np.exp(-log_mu) - log_mu)
-    fast = np.exp(log_mu - (1.0 + root) / (2.0 * root) * log_ratio)
-    e[free] = (slow - fast) / 2.0 / sigma
-    pressed = ~free
-    releases = damping[pressed] < 0.5 * force[pressed] ** -0.25
-    if releases.any():
-        D_bad, f_bad = float(damping[pressed][releases][0]), float(force[pressed][releases][0])
-        raise ValueError(
-            f"D = {D_bad!r}, f = {f_bad!r}: for D > {_D_FAR:g} the contact time is computed "
-            "only for f = 0 or where the body sticks (D >= D*(f) = f^(-1/4)/2); this point "
-            "releases, below the stick boundary, outside the supported range"
-        )
-    return tau_c, e
-
-
-#: Static penetration 2Df above which the kernels cannot resolve the stick boundary
-#: (the minimum of g is a difference of terms of size 2Df; relative resolution of D*
-#: about eps (2Df)^2, 2e-8 here).
-_B_MAX = 1e4
-#: Large-f asymptote of the stick boundary, D* = (16 pi f^2)^(-1/3) (both conditions).
-_C_LARGE_F = (16.0 * np.pi) ** (-1.0 / 3.0)
-#: Above this f the stick boundary is the large-f asymptote (its relative correction,
-#: about -0.55 f^(-2/3), is below 5e-9 there, and the kernels' resolution eps (2 D* f)^2
-#: would be worse beyond).
-_F_LARGE = 1e12
-
-
-def _limits(
-    condition: str, damping: np.ndarray, force: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    r"""Points decided by a limit, without the kernels: ``(mask, tau_c, e)`` on them.
-
-    * :math:`D > 10^8`: the far over-damped limit (:func:`_far_overdamped`).
-    * static penetration :math:`2Df > 10^4`: the body sticks when
-      :math:`D \ge 2 D^*_\infty(f)`, twice the large-``f`` boundary
-      :math:`D^*_\infty = (16\pi f^2)^{-1/3}` (the first minimum of ``z`` near
-      :math:`\tau = 2\pi` is :math:`4\pi D b^2 - 1` over :math:`2b`, :math:`b = 2Df`,
-      and :math:`D^* < D^*_\infty`); closer to the boundary the sign of that minimum is
-      below double-precision rounding, and the point is refused.
-    """
-    with np.errstate(over="ignore"):
-        static = damping * force * 2.0  # not 2 D first: 2 D may overflow where f = 0
-    far = damping > _D_FAR
-    big = (static > _B_MAX) & ~far
-    tau_c, e = np.full(damping.shape, np.inf), np.zeros(damping.shape)
-    if far.any():
-        tau_c[far], e[far] = _far_overdamped(condition, damping[far], force[far])
-    if big.any():
-        unresolved = damping[big] < 2.0 * _C_LARGE_F * force[big] ** (-2.0 / 3.0)
-        if unresolved.any():
-            D_bad, f_bad = float(damping[big][unresolved][0]), float(force[big][unresolved][0])
-            raise ValueError(
-                f"D = {D_bad!r}, f = {f_bad!r}: the static penetration 2 D f exceeds "
-                f"{_B_MAX:g} and D is within a factor 2 of the stick boundary "
-                "D* ~ (16 pi f^2)^(-1/3), where double precision cannot tell whether the "
-                "body releases; only clearly sticking points are computed there"
-            )
-    decided = far | big
-    return decided, tau_c[decided], e[decided]
-
-
-def _contact_time(
-    condition: str,
-    damping: np.ndarray,
-    force: np.ndarray,
-    ridge: np.ndarray | None = None,
-    state: tuple[np.ndarray, ...] = (),
-) -> np.ndarray:
-    """Contact time on flat arrays (no validation); ``ridge`` if already computed.
-
-    ``state`` = ``(z0, v0)`` arrays: the contact starts from ``z(0) = z0, z'(0) = v0``
-    (with ``g(0) > 0``) instead of the first impact's ``(0, 1)``; the same argument holds.
-    The limits of :func:`_limits` are those of the first impact (``state = ()``).
-    """
-    if not state:
-        decided, tau_limit, _ = _limits(condition, damping, force)
-        if decided.any():
-            result = np.empty(damping.shape)
-            result[decided] = tau_limit
-            rest = ~decided
-            result[rest] = _contact_time(
-                condition, damping[rest], force[rest], None if ridge is None else ridge[rest]
-            )
-            return result
-    k = _kernels(condition, bool(state))
-    ridge = _ridge(condition, damping, force, state) if ridge is None else ridge
-    exists = ~np.isnan(ridge)
-    release = exists.copy()
-    at = [a[exists] for a in state]
-    release[exists] = k.scaled_g(ridge[exists], damping[exists], force[exists], *at) < 0
-    result = np.full(damping.shape, np.inf)
-    if release.any():
-        d, fr, hi = damping[release], force[release], ridge[release]
-        lo = np.zeros_like(hi)  # g decreases from impact, or from the preceding maximum:
-        under = d < 1
-        half_period = np.pi / np.sqrt((1.0 - d[under]) * (1.0 + d[under]))
-        lo[under] = np.maximum(hi[under] - half_period, 0.0)
-        params = [d, fr, *(a[release] for a in state)]
-        result[release] = bracketed_newton(k.scaled_g, k.scaled_g_dot, lo, hi, params)
-    return result
-
-
-def _inputs(condition: str, **arrays: object) -> tuple[list[np.ndarray], tuple[int, ...], bool]:
-    check_condition(condition)
-    checked = [real_array(name, value, lower=0.0) for name, value in arrays.items()]
-    shape = broadcast(**{name: a for name, (a, _) in zip(arrays, checked, strict=True)})
-    flat = [np.broadcast_to(a, shape).ravel() for a, _ in checked]
-    return flat, shape, all(s for _, s in checked)
 
 
 def contact_time(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> ArrayLike:
@@ -350,8 +70,8 @@ def contact_time(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> Arr
     >>> contact_time(1.0, 0.0, condition="position")
     inf
     """
-    (damping, force), shape, scalar = _inputs(condition, D=D, f=f)
-    return finish(_contact_time(condition, damping, force).reshape(shape), scalar)
+    (damping, force), shape, scalar = flat_inputs(condition=condition, D=D, f=f)
+    return finish(first_release(damping, force, condition=condition).reshape(shape), scalar)
 
 
 def restitution(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> ArrayLike:
@@ -366,17 +86,17 @@ def restitution(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> Arra
     >>> round(restitution(1.0, 0.0), 12)  # z'(2) = -exp(-2) for D = 1, f = 0
     0.135335283237
     """
-    (damping, force), shape, scalar = _inputs(condition, D=D, f=f)
-    decided, _, e_limit = _limits(condition, damping, force)
+    (damping, force), shape, scalar = flat_inputs(condition=condition, D=D, f=f)
+    decided, _, e_limit = limits(damping, force, condition=condition)
     e = np.zeros(damping.shape)
     e[decided] = e_limit
     near = ~decided
     d, fr = damping[near], force[near]
-    tau_c = _contact_time(condition, d, fr)
+    tau_c = first_release(d, fr, condition=condition)
     e_near = np.zeros(d.shape)
     release = np.isfinite(tau_c)
     if release.any():
-        e_near[release] = -_z_dot()(tau_c[release], d[release], fr[release])
+        e_near[release] = -z_dot()(tau_c[release], d[release], fr[release])
     e[near] = e_near
     # 0 <= e <= 1 by the energy balance; rounding must not push it past 1
     return finish(np.clip(e, 0.0, 1.0).reshape(shape), scalar)
@@ -405,18 +125,18 @@ def contact_surface(
     >>> [round(x / np.pi, 12) for x in (first, second, ridge)]
     [1.0, 2.0, 1.5]
     """
-    (damping, force), shape, scalar = _inputs(condition, D=D, f=f)
-    if _limits(condition, damping, force)[0].any():
+    (damping, force), shape, scalar = flat_inputs(condition=condition, D=D, f=f)
+    if limits(damping, force, condition=condition)[0].any():
         raise ValueError(
-            f"contact_surface needs D <= {_D_FAR:g} and 2 D f <= {_B_MAX:g} (the sheets "
+            f"contact_surface needs D <= {D_FAR:g} and 2 D f <= {B_MAX:g} (the sheets "
             "of the surface are not resolved beyond); use contact_time there"
         )
-    k = _kernels(condition)
-    ridge = _ridge(condition, damping, force)
-    first = _contact_time(condition, damping, force, ridge)
+    k = kernels(condition=condition)
+    at_ridge = ridge(damping, force, condition=condition)
+    first = first_release(damping, force, at_ridge, condition=condition)
     release = np.isfinite(first)
     second = np.full(damping.shape, np.nan)
-    d, fr, lo = damping[release], force[release], ridge[release]
+    d, fr, lo = damping[release], force[release], at_ridge[release]
     hi = np.empty_like(lo)
     under = d < 1
     hi[under] = lo[under] + np.pi / np.sqrt((1.0 - d[under]) * (1.0 + d[under]))  # next maximum
@@ -434,7 +154,7 @@ def contact_surface(
     )
     second[release] = second_release
     first = np.where(release, first, np.nan)
-    return tuple(finish(a.reshape(shape), scalar) for a in (first, second, ridge))
+    return tuple(finish(a.reshape(shape), scalar) for a in (first, second, at_ridge))
 
 
 #: Damping ratio beyond which the bracket search for the force boundary gives up.
@@ -481,28 +201,28 @@ def stick_boundary(f: ArrayLike, *, condition: str = "force") -> ArrayLike:
     >>> contact_time(d_star + 1e-6, 0.5, condition="position")
     inf
     """
-    (force,), shape, scalar = _inputs(condition, f=f)
+    (force,), shape, scalar = flat_inputs(condition=condition, f=f)
     result = np.full(force.shape, 1.0 if condition == "position" else np.inf)
     pressed = force > 0
     if condition == "force":  # D* > 1e8: the asymptote, exact there to double precision
-        tiny = pressed & (force < _F_FAR)
+        tiny = pressed & (force < F_FAR)
         result[tiny] = 0.5 * force[tiny] ** -0.25
         pressed &= ~tiny
-    large = pressed & (force > _F_LARGE)  # the large-f asymptote, relative error < 5e-9
-    result[large] = _C_LARGE_F * force[large] ** (-2.0 / 3.0)
+    large = pressed & (force > F_LARGE)  # the large-f asymptote, relative error < 5e-9
+    result[large] = C_LARGE_F * force[large] ** (-2.0 / 3.0)
     pressed &= ~large
     if pressed.any():
         fr = force[pressed]
-        k = _kernels(condition)
+        k = kernels(condition=condition)
 
         def minimum(damping: np.ndarray, fv: np.ndarray) -> np.ndarray:
-            return _boundary_value(condition, damping, fv)
+            return boundary_value(damping, fv, condition=condition)
 
         def slope(damping: np.ndarray, fv: np.ndarray) -> np.ndarray:
-            ridge = _ridge(condition, damping, fv)
-            exists = ~np.isnan(ridge)
+            at = ridge(damping, fv, condition=condition)
+            exists = ~np.isnan(at)
             out = 2.0 * fv  # d(2Df)/dD where g has no minimum
-            out[exists] = k.boundary_slope(ridge[exists], damping[exists], fv[exists])
+            out[exists] = k.boundary_slope(at[exists], damping[exists], fv[exists])
             return out
 
         hi = np.ones_like(fr)  # position: G(1, f) = 2f > 0, D* < 1

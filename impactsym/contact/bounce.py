@@ -1,83 +1,35 @@
 r"""The bounce sequence of the spring-damper contact until the body rests.
 
-Normalized on the *first* impact (``docs/physics.md``, section 2: :math:`\tau = \omega_0 t`,
+**What.** Normalized on the *first* impact (:math:`\tau = \omega_0 t`,
 :math:`z = x\omega_0/v_0`, :math:`f = F/(d v_0)`): a body released from the contact flies
 under the pressing force alone, with acceleration :math:`2Df` towards the contact, hits
-again, and so on until a contact no longer ends (the body sticks).
+again, and so on until a contact no longer ends (the body sticks). `docs/physics.md,
+section 2 <../physics.html#bounce-sequences-until-rest>`_ derives the recursions and why
+the sequence ends.
 
-**Position condition.** Every contact ends at :math:`z = 0` with the element undeformed,
-so every contact starts undeformed. Contact ``n`` at speed :math:`v_n` is the first impact
-seen in the units of :math:`v_n`: the same :math:`\tau`, penetration scaled by
-:math:`v_n` and the effective pressing force :math:`f_n = f/v_n`. Hence, exactly,
+**Which equations.** Position condition: every contact starts undeformed, so contact
+``n`` at speed :math:`v_n` is the first impact with :math:`f_n = f/v_n`,
 
 .. math::
 
-    v_1 = 1,\qquad v_{n+1} = e(D, f_n)\, v_n,\qquad
+    v_{n+1} = e(D, f_n)\, v_n,\qquad
     \tau_{n+1}^\mathrm{start} = \tau_n^\mathrm{start} + \tau_c(D, f_n)
-        + \frac{2 v_{n+1}}{2 D f},
+        + \frac{2 v_{n+1}}{2 D f}.
 
-with :math:`\tau_c` and :math:`e` of :func:`~impactsym.contact.api.contact_time` and
-:func:`~impactsym.contact.api.restitution`. The number of contacts is
-:math:`N = \min\{n : \tau_c(D, f/v_n) = \infty\}` and the time to rest the exact finite sum
+Force condition: the contact ends with the massless element still deflected by
+:math:`2Du`; it relaxes as :math:`z_e' = -z_e/(2D)` while the body flies, and the next
+contact starts from the state :math:`(z^*, v^*)` where the body meets it (the re-contact
+root of :math:`\psi(x) = 2D^2 f/u`, :mod:`~impactsym.contact.flight`), with the restart
+forms of :class:`~impactsym.contact.derivation.SpringDamperRestart`. ``arrival_velocity``
+is signed (negative: the element catches the body from behind), ``arrival_speed`` its
+magnitude.
 
-.. math::  \tau_\mathrm{rest} = \sum_{n=1}^{N-1} \tau_c(D, f_n)
-           + \frac{1}{D f}\sum_{n=2}^{N} v_n .
-
-*It ends* (:math:`N < \infty` for every :math:`D > 0,\ f > 0`):
-
-1. *A large pressing force sticks.* For :math:`D \ge 1` and :math:`f > 0` the first contact
-   sticks already (:func:`~impactsym.contact.api.stick_boundary` is below 1). For
-   :math:`0 < D < 1` write :math:`z = b\,s(\tau) + S(\tau)` with :math:`b = 2Df`, the step
-   response :math:`s = 1 - C - DS` and :math:`S = e^{-D\tau}\sin(\omega\tau)/\omega`,
-   :math:`\omega = \sqrt{1 - D^2}`. Since :math:`s' = S`, ``s`` rises on
-   :math:`[0, \pi/\omega]` where :math:`S > 0`, so :math:`z > 0` there; beyond, ``s`` has
-   its minima at :math:`2k\pi/\omega` and :math:`s \ge 1 - e^{-2\pi D/\omega}`, while
-   :math:`|S| \le e^{-\pi D/\omega}/\omega`. So :math:`z > 0` for all :math:`\tau > 0`
-   (the contact never ends) as soon as
-
-   .. math::  f > f_\mathrm{stick}(D) = \frac{1}{4 D \omega \sinh(\pi D/\omega)} .
-
-2. *Restitution stays below one, uniformly.* Multiplying the contact equation by
-   :math:`z'` gives :math:`\tfrac{d}{d\tau}(\tfrac12 z'^2 + \tfrac12 z^2 - bz) = -2Dz'^2`;
-   a contact starts and ends at :math:`z = 0`, so :math:`e^2 = 1 - 4D\int z'^2 < 1`. At
-   the fold (:math:`G(D, f) \to 0^-`) the contact time tends to the ridge time, where
-   :math:`z' = 0`, so :math:`e \to 0`. Extended by 0 where the body sticks, :math:`e(D,
-   \cdot)` is therefore continuous on the compact :math:`[f, f_\mathrm{stick}(D)]` and
-   below one: :math:`e \le e_\mathrm{max} < 1`.
-3. As long as the body releases, :math:`v_n \le e_\mathrm{max}^{\,n-1}` and
-   :math:`f_n = f/v_n` grows geometrically; it passes :math:`f_\mathrm{stick}(D)` after
-   at most :math:`1 + \log(f_\mathrm{stick}/f)/\log(1/e_\mathrm{max})` contacts. With
-   finitely many contacts, all of finite duration, :math:`\tau_\mathrm{rest} < \infty`.
-
-A constant coefficient of restitution, in contrast, bounces infinitely often (in finite
-time); here the growing :math:`f_n` ends the sequence.
-
-**Force condition.** The contact ends when the force :math:`2Dz' + z` vanishes, with the
-massless element still deflected by :math:`z_c = 2Du` (``u`` the speed of departure). It
-relaxes freely, :math:`z_e' = -z_e/(2D)`, while the body flies, and the body meets it
-again still deflected (:mod:`~impactsym.contact.flight`: the re-contact is the unique root
-of :math:`\psi(x) = 2D^2 f/u`, bracketed by :math:`3 - 6r \le x < 1/r` and solved by
-:func:`~impactsym.numeric.roots.bracketed_newton`). The next contact starts from that
-state, :math:`z(0) = z^*`, :math:`z'(0) = v^*`, and its contact time, ridge and stick test
-are those of :class:`~impactsym.contact.derivation.SpringDamperRestart`. The body can
-meet the element while still moving away (:math:`v^* < 0`, caught from behind); the
-reported ``arrival_speed`` is :math:`|v^*|`, ``arrival_velocity`` keeps the sign.
-The energy of body and element, :math:`E = \tfrac12 z'^2 - 2Df\,z + \tfrac12 z_e^2`,
-never increases (in contact :math:`E' = -2Dz'^2`; in flight the body's part is conserved
-and the element's spring energy drains through its damper) and is bounded below by
-:math:`-2D^2f^2`, so the sequence settles; that the number of contacts is *finite* is not
-proven here for this condition: ``max_contacts`` guards it, and the tests observe the rest
-for random :math:`D, f`. A release with :math:`1/2 - r < 10^{-13}` is at the fold to
-rounding (the contact force only touches zero) and counts as sticking.
-
-**Special points.** ``f = 0``: the body, once released, never comes back (one contact,
-``sticks`` False, ``time_to_rest`` inf); a first contact that never ends (position
-condition, :math:`D \ge 1`: the body creeps back to :math:`z = 0`) counts as sticking at
-time 0. ``D = 0``: without a damper the paper's :math:`f = F/(dv_0)` is infinite for any
-load; for finite ``f`` the pressing force :math:`2Df` vanishes and the body leaves after
-one contact. A flight longer than floats reach (:math:`Df \lesssim 10^{-300}`) counts as
-never coming back. An undamped contact *under a load* is
-:func:`physical_bounce` with ``d = 0``: it bounces for ever with :math:`e = 1`.
+**Why this numerics.** One loop over contacts, vectorized over all points
+(:func:`bounce_map`): each contact is one call of the section-2 kernel
+(:func:`impactsym.contact.kernel.first_release`, ridge-bracketed Newton), each
+re-contact one bracketed Newton solve of the flight equation; points that rest drop
+out. A release at the fold to rounding (:math:`1/2 - r < 10^{-13}`) counts as sticking;
+``max_contacts`` bounds the loop (under the force condition finiteness is not proven).
 """
 
 from __future__ import annotations
@@ -90,7 +42,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.contact import flight as _flight
-from impactsym.contact.api import _contact_time, _inputs, _kernels, _z_dot
+from impactsym.contact.kernel import first_release, flat_inputs, kernels, z_dot
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.validation import check_condition, finish, real_array
@@ -115,7 +67,7 @@ _TANGENT = 1e-13
 @cache
 def _restart_z() -> Any:
     """z(tau; D, f, z0, v0) of a contact started from (z0, v0) (its position function)."""
-    return _kernels("position", True).g
+    return kernels(condition="position", restart=True).g
 
 
 def _recontact(ratio: np.ndarray) -> np.ndarray:
@@ -180,13 +132,13 @@ def _sequences(
         speed = np.zeros(active.size)  # speed of departure, first-impact units
         if condition == "position":  # contact k = first impact at speed va, f_k = f/va
             f_k = fr / va
-            tau_c = _contact_time("position", d, f_k)
+            tau_c = first_release(d, f_k, condition="position")
             out = np.isfinite(tau_c)
-            speed[out] = -_z_dot()(tau_c[out], d[out], f_k[out]) * va[out]
+            speed[out] = -z_dot()(tau_c[out], d[out], f_k[out]) * va[out]
         else:
-            tau_c = _contact_time("force", d, fr, state=(za, va))
+            tau_c = first_release(d, fr, state=(za, va), condition="force")
             out = np.isfinite(tau_c)
-            speed[out] = -_z_dot(True)(tau_c[out], d[out], fr[out], za[out], va[out])
+            speed[out] = -z_dot(restart=True)(tau_c[out], d[out], fr[out], za[out], va[out])
         accel = 2.0 * d * fr
         ratio = np.zeros(active.size)
         if condition == "force":  # r = 2 D^2 f / u < 1/2 unless rounding at the fold
@@ -204,7 +156,7 @@ def _sequences(
         # than floats reach (D f below ~1e-300): that body counts as never coming back
         with np.errstate(all="ignore"):
             reach = 2.0 * speed / accel if condition == "position" else 2.0 / ratio
-        back = out & (accel > 0) & np.isfinite(reach) & np.isfinite(t[active] + reach)
+            back = out & (accel > 0) & np.isfinite(reach) & np.isfinite(t[active] + reach)
         idx, d, u, a = active[back], d[back], speed[back], accel[back]
         t_release = t[idx] + tau_c[back]
         if condition == "position":
@@ -337,7 +289,7 @@ def bounce_sequence(
                \Delta\tau_\mathrm{flight} = \frac{2 v_{n+1}}{2 D f};
 
     under the force condition the next contact starts from the still deflected element
-    (see the module docstring for both, and for the proof that the position sequence ends).
+    (the module docstring; physics.md, section 2, *Bounce sequences until rest*).
 
     Parameters
     ----------
@@ -442,7 +394,7 @@ def bounce_map(D: ArrayLike, f: ArrayLike, *, condition: str, max_contacts: int 
     [608.025, 143.756, 0.0]
     """
     max_contacts = _max_contacts(max_contacts)
-    (damping, force), shape, _ = _inputs(condition, D=D, f=f)
+    (damping, force), shape, _ = flat_inputs(condition=condition, D=D, f=f)
     padded = _sequences(condition, damping, force, max_contacts)
     return BounceMap(
         D=damping.reshape(shape),

@@ -260,6 +260,16 @@ class SpringDamperContact:
 
     # -- numeric forms ------------------------------------------------------------
     @cached_property
+    def numeric_basis(self) -> tuple[sp.Expr, sp.Expr]:
+        """The damped basis ``(C, S)`` of the regime in numeric form, arguments
+        ``(tau, D) + NUMERIC_AUX[regime]`` (``D = 1`` substituted when critical).
+
+        Every homogeneous solution is :math:`h = h_0 C + (h_1 + D h_0) S`.
+        """
+        zero, one = sp.Integer(0), sp.Integer(1)
+        return self._numeric(zero, one, -D), self._numeric(zero, zero, one)
+
+    @cached_property
     def numeric_forms(self) -> dict[str, sp.Expr]:
         """Stable float forms, keyed ``'z_dot'``, ``'g_<condition>'`` (``g_position``
         is ``z``), ``'ridge_<condition>'``, ``'ridge_exists_<condition>'``,

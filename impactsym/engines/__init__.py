@@ -2,9 +2,9 @@
 
 :mod:`impactsym.engines.mujoco` predicts and designs MuJoCo's ``solref``/``solimp``;
 :mod:`impactsym.engines.lammps` the Hooke spring-dashpot of LAMMPS ``pair_style
-granular``; :mod:`impactsym.engines.release` is their shared closed-form kernel (NumPy)
-and :mod:`impactsym.engines.derivation` the SymPy derivation of MuJoCo's contact
-equation. None of them imports an engine: the engines (``pip install
-impactsym[engines]``) are needed only to check the predictions.
+granular``; both solve the loaded section-2 oscillator with
+:mod:`impactsym.contact.release`, and :mod:`impactsym.engines.derivation` is the SymPy
+derivation of MuJoCo's contact equation. None of them imports an engine: the engines
+(``pip install impactsym[engines]``) are needed only to check the predictions.
 Submodules are imported on demand.
 """

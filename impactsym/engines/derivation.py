@@ -21,7 +21,7 @@ equation of motion and brought to the section-2 normalization
     c = (1 - d')\,\gamma, \quad \delta = d' \gamma, \quad \gamma = \frac{g}{\omega_0 v_0}.
 
 The trajectory is the paper's with ``2 D f = c``; the force threshold is offset by
-``delta``. :mod:`impactsym.engines.release` evaluates the result numerically.
+``delta``. :mod:`impactsym.contact.release` evaluates the result numerically.
 """
 
 from __future__ import annotations

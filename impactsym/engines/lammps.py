@@ -20,7 +20,7 @@ particles (or a particle and a wall) this is paper section 2 with
   at constant speed when nothing presses).
 
 A pressing acceleration ``gravity`` (e.g. a particle dropped on a wall) is the load
-``F = m_eff g``. Both are :func:`impactsym.engines.release.linear_release` (no force
+``F = m_eff g``. Both are :func:`impactsym.contact.release.linear_release` (no force
 offset). All quantities are SI: kilograms, N/m, N s/m, seconds, metres, m/s.
 """
 
@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.release import linear_release
+from impactsym.contact.release import linear_release
 from impactsym.numeric.roots import bracketed_illinois
 from impactsym.validation import finish, real_array
 
@@ -160,7 +160,7 @@ def predict(
     omega = np.sqrt(k / m)
     D = eta / (2.0 * np.sqrt(k * m))
     rel = _release(D, g / (omega * v), bool(limit_damping))
-    out = [rel.restitution, rel.tau_c / omega, rel.z_max * v / omega]
+    out = [rel.restitution, rel.contact_time / omega, rel.max_penetration * v / omega]
     out = [finish(a, scalar) for a in out]
     return HookeContact(finish(k, scalar), finish(eta, scalar), float(m), bool(limit_damping), *out)
 
@@ -205,7 +205,7 @@ def hooke_for(
     With ``limit_damping`` the damping ratio solves the force-condition restitution
     ``e_force(D) = e`` (paper section 2, ``f = 0``); without it the textbook
     ``D = -ln e / sqrt(pi^2 + ln^2 e)``. Then ``omega0 = tau_c(D) / t_c`` (or
-    ``z_max(D) v / delta_max``), ``kn = m omega0^2`` and ``eta_n = 2 D m omega0``.
+    ``max_penetration(D) v / delta_max``), ``kn = m omega0^2`` and ``eta_n = 2 D m omega0``.
     No pressing load (particle-particle collisions).
 
     Parameters
@@ -249,7 +249,7 @@ def hooke_for(
     e, target, v = np.broadcast_arrays(e, target, v)
     D = _damping_ratio_for(e.ravel(), bool(limit_damping)).reshape(e.shape)
     rel = _release(D, np.zeros_like(D), bool(limit_damping))
-    omega = rel.tau_c / target if max_overlap is None else rel.z_max * v / target
+    omega = rel.contact_time / target if max_overlap is None else rel.max_penetration * v / target
     kn = m * omega**2
     eta = 2.0 * D * m * omega
     return predict(

@@ -41,7 +41,7 @@ force always vanishes first (the paper's force condition); under gravity a slow 
 loses the contact while still pressed, which is neither of the paper's conditions.
 
 For flat impedance (``solimp[0] == solimp[1]``) this is
-:func:`impactsym.engines.release.linear_release` with ``D = d' b / (2 omega0)``,
+:func:`impactsym.contact.release.linear_release` with ``D = d' b / (2 omega0)``,
 ``omega0^2 = d' d k-bar``, load ``(1 - d') gamma`` and offset ``d' gamma``,
 ``gamma = g / (omega0 v0)``. For a varying impedance (MuJoCo's default
 ``solimp = (0.9, 0.95, 0.001, 0.5, 2)``) the same equation is integrated numerically
@@ -59,7 +59,7 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.release import linear_release, release_margin
+from impactsym.contact.release import linear_release, release_margin
 from impactsym.numeric.roots import bracketed_illinois
 from impactsym.validation import real_array
 
@@ -213,10 +213,10 @@ def _flat(damp, stiff, d, rho, gravity, speed, extremes=True):
     rel = linear_release(D, (1.0 - dp) * gamma, dp * gamma, extremes=extremes)
     return (
         rel.restitution,
-        rel.tau_c / omega,
-        rel.by_position,
-        rel.z_max * speed / omega,
-        rel.force_max * omega * speed,
+        rel.contact_time / omega,
+        rel.released_by_position,
+        rel.max_penetration * speed / omega,
+        rel.peak_force * omega * speed,
     )
 
 
@@ -258,7 +258,7 @@ def _varying(damp, stiff, solimp, rho, gravity, speed):
     D_lo = d_lo * damp / (2.0 * omega_lo)
     h = _RK_STEP / np.maximum(omega_hi, d_hi * damp)
     # a flat contact releases before the second extremum of its oscillation (3 pi / mu)
-    # or never (impactsym.engines.release); allow that with margin at the softest d
+    # or never (impactsym.contact.release); allow that with margin at the softest d
     mu = np.sqrt(np.abs(1.0 - D_lo**2))
     periods = np.where(D_lo < 1.0, 3.5 * np.pi / np.maximum(mu, 1e-3), 0.0)
     horizon = np.maximum(80.0, np.minimum(periods, 4000.0)) * np.maximum(1.0, D_lo) / omega_lo
@@ -565,7 +565,7 @@ def stick_speed(
     r"""Approach speed (m/s) below which MuJoCo's body sticks under ``gravity`` (flat solimp).
 
     With ``gamma = g / (omega0 v0)`` the body sticks where
-    :func:`impactsym.engines.release.release_margin` of
+    :func:`impactsym.contact.release.release_margin` of
     ``(D, (1 - d') gamma, d' gamma)`` is positive; the boundary ``gamma*(D, d')`` is
     found by the Illinois method in ``log gamma`` and ``v* = g / (omega0 gamma*)``.
     ``0.0`` without gravity, or where the body releases for every ``gamma`` up to

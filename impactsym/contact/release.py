@@ -1,36 +1,43 @@
-r"""First release of a loaded linear contact oscillator, in closed form (NumPy only).
+r"""The loaded section-2 oscillator and its first release: the one solver of it.
 
-Both engine models reduce, for flat impedance, to paper section 2 with two
-generalizations: the pressing load and the threshold of the contact force are
-independent, and contact ends at whichever of two events comes first. In the
-section-2 normalization (``tau = omega0 t``, ``z = x omega0 / v0``)
-
-.. math::
-
-    z'' + 2 D z' + z = c, \qquad z(0) = 0, \quad z'(0) = 1,
-
-    \lambda(\tau) = 2 D z' + z + \delta \quad \text{(contact force, unit } m\,\omega_0 v_0),
-
-and the contact ends at the first ``tau > 0`` where ``lambda <= 0`` (if the force
-threshold is active) or ``z <= 0`` (if the position threshold is active). The paper's
-force condition is ``c = 2 D f, delta = 0``; its position condition is the position
-threshold alone. MuJoCo's soft contact has ``c = (1 - d) gamma`` and ``delta = d gamma``
-(:mod:`impactsym.engines.mujoco`).
-
-Every quantity is a constant plus a homogeneous solution ``h`` of the oscillator,
-written in all damping regimes as
+**What.** Paper section 2 with two generalizations, shared by the engine models
+(:mod:`impactsym.engines.mujoco`, :mod:`impactsym.engines.lammps`): the pressing load
+and the threshold of the contact force are independent, and contact ends at whichever
+of two thresholds comes first. In the section-2 normalization (``tau = omega0 t``,
+``z = x omega0 / v0``; `docs/physics.md, section 2
+<../physics.html#the-loaded-oscillator-and-its-first-release>`_)
 
 .. math::
 
-    h(\tau) = e^{-D\tau}\,[h_0 C(\tau) + (h_1 + D h_0) S(\tau)], \qquad
-    h'(\tau) = e^{-D\tau}\,[h_1 C(\tau) - (h_0 + D h_1) S(\tau)],
+    z'' + 2 D z' + z = c, \qquad z(0) = 0, \quad z'(0) = 1, \qquad
+    \lambda(\tau) = 2 D z' + z + \delta,
 
-with ``C = cos(mu tau)``, ``S = sin(mu tau)/mu``, ``mu = sqrt(1 - D^2)`` (``cosh``,
-``sinh`` for ``D > 1``, ``C = 1``, ``S = tau`` at ``D = 1``). The extrema of ``h`` are
-known in closed form; between them ``h`` is monotone, and the extrema of a damped
-oscillation shrink and alternate in sign, so a crossing of a level ``L >= 0`` reached
-from above happens before the second extremum or never. That brackets every first
-root, which :func:`impactsym.numeric.bracketed_newton` then polishes.
+and the contact ends at the first ``tau > 0`` where ``lambda <= 0`` (force threshold)
+or ``z <= 0`` (position threshold). The paper's force condition is ``c = 2 D f``,
+``delta = 0``; its position condition is the position threshold alone. MuJoCo's soft
+contact has ``c = (1 - d) gamma``, ``delta = d gamma``.
+
+**One solver per equation.** Every quantity here is a constant plus a homogeneous
+solution ``h`` of the oscillator, and ``h`` is evaluated by the section-2 kernel
+(:class:`impactsym.contact.kernel.Homogeneous`) from the closed forms of
+:mod:`impactsym.contact.derivation`: the solution exists once, in SymPy. This module
+adds only what the two thresholds and the offset need -- the extrema of ``h`` (roots of
+``h'``, in closed form) that bracket each first crossing -- and does not serve
+:func:`impactsym.contact.contact_time`, whose ridge bracket and limits cover the paper's
+``(D, f)`` plane to double precision; the test ``test_contact_release`` checks both
+against each other and against event-integrated ODEs.
+
+**Why this numerics.** Between consecutive extrema ``h`` is monotone, and the extrema
+of a damped oscillation shrink and alternate in sign, so a crossing of a level
+``L >= 0`` reached from above happens before the second extremum or never. That
+brackets every first root, which :func:`impactsym.numeric.roots.bracketed_newton`
+polishes to ``rtol = 1e-13`` on the whole array.
+
+**Tolerance.** Against the former hand-written closed forms (float64 cos/sin, cosh/sinh
+and a series near ``D = 1``) the contact time agrees to ``5e-13`` relative and the
+restitution, largest penetration and peak force to ``5e-14`` absolute over ``D`` in
+``[0, 3]``, loads and offsets in ``[0, 3]``; where they differ, a 40-digit mpmath root
+sides with this module (physics.md, section 2).
 """
 
 from __future__ import annotations
@@ -39,63 +46,23 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from impactsym.contact.kernel import homogeneous
 from impactsym.numeric.roots import bracketed_newton
 
 __all__ = ["LinearRelease", "linear_release", "release_margin"]
 
-_SERIES = 1e-3  # below this |mu| tau the sinh/sin quotient is taken from its series
+_SERIES = 1e-3  # below this |mu| tau the arctanh quotient is taken from its series
 
 
-def _basis(tau: np.ndarray, D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``exp(-D tau) C(tau)`` and ``exp(-D tau) S(tau)`` in every damping regime.
-
-    The underdamped closed form covers most points; the other regimes (overdamped,
-    the series near ``D = 1`` or ``tau = 0``) are evaluated only where they apply.
-    """
-    one_minus = 1.0 - D * D
-    mu = np.sqrt(np.abs(one_minus))
-    x = mu * tau
-    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-        ex = np.exp(-D * tau)
-        small = x < _SERIES
-        common = (one_minus > 0) & ~small
-        if common.all():  # underdamped only
-            return ex * np.cos(x), ex * np.sin(x) / mu
-        tau, D, one_minus, mu, x, ex, small, common = np.broadcast_arrays(
-            tau, D, one_minus, mu, x, ex, small, common
-        )
-        c, s = np.empty(x.shape), np.empty(x.shape)
-        c[common] = ex[common] * np.cos(x[common])
-        s[common] = ex[common] * np.sin(x[common]) / mu[common]
-        rest = ~common
-        tau, D, one_minus, mu, x, ex, small = (
-            a[rest] for a in (tau, D, one_minus, mu, x, ex, small)
-        )
-        sign = np.sign(one_minus)  # +1 underdamped, -1 overdamped
-        safe_mu = np.where(mu > 0, mu, 1.0)
-        # underdamped (tiny mu tau: the series below)
-        c_u = ex * np.cos(x)
-        s_u = ex * np.sin(x) / safe_mu
-        # overdamped, written with decaying exponentials only
-        moderate = x < 20.0
-        c_o = np.where(moderate, ex * np.cosh(np.minimum(x, 20.0)), 0.0)
-        s_o = np.where(moderate, ex * np.sinh(np.minimum(x, 20.0)) / safe_mu, 0.0)
-        slow = np.exp(-tau / (D + mu))  # D - mu = 1 / (D + mu) when D > 1
-        fast = np.exp(-(D + mu) * tau)
-        c_o = np.where(moderate, c_o, 0.5 * (slow + fast))
-        s_o = np.where(moderate, s_o, 0.5 * (slow - fast) / safe_mu)
-        # series near D = 1 (both sides)
-        c_s = ex * (1.0 - sign * x * x / 2.0)
-        s_s = ex * tau * (1.0 - sign * x * x / 6.0)
-    under = one_minus > 0
-    c[rest] = np.where(small, c_s, np.where(under, c_u, c_o))
-    s[rest] = np.where(small, s_s, np.where(under, s_u, s_o))
-    return c, s
-
-
-def _homogeneous(tau, D, h0, h1):
-    c, s = _basis(tau, D)
-    return c * h0 + s * (h1 + D * h0), c * h1 - s * (h0 + D * h1)
+def _homogeneous(
+    tau: np.ndarray, D: np.ndarray, h0: np.ndarray, h1: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """``h`` and ``h'`` with ``h(0) = h0``, ``h'(0) = h1`` (the section-2 kernel's closed
+    forms, :class:`impactsym.contact.kernel.Homogeneous`), broadcast to one shape."""
+    shape = np.broadcast_shapes(np.shape(tau), np.shape(D), np.shape(h0), np.shape(h1))
+    t, d, a, b = (np.broadcast_to(np.asarray(x, float), shape).ravel() for x in (tau, D, h0, h1))
+    h, dh = homogeneous()(t, d, a, b)
+    return h.reshape(shape), dh.reshape(shape)
 
 
 def _extrema(D: np.ndarray, h0: np.ndarray, h1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -230,28 +197,28 @@ class LinearRelease:
 
     Attributes
     ----------
-    tau_c
-        Contact time ``omega0 t_c`` (``inf`` when the body sticks).
+    contact_time
+        Normalized contact time :math:`\\tau_c = \\omega_0 t_c` (``inf`` when the body sticks).
     restitution
-        ``-z'(tau_c)`` (``0.0`` when it sticks).
-    by_position
+        :math:`-z'(\\tau_c)` (``0.0`` when it sticks).
+    released_by_position
         True where the penetration vanishes before the force does.
-    z_max
-        Largest penetration ``max z`` during contact.
-    force_max
-        Largest contact force ``max lambda`` during contact.
+    max_penetration
+        Largest penetration :math:`\\max z` during contact.
+    peak_force
+        Largest contact force :math:`\\max \\lambda` during contact.
     """
 
-    tau_c: np.ndarray
+    contact_time: np.ndarray
     restitution: np.ndarray
-    by_position: np.ndarray
-    z_max: np.ndarray
-    force_max: np.ndarray
+    released_by_position: np.ndarray
+    max_penetration: np.ndarray
+    peak_force: np.ndarray
 
     @property
     def sticks(self) -> np.ndarray:
         """True where contact never ends."""
-        return np.isinf(self.tau_c)
+        return np.isinf(self.contact_time)
 
 
 def linear_release(
@@ -276,8 +243,8 @@ def linear_release(
     force, position
         Which thresholds end the contact (at least one).
     extremes
-        Whether to compute ``z_max`` and ``force_max`` (else they are left ``nan``;
-        design loops that need only ``tau_c`` and the restitution skip them).
+        Whether to compute ``max_penetration`` and ``peak_force`` (else they are left
+        ``nan``; design loops that need only the contact time and restitution skip them).
 
     Returns
     -------
@@ -293,7 +260,7 @@ def linear_release(
 
     >>> from impactsym.contact import contact_time, restitution
     >>> r = linear_release(np.array([0.0, 0.5]), np.zeros(2), np.zeros(2))
-    >>> np.round(r.tau_c, 6).tolist(), np.round(r.restitution, 6).tolist()
+    >>> np.round(r.contact_time, 6).tolist(), np.round(r.restitution, 6).tolist()
     ([3.141593, 2.418399], [1.0, 0.298436])
     >>> f = {"condition": "force"}
     >>> round(contact_time(0.5, 0.0, **f), 6), round(restitution(0.5, 0.0, **f), 6)
@@ -321,8 +288,8 @@ def linear_release(
     )
     tau_c = np.minimum(tau_f, tau_p)
     finite = np.isfinite(tau_c)
-    z_dot = _homogeneous(np.where(finite, tau_c, 0.0), D, -c, np.ones_like(D))[1]
-    e = np.where(finite, -z_dot, 0.0)
+    rate = _homogeneous(np.where(finite, tau_c, 0.0), D, -c, np.ones_like(D))[1]
+    e = np.where(finite, -rate, 0.0)
     if not extremes:
         nan = np.full(D.shape, np.nan)
         return LinearRelease(tau_c, e, finite & (tau_p <= tau_f), nan, nan)
