@@ -373,10 +373,14 @@ class BounceMap:
     condition: str
 
     def plot(self, *, quantity: str = "n_contacts", ax: Any = None) -> Any:
-        """Map of ``quantity`` (see :func:`impactsym.plotting.bounce.plot_bounce_map`)."""
+        """Map of ``quantity`` with the first contact's stick boundary (see
+        :func:`impactsym.plotting.bounce.plot_bounce_map`)."""
+        from impactsym.contact.api import stick_boundary
         from impactsym.plotting.bounce import plot_bounce_map
 
-        return plot_bounce_map(self, quantity=quantity, ax=ax)
+        f_line = np.geomspace(float(np.max(self.f)) * 1e-4, float(np.max(self.f)), 400)
+        line = stick_boundary(f_line, condition=self.condition), f_line
+        return plot_bounce_map(self, quantity=quantity, boundary=line, ax=ax)
 
 
 def bounce_map(D: ArrayLike, f: ArrayLike, *, condition: str, max_contacts: int = 100) -> BounceMap:
