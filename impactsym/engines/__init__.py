@@ -1,10 +1,12 @@
 """What the contact theory means for simulation engines (MuJoCo, LAMMPS).
 
-:mod:`impactsym.engines.mujoco` predicts and designs MuJoCo's ``solref``/``solimp``;
+:mod:`impactsym.engines.mujoco` predicts and designs MuJoCo's ``solref``/``solimp``
+(``model``: the engine's contact law; ``prediction``; ``design``);
 :mod:`impactsym.engines.lammps` the Hooke spring-dashpot of LAMMPS ``pair_style
-granular``; :mod:`impactsym.engines.release` is their shared closed-form kernel (NumPy)
-and :mod:`impactsym.engines.derivation` the SymPy derivation of MuJoCo's contact
-equation. None of them imports an engine: the engines (``pip install
-impactsym[engines]``) are needed only to check the predictions.
-Submodules are imported on demand.
+granular``; :mod:`impactsym.engines.release` is their shared closed-form solver of the
+loaded oscillator (NumPy) and :mod:`impactsym.engines.derivation` the SymPy derivation of
+MuJoCo's contact equation, the reference of ``mujoco.model``. None of them imports an
+engine: the engines (``pip install impactsym[engines]``) are needed only by
+:mod:`impactsym.engines.drivers`, which runs them to check the predictions
+(`docs/physics.md#simulation-engines`). Submodules are imported on demand.
 """

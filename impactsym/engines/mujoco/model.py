@@ -21,11 +21,10 @@ force offset ``delta = d' gamma``, ``gamma = g / (omega0 v0)``
 Why closed forms and not the SymPy expressions of
 :class:`impactsym.engines.derivation.MujocoContact` lambdified: the four coefficients
 are one line each, the integrator of a varying impedance evaluates ``d'`` at every
-Runge-Kutta stage, and importing SymPy and simplifying the derivation costs about a
-second in every process that predicts or designs (the command line included), which
-the NumPy-only engines wing avoids. The derivation stays the reference:
-``tests/test_engines_mujoco_model.py`` checks :func:`oscillator` against it at random
-points.
+Runge-Kutta stage, and importing SymPy and simplifying the derivation costs seconds in
+every process that predicts or designs (the command line included), which the NumPy-only
+wing avoids. The derivation stays the reference: ``tests/test_engines_mujoco_model.py``
+checks :func:`oscillator` and :func:`coefficients` against it at random points.
 
 All quantities are SI: seconds, metres, m/s, m/s^2, kilograms.
 """
