@@ -1,4 +1,4 @@
-"""Benchmark of the engine bridge (issue 9): design throughput and engine agreement.
+"""Benchmark of the engine bridge: design throughput and engine agreement.
 
 Prints, measured in one run:
   * designs per second of vectorized ``mujoco.solref_for`` at flat impedance

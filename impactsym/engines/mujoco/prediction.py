@@ -118,7 +118,7 @@ class ContactPhase:
     peak_accel: np.ndarray
 
 
-def first_release(D: Any, load: Any, offset: Any, *, extremes: bool = True) -> SimpleNamespace:
+def _first_release(D: Any, load: Any, offset: Any, *, extremes: bool = True) -> SimpleNamespace:
     """The normalized first release of section 2's loaded oscillator (one solver for all).
 
     Internal. The one place that reads :class:`impactsym.engines.release.LinearRelease`:
@@ -141,7 +141,7 @@ def flat_phase(
 ) -> ContactPhase:
     """The contact phase at constant impedance ``d``, in closed form. Internal (``design``)."""
     osc = oscillator(coeffs, d, rho, gravity, speed)
-    rel = first_release(osc.damping_ratio, osc.load, osc.offset, extremes=extremes)
+    rel = _first_release(osc.damping_ratio, osc.load, osc.offset, extremes=extremes)
     omega = osc.omega0
     return ContactPhase(
         rel.restitution,
