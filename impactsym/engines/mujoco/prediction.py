@@ -502,8 +502,9 @@ def stick_speed(
     With ``gamma = g / (omega0 v0)`` the body sticks where
     :func:`impactsym.engines.release.release_margin` of
     ``(D, (1 - d') gamma, d' gamma)`` is positive; the boundary ``gamma*(D, d')`` is
-    found by the Illinois method in ``log gamma`` (the margin is monotone in ``gamma``
-    but not smooth) and ``v* = g / (omega0 gamma*)``.
+    found by the Illinois method in ``log gamma`` (derivative-free: the margin switches
+    between closed forms) and ``v* = g / (omega0 gamma*)``
+    (`docs/physics.md#simulation-engines`).
     ``0.0`` without gravity, or where the body releases for every ``gamma`` up to
     ``1e9`` (e.g. no damping); ``inf`` where it sticks for every ``gamma`` down to
     ``1e-9`` (every speed).
