@@ -1,4 +1,4 @@
-"""Benchmark of the engine bridge (issue 9): design throughput and engine agreement.
+"""Benchmark of the engine bridge: design throughput and engine agreement.
 
 Prints, measured in one run:
   * designs per second of vectorized ``mujoco.solref_for`` at flat impedance
@@ -21,7 +21,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's package
 from impactsym.engines import lammps, mujoco
-from impactsym.engines.runs import fine_timestep, lammps_collision, mujoco_drop
+from impactsym.engines.drivers import fine_timestep, lammps_collision, mujoco_drop
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
 DEFAULT = mujoco.DEFAULT_SOLIMP

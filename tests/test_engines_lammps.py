@@ -7,6 +7,7 @@ import os
 
 import numpy as np
 import pytest
+from scipy.integrate import solve_ivp
 
 from impactsym.contact import contact_time, restitution
 from impactsym.engines.lammps import (
@@ -22,7 +23,7 @@ if os.environ.get("CI") == "true":
 else:
     pytest.importorskip("lammps")
 
-from impactsym.engines.runs import lammps_collision, load_mpi
+from impactsym.engines.drivers import lammps_collision, load_mpi
 
 load_mpi()
 MASS = 4.0 / 3.0 * math.pi * 0.1**3 * 1000.0 / 2.0  # effective mass of two test spheres
@@ -54,9 +55,9 @@ def test_designed_hooke_contact_gives_e_and_tc_in_lammps(limit_damping):
         assert t_lmp == pytest.approx(0.01, rel=0.02)
 
 
-def test_max_overlap_design_in_lammps():
-    c = hooke_for(restitution=0.4, max_overlap=1e-3, speed=2.0, mass=MASS)
-    assert c.max_overlap == pytest.approx(1e-3, rel=1e-10)
+def test_max_penetration_design_in_lammps():
+    c = hooke_for(restitution=0.4, max_penetration=1e-3, speed=2.0, mass=MASS)
+    assert c.max_penetration == pytest.approx(1e-3, rel=1e-10)
     e_lmp, _, _ = lammps_collision(kn=c.kn, damping=c.damping, limit_damping=True, speed=2.0)
     assert e_lmp == pytest.approx(0.4, rel=0.01)
 
@@ -99,6 +100,38 @@ def test_pressing_load_can_make_the_particle_stick():
     c = predict(kn=1e4, damping=200.0, mass=1.0, speed=0.01, gravity=9.81)
     assert math.isinf(c.contact_time)
     assert c.restitution == 0.0
+    assert c.sticks
+
+
+@pytest.mark.parametrize("limit_damping", [True, False])
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+def test_overlap_force_and_release_match_event_integration(limit_damping, gravity):
+    # m x'' = m g - kn x - eta x', integrated by SciPy with events, in SI units
+    kn, eta, m, v = 1e5, 60.0, 2.0, 0.3
+    c = predict(kn=kn, damping=eta, mass=m, speed=v, gravity=gravity, limit_damping=limit_damping)
+
+    def rhs(t, y):
+        return [y[1], gravity - (kn * y[0] + eta * y[1]) / m]
+
+    def force(t, y):
+        return kn * y[0] + eta * y[1]
+
+    def overlap(t, y):
+        return y[0] if t > 1e-12 else 1.0
+
+    force.terminal = overlap.terminal = True
+    force.direction = overlap.direction = -1
+    events = [force, overlap] if limit_damping else [overlap]
+    sol = solve_ivp(
+        rhs, (0, 1.0), [0.0, v], events=events, rtol=1e-12, atol=1e-15, dense_output=True
+    )
+    t_end = sol.t[-1]
+    assert c.contact_time == pytest.approx(t_end, rel=1e-8)
+    assert c.restitution == pytest.approx(-sol.y[1, -1] / v, rel=1e-7)
+    assert c.released_by_position == (len(sol.t_events[-1]) > 0)
+    fine = sol.sol(np.linspace(0.0, t_end, 20001))
+    assert c.max_penetration == pytest.approx(fine[0].max(), rel=1e-7)
+    assert c.peak_force == pytest.approx((kn * fine[0] + eta * fine[1]).max(), rel=1e-7)
 
 
 def test_mass_array_and_unreachable_restitution_are_named():

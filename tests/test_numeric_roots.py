@@ -159,3 +159,30 @@ def test_scalar_newton_failures_are_loud():
         bracketed_newton_scalar(lambda x: (x * x + 1.0, 2 * x), -1.0, 1.0)
     with pytest.raises(ValueError, match="sign change"):
         bracketed_newton_scalar(lambda x: (float("nan"), 1.0), 0.0, 1.0)
+
+
+def test_newton_system_solves_many_two_by_two_systems_against_scipy():
+    from scipy.optimize import fsolve
+
+    from impactsym.numeric.roots import newton_system
+
+    # x^2 + y^2 = a, x - y^3 = b: each column is its own system
+    a = np.array([2.0, 5.0, 1.0, 10.0])
+    b = np.array([0.0, 1.0, -0.5, 2.0])
+
+    def residual(u):
+        return np.stack([u[0] ** 2 + u[1] ** 2 - a, u[0] - u[1] ** 3 - b])
+
+    u0 = np.ones((2, a.size))
+    u, r = newton_system(residual, u0, max_iter=40)
+    assert np.all(np.abs(r) < 1e-9)
+    for i in range(a.size):
+
+        def one(w, i=i):
+            return [w[0] ** 2 + w[1] ** 2 - a[i], w[0] - w[1] ** 3 - b[i]]
+
+        ref = fsolve(one, [1.0, 1.0], xtol=1e-14)
+        np.testing.assert_allclose(u[:, i], ref, rtol=1e-8)
+    # the step bound: one iteration moves no component by more than max_step
+    once, _ = newton_system(residual, u0, max_iter=1, max_step=0.25)
+    assert np.all(np.abs(once - u0) <= 0.25)

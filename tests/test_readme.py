@@ -291,7 +291,7 @@ def test_multibody_readme_example_values_agree_with_the_impulse_momentum_law():
 def test_engine_and_bounce_readme_example_values_agree_with_mujoco_and_event_driven_flight():
     """The engine design is checked in MuJoCo itself; the bounce sequence against an
     event-driven integration of contacts and flights (``tests/references/bounce.py``)."""
-    from impactsym.engines.runs import mujoco_drop
+    from impactsym.engines.drivers import mujoco_drop
 
     code = examples()[2]
     namespace, shown = run_example(code)

@@ -21,7 +21,10 @@ equation of motion and brought to the section-2 normalization
     c = (1 - d')\,\gamma, \quad \delta = d' \gamma, \quad \gamma = \frac{g}{\omega_0 v_0}.
 
 The trajectory is the paper's with ``2 D f = c``; the force threshold is offset by
-``delta``. :mod:`impactsym.contact.release` evaluates the result numerically.
+``delta``. :mod:`impactsym.engines.mujoco.model` writes ``omega0``, ``D``, ``c``, ``delta``
+and the ``solref`` coefficients in closed form and is tested against these expressions
+at random points; the one solver :mod:`impactsym.contact.release` solves the oscillator
+(`docs/physics.md#simulation-engines`).
 """
 
 from __future__ import annotations

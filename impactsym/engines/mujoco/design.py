@@ -1,0 +1,422 @@
+r"""Design MuJoCo's ``solref`` for a wanted restitution (and contact time); the multibody bridge.
+
+:func:`solref_for` inverts :func:`~impactsym.engines.mujoco.prediction.predict`: for a
+flat ``solimp`` the closed-form release is monotone in the dampratio (and the contact
+time in the timeconst), so each unknown is bracketed and found by the Illinois method
+of :mod:`impactsym.numeric.roots`; for a varying ``solimp`` the flat design at
+``d_max`` starts :func:`impactsym.numeric.roots.newton_system` on the Runge-Kutta
+prediction (smooth, expensive, no bracket in two unknowns). Every design is checked
+by ``predict`` itself (`docs/physics.md#simulation-engines`).
+
+All physical quantities are SI: seconds, metres, m/s, m/s^2, kilograms.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from impactsym.engines.mujoco.model import (
+    DEFAULT_SOLIMP,
+    DEFAULT_TIMECONST,
+    check_mass,
+    check_solimp,
+    check_timestep,
+    coefficients,
+    impedance_at,
+    is_flat,
+    weight_ratio,
+)
+from impactsym.engines.mujoco.prediction import Prediction, flat_phase, predict, varying_phase
+from impactsym.numeric.roots import bracketed_illinois, newton_system
+from impactsym.validation import real_array
+
+__all__ = ["Design", "from_reduced", "solref_for"]
+
+#: solref_for refuses a design whose prediction misses a target by more than this
+#: (absolute in the restitution, relative in the contact time)
+_DESIGN_TOL = 1e-5
+
+
+@dataclass(frozen=True)
+class Design:
+    """MuJoCo contact parameters for a wanted restitution (and contact time), SI units.
+
+    Attributes
+    ----------
+    solref
+        The pair to write in MJCF: ``(timeconst, dampratio)`` or
+        ``(-stiffness, -damping)`` (``form="stiffness"``); floats or arrays.
+    solimp
+        The ``solimp`` the design assumes (write it too).
+    restitution, contact_time
+        Predicted by :func:`~impactsym.engines.mujoco.prediction.predict` for this design
+        (contact time in seconds).
+    prediction
+        The full :class:`~impactsym.engines.mujoco.prediction.Prediction`.
+    """
+
+    solref: tuple[Any, Any]
+    solimp: tuple[float, ...]
+    prediction: Prediction
+
+    @property
+    def restitution(self) -> float | np.ndarray:
+        """Predicted restitution of the design."""
+        return self.prediction.restitution
+
+    @property
+    def contact_time(self) -> float | np.ndarray:
+        """Predicted contact time of the design, seconds."""
+        return self.prediction.contact_time
+
+    def mjcf(self) -> str:
+        """The MJCF attributes, e.g. ``solref="0.02 0.29" solimp="0.9 0.95 0.001 0.5 2"``."""
+        if np.ndim(self.solref[0]):
+            raise ValueError("mjcf() needs a scalar design")
+        ref = " ".join(f"{float(v):.10g}" for v in self.solref)
+        imp = " ".join(f"{v:g}" for v in self.solimp)
+        return f'solref="{ref}" solimp="{imp}"'
+
+
+def _unreachable(what: str, mask: np.ndarray, targets: np.ndarray, hint: str) -> None:
+    if mask.any():
+        index = np.flatnonzero(mask)[0]
+        raise ValueError(
+            f"restitution = {float(targets.flat[index])!r} (element {index}) cannot be "
+            f"reached: {what}; {hint}"
+        )
+
+
+def _flat_restitution(tc, dr, simp, rho, g, v0, *, extremes=True):
+    """The contact phase at ``solref = (tc, dr)`` for a flat ``simp`` (closed form)."""
+    d = float(impedance_at(np.zeros(()), simp))
+    return flat_phase(coefficients((tc, dr), simp, None), d, rho, g, v0, extremes=extremes)
+
+
+def _design_flat_dampratio(e_t, v0, g, tc, simp, rho):
+    """Dampratio with timeconst ``tc`` giving restitution ``e_t`` (flat impedance)."""
+    n = e_t.size
+    # the last dampratio tried and its restitution, per element: the gap check below
+    # reads the restitution at the root the solver last evaluated instead of redoing it
+    last_dr, last_e = np.full(n, np.nan), np.full(n, np.nan)
+
+    def e_of(dr, idx):
+        e = _flat_restitution(
+            tc[idx], dr, simp, rho[idx], g[idx], v0[idx], extremes=False
+        ).restitution
+        last_dr[idx], last_e[idx] = dr, e
+        return e
+
+    def e_at(dr):
+        known = last_dr == dr
+        if known.all():
+            return last_e.copy()
+        out = last_e.copy()
+        out[~known] = e_of(dr[~known], np.flatnonzero(~known))
+        return out
+
+    # e falls with the dampratio, continuously or by a jump where the release switches
+    # from the force to the penetration (then refused below); one bracket suffices
+    idx = np.arange(n)
+    # the ends as the solver (in log dampratio) sees them, so their restitutions serve it
+    lo, hi = np.exp(np.log(np.full(n, 1e-3))), np.exp(np.log(np.full(n, 1e2)))
+    e_lo = e_of(lo, idx)
+    _unreachable(
+        "the body sticks or rebounds too slowly for every dampratio in [1e-3, 100]",
+        e_lo <= e_t,
+        e_t,
+        "a higher speed, less gravity or a shorter timeconst (contact_time=...) reaches it",
+    )
+    e_hi = e_of(hi, idx)
+    hi = np.where(e_hi <= e_t, hi, np.nan)
+    _unreachable(
+        "even dampratio = 100 rebounds faster",
+        np.isnan(hi),
+        e_t,
+        "a lower speed or more gravity reaches it",
+    )
+    dr = bracketed_illinois(
+        lambda x, i: e_t[i] - e_of(x, i),
+        lo,
+        hi,
+        log=True,
+        rtol=1e-10,
+        f_lo=e_t - e_lo,
+        f_hi=e_t - e_hi,
+    )
+    _check_gap(lambda x: e_at(x) if x is dr else e_of(x, idx), e_t, dr, "dampratio")
+    return dr
+
+
+def _check_gap(e_of, e_t, at, name):
+    """The restitution jumps where the release switches from force to position: refuse."""
+    achieved = e_of(at)
+    miss = np.abs(achieved - e_t) > 1e-6 * np.maximum(e_t, 1e-3)
+    if miss.any():
+        i = np.flatnonzero(miss)[0]
+        below, above = e_of(at * (1 - 1e-7))[i], e_of(at * (1 + 1e-7))[i]
+        raise ValueError(
+            f"restitution = {float(e_t[i])!r} (element {i}) cannot be reached: at "
+            f"{name} = {float(at[i]):.6g} the restitution jumps from {below:.4g} to "
+            f"{above:.4g} (the force no longer vanishes before the penetration does), "
+            f"so targets in between are out of reach here; a higher speed, less gravity "
+            f"or another contact_time moves the jump"
+        )
+
+
+def _design_flat_both(e_t, v0, g, t_c, simp, rho):
+    """``(timeconst, dampratio)`` for restitution ``e_t`` and contact time ``t_c`` (flat).
+
+    Nested brackets: for a dampratio the contact time grows with the timeconst (inner
+    Illinois solve); the restitution at that timeconst falls with the dampratio (outer
+    solve, bracketed on a grid because no timeconst may exist at some dampratios).
+    """
+
+    def inner(dr, idx):
+        # timeconst that gives the contact time t_c at this dampratio
+        lo = np.full(idx.size, 1e-6)
+        hi = np.full(idx.size, 1e3)
+
+        def t_of(tc, j):
+            k = idx[j]
+            t = _flat_restitution(tc, dr[j], simp, rho[k], g[k], v0[k], extremes=False)
+            t = t.contact_time
+            return np.arctan(np.log(np.where(np.isfinite(t), t, 1e300) / t_c[idx[j]]))
+
+        j_all = np.arange(idx.size)
+        ok = (t_of(lo, j_all) < 0) & (t_of(hi, j_all) > 0)
+        tc = np.full(idx.size, np.nan)
+        if ok.any():
+            sel = np.flatnonzero(ok)
+            tc[sel] = bracketed_illinois(
+                lambda x, j: t_of(x, sel[j]), lo[sel], hi[sel], log=True, rtol=1e-11
+            )
+            miss = np.abs(t_of(tc[sel], sel)) > 1e-8  # a jump (stick), not a root
+            tc[sel[miss]] = np.nan
+        return tc
+
+    def residual(dr, idx):
+        tc = inner(dr, idx)
+        out = np.full(idx.size, -1.0)  # no timeconst gives t_c: treat as too much damping
+        good = np.isfinite(tc)
+        if good.any():
+            j = idx[good]
+            e = _flat_restitution(tc[good], dr[good], simp, rho[j], g[j], v0[j], extremes=False)
+            e = e.restitution
+            out[good] = e - e_t[j]
+        return out
+
+    n = e_t.size
+    idx = np.arange(n)
+    grid = np.geomspace(1e-3, 1e2, 21)
+    vals = np.stack([residual(np.full(n, q), idx) for q in grid])
+    below = vals <= 0
+    has = below.any(axis=0)
+    first = np.argmax(below, axis=0)
+    _unreachable(
+        "no (timeconst, dampratio) gives both this restitution and this contact time",
+        ~has | (first == 0),
+        e_t,
+        "a longer contact_time or a higher speed reaches it",
+    )
+    dr = bracketed_illinois(
+        lambda x, i: -residual(x, i), grid[first - 1], grid[first], log=True, rtol=1e-12
+    )
+    _check_gap(lambda x: residual(x, idx) + e_t, e_t, dr, "dampratio")
+    return inner(dr, idx), dr
+
+
+def _design_varying(e_t, v0, g, t_c, tc0, dr0, simp, rho):
+    """Newton in ``log`` of the unknowns from the flat design (varying solimp)."""
+    both = t_c is not None
+    u0 = np.stack([np.log(tc0), np.log(dr0)]) if both else np.log(dr0)[None]
+
+    def resid(u):
+        tc = np.exp(u[0]) if both else tc0
+        dr = np.exp(u[-1])
+        phase = varying_phase(coefficients((tc, dr), simp, None), simp, rho, g, v0)
+        r = [phase.restitution - e_t]
+        if both:
+            t = phase.contact_time
+            r.append(np.log(np.where(np.isfinite(t), t, 1e300) / t_c))
+        return np.stack(r)
+
+    u, r = newton_system(resid, u0, eps=1e-6, max_step=0.5, tol=1e-9, max_iter=12)
+    _unreachable(
+        "the varying-impedance design did not converge",
+        ~np.all(np.abs(r) < 1e-6, axis=0),
+        e_t,
+        "try flat impedance (solimp[0] == solimp[1]) or a nearby target",
+    )
+    tc = np.exp(u[0]) if both else tc0
+    return tc, np.exp(u[-1])
+
+
+def solref_for(
+    *,
+    restitution: Any,
+    speed: Any,
+    gravity: Any = 0.0,
+    contact_time: Any = None,
+    solimp: Any = DEFAULT_SOLIMP,
+    mass: float | None = None,
+    timestep: float | None = None,
+    inverse_weight: Any = None,
+    form: str = "timeconst",
+) -> Design:
+    r"""``solref`` for which MuJoCo gives ``restitution`` (and ``contact_time``).
+
+    Without ``contact_time`` the timeconst stays MuJoCo's default 0.02 s (or
+    ``2 timestep`` if that is longer, as MuJoCo enforces) and the dampratio is designed;
+    with it both are designed. The result is checked by
+    :func:`~impactsym.engines.mujoco.prediction.predict`, whose model it inverts (bracketed
+    on a grid of dampratios, then the Illinois method; for a varying impedance
+    :func:`impactsym.numeric.roots.newton_system` from the flat design;
+    `docs/physics.md#simulation-engines`).
+
+    Parameters
+    ----------
+    restitution
+        Wanted coefficient of restitution, ``0 < e < 1`` (array allowed).
+    speed, gravity, mass, timestep, inverse_weight, solimp
+        As in :func:`~impactsym.engines.mujoco.prediction.predict` (m/s, m/s^2, kg, s, 1/kg).
+    contact_time
+        Wanted contact time, seconds (array allowed).
+    form
+        ``"timeconst"``: ``solref = (timeconst, dampratio)``; ``"stiffness"``:
+        ``solref = (-stiffness, -damping)`` with the same contact dynamics.
+
+    Returns
+    -------
+    Design
+
+    Raises
+    ------
+    ValueError
+        When no ``solref`` reaches the target (e.g. the body sticks at that speed under
+        gravity), saying what would reach it; when the design needs
+        ``timeconst < 2 timestep`` (MuJoCo would raise it); and when ``predict`` of the
+        design misses a target by more than ``1e-5`` (absolute in the restitution,
+        relative in the contact time).
+
+    Examples
+    --------
+    >>> des = solref_for(restitution=0.5, speed=1.0, solimp=(0.9, 0.9, 0.001))
+    >>> des.mjcf()
+    'solref="0.02 0.2552756376" solimp="0.9 0.9 0.001 0.5 2"'
+    >>> round(des.restitution, 10)
+    0.5
+    """
+    if form not in ("timeconst", "stiffness"):
+        raise ValueError(f"form must be 'timeconst' or 'stiffness', got {form!r}")
+    simp = check_solimp(solimp)
+    e_t, e_scalar = real_array("restitution", restitution, lower=0.0, strict=True)
+    if np.any(e_t >= 1):
+        raise ValueError(f"restitution must be < 1, got {float(e_t.max())!r}")
+    v0, s_scalar = real_array("speed", speed, lower=0.0, strict=True)
+    g, g_scalar = real_array("gravity", gravity, lower=0.0)
+    scalar = e_scalar and s_scalar and g_scalar
+    t_c = None
+    if contact_time is not None:
+        t_c, t_scalar = real_array("contact_time", contact_time, lower=0.0, strict=True)
+        scalar = scalar and t_scalar
+    if timestep is not None:
+        timestep = check_timestep(timestep)
+    m = check_mass(mass)
+    rho = weight_ratio(m, inverse_weight)
+    arrays = [e_t, v0, g, np.asarray(rho, float)] + ([t_c] if t_c is not None else [])
+    shape = np.broadcast_shapes(*(np.shape(a) for a in arrays))
+    flat = [np.broadcast_to(a, shape).ravel() for a in arrays]
+    e_f, v_f, g_f, rho_f = flat[:4]
+    t_f = flat[4] if t_c is not None else None
+    tc_default = DEFAULT_TIMECONST if timestep is None else max(DEFAULT_TIMECONST, 2 * timestep)
+    # flat design first (exact for flat solimp, a start for a varying one)
+    flat_imp = simp if is_flat(simp) else (simp[1], simp[1], 0.0, simp[3], simp[4])
+    if t_f is None:
+        tc = np.full(e_f.shape, tc_default)
+        dr = _design_flat_dampratio(e_f, v_f, g_f, tc, flat_imp, rho_f)
+    else:
+        tc, dr = _design_flat_both(e_f, v_f, g_f, t_f, flat_imp, rho_f)
+    if not is_flat(simp):
+        tc, dr = _design_varying(e_f, v_f, g_f, t_f, tc, dr, simp, rho_f)
+    if timestep is not None and np.any(tc < 2 * timestep):  # on the final timeconst
+        i = int(np.argmin(tc))
+        raise ValueError(
+            f"contact_time = {float(t_f[i])!r} with restitution = {float(e_f[i])!r} "
+            f"needs timeconst = {float(tc[i]):.6g} s < 2 * timestep; MuJoCo would raise "
+            f"it to {2 * timestep:g} s. Use timestep <= {float(tc[i]) / 2:.3g} s or a "
+            f"longer contact_time"
+        )
+    tc, dr = tc.reshape(shape), dr.reshape(shape)
+    if form == "timeconst":
+        solref = (tc, dr)
+    else:
+        solref = coefficients((tc, dr), simp, None).solref(simp, form="stiffness")
+    if scalar:
+        solref = (float(solref[0]), float(solref[1]))
+    pred = predict(
+        solref=solref,
+        solimp=simp,
+        speed=speed if t_c is None or scalar else np.broadcast_to(v0, shape),
+        gravity=gravity if scalar else np.broadcast_to(g, shape),
+        mass=m,
+        timestep=timestep,
+        inverse_weight=inverse_weight,
+    )
+    _check_design(pred, e_f, t_f, shape)
+    return Design(solref, simp, pred)
+
+
+def _check_design(pred: Prediction, e_t, t_c, shape) -> None:
+    """Refuse a design whose prediction (with refsafe) misses the targets.
+
+    Tolerances: ``_DESIGN_TOL`` absolute in the restitution, relative in the contact
+    time (the designs converge to about ``1e-6``).
+    """
+    e = np.broadcast_to(pred.restitution, shape).ravel()
+    miss = np.abs(e - e_t) > _DESIGN_TOL
+    if t_c is not None:
+        t = np.broadcast_to(pred.contact_time, shape).ravel()
+        with np.errstate(invalid="ignore"):
+            miss |= ~(np.abs(t / t_c - 1.0) <= _DESIGN_TOL)
+    if miss.any():
+        i = np.flatnonzero(miss)[0]
+        wanted = f"restitution = {float(e_t[i])!r}" + (
+            "" if t_c is None else f", contact_time = {float(t_c[i])!r} s"
+        )
+        got = f"restitution {float(e[i]):.6g}" + (
+            "" if t_c is None else f", contact time {float(t[i]):.6g} s"
+        )
+        raise ValueError(
+            f"{wanted} (element {i}) is not reached within {_DESIGN_TOL:g}: the designed "
+            f"solref gives {got} in predict"
+        )
+
+
+def from_reduced(reduced: Any) -> dict[str, float]:
+    """Keyword arguments ``mass``, ``speed``, ``gravity`` for a reduced multibody contact.
+
+    ``mass`` is the effective mass ``m~``, ``speed`` the approach speed ``v0`` and
+    ``gravity = load / m~`` the pressing acceleration of a
+    :class:`impactsym.multibody.ReducedContact`. Use as
+    ``solref_for(restitution=0.5, **from_reduced(r), inverse_weight=w)``. MuJoCo's
+    contact has no further stiffness or damping, so ``delta_c`` and ``delta_d`` of the
+    reduction (the system's own linearized forces) are not part of the engine's contact
+    model; they are small during a short impact and are ignored here.
+
+    >>> from types import SimpleNamespace
+    >>> from_reduced(SimpleNamespace(m_eff=2.0, v0=1.5, load=9.81, is_symbolic=False))
+    {'mass': 2.0, 'speed': 1.5, 'gravity': 4.905}
+    """
+    if getattr(reduced, "is_symbolic", True):
+        raise TypeError("reduced must be a numeric ReducedContact (substitute symbols first)")
+    m = float(reduced.m_eff)
+    v = float(reduced.v0)
+    load = float(reduced.load)
+    if not (m > 0 and v > 0 and load >= 0 and math.isfinite(m + v + load)):
+        raise ValueError(f"reduced needs m_eff > 0, v0 > 0, load >= 0, got {m}, {v}, {load}")
+    return {"mass": m, "speed": v, "gravity": load / m}

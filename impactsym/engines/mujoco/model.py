@@ -1,0 +1,248 @@
+r"""MuJoCo's soft contact law: impedance, ``solref`` coefficients, refsafe, effective mass.
+
+For one frictionless contact (``condim="1"``) MuJoCo makes the constrained acceleration
+along the normal satisfy ``a1 + d (b v + k r) = (1 - d) a0`` with ``f >= 0``
+(documentation, *Computation*, soft constraints). With penetration ``x = -r``, gravity
+``g`` pressing along the normal and the effective impedance ``d'`` this is the loaded
+oscillator
+
+.. math::
+
+    x'' + d' b\,x' + d' d \bar k\,x = (1 - d')\,g, \qquad
+    f = m\,d'\,(g + b\,x' + d \bar k\,x),
+
+i.e. paper section 2 in ``tau = omega0 t``, ``z = x omega0 / v0`` with
+``omega0^2 = d' d kbar``, ``D = d' b / (2 omega0)``, load ``c = (1 - d') gamma`` and
+force offset ``delta = d' gamma``, ``gamma = g / (omega0 v0)``
+(`docs/physics.md#simulation-engines`). This module holds the law's ingredients;
+:mod:`~impactsym.engines.mujoco.prediction` solves the contact and
+:mod:`~impactsym.engines.mujoco.design` inverts it.
+
+Why closed forms and not the SymPy expressions of
+:class:`impactsym.engines.derivation.MujocoContact` lambdified: the four coefficients
+are one line each, the integrator of a varying impedance evaluates ``d'`` at every
+Runge-Kutta stage, and importing SymPy and simplifying the derivation costs seconds in
+every process that predicts or designs (the command line included), which the NumPy-only
+wing avoids. The derivation stays the reference: ``tests/test_engines_mujoco_model.py``
+checks :func:`oscillator` and :func:`coefficients` against it at random points.
+
+All quantities are SI: seconds, metres, m/s, m/s^2, kilograms.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from impactsym.validation import real_array
+
+__all__ = ["DEFAULT_SOLIMP", "DEFAULT_TIMECONST", "Coefficients", "Oscillator", "impedance"]
+
+#: MuJoCo's default ``solimp``: ``(d_min, d_max, width, midpoint, power)``.
+DEFAULT_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
+#: MuJoCo's default ``timeconst`` (seconds).
+DEFAULT_TIMECONST = 0.02
+#: MuJoCo clamps the impedance to ``[MIN_IMPEDANCE, MAX_IMPEDANCE]`` (internal).
+MIN_IMPEDANCE, MAX_IMPEDANCE = 1e-4, 0.9999
+
+
+def check_solimp(solimp: object) -> tuple[float, ...]:
+    """``solimp`` as five floats (three are completed with MuJoCo's ``0.5, 2``), or raise.
+
+    Internal: used by :mod:`~impactsym.engines.mujoco.prediction` and ``design``.
+
+    >>> check_solimp((0.9, 0.95, 0.001))
+    (0.9, 0.95, 0.001, 0.5, 2.0)
+    """
+    if isinstance(solimp, (str, bytes)) or np.ndim(solimp) != 1 or len(solimp) not in (3, 5):
+        raise TypeError(f"solimp must be 3 or 5 real numbers, got {solimp!r}")
+    values = [float(real_array("solimp", v)[0]) for v in solimp]
+    if len(values) == 3:
+        values += [0.5, 2.0]
+    dmin, dmax, width, mid, power = values
+    if not (0 < dmin < 1 and 0 < dmax < 1):
+        raise ValueError(f"solimp d_min, d_max must lie in (0, 1), got {solimp!r}")
+    if width < 0 or not (0 < mid < 1) or power < 1:
+        raise ValueError(f"solimp needs width >= 0, 0 < midpoint < 1, power >= 1, got {solimp!r}")
+    return tuple(values)
+
+
+def is_flat(solimp: tuple[float, ...]) -> bool:
+    """Whether the impedance is constant (``d_min == d_max`` or zero width). Internal."""
+    return solimp[0] == solimp[1] or solimp[2] <= 1e-15
+
+
+def impedance(depth: Any, solimp: Any = DEFAULT_SOLIMP) -> float | np.ndarray:
+    r"""MuJoCo's impedance ``d(r)`` at penetration ``depth`` (metres, ``>= 0``).
+
+    .. math::
+
+        d = d_\min + y(x)\,(d_\max - d_\min), \quad x = \min(1, \mathrm{depth}/w),\quad
+        y = \begin{cases} x^p / m^{p-1} & x \le m \\
+                           1 - (1 - x)^p / (1 - m)^{p-1} & x > m \end{cases}
+
+    with ``solimp = (d_min, d_max, w, m, p)``; flat (``(d_min + d_max)/2``) when
+    ``d_min = d_max`` or ``w = 0``; clamped to ``[1e-4, 0.9999]`` as in MuJoCo
+    (`docs/physics.md#simulation-engines`).
+
+    >>> impedance([0.0, 0.0003, 0.0007, 0.002])
+    array([0.9  , 0.909, 0.941, 0.95 ])
+    """
+    solimp = check_solimp(solimp)
+    x_arr, scalar = real_array("depth", depth)
+    out = impedance_at(np.abs(x_arr), solimp)
+    return float(out) if scalar else out
+
+
+def impedance_at(depth: np.ndarray, solimp: tuple[float, ...]) -> np.ndarray:
+    """:func:`impedance` on a checked ``solimp`` and depth array, unvalidated. Internal."""
+    dmin, dmax, width, mid, power = solimp
+    if is_flat(solimp):
+        return np.full(np.shape(depth), np.clip(0.5 * (dmin + dmax), MIN_IMPEDANCE, MAX_IMPEDANCE))
+    x = np.clip(depth / width, 0.0, 1.0)
+    low = x**power / mid ** (power - 1)
+    high = 1.0 - (1.0 - x) ** power / (1.0 - mid) ** (power - 1)
+    y = np.where(x <= mid, low, high)
+    return np.clip(dmin + y * (dmax - dmin), MIN_IMPEDANCE, MAX_IMPEDANCE)
+
+
+def d_max(solimp: tuple[float, ...]) -> float:
+    """The clamped ``d_max`` that scales ``b`` and ``k`` (MuJoCo's ``solref`` rule). Internal."""
+    return float(np.clip(solimp[1], MIN_IMPEDANCE, MAX_IMPEDANCE))
+
+
+@dataclass(frozen=True)
+class Coefficients:
+    """MuJoCo's reference-acceleration coefficients of a ``solref`` (arrays or floats).
+
+    Attributes
+    ----------
+    damping
+        ``b``, 1/s: ``a_ref = -b v - k r``.
+    stiffness
+        ``kbar = k / d``, 1/s^2 (the impedance-free part of ``k``).
+    """
+
+    damping: np.ndarray
+    stiffness: np.ndarray
+
+    def solref(self, solimp: tuple[float, ...], *, form: str = "timeconst") -> tuple[Any, Any]:
+        """The ``solref`` pair with these coefficients (inverse of :func:`coefficients`).
+
+        >>> c = coefficients((0.02, 0.5), (0.9, 0.9, 0.001, 0.5, 2.0), None)
+        >>> [round(float(v), 12) for v in c.solref((0.9, 0.9, 0.001, 0.5, 2.0))]
+        [0.02, 0.5]
+        """
+        dmax = d_max(solimp)
+        if form == "stiffness":
+            return -self.stiffness * dmax**2, -self.damping * dmax
+        timeconst = 2.0 / (dmax * self.damping)
+        return timeconst, 1.0 / (dmax * timeconst * np.sqrt(self.stiffness))
+
+
+def refsafe(timeconst: Any, timestep: float | None) -> Any:
+    """MuJoCo's *refsafe*: ``timeconst`` raised to ``2 timestep`` when shorter. Internal."""
+    return timeconst if timestep is None else np.maximum(timeconst, 2.0 * timestep)
+
+
+def coefficients(solref: Any, solimp: tuple[float, ...], timestep: float | None) -> Coefficients:
+    """``b`` and ``kbar`` of ``solref`` (either form), with refsafe when ``timestep`` is given.
+
+    ``solref = (timeconst, dampratio) > 0``: ``b = 2 / (d_max timeconst)``,
+    ``kbar = 1 / (d_max^2 timeconst^2 dampratio^2)``; ``solref = (-stiffness,
+    -damping)``: ``b = damping / d_max``, ``kbar = stiffness / d_max^2``
+    (read back from MuJoCo 4's ``efc_KBIP``; `docs/physics.md#simulation-engines`).
+    Internal: used by ``predict`` and ``design``.
+    """
+    if isinstance(solref, (str, bytes)) or len(solref) != 2:
+        raise TypeError(f"solref must be a pair (timeconst, dampratio), got {solref!r}")
+    a, _ = real_array("solref[0]", solref[0])
+    b, _ = real_array("solref[1]", solref[1])
+    a, b = np.broadcast_arrays(a, b)
+    positive = a > 0
+    if np.any(positive & (b <= 0)) or np.any(~positive & (b > 0)) or np.any(a == 0):
+        raise ValueError(
+            f"solref must be (timeconst > 0, dampratio > 0) or "
+            f"(-stiffness < 0, -damping <= 0), got {solref!r}"
+        )
+    dmax = np.clip(solimp[1], MIN_IMPEDANCE, MAX_IMPEDANCE)
+    tc = refsafe(a, timestep)
+    with np.errstate(divide="ignore"):
+        damp = np.where(positive, 2.0 / (dmax * tc), -b / dmax)
+        stiff = np.where(positive, 1.0 / (dmax**2 * tc**2 * b**2), -a / dmax**2)
+    return Coefficients(damp, stiff)
+
+
+def effective_impedance(d: Any, rho: Any) -> Any:
+    """``d' = d rho / (d rho + 1 - d)``, ``rho = A / A_diag`` (``d' = d``: one body). Internal."""
+    return d * rho / (d * rho + 1.0 - d)
+
+
+@dataclass(frozen=True)
+class Oscillator:
+    """Paper section 2's coefficients of MuJoCo's contact with constant impedance.
+
+    Attributes
+    ----------
+    omega0
+        Natural frequency ``sqrt(d' d kbar)``, 1/s.
+    damping_ratio
+        Lehr's ``D = d' b / (2 omega0)``.
+    load, offset
+        ``c = (1 - d') gamma`` and ``delta = d' gamma``, ``gamma = g / (omega0 v0)``:
+        the normalized pressing load and the offset of the force threshold.
+    """
+
+    omega0: np.ndarray
+    damping_ratio: np.ndarray
+    load: np.ndarray
+    offset: np.ndarray
+
+
+def oscillator(coeffs: Coefficients, d: Any, rho: Any, gravity: Any, speed: Any) -> Oscillator:
+    """The :class:`Oscillator` of ``coeffs`` at impedance ``d`` (the equation above). Internal.
+
+    >>> o = oscillator(Coefficients(2.0 / (0.9 * 0.02), 1.0 / (0.9**2 * 0.02**2 * 0.25)),
+    ...                0.9, 1.0, 0.0, 1.0)
+    >>> round(float(o.omega0), 9), round(float(o.damping_ratio), 12)
+    (100.0, 0.5)
+    """
+    dp = effective_impedance(d, rho)
+    omega = np.sqrt(dp * d * coeffs.stiffness)
+    gamma = gravity / (omega * speed)
+    return Oscillator(omega, dp * coeffs.damping / (2.0 * omega), (1.0 - dp) * gamma, dp * gamma)
+
+
+def check_timestep(timestep: Any) -> float:
+    """``timestep`` as one positive float (seconds), or raise. Internal."""
+    value, scalar = real_array("timestep", timestep, lower=0.0, strict=True)
+    if not scalar:
+        raise ValueError(f"timestep must be one number (seconds), got {timestep!r}")
+    return float(value)
+
+
+def check_mass(mass: Any) -> float | None:
+    """``mass`` as one positive float (kilograms) or ``None``. Internal."""
+    if mass is None:
+        return None
+    value, scalar = real_array("mass", mass, lower=0.0, strict=True)
+    if not scalar:
+        raise ValueError("mass must be one number (the effective mass of the contact)")
+    return float(value)
+
+
+def weight_ratio(mass: float | None, inverse_weight: Any) -> Any:
+    """``rho = A / A_diag = (1 / mass) / inverse_weight`` (``1.0`` by default). Internal.
+
+    ``A_diag`` is MuJoCo's ``efc_diagA``, its estimate of the inverse effective mass
+    from the bodies' ``body_invweight0``; exact (``rho = 1``) for one free or
+    slide-jointed body.
+    """
+    if inverse_weight is None:
+        return 1.0
+    if mass is None:
+        raise ValueError("inverse_weight needs mass (rho = (1/mass) / inverse_weight)")
+    w, _ = real_array("inverse_weight", inverse_weight, lower=0.0, strict=True)
+    return (1.0 / mass) / w
