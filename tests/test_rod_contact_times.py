@@ -138,7 +138,7 @@ def test_narrow_dips_are_found(a, force, condition):
 )
 def test_contact_functions_are_affine_in_f_as_the_atlas_screening_assumes(a, f1, f2, lam):
     """An atlas settles every ``f`` between two ``f`` whose ``g > 0`` is proved on a
-    reflection interval (``contact_times._screen_interval``): sound only because ``N``
+    reflection interval (``rigid_search.screen_interval``): sound only because ``N``
     and ``y`` are affine in ``f`` at fixed ``alpha``, checked here on the independent
     delay-equation solution."""
     t = np.linspace(0.013, 19.99, 41)
@@ -174,18 +174,18 @@ def test_an_atlas_equals_the_search_pair_by_pair_with_far_fewer_searches(
     """Screening a grid (pairs of equal ``alpha`` settled together where ``g > 0`` is
     proved at both ends of a run of ``f``) gives the contact time of every pair, the
     narrow dips of the issue included, and searches a fraction of the pairs."""
-    from impactsym.rod import contact_times as module
+    from impactsym.rod import rigid_search as module
 
     searched = []
-    search = module._search_interval
+    search = module.search_interval
 
-    def counting(which, m, tables, row, *args):
+    def counting(which, m, tables, row, *args, **kwargs):
         searched.append(row.size)
-        return search(which, m, tables, row, *args)
+        return search(which, m, tables, row, *args, **kwargs)
 
-    monkeypatch.setattr(module, "_search_interval", counting)
-    monkeypatch.setattr(module, "_SCREEN_STRIDES", strides)
-    monkeypatch.setattr(module, "_SCREEN_MIN_PAIRS", 1)
+    monkeypatch.setattr(module, "search_interval", counting)
+    monkeypatch.setattr(module, "SCREEN_STRIDES", strides)
+    monkeypatch.setattr(module, "SCREEN_MIN_PAIRS", 1)
     A, F = np.meshgrid(SCREENED_ALPHAS, SCREENED_F)
     grid = contact_time(A, F, condition=condition, t_max=30.0)
     n_grid = sum(searched)
@@ -204,11 +204,11 @@ def test_an_atlas_equals_the_search_pair_by_pair_with_far_fewer_searches(
     condition=st.sampled_from(["force", "position"]),
 )
 def test_screening_random_pressing_forces_equals_the_search_pair_by_pair(a, forces, condition):
-    from impactsym.rod import contact_times as module
+    from impactsym.rod import rigid_search as module
 
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(module, "_SCREEN_STRIDES", (4, 1))
-        patch.setattr(module, "_SCREEN_MIN_PAIRS", 1)
+        patch.setattr(module, "SCREEN_STRIDES", (4, 1))
+        patch.setattr(module, "SCREEN_MIN_PAIRS", 1)
         grid = contact_time(a, np.array(forces), condition=condition, t_max=20.0)
     pairs = [contact_time(a, force, condition=condition, t_max=20.0) for force in forces]
     np.testing.assert_allclose(grid, pairs, rtol=0, atol=1e-12)
@@ -217,7 +217,7 @@ def test_screening_random_pressing_forces_equals_the_search_pair_by_pair(a, forc
 def test_chunks_of_tables_and_searches_do_not_change_the_contact_times(monkeypatch):
     """Distinct alphas are split into chunks (table memory) and searches into batches
     (cell memory); neither changes any contact time, nor do repeated pairs."""
-    from impactsym.rod import contact_times as module
+    from impactsym.rod import rigid_search as module
 
     rng = np.random.default_rng(11)
     alpha = np.r_[np.exp(rng.uniform(np.log(0.05), np.log(10.0), 30)), 0.5, 0.5, 0.5]
@@ -257,13 +257,13 @@ def test_second_derivative_bound_holds_on_random_cells(a, force, m, which, seed)
     random cells (including ``x = 0`` and whole intervals) against ``g''`` of the
     independent delay-equation solution, 60 points per cell. A bound that is too small
     anywhere lets :func:`first_sign_change` pass over a dip, i.e. miss a root."""
-    from impactsym.rod.contact_times import _interval_tables, _rigid_interval
+    from impactsym.rod.rigid_search import interval_tables, rigid_interval
 
     ref = Characteristics(a, force, m + 1)
-    model = _rigid_interval(
+    model = rigid_interval(
         which,
         m,
-        _interval_tables(np.array([a]), m + 2),
+        interval_tables(np.array([a]), m + 2),
         np.zeros(1, int),
         np.array([a]),
         np.array([force]),

@@ -1,12 +1,15 @@
-"""Finite-kappa cell tables and contact times (issue 11, items 2-3), against independent references.
+"""The mpmath cell table (:mod:`impactsym.rod.elastic.cells`) and finite-kappa contact times.
+
+Against independent references:
 
 * the delay ODE of :mod:`references.rod_elastic_delay` (d'Alembert + method of steps,
   SciPy DOP853 at ``rtol = 1e-13``, nothing from the Laplace series): contact times at
   a fixed random grid and near critical contact damping, the ``inf`` guarantee;
 * the proven error bound of every cell against the pole sums evaluated with mpmath at
   90 digits (a different evaluation of the exact pole data, not the float assembly);
-* the former pointwise search (``method="poles"``) on an ``f`` sweep, where the Taylor
-  table (the default) and the mpmath cell table (``method="cells"``) must agree with it.
+* the pointwise search on the pole sums alone (:mod:`references.rod_pole_search`) on an
+  ``f`` sweep, where the Taylor table (the default) and the mpmath cell table
+  (``method="cells"``) must agree with it.
 """
 
 from __future__ import annotations
@@ -18,11 +21,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from references.rod_elastic_delay import ElasticDelay
+from references.rod_pole_search import pointwise_pole_contact_times
 
 from impactsym.rod import contact_force, contact_time, displacement
-from impactsym.rod.contact_times import _elastic_contact_times
-from impactsym.rod.elastic import _elastic_model
-from impactsym.rod.elastic_table import _cell_table
+from impactsym.rod.elastic.cells import cell_table
+from impactsym.rod.elastic.poles import pole_model
+from impactsym.rod.elastic.search import elastic_contact_times
 
 # contact times from the delay ODE agree to this (its event location and rtol)
 REFERENCE = 1e-9
@@ -71,19 +75,19 @@ def _agrees_with_the_delay_ode(a, force, k):
 
 
 @pytest.mark.parametrize(
-    ("name", "a", "k"),
+    ("which", "a", "k"),
     [
         ("N", 1.3, 20.0),
-        ("Y", 1.3, 20.0),
+        ("y", 1.3, 20.0),
         ("N", 1.0, 4.0),  # critical: a double root
-        ("Y", 1.0, 3.999),  # near critical: merged in mpmath
+        ("y", 1.0, 3.999),  # near critical: merged in mpmath
         ("N", 2.0, 1000.0),  # a fast pole
-        ("Y", 0.05, 1.0),  # underdamped contact
+        ("y", 0.05, 1.0),  # underdamped contact
     ],
 )
-def test_cell_error_bound_holds_against_90_digit_pole_sums(name, a, k):
-    table = _cell_table(name, a, k, 11)
-    reference = _elastic_model(name, a, k, 11, 90)
+def test_cell_error_bound_holds_against_90_digit_pole_sums(which, a, k):
+    table = cell_table(which, a, k, 11)
+    reference = pole_model(which, a, k, 11, 90)
     rng = np.random.default_rng(3)
     # random points, and every cell's ends and centre in the first two intervals
     early = table.hi <= 4.0
@@ -119,9 +123,9 @@ def test_f_sweep_equals_the_pointwise_pole_search(a, k):
     f = np.linspace(0.0, 2.0, 12)
     alpha, kappa = np.full(f.size, a), np.full(f.size, k)
     for which in ("N", "y"):
-        old = _elastic_contact_times(which, alpha, f, kappa, 10.0, method="poles")
+        old = pointwise_pole_contact_times(which, a, f, kappa=k, t_max=10.0)
         for method in ("taylor", "cells"):
-            new = _elastic_contact_times(which, alpha, f, kappa, 10.0, method=method)
+            new = elastic_contact_times(which, alpha, f, kappa=kappa, t_max=10.0, method=method)
             assert np.array_equal(np.isinf(new), np.isinf(old)), method
             finite = np.isfinite(new)
             assert np.max(np.abs(new[finite] - old[finite]), initial=0.0) < 1e-11, method
