@@ -197,9 +197,9 @@ def pointwise_pole_contact_times(which, alpha, f, kappa, t_max):
     for g_index, (ag, kg) in enumerate(groups):
         members = np.flatnonzero(inverse.ravel() == g_index)
         ag, kg = float(ag), float(kg)
-        check_stiffness(ag, kg)
+        check_stiffness(ag, kappa=kg)
         evaluate, bound = pole_search(which, ag, f[members], kappa=kg, n_terms=n_terms)
-        step = min(0.1, 0.25 * ag, 0.5 / np.sqrt(fastest_rate(ag, kg)))
+        step = min(0.1, 0.25 * ag, 0.5 / np.sqrt(fastest_rate(ag, kappa=kg)))
         base = np.union1d(
             np.linspace(0.0, t_max, int(np.ceil(t_max / step)) + 1),
             np.arange(2.0, t_max, 2.0),

@@ -45,7 +45,7 @@ def test_error_bound_holds_against_90_digit_pole_sums(a, k):
     table = TaylorTable(a, k, 8)
     rng = np.random.default_rng(7)
     for which in ("N", "y"):
-        reference = pole_model(which, a, k, 8, 90)
+        reference = pole_model(which, a, kappa=k, n_terms=8, dps=90)
         view = table.view(which)
         t = _samples(table, rng)
         f = rng.uniform(0.0, 3.0, t.size)
@@ -97,7 +97,7 @@ def test_a_planted_error_shows_in_the_bound(monkeypatch, array, cell, order, aff
     table = TaylorTable(a, k, 3)
     rng = np.random.default_rng(5)
     for which in ("N", "y"):
-        reference = pole_model(which, a, k, 3, 60)
+        reference = pole_model(which, a, kappa=k, n_terms=3, dps=60)
         view = table.view(which)
         t = np.concatenate([rng.uniform(0.0, 6.0, 25), view.lo[cell : cell + 3] + 1e-3])
         f = np.full(t.size, force)
@@ -113,9 +113,9 @@ def test_a_planted_error_shows_in_the_bound(monkeypatch, array, cell, order, aff
 
 
 def test_cells_follow_the_fastest_rate_and_stiff_springs_go_to_the_cell_table():
-    assert cells_per_interval(1.0, 4.0) == 16  # |p| = 2: the floor of 16 cells
-    assert cells_per_interval(1.3, 20.0) == 64  # |p| = 18.9: 2/64 * 18.9 <= 1
-    assert cells_per_interval(0.3, 1000.0) > MAX_CELLS
+    assert cells_per_interval(1.0, kappa=4.0) == 16  # |p| = 2: the floor of 16 cells
+    assert cells_per_interval(1.3, kappa=20.0) == 64  # |p| = 18.9: 2/64 * 18.9 <= 1
+    assert cells_per_interval(0.3, kappa=1000.0) > MAX_CELLS
     with pytest.raises(ValueError, match="Taylor cells"):
         TaylorTable(0.3, 1000.0, 2)
     # the stiff pair is still answered (mpmath cell table), the same as the pole search
@@ -123,32 +123,6 @@ def test_cells_follow_the_fastest_rate_and_stiff_springs_go_to_the_cell_table():
     got = elastic_contact_times("N", np.full(2, 0.3), f, kappa=np.full(2, 1000.0), t_max=6.0)
     old = pointwise_pole_contact_times("N", 0.3, f, kappa=1000.0, t_max=6.0)
     assert np.allclose(got, old, rtol=0, atol=1e-11)
-
-
-def test_unknown_method_is_refused():
-    with pytest.raises(ValueError, match="method"):
-        elastic_contact_times(
-            "N", np.ones(1), np.ones(1), kappa=np.ones(1), t_max=4.0, method="fast"
-        )
-
-
-@pytest.mark.parametrize(("a", "k"), [(1.3, 20.0), (0.2, 20.0), (3.0, 2.0), (1.0, 1e-4)])
-def test_screened_f_sweep_equals_the_search_pair_by_pair(a, k):
-    """g = A + f B: a proof of g > 0 on an interval for two forces holds for every force
-    between them, so a sweep searches only some forces per interval; the contact times
-    must be those of the search of every pair on its own (no screening for one pair)."""
-    f = np.linspace(0.0, 2.0, 97)
-    for which in ("N", "y"):
-        swept = elastic_contact_times(
-            which, np.full(f.size, a), f, kappa=np.full(f.size, k), t_max=20.0
-        )
-        alone = [
-            elastic_contact_times(
-                which, np.array([a]), np.array([x]), kappa=np.array([k]), t_max=20.0
-            )[0]
-            for x in f
-        ]
-        assert np.array_equal(swept, alone), which
 
 
 @pytest.mark.parametrize(

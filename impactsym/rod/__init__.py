@@ -4,8 +4,11 @@
   (eq. (1)), its closed-form solution, the reflection series in :math:`\\Delta = e^{-s}`
   (eq. (2)) and their exact term-by-term inversion (:class:`RodImpact`);
 * :mod:`~impactsym.rod.kernel` -- NumPy only: the rigid-contact :math:`y(t)`, :math:`N(t)`;
-* :mod:`~impactsym.rod.elastic` -- mpmath pole data for a finite contact stiffness;
+* :mod:`~impactsym.rod.elastic` -- a finite contact stiffness, one method per module: pole
+  sums (``poles``), the mpmath cell table (``cells``), the float64 Taylor table (``taylor``),
+  and the contact-time search on them (``search``);
 * :mod:`~impactsym.rod.api` -- :func:`displacement`, :func:`contact_force`;
+* :mod:`~impactsym.rod.rigid_search` -- the certified contact-time search, rigid contact;
 * :mod:`~impactsym.rod.contact_times` -- :func:`contact_time`, :func:`contact_time_map`;
 * :mod:`~impactsym.rod.codegen` -- the NumPy-only source that ``impactsym export`` writes;
 * :mod:`~impactsym.rod.continuation` -- :func:`impact_sequence`: the impact continued past

@@ -3,7 +3,7 @@
 The public face: :func:`contact_time`, :func:`contact_time_map` and its result
 :class:`ContactTimeMap`. The searches live in :mod:`impactsym.rod.rigid_search` (rigid
 contact) and :mod:`impactsym.rod.elastic.search` (finite :math:`\\kappa`); see
-docs/physics.md#contact-times-are-certified-not-sampled.
+docs/physics.md#1-rod-impact-paper-1.
 """
 
 from __future__ import annotations
@@ -70,7 +70,7 @@ def contact_time(
     ``1e-12``) may be passed over. Pairs of equal :math:`\alpha` share the proofs
     that an interval holds no sign change (:math:`g` is affine in :math:`f`), so an
     :math:`\alpha`-:math:`f` grid is cheaper per pair than scattered pairs. See
-    docs/physics.md#contact-times-are-certified-not-sampled.
+    docs/physics.md#1-rod-impact-paper-1.
 
     Parameters
     ----------

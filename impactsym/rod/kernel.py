@@ -39,7 +39,7 @@ cancellation of :math:`2m` against a sum of size :math:`m`), and the Laguerre re
 run with a power-of-two scale per point once :math:`e^{-x/2}` would underflow
 (:math:`x > 1400`). Up to :data:`T_LIMIT` (:math:`t = 10^4`) the kernel agrees with an
 independent modal expansion to better than 1e-9; beyond it refuses (the tables cost
-:math:`O(m^2)` per distinct :math:`\\alpha`).
+:math:`O(m^2)` per distinct :math:`\\alpha`). See docs/physics.md#1-rod-impact-paper-1.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ their second derivative over any cell (:class:`RigidInterval`); the first sign c
 isolated with those bounds (:func:`impactsym.numeric.isolation.first_sign_change`), no
 sampling. Pairs of equal ``alpha`` share the proofs that an interval holds no sign change
 (:func:`screen_interval`). Internal: used by :mod:`impactsym.rod.contact_times`; see
-docs/physics.md#contact-times-are-certified-not-sampled.
+docs/physics.md#1-rod-impact-paper-1.
 """
 
 from __future__ import annotations

@@ -23,7 +23,7 @@ def pointwise_pole_contact_times(which, alpha, f, *, kappa, t_max):
     f = np.asarray(f, dtype=float)
     n_terms = int(t_max // 2) + 1
     evaluate, bound = pole_search(which, alpha, f, kappa=kappa, n_terms=n_terms)
-    step = min(0.1, 0.25 * alpha, 0.5 / np.sqrt(fastest_rate(alpha, kappa)))
+    step = min(0.1, 0.25 * alpha, 0.5 / np.sqrt(fastest_rate(alpha, kappa=kappa)))
     base = np.union1d(
         np.linspace(0.0, t_max, int(np.ceil(t_max / step)) + 1), np.arange(2.0, t_max, 2.0)
     )

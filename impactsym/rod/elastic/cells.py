@@ -81,7 +81,7 @@ class CellTable:
         import mpmath as mp
 
         dps = _required_dps(which, alpha, kappa, n_terms)
-        model = pole_model(which, alpha, kappa, n_terms, dps)
+        model = pole_model(which, alpha, kappa=kappa, n_terms=n_terms, dps=dps)
         self.fastest = model.fastest
         self._model, self._dps = model, dps
         self._pending: dict = {}  # cell -> data for repair()
@@ -565,7 +565,7 @@ def _basis_part(lam, weight, basis, u_c, w, decay, DEGREE):
 
 
 @lru_cache(maxsize=64)
-def cell_table(which: str, alpha: float, kappa: float, n_terms: int) -> CellTable:
+def cell_table(which: str, alpha: float, *, kappa: float, n_terms: int) -> CellTable:
     """Internal: the cached :class:`CellTable` of ``which`` for ``(alpha, kappa)`` on
     ``n_terms`` reflection intervals."""
     return CellTable(which, alpha, kappa, n_terms)

@@ -21,9 +21,8 @@ import numpy as np
 
 #: Absolute error allowed for the float path of the finite-stiffness evaluation.
 _TOLERANCE = 1e-12
-#: Largest normalized time evaluated with a finite contact stiffness: the time
-#: functions are verified to 1e-10 up to there and a point costs well under a second
-#: (the pole data of ``t/2`` reflection terms grow in degree with every term).
+#: Largest normalized time evaluated with a finite contact stiffness (the time
+#: functions are verified to 1e-10 up to there).
 T_LIMIT_ELASTIC = 20.0
 _EPS = np.finfo(np.float64).eps
 
@@ -170,10 +169,9 @@ class PoleModel:
         integer): per part ``(root, d0, d1, pair)`` with ``c(centre + e) = sum d_j e^j``.
 
         The shift is done with mpmath at the model's precision from the exact pole
-        data, so the alternating, large coefficients of the later terms (up to ``1e9``
-        for ``alpha = 1.3, kappa = 20``) do not cancel in float64: with ``|e| <= 1`` the
-        rounding bound ``sum |d_j| |e|^j`` is close to the size of the term itself.
-        Cached per ``(derivative, k, centre)``, shared by every ``f``.
+        data, so the alternating, large coefficients of the later terms do not cancel in
+        float64 (docs/physics.md#finite-contact-stiffness-three-methods). Cached per
+        ``(derivative, k, centre)``, shared by every ``f``.
         """
         key = (derivative, k, centre)
         cached = self._shift_cache.get(key)
@@ -290,7 +288,7 @@ def _derivative(coeffs: list, r) -> list:
     return [r * coeffs[p] + ((p + 1) * coeffs[p + 1] if p + 1 < n else 0) for p in range(n)]
 
 
-def pole_model(which: str, alpha: float, kappa: float, n_terms: int, dps: int = 40) -> PoleModel:
+def pole_model(which: str, alpha: float, *, kappa: float, n_terms: int, dps: int = 40) -> PoleModel:
     """Internal: the cached :class:`PoleModel` of ``which`` (``"y"`` or ``"N"``) at ``dps``
     digits (one cache key whether ``dps`` is given or not)."""
     return _cached_model(which, float(alpha), float(kappa), int(n_terms), int(dps))
@@ -324,7 +322,7 @@ def time_function(
             f"finite-stiffness functions are verified), got t = {float(np.max(t))!r}"
         )
     n_terms = int(np.max(t) // 2) + 1
-    model = pole_model(which, alpha, kappa, n_terms)
+    model = pole_model(which, alpha, kappa=kappa, n_terms=n_terms)
     u_terms = [t - 2.0 * k for k in range(n_terms)]
     value, error = model.evaluate(u_terms, f, derivative)
     bad = np.flatnonzero(~(error <= _TOLERANCE))
@@ -334,7 +332,7 @@ def time_function(
             if np.isfinite(error[bad]).all()
             else 300
         )
-        fine = pole_model(which, alpha, kappa, n_terms, max(40, digits + 25))
+        fine = pole_model(which, alpha, kappa=kappa, n_terms=n_terms, dps=max(40, digits + 25))
         value[bad] = [
             fine.evaluate_mp(ti, fi, derivative) for ti, fi in zip(t[bad], f[bad], strict=True)
         ]

@@ -54,20 +54,20 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
         members = np.flatnonzero(inverse == g_index)
         members = members[np.argsort(f[members], kind="stable")]  # screened in order of f
         ag, kg = float(ag), float(kg)
-        check_stiffness(ag, kg)
-        if method == "taylor" and cells_per_interval(ag, kg) <= MAX_CELLS:
-            table = taylor_table(ag, kg, n_terms).view(which)
+        check_stiffness(ag, kappa=kg)
+        if method == "taylor" and cells_per_interval(ag, kappa=kg) <= MAX_CELLS:
+            table = taylor_table(ag, kappa=kg, n_intervals=n_terms).view(which)
         else:
-            table = cell_table(which, ag, kg, n_terms)
+            table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
         result[members] = _table_contact_times(table, which, ag, kg, f[members], t_max)
     return result
 
 
-def check_stiffness(alpha: float, kappa: float) -> None:
+def check_stiffness(alpha: float, *, kappa: float) -> None:
     """Internal: refuse a contact spring whose fastest pole exceeds ``1e8`` (time scale
     below ``1e-8``), naming ``kappa``: too stiff for a certified search, and ``kappa=inf``
     is its limit."""
-    fastest = fastest_rate(alpha, kappa)
+    fastest = fastest_rate(alpha, kappa=kappa)
     if fastest > _FASTEST_POLE:
         raise ValueError(
             f"kappa = {kappa!r} (alpha = {alpha!r}) is too stiff for a certified "
@@ -128,7 +128,7 @@ def pole_search(which, alpha, f, *, kappa, n_terms):
         return value, slope, value
 
     def bound(ta, tb, own, _a, _b, _da, _db):
-        model = pole_model(which, alpha, kappa, n_terms)
+        model = pole_model(which, alpha, kappa=kappa, n_terms=n_terms)
         return model.second_derivative_bound(ta, tb, f[own])
 
     return evaluate, bound

@@ -48,7 +48,7 @@ _COEFFICIENT_SUM = 100.0
 _MIN_CELLS = 16
 
 
-def fastest_rate(alpha: float, kappa: float) -> float:
+def fastest_rate(alpha: float, *, kappa: float) -> float:
     """Internal: largest modulus of the roots of :math:`\\alpha s^2 + \\alpha\\kappa s + \\kappa`:
     :math:`\\sqrt{\\kappa/\\alpha}` for a complex pair, else :math:`(\\kappa + \\sqrt{\\kappa^2 -
     4\\kappa/\\alpha})/2`."""
@@ -56,10 +56,10 @@ def fastest_rate(alpha: float, kappa: float) -> float:
     return math.sqrt(kappa / alpha) if disc <= 0 else 0.5 * (kappa + math.sqrt(disc))
 
 
-def cells_per_interval(alpha: float, kappa: float) -> int:
+def cells_per_interval(alpha: float, *, kappa: float) -> int:
     """Internal: cells per reflection interval, the least power of two ``n >= _MIN_CELLS``
-    with ``(2/n) fastest_rate(alpha, kappa) <= _REACH``."""
-    fastest = fastest_rate(alpha, kappa)
+    with ``(2/n) fastest_rate(alpha, kappa=kappa) <= _REACH``."""
+    fastest = fastest_rate(alpha, kappa=kappa)
     if not math.isfinite(fastest):
         raise ValueError(f"kappa = {kappa!r} (alpha = {alpha!r}) overflows float64")
     n = _MIN_CELLS
@@ -91,7 +91,7 @@ class TaylorTable:
         if n_intervals < 1:
             raise ValueError(f"n_intervals must be >= 1, got {n_intervals!r}")
         self.alpha, self.kappa = (float(value) for value, _ in checked.values())
-        n = cells_per_interval(self.alpha, self.kappa)
+        n = cells_per_interval(self.alpha, kappa=self.kappa)
         if n > MAX_CELLS:
             raise ValueError(
                 f"kappa = {kappa!r} (alpha = {alpha!r}) needs {n} Taylor cells per "
@@ -311,6 +311,6 @@ class TaylorView:
 
 
 @lru_cache(maxsize=64)
-def taylor_table(alpha: float, kappa: float, n_intervals: int) -> TaylorTable:
+def taylor_table(alpha: float, *, kappa: float, n_intervals: int) -> TaylorTable:
     """Internal: the cached :class:`TaylorTable` of ``(alpha, kappa)`` over ``n_intervals``."""
     return TaylorTable(alpha, kappa, n_intervals)
