@@ -218,7 +218,7 @@ def finite_stiffness() -> None:
     (``"cells"``, the method before) and the pointwise search on the pole sums
     (``"poles"``, the first method), on ``f`` sweeps at fixed ``(alpha, kappa)`` and on
     ``alpha``-``f`` maps at fixed ``kappa`` (every table build counted)."""
-    from impactsym.rod.elastic import poles
+    from impactsym.rod.elastic import poles as pole_sums
     from impactsym.rod.elastic.cells import cell_table
     from impactsym.rod.elastic.search import elastic_contact_times
     from impactsym.rod.elastic.taylor import taylor_table
@@ -227,7 +227,7 @@ def finite_stiffness() -> None:
         """CPU seconds of one call with every table and pole model built anew."""
         for cache in (cell_table, taylor_table):
             cache.cache_clear()
-        poles.clear_cache()
+        pole_sums.clear_cache()
         start = time.process_time()
         if method == "poles":
             out = pointwise_pole_contact_times(which, alpha, f, kappa, 20.0)
@@ -236,7 +236,7 @@ def finite_stiffness() -> None:
         return out, time.process_time() - start
 
     start = time.process_time()
-    poles.series_coefficients("N", 11), poles.series_coefficients("y", 11)
+    pole_sums.series_coefficients("N", 11), pole_sums.series_coefficients("y", 11)
     print(f"finite kappa: symbolic series (once per process) {time.process_time() - start:.2f} s")
     print("  ms per point, tables built in the call; max |difference| to 'poles'")
     f = np.linspace(0.0, 2.0, 200)
