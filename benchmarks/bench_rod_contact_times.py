@@ -17,8 +17,10 @@ Run ``python benchmarks/bench_rod_contact_times.py [--n 100]``. In one run, on t
 * finite ``kappa``: the symbolic series (once per process), then per point of an
   ``f`` sweep (200 points, the table built in the timed call) and of ``alpha``-``f``
   maps at fixed ``kappa`` (one table per ``alpha``): the Taylor tables of the delay
-  equations (the default) against the mpmath cell tables and the pointwise search on
-  the pole sums (``--kappa-only`` runs this part alone).
+  equations (:mod:`impactsym.rod.elastic.taylor`, the default) against the mpmath cell
+  tables (:mod:`impactsym.rod.elastic.cells`) and the pointwise search on the pole sums
+  alone (:func:`pointwise_pole_contact_times`, copied below: no table;
+  ``--kappa-only`` runs this part alone).
 
 Times are CPU seconds of this process (``time.process_time``), robust against a
 loaded machine; ``--repeat k`` quotes the best of ``k`` runs of the certified search.
@@ -38,7 +40,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's 
 
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.rod import contact_time
-from impactsym.rod.kernel import _rigid_local, _rigid_tables
+from impactsym.rod.kernel import rigid_local, rigid_tables
 
 
 def sampled_contact_time(alpha, f, which, t_max=100.0):
@@ -46,11 +48,11 @@ def sampled_contact_time(alpha, f, which, t_max=100.0):
     a, ff = np.ravel(alpha).astype(float), np.ravel(f).astype(float)
     ua, a_idx = np.unique(a, return_inverse=True)
     n_intervals = int(np.ceil(t_max / 2.0))
-    tables = _rigid_tables(ua, n_intervals + 1)
+    tables = rigid_tables(ua, n_intervals + 1)
 
     def fn(tau, m, p, derivative=False):
         p = p.astype(np.int64)
-        return _rigid_local(
+        return rigid_local(
             which, m.astype(np.int64), tau, a_idx[p], a[p], ff[p], tables, derivative
         )
 
@@ -96,8 +98,8 @@ def brute_force(alpha, f, which, t_max=100.0, per_interval=20000):
         for m in range(1, int(t_max // 2)):
             tau = np.linspace(0.0, 2.0, per_interval, endpoint=False)
             ua = np.array([a])
-            tables = _rigid_tables(ua, m + 1)
-            g = _rigid_local(
+            tables = rigid_tables(ua, m + 1)
+            g = rigid_local(
                 which, np.full(tau.size, m), tau, np.zeros(tau.size, int), a, force, tables
             )
             below = np.flatnonzero(g <= 0)
@@ -181,27 +183,60 @@ def atlas(n: int, repeat: int = 1) -> None:
         )
 
 
+def pointwise_pole_contact_times(which, alpha, f, kappa, t_max):
+    """The first finite-kappa search: every pair on its own on the pole sums alone (no
+    table), from a uniform grid of initial nodes; flat arrays ``alpha, f, kappa``."""
+    from impactsym.numeric.isolation import first_sign_change
+    from impactsym.rod.elastic.search import check_stiffness, pole_search
+    from impactsym.rod.elastic.taylor import fastest_rate
+
+    result = np.full(alpha.size, np.inf)
+    n_terms = int(t_max // 2) + 1
+    keys = np.stack([alpha, kappa], axis=1)
+    groups, inverse = np.unique(keys, axis=0, return_inverse=True)
+    for g_index, (ag, kg) in enumerate(groups):
+        members = np.flatnonzero(inverse.ravel() == g_index)
+        ag, kg = float(ag), float(kg)
+        check_stiffness(ag, kappa=kg)
+        evaluate, bound = pole_search(which, ag, f[members], kappa=kg, n_terms=n_terms)
+        step = min(0.1, 0.25 * ag, 0.5 / np.sqrt(fastest_rate(ag, kappa=kg)))
+        base = np.union1d(
+            np.linspace(0.0, t_max, int(np.ceil(t_max / step)) + 1),
+            np.arange(2.0, t_max, 2.0),
+        )
+        owner = np.repeat(np.arange(members.size), base.size)
+        nodes = np.tile(base, members.size)
+        roots = first_sign_change(evaluate, bound, nodes, owner, members.size, max_cells=2**22)
+        hit = np.isfinite(roots)
+        result[members[hit]] = roots[hit]
+    return result
+
+
 def finite_stiffness() -> None:
     """Finite ``kappa`` (issue 11, item 3): the Taylor tables of the delay equations
     (``method="taylor"``, the default) against the mpmath cell tables of the pole data
     (``"cells"``, the method before) and the pointwise search on the pole sums
     (``"poles"``, the first method), on ``f`` sweeps at fixed ``(alpha, kappa)`` and on
     ``alpha``-``f`` maps at fixed ``kappa`` (every table build counted)."""
-    from impactsym.rod.contact_times import _elastic_contact_times
-    from impactsym.rod.elastic import _cached_model, _elastic_series
-    from impactsym.rod.elastic_table import _cell_table
-    from impactsym.rod.elastic_taylor import _taylor_table
+    from impactsym.rod.elastic import poles as pole_sums
+    from impactsym.rod.elastic.cells import cell_table
+    from impactsym.rod.elastic.search import elastic_contact_times
+    from impactsym.rod.elastic.taylor import taylor_table
 
     def cold(which, alpha, f, kappa, method):
         """CPU seconds of one call with every table and pole model built anew."""
-        for cache in (_cell_table, _cached_model, _taylor_table):
+        for cache in (cell_table, taylor_table):
             cache.cache_clear()
+        pole_sums.clear_cache()
         start = time.process_time()
-        out = _elastic_contact_times(which, alpha, f, kappa, 20.0, method=method)
+        if method == "poles":
+            out = pointwise_pole_contact_times(which, alpha, f, kappa, 20.0)
+        else:
+            out = elastic_contact_times(which, alpha, f, kappa=kappa, t_max=20.0, method=method)
         return out, time.process_time() - start
 
     start = time.process_time()
-    _elastic_series("N", 11), _elastic_series("Y", 11)
+    pole_sums.series_coefficients("N", 11), pole_sums.series_coefficients("y", 11)
     print(f"finite kappa: symbolic series (once per process) {time.process_time() - start:.2f} s")
     print("  ms per point, tables built in the call; max |difference| to 'poles'")
     f = np.linspace(0.0, 2.0, 200)

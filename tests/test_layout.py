@@ -40,6 +40,7 @@ FLOORS = [
         "impactsym.contact.kernel",
         "impactsym.rod.derivation",
         "impactsym.rod.kernel",
+        "impactsym.rod.rigid_search",
     ),
     (  # the wings' solvers and public faces
         "impactsym.contact.release",
@@ -265,10 +266,10 @@ def test_kernels_and_root_finders_import_without_sympy():
         "    sys.modules[m] = None  # any import of them now fails\n"
         "import numpy as np\n"
         "import impactsym, impactsym.validation, impactsym.numeric.roots, impactsym.rod.kernel\n"
-        "from impactsym.rod.kernel import _rigid_evaluate\n"
+        "from impactsym.rod.kernel import rigid_evaluate\n"
         "one = np.ones(1)\n"
         "# rigid contact, f = 0: N(t) = exp(-t / alpha) before the first reflection\n"
-        "print(float(_rigid_evaluate('N', 0.5 * one, one, 0.0 * one)[0]))\n"
+        "print(float(rigid_evaluate('N', 0.5 * one, one, 0.0 * one)[0]))\n"
     )
     run = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, cwd=PACKAGE.parent

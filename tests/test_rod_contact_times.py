@@ -11,7 +11,6 @@
 
 from __future__ import annotations
 
-import functools
 import math
 import time
 
@@ -23,7 +22,7 @@ from numpy.polynomial import chebyshev as cheb
 from references.rod_characteristics import Characteristics
 from scipy.optimize import brentq
 
-from impactsym.rod import contact_force, contact_time, displacement, numpy_source
+from impactsym.rod import contact_force, contact_time, displacement
 
 # ------------------------------------------------------------------ references
 
@@ -57,25 +56,6 @@ def reference_contact_time(alpha, f, condition, t_max=20.0, n_samples=4001):
             j = np.flatnonzero(values[:i] > 0)[-1]
             return 2 * k + brentq(lambda x, k=k: g(k, x), tau[j], tau[i], xtol=1e-14)
     return math.inf
-
-
-def modal_displacement(t, alpha, f, n_modes=400_000):
-    """y(t) = f - sum_k 2 sin w (f cos wt - alpha w sin wt) / (w^2 ((alpha+1) sin w
-    + alpha w cos w)) over the roots of alpha w tan w = 1; tail < 2/(alpha pi^3 K^2)."""
-    k = np.arange(n_modes)
-    w = k * np.pi + np.arctan(1.0 / (alpha * np.maximum(k * np.pi, np.sqrt(1.0 / alpha))))
-    for _ in range(50):  # Newton on cos w - alpha w sin w
-        F = np.cos(w) - alpha * w * np.sin(w)
-        dF = -(1 + alpha) * np.sin(w) - alpha * w * np.cos(w)
-        w = w - F / dF
-    s, c = np.sin(w), np.cos(w)
-    den = w**2 * ((alpha + 1) * s + alpha * w * c)
-    t = np.atleast_1d(np.asarray(t, dtype=float))
-    out = np.empty(t.size)
-    for i, ti in enumerate(t):
-        phase = w * ti
-        out[i] = f - np.sum(2 * s * (f * np.cos(phase) - alpha * w * np.sin(phase)) / den)
-    return out
 
 
 # ------------------------------------------------------------------ contact times
@@ -129,169 +109,6 @@ def test_narrow_dips_are_found(a, force, condition):
     _compare(a, force, condition)
 
 
-@settings(max_examples=6, deadline=None)
-@given(
-    a=st.floats(math.log(0.05), math.log(10.0)).map(math.exp),
-    f1=st.floats(0.0, 2.0),
-    f2=st.floats(0.0, 2.0),
-    lam=st.floats(0.0, 1.0),
-)
-def test_contact_functions_are_affine_in_f_as_the_atlas_screening_assumes(a, f1, f2, lam):
-    """An atlas settles every ``f`` between two ``f`` whose ``g > 0`` is proved on a
-    reflection interval (``contact_times._screen_interval``): sound only because ``N``
-    and ``y`` are affine in ``f`` at fixed ``alpha``, checked here on the independent
-    delay-equation solution."""
-    t = np.linspace(0.013, 19.99, 41)
-    fm = (1.0 - lam) * f1 + lam * f2
-    refs = [Characteristics(a, force, 10) for force in (f1, f2, fm)]
-    for name in ("N", "y"):
-        g1, g2, gm = (getattr(ref, name)(t) for ref in refs)
-        np.testing.assert_allclose(gm, (1.0 - lam) * g1 + lam * g2, rtol=0, atol=1e-9)
-
-
-SCREENED_ALPHAS = (0.07515749760695055, 0.5767450137140747, 0.6606700471450271, 3.0)
-SCREENED_F = (*np.linspace(0.0, 2.0, 41).tolist(), 14 / 13, 68 / 39, 62 / 39, 1.0)
-
-
-@functools.cache
-def _pair_by_pair(condition):
-    """Contact times of the screening test's grid, one pair per call (nothing shared),
-    and the number of pair searches on reflection intervals that took."""
-    A, F = np.meshgrid(SCREENED_ALPHAS, SCREENED_F)
-    times, n_searched = [], 0
-    for a, force in zip(A.ravel(), F.ravel(), strict=True):
-        times.append(contact_time(a, force, condition=condition, t_max=30.0))
-        # searched on reflection intervals 1, ..., its last (14 within t_max = 30)
-        n_searched += 14 if math.isinf(times[-1]) else math.floor(times[-1] / 2.0)
-    return np.array(times), n_searched
-
-
-@pytest.mark.parametrize("strides", [(64, 1), (16, 4, 1)])
-@pytest.mark.parametrize("condition", ["force", "position"])
-def test_an_atlas_equals_the_search_pair_by_pair_with_far_fewer_searches(
-    condition, strides, monkeypatch
-):
-    """Screening a grid (pairs of equal ``alpha`` settled together where ``g > 0`` is
-    proved at both ends of a run of ``f``) gives the contact time of every pair, the
-    narrow dips of the issue included, and searches a fraction of the pairs."""
-    from impactsym.rod import contact_times as module
-
-    searched = []
-    search = module._search_interval
-
-    def counting(which, m, tables, row, *args):
-        searched.append(row.size)
-        return search(which, m, tables, row, *args)
-
-    monkeypatch.setattr(module, "_search_interval", counting)
-    monkeypatch.setattr(module, "_SCREEN_STRIDES", strides)
-    monkeypatch.setattr(module, "_SCREEN_MIN_PAIRS", 1)
-    A, F = np.meshgrid(SCREENED_ALPHAS, SCREENED_F)
-    grid = contact_time(A, F, condition=condition, t_max=30.0)
-    n_grid = sum(searched)
-    pairs, n_pairs = _pair_by_pair(condition)
-    np.testing.assert_allclose(grid.ravel(), pairs, rtol=0, atol=1e-12)
-    assert np.isinf(grid).any()
-    assert np.isfinite(grid).any()
-    # measured 0.30-0.72 of the pair-by-pair searches; 1 without the screening
-    assert n_grid < 0.8 * n_pairs, (n_grid, n_pairs)
-
-
-@settings(max_examples=20, deadline=None)
-@given(
-    a=st.floats(math.log(0.05), math.log(10.0)).map(math.exp),
-    forces=st.lists(st.floats(0.0, 2.0), min_size=2, max_size=24),
-    condition=st.sampled_from(["force", "position"]),
-)
-def test_screening_random_pressing_forces_equals_the_search_pair_by_pair(a, forces, condition):
-    from impactsym.rod import contact_times as module
-
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(module, "_SCREEN_STRIDES", (4, 1))
-        patch.setattr(module, "_SCREEN_MIN_PAIRS", 1)
-        grid = contact_time(a, np.array(forces), condition=condition, t_max=20.0)
-    pairs = [contact_time(a, force, condition=condition, t_max=20.0) for force in forces]
-    np.testing.assert_allclose(grid, pairs, rtol=0, atol=1e-12)
-
-
-def test_chunks_of_tables_and_searches_do_not_change_the_contact_times(monkeypatch):
-    """Distinct alphas are split into chunks (table memory) and searches into batches
-    (cell memory); neither changes any contact time, nor do repeated pairs."""
-    from impactsym.rod import contact_times as module
-
-    rng = np.random.default_rng(11)
-    alpha = np.r_[np.exp(rng.uniform(np.log(0.05), np.log(10.0), 30)), 0.5, 0.5, 0.5]
-    f = np.r_[rng.uniform(0.0, 2.0, 30), 1.3, 0.2, 1.3]
-    want = {c: contact_time(alpha, f, condition=c, t_max=24.0) for c in ("force", "position")}
-    monkeypatch.setattr(module, "_TABLE_ENTRIES", 40)  # 3 alphas per chunk at t_max = 24
-    monkeypatch.setattr(module, "_SEARCH_CHUNK", 7)
-    for condition, times in want.items():
-        got = contact_time(alpha, f, condition=condition, t_max=24.0)
-        np.testing.assert_allclose(got, times, rtol=0, atol=1e-12)
-        assert got[-1] == got[-3]
-
-
-def _reference_second_derivative(ref, which, k, tau):
-    """``d^2 g / d tau^2`` on interval ``k`` from the collocation series (g = N or y)."""
-    if which == "N":
-        series = [ref.coef[k]] + ([ref.coef[k - 1]] if k else [])
-    else:  # y = Phi_(k-1)(2) - Phi_(k-1)(tau) + Phi_k(tau)
-        series = [ref.icoef[k]] + ([-ref.icoef[k - 1]] if k else [])
-    return sum(cheb.chebval(tau - 1.0, cheb.chebder(c, 2)) for c in series)
-
-
-@settings(max_examples=30, deadline=None)
-@given(
-    st.floats(0.1, 5.0),
-    st.floats(0.0, 2.0),
-    st.integers(1, 12),
-    st.sampled_from(["N", "y"]),
-    st.integers(0, 2**32 - 1),
-)
-@example(1.0, 1.0, 1, "y", 0)  # f = 1: N = f, all a_j = 0; the bound at x = 0 was 0 * inf
-# f = 1, m = 1: N = 1 + 2 e^(-tau/alpha), |N_xx| = 1/2 at x = 0, exactly the bound; the
-# collocation series' second derivative is 6e-6 high there (its own accuracy at an end)
-@example(3.0, 1.0, 1, "N", 0)
-def test_second_derivative_bound_holds_on_random_cells(a, force, m, which, seed):
-    """The search is certified only if ``|g''| <= bound`` on every cell: checked on
-    random cells (including ``x = 0`` and whole intervals) against ``g''`` of the
-    independent delay-equation solution, 60 points per cell. A bound that is too small
-    anywhere lets :func:`first_sign_change` pass over a dip, i.e. miss a root."""
-    from impactsym.rod.contact_times import _interval_tables, _rigid_interval
-
-    ref = Characteristics(a, force, m + 1)
-    model = _rigid_interval(
-        which,
-        m,
-        _interval_tables(np.array([a]), m + 2),
-        np.zeros(1, int),
-        np.array([a]),
-        np.array([force]),
-    )
-    rng = np.random.default_rng(seed)
-    x_end = 4.0 / a
-    n_cells = 40
-    lo = np.where(rng.random(n_cells) < 0.2, 0.0, rng.uniform(0.0, x_end, n_cells))
-    hi = lo + (x_end - lo) * np.exp(rng.uniform(np.log(1e-3), 0.0, n_cells))
-    own = np.zeros(n_cells, int)
-    ga, dga, auxa = model(lo, own)
-    gb, dgb, auxb = model(hi, own)
-    # the mapping x = 2 tau / alpha and the model's values agree with the reference
-    for x, g in ((lo, ga), (hi, gb)):
-        t = 2.0 * m + 0.5 * a * x
-        want = ref.N(t) if which == "N" else ref.y(np.minimum(t, 2.0 * m + 2.0 - 1e-15))
-        np.testing.assert_allclose(g, want, rtol=0, atol=1e-8)
-    bound = model.bound(lo, hi, own, auxa, auxb, dga, dgb)
-    s = np.linspace(0.0, 1.0, 60)
-    x = lo[:, None] + s[None, :] * (hi - lo)[:, None]
-    sampled = np.abs(_reference_second_derivative(ref, which, m, 0.5 * a * x)) * (0.5 * a) ** 2
-    worst = sampled.max(axis=1)
-    assert np.all(worst <= bound * (1.0 + 2e-5) + 1e-6 * (1.0 + worst)), (
-        np.max(worst / bound),
-        which,
-    )
-
-
 def test_the_whole_issue_grid_is_decided_and_never_later_than_dense_sampling():
     A, F = np.meshgrid(np.geomspace(0.05, 10, 100), np.linspace(0, 2, 100))
     for condition in ("force", "position"):
@@ -340,61 +157,6 @@ def test_finite_stiffness_contact_time_is_a_sign_change_and_fast():
 # ------------------------------------------------------------------ far out
 
 
-@settings(max_examples=8, deadline=None)
-@given(
-    t=st.floats(0.0, 1e4),
-    a=st.floats(math.log(0.02), math.log(20.0)).map(math.exp),
-    force=st.floats(0.0, 3.0),
-)
-def test_displacement_anywhere_up_to_1e4_equals_the_modal_expansion(t, a, force):
-    assert abs(displacement(t, a, force) - modal_displacement(t, a, force)[0]) < 1e-9
-
-
-@pytest.mark.parametrize(
-    ("a", "force", "t"), [(math.exp(3.75), 3.0, 6778.150390625), (100.0, 1.0, 1e4)]
-)
-def test_heavy_striker_far_out_is_within_2e_9(a, force, t):
-    """Heavy strikers accumulate more rounding over 5000 intervals (measured 1.04e-9 at
-    alpha = 42.5, t = 6778 and 5.5e-10 at alpha = 100, t = 1e4)."""
-    assert abs(displacement(t, a, force) - modal_displacement(t, a, force)[0]) < 2e-9
-
-
-@pytest.mark.parametrize(
-    ("a", "force"), [(2.0, 0.5), (0.5, 1.0), (0.05, 1.5), (10.0, 0.2), (0.01, 0.3)]
-)
-def test_displacement_far_out_equals_the_modal_expansion(a, force):
-    t = np.array([501.3, 2001.7, 7777.7, 9999.9, 1e4])
-    y = displacement(t, a, force)
-    assert np.max(np.abs(y - modal_displacement(t, a, force))) < 1e-9
-    # energy: |y - f| <= sqrt(alpha + f^2)
-    assert np.all(np.abs(y - force) <= math.sqrt(a + force**2) + 1e-9)
-
-
-@pytest.mark.parametrize(("a", "force"), [(2.0, 0.5), (0.3, 1.2)])
-def test_contact_force_far_out_satisfies_newton_against_the_modal_displacement(a, force):
-    t0, h = 9990.0 + 1.0, 0.5  # inside one reflection interval
-    nodes, weights = np.polynomial.legendre.leggauss(40)
-    s = h * (nodes + 1) / 2  # s in [0, h]
-    N = contact_force(np.r_[t0 + s, t0 - s], a, force)
-    kernel = np.r_[(h - s), (h - s)] * np.r_[weights, weights] * h / 2
-    rhs = np.sum(kernel * (force - N)) / a
-    y = modal_displacement(np.array([t0 - h, t0, t0 + h]), a, force)
-    lhs = y[0] - 2 * y[1] + y[2]
-    assert abs(lhs - rhs) < 5e-10  # four y values, each within ~1e-10; N within ~1e-9
-
-
-def test_far_out_beyond_the_limit_is_refused_with_the_limit_named():
-    with pytest.raises(ValueError, match=r"t must be <= 10000 .* got t = 1e\+300"):
-        displacement(1e300, 2.0, 0.5)
-    with pytest.raises(ValueError, match="t must be <= 20 for a finite kappa"):
-        contact_force(100.0, 2.0, 0.5, kappa=10.0)
-    namespace: dict = {}
-    exec(numpy_source(), namespace)
-    assert namespace["rod_displacement"](1e4, 2.0, 0.5) == displacement(1e4, 2.0, 0.5)
-    with pytest.raises(ValueError, match="t must be <= 10000"):
-        namespace["rod_displacement"](2e4, 2.0, 0.5)
-
-
 # ------------------------------------------------------------------ atlases
 
 
@@ -431,3 +193,104 @@ def test_extreme_kappa_gives_the_rigid_limit_or_a_clear_refusal():
     assert abs(displacement(5.3, 1.0, 0.5, kappa=1e300) - displacement(5.3, 1.0, 0.5)) < 1e-12
     with pytest.raises(ValueError, match=r"kappa = 1e\+300 .* too stiff"):
         contact_time(1.0, 0.5, kappa=1e300)
+
+
+@pytest.mark.parametrize("a", [0.05, 0.5, 1.0, 1.5])
+def test_contact_time_of_the_classical_rigid_striker(a):
+    # f = 0: N = e^{-t/a} + 2 e^{-(t-2)/a} (1 - (t-2)/a) on (2, 4)
+    expected = 2 + a * (1 + math.exp(-2 / a) / 2)
+    assert abs(contact_time(a, 0.0) - expected) < 1e-12
+
+
+def test_position_contact_time_of_the_classical_rigid_striker():
+    a = 0.5  # y = a(1 - e^{-t/a}) - 2a + (2a + 2u) e^{-u/a}, u = t - 2, on (2, 4)
+
+    def y(T: float) -> float:
+        u = T - 2
+        return a * (1 - math.exp(-T / a)) - 2 * a + (2 * a + 2 * u) * math.exp(-u / a)
+
+    expected = brentq(y, 2.0, 4.0, xtol=1e-15)
+    assert abs(contact_time(a, 0.0, condition="position") - expected) < 1e-12
+
+
+def _dense_times(t_end: float) -> np.ndarray:
+    """Uniform samples plus very fine ones right after every reflection, where the
+    force oscillates on the time scale alpha / (number of reflections)."""
+    after = (2.0 * np.arange(int(t_end // 2) + 1))[:, None] + np.linspace(0, 0.2, 4001)
+    tt = np.r_[np.linspace(1e-9, t_end, 100_001), after.ravel()]
+    return np.sort(tt[(tt > 0) & (tt <= t_end)])
+
+
+def test_sticking_gives_infinity_and_is_real():
+    assert contact_time(0.05, 2.0) == math.inf
+    assert np.all(contact_force(_dense_times(100.0), 0.05, 2.0) > 0)
+
+
+def test_release_in_a_fast_transient_after_many_reflections_is_found():
+    # alpha = 0.05, f = 1: N dips below zero for ~2e-3 just after the 23rd reflection
+    tc = contact_time(0.05, 1.0)
+    assert 46.0 < tc < 46.006
+    assert abs(contact_force(tc, 0.05, 1.0)) < 1e-9
+    tt = _dense_times(tc)
+    assert np.all(contact_force(tt[tt < tc - 1e-9], 0.05, 1.0) > 0)
+
+
+def test_contact_time_is_a_zero_of_the_right_quantity():
+    a = np.array([0.3, 2.0, 20.0])
+    force = np.array([0.3, 0.8, 1.6])
+    for condition, fn in (("force", contact_force), ("position", displacement)):
+        tc = contact_time(a, force, condition=condition)
+        assert tc.shape == (3,)
+        assert np.all(np.isfinite(tc))
+        assert np.all(np.abs(fn(tc, a, force)) < 1e-9)
+        for ti, ai, fi in zip(tc, a, force, strict=True):  # first crossing: positive before
+            assert np.all(fn(np.linspace(1e-9, ti - 1e-6, 2000), ai, fi) > 0)
+
+
+def test_contact_time_with_finite_stiffness():
+    tc = contact_time(1.0, 0.2, kappa=50.0)
+    assert 2.0 < tc < 20.0
+    assert abs(contact_force(tc, 1.0, 0.2, kappa=50.0)) < 1e-9
+    # a stiff spring releases close to the rigid striker ...
+    assert abs(contact_time(3.0, 0.0, kappa=1e5) - contact_time(3.0, 0.0)) < 1e-4
+    assert (
+        abs(
+            contact_time(1.0, 0.2, condition="position", kappa=1e5)
+            - contact_time(1.0, 0.2, condition="position")
+        )
+        < 1e-4
+    )
+    # ... but not always under the force condition: when a reflection returns, the
+    # spring force first dips (by about 0.15, for a time ~ 1/kappa) before it rises
+    # by 2; if N is small just before, the spring releases there (non-uniform limit)
+    for k in (1e3, 1e5):
+        assert 4.0 < contact_time(1.0, 0.2, kappa=k) < 4.0 + 1.0 / k
+    assert contact_time(1.0, 0.2) > 4.4
+
+
+def test_heavy_striker_conditions_almost_coincide_and_force_spreads_them():
+    """The paper's observation: large alpha, small f: the two contact times nearly
+    coincide; growing f makes them differ strongly (small alpha)."""
+    heavy = contact_time(50.0, 0.0, condition="position") / contact_time(50.0, 0.0)
+    assert abs(heavy - 1) < 0.05
+    light = contact_time(0.1, 1.2, condition="position") / contact_time(0.1, 1.2)
+    assert light < 0.5
+
+
+def test_contact_time_broadcasts():
+    tc = contact_time(np.array([[0.5], [2.0]]), np.array([0.0, 0.3, 0.6]))
+    assert tc.shape == (2, 3)
+    assert tc[0, 0] == contact_time(0.5, 0.0)
+
+
+def test_contact_time_rejects_bad_input():
+    with pytest.raises(ValueError, match="condition"):
+        contact_time(1.0, 0.5, condition="pressure")
+    with pytest.raises(ValueError, match="alpha"):
+        contact_time(-1.0, 0.5)
+    with pytest.raises(ValueError, match="kappa"):
+        contact_time(1.0, 0.5, kappa=-2.0)
+    with pytest.raises(ValueError, match="t_max"):
+        contact_time(1.0, 0.5, t_max=0.0)
+    with pytest.raises(TypeError, match="alpha"):
+        contact_time("heavy", 0.5)

@@ -4,12 +4,15 @@ solution of eq. (1) by residuals, the Delta-series of eq. (2) against the print 
 
 from __future__ import annotations
 
+import math
+
 import mpmath as mp
 import numpy as np
 import pytest
 import sympy as sp
 from references.paper import eq2_sum, eq2_term
 
+from impactsym.export import formula, latex_document
 from impactsym.rod import RodImpact, latex_formulas
 from impactsym.symbolic.laplace import laplace_exp_poly
 
@@ -238,3 +241,61 @@ def test_latex_formulas_are_labelled_snippets():
         assert body.count("{") == body.count("}")
         assert "\\[" not in body
         assert "$" not in body
+
+
+@pytest.mark.parametrize(
+    ("kappa", "error", "pattern"),
+    [
+        (-math.inf, ValueError, "kappa must be > 0, got -inf"),
+        (math.nan, ValueError, "kappa must be a positive number or inf, got nan"),
+        (0.0, ValueError, "kappa must be > 0"),
+        (sp.zoo, ValueError, "kappa must be > 0"),
+        (sp.I, ValueError, "kappa must be > 0"),
+        (True, TypeError, "kappa must be"),
+        (None, TypeError, "kappa must be"),
+    ],
+)
+def test_rod_impact_kappa_is_validated(kappa, error, pattern):
+    with pytest.raises(error, match=pattern):
+        RodImpact(kappa=kappa)
+
+
+def test_rod_impact_extreme_kappa_is_exact():
+    assert RodImpact(kappa=1e300).kappa == sp.Integer(10) ** 300
+    assert RodImpact(kappa=np.float64(1e-300)).kappa == sp.Rational(1, 10**300)
+    assert RodImpact(kappa=math.inf).rigid
+
+
+@pytest.mark.parametrize("n_terms", [200, 21, 10**9])
+def test_formula_documents_check_their_budget_before_any_work(n_terms):
+    with pytest.raises(ValueError, match=f"n_terms = {n_terms} exceeds the budget of 20"):
+        formula("rod-bvp", n_terms=n_terms)
+    with pytest.raises(ValueError, match="exceeds the budget"):
+        latex_document(n_terms)
+    with pytest.raises(ValueError, match="exceeds the budget"):
+        latex_formulas(n_terms)
+
+
+@pytest.mark.parametrize("n_terms", [2.5, "3", True, -1])
+def test_series_term_counts_are_validated(n_terms):
+    with pytest.raises((TypeError, ValueError), match="n_terms must be"):
+        RodImpact().series("Y", n_terms)
+
+
+#: A string that would leave the file ``PWNED`` behind if it were ever run as code.
+CODE = "__import__('os').system('touch PWNED')"
+
+
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda: RodImpact(kappa=CODE), "kappa"),
+        (lambda: RodImpact(kappa=[CODE]), "kappa"),
+        (lambda: RodImpact().residuals(1 / sp.Symbol("s"), CODE), "Y"),
+    ],
+)
+def test_strings_carrying_code_are_refused_by_name(call, name, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(TypeError, match=rf"^{name}\b.*(string|symbols|Symbol|real number)"):
+        call()
+    assert not (tmp_path / "PWNED").exists(), "a string input was run as code"

@@ -1,10 +1,12 @@
-"""Taylor tables of the delay equations (finite kappa), against independent references.
+"""The Taylor table of the delay equations (:mod:`impactsym.rod.elastic.taylor`).
+
+Against independent references:
 
 * the proven error bound of the table against the pole sums of the Laplace series
   evaluated with mpmath at 90 digits (another derivation: the Laplace-domain solution,
   not the time-domain equations the table integrates);
 * the delay ODE of :mod:`references.rod_elastic_delay` (d'Alembert, method of steps,
-  SciPy DOP853), for values (its contact times: ``test_rod_elastic_table.py``);
+  SciPy DOP853), for values (its contact times: ``test_rod_elastic_cells.py``);
 * planted errors: a coefficient of the table spoiled after it was computed must show in
   its a-posteriori bound (the bound is a property of the stored polynomials, not a
   promise about how they were made).
@@ -15,10 +17,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from references.rod_elastic_delay import ElasticDelay
+from references.rod_pole_search import pointwise_pole_contact_times
 
-from impactsym.rod.contact_times import _TABLE_TOLERANCE, _elastic_contact_times
-from impactsym.rod.elastic import _elastic_model
-from impactsym.rod.elastic_taylor import MAX_CELLS, TaylorTable, _cells_per_interval
+from impactsym.rod.elastic.poles import pole_model
+from impactsym.rod.elastic.search import TABLE_TOLERANCE, elastic_contact_times
+from impactsym.rod.elastic.taylor import MAX_CELLS, TaylorTable, cells_per_interval
 
 CASES = [
     (1.3, 20.0),
@@ -41,8 +44,8 @@ def _samples(table, rng, n=30):
 def test_error_bound_holds_against_90_digit_pole_sums(a, k):
     table = TaylorTable(a, k, 8)
     rng = np.random.default_rng(7)
-    for name, which in (("N", "N"), ("Y", "y")):
-        reference = _elastic_model(name, a, k, 8, 90)
+    for which in ("N", "y"):
+        reference = pole_model(which, a, kappa=k, n_terms=8, dps=90)
         view = table.view(which)
         t = _samples(table, rng)
         f = rng.uniform(0.0, 3.0, t.size)
@@ -50,10 +53,11 @@ def test_error_bound_holds_against_90_digit_pole_sums(a, k):
         exact = np.array([reference.evaluate_mp(x, y) for x, y in zip(t, f, strict=True)])
         i = view.cell(t)
         bound = view.err_a[i] + f * view.err_b[i]
-        assert np.all(np.abs(value - exact) <= bound), (name, np.max(np.abs(value - exact) / bound))
+        excess = np.max(np.abs(value - exact) / bound)
+        assert np.all(np.abs(value - exact) <= bound), (which, excess)
         # and the bound is useful: the table stands for the function on every cell
         if k >= 0.5:
-            assert np.max(view.err_a + 3.0 * view.err_b) <= _TABLE_TOLERANCE, name
+            assert np.max(view.err_a + 3.0 * view.err_b) <= TABLE_TOLERANCE, which
 
 
 @pytest.mark.parametrize(("a", "force", "k"), [(1.3, 0.4, 20.0), (0.2, 1.0, 20.0), (5.0, 0.0, 3.0)])
@@ -92,8 +96,8 @@ def test_a_planted_error_shows_in_the_bound(monkeypatch, array, cell, order, aff
     monkeypatch.setattr(TaylorTable, "_bound", spoiled)
     table = TaylorTable(a, k, 3)
     rng = np.random.default_rng(5)
-    for name, which in (("N", "N"), ("Y", "y")):
-        reference = _elastic_model(name, a, k, 3, 60)
+    for which in ("N", "y"):
+        reference = pole_model(which, a, kappa=k, n_terms=3, dps=60)
         view = table.view(which)
         t = np.concatenate([rng.uniform(0.0, 6.0, 25), view.lo[cell : cell + 3] + 1e-3])
         f = np.full(t.size, force)
@@ -101,44 +105,24 @@ def test_a_planted_error_shows_in_the_bound(monkeypatch, array, cell, order, aff
         exact = np.array([reference.evaluate_mp(x, force) for x in t])
         i = view.cell(t)
         bound = view.err_a[i] + force * view.err_b[i]
-        assert np.all(np.abs(value - exact) <= bound), (name, array)
+        assert np.all(np.abs(value - exact) <= bound), (which, array)
         after = view.lo >= view.hi[cell]
         if which in affected:
-            assert np.min(view.err_a[after]) > 1e-11, (name, array)  # noticed, not ignored
+            assert np.min(view.err_a[after]) > 1e-11, (which, array)  # noticed, not ignored
         assert np.max(view.err_a[view.hi <= view.lo[cell]]) < 1e-12  # before: untouched
 
 
 def test_cells_follow_the_fastest_rate_and_stiff_springs_go_to_the_cell_table():
-    assert _cells_per_interval(1.0, 4.0) == 16  # |p| = 2: the floor of 16 cells
-    assert _cells_per_interval(1.3, 20.0) == 64  # |p| = 18.9: 2/64 * 18.9 <= 1
-    assert _cells_per_interval(0.3, 1000.0) > MAX_CELLS
+    assert cells_per_interval(1.0, kappa=4.0) == 16  # |p| = 2: the floor of 16 cells
+    assert cells_per_interval(1.3, kappa=20.0) == 64  # |p| = 18.9: 2/64 * 18.9 <= 1
+    assert cells_per_interval(0.3, kappa=1000.0) > MAX_CELLS
     with pytest.raises(ValueError, match="Taylor cells"):
         TaylorTable(0.3, 1000.0, 2)
     # the stiff pair is still answered (mpmath cell table), the same as the pole search
     f = np.array([0.0, 0.7])
-    got = _elastic_contact_times("N", np.full(2, 0.3), f, np.full(2, 1000.0), 6.0)
-    old = _elastic_contact_times("N", np.full(2, 0.3), f, np.full(2, 1000.0), 6.0, method="poles")
+    got = elastic_contact_times("N", np.full(2, 0.3), f, kappa=np.full(2, 1000.0), t_max=6.0)
+    old = pointwise_pole_contact_times("N", 0.3, f, kappa=1000.0, t_max=6.0)
     assert np.allclose(got, old, rtol=0, atol=1e-11)
-
-
-def test_unknown_method_is_refused():
-    with pytest.raises(ValueError, match="method"):
-        _elastic_contact_times("N", np.ones(1), np.ones(1), np.ones(1), 4.0, method="fast")
-
-
-@pytest.mark.parametrize(("a", "k"), [(1.3, 20.0), (0.2, 20.0), (3.0, 2.0), (1.0, 1e-4)])
-def test_screened_f_sweep_equals_the_search_pair_by_pair(a, k):
-    """g = A + f B: a proof of g > 0 on an interval for two forces holds for every force
-    between them, so a sweep searches only some forces per interval; the contact times
-    must be those of the search of every pair on its own (no screening for one pair)."""
-    f = np.linspace(0.0, 2.0, 97)
-    for which in ("N", "y"):
-        swept = _elastic_contact_times(which, np.full(f.size, a), f, np.full(f.size, k), 20.0)
-        alone = [
-            _elastic_contact_times(which, np.array([a]), np.array([x]), np.array([k]), 20.0)[0]
-            for x in f
-        ]
-        assert np.array_equal(swept, alone), which
 
 
 @pytest.mark.parametrize(

@@ -11,7 +11,7 @@ NumPy only, elementwise on arrays. In round-to-nearest binary64 without overflow
   :math:`|\hat s - \sum t_i| \le u |\hat s| + \gamma_{n-1}^2 \sum |t_i|`,
   :math:`u = 2^{-53}`, :math:`\gamma_n = n u/(1 - n u)`.
 
-Used to bound the residuals of :mod:`impactsym.rod.elastic_taylor` at the level of the
+Used to bound the residuals of :mod:`impactsym.rod.elastic.taylor` at the level of the
 stored coefficients themselves rather than of the rounding of their evaluation.
 """
 

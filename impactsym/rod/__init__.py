@@ -4,11 +4,16 @@
   (eq. (1)), its closed-form solution, the reflection series in :math:`\\Delta = e^{-s}`
   (eq. (2)) and their exact term-by-term inversion (:class:`RodImpact`);
 * :mod:`~impactsym.rod.kernel` -- NumPy only: the rigid-contact :math:`y(t)`, :math:`N(t)`;
-* :mod:`~impactsym.rod.elastic` -- mpmath pole data for a finite contact stiffness;
+* :mod:`~impactsym.rod.elastic` -- a finite contact stiffness, one method per module: pole
+  sums (``poles``), the mpmath cell table (``cells``), the float64 Taylor table (``taylor``),
+  and the contact-time search on them (``search``);
 * :mod:`~impactsym.rod.api` -- :func:`displacement`, :func:`contact_force`,
   :func:`impact_sequence` (the impact continued past separation: flight, re-contact);
+* :mod:`~impactsym.rod.rigid_search` -- the certified contact-time search, rigid contact;
 * :mod:`~impactsym.rod.contact_times` -- :func:`contact_time`, :func:`contact_time_map`;
 * :mod:`~impactsym.rod.codegen` -- the NumPy-only source that ``impactsym export`` writes;
+* :mod:`~impactsym.rod.history` -- :func:`time_history`: sampled :math:`y(t)`, :math:`N(t)`
+  with both contact times, for figures;
 * :mod:`~impactsym.rod.sequence` -- its result objects (:class:`RodImpactSequence`,
   :class:`ElasticRodImpactSequence`: energy split, fixed-end stress) and its one event loop,
   over the step models :mod:`~impactsym.rod.sequence_rigid` (rigid contact) and
@@ -31,6 +36,8 @@ _NAMES = {
     "impact_sequence": "impactsym.rod.api",
     "RodImpactSequence": "impactsym.rod.sequence",
     "ElasticRodImpactSequence": "impactsym.rod.sequence",
+    "time_history": "impactsym.rod.history",
+    "TimeHistory": "impactsym.rod.history",
 }
 __all__ = sorted(_NAMES)
 __getattr__, __dir__ = lazy_names(__name__, _NAMES)

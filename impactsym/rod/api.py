@@ -1,8 +1,9 @@
 """Public rod time functions :math:`y(t)` and :math:`N(t)` of the persistent-contact solution.
 
-Rigid contact is evaluated by the NumPy kernel :mod:`impactsym.rod.kernel`, finite
-contact stiffness by :mod:`impactsym.rod.elastic`; both use exactly the inverted series
-terms whose delay has arrived.
+Dispatch on ``kappa``: rigid contact is evaluated by the NumPy kernel
+:mod:`impactsym.rod.kernel`, a finite contact stiffness by the pole sums of
+:mod:`impactsym.rod.elastic.poles`; both sum exactly the inverted series terms whose
+delay has arrived (docs/physics.md#1-rod-impact-paper-1).
 """
 
 from __future__ import annotations
@@ -10,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from impactsym.rod.elastic import _elastic
-from impactsym.rod.kernel import _rigid_evaluate, check_alpha
+from impactsym.rod.elastic.poles import time_function
+from impactsym.rod.kernel import check_alpha, rigid_evaluate
 from impactsym.validation import broadcast, finish, real_array
 
 __all__ = ["contact_force", "displacement"]
@@ -33,16 +34,15 @@ def _evaluate(which: str, t, alpha, f, kappa):
     out = np.zeros(t.size)
     rigid = (t >= 0) & np.isinf(k)
     if rigid.any():
-        out[rigid] = _rigid_evaluate(which, t[rigid], a[rigid], ff[rigid])
+        out[rigid] = rigid_evaluate(which, t[rigid], a[rigid], ff[rigid])
     elastic = (t >= 0) & ~np.isinf(k)
     if elastic.any():
         idx = np.flatnonzero(elastic)
         keys = np.stack([a[idx], k[idx]], axis=1)
         uk, inverse = np.unique(keys, axis=0, return_inverse=True)
-        name = "Y" if which == "y" else "N"
         for g, (ag, kg) in enumerate(uk):
             sel = idx[inverse.ravel() == g]
-            out[sel] = _elastic(name, t[sel], float(ag), float(kg), ff[sel])
+            out[sel] = time_function(which, t[sel], float(ag), ff[sel], kappa=float(kg))
     return finish(out.reshape(shape), scalar)
 
 

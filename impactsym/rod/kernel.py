@@ -32,14 +32,14 @@ L^{(-1)}_{d-i}(y_i)`, :math:`y_i = 4i/\\alpha`. :math:`E_j`, :math:`I_j` come fr
 stable recurrences (three-term for :math:`E_j`, and
 :math:`I'_j + I'_{j-1} = -2(E_j - E_{j-1})` integrated), all bounded by their
 true size; a point costs :math:`O(m)` operations. This kernel is plain NumPy
-implemented by :func:`_rigid_local`.
+implemented by :func:`rigid_local`.
 
 **Far out.** :math:`y(2m)` and :math:`y'(2m)` are chained interval by interval (no
 cancellation of :math:`2m` against a sum of size :math:`m`), and the Laguerre recurrences
 run with a power-of-two scale per point once :math:`e^{-x/2}` would underflow
 (:math:`x > 1400`). Up to :data:`T_LIMIT` (:math:`t = 10^4`) the kernel agrees with an
 independent modal expansion to better than 1e-9; beyond it refuses (the tables cost
-:math:`O(m^2)` per distinct :math:`\\alpha`).
+:math:`O(m^2)` per distinct :math:`\\alpha`). See docs/physics.md#1-rod-impact-paper-1.
 """
 
 from __future__ import annotations
@@ -73,7 +73,7 @@ def check_alpha(alpha: np.ndarray) -> None:
         )
 
 
-def _rescale(E, E_prev, scale, log_scale):
+def rescale(E, E_prev, scale, log_scale):
     """Keep a three-term recurrence in range: where ``|E| > 2**500``, divide the last two
     terms by ``2**500`` and carry the factor in ``scale = exp(log_scale)`` (in place)."""
     big = np.abs(E) > 2.0**500
@@ -84,7 +84,7 @@ def _rescale(E, E_prev, scale, log_scale):
         scale[big] = np.exp(log_scale[big])
 
 
-def _next_laguerre(j, x, E, E_prev, spare):
+def next_laguerre(j, x, E, E_prev, spare):
     """One step of :math:`E_j = ((2j - 1 - x) E_{j-1} - (j - 1) E_{j-2}) / j`, in place
     in the three buffers; returns ``(E_j, E_(j-1), spare)``."""
     np.subtract(2 * j - 1, x, out=spare)
@@ -95,7 +95,7 @@ def _next_laguerre(j, x, E, E_prev, spare):
     return spare, E, E_prev
 
 
-def _next_integrals(E, E_prev, I1, I2, spare, scale=None):
+def next_integrals(E, E_prev, I1, I2, spare, scale=None):
     """One step of the integrals of ``y``: :math:`I1_j = -I1_{j-1} - 2 (E_j - E_{j-1})`,
     :math:`I2_j = -2 (I1_j - I1_{j-1}) - I2_{j-1}` (``E`` times ``scale`` where the
     recurrence is rescaled), in place in the three buffers; returns
@@ -111,7 +111,7 @@ def _next_integrals(E, E_prev, I1, I2, spare, scale=None):
     return spare, I1, I2
 
 
-def _rigid_tables(alpha, n_intervals):
+def rigid_tables(alpha, n_intervals):
     """Per-alpha coefficient tables of the rigid-contact kernel.
 
     Returns ``(B, Y0, Y1, V0, V1)``, each of shape ``(len(alpha), n_intervals + 1)``.
@@ -146,7 +146,7 @@ def _rigid_tables(alpha, n_intervals):
         I1 = I1[:, :width]
         if n > 0:
             E_prev, E = E, ((2 * n - 1 - x) * E - (n - 1) * E_prev) / n
-            _rescale(E, E_prev, scale, log_scale)
+            rescale(E, E_prev, scale, log_scale)
         true = E * scale
         B[:, n + 1 :] += (true - true_prev)[:, : K - n]
         if n > 0:  # I1_n = -I1_(n-1) - 2 (E_n - E_(n-1)), I2 likewise from I1
@@ -171,7 +171,7 @@ def _rigid_tables(alpha, n_intervals):
     return B, Y0, Y1, V0, V1
 
 
-def _rigid_local(which, m, tau, a_idx, alpha, f, tables, derivative=False):
+def rigid_local(which, m, tau, a_idx, alpha, f, tables, derivative=False):
     """Rigid-contact ``y`` (``which="y"``) or ``N`` on reflection interval ``m``.
 
     Evaluates at ``t = 2 m + tau`` (``0 <= tau <= 2``; ``tau = 2`` gives the left
@@ -230,17 +230,17 @@ def _rigid_local(which, m, tau, a_idx, alpha, f, tables, derivative=False):
             a1, a2 = acc1[lo : lo + n], acc2[lo : lo + n]
             x, E, E_prev, tmp = x[:n], E[:n], E_prev[:n], tmp[:n]
             if j > 0:
-                E, E_prev, tmp = _next_laguerre(j, x, E, E_prev, tmp)
+                E, E_prev, tmp = next_laguerre(j, x, E, E_prev, tmp)
             if scaled:
                 scale, log_scale = scale[:n], log_scale[:n]
-                _rescale(E, E_prev, scale, log_scale)
+                rescale(E, E_prev, scale, log_scale)
                 E_true = E * scale
             else:
                 E_true = E
             if which == "y":
                 I1, I2 = I1[:n], I2[:n]
                 if j > 0:
-                    I1, I2, tmp = _next_integrals(E, E_prev, I1, I2, tmp, scale if scaled else None)
+                    I1, I2, tmp = next_integrals(E, E_prev, I1, I2, tmp, scale if scaled else None)
                 term = I1 if derivative else I2
             elif derivative:
                 S = S[:n]
@@ -276,7 +276,7 @@ def _rigid_local(which, m, tau, a_idx, alpha, f, tables, derivative=False):
     return out
 
 
-def _rigid_evaluate(which, t, alpha, f):
+def rigid_evaluate(which, t, alpha, f):
     """Rigid-contact ``y`` or ``N`` at flat arrays ``t >= 0``, ``alpha``, ``f``.
 
     Refuses ``t > T_LIMIT``: up to there the kernel agrees with an independent modal
@@ -290,7 +290,7 @@ def _rigid_evaluate(which, t, alpha, f):
         )
     m = np.floor(t / 2.0).astype(np.int64)
     ua, a_idx = np.unique(alpha, return_inverse=True)
-    tables = _rigid_tables(ua, int(m.max()) + 1 if m.size else 1)
+    tables = rigid_tables(ua, int(m.max()) + 1 if m.size else 1)
     f_arg = f[0] if f.size and np.all(f == f[0]) else f
     a_arg = ua[0] if ua.size == 1 else alpha
-    return _rigid_local(which, m, t - 2.0 * m, a_idx.ravel(), a_arg, f_arg, tables)
+    return rigid_local(which, m, t - 2.0 * m, a_idx.ravel(), a_arg, f_arg, tables)

@@ -1,13 +1,16 @@
-"""Finite contact stiffness: the rod time functions from pole data, evaluated with mpmath.
+"""Finite contact stiffness, method 1: the rod time functions as pole sums.
 
-**Finite contact stiffness.** Every term is
-:math:`\\sum_p e^{p u} \\sum_j c_{pj} u^j` over the poles :math:`p` (the roots of
-:math:`P = \\alpha s^2 + \\alpha\\kappa s + \\kappa` and :math:`s = 0`); the Laurent
-coefficients are computed from the symbolic series with mpmath at 40 or more digits
-and the sum is evaluated in complex float64 together with a rounding-error bound.
-Near critical contact damping, :math:`\\alpha\\kappa \\approx 4`, the two roots merge and
-the per-pole parts cancel; points whose bound exceeds ``1e-12`` are re-evaluated
-with mpmath at the precision the bound asks for.
+Every term :math:`k` of the delay series of :math:`Y` or :math:`N` (eq. (2) with the
+contact spring of eq. (1)) inverts to :math:`\\sum_p e^{p u} \\sum_j c_{pj} u^j`,
+:math:`u = t - 2k`, over the poles :math:`p` (the roots of :math:`P = \\alpha s^2 +
+\\alpha\\kappa s + \\kappa` and :math:`s = 0`). The coefficients come from the symbolic
+series in mpmath (40 digits or more: they are exact data); the sum is evaluated in
+complex float64 with a rounding-error bound, and where that bound exceeds ``1e-12`` --
+near critical contact damping, :math:`\\alpha\\kappa \\approx 4`, where the per-pole
+parts cancel -- again in mpmath at the precision the bound asks for. Pointwise and slow
+(a point costs up to milliseconds), but exact data: the reference of the two tables
+(:mod:`impactsym.rod.elastic.cells`, :mod:`impactsym.rod.elastic.taylor`) and their
+fallback. See docs/physics.md#finite-contact-stiffness-three-methods.
 """
 
 from __future__ import annotations
@@ -18,18 +21,26 @@ import numpy as np
 
 #: Absolute error allowed for the float path of the finite-stiffness evaluation.
 _TOLERANCE = 1e-12
-#: Largest normalized time evaluated with a finite contact stiffness: the time
-#: functions are verified to 1e-10 up to there and a point costs well under a second
-#: (the pole data of ``t/2`` reflection terms grow in degree with every term).
+#: Largest normalized time evaluated with a finite contact stiffness (the time
+#: functions are verified to 1e-10 up to there).
 T_LIMIT_ELASTIC = 20.0
 _EPS = np.finfo(np.float64).eps
 
 
-@lru_cache(maxsize=8)
-def _elastic_series(name: str, n_terms: int) -> tuple:
-    """The finite-stiffness series of ``name`` as numerator-coefficient functions.
+def check_which(which: str) -> str:
+    """Internal: ``which`` time function, ``"y"`` (displacement) or ``"N"`` (force), or
+    ValueError naming it."""
+    if which not in ("y", "N"):
+        raise ValueError(f"which must be 'y' or 'N', got {which!r}")
+    return which
 
-    Every term of :meth:`impactsym.rod.RodImpact.series` is
+
+@lru_cache(maxsize=8)
+def series_coefficients(which: str, n_terms: int) -> tuple:
+    """Internal: the finite-stiffness series of ``which`` (``"y"`` or ``"N"``) as
+    numerator-coefficient functions (used by :mod:`impactsym.rod.elastic.cells`).
+
+    Every term of :meth:`impactsym.rod.RodImpact.series` (of ``"Y"`` resp. ``"N"``) is
     ``numerator(s) / (const * s**m0 * P**n)`` with ``P = alpha s**2 + alpha kappa s
     + kappa``; returns ``(delay, m0, n, fn)`` per term, ``fn(alpha, kappa)`` giving
     (mpmath) the numerator coefficients, highest power first, for ``f**0`` and
@@ -41,6 +52,7 @@ def _elastic_series(name: str, n_terms: int) -> tuple:
 
     P = sp.expand(alpha * s**2 + alpha * kappa * s + kappa)
     out = []
+    name = "Y" if check_which(which) == "y" else "N"
     for delay, coeff in RodImpact(kappa).series(name, n_terms):
         numer, denom = sp.fraction(coeff)
         const, m0, n = sp.Integer(1), 0, 0
@@ -88,8 +100,9 @@ def _principal_parts(num: list, lead, poles: list, index: int) -> list:
     return [series[m - 1 - p] / (lead * mp.factorial(p)) for p in range(m)]
 
 
-class _ElasticModel:
-    """Exact pole data of the first ``n_terms`` finite-stiffness terms of ``name``.
+class PoleModel:
+    """Internal: exact pole data of the first ``n_terms`` finite-stiffness terms of
+    ``which`` (built by :func:`pole_model`).
 
     For term ``k`` (delay ``2k``) ``parts[k]`` lists ``(root, c0, c1, pair)``: the
     term is ``sum exp(root u) (c0(u) + f c1(u))`` (``2 Re`` of it if ``pair``), with
@@ -97,7 +110,7 @@ class _ElasticModel:
     derivative in ``u``.
     """
 
-    def __init__(self, name: str, alpha: float, kappa: float, n_terms: int, dps: int) -> None:
+    def __init__(self, which: str, alpha: float, kappa: float, n_terms: int, dps: int) -> None:
         import mpmath as mp
 
         self.dps = dps
@@ -115,7 +128,7 @@ class _ElasticModel:
                 big = (-a * k - sq) / (2 * a)  # no cancellation; the product is k / a
                 roots = [(k / (a * big), 1), (big, 1)]
             self.fastest = float(max(abs(r) for r, _ in roots))
-            for _, m0, n, fn in _elastic_series(name, n_terms):
+            for _, m0, n, fn in series_coefficients(which, n_terms):
                 c0, c1, const = fn(a, k)
                 poles = [(r, mult * n) for r, mult in roots]
                 if m0:
@@ -156,10 +169,9 @@ class _ElasticModel:
         integer): per part ``(root, d0, d1, pair)`` with ``c(centre + e) = sum d_j e^j``.
 
         The shift is done with mpmath at the model's precision from the exact pole
-        data, so the alternating, large coefficients of the later terms (up to ``1e9``
-        for ``alpha = 1.3, kappa = 20``) do not cancel in float64: with ``|e| <= 1`` the
-        rounding bound ``sum |d_j| |e|^j`` is close to the size of the term itself.
-        Cached per ``(derivative, k, centre)``, shared by every ``f``.
+        data, so the alternating, large coefficients of the later terms do not cancel in
+        float64 (docs/physics.md#finite-contact-stiffness-three-methods). Cached per
+        ``(derivative, k, centre)``, shared by every ``f``.
         """
         key = (derivative, k, centre)
         cached = self._shift_cache.get(key)
@@ -276,26 +288,41 @@ def _derivative(coeffs: list, r) -> list:
     return [r * coeffs[p] + ((p + 1) * coeffs[p + 1] if p + 1 < n else 0) for p in range(n)]
 
 
-def _elastic_model(name: str, alpha: float, kappa: float, n_terms: int, dps: int = 40):
-    """The cached :class:`_ElasticModel` (one cache key whether ``dps`` is given or not)."""
-    return _cached_model(name, float(alpha), float(kappa), int(n_terms), int(dps))
+def pole_model(which: str, alpha: float, *, kappa: float, n_terms: int, dps: int = 40) -> PoleModel:
+    """Internal: the cached :class:`PoleModel` of ``which`` (``"y"`` or ``"N"``) at ``dps``
+    digits (one cache key whether ``dps`` is given or not)."""
+    return _cached_model(which, float(alpha), float(kappa), int(n_terms), int(dps))
+
+
+def clear_cache() -> None:
+    """Internal: forget every cached :class:`PoleModel` (to time cold builds)."""
+    _cached_model.cache_clear()
 
 
 @lru_cache(maxsize=64)
-def _cached_model(name: str, alpha: float, kappa: float, n_terms: int, dps: int):
-    return _ElasticModel(name, alpha, kappa, n_terms, dps)
+def _cached_model(which: str, alpha: float, kappa: float, n_terms: int, dps: int):
+    return PoleModel(which, alpha, kappa, n_terms, dps)
 
 
-def _elastic(name: str, t: np.ndarray, alpha: float, kappa: float, f: np.ndarray, derivative=False):
-    """Finite-stiffness ``y`` or ``N`` at times ``0 <= t <= T_LIMIT_ELASTIC`` for one
-    ``(alpha, kappa)``."""
+def time_function(
+    which: str,
+    t: np.ndarray,
+    alpha: float,
+    f: np.ndarray,
+    *,
+    kappa: float,
+    derivative: bool = False,
+) -> np.ndarray:
+    """Internal: finite-stiffness ``y`` or ``N`` (``which``), or its time derivative, at flat
+    times ``0 <= t <= T_LIMIT_ELASTIC`` and forces ``f`` for one ``(alpha, kappa)``;
+    float64 where the rounding bound is below ``1e-12``, mpmath elsewhere."""
     if t.size and not np.max(t) <= T_LIMIT_ELASTIC:
         raise ValueError(
             f"t must be <= {T_LIMIT_ELASTIC:g} for a finite kappa (the range where the "
             f"finite-stiffness functions are verified), got t = {float(np.max(t))!r}"
         )
     n_terms = int(np.max(t) // 2) + 1
-    model = _elastic_model(name, alpha, kappa, n_terms)
+    model = pole_model(which, alpha, kappa=kappa, n_terms=n_terms)
     u_terms = [t - 2.0 * k for k in range(n_terms)]
     value, error = model.evaluate(u_terms, f, derivative)
     bad = np.flatnonzero(~(error <= _TOLERANCE))
@@ -305,7 +332,7 @@ def _elastic(name: str, t: np.ndarray, alpha: float, kappa: float, f: np.ndarray
             if np.isfinite(error[bad]).all()
             else 300
         )
-        fine = _elastic_model(name, alpha, kappa, n_terms, max(40, digits + 25))
+        fine = pole_model(which, alpha, kappa=kappa, n_terms=n_terms, dps=max(40, digits + 25))
         value[bad] = [
             fine.evaluate_mp(ti, fi, derivative) for ti, fi in zip(t[bad], f[bad], strict=True)
         ]

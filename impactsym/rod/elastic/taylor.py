@@ -1,66 +1,24 @@
-r"""Finite contact stiffness from the delay equations: a certified Taylor table in float64.
+r"""Finite contact stiffness, method 3: a certified Taylor table of the delay equations in float64.
 
 The rod's free end carries an outgoing wave :math:`g(t)` and the incoming one
-:math:`G(t) = g(t - 2)` (:math:`g = 0` before the impact); its force is :math:`g + G`,
-its velocity :math:`u' = g - G`. With the massless contact spring :math:`N = \kappa(y - u)`
-the persistent-contact problem is, for :math:`t \ge 0`,
+:math:`G(t) = g(t - 2)`; with the massless contact spring :math:`N = \kappa(y - u)` the
+persistent-contact problem (eq. (1) in the time domain) is, for :math:`t \ge 0`,
 
 .. math::
 
     y' = v, \qquad \alpha v' = f - N, \qquad N' = \kappa (v - N + 2G), \qquad
     G = N(t - 2) - G(t - 2), \qquad y(0) = 0,\ v(0) = 1,\ N(0) = 0.
 
-**Table.** Every reflection interval :math:`[2m, 2m + 2]` is cut into the same
-:math:`n = 2^j \ge 16` cells of width :math:`h`, :math:`h |p| \le 1` for the roots
-:math:`p` of :math:`\alpha s^2 + \alpha\kappa s + \kappa` (:func:`_cells_per_interval`;
-halved again while a cell's coefficients sum to more than 100, where the later
-reflections raise the polynomials' degree). On a cell, in :math:`\xi = (t - t_0)/h \in
-[0, 1]`, :math:`v, N` have degree ``DEGREE`` and :math:`y` one more, with the Taylor
-recurrences of the equations, :math:`(k+1) v_{k+1} = h (f\delta_{k0} - N_k)/\alpha`,
-:math:`(k+1) N_{k+1} = h\kappa (v_k - N_k + 2G_k)`, :math:`(k+1) y_{k+1} = h v_k`. A cell
-starts from the exact end value of the one before, kept as a double-double constant
-coefficient (correctly rounded ``math.fsum`` and its correctly rounded remainder); the
-incoming wave :math:`G` of a cell is the alternating sum of the earlier intervals' ``N`` on
-the same cell, kept in double-double. By
-linearity everything is :math:`A + f B` (:math:`A`: :math:`f = 0`, :math:`v(0) = 1`;
-:math:`B`: :math:`f = 1`, :math:`v(0) = 0`).
-
-**Error bound (a posteriori, from passivity).** The stored polynomials
-:math:`\tilde y, \tilde v, \tilde N` (and :math:`\tilde G`, :math:`\tilde g = \tilde N -
-\tilde G`, which satisfy the rod's relations exactly) satisfy the remaining equations up to
-residuals :math:`r_0 = \tilde y' - \tilde v`, :math:`r_1 = \alpha\tilde v' - f + \tilde N`,
-:math:`r_2 = \tilde N' - \kappa(\tilde v - \tilde N + 2\tilde G)`, polynomials evaluated
-from the stored coefficients with error-free transformations
-(:mod:`impactsym.numeric.eft`: the bound is that of the coefficients, not of their
-evaluation; the truncation is part of it), and jumps at the cell ends (of order
-:math:`u^2`). Everything the bound uses is measured on the stored arrays, by sums exact to
-:math:`u^2`: the residuals, the jumps, and the distance of the stored
-:math:`\tilde G` from the exact alternating sum of the stored :math:`\tilde N` (that sum
-*is* :math:`\tilde G`, so the rod's relations hold exactly); how the coefficients were made
-does not enter. The error :math:`e` of :math:`v, N, g` solves the same striker-spring-rod system
-driven by :math:`-r_1, -r_2`; its energy :math:`E = \alpha e_v^2/2 + e_N^2/(2\kappa) +
-\int_{t-2}^t e_g^2` changes at the rate :math:`-e_v r_1 - e_N r_2/\kappa` (rod and spring
-are lossless, the striker is free). Hence :math:`q = \sqrt{2E}` obeys
-
-.. math::
-
-    q(t) \le \int_0^t \Bigl(\frac{|r_1|}{\sqrt\alpha} + \frac{|r_2|}{\sqrt\kappa}\Bigr)
-    + \sum_{\text{jumps}} \Bigl(\sqrt\alpha |\Delta v| + \frac{|\Delta N|}{\sqrt\kappa}
-    \Bigr), \qquad |e_N| \le \sqrt\kappa\, q,
-
-and, as :math:`y = u + N/\kappa` with the rod-end displacement :math:`u = \int_{t-2}^t g`
-(so :math:`|e_u| \le \sqrt 2 \|e_g\|_{L^2(t-2, t)} \le q`),
-:math:`|e_y| \le q (1 + 1/\sqrt\kappa) + |\sigma|` with the defect :math:`\sigma = \tilde y
-- \tilde u - \tilde N/\kappa`, :math:`|\sigma| \le \int (|r_0| + |r_2|/\kappa) + \sum
-(|\Delta y| + |\Delta N|/\kappa)`; for a very soft spring the smaller bound is
-:math:`|e_y| \le \int (q/\sqrt\alpha + |r_0|) + \sum |\Delta y|`. Over a cell
-:math:`\int |r| \le h \sum_k |r_k|/(k + 1)`.
-The table's bound per cell adds the low parts and the rounding of a Horner evaluation of
-:math:`A + fB` (:math:`t - t_0` and the division by :math:`h = 2^{1-j}` are exact). It is
-about ``1e-13`` up to :math:`t = 20`, where the true error is about ``1e-14``; a cell whose
-bound exceeds the caller's tolerance is searched on the pole sums
-(:func:`impactsym.rod.contact_times._table_search`), and springs that would need more than
-``MAX_CELLS`` cells per interval use :mod:`impactsym.rod.elastic_table`.
+Every reflection interval is cut into :math:`2^j \ge 16` equal cells with
+:math:`h |p| \le 1` for the roots :math:`p` of :math:`\alpha s^2 + \alpha\kappa s + \kappa`;
+on a cell :math:`y, v, N` are Taylor polynomials of degree ``DEGREE`` from the exact
+recurrences of the equations, linear in :math:`f` (:math:`A + f B`). The error bound is
+a posteriori: the residuals and jumps of the stored polynomials, measured exactly to
+rounding (:mod:`impactsym.numeric.eft`), drive the error, whose energy the lossless rod
+and spring cannot grow. Float64 and milliseconds per table, where the mpmath table of
+:mod:`impactsym.rod.elastic.cells` takes seconds; springs needing more than ``MAX_CELLS``
+cells per interval are left to that table. The bound and its proof:
+docs/physics.md#finite-contact-stiffness-three-methods.
 """
 
 from __future__ import annotations
@@ -79,7 +37,7 @@ DEGREE = 24
 #: Largest ``h |p|`` on a cell, ``p`` a root of ``alpha s^2 + alpha kappa s + kappa``.
 _REACH = 1.0
 #: Most cells per reflection interval (beyond: the contact spring is too stiff for
-#: this table, see :func:`_taylor_table`).
+#: this table).
 MAX_CELLS = 256
 _EPS = float(np.finfo(np.float64).eps)
 _U = 0.5 * _EPS  # unit roundoff
@@ -90,18 +48,18 @@ _COEFFICIENT_SUM = 100.0
 _MIN_CELLS = 16
 
 
-def _fastest_rate(alpha: float, kappa: float) -> float:
-    """Largest modulus of the roots of :math:`\\alpha s^2 + \\alpha\\kappa s + \\kappa`:
+def fastest_rate(alpha: float, *, kappa: float) -> float:
+    """Internal: largest modulus of the roots of :math:`\\alpha s^2 + \\alpha\\kappa s + \\kappa`:
     :math:`\\sqrt{\\kappa/\\alpha}` for a complex pair, else :math:`(\\kappa + \\sqrt{\\kappa^2 -
     4\\kappa/\\alpha})/2`."""
     disc = kappa * kappa - 4.0 * kappa / alpha
     return math.sqrt(kappa / alpha) if disc <= 0 else 0.5 * (kappa + math.sqrt(disc))
 
 
-def _cells_per_interval(alpha: float, kappa: float) -> int:
-    """Cells per reflection interval: the least power of two ``n >= _MIN_CELLS`` with
-    ``(2/n) _fastest_rate(alpha, kappa) <= _REACH``."""
-    fastest = _fastest_rate(alpha, kappa)
+def cells_per_interval(alpha: float, *, kappa: float) -> int:
+    """Internal: cells per reflection interval, the least power of two ``n >= _MIN_CELLS``
+    with ``(2/n) fastest_rate(alpha, kappa=kappa) <= _REACH``."""
+    fastest = fastest_rate(alpha, kappa=kappa)
     if not math.isfinite(fastest):
         raise ValueError(f"kappa = {kappa!r} (alpha = {alpha!r}) overflows float64")
     n = _MIN_CELLS
@@ -133,7 +91,7 @@ class TaylorTable:
         if n_intervals < 1:
             raise ValueError(f"n_intervals must be >= 1, got {n_intervals!r}")
         self.alpha, self.kappa = (float(value) for value, _ in checked.values())
-        n = _cells_per_interval(self.alpha, self.kappa)
+        n = cells_per_interval(self.alpha, kappa=self.kappa)
         if n > MAX_CELLS:
             raise ValueError(
                 f"kappa = {kappa!r} (alpha = {alpha!r}) needs {n} Taylor cells per "
@@ -209,7 +167,8 @@ class TaylorTable:
         self._bound(Y, V, N, (Y_lo, V_lo, N_lo), G_hi, G_lo, n)
 
     def _bound(self, Y, V, N, lows, G_hi, G_lo, n):
-        """Residuals, jumps and the energy bound (module notes), all measured on the
+        """Residuals, jumps and the energy bound
+        (docs/physics.md#finite-contact-stiffness-three-methods), all measured on the
         stored arrays (``n`` cells per interval); sets the tables."""
         alpha, kappa, h = self.alpha, self.kappa, self.h
         Y_lo, V_lo, N_lo = lows
@@ -270,14 +229,14 @@ class TaylorTable:
         self.err_n_a, self.err_n_b = (e_n + horner_n) * margin
         self.err_y_a, self.err_y_b = (e_y + horner_y) * margin
 
-    def view(self, which: str) -> _TableView:
-        """The search interface (``"y"`` or ``"N"``) of
-        :func:`impactsym.rod.contact_times._table_search`."""
+    def view(self, which: str) -> TaylorView:
+        """One time function, ``"y"`` or ``"N"``, as a
+        :class:`impactsym.rod.elastic.CertifiedTable`."""
         if which not in ("y", "N"):
             raise ValueError(f"which must be 'y' or 'N', got {which!r}")
         if which == "y":
-            return _TableView(self, self.Y_a, self.Y_b, self.err_y_a, self.err_y_b)
-        return _TableView(self, self.N_a, self.N_b, self.err_n_a, self.err_n_b)
+            return TaylorView(self, self.Y_a, self.Y_b, self.err_y_a, self.err_y_b)
+        return TaylorView(self, self.N_a, self.N_b, self.err_n_a, self.err_n_b)
 
 
 def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray) -> np.ndarray:
@@ -314,9 +273,10 @@ def _end(coefficients: list, low: float) -> tuple[float, float]:
     return high, math.fsum([*coefficients, low, -high])
 
 
-class _TableView:
-    """One time function of a :class:`TaylorTable` as cells with ``evaluate``,
-    error bounds ``err_a, err_b`` and second-derivative bounds ``d2_a, d2_b``."""
+class TaylorView:
+    """One time function of a :class:`TaylorTable` (:meth:`TaylorTable.view`), a
+    :class:`impactsym.rod.elastic.CertifiedTable`: cells with error bounds ``err_a,
+    err_b`` and second-derivative bounds ``d2_a, d2_b``."""
 
     def __init__(self, table, A, B, err_a, err_b):
         self.lo, self.hi, self.h = table.lo, table.hi, table.h
@@ -341,17 +301,16 @@ class _TableView:
             value = value * x + (A[:, k] + f * B[:, k])
         return value, slope / self.h
 
-    @staticmethod
-    def pending(cells: np.ndarray) -> np.ndarray:
-        """No cell waits for a repair (the bound is final)."""
-        return np.zeros(np.size(cells), dtype=bool)
+    def certified(self, index: np.ndarray, f: np.ndarray, tolerance: float) -> np.ndarray:
+        """Whether the proven error of cells ``index`` is at most ``tolerance`` for ``f``."""
+        return self.err_a[index] + f * self.err_b[index] <= tolerance
 
-    @staticmethod
-    def repair(cells: np.ndarray) -> None:
-        """Nothing to repair."""
+    def second_derivative_bound(self, index: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """Bound on ``|d^2/dt^2 (A + f B)|`` over cells ``index``."""
+        return self.d2_a[index] + f * self.d2_b[index]
 
 
 @lru_cache(maxsize=64)
-def _taylor_table(alpha: float, kappa: float, n_intervals: int) -> TaylorTable:
-    """The cached :class:`TaylorTable` of ``(alpha, kappa)`` over ``n_intervals``."""
+def taylor_table(alpha: float, *, kappa: float, n_intervals: int) -> TaylorTable:
+    """Internal: the cached :class:`TaylorTable` of ``(alpha, kappa)`` over ``n_intervals``."""
     return TaylorTable(alpha, kappa, n_intervals)

@@ -1,9 +1,4 @@
-"""Finite contact stiffness: a certified piecewise polynomial, linear in ``f``, from the poles.
-
-Built in mpmath (0.1-6 s per table); :mod:`impactsym.rod.elastic_taylor` builds the same
-kind of table in float64 in milliseconds and is used instead wherever it takes at most
-``elastic_taylor.MAX_CELLS`` cells per reflection interval, so this one serves the very
-stiff contact springs (and ``method="cells"`` of the contact-time search).
+"""Finite contact stiffness, method 2: a certified cell table built in mpmath from the poles.
 
 For one :math:`(\\alpha, \\kappa)` the time function :math:`g = y` or :math:`N` is, on
 each cell :math:`[c - w, c + w]` of a mesh of :math:`[0, 2n]` whose nodes include the
@@ -14,40 +9,14 @@ reflection times :math:`2k`,
     g(c + w x) = A(x) + f B(x) + \\epsilon(x), \\qquad |x| \\le 1, \\quad
     |\\epsilon| \\le \\epsilon_A + f \\epsilon_B,
 
-with real polynomials :math:`A, B` in float64 and proven bounds :math:`\\epsilon_A,
-\\epsilon_B` (which include the rounding of a Horner evaluation of :math:`A + f B`).
-Built once per :math:`(\\alpha, \\kappa)` (and shared by every ``f``) from the exact pole
-data of :class:`impactsym.rod.elastic._ElasticModel`, where every arrived term :math:`k`
-is :math:`\\sum_p e^{pu} P_{kp}(u)`, :math:`u = t - 2k`, over the poles :math:`p` of
-:math:`s^{m_0} (\\alpha s^2 + \\alpha\\kappa s + \\kappa)^n`:
-
-* **groups.** A group is :math:`e^{\\lambda u} S(u)` with a polynomial (or truncated
-  series) :math:`S` given about a few points, each rounded once from mpmath. The two
-  contact poles :math:`\\bar p \\pm \\delta`, :math:`\\bar p = -\\kappa/2`, are kept
-  apart when :math:`|\\delta| \\ge 1`; nearer critical contact damping
-  (:math:`\\alpha\\kappa \\approx 4`, where the per-pole parts grow like
-  :math:`|2\\delta|^{1-2n}` and cancel) they are merged in mpmath, at a precision raised
-  with the cancellation, into one real series :math:`e^{\\bar p u} K(u)`,
-  :math:`K(u_0 + e) = \\sum_\\pm e^{\\pm\\delta(u_0 + e)} P_\\pm(u_0 + e)`, truncated where
-  the Lagrange bound :math:`\\sum_j |P_{\\pm j}| R^j (|\\delta| R)^{D-j+1}
-  e^{|\\delta| R}/(D-j+1)!` on :math:`|e| \\le R` is below ``1e-20``. Slow exponentials
-  (:math:`|\\lambda| \\le 4`, and :math:`\\lambda = 0`) of the older terms are summed over
-  the terms in mpmath (their parts cancel each other, by a factor 40 for ``y``); the young
-  terms, whose fast and slow parts cancel each other, stay per term.
-* **cells.** Cells are so short that :math:`|\\lambda| w \\le 1` for every group still
-  alive (a group whose size on the cell is below ``1e-18`` only adds that bound to
-  :math:`\\epsilon`). On a cell a group is :math:`e^{\\lambda u_c} S(u_c + w x)
-  e^{\\lambda w x}`: the shift of :math:`S` from the basis point with the smallest bound,
-  :math:`e^{\\lambda w x}` to degree :math:`D` (the terms' polynomial degree plus 19) with
-  the tail :math:`z^{D+1} e^z/(D+1)!`, :math:`z = |\\lambda| w`, product orders above
-  :math:`D` dropped with the sum of their absolute values, and a rounding bound for every
-  float step (:math:`\\gamma_n`-style with a factor-two margin).
-* **repair.** A cell whose bound still exceeds ``_TARGET`` has its worst terms recomputed
-  exactly about the cell centre in mpmath (all their poles at once, so the cancellation
-  happens there) and rounded once.
-
-:mod:`impactsym.rod.contact_times` searches the polynomial wherever
-:math:`\\epsilon_A + f\\epsilon_B \\le 10^{-12}` and the pole sums elsewhere.
+real float64 polynomials :math:`A, B` with proven bounds, re-expanded from the exact pole
+data of :mod:`impactsym.rod.elastic.poles` (each term :math:`\\sum_p e^{pu} P_p(u)`):
+slow exponentials are summed over the terms and the contact poles merged near critical
+damping (:math:`\\alpha\\kappa \\approx 4`) in mpmath, where float64 would cancel; cells
+whose bound stays above ``1e-12`` are repaired in mpmath when the search first needs them.
+Slower to build than :mod:`impactsym.rod.elastic.taylor` (mpmath), but with no limit on
+the spring's stiffness: the table for springs too stiff for the Taylor table. The
+construction and its bounds: docs/physics.md#finite-contact-stiffness-three-methods.
 """
 
 from __future__ import annotations
@@ -57,7 +26,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from impactsym.rod.elastic import _elastic_model, _elastic_series
+from impactsym.rod.elastic.poles import pole_model, series_coefficients
 
 #: Largest degree of the cell polynomials in ``x``.
 _MAX_DEGREE = 64
@@ -88,28 +57,31 @@ def _mp_shift(coeffs: list, x0) -> list:
     return d
 
 
-def _required_dps(name: str, alpha: float, kappa: float, n_terms: int) -> int:
+def _required_dps(which: str, alpha: float, kappa: float, n_terms: int) -> int:
     """Digits for the mpmath stage: 40, plus what the merged poles cancel."""
     disc = alpha * alpha * kappa * kappa - 4.0 * alpha * kappa
     two_delta = math.sqrt(abs(disc)) / alpha
     if two_delta >= 2.0 * _MERGE or two_delta == 0.0:
         return 40
-    n_max = max(n for _, _, n, _ in _elastic_series(name, n_terms))
+    n_max = max(n for _, _, n, _ in series_coefficients(which, n_terms))
     return 40 + math.ceil(2 * n_max * max(0.0, -math.log10(two_delta))) + 10
 
 
-class _CellTable:
-    """Cells ``[lo, hi]`` (centre ``c``, half-width ``w``) with coefficients
+class CellTable:
+    """Internal: the cell table of ``which`` (``"y"`` or ``"N"``) for one ``(alpha, kappa)``
+    on ``n_terms`` reflection intervals, a :class:`impactsym.rod.elastic.CertifiedTable`.
+
+    Cells ``[lo, hi]`` (centre ``c``, half-width ``w``) with coefficients
     ``A, B`` (shape ``(n_cells, DEGREE + 1)``, lowest order first, in
     ``x = (t - c)/w``), error bounds ``err_a, err_b`` (of the function, including the
     rounding of a Horner evaluation) and bounds ``d2_a, d2_b`` on the second
     derivatives in ``t`` of the polynomials."""
 
-    def __init__(self, name: str, alpha: float, kappa: float, n_terms: int) -> None:
+    def __init__(self, which: str, alpha: float, kappa: float, n_terms: int) -> None:
         import mpmath as mp
 
-        dps = _required_dps(name, alpha, kappa, n_terms)
-        model = _elastic_model(name, alpha, kappa, n_terms, dps)
+        dps = _required_dps(which, alpha, kappa, n_terms)
+        model = pole_model(which, alpha, kappa=kappa, n_terms=n_terms, dps=dps)
         self.fastest = model.fastest
         self._model, self._dps = model, dps
         self._pending: dict = {}  # cell -> data for repair()
@@ -189,7 +161,22 @@ class _CellTable:
         err_b = err[:, 1].sum(axis=0) + summation[1] + horner * np.abs(B).sum(axis=-1)
         return A, B, err_a, err_b
 
-    def repair(self, cells: np.ndarray) -> None:
+    def certified(self, index: np.ndarray, f: np.ndarray, tolerance: float) -> np.ndarray:
+        """Whether the proven error of cells ``index`` is at most ``tolerance`` for ``f``;
+        cells above it are first repaired (:meth:`_repair`) if they can be."""
+        ok = self.err_a[index] + f * self.err_b[index] <= tolerance
+        if not ok.all():
+            waiting = index[~ok][self._waiting(index[~ok])]
+            if waiting.size:  # repair in mpmath where first needed, then look again
+                self._repair(waiting)
+                ok = self.err_a[index] + f * self.err_b[index] <= tolerance
+        return ok
+
+    def second_derivative_bound(self, index: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """Bound on ``|d^2/dt^2 (A + f B)|`` over cells ``index``."""
+        return self.d2_a[index] + f * self.d2_b[index]
+
+    def _repair(self, cells: np.ndarray) -> None:
         """Recompute the worst terms of pending ``cells`` exactly about the cell centre
         (mpmath, all their poles at once so that they cancel there), until the rows'
         float bound is below ``_TARGET / 2`` or the rest is many small errors."""
@@ -224,8 +211,8 @@ class _CellTable:
             da, db = self._second_derivative_bounds(a, b, self.w[gi : gi + 1])
             self.d2_a[gi], self.d2_b[gi] = da[0], db[0]
 
-    def pending(self, cells: np.ndarray) -> np.ndarray:
-        """Which of ``cells`` still wait for :meth:`repair`."""
+    def _waiting(self, cells: np.ndarray) -> np.ndarray:
+        """Which of ``cells`` still wait for :meth:`_repair`."""
         return np.array([int(i) in self._pending for i in np.ravel(cells)], dtype=bool)
 
     def cell(self, t: np.ndarray) -> np.ndarray:
@@ -345,8 +332,8 @@ def _abs_sum(c: np.ndarray) -> float:
 
 def _merged_basis(contact, pbar, u0, radius, exact=False):
     """The contact poles about ``pbar`` as one real series ``K`` about ``u0``, valid
-    for ``|u - u0| <= radius`` (see the module notes); with ``exact`` the mpmath
-    coefficients and tails ``((ka, kb), (tail_a, tail_b))``."""
+    for ``|u - u0| <= radius`` (docs/physics.md#finite-contact-stiffness-three-methods);
+    with ``exact`` the mpmath coefficients and tails ``((ka, kb), (tail_a, tail_b))``."""
     import mpmath as mp
 
     members = []
@@ -578,5 +565,7 @@ def _basis_part(lam, weight, basis, u_c, w, decay, DEGREE):
 
 
 @lru_cache(maxsize=64)
-def _cell_table(name: str, alpha: float, kappa: float, n_terms: int) -> _CellTable:
-    return _CellTable(name, alpha, kappa, n_terms)
+def cell_table(which: str, alpha: float, *, kappa: float, n_terms: int) -> CellTable:
+    """Internal: the cached :class:`CellTable` of ``which`` for ``(alpha, kappa)`` on
+    ``n_terms`` reflection intervals."""
+    return CellTable(which, alpha, kappa, n_terms)

@@ -1,13 +1,13 @@
-"""Finite-kappa cell tables and contact times (issue 11, items 2-3), against independent references.
+"""The finite-kappa contact-time search (:mod:`impactsym.rod.elastic.search`), against
+independent references.
 
 * the delay ODE of :mod:`references.rod_elastic_delay` (d'Alembert + method of steps,
   SciPy DOP853 at ``rtol = 1e-13``, nothing from the Laplace series): contact times at
   a fixed random grid and near critical contact damping, the ``inf`` guarantee;
-* the proven error bound of every cell against the pole sums evaluated with mpmath at
-  90 digits (a different evaluation of the exact pole data, not the float assembly);
-* the former pointwise search (``method="poles"``) on an ``f`` sweep, where the Taylor
-  table (the default) and the mpmath cell table (``method="cells"``) must agree with it.
-"""
+* the pointwise search on the pole sums alone (:mod:`references.rod_pole_search`) on an
+  ``f`` sweep, where the Taylor table (the default) and the mpmath cell table
+  (``method="cells"``) must agree with it;
+* the screening of forces must give the contact times of the search pair by pair."""
 
 from __future__ import annotations
 
@@ -18,11 +18,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from references.rod_elastic_delay import ElasticDelay
+from references.rod_pole_search import pointwise_pole_contact_times
 
-from impactsym.rod import contact_force, contact_time, displacement
-from impactsym.rod.contact_times import _elastic_contact_times
-from impactsym.rod.elastic import _elastic_model
-from impactsym.rod.elastic_table import _cell_table
+from impactsym.rod import (
+    contact_force,
+    contact_time,
+    displacement,
+)
+from impactsym.rod.elastic.search import elastic_contact_times
 
 # contact times from the delay ODE agree to this (its event location and rtol)
 REFERENCE = 1e-9
@@ -70,34 +73,6 @@ def _agrees_with_the_delay_ode(a, force, k):
             assert abs(got - expected) < REFERENCE, (a, force, k, condition, got, expected)
 
 
-@pytest.mark.parametrize(
-    ("name", "a", "k"),
-    [
-        ("N", 1.3, 20.0),
-        ("Y", 1.3, 20.0),
-        ("N", 1.0, 4.0),  # critical: a double root
-        ("Y", 1.0, 3.999),  # near critical: merged in mpmath
-        ("N", 2.0, 1000.0),  # a fast pole
-        ("Y", 0.05, 1.0),  # underdamped contact
-    ],
-)
-def test_cell_error_bound_holds_against_90_digit_pole_sums(name, a, k):
-    table = _cell_table(name, a, k, 11)
-    reference = _elastic_model(name, a, k, 11, 90)
-    rng = np.random.default_rng(3)
-    # random points, and every cell's ends and centre in the first two intervals
-    early = table.hi <= 4.0
-    t = np.concatenate([rng.uniform(0.0, 21.99, 25), table.lo[early], table.c[early]])
-    f = rng.uniform(0.0, 3.0, t.size)
-    value, _ = table.evaluate(t, f)
-    exact = np.array([reference.evaluate_mp(x, y) for x, y in zip(t, f, strict=True)])
-    i = table.cell(t)
-    bound = table.err_a[i] + f * table.err_b[i]
-    assert np.all(np.abs(value - exact) <= bound)
-    # and the bound is useful: most cells are at 1e-11 or better
-    assert np.mean(table.err_a + table.err_b <= 1e-11) > 0.5
-
-
 def test_no_sign_change_where_the_contact_time_is_inf():
     a, force, k = 0.05, 1.5, 10.0  # light striker pressed hard: sticks
     for condition, fn in (("force", contact_force), ("position", displacement)):
@@ -119,9 +94,35 @@ def test_f_sweep_equals_the_pointwise_pole_search(a, k):
     f = np.linspace(0.0, 2.0, 12)
     alpha, kappa = np.full(f.size, a), np.full(f.size, k)
     for which in ("N", "y"):
-        old = _elastic_contact_times(which, alpha, f, kappa, 10.0, method="poles")
+        old = pointwise_pole_contact_times(which, a, f, kappa=k, t_max=10.0)
         for method in ("taylor", "cells"):
-            new = _elastic_contact_times(which, alpha, f, kappa, 10.0, method=method)
+            new = elastic_contact_times(which, alpha, f, kappa=kappa, t_max=10.0, method=method)
             assert np.array_equal(np.isinf(new), np.isinf(old)), method
             finite = np.isfinite(new)
             assert np.max(np.abs(new[finite] - old[finite]), initial=0.0) < 1e-11, method
+
+
+def test_unknown_method_is_refused():
+    with pytest.raises(ValueError, match="method"):
+        elastic_contact_times(
+            "N", np.ones(1), np.ones(1), kappa=np.ones(1), t_max=4.0, method="fast"
+        )
+
+
+@pytest.mark.parametrize(("a", "k"), [(1.3, 20.0), (0.2, 20.0), (3.0, 2.0), (1.0, 1e-4)])
+def test_screened_f_sweep_equals_the_search_pair_by_pair(a, k):
+    """g = A + f B: a proof of g > 0 on an interval for two forces holds for every force
+    between them, so a sweep searches only some forces per interval; the contact times
+    must be those of the search of every pair on its own (no screening for one pair)."""
+    f = np.linspace(0.0, 2.0, 97)
+    for which in ("N", "y"):
+        swept = elastic_contact_times(
+            which, np.full(f.size, a), f, kappa=np.full(f.size, k), t_max=20.0
+        )
+        alone = [
+            elastic_contact_times(
+                which, np.array([a]), np.array([x]), kappa=np.array([k]), t_max=20.0
+            )[0]
+            for x in f
+        ]
+        assert np.array_equal(swept, alone), which

@@ -1,0 +1,160 @@
+"""Certified first sign changes of the rod's :math:`y(t)`, :math:`N(t)` for a finite kappa.
+
+Per :math:`(\\alpha, \\kappa)` one certified table :math:`g = A + f B + \\epsilon`
+(:class:`impactsym.rod.elastic.CertifiedTable`), built once and shared by every
+:math:`f`: the float64 Taylor table (:mod:`impactsym.rod.elastic.taylor`) where the spring
+allows, else the mpmath cell table (:mod:`impactsym.rod.elastic.cells`). Where a cell's
+proven error exceeds ``TABLE_TOLERANCE`` the pole sums (:mod:`impactsym.rod.elastic.poles`)
+stand in, with their own bounds. Internal: used by :mod:`impactsym.rod.contact_times`; see
+docs/physics.md#finite-contact-stiffness-three-methods.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from impactsym.numeric.isolation import first_sign_change
+from impactsym.rod.elastic import CertifiedTable
+from impactsym.rod.elastic.cells import cell_table
+from impactsym.rod.elastic.poles import check_which, pole_model, time_function
+from impactsym.rod.elastic.taylor import MAX_CELLS, cells_per_interval, fastest_rate, taylor_table
+from impactsym.rod.rigid_search import SCREEN_MIN_PAIRS, SCREEN_STRIDES, screen_interval
+
+#: Largest contact-spring pole |s| (time scale 1/|s|) for finite-kappa contact times.
+_FASTEST_POLE = 1e8
+#: Largest proven error of a table's cell polynomials (units of ``y`` resp. ``N``) for
+#: them to stand for the function.
+TABLE_TOLERANCE = 1e-12
+
+
+def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
+    r"""Internal: first sign change of ``y`` or ``N`` (``which``) in ``(0, t_max]`` for flat
+    pairs ``alpha, f, kappa`` with finite ``kappa``; ``inf`` if none.
+
+    Pairs are grouped by ``(alpha, kappa)``; ``g`` starts at ``g(0) = 0`` with
+    ``g'(0) > 0`` (``N' = kappa``, ``y' = 1``). Per group one
+    :class:`impactsym.rod.elastic.CertifiedTable`: with ``method="taylor"`` (the default)
+    the Taylor table of :mod:`impactsym.rod.elastic.taylor` where the spring needs at
+    most its ``MAX_CELLS`` cells per reflection interval, else (and always with
+    ``method="cells"``) the cell table of :mod:`impactsym.rod.elastic.cells`. On a cell
+    whose proven error is at most ``TABLE_TOLERANCE`` the polynomial is the function
+    searched, with its second-derivative bound; elsewhere the pole sums
+    (:func:`pole_search`). The cell edges (they include the reflection times ``2k``) are
+    the initial nodes of :func:`impactsym.numeric.isolation.first_sign_change`.
+    """
+    check_which(which)
+    if method not in ("taylor", "cells"):
+        raise ValueError(f"method must be 'taylor' or 'cells', got {method!r}")
+    result = np.full(alpha.size, np.inf)
+    n_terms = int(t_max // 2) + 1
+    keys = np.stack([alpha, kappa], axis=1)
+    groups, inverse = np.unique(keys, axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    for g_index, (ag, kg) in enumerate(groups):
+        members = np.flatnonzero(inverse == g_index)
+        members = members[np.argsort(f[members], kind="stable")]  # screened in order of f
+        ag, kg = float(ag), float(kg)
+        check_stiffness(ag, kappa=kg)
+        if method == "taylor" and cells_per_interval(ag, kappa=kg) <= MAX_CELLS:
+            table = taylor_table(ag, kappa=kg, n_intervals=n_terms).view(which)
+        else:
+            table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
+        result[members] = _table_contact_times(table, which, ag, kg, f[members], t_max)
+    return result
+
+
+def check_stiffness(alpha: float, *, kappa: float) -> None:
+    """Internal: refuse a contact spring whose fastest pole exceeds ``1e8`` (time scale
+    below ``1e-8``), naming ``kappa``: too stiff for a certified search, and ``kappa=inf``
+    is its limit."""
+    fastest = fastest_rate(alpha, kappa=kappa)
+    if fastest > _FASTEST_POLE:
+        raise ValueError(
+            f"kappa = {kappa!r} (alpha = {alpha!r}) is too stiff for a certified "
+            f"finite-kappa contact time: the contact spring's time scale "
+            f"1/{fastest:.3g} is "
+            f"below 1/{_FASTEST_POLE:g}; use kappa=inf (rigid contact), its limit"
+        )
+
+
+def _table_contact_times(table: CertifiedTable, which, ag, kg, fm, t_max):
+    """Contact times of the forces ``fm`` (sorted) of one ``(alpha, kappa)`` on ``table``,
+    interval by interval, so that later cells are repaired and searched only for the
+    ``f`` still in contact."""
+    n_terms = int(t_max // 2) + 1
+    evaluate, bound = _table_search(table, which, ag, kg, fm, n_terms)
+    result = np.full(fm.size, np.inf)
+    active = np.arange(fm.size)
+    for m in range(n_terms):
+        start, end = 2.0 * m, min(2.0 * m + 2.0, t_max)
+        if start >= t_max or active.size == 0:
+            break
+        base = np.append(table.lo[(table.lo >= start) & (table.lo < end)], end)
+
+        def search(pos, base=base, active=active):
+            pairs = active[pos]
+            return first_sign_change(
+                lambda t, own: evaluate(t, pairs[own]),
+                lambda ta, tb, own, *ends: bound(ta, tb, pairs[own], *ends),
+                np.tile(base, pos.size),
+                np.repeat(np.arange(pos.size), base.size),
+                pos.size,
+                max_cells=2**22,
+                certify=True,
+            )
+
+        # g = A + f B is affine in f: proofs of g > 0 are shared between the
+        # forces (not on interval 0, where g(0) = 0 leaves nothing to prove)
+        crowded = m > 0 and active.size >= SCREEN_MIN_PAIRS
+        rows = np.zeros(active.size, dtype=np.int64)
+        roots = screen_interval(search, rows, SCREEN_STRIDES if crowded else (1,))
+        hit = np.isfinite(roots)
+        result[active[hit]] = roots[hit]
+        active = active[~hit]
+    return result
+
+
+def pole_search(which, alpha, f, *, kappa, n_terms):
+    """Internal: ``evaluate`` and ``bound`` of
+    :func:`impactsym.numeric.isolation.first_sign_change` from the pole sums of ``which``
+    for one ``(alpha, kappa)`` and the forces ``f`` (``own`` indexes them): values and
+    slopes from :func:`impactsym.rod.elastic.poles.time_function`, the bound from
+    :meth:`impactsym.rod.elastic.poles.PoleModel.second_derivative_bound` (the model of
+    ``n_terms`` terms built only when first asked)."""
+
+    def evaluate(t, own):
+        value = time_function(which, t, alpha, f[own], kappa=kappa)
+        slope = time_function(which, t, alpha, f[own], kappa=kappa, derivative=True)
+        return value, slope, value
+
+    def bound(ta, tb, own, _a, _b, _da, _db):
+        model = pole_model(which, alpha, kappa=kappa, n_terms=n_terms)
+        return model.second_derivative_bound(ta, tb, f[own])
+
+    return evaluate, bound
+
+
+def _table_search(table: CertifiedTable, which, ag, kg, fm, n_terms):
+    """``evaluate`` and ``bound`` from ``table``, the pole sums on its cells whose error
+    bound exceeds ``TABLE_TOLERANCE`` for the ``f`` at hand."""
+    pole_evaluate, pole_bound = pole_search(which, ag, fm, kappa=kg, n_terms=n_terms)
+
+    def evaluate(t, own):
+        i, ff = table.cell(t), fm[own]
+        ok = table.certified(i, ff, TABLE_TOLERANCE)
+        value, slope = np.empty(t.size), np.empty(t.size)
+        value[ok], slope[ok] = table.evaluate(t[ok], ff[ok], i[ok])
+        if not ok.all():
+            value[~ok], slope[~ok], _ = pole_evaluate(t[~ok], own[~ok])
+        value[t == 0.0] = 0.0  # exact: y(0) = N(0) = 0
+        return value, slope, value
+
+    def bound(ta, tb, own, *ends):
+        i, ff = table.cell(0.5 * (ta + tb)), fm[own]
+        ok = table.certified(i, ff, TABLE_TOLERANCE)
+        M = table.second_derivative_bound(i, ff)
+        if not ok.all():
+            M[~ok] = pole_bound(ta[~ok], tb[~ok], own[~ok], *(e[~ok] for e in ends))
+        return M
+
+    return evaluate, bound
