@@ -14,7 +14,7 @@ from __future__ import annotations
 import contextlib
 import numbers
 from collections.abc import Iterable, Iterator, Mapping
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -281,6 +281,22 @@ def as_sympy_matrix(name: str, value: object, *, finite: bool = False) -> sp.Mat
         for (i, j), entry in np.ndenumerate(np.array(matrix.tolist(), dtype=object)):
             _check_finite(name, entry, f"{name}[{i}, {j}]")
     return matrix
+
+
+def renamed(name: str, value: Any, former: str, former_value: Any, default: Any) -> Any:
+    """The keyword ``name``, or its former name ``former``: one of the two, never both.
+
+    Every renamed keyword of the package goes through here, so that all of them behave
+    alike: ``default`` when neither is given, a ``TypeError`` naming both when both are.
+
+    >>> renamed("t_max", None, "t_end", 8.0, 40.0), renamed("t_max", None, "t_end", None, 40.0)
+    (8.0, 40.0)
+    """
+    if former_value is None:
+        return default if value is None else value
+    if value is not None:
+        raise TypeError(f"give {name} or its former name {former}, not both")
+    return former_value
 
 
 def broadcast(**arrays: np.ndarray) -> tuple[int, ...]:

@@ -62,6 +62,15 @@ def test_max_penetration_design_in_lammps():
     assert e_lmp == pytest.approx(0.4, rel=0.01)
 
 
+def test_former_name_max_overlap_is_the_same_design_and_never_both():
+    new = hooke_for(restitution=0.4, max_penetration=1e-3, speed=2.0, mass=MASS)
+    old = hooke_for(restitution=0.4, max_overlap=1e-3, speed=2.0, mass=MASS)
+    assert (old.kn, old.damping) == (new.kn, new.damping)
+    assert old.max_overlap == old.max_penetration == pytest.approx(1e-3, rel=1e-10)
+    with pytest.raises(TypeError, match="max_penetration or its former name max_overlap"):
+        hooke_for(restitution=0.4, max_penetration=1e-3, max_overlap=1e-3, speed=2.0, mass=MASS)
+
+
 def test_lammps_coeff_restitution_under_limit_damping_overshoots_as_predicted():
     kn = 1e5
     for e in (0.2, 0.5, 0.8):

@@ -22,7 +22,7 @@ def test_figures_return_their_axes():
         dampings=(0.1, 1.0),
         forces=(0.2, 2.0),
         steps=16,
-        tau_max=25.0,
+        t_max=25.0,
     )
     for plot in (plot_agreement, plot_verdict_map):
         fig, ax = plt.subplots()

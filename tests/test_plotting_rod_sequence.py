@@ -14,7 +14,7 @@ matplotlib.use("Agg")
 
 
 def test_alpha_plots_take_their_points_from_the_sequences():
-    sequences = [impact_sequence(a, 0.0, t_end=12.0) for a in (0.3, 1.0, 3.0)]
+    sequences = [impact_sequence(a, 0.0, t_max=12.0) for a in (0.3, 1.0, 3.0)]
     ax = plot_restitution(sequences)
     assert np.array_equal(ax.lines[0].get_xdata(), [0.3, 1.0, 3.0])
     assert np.array_equal(ax.lines[0].get_ydata(), [s.restitution for s in sequences])

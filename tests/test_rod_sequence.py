@@ -204,6 +204,7 @@ def test_t_end_is_the_former_name_of_t_max():
         old = impact_sequence(1.0, 0.5, kappa=kappa, t_end=8.0)
         assert old.contacts == new.contacts
         assert old.separation_velocities == new.separation_velocities
+        assert old.separation_speeds == old.separation_velocities  # former name, readable
         assert old.t_max == old.t_end == 8.0
     assert impact_sequence(1.0, 0.0).t_max == 40.0
     with pytest.raises(TypeError, match="t_max or its former name t_end"):

@@ -22,7 +22,7 @@ from impactsym.symbolic.laplace import (
     invert_rational,
     laplace_exp_poly,
 )
-from impactsym.validation import as_sympy, as_sympy_matrix, broadcast, real_array
+from impactsym.validation import as_sympy, as_sympy_matrix, broadcast, real_array, renamed
 
 CODE = "__import__('os').system('touch PWNED')"
 NOT_NUMBERS = (None, True, object(), {"a": 1}, [1.0])
@@ -198,3 +198,12 @@ def test_inputs_named_adds_the_inputs_to_a_deep_failure():
     # not a numerical failure: passed through
     with pytest.raises(KeyError), inputs_named("design", k=1.0):
         raise KeyError("k")
+
+
+def test_a_renamed_keyword_takes_either_name_or_the_default_but_never_both():
+    assert renamed("t_max", 3.0, "t_end", None, 40.0) == 3.0
+    assert renamed("t_max", None, "t_end", 5.0, 40.0) == 5.0
+    assert renamed("t_max", None, "t_end", None, 40.0) == 40.0
+    # equal values are refused as well: the call names the same thing twice
+    with pytest.raises(TypeError, match="^give t_max or its former name t_end, not both$"):
+        renamed("t_max", 5.0, "t_end", 5.0, 40.0)

@@ -37,7 +37,7 @@ import numpy as np
 
 from impactsym.contact.release import linear_release
 from impactsym.numeric.roots import bracketed_illinois
-from impactsym.validation import finish, real_array
+from impactsym.validation import finish, real_array, renamed
 
 __all__ = [
     "HookeContact",
@@ -115,6 +115,11 @@ class HookeContact:
         """True where the contact never ends (``contact_time`` is ``inf``)."""
         out = np.isinf(self.contact_time)
         return bool(out) if np.ndim(out) == 0 else out
+
+    @property
+    def max_overlap(self) -> float | np.ndarray:
+        """Former name of :attr:`max_penetration`."""
+        return self.max_penetration
 
     @property
     def damping_ratio(self) -> float | np.ndarray:
@@ -231,14 +236,15 @@ def hooke_for(
     max_penetration: Any = None,
     speed: Any = None,
     limit_damping: bool = True,
+    max_overlap: Any = None,
 ) -> HookeContact:
     r"""``kn`` and ``eta_n`` for a wanted restitution and contact time (or largest overlap).
 
     With ``limit_damping`` the damping ratio solves the force-condition restitution
     ``e_force(D) = e`` (paper section 2, ``f = 0``); without it the textbook
     ``D = -ln e / sqrt(pi^2 + ln^2 e)``. Then ``omega0 = tau_c(D) / t_c`` (or
-    ``z_max(D) v / delta_max``; ``tau_c``, ``z_max`` the normalized contact time and
-    largest overlap), ``kn = m omega0^2`` and ``eta_n = 2 D m omega0``.
+    ``max_penetration(D) v / delta_max`` with the normalized contact time and largest
+    penetration of the release), ``kn = m omega0^2`` and ``eta_n = 2 D m omega0``.
     No pressing load (particle-particle collisions).
 
     Parameters
@@ -255,11 +261,14 @@ def hooke_for(
         Approach speed, m/s (for ``max_penetration``, and for the returned prediction).
     limit_damping
         Whether the LAMMPS input uses ``limit_damping``.
+    max_overlap
+        Former name of ``max_penetration`` (give one of the two).
 
     >>> c = hooke_for(restitution=0.5, contact_time=1e-3, mass=1.0)
     >>> round(c.restitution, 12), round(c.contact_time, 15), round(c.damping_ratio, 6)
     (0.5, 0.001, 0.255276)
     """
+    max_penetration = renamed("max_penetration", max_penetration, "max_overlap", max_overlap, None)
     e, _ = real_array("restitution", restitution, lower=0.0, strict=True)
     if np.any(e >= 1):
         raise ValueError(f"restitution must be < 1, got {float(e.max())!r}")

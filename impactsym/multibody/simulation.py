@@ -27,7 +27,7 @@ from impactsym.multibody.oscillator import ReducedContact
 from impactsym.multibody.reduction import PROJECTIONS
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_illinois
-from impactsym.validation import as_sympy, check_condition, real_array
+from impactsym.validation import as_sympy, check_condition, real_array, renamed
 
 
 # ---------------------------------------------------------------------------------
@@ -102,17 +102,6 @@ class SimulatedContact:
         return ~np.isfinite(self.contact_time)
 
 
-def _former_horizon(t_max: float, tau_max: float | None, default: float) -> float:
-    """The horizon ``t_max``, or its former name ``tau_max`` if given (both must agree)."""
-    if tau_max is None:
-        return t_max
-    if t_max != default and t_max != tau_max:
-        raise TypeError(
-            f"t_max = {t_max!r} and its former name tau_max = {tau_max!r} disagree; give t_max"
-        )
-    return tau_max
-
-
 def simulate_contact(
     example: MultibodyExample,
     k: Any,
@@ -120,7 +109,7 @@ def simulate_contact(
     speed: Any,
     *,
     condition: str | Sequence[str] = "force",
-    t_max: float = 40.0,
+    t_max: float | None = None,
     steps: int = 50,
     tau_max: float | None = None,
 ) -> SimulatedContact:
@@ -153,7 +142,7 @@ def simulate_contact(
     >>> round(float(sim.contact_time * omega), 2), round(float(sim.restitution), 2)
     (3.13, 1.01)
     """
-    t_max = _former_horizon(t_max, tau_max, 40.0)
+    t_max = renamed("t_max", t_max, "tau_max", tau_max, 40.0)
     k_arr, _ = real_array("k", k, lower=0.0, strict=True)
     d_arr, _ = real_array("d", d, lower=0.0)
     v_arr, _ = real_array("speed", speed, lower=0.0, strict=True)
@@ -322,7 +311,7 @@ def agreement_sweep(
     dampings: Sequence[float] = tuple(np.geomspace(0.05, 2.0, 7)),
     forces: Sequence[float] = tuple(np.geomspace(0.05, 5.0, 7)),
     max_speed: float = 2.0,
-    t_max: float = 40.0,
+    t_max: float | None = None,
     steps: int = 50,
     tau_max: float | None = None,
 ) -> Agreement:
@@ -347,7 +336,7 @@ def agreement_sweep(
     >>> [(row["projection"], row["condition"], row["hit_rate"]) for row in a.summary()][:2]
     [('impulse', 'position', 1.0), ('impulse', 'force', 1.0)]
     """
-    t_max = _former_horizon(t_max, tau_max, 40.0)
+    t_max = renamed("t_max", t_max, "tau_max", tau_max, 40.0)
     m_eff = example.reduce().m_eff
     rest = reduce_at_speeds(example, [1e-9]).load / m_eff
     omega, D, f = np.meshgrid(omegas, dampings, forces, indexing="ij")

@@ -17,7 +17,7 @@ from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap, LogNorm
 
 from impactsym.plotting.contact import COLORS, LABELS
-from impactsym.validation import check_condition
+from impactsym.validation import check_condition, renamed
 
 QUANTITIES = {
     "n_contacts": "number of contacts $N$ (sticking one included)",
@@ -47,7 +47,7 @@ def plot_bounce_sequence(
     """
     if ax is None:
         ax = plt.figure(figsize=(7, 3.5)).add_subplot()
-    horizon = _horizon([seq], t_max if t_max is not None else tau_max)
+    horizon = _horizon([seq], renamed("t_max", t_max, "tau_max", tau_max, None))
     t = np.linspace(0.0, horizon, n_points)
     t = np.union1d(t, np.concatenate([seq.start, seq.end[np.isfinite(seq.end)]]))
     t = t[t <= horizon]

@@ -117,7 +117,7 @@ def write(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
             "dampings": (0.1, 0.4, 1.5),
             "forces": (0.1, 0.5, 2.0),
             "steps": 16,
-            "tau_max": 25.0,
+            "t_max": 25.0,
         }
         omegas = (100.0, 1000.0)
     else:

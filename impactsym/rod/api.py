@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike
 
 from impactsym.rod.elastic.poles import time_function
 from impactsym.rod.kernel import check_alpha, rigid_evaluate
-from impactsym.validation import broadcast, finish, real_array
+from impactsym.validation import broadcast, finish, real_array, renamed
 
 __all__ = ["contact_force", "displacement"]
 
@@ -206,12 +206,7 @@ def impact_sequence(
     from impactsym.rod.sequence_elastic import ElasticStep
     from impactsym.rod.sequence_rigid import RigidStep
 
-    if t_end is not None:
-        if t_max is not None:
-            raise TypeError("impact_sequence: give t_max or its former name t_end, not both")
-        t_max = t_end
-    if t_max is None:
-        t_max = 40.0
+    t_max = renamed("t_max", t_max, "t_end", t_end, 40.0)
     a_arr, _ = real_array("alpha", alpha, lower=0.0, strict=True)
     f_arr, _ = real_array("f", f, lower=0.0)
     k_arr, _ = real_array("kappa", kappa, lower=0.0, strict=True, allow_inf=True)

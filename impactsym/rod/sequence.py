@@ -133,6 +133,11 @@ class RodImpactSequence:
         """Former name of :attr:`t_max`."""
         return self.t_max
 
+    @property
+    def separation_speeds(self) -> list:
+        """Former name of :attr:`separation_velocities` (signed: they are velocities)."""
+        return self.separation_velocities
+
     def _times(self, t) -> np.ndarray:
         """``t`` as a float array, refused beyond ``t_max``; at ``t_max`` itself the left
         limit (one ulp earlier), so that ``g(t)`` and ``g(t - 2)`` are one-sided alike."""
