@@ -323,10 +323,15 @@ class StepModel(Protocol):
         """A flight piece (``opening``: it starts at a separation); ``True`` at a
         re-contact (``state.y`` then is ``state.u``)."""
 
-    def finish(self, sequence: dict) -> RodImpactSequence:
-        """The result object from the pieces and ``sequence`` (the other fields)."""
+    result: type[RodImpactSequence]  # the result class of this contact law
 
-    def check(self, seq: RodImpactSequence) -> None:
+    def tables(self, t_reached: float) -> Any:
+        """The pieces of :math:`g` up to ``t_reached``, as the result object reads them."""
+
+    def g_max(self, tables: Any, s_end: float) -> float:
+        """The largest :math:`g` on ``[0, s_end]`` (half the largest fixed-end stress)."""
+
+    def check(self, tables: Any, stress: float, velocities: list) -> None:
         """Refuse a result the model cannot vouch for (before the energy balance)."""
 
     def balance_note(self) -> str:
@@ -347,7 +352,6 @@ def follow(model: StepModel, *, t_max: float, max_contacts: int) -> RodImpactSeq
     where = model.where
     with np.errstate(**model.errstate):
         seq = _run(model, t_max, max_contacts, where)
-        model.check(seq)
         check_balance(seq, model.balance_note())
     return seq
 
@@ -396,16 +400,22 @@ def _run(model: StepModel, t_max: float, max_contacts: int, where: str) -> RodIm
         ) from exc
     if in_contact:
         contacts.append((contact_start, t_max))
-    return model.finish(
-        {
-            "t_max": t_max,
-            "t_reached": state.t,
-            "contacts": [(float(a), float(b)) for a, b in contacts],
-            "separation_velocities": [float(v) for v in velocities],
-            "restitution": -float(velocities[-1]) if (final and f == 0.0) else math.nan,
-            "final": final,
-            "flights": tuple(flights),
-        }
+    tables = model.tables(state.t)
+    stress = 2.0 * model.g_max(tables, t_max - 1.0) if t_max > 1.0 else 0.0
+    velocities = [float(v) for v in velocities]
+    model.check(tables, stress, velocities)
+    return model.result(
+        alpha,
+        f,
+        model.kappa,
+        t_max,
+        [(float(a), float(b)) for a, b in contacts],
+        velocities,
+        -velocities[-1] if (final and f == 0.0) else math.nan,
+        final,
+        stress,
+        tables,
+        tuple(flights),
     )
 
 

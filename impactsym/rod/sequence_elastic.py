@@ -305,6 +305,7 @@ class ElasticStep:
     not warned about but refused: every table must be finite and the energy balance hold.
     """
 
+    result = ElasticRodImpactSequence
     errstate: dict = {"over": "ignore", "invalid": "ignore"}  # noqa: RUF012 (read only)
 
     def __init__(self, alpha: float, f: float, *, kappa: float, t_max: float) -> None:
@@ -427,31 +428,16 @@ class ElasticStep:
             self.N = 0.0
         return root is not None
 
-    def finish(self, sequence: dict) -> ElasticRodImpactSequence:
-        t_max = sequence["t_max"]
-        tables = _Tables.build(self.pieces, sequence["t_reached"])
-        stress = 2.0 * _g_max(tables, t_max - 1.0) if t_max > 1.0 else 0.0
-        return ElasticRodImpactSequence(
-            self.alpha,
-            self.f,
-            self.kappa,
-            t_max,
-            sequence["contacts"],
-            sequence["separation_velocities"],
-            sequence["restitution"],
-            sequence["final"],
-            stress,
-            tables,
-            sequence["flights"],
-        )
+    def tables(self, t_reached: float) -> _Tables:
+        return _Tables.build(self.pieces, t_reached)
 
-    def check(self, seq: ElasticRodImpactSequence) -> None:
+    def g_max(self, tables: _Tables, s_end: float) -> float:
+        return _g_max(tables, s_end)
+
+    def check(self, tables: _Tables, stress: float, velocities: list) -> None:
         """Refuse a sequence whose tables overflowed."""
-        tab = seq._tables
-        numbers = (tab.p, tab.q, tab.G1, tab.G2, np.array(seq.separation_velocities))
-        if not (
-            all(np.all(np.isfinite(a)) for a in numbers) and np.isfinite(seq.max_fixed_end_stress)
-        ):
+        numbers = (tables.p, tables.q, tables.G1, tables.G2, np.array(velocities))
+        if not (all(np.all(np.isfinite(a)) for a in numbers) and np.isfinite(stress)):
             raise ValueError(f"{self.where}: float64 overflows (the parameters are too extreme)")
 
     def balance_note(self) -> str:

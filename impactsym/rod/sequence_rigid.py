@@ -251,6 +251,7 @@ class RigidStep:
     """
 
     kappa = math.inf
+    result = RodImpactSequence
     errstate: dict = {}  # noqa: RUF012 (read only)
 
     def __init__(self, alpha: float, f: float, *, t_max: float) -> None:
@@ -369,25 +370,13 @@ class RigidStep:
             state.y = state.u
         return root is not None
 
-    def finish(self, sequence: dict) -> RodImpactSequence:
-        t_max = sequence["t_max"]
-        tables = _Tables.build(self.pieces, sequence["t_reached"])
-        stress = 2.0 * _g_max(tables, t_max - 1.0) if t_max > 1.0 else 0.0
-        return RodImpactSequence(
-            self.alpha,
-            self.f,
-            self.kappa,
-            t_max,
-            sequence["contacts"],
-            sequence["separation_velocities"],
-            sequence["restitution"],
-            sequence["final"],
-            stress,
-            tables,
-            sequence["flights"],
-        )
+    def tables(self, t_reached: float) -> _Tables:
+        return _Tables.build(self.pieces, t_reached)
 
-    def check(self, seq: RodImpactSequence) -> None:
+    def g_max(self, tables: _Tables, s_end: float) -> float:
+        return _g_max(tables, s_end)
+
+    def check(self, tables: _Tables, stress: float, velocities: list) -> None:
         """Nothing beyond the energy balance."""
 
     def balance_note(self) -> str:
