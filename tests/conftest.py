@@ -53,3 +53,20 @@ def compile_latex(pdflatex: str) -> Callable[[Path], subprocess.CompletedProcess
         )
 
     return run
+
+
+#: A string that leaves the file ``PWNED`` behind if it is ever run as code: the probe of
+#: every "no input runs code" test (``from conftest import CODE``).
+CODE = "__import__('os').system('touch PWNED')"
+
+
+@pytest.fixture
+def no_code_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    """Run in an empty directory; afterwards no string may have been executed.
+
+    Modules that feed :data:`CODE` to public functions use it for every test:
+    ``pytestmark = pytest.mark.usefixtures("no_code_runs")``.
+    """
+    monkeypatch.chdir(tmp_path)
+    yield
+    assert not (tmp_path / "PWNED").exists(), "a string input was run as code"

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import CODE
 
 from impactsym.cli import main
 from impactsym.export import formula
@@ -104,8 +105,6 @@ def test_mujoco_refuses_an_unreachable_target_with_exit_code_2(capsys):
 
 
 # -- hostile input --------------------------------------------------------------------------
-
-CODE = "__import__('os').system('touch PWNED')"
 
 
 def test_cli_latex_with_code_as_a_name_is_an_unknown_formula(capsys, tmp_path, monkeypatch):

@@ -8,6 +8,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 import sympy as sp
+from conftest import CODE
 
 from impactsym.contact.derivation import (
     NUMERIC_AUX,
@@ -179,17 +180,6 @@ def test_latex_forms_and_bad_names():
         model.latex("g", condition="pressure")
     with pytest.raises(ValueError, match="regime must be one of"):
         SpringDamperContact("critically")
-
-
-CODE = "__import__('os').system('touch PWNED')"
-
-
-@pytest.fixture
-def no_code_runs(tmp_path, monkeypatch):
-    """Run in an empty directory; afterwards no string may have been executed."""
-    monkeypatch.chdir(tmp_path)
-    yield
-    assert not (tmp_path / "PWNED").exists(), "a string input was run as code"
 
 
 @pytest.mark.usefixtures("no_code_runs")

@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 import sympy as sp
+from conftest import CODE
 from references.multibody_systems import FullSimulation, Model
 from scipy.integrate import solve_ivp
 from sympy.physics import mechanics as me
@@ -18,15 +19,6 @@ from impactsym.multibody.simulation import double_pendulum
 
 x, v = sp.symbols("x v")
 m, k, d, F = sp.symbols("m k d F", positive=True)
-CODE = "__import__('os').system('touch PWNED')"
-
-
-@pytest.fixture
-def no_code_runs(tmp_path, monkeypatch):
-    """Run in an empty directory; afterwards no string may have been executed."""
-    monkeypatch.chdir(tmp_path)
-    yield
-    assert not (tmp_path / "PWNED").exists(), "a string input was run as code"
 
 
 def particle(M=1.0, force=0.0, kk=1.0, dd=0.0, speed=1.0, **kw):

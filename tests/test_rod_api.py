@@ -10,6 +10,7 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
+from conftest import CODE
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from references.rod_characteristics import Characteristics
@@ -103,18 +104,6 @@ def test_time_functions_are_zero_before_impact_and_keep_shapes():
     assert contact_force(-0.5, 1.0, 0.3, kappa=10.0) == 0.0
     assert isinstance(contact_force(1.0, 1.0, 0.3), float)
     assert contact_force(np.zeros((2, 3)), np.ones(3), 0.2).shape == (2, 3)
-
-
-#: A string that would leave the file ``PWNED`` behind if it were ever run as code.
-CODE = "__import__('os').system('touch PWNED')"
-
-
-@pytest.fixture
-def no_code_runs(tmp_path, monkeypatch):
-    """Run in an empty directory; afterwards no string may have been executed."""
-    monkeypatch.chdir(tmp_path)
-    yield
-    assert not (tmp_path / "PWNED").exists(), "a string input was run as code"
 
 
 @pytest.mark.usefixtures("no_code_runs")

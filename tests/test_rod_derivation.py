@@ -10,6 +10,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 import sympy as sp
+from conftest import CODE
 from references.paper import eq2_sum, eq2_term
 
 from impactsym.export import formula, latex_document
@@ -280,10 +281,6 @@ def test_formula_documents_check_their_budget_before_any_work(n_terms):
 def test_series_term_counts_are_validated(n_terms):
     with pytest.raises((TypeError, ValueError), match="n_terms must be"):
         RodImpact().series("Y", n_terms)
-
-
-#: A string that would leave the file ``PWNED`` behind if it were ever run as code.
-CODE = "__import__('os').system('touch PWNED')"
 
 
 @pytest.mark.parametrize(

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
+from conftest import CODE
 
 from impactsym.multibody import reduce_contact
 from impactsym.rod import RodImpact
@@ -24,18 +25,12 @@ from impactsym.symbolic.laplace import (
 )
 from impactsym.validation import as_sympy, as_sympy_matrix, broadcast, real_array, renamed
 
-CODE = "__import__('os').system('touch PWNED')"
 NOT_NUMBERS = (None, True, object(), {"a": 1}, [1.0])
 x, v = sp.symbols("x v")
 s, t = sp.symbols("s t")
 
 
-@pytest.fixture(autouse=True)
-def no_code_runs(tmp_path, monkeypatch):
-    """Run in an empty directory; afterwards no string may have been executed."""
-    monkeypatch.chdir(tmp_path)
-    yield
-    assert not (tmp_path / "PWNED").exists(), "a string input was run as code"
+pytestmark = pytest.mark.usefixtures("no_code_runs")
 
 
 @pytest.mark.parametrize(
