@@ -54,7 +54,7 @@ def verdict_boundary(
     agreement: Any, *, condition: str, projection: str = "impulse", n_points: int = 200
 ) -> tuple[np.ndarray, np.ndarray]:
     """``(D*, f)``: the section-2 stick boundary over the pressing forces of
-    ``agreement`` under ``projection`` (at least ``1e-2 ... 10``), for
+    ``agreement`` under ``projection`` (at least from 0.01 to 10), for
     :func:`impactsym.plotting.multibody.plot_verdict_map`.
 
     >>> agreement = agreement_sweep(
