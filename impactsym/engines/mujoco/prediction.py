@@ -389,15 +389,9 @@ def predict(
 ) -> Prediction:
     r"""Predict MuJoCo's restitution and contact time for a contact with ``solref``, ``solimp``.
 
-    Solves the loaded oscillator of the module to its first release,
-
-    .. math::
-
-        x'' + d'\,b\,x' + d'\,d\,\bar k\,x = (1 - d')\,g \quad\text{until}\quad
-        g + b\,x' + d\,\bar k\,x = 0 \ \text{or}\ x = 0,
-
-    in closed form for a flat ``solimp`` (the equation is then linear), by Runge-Kutta
-    integration for a varying one (the impedance :math:`d` depends on :math:`x`). See
+    Solves the loaded oscillator (module docstring) to its first release: in closed
+    form for a flat ``solimp`` (the equation is then linear), by Runge-Kutta integration
+    for a varying one (the impedance depends on the penetration). See
     `docs/physics.md#mujoco-prediction`.
 
     Parameters
