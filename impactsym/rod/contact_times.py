@@ -49,24 +49,18 @@ def contact_time(
 ) -> float | np.ndarray:
     r"""First sign change of the contact force or the displacement after impact.
 
-    The contact time :math:`t_c` is the first :math:`t > 0` where the
-    persistent-contact solution changes sign to the non-contact side: :math:`N`
-    (``condition="force"``, the paper's *Kraftbedingung*) or :math:`y`
-    (``condition="position"``, *Ortsbedingung*) goes from positive to :math:`\le 0`.
-    ``inf`` means: no sign change in :math:`(0, t_{max}]` (the striker sticks up to
-    the horizon).
+    The contact time :math:`t_c` is the first :math:`t > 0` where the persistent-contact
+    solution :math:`g = N` (``condition="force"``, *Kraftbedingung*) or :math:`g = y`
+    (``condition="position"``, *Ortsbedingung*) goes from positive to :math:`\le 0`;
+    ``inf``: no sign change in :math:`(0, t_{max}]` (the striker sticks up to the horizon).
 
-    **Certified, not sampled**, so that no end of contact is missed: on each cell a
-    rigorous bound on :math:`|g''|` (rigid: the Laguerre sums of
-    :mod:`impactsym.rod.rigid_search`; finite :math:`\kappa`: the certified table
-    :math:`g = A + f B` of :mod:`impactsym.rod.elastic.search`) proves the cell
-    zero-free or monotone, or it is halved
-    (:func:`impactsym.numeric.isolation.first_sign_change`); the first sign change is
-    polished to full precision. A tangential touch is not an end of contact, and only a
-    dip shallower than ``1e-12`` (``2e-12`` with a finite :math:`\kappa`) may be passed
-    over. Pairs of equal :math:`\alpha` share the proofs of "no sign change" (:math:`g`
-    is affine in :math:`f`), so a grid is cheaper per pair than scattered pairs. See
-    `docs/physics.md#rod-contact-times`.
+    **Certified, not sampled**, so that no end of contact is missed: a rigorous bound on
+    :math:`|g''|` proves each cell zero-free or monotone, or it is halved
+    (:mod:`impactsym.rod.rigid_search`, :mod:`impactsym.rod.elastic.search`); the first
+    sign change is polished to full precision. A tangential touch is no end of contact;
+    only a dip shallower than ``1e-12`` (``2e-12`` with a finite :math:`\kappa`) may be
+    passed over. Pairs of equal :math:`\alpha` share the proofs (:math:`g` is affine in
+    :math:`f`), so a grid is cheaper per pair. See `docs/physics.md#rod-contact-times`.
 
     Parameters
     ----------
