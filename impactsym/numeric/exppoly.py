@@ -294,10 +294,8 @@ def exp_poly_roots(
         decided by the signs at its ends (relative to ``max(1, |x|)``).
     rising_from_zero
         The caller knows that :math:`F(lo) = 0` and :math:`F'(lo) \\ge 0` exactly (a
-        gap that opens). Intervals :math:`(lo, lo + r]` are then also proven root-free
-        by :math:`F(x) = T_1 z + z^2 \\sum_{k \\ge 2} T_k z^{k-2}` with the second sum
-        enclosed like :math:`F` itself (bounds divided by :math:`r^2`), which spares
-        the bisection down to ``min_width`` at a double zero.
+        gap that opens): intervals at ``lo`` are then proven root-free without bisecting
+        down to ``min_width`` (`docs/physics.md#exp-poly-roots`).
 
     Returns
     -------
