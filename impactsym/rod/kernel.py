@@ -29,13 +29,11 @@ from __future__ import annotations
 
 import numpy as np
 
-#: Largest normalized time the rigid kernel evaluates (verified to 1e-9 up to there).
+#: Largest normalized time the rigid kernel evaluates (the verified range).
 T_LIMIT = 1.0e4
 
-#: Mass ratios the kernel is verified for. Above 1e6 the Laguerre sums of a heavy striker
-#: cancel (the error grows like 2e-17 alpha: 3e-7 at 1e10, order 1 at 1e16); below 1e-10
-#: the certified contact-time search needs more cells than it allows, and far below the
-#: recurrences overflow.
+#: Mass ratios the kernel is verified for: above, the Laguerre sums of a heavy striker
+#: cancel; below, the certified search runs out of cells (`docs/physics.md#rod-rigid-kernel`).
 ALPHA_RANGE = (1.0e-10, 1.0e6)
 
 
