@@ -389,10 +389,9 @@ def predict(
 ) -> Prediction:
     r"""Predict MuJoCo's restitution and contact time for a contact with ``solref``, ``solimp``.
 
-    Solves the loaded oscillator (module docstring) to its first release: in closed
-    form for a flat ``solimp`` (the equation is then linear), by Runge-Kutta integration
-    for a varying one (the impedance depends on the penetration). See
-    `docs/physics.md#mujoco-prediction`.
+    Solves the loaded oscillator (module docstring) to its first release: in closed form
+    for a flat ``solimp`` (linear), by Runge-Kutta for a varying one (the impedance
+    depends on the penetration). See `docs/physics.md#mujoco-prediction`.
 
     Parameters
     ----------
