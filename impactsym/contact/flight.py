@@ -1,44 +1,19 @@
 r"""Free flight after a release of the spring-damper contact: the derivation with SymPy.
 
-After the body leaves the contact it flies under the pressing force alone; normalized on
-the first impact (``docs/physics.md``, section 2) its acceleration towards the contact is
-:math:`2 D f`. Time ``s`` runs from the release, ``u > 0`` is the speed at which the body
-moves away at the release.
-
-*Position condition.* The contact ends at :math:`z = 0` with the element undeformed, so
-
-.. math::  z_b(s) = -u s + D f s^2, \qquad s^* = \frac{2u}{2Df}, \qquad z_b'(s^*) = u,
-
-and the next contact starts undeformed at speed ``u``.
-
-*Force condition.* The contact force :math:`2Dz' + z` vanishes at the release, so the
-massless element is still deflected, :math:`z_c = -2Dz'(\tau_c) = 2Du`, and relaxes freely
-(:math:`2 D z_e' + z_e = 0`) while the body flies:
-
-.. math::  z_e(s) = 2Du\, e^{-s/(2D)}, \qquad z_b(s) = 2Du - u s + D f s^2 .
-
-With :math:`x = s/(2D)` and :math:`r = 2D^2 f/u` the gap is
+After the body leaves the contact it flies under the pressing force alone (acceleration
+:math:`2 D f` towards the contact, normalized on the first impact); time ``s`` runs from
+the release, ``u > 0`` is the speed of departure. Under the force condition the massless
+element is released still deflected by :math:`2Du` and relaxes freely, so with
+:math:`x = s/(2D)` and :math:`r = 2D^2 f/u` the gap between body and element is
 
 .. math::  h = z_b - z_e = 2 D u\, x^2\, \bigl(r - \psi(x)\bigr), \qquad
-           \psi(x) = \frac{x - 1 + e^{-x}}{x^2} = \int_0^1 (1 - t)\, e^{-x t}\, dt .
+           \psi(x) = \frac{x - 1 + e^{-x}}{x^2} .
 
-The integral shows that :math:`\psi` falls strictly from :math:`\psi(0) = 1/2` to
-:math:`0`. The release is transversal (the contact force crosses zero with slope
-:math:`4D^2f - u < 0`) exactly when :math:`r < 1/2`, so for :math:`0 < r < 1/2` the body
-re-contacts the element at the *unique* root :math:`x^*` of :math:`\psi(x) = r`, and for
-``f = 0`` never. Bounding the integrand, :math:`e^{-xt} \ge 1 - xt` gives
-:math:`\psi(x) \ge 1/2 - x/6` and :math:`\psi(x) < 1/x`, so
-
-.. math::  3 - 6 r \;\le\; x^* \;<\; 1/r,
-
-a bracket that provably holds the root (no sampling). The body arrives with velocity
-(positive into the contact) and meets the element deflected by
-
-.. math::  v^* = z_b'(s^*) = u\,(2 r x^* - 1), \qquad z^* = 2 D u\, e^{-x^*};
-
-:math:`v^* < 0` (the element catches the body from behind) happens for
-:math:`r > 1/(2 x_0) \approx 0.314`, with :math:`(1 - e^{-x_0})/x_0 = 1/2`. The contact
-force at the re-contact, :math:`2 D v^* + z^* = -2 D u\, x^{*2}\, \psi'(x^*)`, is positive.
+:math:`\psi` falls strictly from :math:`1/2` to :math:`0`, so for :math:`0 < r < 1/2` the
+re-contact is the unique root of :math:`\psi(x) = r`, and elementary bounds on
+:math:`\psi` bracket it, :math:`3 - 6 r \le x^* < 1/r`: the root is found by a
+bracketed Newton method, never by sampling. The proof, the arrival state and the
+position-condition flight: See `docs/physics.md#free-flight`.
 """
 
 from __future__ import annotations

@@ -1,11 +1,10 @@
 r"""The loaded section-2 oscillator and its first release: the one solver of it.
 
-**What.** Paper section 2 with two generalizations, shared by the engine models
+Paper section 2 with two generalizations, shared by the engine models
 (:mod:`impactsym.engines.mujoco`, :mod:`impactsym.engines.lammps`): the pressing load
 and the threshold of the contact force are independent, and contact ends at whichever
 of two thresholds comes first. In the section-2 normalization (``tau = omega0 t``,
-``z = x omega0 / v0``; `docs/physics.md, section 2
-<../physics.html#the-loaded-oscillator-and-its-first-release>`_)
+``z = x omega0 / v0``)
 
 .. math::
 
@@ -14,30 +13,17 @@ of two thresholds comes first. In the section-2 normalization (``tau = omega0 t`
 
 and the contact ends at the first ``tau > 0`` where ``lambda <= 0`` (force threshold)
 or ``z <= 0`` (position threshold). The paper's force condition is ``c = 2 D f``,
-``delta = 0``; its position condition is the position threshold alone. MuJoCo's soft
-contact has ``c = (1 - d) gamma``, ``delta = d gamma``.
+``delta = 0``; MuJoCo's soft contact has ``c = (1 - d) gamma``, ``delta = d gamma``.
 
-**One solver per equation.** Every quantity here is a constant plus a homogeneous
-solution ``h`` of the oscillator, and ``h`` is evaluated by the section-2 kernel
-(:class:`impactsym.contact.kernel.Homogeneous`) from the closed forms of
-:mod:`impactsym.contact.derivation`: the solution exists once, in SymPy. This module
-adds only what the two thresholds and the offset need -- the extrema of ``h`` (roots of
-``h'``, in closed form) that bracket each first crossing -- and does not serve
-:func:`impactsym.contact.contact_time`, whose ridge bracket and limits cover the paper's
-``(D, f)`` plane to double precision; the test ``test_contact_release`` checks both
-against each other and against event-integrated ODEs.
-
-**Why this numerics.** Between consecutive extrema ``h`` is monotone, and the extrema
-of a damped oscillation shrink and alternate in sign, so a crossing of a level
-``L >= 0`` reached from above happens before the second extremum or never. That
-brackets every first root, which :func:`impactsym.numeric.roots.bracketed_newton`
-polishes to ``rtol = 1e-13`` on the whole array.
-
-**Tolerance.** Against the former hand-written closed forms (float64 cos/sin, cosh/sinh
-and a series near ``D = 1``) the contact time agrees to ``5e-13`` relative and the
-restitution, largest penetration and peak force to ``5e-14`` absolute over ``D`` in
-``[0, 3]``, loads and offsets in ``[0, 3]``; where they differ, a 40-digit mpmath root
-sides with this module (physics.md, section 2).
+Every quantity is a constant plus a homogeneous solution ``h``, evaluated by the
+section-2 kernel (:class:`impactsym.contact.kernel.Homogeneous`) from the closed forms
+of :mod:`impactsym.contact.derivation`, so the solution exists once. Why this numerics:
+the extrema of a damped oscillation shrink and alternate in sign, so a crossing of a
+level ``L >= 0`` reached from above happens before the second extremum of ``h`` or
+never; the extrema (roots of ``h'``, closed form) bracket every first root, which
+:func:`impactsym.numeric.roots.bracketed_newton` polishes to ``rtol = 1e-13``. The
+paper's plane is left to :func:`impactsym.contact.contact_time`. Tolerances and checks:
+See `docs/physics.md#loaded-oscillator`.
 """
 
 from __future__ import annotations

@@ -152,14 +152,11 @@ def reduce_contact(
         \tilde c = k - \tilde m\, r^T F_{,q}\, p, \quad
         F_n = \tilde m\,(r^T F_0 + \dot q_0^T H \dot q_0) + (\tilde d - d) v_0,
 
-    ``H`` the Hessian of ``g``. Impulse projection: ``P = p = m~ M0^{-1} n0``; paper
-    projection: ``P = p = n0 / (n0^T n0)``. A single particle ``m x'' = F - d x' - k x``
-    gives ``m~ = m``, ``d~ = d``, ``c~ = k``, ``F_n = F`` exactly.
-
-    The impact state fixes the linearization point ``(q0, q0', t0)``; the penetration
-    ``g`` is positive inside the obstacle, so ``v0 > 0`` at impact. Why the impulse
-    projection, the choices where the paper is silent and the checks against full
-    nonlinear simulations: ``docs/physics.md``, section 3.
+    ``H`` the Hessian of ``g`` (the paper's eq. (5), corrected). Impulse projection:
+    ``P = p = m~ M0^{-1} n0``; paper projection: ``P = p = n0 / (n0^T n0)``. The
+    linearization point is the impact state ``(q0, q0', t0)``, with ``v0 > 0`` at impact.
+    Why the impulse projection, the choices where the paper is silent and the checks: See
+    `docs/physics.md#multibody-reduction`.
 
     Examples
     --------

@@ -1,41 +1,24 @@
-"""Certified real roots of exponential polynomials :math:`F(x) = e^x A(x) + B(x)` (NumPy only).
+r"""Certified real roots of exponential polynomials :math:`F(x) = e^x A(x) + B(x)` (NumPy only).
 
 Separation and re-contact of the continued rod impact are roots of such functions on a
 bounded piece :math:`[lo, hi]` (:mod:`impactsym.rod.sequence_rigid`). Sampling can miss a
-pair of close roots; this module cannot, up to floating-point rounding:
-
-**Isolation by Taylor enclosures.** On a sub-interval :math:`I = [u, u + r]`, with the
-Taylor coefficients :math:`T_k` of :math:`F` at :math:`u` (exact for :math:`B`, the
-exponential part summed to order :math:`M` with the Lagrange-type tail bound
-:math:`\\sum_{m \\ge K} r^m/m! \\le e^r r^K/K!`),
+pair of close roots; this module cannot, up to floating-point rounding. On a
+sub-interval :math:`I = [u, u + r]`, with the Taylor coefficients :math:`T_k` of
+:math:`F` at :math:`u` and the bounds :math:`\rho_0, \rho_1` of the omitted orders,
 
 .. math::
 
-    |F(x) - T_0| \\le \\sum_{k \\ge 1} |T_k| r^k + \\rho_0, \\qquad
-    |F'(x) - T_1| \\le \\sum_{k \\ge 2} k |T_k| r^{k-1} + \\rho_1 \\qquad (x \\in I).
+    |F(x) - T_0| \le \sum_{k \ge 1} |T_k| r^k + \rho_0, \qquad
+    |F'(x) - T_1| \le \sum_{k \ge 2} k |T_k| r^{k-1} + \rho_1 \qquad (x \in I),
 
-If the first bound is below :math:`|T_0|`, :math:`F` has no zero in :math:`I`; if the
-second is below :math:`|T_1|`, :math:`F` is strictly monotone on :math:`I` and has a zero
-there exactly when its end values differ in sign. Both tests are one-sided, which is
-sharper and as rigorous: with :math:`z = x - u \\in [0, r]`, a term :math:`T_k z^k` of the
-sign of :math:`T_0` can only move :math:`F` away from zero, so only the terms of the
-opposite sign enter the sum (:math:`\\sum_{k \\ge 1} \\max(-\\operatorname{sgn}(T_0) T_k,
-0) r^k`; the same for :math:`F'` with :math:`T_1`). Otherwise :math:`I` is halved. Every
-sub-interval is thus either proven root-free, proven to hold exactly one simple root
-(bracketed, then polished by :func:`impactsym.numeric.roots.bracketed_newton_scalar`), or has
-shrunk below ``min_width`` or to where :math:`|F|` is below its own rounding
-noise throughout; such a last interval counts as a root only if its end values
-differ in sign (a double root, or two roots closer than ``min_width``, is a tangency that
-float64 cannot resolve). A zero met exactly on a subdivision point counts only if
-:math:`F` has opposite signs at the nearest points of known sign on either side (a
-tangential touch, such as :math:`e^x - e x` at 1, is no sign change); one exactly at
-``hi`` is reported, the sign beyond ``hi`` not being examined. The bounds carry a
-margin of :math:`64 (n + 4)\\varepsilon` times the magnitude of the summed terms for
-rounding. A left half keeps its expansion point, and its coefficients are reused.
-
-**A cheap certificate.** :func:`exp_poly_positive` is the first (one-sided) test on
-:math:`[0, hi]` alone, in plain Python floats and without a search: an event loop that
-tests many pieces calls it first and :func:`exp_poly_roots` only where it says nothing.
+taken one-sided (only the terms of the sign opposite to :math:`T_0`, resp. :math:`T_1`).
+Every sub-interval is proven root-free, proven monotone with one simple root (then
+polished by :func:`impactsym.numeric.roots.bracketed_newton_scalar`), or halved; an
+interval below ``min_width`` or in rounding noise counts as a root only if its end values
+differ in sign, so a tangential touch is no root. :func:`exp_poly_positive` is the first
+test on :math:`[0, hi]` alone, without a search, for event loops that test many pieces.
+Tail bound, rounding margin and the subdivision rules: See
+`docs/physics.md#exp-poly-roots`.
 """
 
 from __future__ import annotations
@@ -154,18 +137,11 @@ def exp_poly_positive(
         F(x) \\ge T_0 + \\sum_{1 \\le k < K} \\min(T_k, 0)\\, hi^k - \\rho_K, \\qquad
         \\rho_K = e^{hi} \\sum_i |A_i| \\frac{hi^K}{(K - i)!},
 
-    the bound of the omitted orders of :func:`exp_poly_roots`; if every :math:`A_i \\ge 0`
-    the omitted orders are themselves nonnegative and :math:`K = len(B)`,
-    :math:`\\rho_K = 0`. ``K`` grows from ``max(len(A), len(B))`` until the bound is
-    decided or 20 orders more have not sufficed. ``True`` when the bound is positive
-    beyond the rounding margin of :func:`exp_poly_roots`; ``False`` says nothing
-    (search with :func:`exp_poly_roots`). Plain Python floats: meant for event loops
-    that test many small pieces.
-
-    With ``rising_from_zero`` the caller knows :math:`F(0) = 0` and :math:`F'(0) \\ge 0`
-    (a gap that opens) and positivity on :math:`(0, hi]` is proven as in
-    :func:`exp_poly_roots`: :math:`F(x) \\ge x^2 \\bigl(T_2 + \\sum_{k \\ge 3}
-    \\min(T_k, 0)\\, hi^{k-2}\\bigr) - \\rho_K`, with :math:`T_0, T_1` left out.
+    the one-sided bound of :func:`exp_poly_roots` on one interval, in plain Python floats
+    (cheap enough for every piece of an event loop). ``True`` when the bound is positive
+    beyond the rounding margin; ``False`` says nothing (search with
+    :func:`exp_poly_roots`). How ``K`` is chosen and the ``rising_from_zero`` form: See
+    `docs/physics.md#exp-poly-roots`.
 
     Parameters
     ----------
@@ -174,7 +150,8 @@ def exp_poly_positive(
     hi
         Right end of the interval (``hi >= 0``).
     rising_from_zero
-        :math:`F(0) = 0` and :math:`F'(0) \\ge 0` are known (see above).
+        :math:`F(0) = 0` and :math:`F'(0) \\ge 0` are known (a gap that opens):
+        positivity on :math:`(0, hi]` is proven with :math:`T_0, T_1` left out.
 
     Examples
     --------
@@ -287,8 +264,8 @@ def _quadratic_times_exp_positive(
     return lower > guard * mag
 
 
-#: Cells :func:`exp_poly_roots` may examine before it gives up (the rod's pieces need
-#: fewer than 200 in the benchmark of rod sequences).
+#: Cells :func:`exp_poly_roots` may examine before it gives up (a guard far above what
+#: the rod's pieces need, `docs/physics.md#exp-poly-roots`).
 _MAX_CELLS = 100_000
 
 
@@ -317,10 +294,8 @@ def exp_poly_roots(
         decided by the signs at its ends (relative to ``max(1, |x|)``).
     rising_from_zero
         The caller knows that :math:`F(lo) = 0` and :math:`F'(lo) \\ge 0` exactly (a
-        gap that opens). Intervals :math:`(lo, lo + r]` are then also proven root-free
-        by :math:`F(x) = T_1 z + z^2 \\sum_{k \\ge 2} T_k z^{k-2}` with the second sum
-        enclosed like :math:`F` itself (bounds divided by :math:`r^2`), which spares
-        the bisection down to ``min_width`` at a double zero.
+        gap that opens): intervals at ``lo`` are then proven root-free without bisecting
+        down to ``min_width`` (`docs/physics.md#exp-poly-roots`).
 
     Returns
     -------

@@ -1,28 +1,24 @@
-"""Certified search for the first sign change of a smooth function on many intervals.
+r"""Certified search for the first sign change of a smooth function on many intervals.
 
 NumPy only. Used by :mod:`impactsym.rod.contact_times` for the rod's contact times
-(rigid: one reflection interval at a time; finite stiffness: ``[0, t_max]``).
+(rigid: one reflection interval at a time; finite stiffness: ``[0, t_max]``). On a cell
+``[a, b]``, ``h = b - a``, with a rigorous bound ``|g''| <= M`` supplied by the caller
+and the values and slopes at the ends,
 
-**Argument.** On a cell ``[a, b]`` (``h = b - a``) with ``|g''| <= M`` (a rigorous bound
-supplied by the caller) and the values ``g(a), g(b)`` and slopes ``g'(a), g'(b)``:
+.. math::
 
-* ``g >= min(g(a), g(b)) - M h^2 / 8`` (linear interpolation error), and
-  ``g >= min(g(a), g(a) + g'(a) h - M h^2 / 2)`` and the same from ``b`` (Taylor);
-  if one of these lower bounds is positive the cell holds no zero;
-* ``g' >= (g'(a) + g'(b) - M h) / 2`` and ``g' <= (g'(a) + g'(b) + M h) / 2`` on the
-  cell; if ``g'`` keeps its sign, ``g`` is monotone there and has a zero in it exactly
-  when ``g(a) > 0 >= g(b)``.
+    g \ge \min\bigl(g(a), g(b)\bigr) - \frac{M h^2}{8}, \qquad
+    \Bigl|g' - \frac{g'(a) + g'(b)}{2}\Bigr| \le \frac{M h}{2}
 
-Every cell before the first cell with ``g(a) > 0 >= g(b)`` must be proved zero-free,
-and that cell monotone; cells that cannot be decided are halved. A cell is accepted
-as zero-free without proof only once ``M h^2 / 8 <= tol``: a dip of ``g`` below zero
-that is shallower than ``tol`` may then be passed over (a tangential touch is not a
-sign change). The decided cell is refined by :func:`impactsym.numeric.bracketed_newton`.
-Rounding errors of the evaluation of ``g`` (about ``1e-13`` here) are below ``tol``.
-
-With ``certify=True`` the search also says for which owners it *proved* ``g > 0`` on
-the whole span of the nodes: no sign change, ``g > 0`` at every node, and every cell
-cleared by a lower bound or by monotonicity (none accepted only for its depth ``tol``).
+(with Taylor lower bounds from either end): a positive lower bound proves the cell
+zero-free, a slope of one sign proves it monotone, and an undecided cell is halved.
+Why: sampling can miss a dip, these bounds cannot; every cell before the first with
+``g(a) > 0 >= g(b)`` is proved zero-free and that one monotone, then refined by
+:func:`impactsym.numeric.bracketed_newton`. Only a dip shallower than ``tol``
+(``M h^2 / 8 <= tol``) may be passed over; a tangential touch is no sign change. With
+``certify=True`` the search also reports the owners on which it *proved* ``g > 0``
+(every cell cleared by a bound or by monotonicity, none only for its depth ``tol``).
+The argument in full: See `docs/physics.md#cell-search`.
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 The public face: :func:`contact_time`, :func:`contact_time_map` and its result
 :class:`ContactTimeMap`. The searches live in :mod:`impactsym.rod.rigid_search` (rigid
 contact) and :mod:`impactsym.rod.elastic.search` (finite :math:`\\kappa`); see
-docs/physics.md#1-rod-impact-paper-1.
+`docs/physics.md#rod-contact-times`.
 """
 
 from __future__ import annotations
@@ -49,28 +49,18 @@ def contact_time(
 ) -> float | np.ndarray:
     r"""First sign change of the contact force or the displacement after impact.
 
-    The contact time :math:`t_c` is the first :math:`t > 0` where the
-    persistent-contact solution changes sign to the non-contact side: :math:`N`
-    (``condition="force"``, the paper's *Kraftbedingung*) or :math:`y`
-    (``condition="position"``, *Ortsbedingung*) goes from positive to :math:`\le 0`.
-    ``inf`` means: no sign change in :math:`(0, t_{max}]` (the striker sticks up to
-    the horizon).
+    The contact time :math:`t_c` is the first :math:`t > 0` where the persistent-contact
+    solution :math:`g = N` (``condition="force"``, *Kraftbedingung*) or :math:`g = y`
+    (``condition="position"``, *Ortsbedingung*) goes from positive to :math:`\le 0`;
+    ``inf``: no sign change in :math:`(0, t_{max}]` (the striker sticks up to the horizon).
 
-    **Certified, not sampled.** Rigid contact: on every reflection interval :math:`g = y`
-    or :math:`N` is a Laguerre sum in :math:`x = 2\tau/\alpha` with rigorous bounds on
-    :math:`|g''|` over any cell (:mod:`impactsym.rod.rigid_search`); finite
-    :math:`\kappa`: per :math:`(\alpha, \kappa)` a certified table :math:`g = A + f B`,
-    shared by every :math:`f`, with the pole sums where its bound exceeds ``1e-12``
-    (:mod:`impactsym.rod.elastic.search`). Cells are proved zero-free or monotone, or
-    halved (:func:`impactsym.numeric.isolation.first_sign_change`); the first
-    sign-change cell is refined with :func:`impactsym.numeric.bracketed_newton` to full
-    precision. A sign change is needed: a tangential touch is not an end of contact,
-    and a dip below zero shallower than ``1e-12`` (in units of :math:`y` resp.
-    :math:`N`; ``2e-12`` with a finite :math:`\kappa`, whose table may itself be off by
-    ``1e-12``) may be passed over. Pairs of equal :math:`\alpha` share the proofs
-    that an interval holds no sign change (:math:`g` is affine in :math:`f`), so an
-    :math:`\alpha`-:math:`f` grid is cheaper per pair than scattered pairs. See
-    docs/physics.md#1-rod-impact-paper-1.
+    **Certified, not sampled**, so that no end of contact is missed: a rigorous bound on
+    :math:`|g''|` proves each cell zero-free or monotone, or it is halved
+    (:mod:`impactsym.rod.rigid_search`, :mod:`impactsym.rod.elastic.search`); the first
+    sign change is polished to full precision. A tangential touch is no end of contact;
+    only a dip shallower than ``1e-12`` (``2e-12`` with a finite :math:`\kappa`) may be
+    passed over. Pairs of equal :math:`\alpha` share the proofs (:math:`g` is affine in
+    :math:`f`), so a grid is cheaper per pair. See `docs/physics.md#rod-contact-times`.
 
     Parameters
     ----------

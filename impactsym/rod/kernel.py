@@ -1,58 +1,39 @@
-"""Rigid-contact rod kernel: :math:`y(t)` and :math:`N(t)` in plain NumPy.
+r"""Rigid-contact rod kernel: :math:`y(t)` and :math:`N(t)` in plain NumPy.
 
 Evaluates exactly the inverted series terms whose delay has arrived
-(:meth:`impactsym.rod.RodImpact.time_terms`), arranged so that float64 does not cancel
-catastrophically far out. This module imports nothing but NumPy; its source is what
+(:meth:`impactsym.rod.RodImpact.time_terms`, eq. (2) of the paper, rigid contact
+:math:`\kappa \to \infty`). This module imports nothing but NumPy; its source is what
 :func:`impactsym.rod.codegen.numpy_source` writes into the exported module.
 
-**Rigid contact** (:math:`\\kappa \\to \\infty`). With :math:`x = 2u/\\alpha` and the
-Laguerre functions :math:`E_n(x) = e^{-x/2} L_n(x)`, the inverted terms of the series
-of ``N`` and ``Y`` (eq. (2) of the paper) are
+On the reflection interval :math:`t = 2m + \tau`, :math:`0 \le \tau < 2`, all arrived
+terms collect into one short sum of Laguerre functions :math:`E_j(x) = e^{-x/2} L_j(x)`,
+:math:`x = 2\tau/\alpha`,
 
 .. math::
 
-    N(t) = f + \\sum_{k \\ge 0} \\bigl[(1+f) E_{k-1}(x_k) + (1-f) E_k(x_k)\\bigr], \\qquad
-    y(t) = t - \\frac{\\alpha}{4} \\sum_{k \\ge 0}
-           \\bigl[(1+f) I_{k-1}(x_k) + (1-f) I_k(x_k)\\bigr],
+    N(2m + \tau) = f + \sum_{j=0}^{m} c_{m-j} E_j(x), \qquad
+    y(2m + \tau) = y(2m) + y'(2m^+) \tau - \frac{\alpha}{4}
+                    \sum_{j=0}^{m} c_{m-j} I_j(x),
 
-summed over :math:`2k \\le t`, with :math:`x_k = 2(t - 2k)/\\alpha`,
-:math:`E_{-1} = I_{-1} = 0` and :math:`I_n(x) = \\int_0^x \\int_0^{x'} E_n`. On the
-reflection interval :math:`t = 2m + \\tau`, :math:`0 \\le \\tau < 2`, the Laguerre
-addition theorem :math:`L_n(x + y) = \\sum_{j \\le n} L_{n-j}^{(-1)}(y) L_j(x)`
-collects all arrived terms into one short sum in :math:`x = 2\\tau/\\alpha`,
-
-.. math::
-
-    N(2m + \\tau) = f + \\sum_{j=0}^{m} c_{m-j} E_j(x), \\qquad
-    y(2m + \\tau) = y(2m) + y'(2m^+) \\tau - \\frac{\\alpha}{4}
-                    \\sum_{j=0}^{m} c_{m-j} I_j(x),
-
-:math:`c_d = (1+f) B_{d-1} + (1-f) B_d`, :math:`B_d = \\sum_{i=0}^{d} e^{-y_i/2}
-L^{(-1)}_{d-i}(y_i)`, :math:`y_i = 4i/\\alpha`. :math:`E_j`, :math:`I_j` come from
-stable recurrences (three-term for :math:`E_j`, and
-:math:`I'_j + I'_{j-1} = -2(E_j - E_{j-1})` integrated), all bounded by their
-true size; a point costs :math:`O(m)` operations. This kernel is plain NumPy
-implemented by :func:`rigid_local`.
-
-**Far out.** :math:`y(2m)` and :math:`y'(2m)` are chained interval by interval (no
-cancellation of :math:`2m` against a sum of size :math:`m`), and the Laguerre recurrences
-run with a power-of-two scale per point once :math:`e^{-x/2}` would underflow
-(:math:`x > 1400`). Up to :data:`T_LIMIT` (:math:`t = 10^4`) the kernel agrees with an
-independent modal expansion to better than 1e-9; beyond it refuses (the tables cost
-:math:`O(m^2)` per distinct :math:`\\alpha`). See docs/physics.md#1-rod-impact-paper-1.
+with :math:`I_j(x) = \int_0^x \int_0^{x'} E_j` and per-:math:`\alpha` coefficients
+:math:`c_d` (:func:`rigid_tables`). Why this form: a point costs :math:`O(m)`
+operations; :math:`E_j`, :math:`I_j` come from stable recurrences bounded by their
+true size, :math:`y(2m)` and :math:`y'(2m)` are chained interval by interval (no
+cancellation of :math:`2m` against a sum of size :math:`m`), and the recurrences run
+with a power-of-two scale once :math:`e^{-x/2}` would underflow. The kernel refuses
+:math:`t >` :data:`T_LIMIT`, the verified range. Derivation (Laguerre addition theorem)
+and verification: See `docs/physics.md#rod-rigid-kernel`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-#: Largest normalized time the rigid kernel evaluates (verified to 1e-9 up to there).
+#: Largest normalized time the rigid kernel evaluates (the verified range).
 T_LIMIT = 1.0e4
 
-#: Mass ratios the kernel is verified for. Above 1e6 the Laguerre sums of a heavy striker
-#: cancel (the error grows like 2e-17 alpha: 3e-7 at 1e10, order 1 at 1e16); below 1e-10
-#: the certified contact-time search needs more cells than it allows, and far below the
-#: recurrences overflow.
+#: Mass ratios the kernel is verified for: above, the Laguerre sums of a heavy striker
+#: cancel; below, the certified search runs out of cells (`docs/physics.md#rod-rigid-kernel`).
 ALPHA_RANGE = (1.0e-10, 1.0e6)
 
 
@@ -279,9 +260,8 @@ def rigid_local(which, m, tau, a_idx, alpha, f, tables, derivative=False):
 def rigid_evaluate(which, t, alpha, f):
     """Rigid-contact ``y`` or ``N`` at flat arrays ``t >= 0``, ``alpha``, ``f``.
 
-    Refuses ``t > T_LIMIT``: up to there the kernel agrees with an independent modal
-    expansion to better than 1e-9 (tests), and the tables cost ``O((t/2)^2)`` per
-    distinct ``alpha``.
+    Refuses ``t > T_LIMIT``, the verified range (the tables cost ``O((t/2)^2)`` per
+    distinct ``alpha``; `docs/physics.md#rod-rigid-kernel`).
     """
     if t.size and not np.max(t) <= T_LIMIT:
         raise ValueError(

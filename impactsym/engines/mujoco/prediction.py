@@ -353,8 +353,8 @@ class RestProof:
 def _warn_timestep(coeffs: Coefficients, solimp, rho, gravity, speed, timestep, stacklevel=3):
     """Warn when MuJoCo's Euler step is too coarse for about 1 % in the restitution.
 
-    The limits ``omega0 dt <= 0.03`` and ``g dt / v0 <= 0.005`` are measured
-    (`docs/physics.md#simulation-engines`).
+    Limits ``omega0 dt <= 0.03`` and ``g dt / v0 <= 0.005``; where they come from: See
+    `docs/physics.md#mujoco-prediction`.
     """
     if timestep is None:
         return
@@ -389,9 +389,9 @@ def predict(
 ) -> Prediction:
     r"""Predict MuJoCo's restitution and contact time for a contact with ``solref``, ``solimp``.
 
-    Solves the loaded oscillator above to its first release: in closed form for a flat
-    ``solimp``, by Runge-Kutta integration for a varying one
-    (`docs/physics.md#simulation-engines`).
+    Solves the loaded oscillator (module docstring) to its first release: in closed form
+    for a flat ``solimp`` (linear), by Runge-Kutta for a varying one (the impedance
+    depends on the penetration). See `docs/physics.md#mujoco-prediction`.
 
     Parameters
     ----------
