@@ -10,8 +10,7 @@ import re
 import numpy as np
 import pytest
 import sympy as sp
-from references.multibody_systems import FullSimulation, bar_system
-from scipy.integrate import solve_ivp
+from references.multibody_systems import FullSimulation, bar_system, reduced_oscillator
 
 from impactsym.multibody.design import damping_for_restitution, penalty_for_targets, stick_damping
 from impactsym.multibody.reduction import reduce_contact
@@ -129,20 +128,7 @@ def test_penalty_design_targets_are_validated(bad, tmp_path, monkeypatch):
 def reduced_oscillator_releases(r, condition):
     """Whether ``m~ z'' + d~ z' + c~ z = F_n`` from ``z = 0, z' = v0`` reaches the end of
     contact (SciPy ``solve_ivp`` with events, independent of the section-2 closed forms)."""
-    m_, d_, c_, load = r.m_eff, r.d_eff, r.c_eff, r.load
-
-    def end(_t, y):
-        return y[0] if condition == "position" else c_ * y[0] + d_ * y[1]
-
-    end.terminal, end.direction = True, -1
-    sol = solve_ivp(
-        lambda _t, y: [y[1], (load - d_ * y[1] - c_ * y[0]) / m_],
-        (0.0, 60.0 / r.omega0),
-        [0.0, r.v0],
-        events=end,
-        rtol=1e-12,
-        atol=1e-15 * r.v0 / r.omega0,
-    )
+    sol = reduced_oscillator(r, condition, 60.0 / r.omega0, atol=1e-15 * r.v0 / r.omega0)
     return sol.t_events[0].size > 0
 
 

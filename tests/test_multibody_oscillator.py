@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 import sympy as sp
 from conftest import CODE
-from references.multibody_systems import FullSimulation, Model
-from scipy.integrate import solve_ivp
+from references.multibody_systems import FullSimulation, Model, reduced_oscillator
 from sympy.physics import mechanics as me
 
 from impactsym.multibody.reduction import reduce_contact
@@ -90,21 +89,7 @@ def test_single_particle_contact_equals_its_full_simulation():
 def test_reduced_contact_time_is_the_first_root_of_the_reduced_oscillator(condition):
     # independent check of the section-2 mapping: integrate m~ z'' + d~ z' + c~ z = F_n
     r = double_pendulum().reduce(4e4, 25.0, 0.2)
-    m_, d_, c_, load = r.m_eff, r.d_eff, r.c_eff, r.load
-
-    def event(_t, y):
-        return y[0] if condition == "position" else c_ * y[0] + d_ * y[1]
-
-    event.terminal, event.direction = True, -1
-    sol = solve_ivp(
-        lambda _t, y: [y[1], (load - d_ * y[1] - c_ * y[0]) / m_],
-        (0, 1.0),
-        [0.0, r.v0],
-        events=event,
-        rtol=1e-12,
-        atol=1e-15,
-        max_step=1e-4,
-    )
+    sol = reduced_oscillator(r, condition, 1.0, atol=1e-15, max_step=1e-4)
     assert r.contact_time(condition) == pytest.approx(sol.t_events[0][0], rel=1e-7)
     assert r.restitution(condition) == pytest.approx(-sol.y_events[0][0][1] / r.v0, rel=1e-6)
     assert r.verdict(condition) == "release"

@@ -168,3 +168,25 @@ class FullSimulation:
         _, u0, normal0, _ = parts(np.asarray(y0, dtype=float))
         _, u_c, normal_c, _ = parts(sol.y_events[0][0])
         return float(sol.t_events[0][0]), float(-(normal_c @ u_c) / (normal0 @ u0))
+
+
+def reduced_oscillator(r, condition: str, t_end: float, *, atol: float, max_step=np.inf):
+    """``m~ z'' + d~ z' + c~ z = F_n`` from ``z = 0, z' = v0`` (the reduced contact ``r``),
+    integrated by SciPy ``solve_ivp`` to the first end of contact under ``condition``
+    (an event; none before ``t_end`` when the body sticks). Independent of the section-2
+    closed forms; ``sol.t_events[0]`` and ``sol.y_events[0]`` hold the end."""
+    m_, d_, c_, load = r.m_eff, r.d_eff, r.c_eff, r.load
+
+    def end(_t, y):
+        return y[0] if condition == "position" else c_ * y[0] + d_ * y[1]
+
+    end.terminal, end.direction = True, -1
+    return solve_ivp(
+        lambda _t, y: [y[1], (load - d_ * y[1] - c_ * y[0]) / m_],
+        (0.0, t_end),
+        [0.0, r.v0],
+        events=end,
+        rtol=1e-12,
+        atol=atol,
+        max_step=max_step,
+    )
