@@ -63,3 +63,23 @@ def test_finite_stiffness_starts_from_rest_and_plots_itself():
     (line,) = [line for line in ax.lines if line.get_label().startswith("$")]
     assert np.array_equal(line.get_ydata(), h.displacement)
     plt.close(ax.figure)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "pattern"),
+    [
+        ({"alpha": "x"}, TypeError, "^alpha must be a real number"),
+        ({"alpha": [1.0, 2.0]}, TypeError, "^alpha must be a single number"),
+        ({"f": -1.0}, ValueError, "^f must be >= 0"),
+        ({"kappa": "x"}, TypeError, "^kappa "),
+        ({"t_max": -1.0}, ValueError, "^t_max must be > 0"),
+        ({"t_max": "3"}, TypeError, "^t_max must be a real number"),
+        ({"n_points": 1}, ValueError, "^n_points must be an integer >= 2"),
+        ({"n_points": 2.5}, ValueError, "^n_points must be an integer >= 2"),
+    ],
+)
+def test_bad_input_is_refused_by_name(kwargs, error, pattern):
+    args = {"alpha": 1.0, "f": 0.1, **kwargs}
+    alpha, f = args.pop("alpha"), args.pop("f")
+    with pytest.raises(error, match=pattern):
+        time_history(alpha, f, **args)

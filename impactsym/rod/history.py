@@ -17,6 +17,7 @@ import numpy as np
 
 from impactsym.rod.api import contact_force, displacement
 from impactsym.rod.contact_times import contact_time
+from impactsym.validation import real_array
 
 
 @dataclass(frozen=True)
@@ -92,14 +93,21 @@ def time_history(
     >>> h.t[0], h.t_max, bool(h.contact_force[0] == 1.0)
     (np.float64(0.0), 4.0, True)
     """
+    for name, value in (("alpha", alpha), ("f", f), ("t_max", t_max)):
+        if np.ndim(real_array(name, value)[0]) != 0:
+            raise TypeError(f"{name} must be a single number, got {value!r}")
+    if isinstance(n_points, bool) or not isinstance(n_points, (int, np.integer)) or n_points < 2:
+        raise ValueError(f"n_points must be an integer >= 2, got {n_points!r}")
+    real_array("t_max", t_max, lower=0.0, strict=True)
     t = _sample_times(t_max, n_points)
+    y = np.asarray(displacement(t, alpha, f, kappa=kappa))  # validates alpha, f and kappa
     return TimeHistory(
         alpha=float(alpha),
         f=float(f),
         kappa=float(kappa),
         t_max=float(t_max),
         t=t,
-        displacement=np.asarray(displacement(t, alpha, f, kappa=kappa)),
+        displacement=y,
         contact_force=np.asarray(contact_force(t, alpha, f, kappa=kappa)),
         contact_time_position=float(
             contact_time(alpha, f, condition="position", kappa=kappa, t_max=t_max)
