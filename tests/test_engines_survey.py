@@ -62,3 +62,10 @@ def test_stick_map_is_laid_out_dampratio_by_speed_with_three_verdicts():
     # without gravity nothing sticks and the force always ends the contact
     verdict, _ = stick_map(speed, dampratio, gravity=0.0)
     assert np.all(verdict == 1)
+
+
+def test_textbook_targets_are_refused_by_name():
+    with pytest.raises(TypeError, match="^targets must be a real number"):
+        textbook_restitution("x")
+    with pytest.raises(ValueError, match="^targets must be > 0"):
+        textbook_restitution(np.array([0.0, 0.5]))

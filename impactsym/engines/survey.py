@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from impactsym.engines import lammps, mujoco
+from impactsym.validation import real_array
 
 #: A flat MuJoCo impedance (``solimp``): 0.9 at every penetration, so the contact is a
 #: linear spring-damper with the stiffness and damping of ``solref``.
@@ -30,7 +31,7 @@ def textbook_restitution(targets: np.ndarray) -> dict[str, np.ndarray]:
     >>> round(float(out["LAMMPS coeff_restitution + limit_damping"][0]), 4)
     0.5503
     """
-    targets = np.asarray(targets, dtype=float)
+    targets = real_array("targets", targets, lower=0.0, strict=True)[0]
     dampratio = np.asarray(lammps.textbook_damping_ratio(targets))
     out = {}
     for name, solimp in (("flat", FLAT), ("default", mujoco.DEFAULT_SOLIMP)):
