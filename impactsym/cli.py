@@ -1,5 +1,6 @@
 """The ``impactsym`` command (also ``python -m impactsym``).
 
+* ``impactsym --version`` -- the installed version;
 * ``impactsym reproduce --out DIR [--quick] [--force]`` -- every figure, table and formula;
 * ``impactsym latex NAME`` (``--list`` for the names) -- one formula, for pasting;
 * ``impactsym export python FILE`` / ``impactsym export latex FILE`` -- generated files;
@@ -18,11 +19,14 @@ import threading
 from collections.abc import Sequence
 from pathlib import Path
 
+from impactsym import __version__
+
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="impactsym", description="Exact symbolic-numeric impact mechanics."
     )
+    parser.add_argument("--version", action="version", version=f"impactsym {__version__}")
     commands = parser.add_subparsers(dest="command", required=True)
     rep = commands.add_parser("reproduce", help="regenerate every figure, table and formula")
     rep.add_argument(

@@ -129,3 +129,14 @@ def test_cli_export_writes_atomically(tmp_path):
     assert main(["export", "python", str(target)]) == 0
     assert [p.name for p in tmp_path.iterdir()] == ["m.py"]
     assert "def boundary_force" in target.read_text()
+
+
+def test_version_matches_the_installed_distribution(capsys):
+    import re
+
+    with pytest.raises(SystemExit) as stop:
+        main(["--version"])
+    assert stop.value.code == 0
+    pyproject = (Path(__file__).parents[1] / "pyproject.toml").read_text()
+    version = re.search(r'^version = "([^"]+)"', pyproject, re.M).group(1)
+    assert capsys.readouterr().out.strip() == f"impactsym {version}"
