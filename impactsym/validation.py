@@ -44,6 +44,30 @@ def check_condition(condition: object) -> str:
     return condition
 
 
+
+def check_count(name: str, value: object, *, lower: int = 1, upper: int) -> int:
+    """Return ``value`` as an ``int`` if it is a whole number in ``[lower, upper]``.
+
+    Any integral type is taken (``int``, NumPy integers); ``bool``, floats (also
+    ``2.0``) and text are refused, as is a count above ``upper``: caps and step
+    counts set how much work and memory a call may take, so an absurd one is an
+    error naming the argument, not minutes of work or a ``MemoryError``.
+
+    >>> check_count("max_contacts", np.int64(5), upper=10**6)
+    5
+    >>> check_count("steps", 0, upper=10)
+    Traceback (most recent call last):
+    ...
+    ValueError: steps must be an integer in [1, 10], got 0
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise TypeError(
+            f"{name} must be an integer, got {_short(value)} of type {type(value).__name__}"
+        )
+    if not lower <= value <= upper:
+        raise ValueError(f"{name} must be an integer in [{lower}, {upper}], got {value}")
+    return int(value)
+
 def real_array(
     name: str,
     value: object,

@@ -17,6 +17,7 @@ import sympy as sp
 
 from impactsym.multibody.oscillator import ReducedContact
 from impactsym.multibody.reduction import reduce_contact
+from impactsym.validation import reject_strings
 
 
 @dataclass(frozen=True)
@@ -43,6 +44,7 @@ class MultibodyExample:
         >>> falling_bar().at(2.0)[sp.Symbol("v_y")]
         -2.0
         """
+        reject_strings("speed", speed)
         state = dict(zip(self.q, self.q0, strict=True))
         state.update({u: speed * c for u, c in zip(self.qd, self.direction, strict=True)})
         return state

@@ -27,7 +27,8 @@ from impactsym.multibody.oscillator import ReducedContact
 from impactsym.multibody.reduction import PROJECTIONS
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_illinois
-from impactsym.validation import as_sympy, check_condition, real_array, renamed
+from impactsym.records import array_record
+from impactsym.validation import as_sympy, check_condition, check_count, real_array, renamed
 
 
 # ---------------------------------------------------------------------------------
@@ -89,6 +90,7 @@ def _rk4(eq: _Equations, y: np.ndarray, h: np.ndarray, k: np.ndarray, d: np.ndar
     return y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
 
 
+@array_record
 @dataclass(frozen=True)
 class SimulatedContact:
     """Result of :func:`simulate_contact`: contact time and restitution per case."""
@@ -108,7 +110,7 @@ def simulate_contact(
     d: Any,
     speed: Any,
     *,
-    condition: str | Sequence[str] = "force",
+    condition: str | Sequence[str],
     t_max: float | None = None,
     steps: int = 50,
     tau_max: float | None = None,
@@ -146,9 +148,13 @@ def simulate_contact(
     k_arr, _ = real_array("k", k, lower=0.0, strict=True)
     d_arr, _ = real_array("d", d, lower=0.0)
     v_arr, _ = real_array("speed", speed, lower=0.0, strict=True)
+    steps, t_max = _step_budget(steps, t_max)
+    if isinstance(condition, str):
+        check_condition(condition)
+    else:
+        for c in np.asarray(condition, dtype=object).ravel():
+            check_condition(c)
     cond = np.asarray(condition)
-    for c in np.unique(cond):
-        check_condition(str(c))
     shape = np.broadcast_shapes(k_arr.shape, d_arr.shape, v_arr.shape, cond.shape)
     k_b, d_b, v_b = (np.broadcast_to(a, shape).ravel() for a in (k_arr, d_arr, v_arr))
     force = np.broadcast_to(cond == "force", shape).ravel()
@@ -179,6 +185,26 @@ def simulate_contact(
         c_old[active] = c_new
         active = active[~crossed]
     return SimulatedContact(t_c.reshape(shape), e.reshape(shape))
+
+
+#: The most RK4 steps one simulated contact may take (``t_max * steps``): about a
+#: minute of work for a single case; a larger budget is refused by name.
+MAX_STEPS = 10**6
+
+
+def _step_budget(steps: object, t_max: object) -> tuple[int, float]:
+    """``steps`` per time unit and the horizon ``t_max``, checked against :data:`MAX_STEPS`."""
+    steps = check_count("steps", steps, upper=MAX_STEPS)
+    horizon, _ = real_array("t_max", t_max, lower=0.0, strict=True)
+    if horizon.ndim:
+        raise TypeError(f"t_max must be one number, got an array of shape {horizon.shape}")
+    t_max = float(horizon)
+    if t_max * steps > MAX_STEPS:
+        raise ValueError(
+            f"t_max * steps = {t_max:g} * {steps} asks for more than {MAX_STEPS} RK4 steps "
+            "per case; lower t_max (in units of 1 / omega) or steps"
+        )
+    return steps, t_max
 
 
 def _locate(eq, y0, h, k, d, force) -> tuple[np.ndarray, np.ndarray]:
@@ -228,6 +254,7 @@ def reduce_at_speeds(
     )
 
 
+@array_record
 @dataclass(frozen=True)
 class Agreement:
     """Reduced against full model over a sweep of ``(k, d, speed)`` for one example.
@@ -378,7 +405,7 @@ def convergence_study(
     *,
     damping: float = 0.15,
     force: float = 0.3,
-    condition: str = "position",
+    condition: str,
     steps: int = 50,
 ) -> dict[str, np.ndarray]:
     """Relative contact-time error of the reduced model as the contact stiffens.
@@ -388,12 +415,15 @@ def convergence_study(
     ``1/omega``). Returns ``{"omega": ..., "impulse": ..., "normal": ...}`` with the
     signed relative errors ``t_reduced / t_full - 1``.
 
-    >>> conv = convergence_study(double_pendulum(), [1000.0], steps=20)
+    >>> conv = convergence_study(double_pendulum(), [1000.0], steps=20, condition="position")
     >>> bool(abs(conv["impulse"][0]) < abs(conv["normal"][0]) < 1e-3)
     True
     """
     check_condition(condition)
-    omegas_arr = np.asarray(omegas, dtype=float)
+    omegas_arr, _ = real_array("omegas", omegas, lower=0.0, strict=True)
+    if omegas_arr.ndim != 1 or omegas_arr.size == 0:
+        raise ValueError(f"omegas must be a non-empty 1-d sequence, got shape {omegas_arr.shape}")
+    check_count("steps", steps, upper=MAX_STEPS)
     m_eff = example.reduce().m_eff
     rest = float(reduce_at_speeds(example, [1e-9]).load[0]) / m_eff
     k = m_eff * omegas_arr**2
