@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from impactsym.records import array_record
 from impactsym.validation import (
     as_sympy,
     as_sympy_matrix,
@@ -32,6 +33,7 @@ __all__ = ["ReducedContact"]
 Scalar = Any  # a float, a NumPy array (vectorized k, d) or a SymPy expression
 
 
+@array_record
 @dataclass(frozen=True)
 class ReducedContact:
     """The scalar contact oscillator ``m~ z'' + d~ z' + c~ z = F_n`` of a multibody contact.
@@ -194,7 +196,7 @@ class ReducedContact:
         return replace(self, k=k_val, d=d_val)
 
     # -- section 2 ----------------------------------------------------------------
-    def contact(self, condition: str = "force") -> Any:
+    def contact(self, condition: str) -> Any:
         """The section-2 result (``impactsym.contact.physical_contact``) of the reduction.
 
         It carries ``D, f, omega0, normalized_contact_time, contact_time, restitution,
@@ -221,7 +223,7 @@ class ReducedContact:
             self.m_eff, self.c_eff, self.d_eff, self.v0, self.load, condition=condition
         )
 
-    def contact_time(self, condition: str = "force") -> float | np.ndarray:
+    def contact_time(self, condition: str) -> float | np.ndarray:
         """Physical contact time ``t_c = tau_c / omega0`` (``inf`` when the contact sticks).
 
         ``condition="force"`` ends the contact when ``d~ z' + c~ z`` (the normal force of
@@ -236,7 +238,7 @@ class ReducedContact:
         """
         return _numeric(self.contact(condition).contact_time)
 
-    def normalized_contact_time(self, condition: str = "force") -> float | np.ndarray:
+    def normalized_contact_time(self, condition: str) -> float | np.ndarray:
         """Contact time ``tau_c = omega0 t_c`` in the units of paper section 2.
 
         A critically damped contact without load releases at ``tau_c = 2`` under the force
@@ -251,7 +253,7 @@ class ReducedContact:
         """
         return _numeric(self.contact(condition).normalized_contact_time)
 
-    def restitution(self, condition: str = "force") -> float | np.ndarray:
+    def restitution(self, condition: str) -> float | np.ndarray:
         """Coefficient of restitution ``e = -z'(t_c) / v0`` (``0.0`` when sticking).
 
         >>> from impactsym.multibody import reduce_contact
@@ -265,7 +267,7 @@ class ReducedContact:
         """
         return _numeric(self.contact(condition).restitution)
 
-    def sticks(self, condition: str = "force") -> bool | np.ndarray:
+    def sticks(self, condition: str) -> bool | np.ndarray:
         """Whether the reduced contact sticks (verdict ``"stick"``) under ``condition``.
 
         >>> from impactsym.multibody import reduce_contact
@@ -278,7 +280,7 @@ class ReducedContact:
         value = np.asarray(self.contact(condition).sticks, dtype=bool)
         return bool(value) if value.ndim == 0 else value
 
-    def verdict(self, condition: str = "force") -> str | np.ndarray:
+    def verdict(self, condition: str) -> str | np.ndarray:
         """``"stick"`` or ``"release"`` for each penalty pair.
 
         >>> from impactsym.multibody import reduce_contact
