@@ -236,32 +236,32 @@ def test_position_contact_grows_without_bound_towards_critical_damping():
 
 
 def test_broadcasting_shapes_and_scalar_types():
-    out = contact_time(np.array([[0.1], [0.2]]), np.array([0.0, 0.5, 1.0]))
+    out = contact_time(np.array([[0.1], [0.2]]), np.array([0.0, 0.5, 1.0]), condition="force")
     assert out.shape == (2, 3)
     assert out.dtype == np.float64
-    assert isinstance(contact_time(0.1, 0.2), float)
-    assert isinstance(restitution(0.1, 0.2), float)
-    assert isinstance(stick_boundary(0.3), float)
-    assert stick_boundary([0.1, 0.2]).shape == (2,)
-    assert contact_time(np.zeros((0,)), 0.2).shape == (0,)
+    assert isinstance(contact_time(0.1, 0.2, condition="force"), float)
+    assert isinstance(restitution(0.1, 0.2, condition="force"), float)
+    assert isinstance(stick_boundary(0.3, condition="force"), float)
+    assert stick_boundary([0.1, 0.2], condition="force").shape == (2,)
+    assert contact_time(np.zeros((0,)), 0.2, condition="force").shape == (0,)
 
 
 @pytest.mark.parametrize("function", [contact_time, restitution])
 def test_bad_input_is_rejected_with_the_argument_named(function):
     with pytest.raises(ValueError, match="D must be >= 0, got -0.1"):
-        function(-0.1, 0.2)
+        function(-0.1, 0.2, condition="force")
     with pytest.raises(ValueError, match="f must be finite, got nan"):
-        function(0.1, float("nan"))
+        function(0.1, float("nan"), condition="force")
     with pytest.raises(ValueError, match="D must be finite, got inf"):
-        function(np.inf, 0.2)
+        function(np.inf, 0.2, condition="force")
     with pytest.raises(ValueError, match=r"f must be >= 0, got -1.0 \(at index \(1,\)"):
-        function(0.1, [0.0, -1.0])
+        function(0.1, [0.0, -1.0], condition="force")
     with pytest.raises(TypeError, match="D must be a real number"):
-        function("0.1", 0.2)
+        function("0.1", 0.2, condition="force")
     with pytest.raises(TypeError, match="f must be a real number"):
-        function(0.1, 1 + 2j)
+        function(0.1, 1 + 2j, condition="force")
     with pytest.raises(TypeError, match="f must be a real number"):
-        function(0.1, None)
+        function(0.1, None, condition="force")
     with pytest.raises(ValueError, match="condition must be 'position' or 'force'"):
         function(0.1, 0.2, condition="Force")
     with pytest.raises(TypeError, match="condition must be the string"):
@@ -270,9 +270,9 @@ def test_bad_input_is_rejected_with_the_argument_named(function):
 
 def test_stick_boundary_rejects_bad_input():
     with pytest.raises(ValueError, match="f must be >= 0"):
-        stick_boundary(-1.0)
+        stick_boundary(-1.0, condition="force")
     with pytest.raises(ValueError, match="f must be finite"):
-        stick_boundary(np.inf)
+        stick_boundary(np.inf, condition="force")
     with pytest.raises(ValueError, match="condition"):
         stick_boundary(0.5, condition="speed")
 
@@ -282,7 +282,9 @@ def test_physical_contact_scales_with_units():
     assert base.omega0 == pytest.approx(5.0)
     assert pytest.approx(3.0 / (2 * 10.0)) == base.D
     assert base.f == pytest.approx(4.0 / (3.0 * 0.7))
-    assert base.contact_time == pytest.approx(contact_time(base.D, base.f) / 5.0, rel=1e-15)
+    assert base.contact_time == pytest.approx(
+        contact_time(base.D, base.f, condition="force") / 5.0, rel=1e-15
+    )
     # the same impact with time measured in milliseconds (lengths and masses unchanged):
     # k -> k/lam^2, d -> d/lam, v0 -> v0/lam, F -> F/lam^2 leave D, f unchanged, t_c -> lam t_c
     lam = 1e3
@@ -316,7 +318,7 @@ def test_physical_contact_matches_ode_in_physical_units():
 
 def test_undamped_contact_with_pressing_force_is_solved_in_closed_form():
     m, k, v0, F = 1.0, 4.0, 0.5, 3.0
-    result = physical_contact(m, k, 0.0, v0, F)
+    result = physical_contact(m, k, 0.0, v0, F, condition="force")
     assert result.D == 0.0
     assert result.f == math.inf
     assert result.restitution == 1.0
@@ -333,18 +335,18 @@ def test_undamped_contact_with_pressing_force_is_solved_in_closed_form():
 
 
 def test_physical_contact_broadcasts_and_validates():
-    result = physical_contact(1.0, 1.0, np.array([0.0, 0.5, 40.0]), 1.0, 0.1)
+    result = physical_contact(1.0, 1.0, np.array([0.0, 0.5, 40.0]), 1.0, 0.1, condition="force")
     assert result.sticks.tolist() == [False, False, True]
     with pytest.raises(ValueError, match="m must be > 0, got 0.0"):
-        physical_contact(0.0, 1.0, 1.0, 1.0)
+        physical_contact(0.0, 1.0, 1.0, 1.0, condition="force")
     with pytest.raises(ValueError, match="k must be > 0"):
-        physical_contact(1.0, -1.0, 1.0, 1.0)
+        physical_contact(1.0, -1.0, 1.0, 1.0, condition="force")
     with pytest.raises(ValueError, match="d must be >= 0"):
-        physical_contact(1.0, 1.0, -1.0, 1.0)
+        physical_contact(1.0, 1.0, -1.0, 1.0, condition="force")
     with pytest.raises(ValueError, match="v0 must be > 0"):
-        physical_contact(1.0, 1.0, 1.0, 0.0)
+        physical_contact(1.0, 1.0, 1.0, 0.0, condition="force")
     with pytest.raises(ValueError, match="F must be finite"):
-        physical_contact(1.0, 1.0, 1.0, 1.0, np.nan)
+        physical_contact(1.0, 1.0, 1.0, 1.0, np.nan, condition="force")
     with pytest.raises(ValueError, match="condition"):
         physical_contact(1.0, 1.0, 1.0, 1.0, 0.0, condition="none")
 
@@ -364,9 +366,9 @@ def _attempt(call):
 
 
 SECTION2 = {
-    "contact_time": lambda D, f: contact_time(D, f),
+    "contact_time": lambda D, f: contact_time(D, f, condition="force"),
     "restitution": lambda D, f: restitution(D, f, condition="position"),
-    "contact_surface": lambda D, f: contact_surface(D, f),
+    "contact_surface": lambda D, f: contact_surface(D, f, condition="force"),
 }
 
 
@@ -443,23 +445,27 @@ def test_extreme_magnitudes_give_a_value_in_range_or_a_named_refusal(log_D, log_
 
 
 def test_the_special_points_work():
-    assert contact_time(1e100, 0.0) < 1e-97  # f = 0 always releases under the force condition
-    assert contact_time(1.0, 0.0) == pytest.approx(2.0, rel=1e-12)
-    assert stick_boundary(0.0) == math.inf
+    assert (
+        contact_time(1e100, 0.0, condition="force") < 1e-97
+    )  # f = 0 always releases under the force condition
+    assert contact_time(1.0, 0.0, condition="force") == pytest.approx(2.0, rel=1e-12)
+    assert stick_boundary(0.0, condition="force") == math.inf
     assert stick_boundary(0.0, condition="position") == 1.0
-    assert contact_time(0.0, 1e300) == pytest.approx(math.pi, rel=1e-15)  # D = 0: 2Df = 0
-    assert contact_time(1.0, 1e300) == math.inf
-    assert restitution(0.0, 1e300) == 1.0
+    assert contact_time(0.0, 1e300, condition="force") == pytest.approx(
+        math.pi, rel=1e-15
+    )  # D = 0: 2Df = 0
+    assert contact_time(1.0, 1e300, condition="force") == math.inf
+    assert restitution(0.0, 1e300, condition="force") == 1.0
 
 
 def test_stick_boundary_for_large_force_is_the_asymptote_and_the_kernel_agrees():
     f = 2e12
-    d_star = stick_boundary(f)
+    d_star = stick_boundary(f, condition="force")
     assert d_star == pytest.approx((16 * math.pi * f**2) ** (-1 / 3), rel=5e-9)
-    assert contact_time(d_star * (1 - 1e-6), f) < math.inf
-    assert contact_time(d_star * (1 + 1e-6), f) == math.inf
+    assert contact_time(d_star * (1 - 1e-6), f, condition="force") < math.inf
+    assert contact_time(d_star * (1 + 1e-6), f, condition="force") == math.inf
     with pytest.raises(ValueError, match=r"^D = .*, f = 1e\+50: the static penetration"):
-        contact_time(stick_boundary(1e50) * 0.999, 1e50)
+        contact_time(stick_boundary(1e50, condition="force") * 0.999, 1e50, condition="force")
 
 
 @pytest.mark.parametrize(
@@ -472,7 +478,7 @@ def test_stick_boundary_for_large_force_is_the_asymptote_and_the_kernel_agrees()
 )
 def test_physical_contact_overflow_names_the_inputs(inputs, names):
     with pytest.raises(ValueError, match=f"the inputs {names} are too extreme"):
-        physical_contact(**inputs)
+        physical_contact(**inputs, condition="force")
 
 
 @pytest.mark.parametrize(
@@ -487,7 +493,7 @@ def test_physical_contact_overflow_names_the_inputs(inputs, names):
     ],
 )
 def test_physical_contact_extreme_inputs_are_consistent(inputs):
-    c = physical_contact(**inputs)
+    c = physical_contact(**inputs, condition="force")
     assert c.sticks == math.isinf(c.normalized_contact_time)
     assert math.isinf(c.contact_time) == math.isinf(c.normalized_contact_time)
     if not c.sticks:
@@ -527,7 +533,7 @@ def test_physical_contact_at_any_magnitude_is_consistent_or_names_its_inputs(
 
 def test_physical_contact_vanishing_damping_is_the_undamped_limit():
     # d too small to matter: z'' + z = b with b = F / (sqrt(k m) v0) = 0.5
-    c = physical_contact(m=1.0, k=1.0, d=1e-320, v0=1.0, F=0.5)
+    c = physical_contact(m=1.0, k=1.0, d=1e-320, v0=1.0, F=0.5, condition="force")
     z = lambda tau: 0.5 * (1 - math.cos(tau)) + math.sin(tau)  # noqa: E731
     assert abs(z(c.normalized_contact_time)) < 1e-14
     assert c.restitution == 1.0
@@ -535,4 +541,4 @@ def test_physical_contact_vanishing_damping_is_the_undamped_limit():
 
 def test_physical_contact_names_mismatched_shapes():
     with pytest.raises(ValueError, match=r"m \(shape \(2,\)\) and k \(shape \(3,\)\)"):
-        physical_contact([1.0, 2.0], [1.0, 2.0, 3.0], 0.1, 1.0)
+        physical_contact([1.0, 2.0], [1.0, 2.0, 3.0], 0.1, 1.0, condition="force")

@@ -53,8 +53,8 @@ def _release_time_mp(D, f=0):
 @pytest.mark.parametrize("D", [1e9, 1e20, 1e40])
 def test_far_overdamped_force_contact_releases_at_the_exact_time(D):
     tau_ref, e_ref = _release_time_mp(D)
-    assert contact_time(D, 0.0) == pytest.approx(tau_ref, rel=1e-14)
-    assert restitution(D, 0.0) == pytest.approx(e_ref, rel=1e-12)
+    assert contact_time(D, 0.0, condition="force") == pytest.approx(tau_ref, rel=1e-14)
+    assert restitution(D, 0.0, condition="force") == pytest.approx(e_ref, rel=1e-12)
     assert contact_time(D, 0.0, condition="position") == math.inf
     assert restitution(D, 0.0, condition="position") == 0.0
 
@@ -68,13 +68,13 @@ def test_far_overdamped_closed_form_holds_to_the_largest_float(D):
         mu = Dm + sigma
         tau = mp.log((2 * Dm * mu - 1) * mu**2) / (2 * sigma)
         e = (mp.exp(-tau / mu) / mu - mu * mp.exp(-mu * tau)) / (2 * sigma)
-    assert contact_time(D, 0.0) == pytest.approx(float(tau), rel=1e-14)
-    assert restitution(D, 0.0) == pytest.approx(float(e), rel=1e-12, abs=1e-320)
+    assert contact_time(D, 0.0, condition="force") == pytest.approx(float(tau), rel=1e-14)
+    assert restitution(D, 0.0, condition="force") == pytest.approx(float(e), rel=1e-12, abs=1e-320)
 
 
 def test_far_overdamped_limit_joins_the_kernels_continuously():
     D = np.array([0.999e8, 1e8, 1.001e8])
-    tau = contact_time(D, 0.0)
+    tau = contact_time(D, 0.0, condition="force")
     np.testing.assert_allclose(tau, [_release_time_mp(d)[0] for d in D], rtol=1e-13)
 
 
@@ -101,12 +101,12 @@ def _boundary_sign_mp(D, f, dps=80):
 
 @pytest.mark.parametrize("f", [1e-40, 1e-100, 1e-300])
 def test_tiny_force_stick_boundary_follows_its_asymptote_and_is_exact(f):
-    d_star = stick_boundary(f)
+    d_star = stick_boundary(f, condition="force")
     assert d_star == pytest.approx(0.5 * f**-0.25, rel=1e-15)
     if f == 1e-40:  # the matrix exponential gets slow beyond
         assert _boundary_sign_mp(d_star * (1 - 1e-9), f) < 0  # releases
         assert _boundary_sign_mp(d_star * (1 + 1e-9), f) > 0  # sticks
-    assert contact_time(d_star * 1.001, f) == math.inf
+    assert contact_time(d_star * 1.001, f, condition="force") == math.inf
 
 
 # -- the contact from an arbitrary state ----------------------------------------------

@@ -31,6 +31,7 @@ FLOORS = [
         "impactsym._lazy",
         "impactsym._files",
         "impactsym.validation",
+        "impactsym.records",
         "impactsym.numeric",
         "impactsym.symbolic",
     ),
@@ -315,3 +316,60 @@ def test_options_are_keyword_only_in_every_public_function():
             if param.name in OPTIONS and param.kind is not param.KEYWORD_ONLY and not subject:
                 positional.append(f"{qualname}({param.name})")
     assert positional == [], listed(positional)
+
+
+#: Where the two contact conditions give different answers, the caller must say which one
+#: (a default would hand out a plausible number that may be the wrong one).
+CONDITION_REQUIRED = {
+    "impactsym.contact.api.contact_time",
+    "impactsym.contact.api.restitution",
+    "impactsym.contact.api.contact_surface",
+    "impactsym.contact.api.stick_boundary",
+    "impactsym.contact.api.physical_contact",
+    "impactsym.contact.bounce.bounce_sequence",
+    "impactsym.contact.bounce.bounce_map",
+    "impactsym.rod.contact_times.contact_time",
+    "impactsym.multibody.design.stick_damping",
+    "impactsym.multibody.design.damping_for_restitution",
+    "impactsym.multibody.design.penalty_for_targets",
+    "impactsym.multibody.simulation.simulate_contact",
+}
+
+
+def test_condition_has_no_default_where_the_conditions_differ():
+    import inspect
+
+    callables = dict(public_callables())
+    assert CONDITION_REQUIRED <= set(callables), sorted(CONDITION_REQUIRED - set(callables))
+    defaulted = [
+        name
+        for name, fn in callables.items()
+        if "condition" in inspect.signature(fn).parameters
+        # None means "only where it matters, and then it is asked for" (the latex methods)
+        and inspect.signature(fn).parameters["condition"].default
+        not in (inspect.Parameter.empty, None)
+    ]
+    assert defaulted == [], listed(defaulted)
+
+
+def test_reduced_contact_verdicts_need_the_condition():
+    from impactsym.multibody.oscillator import ReducedContact
+    import inspect
+
+    for method in (
+        "contact",
+        "contact_time",
+        "normalized_contact_time",
+        "restitution",
+        "sticks",
+        "verdict",
+    ):
+        param = inspect.signature(getattr(ReducedContact, method)).parameters["condition"]
+        assert param.default is inspect.Parameter.empty, method
+
+
+def test_a_forgotten_condition_is_a_type_error_naming_it():
+    from impactsym import contact
+
+    with pytest.raises(TypeError, match="condition"):
+        contact.contact_time(0.5, 0.2)

@@ -57,11 +57,13 @@ def test_unloaded_particle_never_sticks_under_the_force_condition():
 def test_penalty_for_targets_delivers_in_the_full_simulation():
     ex = falling_bar()
     reduced = ex.reduce(1.0, 0.0, 0.5)
-    kk, dd = penalty_for_targets(reduced, restitution=0.5, contact_time=2e-3)
+    kk, dd = penalty_for_targets(reduced, restitution=0.5, contact_time=2e-3, condition="force")
     design = reduced.with_penalty(kk, dd)
     assert design.restitution("force") == pytest.approx(0.5, rel=1e-9)
     assert design.contact_time("force") == pytest.approx(2e-3, rel=1e-9)
-    assert dd == pytest.approx(damping_for_restitution(reduced, kk, 0.5), rel=1e-9)
+    assert dd == pytest.approx(
+        damping_for_restitution(reduced, kk, 0.5, condition="force"), rel=1e-9
+    )
     sim = FullSimulation(bar_system())
     t_full, e_full = sim.contact(kk, dd, 0.5, "force", 40 / np.sqrt(kk / ex.reduce().m_eff))
     assert t_full == pytest.approx(2e-3, rel=0.02)
@@ -71,20 +73,20 @@ def test_penalty_for_targets_delivers_in_the_full_simulation():
 def test_design_bad_input_is_refused():
     symbolic = reduce_contact(sp.Matrix([[m]]), [0], x, [x], [v], {x: 0, v: 1}, k, d)
     with pytest.raises(TypeError, match="symbolic"):
-        stick_damping(symbolic, 1.0)
+        stick_damping(symbolic, 1.0, condition="force")
     with pytest.raises(TypeError, match="reduced must be a ReducedContact"):
-        stick_damping({"m_eff": 1.0}, 1.0)
+        stick_damping({"m_eff": 1.0}, 1.0, condition="force")
     with pytest.raises(ValueError, match=r"restitution must be a number in \(0, 1\)"):
-        damping_for_restitution(particle(), 1.0, 1.5)
+        damping_for_restitution(particle(), 1.0, 1.5, condition="force")
     own_damper = reduce_contact(sp.Matrix([[1.0]]), [-1.0 * v], x, [x], [v], {x: 0, v: 1}, 1, 0)
     with pytest.raises(ValueError, match="not reachable"):  # d~ >= 1 > 0.5 sqrt(k m) already
         damping_for_restitution(own_damper, 1.0, 0.9, condition="position")
     with pytest.raises(ValueError, match="^k must"):
-        stick_damping(particle(), -1.0)
+        stick_damping(particle(), -1.0, condition="force")
     with pytest.raises(ValueError, match="^condition must"):
         stick_damping(particle(), 1.0, condition="gap")
     with pytest.raises(ValueError, match="^contact_time must"):
-        penalty_for_targets(particle(), restitution=0.5, contact_time=0.0)
+        penalty_for_targets(particle(), restitution=0.5, contact_time=0.0, condition="force")
 
 
 def _attempt(call):
@@ -99,8 +101,8 @@ def _attempt(call):
 def test_penalty_design_errors_name_the_input(k):
     r = particle(force=0.1)
     for call in (
-        lambda: stick_damping(r, k),
-        lambda: damping_for_restitution(r, k, 0.5),
+        lambda: stick_damping(r, k, condition="force"),
+        lambda: damping_for_restitution(r, k, 0.5, condition="force"),
     ):
         value, error = _attempt(call)
         if error is not None:
@@ -112,7 +114,9 @@ def test_penalty_design_errors_name_the_input(k):
 @pytest.mark.parametrize("contact_time", [1e-300, 1e300, 1e30])
 def test_penalty_for_targets_refuses_extreme_contact_times_by_name(contact_time):
     with pytest.raises(ValueError, match=re.escape(f"contact_time = {contact_time!r}")):
-        penalty_for_targets(particle(force=0.1), restitution=0.5, contact_time=contact_time)
+        penalty_for_targets(
+            particle(force=0.1), restitution=0.5, contact_time=contact_time, condition="force"
+        )
 
 
 @pytest.mark.parametrize(
@@ -121,7 +125,7 @@ def test_penalty_for_targets_refuses_extreme_contact_times_by_name(contact_time)
 def test_penalty_design_targets_are_validated(bad, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     with pytest.raises((ValueError, TypeError), match="^restitution "):
-        damping_for_restitution(particle(force=0.1), 1.0, bad)
+        damping_for_restitution(particle(force=0.1), 1.0, bad, condition="force")
     assert not (tmp_path / "PWNED").exists(), "a string input was run as code"
 
 

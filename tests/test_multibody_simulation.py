@@ -48,11 +48,11 @@ def test_former_horizon_name_tau_max_is_accepted():
     ex = falling_bar()
     m_eff = ex.reduce().m_eff
     k, d = m_eff * 300.0**2, 2 * 0.1 * m_eff * 300.0
-    new = simulate_contact(ex, k, d, 0.4, t_max=25.0, steps=20)
-    old = simulate_contact(ex, k, d, 0.4, tau_max=25.0, steps=20)
+    new = simulate_contact(ex, k, d, 0.4, t_max=25.0, steps=20, condition="force")
+    old = simulate_contact(ex, k, d, 0.4, tau_max=25.0, steps=20, condition="force")
     assert (new.contact_time, new.restitution) == (old.contact_time, old.restitution)
     with pytest.raises(TypeError, match="tau_max"):
-        simulate_contact(ex, k, d, 0.4, t_max=25.0, tau_max=30.0)
+        simulate_contact(ex, k, d, 0.4, t_max=25.0, tau_max=30.0, condition="force")
     grid = {"omegas": (1000.0,), "dampings": (0.1,), "forces": (0.5,), "steps": 20}
     sweep = agreement_sweep(double_pendulum(), tau_max=25.0, **grid)
     assert sweep.t_max == sweep.tau_max == 25.0

@@ -66,6 +66,6 @@ def test_the_surface_ends_on_the_fold():
         condition="force", n_points=8
     )
     assert d_fold == pytest.approx(stick_boundary(f_fold, condition="force"))
-    ax = plot_contact_surface(D, f, first, second, (d_fold, f_fold, tau_fold))
+    ax = plot_contact_surface(D, f, first, second, (d_fold, f_fold, tau_fold), condition="force")
     assert ax.get_title() == "Contact-time surface, force condition"
     plt.close(ax.figure)

@@ -44,7 +44,11 @@ def test_design_region_draws_the_curves_it_is_given():
     k = np.geomspace(1e3, 1e5, 5)
     boundary, curve = 2 * np.sqrt(k), 0.5 * np.sqrt(k)
     ax = plot_design_region(
-        k, {"force": boundary}, restitution_curves={0.5: curve}, design=(1e4, 60.0)
+        k,
+        {"force": boundary},
+        restitution_curves={0.5: curve},
+        design=(1e4, 60.0),
+        restitution_condition="force",
     )
     labels = [line.get_label() for line in ax.get_lines()]
     assert labels == ["stick boundary (force)", "$e = 0.5$ (force)", "design"]

@@ -34,7 +34,7 @@ def test_quick_reproduction_writes_figures_table_and_formulas(tmp_path):
     assert len(rows) == 9 * 7
     row = rows[0]  # alpha = 0.05, f = 0: the classical rigid striker
     assert float(row["alpha"]) == 0.05
-    assert float(row["t_force"]) == contact_time(0.05, 0.0)
+    assert float(row["t_force"]) == contact_time(0.05, 0.0, condition="force")
     assert any(math.isinf(float(r["t_force"])) for r in rows)  # sticking is in the map
 
     labels = [entry["label"] for entry in json.loads((tmp_path / "rod_formulas.json").read_text())]

@@ -126,32 +126,38 @@ def test_the_whole_issue_grid_is_decided_and_never_later_than_dense_sampling():
 
 
 def test_sticking_and_horizon_semantics():
-    assert contact_time(0.05, 2.0) == math.inf
+    assert contact_time(0.05, 2.0, condition="force") == math.inf
     # with f = 0 the light striker always releases, on the first reflection interval
-    assert 2.0 < contact_time(0.05, 0.0) < 4.0
-    tc = contact_time(0.5767450137140747, 14 / 13)
-    assert contact_time(0.5767450137140747, 14 / 13, t_max=tc - 1e-6) == math.inf
-    assert contact_time(0.5767450137140747, 14 / 13, t_max=tc + 1e-6) == tc
+    assert 2.0 < contact_time(0.05, 0.0, condition="force") < 4.0
+    tc = contact_time(0.5767450137140747, 14 / 13, condition="force")
+    assert contact_time(0.5767450137140747, 14 / 13, t_max=tc - 1e-6, condition="force") == math.inf
+    assert contact_time(0.5767450137140747, 14 / 13, t_max=tc + 1e-6, condition="force") == tc
 
 
 def test_contact_time_limits_are_refused_with_the_limit_named():
     with pytest.raises(ValueError, match="t_max must be <= 10000"):
-        contact_time(1.0, 0.5, t_max=2e4)
+        contact_time(1.0, 0.5, t_max=2e4, condition="force")
     with pytest.raises(ValueError, match="t_max must be <= 20 for finite kappa"):
-        contact_time(1.0, 0.5, kappa=10.0, t_max=100.0)
+        contact_time(1.0, 0.5, kappa=10.0, t_max=100.0, condition="force")
     with pytest.raises(TypeError):
         contact_time(1.0, 0.5, "force")  # condition is keyword-only
 
 
 def test_finite_stiffness_contact_time_is_a_sign_change_and_fast():
     start = time.perf_counter()
-    tc = contact_time(np.array([1.0, 1.0, 3.0]), 0.2, kappa=50.0)
+    tc = contact_time(np.array([1.0, 1.0, 3.0]), 0.2, kappa=50.0, condition="force")
     elapsed = time.perf_counter() - start
     for t, a in zip(tc, (1.0, 1.0, 3.0), strict=True):
         assert contact_force(t - 1e-7, a, 0.2, kappa=50.0) > 0
         assert contact_force(t + 1e-7, a, 0.2, kappa=50.0) < 0
     assert elapsed < 30.0
-    assert abs(contact_time(3.0, 0.0, kappa=1e5) - contact_time(3.0, 0.0)) < 1e-4
+    assert (
+        abs(
+            contact_time(3.0, 0.0, kappa=1e5, condition="force")
+            - contact_time(3.0, 0.0, condition="force")
+        )
+        < 1e-4
+    )
 
 
 # ------------------------------------------------------------------ far out
@@ -192,14 +198,14 @@ def test_extreme_kappa_gives_the_rigid_limit_or_a_clear_refusal():
     # the small root of alpha s^2 + alpha kappa s + kappa without cancellation
     assert abs(displacement(5.3, 1.0, 0.5, kappa=1e300) - displacement(5.3, 1.0, 0.5)) < 1e-12
     with pytest.raises(ValueError, match=r"kappa = 1e\+300 .* too stiff"):
-        contact_time(1.0, 0.5, kappa=1e300)
+        contact_time(1.0, 0.5, kappa=1e300, condition="force")
 
 
 @pytest.mark.parametrize("a", [0.05, 0.5, 1.0, 1.5])
 def test_contact_time_of_the_classical_rigid_striker(a):
     # f = 0: N = e^{-t/a} + 2 e^{-(t-2)/a} (1 - (t-2)/a) on (2, 4)
     expected = 2 + a * (1 + math.exp(-2 / a) / 2)
-    assert abs(contact_time(a, 0.0) - expected) < 1e-12
+    assert abs(contact_time(a, 0.0, condition="force") - expected) < 1e-12
 
 
 def test_position_contact_time_of_the_classical_rigid_striker():
@@ -222,13 +228,13 @@ def _dense_times(t_end: float) -> np.ndarray:
 
 
 def test_sticking_gives_infinity_and_is_real():
-    assert contact_time(0.05, 2.0) == math.inf
+    assert contact_time(0.05, 2.0, condition="force") == math.inf
     assert np.all(contact_force(_dense_times(100.0), 0.05, 2.0) > 0)
 
 
 def test_release_in_a_fast_transient_after_many_reflections_is_found():
     # alpha = 0.05, f = 1: N dips below zero for ~2e-3 just after the 23rd reflection
-    tc = contact_time(0.05, 1.0)
+    tc = contact_time(0.05, 1.0, condition="force")
     assert 46.0 < tc < 46.006
     assert abs(contact_force(tc, 0.05, 1.0)) < 1e-9
     tt = _dense_times(tc)
@@ -248,11 +254,17 @@ def test_contact_time_is_a_zero_of_the_right_quantity():
 
 
 def test_contact_time_with_finite_stiffness():
-    tc = contact_time(1.0, 0.2, kappa=50.0)
+    tc = contact_time(1.0, 0.2, kappa=50.0, condition="force")
     assert 2.0 < tc < 20.0
     assert abs(contact_force(tc, 1.0, 0.2, kappa=50.0)) < 1e-9
     # a stiff spring releases close to the rigid striker ...
-    assert abs(contact_time(3.0, 0.0, kappa=1e5) - contact_time(3.0, 0.0)) < 1e-4
+    assert (
+        abs(
+            contact_time(3.0, 0.0, kappa=1e5, condition="force")
+            - contact_time(3.0, 0.0, condition="force")
+        )
+        < 1e-4
+    )
     assert (
         abs(
             contact_time(1.0, 0.2, condition="position", kappa=1e5)
@@ -264,33 +276,35 @@ def test_contact_time_with_finite_stiffness():
     # spring force first dips (by about 0.15, for a time ~ 1/kappa) before it rises
     # by 2; if N is small just before, the spring releases there (non-uniform limit)
     for k in (1e3, 1e5):
-        assert 4.0 < contact_time(1.0, 0.2, kappa=k) < 4.0 + 1.0 / k
-    assert contact_time(1.0, 0.2) > 4.4
+        assert 4.0 < contact_time(1.0, 0.2, kappa=k, condition="force") < 4.0 + 1.0 / k
+    assert contact_time(1.0, 0.2, condition="force") > 4.4
 
 
 def test_heavy_striker_conditions_almost_coincide_and_force_spreads_them():
     """The paper's observation: large alpha, small f: the two contact times nearly
     coincide; growing f makes them differ strongly (small alpha)."""
-    heavy = contact_time(50.0, 0.0, condition="position") / contact_time(50.0, 0.0)
+    heavy = contact_time(50.0, 0.0, condition="position") / contact_time(
+        50.0, 0.0, condition="force"
+    )
     assert abs(heavy - 1) < 0.05
-    light = contact_time(0.1, 1.2, condition="position") / contact_time(0.1, 1.2)
+    light = contact_time(0.1, 1.2, condition="position") / contact_time(0.1, 1.2, condition="force")
     assert light < 0.5
 
 
 def test_contact_time_broadcasts():
-    tc = contact_time(np.array([[0.5], [2.0]]), np.array([0.0, 0.3, 0.6]))
+    tc = contact_time(np.array([[0.5], [2.0]]), np.array([0.0, 0.3, 0.6]), condition="force")
     assert tc.shape == (2, 3)
-    assert tc[0, 0] == contact_time(0.5, 0.0)
+    assert tc[0, 0] == contact_time(0.5, 0.0, condition="force")
 
 
 def test_contact_time_rejects_bad_input():
     with pytest.raises(ValueError, match="condition"):
         contact_time(1.0, 0.5, condition="pressure")
     with pytest.raises(ValueError, match="alpha"):
-        contact_time(-1.0, 0.5)
+        contact_time(-1.0, 0.5, condition="force")
     with pytest.raises(ValueError, match="kappa"):
-        contact_time(1.0, 0.5, kappa=-2.0)
+        contact_time(1.0, 0.5, kappa=-2.0, condition="force")
     with pytest.raises(ValueError, match="t_max"):
-        contact_time(1.0, 0.5, t_max=0.0)
+        contact_time(1.0, 0.5, t_max=0.0, condition="force")
     with pytest.raises(TypeError, match="alpha"):
-        contact_time("heavy", 0.5)
+        contact_time("heavy", 0.5, condition="force")

@@ -82,9 +82,9 @@ def test_no_sign_change_where_the_contact_time_is_inf():
 
 
 def test_horizon_cuts_exactly_at_the_contact_time():
-    tc = contact_time(1.3, 0.5, kappa=20.0)
-    assert contact_time(1.3, 0.5, kappa=20.0, t_max=tc - 1e-9) == math.inf
-    assert contact_time(1.3, 0.5, kappa=20.0, t_max=tc + 1e-9) == tc
+    tc = contact_time(1.3, 0.5, kappa=20.0, condition="force")
+    assert contact_time(1.3, 0.5, kappa=20.0, t_max=tc - 1e-9, condition="force") == math.inf
+    assert contact_time(1.3, 0.5, kappa=20.0, t_max=tc + 1e-9, condition="force") == tc
 
 
 @pytest.mark.parametrize(

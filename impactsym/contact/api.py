@@ -34,7 +34,7 @@ from impactsym.validation import broadcast, check_condition, finish, real_array
 ArrayLike = float | np.ndarray
 
 
-def contact_time(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> ArrayLike:
+def contact_time(D: ArrayLike, f: ArrayLike, *, condition: str) -> ArrayLike:
     r"""Normalized contact time :math:`\tau_c(D, f)` of the spring-damper contact.
 
     The first sign change in :math:`\tau > 0` of :math:`g = z` (position condition) or
@@ -63,9 +63,9 @@ def contact_time(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> Arr
     releases at :math:`\tau_c = 2` under the force condition, while its penetration
     :math:`\tau e^{-\tau}` never returns to zero:
 
-    >>> contact_time(0.0, 1.0)
+    >>> contact_time(0.0, 1.0, condition="force")
     3.141592653589793
-    >>> round(contact_time(1.0, 0.0), 12)
+    >>> round(contact_time(1.0, 0.0, condition="force"), 12)
     2.0
     >>> contact_time(1.0, 0.0, condition="position")
     inf
@@ -74,16 +74,16 @@ def contact_time(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> Arr
     return finish(first_release(damping, force, condition=condition).reshape(shape), scalar)
 
 
-def restitution(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> ArrayLike:
+def restitution(D: ArrayLike, f: ArrayLike, *, condition: str) -> ArrayLike:
     r"""Coefficient of restitution :math:`e = -z'(\tau_c)`; ``0.0`` where the body sticks.
 
     Parameters are those of :func:`contact_time`.
 
     Examples
     --------
-    >>> restitution(0.0, 2.0)
+    >>> restitution(0.0, 2.0, condition="force")
     1.0
-    >>> round(restitution(1.0, 0.0), 12)  # z'(2) = -exp(-2) for D = 1, f = 0
+    >>> round(restitution(1.0, 0.0, condition="force"), 12)  # z'(2) = -exp(-2) for D = 1, f = 0
     0.135335283237
     """
     (damping, force), shape, scalar = flat_inputs(condition=condition, D=D, f=f)
@@ -103,7 +103,7 @@ def restitution(D: ArrayLike, f: ArrayLike, *, condition: str = "force") -> Arra
 
 
 def contact_surface(
-    D: ArrayLike, f: ArrayLike, *, condition: str = "force"
+    D: ArrayLike, f: ArrayLike, *, condition: str
 ) -> tuple[ArrayLike, ArrayLike, ArrayLike]:
     r"""The two sheets and the ridge of the implicit surface :math:`g(\tau, D, f) = 0`.
 
@@ -121,7 +121,7 @@ def contact_surface(
 
     Examples
     --------
-    >>> first, second, ridge = contact_surface(0.0, 1.0)
+    >>> first, second, ridge = contact_surface(0.0, 1.0, condition="force")
     >>> [round(x / np.pi, 12) for x in (first, second, ridge)]
     [1.0, 2.0, 1.5]
     """
@@ -161,7 +161,7 @@ def contact_surface(
 _D_SEARCH_LIMIT = 1e150
 
 
-def stick_boundary(f: ArrayLike, *, condition: str = "force") -> ArrayLike:
+def stick_boundary(f: ArrayLike, *, condition: str) -> ArrayLike:
     r"""Damping ratio :math:`D^*(f)` at which sticking begins for pressing force ``f``.
 
     The body releases for :math:`D < D^*` and sticks for :math:`D > D^*`. :math:`D^*`
@@ -287,7 +287,7 @@ def physical_contact(
     v0: ArrayLike,
     F: ArrayLike = 0.0,
     *,
-    condition: str = "force",
+    condition: str,
 ) -> PhysicalContact:
     r"""Contact time and restitution of a body of mass ``m`` hitting a spring ``k`` and
     damper ``d`` at speed ``v0`` under a pressing force ``F`` (any consistent units).
@@ -302,10 +302,10 @@ def physical_contact(
 
     Examples
     --------
-    >>> c = physical_contact(m=2.0, k=800.0, d=0.0, v0=1.0)
+    >>> c = physical_contact(m=2.0, k=800.0, d=0.0, v0=1.0, condition="force")
     >>> c.omega0, round(c.contact_time, 12) == round(float(np.pi) / 20.0, 12), c.restitution
     (20.0, True, 1.0)
-    >>> physical_contact(m=1.0, k=1.0, d=4.0, v0=1.0, F=1.0).sticks
+    >>> physical_contact(m=1.0, k=1.0, d=4.0, v0=1.0, F=1.0, condition="force").sticks
     True
     """
     check_condition(condition)

@@ -65,9 +65,7 @@ def _scales(reduced: ReducedContact, k: np.ndarray) -> tuple[np.ndarray, np.ndar
     return m_omega, reduced.load / (m_omega * reduced.v0)
 
 
-def stick_damping(
-    reduced: ReducedContact, k: Any, *, condition: str = "force"
-) -> float | np.ndarray:
+def stick_damping(reduced: ReducedContact, k: Any, *, condition: str) -> float | np.ndarray:
     r"""Penalty damping ``d*`` on the stick/release boundary for each stiffness ``k``.
 
     The contact releases for ``d < d*`` and sticks for ``d > d*`` (so "guaranteed
@@ -140,7 +138,7 @@ def _stick_damping(red: ReducedContact, k: np.ndarray, condition: str) -> np.nda
 
 
 def damping_for_restitution(
-    reduced: ReducedContact, k: Any, restitution: float, *, condition: str = "force"
+    reduced: ReducedContact, k: Any, restitution: float, *, condition: str
 ) -> float | np.ndarray:
     r"""Penalty damping that gives the coefficient of restitution ``restitution``.
 
@@ -236,7 +234,7 @@ def penalty_for_targets(
     *,
     restitution: float,
     contact_time: float,
-    condition: str = "force",
+    condition: str,
 ) -> tuple[float, float]:
     r"""Penalty ``(k, d)`` that releases with a given restitution after a given time.
 

@@ -29,7 +29,7 @@ def plot_contact_surface(
     second: np.ndarray,
     fold: tuple[np.ndarray, np.ndarray, np.ndarray],
     *,
-    condition: str = "force",
+    condition: str,
     ax: Axes | None = None,
 ) -> Axes:
     r"""Paper's Fig. 1a: the implicit surface :math:`g(\tau, D, f) = 0` over the D-f plane.
@@ -42,7 +42,7 @@ def plot_contact_surface(
     :func:`impactsym.results.contact.surface_grid` ends exactly on the fold).
 
     >>> from impactsym.results.contact import surface_grid
-    >>> ax = plot_contact_surface(*surface_grid(condition="force", n_points=6))
+    >>> ax = plot_contact_surface(*surface_grid(condition="force", n_points=6), condition="force")
     >>> ax.get_zlabel()
     '$\\tau$ with $g(\\tau, D, f) = 0$'
     """
@@ -152,7 +152,7 @@ def plot_contact_time_map(
     f: np.ndarray,
     tau_c: np.ndarray,
     *,
-    condition: str = "force",
+    condition: str,
     boundary: tuple[np.ndarray, np.ndarray] | None = None,
     ax: Axes | None = None,
 ) -> Axes:
@@ -184,7 +184,7 @@ def plot_restitution_map(
     e: np.ndarray,
     *,
     sticks: np.ndarray,
-    condition: str = "force",
+    condition: str,
     boundary: tuple[np.ndarray, np.ndarray] | None = None,
     ax: Axes | None = None,
 ) -> Axes:
@@ -193,7 +193,7 @@ def plot_restitution_map(
 
     >>> from impactsym.results.contact import map_grid
     >>> D, f, tau_c, e = map_grid(condition="force", n_points=8)
-    >>> plot_restitution_map(D, f, e, sticks=np.isinf(tau_c)).get_title()
+    >>> plot_restitution_map(D, f, e, sticks=np.isinf(tau_c), condition="force").get_title()
     'Coefficient of restitution, force condition'
     """
     return _map(

@@ -44,7 +44,7 @@ def _axes(ax: Any) -> Any:
     return plt.figure(figsize=(5.0, 4.0)).add_subplot()
 
 
-def plot_agreement(agreement: Any, *, condition: str = "force", ax: Any = None) -> Any:
+def plot_agreement(agreement: Any, *, condition: str, ax: Any = None) -> Any:
     """Relative contact-time error of the reduced model against the full simulation.
 
     One point per sweep case that releases in both models, over the reduced damping
@@ -96,7 +96,7 @@ def plot_agreement(agreement: Any, *, condition: str = "force", ax: Any = None) 
 def plot_verdict_map(
     agreement: Any,
     *,
-    condition: str = "force",
+    condition: str,
     projection: str = "impulse",
     boundary: tuple[np.ndarray, np.ndarray] | None = None,
     ax: Any = None,
@@ -177,7 +177,7 @@ def plot_design_region(
     *,
     ax: Any = None,
     restitution_curves: Mapping[float, Any] | None = None,
-    restitution_condition: str = "force",
+    restitution_condition: str,
     design: tuple[float, float] | None = None,
 ) -> Any:
     """Admissible penalty parameters of a reduced contact over the stiffnesses ``k``.

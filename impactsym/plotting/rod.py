@@ -155,9 +155,7 @@ def _mark_intervals(ax: Axes, study: Any, condition: str) -> None:
         )
 
 
-def plot_contact_time_atlas(
-    study: Any, *, condition: str = "force", ax: Axes | None = None
-) -> Axes:
+def plot_contact_time_atlas(study: Any, *, condition: str, ax: Axes | None = None) -> Axes:
     r"""Contact time of one condition over the :math:`\alpha`-:math:`f` plane (an atlas).
 
     Colour: :math:`t_c` (rasterized mesh, so that PDFs stay small); black lines:

@@ -127,7 +127,9 @@ def write(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
     for example in examples():
         progress(f"{example.title}: full simulations vs reduced model")
         agreements.append(agreement_sweep(example, **grid))
-        convergence[example.name] = convergence_study(example, omegas, steps=20 if quick else 50)
+        convergence[example.name] = convergence_study(
+            example, omegas, steps=20 if quick else 50, condition="position"
+        )
 
     def save(fig: Any, stem: str) -> None:
         written.extend(save_figure(fig.axes[0], out, stem))
@@ -168,6 +170,7 @@ def write(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
             e: damping_for_restitution(bar, k_line, e, condition="force") for e in restitutions
         },
         design=(design["k"], design["d"]),
+        restitution_condition="force",
     )
     ax.set_title("falling bar at 0.5 m/s: admissible penalty parameters")
     save(fig, "multibody_design")

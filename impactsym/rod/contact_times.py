@@ -43,7 +43,7 @@ def contact_time(
     alpha: ArrayLike,
     f: ArrayLike,
     *,
-    condition: str = "force",
+    condition: str,
     kappa: ArrayLike = np.inf,
     t_max: float | None = None,
 ) -> float | np.ndarray:
@@ -96,10 +96,10 @@ def contact_time(
     and vanishes at :math:`t = 2 + \alpha(1 + e^{-2/\alpha}/2)`:
 
     >>> import numpy as np
-    >>> t_c = contact_time(0.5, 0.0)
+    >>> t_c = contact_time(0.5, 0.0, condition="force")
     >>> bool(abs(t_c - (2 + 0.5 * (1 + np.exp(-4.0) / 2))) < 1e-12)
     True
-    >>> contact_time(0.05, 2.0)  # a light striker pressed hard sticks
+    >>> contact_time(0.05, 2.0, condition="force")  # a light striker pressed hard sticks
     inf
     """
     condition = check_condition(condition)
@@ -162,12 +162,12 @@ class ContactTimeMap:
         out[both] = self.position[both] / self.force[both]
         return out
 
-    def interval(self, *, condition: str = "force") -> np.ndarray:
+    def interval(self, *, condition: str) -> np.ndarray:
         """Reflection interval on which the first contact ends, :math:`\\lfloor t_c/2
         \\rfloor` (1: between the first and the second return of the reflected wave,
         :math:`2 \\le t_c < 4`); NaN where the striker sticks.
 
-        >>> contact_time_map([0.5], [0.0]).interval().tolist()
+        >>> contact_time_map([0.5], [0.0]).interval(condition="force").tolist()
         [[1.0]]
         """
         times = {"force": self.force, "position": self.position}[check_condition(condition)]
