@@ -279,7 +279,7 @@ def module_source(doc: str, pieces: Sequence[str], *, exports: Sequence[str] = (
     A piece given twice with the same text is written once; two different pieces that
     define the same name are an error, and so is a name the pieces use but nothing
     defines. The imports (:data:`IMPORTS`) are exactly the ones the pieces use.
-    ``exports`` becomes ``__all__``.
+    ``exports`` becomes ``__all__`` (sorted).
 
     >>> print(module_source("Demo.", ["def two():\\n    return np.float64(2)"]))
     \"\"\"Demo.\"\"\"
@@ -322,6 +322,8 @@ def module_source(doc: str, pieces: Sequence[str], *, exports: Sequence[str] = (
         imports = "\n".join(stdlib)
     header = f'"""{doc}"""\n\nfrom __future__ import annotations\n\n{imports}\n'
     if exports:
-        listed = "".join(f'    "{n}",\n' for n in exports)
+        # sorted as linters expect: constants, classes, then functions
+        order = sorted(exports, key=lambda n: (not n.isupper(), not n[:1].isupper(), n))
+        listed = "".join(f'    "{n}",\n' for n in order)
         header += f"\n__all__ = [\n{listed}]\n"
     return header + "\n\n" + body + "\n"
