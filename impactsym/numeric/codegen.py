@@ -22,6 +22,7 @@ import re
 import symtable
 import textwrap
 from collections.abc import Sequence
+from functools import cache
 from types import ModuleType
 
 import numpy as np
@@ -159,6 +160,18 @@ def _offset(lines: list[str], lineno: int, col: int) -> int:
     return sum(map(len, lines[: lineno - 1])) + len(line.encode()[:col].decode())
 
 
+def _line_end(lines: list[str], lineno: int) -> int:
+    """Character offset of the end of line ``lineno``, before its line break."""
+    return _offset(lines, lineno, len(lines[lineno - 1].rstrip("\n").encode()))
+
+
+@cache
+def _parsed(module: ModuleType) -> tuple[list[str], ast.Module]:
+    """The source lines of ``module`` and their syntax tree (parsed once per module)."""
+    lines = inspect.getsource(module).splitlines(keepends=True)
+    return lines, ast.parse("".join(lines))
+
+
 def package_source(
     module: ModuleType,
     name: str,
@@ -187,13 +200,11 @@ def package_source(
     >>> package_source(roots, "ArrayFunction")
     'ArrayFunction = Callable[..., np.ndarray]'
     """
-    lines = inspect.getsource(module).splitlines(keepends=True)
-    tree = ast.parse("".join(lines))
+    lines, tree = _parsed(module)
     node = _node(tree, name)
     first = min([node.lineno] + [d.lineno for d in getattr(node, "decorator_list", [])])
     while first > 1 and lines[first - 2].lstrip().startswith("#:"):
         first -= 1
-    piece = lines[first - 1 : node.end_lineno]
     edits = []  # (start, end, text) in offsets of "".join(lines)
     if isinstance(node, ast.FunctionDef):
         arguments = node.args
@@ -207,14 +218,14 @@ def package_source(
         if isinstance(method, ast.FunctionDef) and method.name in replace:
             begin = min([method.lineno] + [d.lineno for d in method.decorator_list])
             start = _offset(lines, begin, 0)
-            stop = _offset(lines, method.end_lineno, len(lines[method.end_lineno - 1].encode()))
+            stop = _line_end(lines, method.end_lineno)
             indent = " " * method.col_offset
             edits.append((start, stop, textwrap.indent(replace[method.name], indent)))
     if not isinstance(node, (ast.FunctionDef, ast.ClassDef)) and (rename or required):
         raise ValueError(f"{name!r} is a constant: it cannot be renamed or take keywords")
     text = "".join(lines)
     base = _offset(lines, first, 0)
-    end = _offset(lines, node.end_lineno, len(lines[node.end_lineno - 1].encode()))
+    end = _line_end(lines, node.end_lineno)
     for start, stop, new in sorted(edits, reverse=True):
         text = text[:start] + new + text[stop:]
         end += len(new) - (stop - start)
