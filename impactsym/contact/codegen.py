@@ -15,7 +15,7 @@ import dataclasses
 
 from impactsym.contact import api, kernel
 from impactsym.numeric import codegen
-from impactsym.numeric.codegen import lambdified_source, package_source
+from impactsym.numeric.codegen import lambdified_source, package_source, shared_pieces
 
 #: ``PiecewiseInD.__init__`` of the exported module: the forms from :data:`FORMS`.
 _INIT = """def __init__(
@@ -165,11 +165,16 @@ def contact_pieces() -> list[str]:
     public += [package_source(api, "physical_contact", required=required)]
     closed = [_CLOSED_FORMS.format(c=c, what=_WHAT[c]) for c in ("position", "force")]
     return [
+        "# -- spring-damper contact (paper section 2): impactsym.contact.api",
         package_source(api, "ArrayLike"),
         *public,
+        "# -- ridge times and the closed forms per condition (this module's own)",
         _RIDGE_TIME,
         *closed,
+        "# -- the kernel (impactsym.contact.kernel): ridge-bracketed Newton iteration, limits",
         package_source(kernel, "PiecewiseInD", replace={"__init__": _INIT}),
         *(package_source(kernel, n) for n in kernel_names),
+        "# -- the closed forms of impactsym.contact.derivation, as SymPy generated them",
         *form_pieces(),
+        *shared_pieces(),
     ]

@@ -28,6 +28,8 @@ from types import ModuleType
 import numpy as np
 import sympy as sp
 
+from impactsym import validation
+from impactsym.numeric import roots
 from impactsym.numeric.roots import ArrayFunction
 
 
@@ -338,3 +340,18 @@ def module_source(doc: str, pieces: Sequence[str], *, exports: Sequence[str] = (
         listed = "".join(f'    "{n}",\n' for n in order)
         header += f"\n__all__ = [\n{listed}]\n"
     return header + "\n\n" + body + "\n"
+
+
+def shared_pieces() -> list[str]:
+    """Pieces every exported module needs: the input checks of :mod:`impactsym.validation`
+    and :func:`impactsym.numeric.roots.bracketed_newton`, under a banner."""
+    banner = (
+        "# -- input checks (impactsym.validation) and the bracketed root finder "
+        "(impactsym.numeric.roots)"
+    )
+    names = ("_BYTES_OR_TEXT", "CONDITIONS", "check_condition", "real_array", "_where")
+    return [
+        banner,
+        *(package_source(validation, n) for n in (*names, "finish", "broadcast")),
+        *(package_source(roots, n) for n in ("ArrayFunction", "bracketed_newton")),
+    ]

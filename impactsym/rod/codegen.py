@@ -10,9 +10,8 @@ data need mpmath): there the exported functions raise.
 
 from __future__ import annotations
 
-from impactsym import validation
-from impactsym.numeric import isolation, roots
-from impactsym.numeric.codegen import module_source, package_source
+from impactsym.numeric import isolation
+from impactsym.numeric.codegen import module_source, package_source, shared_pieces
 from impactsym.rod import api, contact_times, kernel, rigid_search
 from impactsym.rod.elastic import poles
 
@@ -48,17 +47,6 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max):
 '''
 
 
-def validation_pieces() -> list[str]:
-    """The input checks of :mod:`impactsym.validation` that exported functions use."""
-    names = ("_BYTES_OR_TEXT", "CONDITIONS", "check_condition", "real_array", "_where")
-    return [package_source(validation, n) for n in (*names, "finish", "broadcast")]
-
-
-def root_pieces() -> list[str]:
-    """:func:`impactsym.numeric.roots.bracketed_newton` and its annotation alias."""
-    return [package_source(roots, n) for n in ("ArrayFunction", "bracketed_newton")]
-
-
 def rod_pieces() -> list[str]:
     """Source pieces of the exported rod functions ``rod_displacement``,
     ``rod_contact_force`` (rigid contact) and ``rod_contact_time``."""
@@ -68,9 +56,8 @@ def rod_pieces() -> list[str]:
     search_names += ("interval_tables", "rigid_interval", "search_interval")
     search_names += ("screen_interval", "rigid_contact_times")
     return [
+        "# -- rod impact, rigid contact (paper section 1): impactsym.rod.api, .contact_times",
         ARRAY_LIKE,
-        *validation_pieces(),
-        *(package_source(kernel, n) for n in kernel_names),
         package_source(api, "_prepare"),
         package_source(api, "_evaluate"),
         package_source(api, "displacement", rename="rod_displacement"),
@@ -82,10 +69,13 @@ def rod_pieces() -> list[str]:
             contact_times, "contact_time", rename="rod_contact_time", required=("condition",)
         ),
         _ELASTIC_STUBS,
+        "# -- the rigid-contact kernel (impactsym.rod.kernel)",
+        *(package_source(kernel, n) for n in kernel_names),
+        "# -- the certified contact-time search (impactsym.rod.rigid_search, numeric.isolation)",
         *(package_source(rigid_search, n) for n in search_names),
         package_source(isolation, "TOLERANCE"),
         package_source(isolation, "first_sign_change"),
-        *root_pieces(),
+        *shared_pieces(),
     ]
 
 
