@@ -141,22 +141,23 @@ and need ``condition=`` where the two contact conditions differ.
 def python_module() -> str:
     """Source of a NumPy-only module with the section-2 contact and the rigid rod functions.
 
-    :func:`impactsym.contact.codegen.contact_pieces` and
-    :func:`impactsym.rod.codegen.rod_pieces`, joined by
-    :func:`impactsym.numeric.codegen.module_source`.
+    :func:`impactsym.contact.codegen.contact_items` and
+    :func:`impactsym.rod.codegen.rod_items` with everything they use
+    (:func:`impactsym.numeric.pysource.collect`), in one module
+    (:func:`impactsym.numeric.pysource.module_source`).
 
     >>> source = python_module()
     >>> "import sympy" in source, "def stick_boundary(f: ArrayLike, *, condition: str)" in source
     (False, True)
     """
     from impactsym import __version__
-    from impactsym.contact.codegen import CONTACT_EXPORTS, contact_pieces
-    from impactsym.numeric.codegen import module_source
-    from impactsym.rod.codegen import ROD_EXPORTS, rod_pieces
+    from impactsym.contact.codegen import CONTACT_EXPORTS, contact_items
+    from impactsym.numeric.pysource import collect, module_source
+    from impactsym.rod.codegen import ROD_EXPORTS, rod_items
 
     return module_source(
         _MODULE_DOC.format(version=__version__),
-        [*contact_pieces(), *rod_pieces()],
+        collect([*contact_items(), *rod_items()]),
         exports=(*CONTACT_EXPORTS, *ROD_EXPORTS),
     )
 

@@ -9,11 +9,13 @@ from functools import partial
 import numpy as np
 
 from impactsym.contact import kernel
-from impactsym.contact.codegen import CONTACT_EXPORTS, contact_pieces, form_pieces
+from impactsym.contact.codegen import CONTACT_EXPORTS, contact_items, form_pieces
+from impactsym.numeric.codegen import broadcast_evaluate
+from impactsym.numeric.pysource import collect
 
 
 def test_every_kernel_form_is_exported_and_computes_the_same_floats():
-    namespace = {"np": np, "partial": partial}
+    namespace = {"np": np, "partial": partial, "broadcast_evaluate": broadcast_evaluate}
     exec("from __future__ import annotations\n\n" + "\n\n".join(form_pieces()), namespace)
     forms = namespace["FORMS"]
     pieces = [
@@ -38,6 +40,6 @@ def test_every_kernel_form_is_exported_and_computes_the_same_floats():
 
 
 def test_the_section2_pieces_define_every_exported_name():
-    source = "\n\n".join(contact_pieces())
+    source = "\n\n".join(collect(contact_items()))
     for name in CONTACT_EXPORTS:
         assert f"def {name}(" in source or f"class {name}:" in source, name

@@ -1,12 +1,13 @@
 """The NumPy-only source of the section-2 contact functions that ``impactsym export`` writes.
 
-The pieces are the package's own source (:func:`impactsym.numeric.codegen.package_source`):
-the public functions of :mod:`impactsym.contact.api`, the kernel of
-:mod:`impactsym.contact.kernel` (ridge-bracketed Newton iteration, the limits) and the
-closed forms it evaluates, as SymPy generated them for the package
-(:func:`impactsym.numeric.codegen.lambdified_source`). Only where the kernel builds its
-forms with SymPy (``PiecewiseInD.__init__``) does the exported module take them from a
-table instead, so the exported functions compute the package's numbers.
+The public functions of :mod:`impactsym.contact.api` are cut from the package's own
+source (:mod:`impactsym.numeric.pysource`), with everything they use: the kernel of
+:mod:`impactsym.contact.kernel` (ridge-bracketed Newton iteration, the limits), the
+input checks and the root finder; the closed forms the kernel evaluates are the code
+SymPy generated for the package (:func:`impactsym.numeric.codegen.lambdified_source`).
+Only where the kernel builds its forms with SymPy (``PiecewiseInD.__init__``) does the
+exported module take them from a table instead, so the exported functions compute the
+package's numbers.
 """
 
 from __future__ import annotations
@@ -15,7 +16,8 @@ import dataclasses
 
 from impactsym.contact import api, kernel
 from impactsym.numeric import codegen
-from impactsym.numeric.codegen import lambdified_source, package_source, shared_pieces
+from impactsym.numeric.codegen import lambdified_source
+from impactsym.numeric.pysource import Cut, Text
 
 #: ``PiecewiseInD.__init__`` of the exported module: the forms from :data:`FORMS`.
 _INIT = """def __init__(
@@ -129,8 +131,7 @@ def form_pieces() -> list[str]:
     The forms are taken from the package's own kernel objects, so the exported module
     has the regimes and the code the package evaluates.
     """
-    pieces = [package_source(codegen, "broadcast_evaluate")]
-    table = []
+    pieces, table = [], []
     objects = [
         getattr(kernel.kernels(condition=c), field.name)
         for c in ("position", "force")
@@ -149,32 +150,22 @@ def form_pieces() -> list[str]:
     return pieces
 
 
-def contact_pieces() -> list[str]:
-    """Source pieces of the exported section-2 functions (:data:`CONTACT_EXPORTS`)."""
+def contact_items() -> list[Cut | Text | str]:
+    """What the exported section-2 functions (:data:`CONTACT_EXPORTS`) are made of, for
+    :func:`impactsym.numeric.pysource.collect` (which adds what they use)."""
     required = ("condition",)
-    kernel_names = ("_aux", "Kernels", "_decay_rate", "_static_part", "kernels", "z_dot")
-    kernel_names += ("ridge", "boundary_value", "D_FAR", "F_FAR", "B_MAX", "C_LARGE_F")
-    kernel_names += ("F_LARGE", "_far_overdamped", "limits", "first_release", "flat_inputs")
-    public = [
-        package_source(api, n, required=required)
-        for n in ("contact_time", "restitution", "contact_surface")
-    ]
-    public += [package_source(api, "_D_SEARCH_LIMIT")]
-    public += [package_source(api, "stick_boundary", required=required)]
-    public += [package_source(api, n) for n in ("_check_derived", "PhysicalContact")]
-    public += [package_source(api, "physical_contact", required=required)]
+    public = ("contact_time", "restitution", "stick_boundary", "contact_surface")
     closed = [_CLOSED_FORMS.format(c=c, what=_WHAT[c]) for c in ("position", "force")]
     return [
         "# -- spring-damper contact (paper section 2): impactsym.contact.api",
-        package_source(api, "ArrayLike"),
-        *public,
+        *(Cut(api, name, required=required) for name in public),
+        Cut(api, "PhysicalContact"),
+        Cut(api, "physical_contact", required=required),
         "# -- ridge times and the closed forms per condition (this module's own)",
-        _RIDGE_TIME,
-        *closed,
-        "# -- the kernel (impactsym.contact.kernel): ridge-bracketed Newton iteration, limits",
-        package_source(kernel, "PiecewiseInD", replace={"__init__": _INIT}),
-        *(package_source(kernel, n) for n in kernel_names),
+        Text(_RIDGE_TIME, api),
+        *(Text(text, api) for text in closed),
         "# -- the closed forms of impactsym.contact.derivation, as SymPy generated them",
-        *form_pieces(),
-        *shared_pieces(),
+        Cut(kernel, "PiecewiseInD", replace=(("__init__", _INIT),)),
+        Cut(codegen, "broadcast_evaluate"),
+        *(Text(piece) for piece in form_pieces()),
     ]
