@@ -37,8 +37,10 @@ _CLOSED_FORMS = '''
 def contact_function_{c}(tau: ArrayLike, D: ArrayLike, f: ArrayLike) -> ArrayLike:
     """Contact function g_{c}(tau; D, f) of the spring-damper contact (paper section 2).
 
-    {what}. Arguments: tau (normalized time omega0 t >= 0), D (Lehr's damping, 0 to
-    1e8), f (pressing force F / (d v0) >= 0); NumPy arrays broadcast.
+    {what}.
+
+    Arguments: tau (normalized time omega0 t >= 0), D (Lehr's damping, 0 to 1e8),
+    f (pressing force F / (d v0) >= 0); NumPy arrays broadcast.
     """
     (t, damping, force), shape, scalar = _closed_form_inputs("{c}", tau=tau, D=D, f=f)
     return finish(kernels(condition="{c}").g(t, damping, force).reshape(shape), scalar)
