@@ -18,6 +18,7 @@ SAMPLE = '''"""A sample module."""
 from __future__ import annotations
 
 from functools import cache
+from time import perf_counter as clock
 
 import numpy as np
 
@@ -28,6 +29,10 @@ A, B = 1, 2
 
 def helper(value):
     return value
+
+
+def timed():
+    return clock()
 
 
 @cache
@@ -153,11 +158,25 @@ def module_source_names(piece):
     return names
 
 
-def test_collect_refuses_names_from_outside_the_package_and_conflicts():
+def test_collect_imports_the_standard_library_and_numpy_as_the_package_does(sample):
     from impactsym.rod import api
+    from impactsym.symbolic import laplace
 
-    with pytest.raises(ValueError, match="'ArrayLike' \\(impactsym.rod.api\\), not a package name"):
-        collect([Cut(api, "displacement")])  # ArrayLike comes from numpy.typing there
+    pieces = collect([Cut(api, "displacement")])  # ArrayLike: numpy.typing in rod.api
+    assert "from numpy.typing import ArrayLike" in pieces
+    assert any(p.startswith("def time_function(") for p in pieces)  # the pole sums too
+    source = module_source("Demo.", collect([Cut(sample, "timed")]))
+    assert source.split("\n\n\n")[0].endswith("\n\nfrom time import perf_counter as clock")
+    namespace = {}
+    exec(source, namespace)
+    assert namespace["timed"]() > 0
+    with pytest.raises(ValueError, match="'sp' \\(impactsym.symbolic.laplace\\), not a package"):
+        collect([Cut(laplace, "check_delay")])  # SymPy: never in an exported module
+    with pytest.raises(ValueError, match="standard library and NumPy only"):
+        module_source("Demo.", ["import sympy as sp", "def f():\n    return sp.pi"])
+
+
+def test_collect_refuses_names_nothing_defines_and_conflicts():
     with pytest.raises(ValueError, match="'helper' \\(the written source\\)"):
         collect([Text("def f():\n    return helper()")])
     with pytest.raises(ValueError, match="two pieces of the generated module define 'f'"):

@@ -20,6 +20,7 @@ import importlib
 import inspect
 import re
 import symtable
+import sys
 import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -176,13 +177,48 @@ def _free_names(source: str) -> set[str]:
     return read - bound - set(dir(builtins))
 
 
+def _import_bindings(piece: str) -> dict[str, tuple[str, str | None, str | None]] | None:
+    """``{name: (module, attribute, alias)}`` if ``piece`` is only import statements."""
+    tree = ast.parse(piece)
+    if not tree.body or not all(isinstance(n, ast.Import | ast.ImportFrom) for n in tree.body):
+        return None
+    bindings = {}
+    for node in tree.body:
+        for alias in node.names:
+            if isinstance(node, ast.Import):
+                name = alias.asname or alias.name.split(".")[0]
+                bindings[name] = (alias.name, None, alias.asname)
+            else:
+                bindings[alias.asname or alias.name] = (node.module, alias.name, alias.asname)
+    return bindings
+
+
+def _import_lines(needed: dict[str, tuple[str, str | None, str | None]]) -> str:
+    """Import statements of ``needed`` in the order linters expect (standard library,
+    then NumPy; plain imports before ``from`` imports, each sorted by module)."""
+    groups = []
+    for third_party in (False, True):
+        chosen = {n: v for n, v in needed.items() if (v[0].split(".")[0] == "numpy") == third_party}
+        plain = sorted({(m, a) for m, attr, a in chosen.values() if attr is None})
+        froms: dict[str, list[str]] = {}
+        for m, attr, a in chosen.values():
+            if attr is not None:
+                froms.setdefault(m, []).append(attr if a is None else f"{attr} as {a}")
+        lines = [f"import {m}" + (f" as {a}" if a else "") for m, a in plain]
+        lines += [f"from {m} import {', '.join(sorted(set(v)))}" for m, v in sorted(froms.items())]
+        if lines:
+            groups.append("\n".join(lines))
+    return "\n\n".join(groups)
+
+
 def module_source(doc: str, pieces: Sequence[str], *, exports: Sequence[str] = ()) -> str:
     """A module with docstring ``doc`` made of ``pieces`` (source text, in order).
 
     A piece given twice with the same text is written once; two different pieces that
     define the same name are an error, and so is a name the pieces use but nothing
-    defines. The imports (:data:`IMPORTS`) are exactly the ones the pieces use.
-    ``exports`` becomes ``__all__`` (sorted).
+    defines. The imports are exactly the ones the pieces use: those of :data:`IMPORTS`,
+    and pieces that are import statements (standard library or NumPy only), which go to
+    the top. ``exports`` becomes ``__all__`` (sorted).
 
     >>> print(module_source("Demo.", ["def two():\\n    return np.float64(2)"]))
     \"\"\"Demo.\"\"\"
@@ -197,33 +233,39 @@ def module_source(doc: str, pieces: Sequence[str], *, exports: Sequence[str] = (
     <BLANKLINE>
     """
     unique = list(dict.fromkeys(p.strip("\n") for p in pieces))
-    owner: dict[str, str] = {}
+    hoisted: dict[str, tuple[str, str | None, str | None]] = {}
+    code = []
     for piece in unique:
+        bindings = _import_bindings(piece)
+        if bindings is None:
+            code.append(piece)
+            continue
+        foreign = {m for m, _, _ in bindings.values()} - set(sys.stdlib_module_names)
+        if {m.split(".")[0] for m in foreign} - {"numpy"}:
+            raise ValueError(
+                f"the generated module may import the standard library and "
+                f"NumPy only, got {piece!r}"
+            )
+        hoisted.update(bindings)
+    owner: dict[str, str] = {}
+    for piece in code:
         for name in _definitions(ast.parse(piece)):
-            if name in owner:
+            if name in owner or name in hoisted:
                 raise ValueError(f"two pieces of the generated module define {name!r}")
             owner[name] = piece
-    body = "\n\n\n".join(unique)
-    free = _free_names(body)
+    body = "\n\n\n".join(code)
+    free = _free_names(body) - set(hoisted)
     missing = free - set(IMPORTS)
     if missing:
         raise ValueError(f"the generated module uses undefined names: {sorted(missing)}")
-    used = free & set(IMPORTS)
     undefined = [n for n in exports if n not in owner]
     if undefined:
         raise ValueError(f"exported names not defined: {undefined}")
-    modules = sorted({IMPORTS[n][0] for n in used if IMPORTS[n][1] is None})
-    froms: dict[str, list[str]] = {}
-    for n in sorted(used):
-        if IMPORTS[n][1] is not None:
-            froms.setdefault(IMPORTS[n][0], []).append(n)
-    stdlib = [f"import {m}" for m in modules if m != "numpy"] + [
-        f"from {m} import {', '.join(names)}" for m, names in sorted(froms.items())
-    ]
-    imports = "\n".join(stdlib) + ("\n\n" if stdlib else "") + "import numpy as np"
-    if "np" not in used:
-        imports = "\n".join(stdlib)
-    header = f'"""{doc}"""\n\nfrom __future__ import annotations\n\n{imports}\n'
+    needed = dict(hoisted)
+    for name in free & set(IMPORTS):
+        module, attribute = IMPORTS[name]
+        needed[name] = (module, attribute, "np" if name == "np" else None)
+    header = f'"""{doc}"""\n\nfrom __future__ import annotations\n\n{_import_lines(needed)}\n'
     if exports:
         # sorted as linters expect: constants, classes, then functions
         order = sorted(exports, key=lambda n: (not n.isupper(), not n[:1].isupper(), n))
@@ -282,6 +324,24 @@ def _origin(module: ModuleType, name: str) -> ModuleType | None:
     return None
 
 
+def _import_of(module: ModuleType, name: str) -> str | None:
+    """The module-level import of ``name`` in ``module`` if it is from the standard
+    library or NumPy (as one statement), else ``None``."""
+    for node in _parsed(module)[1].body:
+        if not isinstance(node, ast.Import | ast.ImportFrom) or getattr(node, "level", 0):
+            continue
+        for alias in node.names:
+            if isinstance(node, ast.Import):
+                bound, top = alias.asname or alias.name.split(".")[0], alias.name
+            else:
+                bound, top = alias.asname or alias.name, node.module or ""
+            top = top.split(".")[0]
+            if bound == name and (top in sys.stdlib_module_names or top == "numpy"):
+                single = type(node)(**{**vars(node), "names": [alias]})
+                return ast.unparse(single)
+    return None
+
+
 def collect(items: Sequence[Cut | Text | str]) -> list[str]:
     """The pieces of a module: ``items`` in order (a ``str`` is written as it is, e.g. a
     comment), then every package definition they need, by module in source order.
@@ -320,6 +380,11 @@ def collect(items: Sequence[Cut | Text | str]) -> list[str]:
         if name in defined or name in IMPORTS:
             continue
         origin = None if context is None else _origin(context, name)
+        statement = None if context is None or origin else _import_of(context, name)
+        if statement is not None:  # the standard library or NumPy, as the package imports it
+            given.insert(0, statement)
+            defined[name] = statement
+            continue
         if origin is None:
             where = "the written source" if context is None else context.__name__
             raise ValueError(f"the generated module uses {name!r} ({where}), not a package name")
