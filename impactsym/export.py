@@ -14,12 +14,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import sympy as sp
-from sympy.printing.numpy import NumPyPrinter
-
 from impactsym._files import write_text
 from impactsym.contact import derivation
-from impactsym.contact.derivation import NUMERIC_AUX, D, f, tau
 
 Formula = tuple[str, str, str]
 
@@ -124,167 +120,45 @@ def latex_document(n_terms: int = 3) -> str:
 
 # -- NumPy-only Python module ------------------------------------------------------------
 
-_PRINTER = NumPyPrinter({"fully_qualified_modules": True, "allow_unknown_functions": False})
+#: The docstring of the exported module.
+_MODULE_DOC = """impactsym's section-1 and section-2 results as NumPy functions (generated).
 
+Waltersberger, Keppler and Wauer, PAMM 2004. Written by ``impactsym export python FILE``
+(impactsym {version}) from the package's own source: its kernels, root finders and input
+checks, and the closed forms it derived with SymPy; it needs NumPy only. The functions
+give the package's numbers, check their inputs as it does (errors name the argument)
+and need ``condition=`` where the two contact conditions differ.
 
-def _function_source(name: str, args: list[sp.Symbol], expr: sp.Expr, doc: str) -> str:
-    """``def name(args)`` computing ``expr`` with common subexpressions hoisted."""
-    replacements, (reduced,) = sp.cse(
-        sp.sympify(expr, strict=True), symbols=sp.numbered_symbols("c")
-    )
-    body = [f"    {s} = {_PRINTER.doprint(e)}" for s, e in replacements]
-    body.append(f"    return {_PRINTER.doprint(reduced)}")
-    code = "\n".join([f"def {name}({', '.join(map(str, args))}):", f'    """{doc}"""', *body])
-    return code.replace("numpy.", "np.")
-
-
-_SECTION2_HEADER = '''
-# -- spring-damper contact (paper section 2) ------------------------------------------
-# z'' + 2 D z' + z = 2 D f, z(0) = 0, z'(0) = 1; tau = omega0 t, D = d / (2 sqrt(k m)),
-# f = F / (d v0). Contact functions: g_position = z, g_force = 2 D z' + z.
-
-
-def _aux_underdamped(D):
-    return (np.sqrt((1.0 - D) * (1.0 + D)),)
-
-
-def _aux_critical(D):
-    return ()
-
-
-def _aux_overdamped(D):
-    sigma = np.sqrt((D - 1.0) * (D + 1.0))
-    return (sigma, D + sigma)
-
-
-def _damping(D):
-    # beyond D = 1e8 the over-damped exponentials lose accuracy (impactsym switches to
-    # its far over-damped limit there)
-    return _real("D", D, lower=0.0, upper=1e8)
-
-
-_AUX = {"underdamped": _aux_underdamped, "critical": _aux_critical,
-        "overdamped": _aux_overdamped}
-
-
-def _by_regime(functions, leading, D, critical_separate):
-    """Evaluate per damping regime on the broadcast arguments (leading args, D, f)."""
-    args = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in leading))
-    D = args[-2]
-    if critical_separate:
-        masks = {"underdamped": D < 1, "critical": D == 1, "overdamped": D > 1}
-    else:  # the under-damped forms hold at D = 1 (sinc at omega = 0)
-        masks = {"underdamped": D <= 1, "overdamped": D > 1}
-    out = np.full(D.shape, np.nan)
-    with np.errstate(all="ignore"):
-        for regime, mask in masks.items():
-            if mask.any():
-                sub = [a[mask] for a in args]
-                out[mask] = functions[regime](*sub, *_AUX[regime](sub[-2]))
-    return out if out.ndim else float(out)
-'''
-
-_PUBLIC_SECTION2 = '''
-
-def contact_function_{c}(tau, D, f):
-    """Contact function g_{c}(tau; D, f) of the spring-damper contact (paper section 2).
-
-    {what}. Arguments: tau (normalized time omega0 t >= 0), D (Lehr's damping, 0 to
-    1e8), f (pressing force F / (d v0) >= 0); NumPy arrays broadcast.
-    """
-    tau, D, f = _real("tau", tau, lower=0.0), _damping(D), _real("f", f, lower=0.0)
-    _shape(tau=tau, D=D, f=f)
-    return _by_regime(_G_{c}, (tau, D, f), D, critical_separate=False)
-
-
-def ridge_time_{c}(D, f):
-    """Closed-form ridge time tau_r(D, f) of the {c} condition: the first local minimum of
-    g after impact, from dg/dtau = 0 (paper section 2, the fold of Fig. 1a); NaN where g
-    has no minimum. Arguments: D, f as in contact_function_{c}.
-    """
-    D, f = _damping(D), _real("f", f, lower=0.0)
-    _shape(D=D, f=f)
-    D_, f_ = np.broadcast_arrays(D, f)
-    exists = _by_regime(_RIDGE_EXISTS_{c}, (D_, f_), D_, critical_separate=True)
-    ridge = _by_regime(_RIDGE_{c}, (D_, f_), D_, critical_separate=True)
-    return np.where(np.asarray(exists) > 0.5, ridge, np.nan)[()]
-
-
-def boundary_{c}(D, f):
-    """Boundary function G(D, f) = g_{c}(tau_r(D, f), D, f) of the {c} condition
-    (paper section 2, Fig. 1b): the body releases where G < 0 and sticks where G >= 0;
-    where g has no minimum G is its infimum 2 D f. Arguments: D, f as above.
-    """
-    ridge = np.asarray(ridge_time_{c}(D, f))
-    D_, f_ = np.broadcast_arrays(_damping(D), _real("f", f, lower=0.0))
-    value = np.asarray(contact_function_{c}(np.where(np.isnan(ridge), 0.0, ridge), D_, f_))
-    return np.where(np.isnan(ridge), 2.0 * D_ * f_, value)[()]
-'''
-
-_WHAT = {
-    "position": "The penetration z; contact lasts while g > 0",
-    "force": "The normalized contact force 2 D z' + z; contact lasts while g > 0",
-}
-
-
-def _section2_source() -> str:
-    parts = [_SECTION2_HEADER]
-    for c in ("position", "force"):
-        tables = {"G": {}, "RIDGE": {}, "RIDGE_EXISTS": {}}
-        for regime in derivation.REGIMES:
-            forms = derivation.spring_damper(regime).numeric_forms
-            aux = list(NUMERIC_AUX[regime])
-            if regime != "critical":  # the under-damped form covers D = 1
-                name = f"_g_{c}_{regime}"
-                parts.append(
-                    _function_source(
-                        name, [tau, D, f, *aux], forms[f"g_{c}"], f"g_{c} for the {regime} regime."
-                    )
-                )
-                tables["G"][regime] = name
-            for key, form in (("RIDGE", "ridge"), ("RIDGE_EXISTS", "ridge_exists")):
-                name = f"_{form}_{c}_{regime}"
-                expr = forms[f"{form}_{c}"]
-                if form == "ridge_exists":  # a boolean: 1.0 where g has a minimum
-                    expr = sp.Piecewise((1.0, expr), (0.0, True))
-                parts.append(
-                    _function_source(
-                        name, [D, f, *aux], expr, f"{form} of the {c} condition, {regime} regime."
-                    )
-                )
-                tables[key][regime] = name
-        for key, table in tables.items():
-            entries = ", ".join(f'"{r}": {n}' for r, n in table.items())
-            parts.append(f"_{key}_{c} = {{{entries}}}")
-        parts.append(_PUBLIC_SECTION2.format(c=c, what=_WHAT[c]))
-    return "\n\n".join(parts)
+* Spring-damper contact (section 2): ``contact_time``, ``restitution``,
+  ``stick_boundary``, ``ridge_time``, ``contact_surface``, ``physical_contact``; the
+  contact functions, ridge times and boundary function of each condition
+  (``contact_function_force``, ``ridge_time_force``, ``boundary_force``, ...).
+* Rod impact, rigid contact (section 1): ``rod_displacement``, ``rod_contact_force``,
+  ``rod_contact_time`` (a finite contact stiffness needs impactsym itself).
+"""
 
 
 def python_module() -> str:
-    """Source of a NumPy-only module with the rod and spring-damper time functions.
+    """Source of a NumPy-only module with the section-2 contact and the rigid rod functions.
+
+    :func:`impactsym.contact.codegen.contact_items` and
+    :func:`impactsym.rod.codegen.rod_items` with everything they use
+    (:func:`impactsym.numeric.pysource.collect`), in one module
+    (:func:`impactsym.numeric.pysource.module_source`).
 
     >>> source = python_module()
-    >>> "import sympy" in source, "def contact_function_force(tau, D, f):" in source
+    >>> "import sympy" in source, "def stick_boundary(f: ArrayLike, *, condition: str)" in source
     (False, True)
     """
-    from impactsym.rod.codegen import numpy_source
+    from impactsym import __version__
+    from impactsym.contact.codegen import CONTACT_EXPORTS, contact_items
+    from impactsym.numeric.pysource import collect, module_source
+    from impactsym.rod.codegen import ROD_EXPORTS, rod_items
 
-    header = '''"""Formulas of impactsym as plain NumPy functions (generated; needs NumPy only).
-
-Waltersberger, Keppler and Wauer, PAMM 2004: rod impact (section 1) and unilateral
-spring-damper contact (section 2). Regenerate with ``impactsym export python FILE``.
-Inputs are checked as impactsym checks them (real numbers or arrays only, finite, in
-range, broadcastable); errors name the argument.
-"""
-
-import numpy as np
-'''
-    rod = numpy_source().split("import numpy as np\n", 1)[1]  # its functions, not its header
-    return (
-        "\n".join(
-            [header, "# -- rod impact (paper section 1) " + "-" * 52, rod, _section2_source()]
-        ).rstrip()
-        + "\n"
+    return module_source(
+        _MODULE_DOC.format(version=__version__),
+        collect([*contact_items(), *rod_items()]),
+        exports=(*CONTACT_EXPORTS, *ROD_EXPORTS),
     )
 
 

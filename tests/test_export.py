@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import ast
 import json
+import pickle
 import re
+import shutil
 import subprocess
 import sys
 
@@ -236,3 +239,414 @@ def test_generated_module_validates_its_inputs_in_a_clean_interpreter(tmp_path):
         assert got[label][1].startswith(start), (label, got[label])
     assert 0 < got["fine"][1] < 1
     assert not (tmp_path / "PWNED").exists()
+
+
+# -- the exported module is the package: same numbers, same refusals, NumPy only -------
+
+#: Runs in a fresh interpreter with SymPy, mpmath, SciPy and impactsym unimportable:
+#: every call of the JSON list ``[label, function, args, kwargs]`` and what it gave.
+BLOCKED_PROBE = r"""
+import importlib.abc, inspect, json, pickle, sys
+BLOCKED = ("sympy", "mpmath", "scipy", "impactsym")
+BEFORE = set(sys.modules)  # the interpreter's start-up (site hooks) is not the module's
+
+
+class Refuse(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path=None, target=None):
+        if name.split(".")[0] in BLOCKED:
+            raise ImportError(f"{name} is blocked in this test")
+        return None
+
+
+sys.meta_path.insert(0, Refuse())
+for name in BLOCKED:
+    sys.modules[name] = None
+sys.path.insert(0, sys.argv[1])
+import numpy as np
+import impactsym_numpy as m
+
+
+def encode(value):
+    if type(value) is float:
+        return ["float", [], [value]]
+    array = np.asarray(value)
+    return [type(value).__name__, list(array.shape), array.ravel().tolist()]
+
+
+out = {"results": {}}
+for label, function, args, kwargs in pickle.loads(open(sys.argv[2], "rb").read()):
+    args = [np.array(a) if isinstance(a, list) and len(a) and isinstance(a[0], list) else a
+            for a in args]
+    try:
+        value = getattr(m, function)(*args, **kwargs)
+        if hasattr(value, "__dataclass_fields__"):
+            value = {k: encode(getattr(value, k)) for k in ("D", "f", "omega0",
+                     "normalized_contact_time", "contact_time", "restitution")}
+            out["results"][label] = ["record", value]
+        else:
+            out["results"][label] = ["value", encode(value)]
+    except Exception as exc:
+        out["results"][label] = ["error", type(exc).__name__, str(exc)]
+out["loaded"] = sorted(
+    {k.split(".")[0] for k, v in sys.modules.items() if v is not None and k not in BEFORE}
+    - set(sys.stdlib_module_names) - {"impactsym_numpy"}
+)
+out["required"] = {
+    name: inspect.signature(getattr(m, name)).parameters["condition"].default
+    is inspect.Parameter.empty
+    for name in ("contact_time", "restitution", "stick_boundary", "ridge_time",
+                 "contact_surface", "physical_contact", "rod_contact_time")
+}
+print(json.dumps(out))
+"""
+
+
+@pytest.fixture(scope="module")
+def exported(tmp_path_factory):
+    """The directory holding the module ``impactsym export python`` writes."""
+    from impactsym.cli import main
+
+    folder = tmp_path_factory.mktemp("exported")
+    assert main(["export", "python", str(folder / "impactsym_numpy.py")]) == 0
+    return folder
+
+
+def run_blocked(folder, calls) -> dict:
+    """Run ``calls`` on the exported module with SymPy, mpmath, SciPy, impactsym blocked."""
+    (folder / "calls.pickle").write_bytes(pickle.dumps(calls))
+    run = subprocess.run(
+        [sys.executable, "-c", BLOCKED_PROBE, str(folder), str(folder / "calls.pickle")],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=folder,
+    )
+    return json.loads(run.stdout)
+
+
+def section2_points() -> tuple[np.ndarray, np.ndarray]:
+    """(D, f) pairs over every regime and limit of the section-2 contact."""
+    rng = np.random.default_rng(23)
+    n = 40
+    D = np.concatenate(
+        [
+            rng.uniform(0.0, 1.0, n),  # under-damped
+            np.ones(8),  # critically damped, exactly
+            rng.uniform(1.0, 4.0, n),  # over-damped
+            10 ** rng.uniform(0.0, 8.0, n),  # far over-damped, up to the closed forms' end
+            10 ** rng.uniform(8.1, 12.0, 6),  # beyond: the far over-damped limit
+            rng.uniform(0.01, 1.0, 6),  # 2 D f > 1e4, clearly sticking: decided by a limit
+        ]
+    )
+    f = np.concatenate(
+        [
+            np.where(rng.uniform(size=n) < 0.2, 0.0, rng.uniform(0.0, 3.0, n)),
+            [0.0, 0.0, 0.1, 0.5, 1.0, 2.0, 1e-6, 10.0],
+            np.where(rng.uniform(size=n) < 0.2, 0.0, rng.uniform(0.0, 0.5, n)),
+            np.where(rng.uniform(size=n) < 0.3, 0.0, 10 ** rng.uniform(-40.0, -1.0, n)),
+            [0.0, 0.0, 0.0, 1e-6, 1e-3, 1.0],  # D > 1e8: f = 0 releases, f > 0 sticks here
+            rng.uniform(1e6, 1e7, 6),
+        ]
+    )
+    return D, f
+
+
+def package_ridge_time(D, f, *, condition):
+    from impactsym.contact.kernel import flat_inputs, ridge
+
+    (damping, force), shape, scalar = flat_inputs(condition=condition, D=D, f=f)
+    out = ridge(damping, force, condition=condition).reshape(shape)
+    return float(out) if scalar else out
+
+
+def package_function(name):
+    """The package function an exported name stands for."""
+    from impactsym import contact, rod
+
+    table = {
+        "contact_time": contact.contact_time,
+        "restitution": contact.restitution,
+        "stick_boundary": contact.stick_boundary,
+        "ridge_time": package_ridge_time,
+        "contact_surface": contact.contact_surface,
+        "physical_contact": contact.physical_contact,
+        "rod_displacement": rod.displacement,
+        "rod_contact_force": rod.contact_force,
+        "rod_contact_time": rod.contact_time,
+    }
+    return table[name]
+
+
+def comparison_calls() -> list:
+    """``[label, function, args, kwargs]``: every exported function on random inputs."""
+    D, f = section2_points()
+    calls = []
+    for c in ("position", "force"):
+        cond = {"condition": c}
+        for name in ("contact_time", "restitution"):
+            calls.append([f"{name} {c} arrays", name, [D.tolist(), f.tolist()], cond])
+            grid = [D[:12, None].tolist(), f[40:45].tolist()]  # broadcast to (12, 5)
+            calls.append([f"{name} {c} grid", name, grid, cond])
+            for d_, f_ in ((1.0, 0.0), (1.0, 0.3), (0.0, 1.0), (0.5, 0.0), (3.0, 0.05)):
+                calls.append([f"{name} {c} {d_} {f_}", name, [d_, f_], cond])
+        forces = np.concatenate(
+            [[0.0, 1e-40, 6e-34, 1e-20, 1e-3, 1.0, 1e12, 2e12, 1e15], 10 ** np.linspace(-8, 8, 25)]
+        )
+        calls.append([f"stick_boundary {c}", "stick_boundary", [forces.tolist()], cond])
+        for value in (0.0, 0.5, 1e13):
+            calls.append([f"stick_boundary {c} {value}", "stick_boundary", [value], cond])
+        closed = (D <= 1e8) & (2 * D * f <= 1e4)
+        pair = [D[closed].tolist(), f[closed].tolist()]
+        calls.append([f"ridge_time {c}", "ridge_time", pair, cond])
+        calls.append([f"ridge_time {c} scalar", "ridge_time", [1.0, 0.0], cond])
+        calls.append([f"contact_surface {c}", "contact_surface", pair, cond])
+        calls.append(
+            [
+                f"physical_contact {c}",
+                "physical_contact",
+                [2.0, 800.0, [0.0, 4.0, 80.0], 1.0],
+                {"F": [0.0, 3.0, 1.0], **cond},
+            ]
+        )
+        calls.append(
+            [
+                f"physical_contact {c} undamped",
+                "physical_contact",
+                [1.0, 1.0, 0.0, 1.0],
+                {"F": 0.5, **cond},
+            ]
+        )
+    t = np.linspace(-1.0, 100.0, 503).tolist()
+    for a, force in ((0.05, 0.0), (1.0, 2.0), (50.0, 5.0)):
+        for name in ("rod_displacement", "rod_contact_force"):
+            calls.append([f"{name} {a} {force}", name, [t, a, force], {}])
+    calls.append(["rod_contact_force scalar", "rod_contact_force", [3.0, 0.3, 1.0], {}])
+    calls.append(
+        ["rod_displacement mixed", "rod_displacement", [[[2.5], [7.0]], [0.2, 3.0], 0.4], {}]
+    )
+    rng = np.random.default_rng(5)
+    alpha, force = 10 ** rng.uniform(-1.5, 1.5, 12), rng.uniform(0.0, 2.5, 12)
+    for c in ("position", "force"):
+        pairs = [alpha.tolist(), force.tolist()]
+        calls.append([f"rod_contact_time {c}", "rod_contact_time", pairs, {"condition": c}])
+        calls.append(
+            [f"rod_contact_time {c} 0.5", "rod_contact_time", [0.5, 0.0], {"condition": c}]
+        )
+    calls.append(
+        [
+            "rod_contact_time t_max",
+            "rod_contact_time",
+            [[0.3, 3.0], 0.5],
+            {"condition": "force", "t_max": 9.0},
+        ]
+    )
+    return calls
+
+
+def decode(encoded):
+    kind, shape, data = encoded
+    return float(data[0]) if kind == "float" else np.array(data, dtype=float).reshape(shape)
+
+
+def test_exported_module_gives_the_package_numbers_bit_for_bit(exported):
+    calls = comparison_calls()
+    got = run_blocked(exported, calls)
+    assert got["loaded"] == ["numpy"]  # nothing but NumPy (and the standard library)
+    assert all(got["required"].values()), got["required"]  # condition= has no default
+    for label, name, args, kwargs in calls:
+        result = got["results"][label]
+        args = [
+            np.array(a) if isinstance(a, list) and a and isinstance(a[0], list) else a for a in args
+        ]
+        expected = package_function(name)(*args, **kwargs)
+        assert result[0] != "error", (label, result)
+        if result[0] == "record":
+            for field, encoded in result[1].items():
+                want = getattr(expected, field)
+                assert np.array_equal(decode(encoded), want, equal_nan=True), (label, field)
+            continue
+        value = decode(result[1])
+        if isinstance(expected, tuple):  # contact_surface: three arrays, flattened here
+            expected = np.array(expected)
+            value = value.reshape(expected.shape)
+        assert type(value) is type(expected) or isinstance(expected, np.ndarray), label
+        assert np.shape(value) == np.shape(expected), label
+        assert np.array_equal(value, expected, equal_nan=True), (label, value, expected)
+    # the calls cover every regime, both verdicts and the limits
+    times = decode(got["results"]["contact_time force arrays"][1])
+    assert np.isinf(times).any()
+    assert np.isfinite(times).any()
+
+
+CODE = "__import__('os').system('touch PWNED')"
+#: ``[label, function, args, kwargs, argument the message must name]``
+BAD_CALLS = [
+    ["string D", "contact_time", [CODE, 0.2], {"condition": "force"}, "D"],
+    ["negative f", "contact_time", [0.5, -1.0], {"condition": "position"}, "f"],
+    ["nan D", "restitution", [float("nan"), 0.2], {"condition": "force"}, "D"],
+    ["bool f", "restitution", [0.5, True], {"condition": "position"}, "f"],
+    ["complex D", "contact_time", [0.5j, 0.2], {"condition": "force"}, "D"],
+    ["shapes", "contact_time", [[0.1, 0.2], [0.1, 0.2, 0.3]], {"condition": "force"}, "D"],
+    ["unknown condition", "contact_time", [0.5, 0.2], {"condition": "pos"}, "condition"],
+    ["condition not a string", "restitution", [0.5, 0.2], {"condition": 1}, "condition"],
+    ["far D releasing", "contact_time", [1e9, 1e-40], {"condition": "force"}, "D"],
+    ["unresolved stick", "contact_time", [5.2e-9, 1e12], {"condition": "force"}, "D"],
+    ["string f", "stick_boundary", [CODE], {"condition": "force"}, "f"],
+    ["negative f boundary", "stick_boundary", [-1.0], {"condition": "position"}, "f"],
+    ["list with bool", "stick_boundary", [[0.5, True]], {"condition": "force"}, "f"],
+    ["surface beyond", "contact_surface", [1e9, 0.0], {"condition": "force"}, "D"],
+    ["zero mass", "physical_contact", [0.0, 1.0, 1.0, 1.0], {"condition": "force"}, "m"],
+    ["string k", "physical_contact", [1.0, CODE, 1.0, 1.0], {"condition": "force"}, "k"],
+    ["alpha range", "rod_displacement", [1.0, 2e6, 0.0], {}, "alpha"],
+    ["zero alpha", "rod_contact_force", [1.0, 0.0, 0.0], {}, "alpha"],
+    ["t beyond", "rod_displacement", [2e4, 2.0, 0.5], {}, "t"],
+    ["inf t", "rod_contact_force", [float("inf"), 2.0, 0.5], {}, "t"],
+    ["negative f rod", "rod_contact_force", [1.0, 0.5, -0.1], {}, "f"],
+    ["string alpha", "rod_contact_time", [CODE, 0.0], {"condition": "force"}, "alpha"],
+    ["t_max beyond", "rod_contact_time", [0.5, 0.0], {"condition": "force", "t_max": 2e4}, "t_max"],
+    [
+        "t_max array",
+        "rod_contact_time",
+        [0.5, 0.0],
+        {"condition": "force", "t_max": [1, 2]},
+        "t_max",
+    ],
+    ["rod condition", "rod_contact_time", [0.5, 0.0], {"condition": "both"}, "condition"],
+]
+
+
+def test_exported_module_refuses_what_the_package_refuses_with_its_words(exported):
+    calls = [call[:4] for call in BAD_CALLS]
+    got = run_blocked(exported, calls)["results"]
+    for label, name, args, kwargs, argument in BAD_CALLS:
+        with pytest.raises((TypeError, ValueError)) as caught:
+            package_function(name)(*args, **kwargs)
+        assert got[label] == ["error", type(caught.value).__name__, str(caught.value)], label
+        assert re.search(rf"\b{argument}\b", got[label][2]), (label, got[label])
+    assert not (exported / "PWNED").exists()
+
+
+def test_exported_module_has_its_own_refusals(exported):
+    """Where it differs from the package: condition= is required everywhere, a finite
+    kappa needs impactsym, ridge_time ends with the closed forms at D = 1e8."""
+    calls = [
+        ["no condition", "contact_time", [0.5, 0.2], {}],
+        ["no condition rod", "rod_contact_time", [0.5, 0.2], {}],
+        ["no condition boundary", "stick_boundary", [0.5], {}],
+        ["finite kappa", "rod_displacement", [1.0, 0.5, 0.0], {"kappa": 3.0}],
+        ["finite kappa time", "rod_contact_time", [0.5, 0.0], {"condition": "force", "kappa": 3.0}],
+        ["ridge beyond", "ridge_time", [[0.5, 1e9], 0.1], {"condition": "force"}],
+    ]
+    got = run_blocked(exported, calls)["results"]
+    for label in ("no condition", "no condition rod", "no condition boundary"):
+        kind, message = got[label][1:]
+        assert kind == "TypeError"
+        assert "required keyword-only argument: 'condition'" in message
+    for label in ("finite kappa", "finite kappa time"):
+        assert got[label][1:] == ["ValueError", got[label][2]]
+        assert got[label][2].startswith("kappa must be inf (rigid contact) in this module, got 3.0")
+    assert got["ridge beyond"][1:] == [
+        "ValueError",
+        "D must be <= 1e+08 (the range of these closed forms), got 1000000000.0",
+    ]
+
+
+def load_exported(folder):
+    """The exported module imported in this process (it imports nothing of impactsym)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("impactsym_numpy", folder / "impactsym_numpy.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["impactsym_numpy"] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.parametrize(
+    ("D", "f", "condition"),
+    [
+        (0.2, 0.5, "force"),
+        (0.2, 0.5, "position"),
+        (0.0, 1.0, "force"),
+        (1.0, 0.0, "force"),
+        (1.0, 0.02, "force"),
+        (0.5, 0.02, "position"),
+        (2.0, 0.0, "force"),
+    ],
+)
+def test_module_contact_time_and_restitution_match_the_mpmath_oscillator(exported, D, f, condition):
+    """Against the 40-digit matrix exponential of references.oscillator (no closed form)."""
+    from references import oscillator
+
+    m = load_exported(exported)
+    expected = float(oscillator.first_root(D, f, condition, t_max=20.0, samples=400))
+    assert m.contact_time(D, f, condition=condition) == pytest.approx(expected, rel=1e-13)
+    z_dot = float(oscillator.state(expected, D, f)[1])
+    assert m.restitution(D, f, condition=condition) == pytest.approx(-z_dot, rel=1e-12)
+
+
+def reference_minimum(D, f, condition, guess):
+    """The first minimum of g by the mpmath oscillator (a root of g' near ``guess``)."""
+    import mpmath as mp
+    from references import oscillator
+
+    def slope(t):
+        z, v = oscillator.state(t, D, f)
+        return v if condition == "position" else 2 * D * (2 * D * f - 2 * D * v - z) + v
+
+    with mp.workdps(40):
+        return oscillator.contact_function(mp.findroot(slope, guess), D, f, condition)
+
+
+def test_module_stick_boundary_separates_release_from_sticking_in_the_reference(exported):
+    m = load_exported(exported)
+    for f, condition in ((0.5, "position"), (0.2, "force"), (0.02, "force")):
+        d_star = m.stick_boundary(f, condition=condition)
+        for D, sign in ((d_star * (1 - 1e-6), -1), (d_star * (1 + 1e-6), 1)):
+            guess = m.ridge_time(D, f, condition=condition)
+            assert sign * reference_minimum(D, f, condition, guess) > 0, (f, condition, D)
+    assert m.stick_boundary([0.0], condition="position").tolist() == [1.0]
+
+
+def test_module_rod_contact_time_is_the_classical_rigid_striker(exported):
+    m = load_exported(exported)
+    a = np.array([0.05, 0.5, 1.0, 1.5])
+    expected = 2 + a * (1 + np.exp(-2 / a) / 2)  # f = 0: N vanishes on (2, 4)
+    got = m.rod_contact_time(a, 0.0, condition="force")
+    np.testing.assert_allclose(got, expected, rtol=0, atol=1e-12)
+
+
+def test_exported_module_is_lint_clean_and_documented(exported):
+    source = (exported / "impactsym_numpy.py").read_text()
+    tree = ast.parse(source)
+    m = load_exported(exported)
+    public = [
+        node.name
+        for node in tree.body
+        if isinstance(node, ast.FunctionDef | ast.ClassDef) and not node.name.startswith("_")
+    ]
+    assert set(m.__all__) <= set(public)
+    undocumented = [name for name in public if not (getattr(m, name).__doc__ or "").strip()]
+    assert undocumented == []
+    for word in ("sympy", "mpmath", "scipy", "impactsym"):
+        assert not re.search(rf"^\s*(import|from) {word}\b", source, re.M), word
+    ruff = shutil.which("ruff")
+    if ruff is None:
+        pytest.skip("ruff is not installed")
+    # pyflakes (undefined or unused names), syntax, import order, bugbear, upgrades
+    lint = subprocess.run(
+        [
+            ruff,
+            "check",
+            "--isolated",
+            "--no-cache",
+            "--select",
+            "F,E9,I,B,UP,RUF022",
+            "--target-version",
+            "py310",
+            str(exported / "impactsym_numpy.py"),
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert lint.returncode == 0, lint.stdout

@@ -47,6 +47,7 @@ FLOORS = [
         "impactsym.contact.release",
         "impactsym.contact.api",
         "impactsym.contact.bounce",
+        "impactsym.contact.codegen",
         "impactsym.rod.elastic",
         "impactsym.rod.codegen",
         "impactsym.rod.api",

@@ -47,3 +47,30 @@ def test_numpy_source_agrees_with_the_method_of_characteristics(generated):
         reference = Characteristics(a, force, 51)
         assert np.max(np.abs(generated["rod_contact_force"](tt, a, force) - reference.N(tt))) < 1e-9
         assert np.max(np.abs(generated["rod_displacement"](tt, a, force) - reference.y(tt))) < 1e-9
+
+
+def test_numpy_source_contact_time_is_the_package_search(generated):
+    """The certified search, exported: the same contact times, bit for bit."""
+    from impactsym.rod import contact_time
+
+    rng = np.random.default_rng(11)
+    alpha, force = 10 ** rng.uniform(-1.5, 1.5, 16), rng.uniform(0.0, 2.5, 16)
+    for condition in ("force", "position"):
+        got = generated["rod_contact_time"](alpha, force, condition=condition, t_max=30.0)
+        assert np.array_equal(got, contact_time(alpha, force, condition=condition, t_max=30.0))
+    # the first release of a light striker against the delay equation's own solution
+    reference = Characteristics(0.5, 0.0, 3)
+    t_c = generated["rod_contact_time"](0.5, 0.0, condition="force")
+    assert isinstance(t_c, float)
+    assert abs(reference.N(np.array([t_c]))[0]) < 1e-9
+
+
+def test_numpy_source_needs_the_condition_and_refuses_a_finite_kappa(generated):
+    with pytest.raises(TypeError, match="required keyword-only argument: 'condition'"):
+        generated["rod_contact_time"](0.5, 0.0)
+    with pytest.raises(ValueError, match="kappa must be inf .* got 2.0"):
+        generated["rod_contact_force"](1.0, 0.5, 0.0, kappa=2.0)
+    with pytest.raises(ValueError, match="kappa must be inf .* got 2.0"):
+        generated["rod_contact_time"](0.5, 0.0, condition="position", kappa=2.0)
+    with pytest.raises(ValueError, match="alpha must lie in"):  # the package's own range
+        generated["rod_displacement"](1.0, 1e7, 0.0)

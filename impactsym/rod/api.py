@@ -100,7 +100,7 @@ def displacement(
 def contact_force(
     t: ArrayLike, alpha: ArrayLike, f: ArrayLike, *, kappa: ArrayLike = np.inf
 ) -> float | np.ndarray:
-    r"""Contact force :math:`N(t)` of the persistent-contact solution.
+    r"""Contact force :math:`N(t)` of the persistent-contact solution (paper section 1).
 
     The sum of the inverted terms of the delay series of
     :math:`N(s) = -\partial_\xi W(0, s)` whose delay has arrived; for rigid contact
