@@ -11,7 +11,7 @@ import pytest
 from conftest import CODE
 
 from impactsym.cli import main
-from impactsym.export import formula
+from impactsym.export import formula, formula_names
 
 
 @pytest.fixture(scope="module")
@@ -129,3 +129,17 @@ def test_cli_export_writes_atomically(tmp_path):
     assert main(["export", "python", str(target)]) == 0
     assert [p.name for p in tmp_path.iterdir()] == ["m.py"]
     assert "def boundary_force" in target.read_text()
+
+
+def test_latex_list_gives_every_label_with_a_one_line_description(capsys):
+    assert main(["latex", "--list"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in lines] == formula_names()
+    for line in lines:
+        description = line.split(maxsplit=1)[1]
+        assert len(description) > 15, line  # a phrase, not a bare label
+        assert "$" not in description, line
+        assert "\\" not in description, line
+    assert "Ridge time tau_r(D, f) of the force condition, over-damped contact (D > 1)" in (
+        "\n".join(lines)
+    )
