@@ -405,3 +405,63 @@ def test_generated_module_validates_its_inputs_in_a_clean_interpreter(tmp_path):
         assert got[label][1].startswith(start), (label, got[label])
     assert 0 < got["fine"][1] < 1
     assert not (tmp_path / "PWNED").exists()
+
+
+def test_typeset_eq1_is_solved_by_the_derived_closed_form():
+    # eq. (1) is written by hand: read its LaTeX back (a few fixed notations) and
+    # substitute the closed form W, Y of finite kappa into every equation
+    from sympy.parsing.sympy_parser import (
+        implicit_multiplication_application,
+        parse_expr,
+        standard_transformations,
+    )
+
+    from impactsym.rod import RodImpact
+
+    rod = RodImpact(sp.Symbol("kappa", positive=True))
+    s, xi = rod.s, rod.xi
+    W = rod.W
+    values = {
+        "Wxx": W.diff(xi, 2),
+        "Wx0": W.diff(xi).subs(xi, 0),
+        "W1": W.subs(xi, 1),
+        "W0": W.subs(xi, 0),
+        "Wxs": W,
+        "Ys": rod.Y,
+    }
+    text = formula("rod-bvp")
+    for latex_text, name in (
+        (r"\begin{gathered}", ""),
+        (r"\end{gathered}", ""),
+        (r"W''(\xi, s)", " Wxx "),
+        (r"W'(0, s)", " Wx0 "),
+        (r"W(\xi, s)", " Wxs "),
+        (r"W(1, s)", " W1 "),
+        (r"W(0, s)", " W0 "),
+        (r"Y(s)", " Ys "),
+        (r"\frac{f}{s}", " (f/s) "),
+        ("^{2}", "**2"),
+        (r"\alpha", " alpha "),
+        (r"\kappa", " kappa "),
+    ):
+        text = text.replace(latex_text, name)
+    rows = [row for part in text.split(r"\\") for row in part.split(r", \qquad")]
+    assert len(rows) == 4
+    symbols = {"alpha": rod.alpha, "f": rod.f, "s": s, "kappa": rod.kappa}
+    transformations = (*standard_transformations, implicit_multiplication_application)
+    rng = np.random.default_rng(1)
+    for row in rows:
+        lhs, rhs = row.strip().rstrip(",").split("=")
+        assert rhs.strip() == "0"
+        local = {**symbols, **{k: sp.Symbol(k) for k in values}}
+        equation = parse_expr(lhs, local_dict=local, transformations=transformations)
+        residual = equation.subs({sp.Symbol(k): v for k, v in values.items()})
+        for _ in range(5):
+            point = {
+                rod.alpha: sp.Float(rng.uniform(0.1, 5), 30),
+                rod.f: sp.Float(rng.uniform(0, 2), 30),
+                s: sp.Float(rng.uniform(0.3, 5), 30),
+                rod.kappa: sp.Float(rng.uniform(0.5, 40), 30),
+                xi: sp.Float(rng.uniform(0, 1), 30),
+            }
+            assert abs(complex(residual.subs(point).evalf(30))) < 1e-20, row
