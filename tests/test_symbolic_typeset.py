@@ -82,9 +82,8 @@ def test_typeset_sets_branches_as_cases_and_substitutes_abbreviations_back():
     assert value == sp.cos(sp.sqrt(3) / 2)
     assert form.expression().subs({D: sp.Rational(1, 2), t: 1, f: 1}) is sp.nan
     rows = aligned([form, r"y &= 0"])
-    assert rows.startswith(r"\begin{aligned}x &= \begin{cases}") and rows.endswith(
-        r"y &= 0\end{aligned}"
-    )
+    assert rows.startswith(r"\begin{aligned}x &= \begin{cases}")
+    assert rows.endswith(r"y &= 0\end{aligned}")
 
 
 def brute_force_equivalent(a: sp.Boolean, b: sp.Boolean, D_range, n=4000, seed=0) -> bool:
@@ -103,14 +102,16 @@ def test_minimal_condition_of_the_overdamped_force_ridge_is_one_bound():
     p0 = 4 * D**2 * f - 4 * D**2 + 1
     q = -4 * D**3 * f + 4 * D**3 + 2 * D * f - 3 * D
     original = sp.And(p0 < 0, q + s * p0 > 0)
-    reduced = minimal_condition(original, f, D, sp.Interval.open(1, sp.oo))
+    reduced = minimal_condition(original, f, parameter=D, interval=sp.Interval.open(1, sp.oo))
     assert reduced == (f < (D - s) / (2 * D))
     assert brute_force_equivalent(original, reduced, (1, 6))
 
 
 def test_minimal_condition_keeps_bounds_that_cross_and_flips_negative_coefficients():
     # f < D and f < 2 - D cross at D = 1 on (0, 2): both stay
-    both = minimal_condition(sp.And(f < D, f - 2 + D < 0), f, D, sp.Interval.open(0, 2))
+    both = minimal_condition(
+        sp.And(f < D, f - 2 + D < 0), f, parameter=D, interval=sp.Interval.open(0, 2)
+    )
     assert len(sp.And.make_args(both)) == 2
     assert brute_force_equivalent(both, sp.And(f < D, f < 2 - D), (0, 2))
     # a negative coefficient turns the inequality round; a lower bound is kept
@@ -124,4 +125,4 @@ def test_minimal_condition_refuses_what_it_cannot_reduce():
     with pytest.raises(ValueError, match="not an inequality"):
         minimal_condition(sp.Eq(f, 1), f)
     with pytest.raises(ValueError, match="may change sign"):
-        minimal_condition((D - 1) * f < 1, f, D, sp.Interval.open(0, 2))
+        minimal_condition((D - 1) * f < 1, f, parameter=D, interval=sp.Interval.open(0, 2))

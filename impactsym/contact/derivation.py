@@ -477,7 +477,7 @@ def _typeset_ridge(model: SpringDamperContact, condition: str) -> Typeset:
         expr, slope, where = num / den, (), minimal_condition(exists, f)
     else:  # tanh(omega tau) = omega p0 / x
         expr, factor = sp.atanh(OMEGA_OVER * p0 / x), 1 / OMEGA_OVER
-        where = minimal_condition(exists, f, D, sp.Interval.open(1, sp.oo))
+        where = minimal_condition(exists, f, parameter=D, interval=sp.Interval.open(1, sp.oo))
         where = where.subs(sp.sqrt(D**2 - 1), OMEGA_OVER)
     return Typeset(
         r"\tau_r",

@@ -345,8 +345,9 @@ def _sign_on(expr: sp.Expr, parameter: sp.Symbol | None, interval: sp.Interval) 
 
 
 def minimal_condition(
-    condition: sp.Boolean,
+    inequalities: sp.Boolean,
     variable: sp.Symbol,
+    *,
     parameter: sp.Symbol | None = None,
     interval: sp.Set = sp.S.Reals,
 ) -> sp.Boolean:
@@ -361,10 +362,10 @@ def minimal_condition(
     >>> minimal_condition(sp.And(1 - 2 * f > 0, 4 * f - 3 < 0), f)
     f < 1/2
     >>> cond = sp.And(4 * D**2 * (f - 1) + 1 < 0, 2 * D * f - D < 0)
-    >>> minimal_condition(cond, f, D, sp.Interval.open(1, sp.oo))
+    >>> minimal_condition(cond, f, parameter=D, interval=sp.Interval.open(1, sp.oo))
     f < 1/2
     """
-    atoms = sp.And.make_args(condition)
+    atoms = sp.And.make_args(inequalities)
     upper: list[tuple[sp.Expr, bool]] = []  # (bound, strict)
     lower: list[tuple[sp.Expr, bool]] = []
     for atom in atoms:
