@@ -11,6 +11,7 @@ import mpmath
 import numpy as np
 import pytest
 import sympy as sp
+from references import latex_reader
 
 from impactsym import contact_time
 from impactsym.contact import derivation
@@ -20,6 +21,7 @@ from impactsym.export import (
     SECTIONS,
     formula,
     formula_names,
+    formulas,
     latex_document,
     python_module,
     typeset_formulas,
@@ -185,20 +187,71 @@ def test_typeset_formula_equals_its_source_at_random_points(label, form):
             assert abs(got - want) <= 1e-12 * max(1, abs(want)), (label, point, got, want)
 
 
+def read_back_cases():
+    """(label, LaTeX of one formula or row, its Typeset, the LaTeX of the ridge time it uses)."""
+    bodies = {label: body for _, items in formulas(N_TERMS) for label, _, body in items}
+    ridge_text = None
+    for _, items in typeset_formulas(N_TERMS):
+        for label, _, form in items:
+            body = bodies[label]
+            if isinstance(form, list):  # aligned rows after the line that sums them
+                inner = body.removeprefix(r"\begin{aligned}").removesuffix(r"\end{aligned}")
+                rows = inner.split(r" \\ ")[1:]
+                for text, row in zip(rows, form[1:], strict=True):
+                    yield pytest.param(label, text, row, None, id=f"{label}-{row.lhs}")
+            elif isinstance(form, Typeset):
+                yield pytest.param(label, body, form, ridge_text, id=label)
+                ridge_text = body if label.startswith("sd-ridge") else ridge_text
+
+
+def read_formula(text: str, ridge_text: str | None) -> tuple[sp.Expr, sp.Boolean]:
+    """The right side read from the LaTeX, every abbreviation (and the ridge time, read
+    from its own formula) substituted, and the condition it states."""
+    parsed = latex_reader.read(text, {})
+    expr = parsed["rhs"]
+    if ridge_text is not None:
+        ridge, _ = read_formula(ridge_text, None)
+        expr = expr.subs(sp.Symbol("tau_r"), ridge)
+    condition = parsed["for"]
+    for _ in range(3):  # definitions may use each other
+        expr, condition = expr.subs(parsed["with"]), condition.subs(parsed["with"])
+    expr = expr.subs(sp.Symbol("N_TERMS"), N_TERMS).doit()
+    return expr, condition
+
+
+@pytest.mark.parametrize(("label", "text", "form", "ridge_text"), list(read_back_cases()))
+def test_latex_read_back_equals_the_derived_expression(label, text, form, ridge_text):
+    # the LaTeX string itself, read by an independent reader, against the source
+    expr, condition = read_formula(text, ridge_text)
+    names = sorted({sym.name for sym in expr.free_symbols | form.source.free_symbols})
+    assert set(names) <= {*SYMBOLS, "D"}, (label, names)
+    source_symbols = {sym.name: sym for sym in form.source.free_symbols}
+    arguments = [source_symbols.get(name, sp.Symbol(name)) for name in names]
+    source_value = sp.lambdify(arguments, form.source, "mpmath")
+    read_value = sp.lambdify([sp.Symbol(name) for name in names], expr, "mpmath")
+    holds = sp.lambdify([sp.Symbol(name) for name in names], condition, "mpmath")
+    rng = np.random.default_rng(sum(map(ord, text)))
+    with mpmath.workdps(30):
+        for point in random_points(form, arguments, rng):
+            by_name = {sym.name: value for sym, value in point.items()}
+            args = [mpmath.mpf(float(by_name[name])) for name in names]
+            want, got = source_value(*args), read_value(*args)
+            assert abs(got - want) <= 1e-12 * max(1, abs(want)), (label, by_name, got, want)
+            assert bool(holds(*args)), (label, by_name, condition)
+
+
 @pytest.mark.parametrize("regime", ["critical", "overdamped"])
 def test_ridge_conditions_are_the_derived_ones_over_the_regime(regime):
-    # the typeset condition (one bound) and the package's (a conjunction) agree on a
-    # fine random sample of the regime
+    # the condition read from the LaTeX (one bound) and the package's (a conjunction)
+    # agree on a fine random sample of the regime, on both sides of the bound
     model = derivation.spring_damper(regime)
-    form = typeset(f"sd-ridge-force-{regime}")
-    ((_, condition),) = form.branches
+    _, condition = read_formula(formula(f"sd-ridge-force-{regime}"), None)
     assert len(sp.And.make_args(condition)) == 1
-    condition = condition.subs(derivation.OMEGA_OVER, sp.sqrt(derivation.D**2 - 1))
     rng = np.random.default_rng(7)
     Ds = np.ones(5000) if regime == "critical" else rng.uniform(1, 8, 5000)
     fs = rng.uniform(0, 1.5, 5000) / Ds  # the bound is 1/2 at D = 1, about 1/(4 D) beyond
+    mine = sp.lambdify(sp.symbols("D f"), condition, "numpy")(Ds, fs)
     variables = (derivation.D, derivation.f)
-    mine = sp.lambdify(variables, condition, "numpy")(Ds, fs)
     derived = sp.lambdify(variables, model.ridge_exists["force"], "numpy")(Ds, fs)
     assert np.array_equal(mine, derived)
     assert 0.02 < np.mean(mine) < 0.98  # both sides of the bound are sampled
