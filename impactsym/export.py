@@ -3,7 +3,9 @@
 * :func:`latex_document` -- a standalone, compilable LaTeX document with every formula
   the package derives (paper eqs. (1), (2), the closed forms, series, inverted terms,
   the spring-damper solution, ridge times and boundary, the reduced multibody equation);
-  :func:`formula` returns one of them for pasting.
+  :func:`formula` returns one of them for pasting, :func:`formula_descriptions` says what
+  each is; :func:`typeset_formulas` gives the typeset objects
+  (:mod:`impactsym.symbolic.typeset`), which keep the expression each formula came from.
 * :func:`python_module` -- readable Python source that depends on NumPy only, with the
   rod time functions and the section-2 contact functions, ridge times and boundary
   equation, generated from the same SymPy expressions the package uses.

@@ -291,7 +291,9 @@ def positive_factor(expr: sp.Expr) -> sp.Expr:
     return expr
 
 
-def tidy(expr: sp.Expr, atoms: tuple[sp.Expr, ...] = (), variable: sp.Symbol | None = None):
+def tidy(
+    expr: sp.Expr, atoms: tuple[sp.Expr, ...] = (), variable: sp.Symbol | None = None
+) -> sp.Expr:
     r"""``expr`` collected over ``atoms``, each coefficient as a polynomial in
     ``variable`` whose coefficients are factored.
 
