@@ -295,23 +295,36 @@ def tidy(
     expr: sp.Expr, atoms: tuple[sp.Expr, ...] = (), variable: sp.Symbol | None = None
 ) -> sp.Expr:
     r"""``expr`` collected over ``atoms``, each coefficient as a polynomial in
-    ``variable`` whose coefficients are factored.
+    ``variable`` whose coefficients are factored; with one atom :math:`E`, terms
+    :math:`c\,x^k - c\,x^k E` are written :math:`c\,x^k (1 - E)`.
 
     >>> t, a, f = sp.symbols("t alpha f", positive=True)
     >>> E = sp.exp(-t / a)
     >>> tidy(4*a*f - 2*a - 2*f*t + (-4*a*f + 2*a + t*(2 - 2*f))*E, (E,), t)
-    2*alpha*(2*f - 1) - 2*f*t + (2*alpha*(1 - 2*f) + 2*t*(1 - f))*exp(-t/alpha)
+    2*alpha*(1 - exp(-t/alpha))*(2*f - 1) - 2*f*t + 2*t*(1 - f)*exp(-t/alpha)
     """
     parts = sp.collect(sp.expand(expr), list(atoms), evaluate=False) if atoms else {1: expr}
-    out = sp.Integer(0)
+    terms: dict[sp.Expr, dict[int, sp.Expr]] = {}
     for atom, coefficient in parts.items():
         if variable is not None and coefficient.is_polynomial(variable):
-            poly = sp.Poly(coefficient, variable)
-            coefficient = sp.Add(
-                *(positive_factor(sp.factor(c)) * variable**k for (k,), c in poly.terms())
-            )
+            powers = {k: c for (k,), c in sp.Poly(coefficient, variable).terms()}
         else:
-            coefficient = positive_factor(sp.factor(coefficient))
+            powers = {0: coefficient}
+        terms[atom] = powers
+    out = sp.Integer(0)
+    if len(atoms) == 1 and variable is not None:  # c x^k (1 - E)
+        (atom,) = atoms
+        plain, decaying = terms.setdefault(sp.S.One, {}), terms.setdefault(atom, {})
+        for k in [k for k in plain if sp.expand(plain[k] + decaying.get(k, 0)) == 0]:
+            out += positive_factor(sp.factor(plain.pop(k))) * variable**k * (1 - atom)
+            decaying.pop(k)
+    for atom, powers in terms.items():
+        coefficient = sp.Add(
+            *(
+                positive_factor(sp.factor(c)) * (variable**k if variable is not None else 1)
+                for k, c in powers.items()
+            )
+        )
         out += coefficient * atom
     return out
 
