@@ -201,11 +201,16 @@ def latex_document(n_terms: int = 3) -> str:
     ]
     for (title, items), intro in zip(formulas(n_terms), _SECTION_INTRO, strict=True):
         lines += [rf"\section{{{title}}}", intro]
+        ridge = None
         for label, caption, body in items:
             tag = PAPER_EQUATIONS.get(label)
+            sentence = _escape_text(caption)
+            if ridge is not None:  # the boundary cites the ridge time by its number
+                sentence = sentence.replace("the ridge time above", rf"eq.~\eqref{{eq:{ridge}}}")
+            ridge = label if label.startswith("sd-ridge") else ridge
             lines += [
                 "",
-                rf"\noindent {_escape_text(caption)}\formulalabel{{{_escape_text(label)}}}",
+                rf"\noindent {sentence}\formulalabel{{{_escape_text(label)}}}",
                 r"\begin{equation}",
                 rf"\label{{eq:{label}}}" + (rf"\tag{{{tag}}}" if tag else ""),
                 rf"\fitformula{{{body}}}",

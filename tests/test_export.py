@@ -307,6 +307,8 @@ def test_document_reads_like_an_appendix():
     for label, number in PAPER_EQUATIONS.items():
         assert f"\\label{{eq:{label}}}\\tag{{{number}}}" in document
     assert "\\numberwithin{equation}{section}" in document
+    # a stick/release test cites the ridge time it uses by its equation number
+    assert "from eq.~\\eqref{eq:sd-ridge-force-critical}" in document
     # a sentence before every equation, ending in a full stop before the label
     for label in formula_names():
         sentence = document.split(f"\\formulalabel{{{label}}}")[0].rsplit("\\noindent ", 1)[1]
