@@ -44,7 +44,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     latex = commands.add_parser("latex", help="print one derived formula as LaTeX")
     latex.add_argument("name", nargs="?", help="formula label, e.g. sd-ridge-force-underdamped")
-    latex.add_argument("--list", action="store_true", help="list the formula labels")
+    latex.add_argument(
+        "--list", action="store_true", help="list the formula labels with what each one is"
+    )
 
     export = commands.add_parser("export", help="write a generated file")
     export.add_argument(
@@ -149,10 +151,12 @@ def _run(args: argparse.Namespace) -> None:
     if args.command == "reproduce":
         _reproduce(args)
     elif args.command == "latex":
-        from impactsym.export import formula, formula_names
+        from impactsym.export import formula, formula_descriptions
 
         if args.list or args.name is None:
-            print("\n".join(formula_names()))
+            entries = formula_descriptions()
+            width = max(len(label) for label, _ in entries)
+            print("\n".join(f"{label:<{width}}  {text}" for label, text in entries))
         else:
             print(formula(args.name))
     elif args.command == "mujoco":

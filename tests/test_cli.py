@@ -11,7 +11,7 @@ import pytest
 from conftest import CODE
 
 from impactsym.cli import main
-from impactsym.export import formula
+from impactsym.export import formula, formula_names
 
 
 @pytest.fixture(scope="module")
@@ -140,3 +140,17 @@ def test_version_matches_the_installed_distribution(capsys):
     pyproject = (Path(__file__).parents[1] / "pyproject.toml").read_text()
     version = re.search(r'^version = "([^"]+)"', pyproject, re.M).group(1)
     assert capsys.readouterr().out.strip() == f"impactsym {version}"
+
+
+def test_latex_list_gives_every_label_with_a_one_line_description(capsys):
+    assert main(["latex", "--list"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in lines] == formula_names()
+    for line in lines:
+        description = line.split(maxsplit=1)[1]
+        assert len(description) > 15, line  # a phrase, not a bare label
+        assert "$" not in description, line
+        assert "\\" not in description, line
+    assert "Ridge time tau_r(D, f) of the force condition, over-damped contact (D > 1)" in (
+        "\n".join(lines)
+    )

@@ -10,15 +10,28 @@ import shutil
 import subprocess
 import sys
 
+import mpmath
 import numpy as np
 import pytest
 import sympy as sp
+from references import latex_reader
 
 from impactsym import contact_time
+from impactsym.contact import derivation
 from impactsym.contact.kernel import kernels
-from impactsym.export import formula, formula_names, latex_document, python_module
+from impactsym.export import (
+    PAPER_EQUATIONS,
+    SECTIONS,
+    formula,
+    formula_names,
+    formulas,
+    latex_document,
+    python_module,
+    typeset_formulas,
+)
 from impactsym.results.documents import LatexError, compile_latex
 from impactsym.rod import contact_force, displacement
+from impactsym.symbolic.typeset import Typeset
 
 
 def test_formulas_document_compiles_with_pdflatex(tmp_path, pdflatex):
@@ -91,9 +104,220 @@ def test_every_formula_is_labelled_and_retrievable():
     (ridge,) = sp.solve(
         sp.simplify((2 * solution.diff(tau) + solution).diff(tau) * sp.exp(tau)), tau
     )
-    assert formula("sd-ridge-force-critical") == f"\\tau_r = {sp.latex(ridge)}"
+    form = typeset("sd-ridge-force-critical")
+    assert formula("sd-ridge-force-critical") == form.latex()
+    assert formula("sd-ridge-force-critical") == (
+        r"\tau_r = \frac{3 - 4 f}{1 - 2 f}, \qquad \text{for } f < \frac{1}{2}"
+    )
+    ((expr, where),) = form.branches
+    assert sp.simplify(expr.subs(derivation.f, force) - ridge) == 0
+    assert where == (derivation.f < sp.Rational(1, 2))  # where that time is a minimum
     with pytest.raises(ValueError, match="no formula named 'nope'"):
         formula("nope")
+
+
+# -- every typeset formula against the expression it came from ------------------------
+
+N_TERMS = 3
+SYMBOLS = {
+    "tau": (0, 12),
+    "f": (0, 2.5),
+    "alpha": (0.1, 5),
+    "s": (0.3, 6),
+    "t": (0, 12),
+    "kappa": (0.5, 40),
+    "xi": (0, 1),
+}
+
+
+def typeset(name: str, n_terms: int = N_TERMS):
+    for _, items in typeset_formulas(n_terms):
+        for label, _, form in items:
+            if label == name:
+                return form
+    raise KeyError(name)
+
+
+def checked_forms():
+    """(label, Typeset) of every formula typeset from an expression, rows included."""
+    for _, items in typeset_formulas(N_TERMS):
+        for label, _, form in items:
+            for row in form if isinstance(form, list) else [form]:
+                if isinstance(row, Typeset) and row.source is not None:
+                    yield label, row
+
+
+def truncated(expr: sp.Expr, n_terms: int) -> sp.Expr:
+    """A series written as X_1 + sum_{n >= 2}: its first ``n_terms`` terms."""
+    return expr.replace(
+        lambda e: isinstance(e, sp.Sum),
+        lambda e: sp.Sum(e.function, (e.limits[0][0], e.limits[0][1], n_terms)).doit(),
+    )
+
+
+def random_points(form: Typeset, symbols, rng, n=24):
+    """Points of the formula's region: D from (0, 1), {1} and (1, 5), the rest uniform."""
+    D = derivation.D
+    candidates = {sym: rng.uniform(*SYMBOLS[sym.name], 4000) for sym in symbols if sym != D}
+    candidates[D] = np.select(
+        [rng.uniform(size=4000) < 0.4, rng.uniform(size=4000) < 0.3],
+        [rng.uniform(0, 1, 4000), np.ones(4000)],
+        rng.uniform(1, 5, 4000),
+    )
+    names = sorted(candidates, key=str)
+    with np.errstate(invalid="ignore"):  # sqrt(D^2 - 1) outside D > 1: nan, not inside
+        inside = sp.lambdify(names, form.domain, "numpy")(*(candidates[k] for k in names))
+    chosen = np.flatnonzero(np.broadcast_to(inside, (4000,)))[:n]
+    assert len(chosen) == n, f"too few points in {form.domain}"
+    return [{sym: candidates[sym][i] for sym in names} for i in chosen]
+
+
+@pytest.mark.parametrize(
+    ("label", "form"), [pytest.param(label, form, id=label) for label, form in checked_forms()]
+)
+def test_typeset_formula_equals_its_source_at_random_points(label, form):
+    expr = truncated(form.expression(), N_TERMS)
+    assert not expr.free_symbols & {a.symbol for a in form.abbreviations}, label
+    symbols = sorted(expr.free_symbols | form.source.free_symbols, key=str)
+    assert {sym.name for sym in symbols} <= {*SYMBOLS, "D"}, symbols
+    typeset_value = sp.lambdify(symbols, expr, "mpmath")
+    source_value = sp.lambdify(symbols, form.source, "mpmath")
+    rng = np.random.default_rng(sum(map(ord, label)))
+    with mpmath.workdps(30):
+        for point in random_points(form, symbols, rng):
+            args = [mpmath.mpf(float(point[sym])) for sym in symbols]
+            want, got = source_value(*args), typeset_value(*args)
+            assert abs(got - want) <= 1e-12 * max(1, abs(want)), (label, point, got, want)
+
+
+def read_back_cases():
+    """(label, LaTeX of one formula or row, its Typeset, the LaTeX of the ridge time it uses)."""
+    bodies = {label: body for _, items in formulas(N_TERMS) for label, _, body in items}
+    ridge_text = None
+    for _, items in typeset_formulas(N_TERMS):
+        for label, _, form in items:
+            body = bodies[label]
+            if isinstance(form, list):  # aligned rows after the line that sums them
+                inner = body.removeprefix(r"\begin{aligned}").removesuffix(r"\end{aligned}")
+                rows = inner.split(r" \\ ")[1:]
+                for text, row in zip(rows, form[1:], strict=True):
+                    yield pytest.param(label, text, row, None, id=f"{label}-{row.lhs}")
+            elif isinstance(form, Typeset):
+                yield pytest.param(label, body, form, ridge_text, id=label)
+                ridge_text = body if label.startswith("sd-ridge") else ridge_text
+
+
+def read_formula(text: str, ridge_text: str | None) -> tuple[sp.Expr, sp.Boolean]:
+    """The right side read from the LaTeX, every abbreviation (and the ridge time, read
+    from its own formula) substituted, and the condition it states."""
+    parsed = latex_reader.read(text, {})
+    expr = parsed["rhs"]
+    if ridge_text is not None:
+        ridge, _ = read_formula(ridge_text, None)
+        expr = expr.subs(sp.Symbol("tau_r"), ridge)
+    condition = parsed["for"]
+    for _ in range(3):  # definitions may use each other
+        expr, condition = expr.subs(parsed["with"]), condition.subs(parsed["with"])
+    expr = expr.subs(sp.Symbol("N_TERMS"), N_TERMS).doit()
+    return expr, condition
+
+
+@pytest.mark.parametrize(("label", "text", "form", "ridge_text"), list(read_back_cases()))
+def test_latex_read_back_equals_the_derived_expression(label, text, form, ridge_text):
+    # the LaTeX string itself, read by an independent reader, against the source
+    expr, condition = read_formula(text, ridge_text)
+    names = sorted({sym.name for sym in expr.free_symbols | form.source.free_symbols})
+    assert set(names) <= {*SYMBOLS, "D"}, (label, names)
+    source_symbols = {sym.name: sym for sym in form.source.free_symbols}
+    arguments = [source_symbols.get(name, sp.Symbol(name)) for name in names]
+    source_value = sp.lambdify(arguments, form.source, "mpmath")
+    read_value = sp.lambdify([sp.Symbol(name) for name in names], expr, "mpmath")
+    holds = sp.lambdify([sp.Symbol(name) for name in names], condition, "mpmath")
+    rng = np.random.default_rng(sum(map(ord, text)))
+    with mpmath.workdps(30):
+        for point in random_points(form, arguments, rng):
+            by_name = {sym.name: value for sym, value in point.items()}
+            args = [mpmath.mpf(float(by_name[name])) for name in names]
+            want, got = source_value(*args), read_value(*args)
+            assert abs(got - want) <= 1e-12 * max(1, abs(want)), (label, by_name, got, want)
+            assert bool(holds(*args)), (label, by_name, condition)
+
+
+@pytest.mark.parametrize("regime", ["critical", "overdamped"])
+def test_ridge_conditions_are_the_derived_ones_over_the_regime(regime):
+    # the condition read from the LaTeX (one bound) and the package's (a conjunction)
+    # agree on a fine random sample of the regime, on both sides of the bound
+    model = derivation.spring_damper(regime)
+    _, condition = read_formula(formula(f"sd-ridge-force-{regime}"), None)
+    assert len(sp.And.make_args(condition)) == 1
+    rng = np.random.default_rng(7)
+    Ds = np.ones(5000) if regime == "critical" else rng.uniform(1, 8, 5000)
+    fs = rng.uniform(0, 1.5, 5000) / Ds  # the bound is 1/2 at D = 1, about 1/(4 D) beyond
+    mine = sp.lambdify(sp.symbols("D f"), condition, "numpy")(Ds, fs)
+    variables = (derivation.D, derivation.f)
+    derived = sp.lambdify(variables, model.ridge_exists["force"], "numpy")(Ds, fs)
+    assert np.array_equal(mine, derived)
+    assert 0.02 < np.mean(mine) < 0.98  # both sides of the bound are sampled
+
+
+@pytest.mark.parametrize("regime", ["under", "critical", "over"])
+def test_typeset_solution_solves_the_oscillator(regime):
+    # checked against the ODE itself, not against the derivation it came from
+    z = typeset(f"sd-z-{regime}").expression()
+    D, f, tau = derivation.D, derivation.f, derivation.tau
+    if regime == "critical":
+        z = z.subs(D, 1)
+    residual = z.diff(tau, 2) + 2 * D * z.diff(tau) + z - 2 * D * f
+    if regime == "critical":
+        residual = residual.subs(D, 1)
+    assert sp.simplify(residual) == 0
+    assert sp.simplify(z.subs(tau, 0)) == 0
+    assert sp.simplify(z.diff(tau).subs(tau, 0)) == 1
+
+
+@pytest.mark.parametrize(
+    ("condition", "D_value", "f_value"),
+    [
+        ("position", 0.3, 0.2),
+        ("force", 0.4, 0.1),
+        ("force", 0.9, 0.05),
+        ("force", 0.6, 0.9),
+        ("force", 2.0, 0.05),
+    ],
+)
+def test_typeset_ridge_time_is_the_first_local_minimum_by_brute_force(condition, D_value, f_value):
+    from scipy.optimize import brentq
+
+    regime = derivation.regime_of(D_value)
+    ridge = typeset(f"sd-ridge-{condition}-{regime}").expression()
+    point = {derivation.D: D_value, derivation.f: f_value}
+    tau_r = float(ridge.subs(point))
+    # g' of the package's solution on a fine grid: the first sign change from - to +
+    g_dot = sp.lambdify(
+        derivation.tau, derivation.spring_damper(regime).g_dot[condition].subs(point), "numpy"
+    )
+    grid = np.linspace(1e-9, 40, 400001)
+    values = g_dot(grid)
+    first = np.flatnonzero((values[:-1] < 0) & (values[1:] >= 0))[0]
+    reference = brentq(g_dot, grid[first], grid[first + 1], xtol=1e-15)
+    assert tau_r == pytest.approx(reference, rel=1e-10)
+
+
+def test_document_reads_like_an_appendix():
+    document = latex_document()
+    sections = re.findall(r"\\section\{([^}]*)\}", document)
+    assert sections == list(SECTIONS)
+    for label, number in PAPER_EQUATIONS.items():
+        assert f"\\label{{eq:{label}}}\\tag{{{number}}}" in document
+    assert "\\numberwithin{equation}{section}" in document
+    # a stick/release test cites the ridge time it uses by its equation number
+    assert "from eq.~\\eqref{eq:sd-ridge-force-critical}" in document
+    # a sentence before every equation, ending in a full stop before the label
+    for label in formula_names():
+        sentence = document.split(f"\\formulalabel{{{label}}}")[0].rsplit("\\noindent ", 1)[1]
+        assert sentence.rstrip().endswith("."), label
+    for bad in ("Piecewise", "atan}_{2}", "\\left(\\right)", "\\wedge", "\\sqrt{1 - D^{2}}}{"):
+        assert bad not in document, bad
 
 
 PROBE = r"""
@@ -650,3 +874,63 @@ def test_exported_module_is_lint_clean_and_documented(exported):
         text=True,
     )
     assert lint.returncode == 0, lint.stdout
+
+
+def test_typeset_eq1_is_solved_by_the_derived_closed_form():
+    # eq. (1) is written by hand: read its LaTeX back (a few fixed notations) and
+    # substitute the closed form W, Y of finite kappa into every equation
+    from sympy.parsing.sympy_parser import (
+        implicit_multiplication_application,
+        parse_expr,
+        standard_transformations,
+    )
+
+    from impactsym.rod import RodImpact
+
+    rod = RodImpact(sp.Symbol("kappa", positive=True))
+    s, xi = rod.s, rod.xi
+    W = rod.W
+    values = {
+        "Wxx": W.diff(xi, 2),
+        "Wx0": W.diff(xi).subs(xi, 0),
+        "W1": W.subs(xi, 1),
+        "W0": W.subs(xi, 0),
+        "Wxs": W,
+        "Ys": rod.Y,
+    }
+    text = formula("rod-bvp")
+    for latex_text, name in (
+        (r"\begin{gathered}", ""),
+        (r"\end{gathered}", ""),
+        (r"W''(\xi, s)", " Wxx "),
+        (r"W'(0, s)", " Wx0 "),
+        (r"W(\xi, s)", " Wxs "),
+        (r"W(1, s)", " W1 "),
+        (r"W(0, s)", " W0 "),
+        (r"Y(s)", " Ys "),
+        (r"\frac{f}{s}", " (f/s) "),
+        ("^{2}", "**2"),
+        (r"\alpha", " alpha "),
+        (r"\kappa", " kappa "),
+    ):
+        text = text.replace(latex_text, name)
+    rows = [row for part in text.split(r"\\") for row in part.split(r", \qquad")]
+    assert len(rows) == 4
+    symbols = {"alpha": rod.alpha, "f": rod.f, "s": s, "kappa": rod.kappa}
+    transformations = (*standard_transformations, implicit_multiplication_application)
+    rng = np.random.default_rng(1)
+    for row in rows:
+        lhs, rhs = row.strip().rstrip(",").split("=")
+        assert rhs.strip() == "0"
+        local = {**symbols, **{k: sp.Symbol(k) for k in values}}
+        equation = parse_expr(lhs, local_dict=local, transformations=transformations)
+        residual = equation.subs({sp.Symbol(k): v for k, v in values.items()})
+        for _ in range(5):
+            point = {
+                rod.alpha: sp.Float(rng.uniform(0.1, 5), 30),
+                rod.f: sp.Float(rng.uniform(0, 2), 30),
+                s: sp.Float(rng.uniform(0.3, 5), 30),
+                rod.kappa: sp.Float(rng.uniform(0.5, 40), 30),
+                xi: sp.Float(rng.uniform(0, 1), 30),
+            }
+            assert abs(complex(residual.subs(point).evalf(30))) < 1e-20, row

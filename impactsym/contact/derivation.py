@@ -37,6 +37,13 @@ from functools import cache, cached_property
 import sympy as sp
 from sympy.codegen.cfunctions import expm1, log1p
 
+from impactsym.symbolic.typeset import (
+    Abbreviation,
+    Branch,
+    Typeset,
+    minimal_condition,
+    positive_factor,
+)
 from impactsym.validation import CONDITIONS, check_condition, real_array
 
 tau = sp.Symbol("tau", nonnegative=True)
@@ -401,56 +408,189 @@ def regime_of(damping: float) -> str:
     return "critical" if damping == 1 else "overdamped"
 
 
-def latex_formulas() -> list[tuple[str, str, str]]:
-    r"""``(label, caption, LaTeX body)`` of the section-2 results, for documents.
+# -- typeset formulas (LaTeX for documents) -----------------------------------------
 
-    The boundary equations are written as :math:`0 = g(\tau_r, D, f)` with the
-    closed-form :math:`\tau_r` of the preceding ridge equation (the fully substituted
-    form is :attr:`SpringDamperContact.boundary`).
+#: abbreviations of the typeset formulas: sqrt(1 - D^2), sqrt(D^2 - 1), the initial slope
+#: of the contact force lambda'(0) and the ridge time
+OMEGA_UNDER = sp.Symbol("omega_d", positive=True)
+OMEGA_OVER = sp.Symbol("omega_D", positive=True)
+FORCE_SLOPE = sp.Symbol("lambdaprime_0", real=True)
+TAU_R = sp.Symbol("tau_r", positive=True)
 
-    >>> label, caption, body = latex_formulas()[0]
-    >>> label, body.split(",")[0]
-    ('sd-ode', "z'' + 2 D z' + z = 2 D f")
+#: where each regime's formulas hold
+REGIME_DOMAIN = {"underdamped": sp.And(D >= 0, D < 1), "critical": sp.Eq(D, 1), "overdamped": D > 1}
+_REGIME_WORDS = {
+    "underdamped": "under-damped contact ($D < 1$)",
+    "critical": "critically damped contact ($D = 1$)",
+    "overdamped": "over-damped contact ($D > 1$)",
+}
+
+
+def _omega(regime: str) -> tuple[Abbreviation, ...]:
+    if regime == "critical":
+        return ()
+    if regime == "underdamped":
+        return (Abbreviation(OMEGA_UNDER, sp.sqrt(1 - D**2)),)
+    return (Abbreviation(OMEGA_OVER, sp.sqrt(D**2 - 1)),)
+
+
+def _typeset_solution(model: SpringDamperContact) -> Typeset:
+    """z = 2Df + e^{-D tau} (h0 C + q S / omega), collected, in one regime."""
+    b, (g0, g1, _) = 2 * D * f, _initial_values("position", model.start)
+    h0, q = g0 - b, sp.expand(g1 + D * (g0 - b))  # q = 1 - 2 D^2 f
+    if model.regime == "critical":
+        expr = (b + sp.exp(-tau) * (q * tau + h0)).subs(D, 1)
+    else:
+        w, cos, sin = {
+            "underdamped": (OMEGA_UNDER, sp.cos, sp.sin),
+            "overdamped": (OMEGA_OVER, sp.cosh, sp.sinh),
+        }[model.regime]
+        expr = b + sp.exp(-D * tau) * (h0 * cos(w * tau) + positive_factor(q) / w * sin(w * tau))
+    return Typeset("z", (Branch(expr),), _omega(model.regime), model.z, REGIME_DOMAIN[model.regime])
+
+
+def _typeset_ridge(model: SpringDamperContact, condition: str) -> Typeset:
+    r"""tau_r from g' = e^{-D tau} (p0 C - x S / omega) = 0, p0 = g'(0), x = -q: atan2
+    (one arctan where p0 = 1) for D < 1, a fraction at D = 1, artanh for D > 1.
+
+    Under the force condition p0 is the initial slope of the contact force,
+    lambda'_0 = 1 - 4 D^2 (1 - f), and x = D (lambda'_0 + 2 - 2f).
     """
-    under = spring_damper("underdamped")
-    over = spring_damper("overdamped")
-    critical = spring_damper("critical")
-    items = [
+    slope = ()
+    if condition == "position":
+        p0, x = sp.Integer(1), D * (1 - 2 * f)
+    else:
+        p0, x = FORCE_SLOPE, D * (FORCE_SLOPE + 2 - 2 * f)
+        slope = (Abbreviation(FORCE_SLOPE, 1 - 4 * D**2 * (1 - f)),)
+    exists, factor = model.ridge_exists[condition], sp.S.One
+    if model.regime == "underdamped":  # theta = pi + atan2(omega p0, x) in (0, 2 pi)
+        factor, where = 1 / OMEGA_UNDER, sp.true
+        if p0 == 1:  # atan2(y, x) = pi/2 - arctan(x/y) for y > 0: one arctan
+            expr = 3 * sp.pi / 2 + sp.atan(positive_factor(-x) / OMEGA_UNDER)
+        else:
+            expr = sp.pi + sp.atan2(OMEGA_UNDER * p0, x)
+    elif model.regime == "critical":  # tau_r = p0 / x at D = 1
+        num, den = sp.fraction(sp.factor(sp.cancel((p0 / x).subs(FORCE_SLOPE, slope[0][1]))))
+        num, den = num.subs(D, 1), den.subs(D, 1)
+        if num.as_coeff_Add()[0] < 0 and den.as_coeff_Add()[0] < 0:
+            num, den = -num, -den  # (3 - 4f)/(1 - 2f)
+        expr, slope, where = num / den, (), minimal_condition(exists, f)
+    else:  # tanh(omega tau) = omega p0 / x
+        expr, factor = sp.atanh(OMEGA_OVER * p0 / x), 1 / OMEGA_OVER
+        where = minimal_condition(exists, f, parameter=D, interval=sp.Interval.open(1, sp.oo))
+        where = where.subs(sp.sqrt(D**2 - 1), OMEGA_OVER)
+    return Typeset(
+        r"\tau_r",
+        (Branch(expr, where),),
+        (*slope, *_omega(model.regime)),
+        model.ridge_time[condition],
+        sp.And(REGIME_DOMAIN[model.regime], exists),
+        factor=factor,
+    )
+
+
+def _typeset_boundary(model: SpringDamperContact, condition: str, ridge: Typeset) -> Typeset:
+    r"""G = g(tau_r) = 2Df - e^{-D tau_r} sqrt(Q0): h = g - 2Df has h'' = -h where h' = 0,
+    so h < 0 at a minimum, and Q = h^2 + 2D h h' + h'^2 decays as e^{-2 D tau}; Q(0) is
+    1 - 4 D^2 f (1 - f) for both conditions."""
+    if model.regime == "critical":  # sqrt((1 - 2f)^2) = 1 - 2f where the minimum exists
+        expr = 2 * f - (1 - 2 * f) * sp.exp(-TAU_R)
+    else:
+        expr = 2 * D * f - sp.exp(-D * TAU_R) * sp.sqrt(1 - 4 * D**2 * f * (1 - f))
+    return Typeset(
+        "G(D, f)",
+        (Branch(expr),),
+        (Abbreviation(TAU_R, ridge.expression(), shown=False),),
+        model.boundary[condition],
+        ridge.domain,
+    )
+
+
+def typeset_formulas() -> list[tuple[str, str, Typeset | str]]:
+    r"""``(label, sentence, formula)`` of the section-2 results, typeset for a paper.
+
+    ``formula`` is a :class:`~impactsym.symbolic.typeset.Typeset` (with the expression
+    it came from, for checks) or, for an equation written by hand, a LaTeX string.
+    The ridge time is the closed-form first local minimum :math:`\tau_r` of the contact
+    function; the boundary :math:`G(D, f) = g(\tau_r, D, f)` uses that at a stationary
+    point the quadratic form :math:`h^2 + 2Dhh' + h'^2` of :math:`h = g - 2Df`, which
+    decays as :math:`e^{-2D\tau}`, gives :math:`h(\tau_r) = -e^{-D\tau_r}\sqrt{h(0)^2 +
+    2Dh(0)h'(0) + h'(0)^2}`.
+
+    >>> label, sentence, form = typeset_formulas()[5]
+    >>> label, form.lhs
+    ('sd-ridge-position-underdamped', '\\tau_r')
+    """
+    models = {regime: spring_damper(regime) for regime in REGIMES}
+    items: list[tuple[str, str, Typeset | str]] = [
         (
             "sd-ode",
-            "Normalized contact oscillator (paper section 2)",
+            "The normalized contact oscillator of paper section 2: penetration $z$, "
+            "Lehr's damping ratio $D$ and the pressing force $f$ measured against the damper "
+            "force at impact.",
             r"z'' + 2 D z' + z = 2 D f, \quad z(0) = 0, \quad z'(0) = 1",
         ),
         (
             "sd-conditions",
-            "Contact functions of the position and force conditions",
+            "Contact lasts while the contact function $g$ is positive: the penetration "
+            "(position condition) or the contact force (force condition).",
             r"g_\mathrm{position} = z, \qquad g_\mathrm{force} = 2 D z' + z",
         ),
-        ("sd-z-under", "Solution, under-damped ($D < 1$)", "z = " + under.latex("z")),
-        ("sd-z-critical", "Solution, critically damped ($D = 1$)", "z = " + critical.latex("z")),
-        ("sd-z-over", "Solution, over-damped ($D > 1$)", "z = " + over.latex("z")),
     ]
-    names = {"underdamped": "$D < 1$", "critical": "$D = 1$", "overdamped": "$D > 1$"}
-    tau_r = sp.Symbol("tau_r")
+    short = {"underdamped": "under", "critical": "critical", "overdamped": "over"}
+    for regime, model in models.items():
+        items.append(
+            (
+                f"sd-z-{short[regime]}",
+                f"Penetration of the persistent contact, {_REGIME_WORDS[regime]}.",
+                _typeset_solution(model),
+            )
+        )
     for condition in CONDITIONS:
-        for regime, model in (("underdamped", under), ("critical", critical), ("overdamped", over)):
-            exists = model.ridge_exists[condition]
-            if exists == sp.false:  # no local minimum: the body sticks in this regime
+        for regime, model in models.items():
+            if model.ridge_exists[condition] == sp.false:  # no minimum: the body sticks
                 continue
-            where = "" if exists == sp.true else f", where ${sp.latex(exists)}$"
+            ridge = _typeset_ridge(model, condition)
+            if regime != "underdamped":
+                note = "; for larger $f$ there is no minimum and the body sticks"
+            elif condition == "position":
+                note = "; for $D \\ge 1$ there is none and the body sticks"
+            else:
+                note = "; $\\operatorname{atan2}(y, x)$ is the angle of the point $(x, y)$"
             items.append(
                 (
                     f"sd-ridge-{condition}-{regime}",
-                    f"Closed-form ridge time, {condition} condition, {names[regime]}{where}",
-                    r"\tau_r = " + model.latex("ridge_time", condition=condition),
+                    f"Ridge time $\\tau_r(D, f)$ of the {condition} condition, "
+                    f"{_REGIME_WORDS[regime]}: the first local minimum of $g$ after impact, "
+                    f"where $\\partial g / \\partial \\tau = 0${note}.",
+                    ridge,
                 )
             )
             items.append(
                 (
                     f"sd-boundary-{condition}-{regime}",
-                    f"Stick/release boundary $G(D, f) = g(\\tau_r(D, f), D, f) = 0$, {condition} "
-                    f"condition, {names[regime]}, with $\\tau_r$ from the ridge equation above",
-                    "0 = " + sp.latex(model.g[condition].subs(tau, tau_r)),
+                    f"Stick/release test of the {condition} condition, "
+                    f"{_REGIME_WORDS[regime]}: $G = g(\\tau_r)$ with $\\tau_r$ from the "
+                    "ridge time above; the body releases where $G < 0$, and $G(D, f) = 0$ "
+                    "is the stick/release boundary (Fig. 1b).",
+                    _typeset_boundary(model, condition, ridge),
                 )
             )
     return items
+
+
+def latex_formulas() -> list[tuple[str, str, str]]:
+    r"""``(label, caption, LaTeX body)`` of the section-2 results, for documents.
+
+    The typeset forms of :func:`typeset_formulas`: abbreviations
+    :math:`\omega_d = \sqrt{1 - D^2}`, :math:`\omega_D = \sqrt{D^2 - 1}`, ridge
+    conditions reduced to their tightest bound, the boundary through the ridge time.
+
+    >>> label, caption, body = latex_formulas()[0]
+    >>> label, body.split(",")[0]
+    ('sd-ode', "z'' + 2 D z' + z = 2 D f")
+    """
+    return [
+        (label, caption, form if isinstance(form, str) else form.latex())
+        for label, caption, form in typeset_formulas()
+    ]

@@ -48,7 +48,7 @@ from impactsym.validation import (
 
 # ReducedContact is re-exported (``impactsym.multibody.reduction.ReducedContact``) and
 # documented in impactsym.multibody.oscillator.
-__all__ = ["PROJECTIONS", "latex_formulas", "reduce_contact"]
+__all__ = ["PROJECTIONS", "latex_formulas", "reduce_contact", "typeset_formulas"]
 
 #: Projections of the normal motion onto the coordinates, see :func:`reduce_contact`.
 PROJECTIONS = ("impulse", "normal")
@@ -358,55 +358,77 @@ def _vector(column: sp.Matrix) -> sp.Matrix | np.ndarray:
 # ---------------------------------------------------------------------------------
 # formulas for the LaTeX report
 # ---------------------------------------------------------------------------------
-def latex_formulas() -> list[tuple[str, str, str]]:
-    r"""The reduced contact equation and its parameters as ``(label, caption, body)``.
+def typeset_formulas() -> list[tuple[str, str, str]]:
+    r"""The penalty contact, its reduction and the parameters as ``(label, sentence, body)``.
 
-    Bodies are amsmath math for ``\[ ... \]``.
+    The bodies are written by hand: the reduction is a statement about matrices, not one
+    expression (:func:`reduce_contact` computes it).
 
-    >>> [label for label, _, _ in latex_formulas()][:2]
-    ['mb-reduced', 'mb-mass']
+    >>> [label for label, _, _ in typeset_formulas()][:2]
+    ['mb-penalty', 'mb-reduced']
     """
     return [
         (
+            "mb-penalty",
+            "A multibody system in penalty contact (the paper's eqs. (3), (4)): the penalty "
+            "law acts on the penetration $z$, linearized about the impact configuration $q_0$.",
+            r"M \ddot q = F(q, \dot q, t) + n\,\lambda, \qquad \lambda = -d\,\dot z - k\,z, "
+            r"\qquad z = g(q) \approx n_0^{T}(q - q_0)",
+        ),
+        (
             "mb-reduced",
-            "Reduced contact oscillator of a multibody penalty contact (paper section 3)",
+            "During the short impact the system reduces to one contact oscillator along the "
+            "contact normal, the oscillator of paper section 2.",
             r"\tilde m\,\ddot z + \tilde d\,\dot z + \tilde c\, z = F_n, \qquad "
             r"z = g(q),\quad \dot z = n_0^{T}\dot q, \quad z(0) = 0,\ \dot z(0) = v_0 = "
             r"n_0^{T}\dot q_0",
         ),
         (
             "mb-mass",
-            "Effective mass along the contact normal",
+            "The effective mass is the mass the contact normal sees (paper eq. (5)).",
             r"\tilde m = \frac{1}{n_0^{T} M_0^{-1} n_0}, \qquad "
             r"n_0 = \left.\frac{\partial g}{\partial q}\right|_{q_0}^{T}, \qquad "
             r"r = M_0^{-1} n_0",
         ),
         (
             "mb-damping-stiffness",
-            "Effective damping and stiffness: penalty plus the linearized system forces "
-            "along the projection $P$ ($n_0^T P = 1$)",
+            "Effective damping and stiffness (paper eq. (5), corrected): the penalty "
+            "parameters plus the linearized system forces along the projection $P$ of the "
+            "normal motion ($n_0^T P = 1$).",
             r"\tilde d = d - \tilde m\, r^{T} \frac{\partial F}{\partial \dot q} P, \qquad "
             r"\tilde c = k - \tilde m\, r^{T} \frac{\partial F}{\partial q} P",
         ),
         (
             "mb-load",
-            "Load pressing into the contact (intercept of the linearization, with the "
-            "curvature term of $g$)",
+            "The load pressing into the contact (paper eq. (5), corrected): the intercept of "
+            "the linearization, with the curvature term of $g$.",
             r"F_n = \tilde m\left(r^{T} F_0 + \dot q_0^{T} \frac{\partial^2 g}{\partial q^2}"
             r"\dot q_0\right) + (\tilde d - d)\, v_0",
         ),
         (
             "mb-projections",
-            "Projections of the normal motion: impulse direction (used) and the paper's "
-            "normal direction (not unit-consistent)",
+            "Projections of the normal motion: the direction an impulse moves the system "
+            "(used), and the paper's normal direction (not unit-consistent).",
             r"P_{\mathrm{impulse}} = \tilde m\, M_0^{-1} n_0, \qquad "
             r"P_{\mathrm{paper}} = \frac{n_0}{n_0^{T} n_0}",
         ),
         (
             "mb-normalization",
-            "Mapping onto paper section 2",
+            "The reduced oscillator in the variables of paper section 2: its contact time "
+            "and stick/release verdict follow from section 2.",
             r"\omega_0 = \sqrt{\tilde c/\tilde m}, \quad "
             r"D = \frac{\tilde d}{2\sqrt{\tilde c\,\tilde m}}, \quad "
             r"f = \frac{F_n}{\tilde d\, v_0}, \quad t_c = \frac{\tau_c(D, f)}{\omega_0}",
         ),
     ]
+
+
+def latex_formulas() -> list[tuple[str, str, str]]:
+    r"""The reduced contact equation and its parameters as ``(label, caption, body)``.
+
+    Bodies are amsmath math for ``\[ ... \]`` (see :func:`typeset_formulas`).
+
+    >>> [label for label, _, _ in latex_formulas()][1:3]
+    ['mb-reduced', 'mb-mass']
+    """
+    return typeset_formulas()

@@ -35,9 +35,10 @@ from impactsym.symbolic.laplace import (
     geometric_delay_series,
     invert_delay_series,
 )
+from impactsym.symbolic.typeset import Abbreviation, Branch, Typeset, aligned, tidy
 from impactsym.validation import as_sympy
 
-__all__ = ["RodImpact", "latex_formulas"]
+__all__ = ["RodImpact", "latex_formulas", "typeset_formulas"]
 
 s = sp.Symbol("s")
 t = sp.Symbol("t", real=True)
@@ -409,13 +410,147 @@ def _hyperbolic_delay_terms(expr: sp.Expr) -> list[DelayTerm]:
 # ----------------------------------------------------------------------- LaTeX
 
 
+#: the delay factor of eq. (2), an abbreviation of the typeset series
+DELTA = sp.Symbol("Delta", positive=True)
+_n = sp.Symbol("n", integer=True, positive=True)
+
+
+def _typeset_closed_form(model: RodImpact, name: str) -> Typeset:
+    """W, Y or N as one fraction, every factor collected over sinh s and cosh s."""
+    numerator, denominator = sp.fraction(model.closed_form(name))
+    hyperbolic = (sp.sinh(s), sp.cosh(s))
+
+    def collected(product: sp.Expr) -> sp.Expr:
+        return sp.Mul(
+            *(
+                tidy(factor, hyperbolic) if factor.has(*hyperbolic) else factor
+                for factor in sp.Mul.make_args(product)
+            )
+        )
+
+    lhs = {"W": r"W(\xi, s)", "Y": "Y(s)", "N": "N(s)"}[name]
+    return Typeset(
+        lhs, (Branch(collected(numerator) / collected(denominator)),), (), model.closed_form(name)
+    )
+
+
+def _typeset_series(model: RodImpact, name: str, n_terms: int) -> Typeset:
+    r"""Eq. (2) (``Y``) and the contact force series (``N``) in the paper's closed form
+    :math:`X_1 + \sum_{n \ge 2} X_n \Delta^{2(n-1)}`; ``source`` is the sum of the first
+    ``n_terms`` derived terms with :math:`\Delta = e^{-s}`."""
+    a = alpha * s
+    if name == "Y":
+        first = (a + f) / (s**2 * (a + 1))
+        sign, term = -1, 2 * ((a + f) * (a - 1) ** (_n - 2)) / (s**2 * (a + 1) ** _n)
+    else:
+        first = (a + f) / (s * (a + 1))
+        sign, term = 1, 2 * alpha * ((a + f) * (a - 1) ** (_n - 2)) / (a + 1) ** _n
+    delay = DELTA ** sp.Mul(2, _n - 1, evaluate=False)
+    series = first + sign * sp.Sum(sp.Mul(term, delay, evaluate=False), (_n, 2, sp.oo))
+    source = sp.Add(*(c * sp.exp(-d * s) for d, c in model.series(name, n_terms)))
+    return Typeset(f"{name}(s)", (Branch(series),), (Abbreviation(DELTA, sp.exp(-s)),), source)
+
+
+def _typeset_time_terms(model: RodImpact, name: str, n_terms: int) -> list[Typeset | str]:
+    """The inverted terms g_k(t), collected over exp(-t/alpha) with factored coefficients
+    of the powers of t, after the line that sums them."""
+    symbol = {"Y": "y", "N": "N"}[name]
+    decay = sp.exp(-t / alpha)
+    rows: list[Typeset | str] = [rf"{symbol}(t) &= \sum_{{k \ge 0}} {symbol}_k(t - 2k)\, H(t - 2k)"]
+    for k, (_, g) in enumerate(model.time_terms(name, n_terms)):
+        rows.append(Typeset(f"{symbol}_{{{k}}}(t)", (Branch(tidy(g, (decay,), t)),), (), g))
+    return rows
+
+
+def typeset_formulas(n_terms: int = 3) -> list[tuple[str, str, Any]]:
+    r"""Formulas of the rod analysis as ``(label, sentence, form)``, typeset for a paper.
+
+    ``form`` is a :class:`~impactsym.symbolic.typeset.Typeset` (with the expression it
+    came from), a list of them set as ``aligned`` rows, or LaTeX written by hand (eq. (1)).
+    The closed forms are collected over :math:`\sinh s, \cosh s`; the series are the
+    paper's closed form of eq. (2) with :math:`\Delta = e^{-s}`; the inverted terms
+    (the first ``n_terms``, at most :data:`MAX_LATEX_TERMS`) are collected over
+    :math:`e^{-t/\alpha}`.
+
+    >>> [label for label, _, _ in typeset_formulas(1)][-2:]
+    ['rod-Y-time-terms', 'rod-N-time-terms']
+    """
+    n_terms = _check_n_terms(n_terms, budget=MAX_LATEX_TERMS)
+    rigid, elastic = RodImpact(), RodImpact(kappa)
+    out: list[tuple[str, str, Any]] = [
+        (
+            "rod-bvp",
+            r"The transformed boundary-value problem of the paper's eq. (1): rod, fixed end, "
+            r"striker on the contact spring $\kappa$ and the force balance at the struck end "
+            r"(primes are derivatives in $\xi$).",
+            r"\begin{gathered}s^{2} W(\xi, s) - W''(\xi, s) = 0, \qquad W(1, s) = 0, \\ "
+            r"\alpha s^{2} Y(s) + \kappa Y(s) - \frac{f}{s} - \kappa W(0, s) - \alpha = 0, \\ "
+            r"W'(0, s) + \frac{f}{s} - \alpha s^{2} Y(s) + \alpha = 0\end{gathered}",
+        ),
+        (
+            "rod-bvp-rigid",
+            r"For rigid contact ($\kappa \to \infty$) the mass equation of eq. (1) becomes "
+            "the contact condition.",
+            r"Y(s) = W(0, s)",
+        ),
+    ]
+    for model, tag, words in (
+        (rigid, "rigid", "rigid contact"),
+        (
+            elastic,
+            "kappa",
+            "contact "
+            r"stiffness $\kappa$",
+        ),
+    ):
+        for name in QUANTITIES:
+            what = {
+                "W": r"rod displacement $W(\xi, s)$",
+                "Y": "striker displacement $Y(s)$",
+                "N": r"contact force $N(s) = -W'(0, s)$",
+            }[name]
+            out.append(
+                (
+                    f"rod-{name}-{tag}",
+                    f"Closed form of the {what}, {words}.",
+                    _typeset_closed_form(model, name),
+                )
+            )
+    out.append(
+        (
+            "rod-eq2",
+            r"The striker displacement as a series of wave reflections (the paper's eq. (2)), "
+            r"rigid contact: $\Delta = e^{-s}$ is the delay of one round trip.",
+            _typeset_series(rigid, "Y", n_terms),
+        )
+    )
+    out.append(
+        (
+            "rod-N-series",
+            "The contact force as a series of wave reflections, rigid contact; from the "
+            "force balance at the struck end.",
+            _typeset_series(rigid, "N", n_terms),
+        )
+    )
+    for name, words in (("Y", "striker displacement"), ("N", "contact force")):
+        out.append(
+            (
+                f"rod-{name}-time-terms",
+                f"The {words} in time, rigid contact: the first inverted terms of its series, "
+                "each switched on by the Heaviside step $H$ when its reflection arrives.",
+                _typeset_time_terms(rigid, name, n_terms),
+            )
+        )
+    return out
+
+
 def latex_formulas(n_terms: int = 3) -> list[tuple[str, str, str]]:
     """Formulas of the rod analysis as ``(label, caption, latex_math_body)``.
 
-    Every body compiles inside ``\\[ ... \\]`` with amsmath: eq. (1), the closed forms
-    of :math:`W`, :math:`Y`, :math:`N` for rigid and finite :math:`\\kappa`, eq. (2)
-    and the contact force series (first ``n_terms`` terms, at most
-    :data:`MAX_LATEX_TERMS`), and the first inverted terms.
+    Every body compiles inside ``\\[ ... \\]`` with amsmath: the typeset forms of
+    :func:`typeset_formulas` (eq. (1), the closed forms of :math:`W`, :math:`Y`,
+    :math:`N` for rigid and finite :math:`\\kappa`, eq. (2) and the contact force
+    series, and the first ``n_terms`` inverted terms, at most :data:`MAX_LATEX_TERMS`).
 
     Examples
     --------
@@ -423,60 +558,9 @@ def latex_formulas(n_terms: int = 3) -> list[tuple[str, str, str]]:
     >>> labels[:2]
     ['rod-bvp', 'rod-bvp-rigid']
     """
-    n_terms = _check_n_terms(n_terms, budget=MAX_LATEX_TERMS)
-    rigid, elastic = RodImpact(), RodImpact(kappa)
-    eq = elastic.equations
-    bvp = r" \\ ".join(sp.latex(eq[k]) for k in ("rod", "fixed end", "mass", "end"))
-    out = [
-        (
-            "rod-bvp",
-            "Transformed boundary-value problem, eq. (1), contact stiffness kappa.",
-            r"\begin{gathered}" + bvp + r"\end{gathered}",
-        ),
-        (
-            "rod-bvp-rigid",
-            "Rigid contact (kappa to infinity): the mass equation becomes Y = W(0, s).",
-            sp.latex(rigid.equations["contact"]),
-        ),
-    ]
-    for model, tag, words in (
-        (rigid, "rigid", "rigid contact"),
-        (elastic, "kappa", "finite kappa"),
-    ):
-        for name in QUANTITIES:
-            symbol = {"W": r"W(\xi, s)", "Y": "Y(s)", "N": "N(s)"}[name]
-            out.append(
-                (
-                    f"rod-{name}-{tag}",
-                    f"Closed form of {name}, {words}.",
-                    f"{symbol} = {sp.latex(model.closed_form(name))}",
-                )
-            )
-    for name, label in (("Y", "eq2"), ("N", "N-series")):
-        body = ""
-        for d, c in rigid.series(name, n_terms):
-            sign = " - " if c.could_extract_minus_sign() else " + "
-            term = sp.latex(-c if sign == " - " else c)
-            term += rf" \Delta^{{{sp.latex(d)}}}" if d != 0 else ""
-            body += (("-" if sign == " - " else "") + term) if not body else sign + term
-        caption = (
-            "Eq. (2): displacement series of the striker, rigid contact, Delta = exp(-s)."
-            if name == "Y"
-            else "Contact force series, rigid contact, Delta = exp(-s)."
-        )
-        out.append((f"rod-{label}", caption, f"{name}(s) = {body} + \\dots"))
-    for name, symbol in (("Y", "y"), ("N", "N")):
-        terms = rigid.time_terms(name, n_terms)
-        lines = r" \\ ".join(
-            rf"{symbol}_{{{k}}}(t) &= {sp.latex(g)} \quad (t \ge {sp.latex(d)})"
-            for k, (d, g) in enumerate(terms)
-        )
-        out.append(
-            (
-                f"rod-{name}-time-terms",
-                f"First inverted terms of {name}, rigid contact: {symbol}(t) is the sum of "
-                f"{symbol}_k(t - 2k) over the reflections that have arrived (2k <= t).",
-                r"\begin{aligned}" + lines + r"\end{aligned}",
-            )
-        )
+    out = []
+    for label, caption, form in typeset_formulas(n_terms):
+        if isinstance(form, list):
+            form = aligned(form)
+        out.append((label, caption, form if isinstance(form, str) else form.latex()))
     return out

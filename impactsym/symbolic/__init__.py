@@ -6,5 +6,6 @@
   its partial fractions;
 * :mod:`~impactsym.symbolic.series` -- the division-free truncated power series behind it;
 * :mod:`~impactsym.symbolic.transform` -- the forward transform of exponential
-  polynomials, for round-trip checks.
+  polynomials, for round-trip checks;
+* :mod:`~impactsym.symbolic.typeset` -- the derived formulas as LaTeX an author would keep.
 """
