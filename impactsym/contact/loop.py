@@ -14,7 +14,8 @@ impact with :math:`f/v` scaled by ``v``, so it goes through the same kernel and 
 :func:`~impactsym.contact.api.contact_time`. The departure speed is capped by the energy
 balance, so rounding cannot create energy where the dissipation is below it. The
 per-contact rows grow with the contacts that occur (a doubling buffer), never with
-``max_contacts``; maps do not record them at all.
+``max_contacts``; maps do not record them at all. Measured figures and the refusals:
+physics.md, section 2, *Numerics of the sequences*.
 """
 
 from __future__ import annotations
@@ -69,8 +70,8 @@ def recontact(ratio: np.ndarray) -> np.ndarray:
 #: at 0.1-10 ms per contact, hours of work; a larger cap is no longer a bound.
 MAX_CONTACTS = 10**7
 #: A contact whose duration the absolute time at its start resolves only to more than this
-#: relative error is refused by :func:`bounce_sequence`: ``end - start`` would keep fewer
-#: than six digits of it (and none once ``end == start``).
+#: relative error is refused by :func:`~impactsym.contact.bounce.bounce_sequence`:
+#: ``end - start`` would keep fewer than six digits of it (none once ``end == start``).
 RESOLUTION = 1e-6
 #: Per-contact columns recorded by :func:`run_sequences`, in this order.
 COLUMNS = ("start", "duration", "arrival", "departure", "deflection")
