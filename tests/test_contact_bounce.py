@@ -507,3 +507,24 @@ def test_extreme_sequences_keep_their_invariants_or_are_refused_by_name(conditio
             assert seq.end[0] - seq.start[0] == contact_time(d, fr, condition=condition)
             np.testing.assert_allclose(seq.end - seq.start, durations, rtol=1e-6)
     assert checked > 40
+
+
+@pytest.mark.parametrize("d", [1e12, 1e160, 1e300])
+def test_far_overdamped_release_without_force_matches_the_closed_form(d):
+    """f = 0, force condition: z = (e^{l1 t} - e^{l2 t})/(l1 - l2), l = -D +- sqrt(D^2 - 1),
+    and 2 D z' + z = 0 at t = ln((2 D l2 + 1)/(2 D l1 + 1))/(l1 - l2), at 50 digits with
+    l1 = -1/mu, 2 D l1 + 1 = -1/mu^2 (mu = D + sqrt(D^2 - 1)) written without cancellation.
+    The departure speed was NaN for D = 1e160 (the closed forms overflow; the limits of
+    contact_time now decide it, as for restitution)."""
+    seq = bounce_sequence(d, 0.0, condition="force")
+    with mp.workdps(50):
+        damping = mp.mpf(d)
+        mu = damping + mp.sqrt(damping**2 - 1)
+        l1, l2 = -1 / mu, -mu
+        tau_c = mp.log((2 * damping * l2 + 1) / (-1 / mu**2)) / (l1 - l2)
+        e = -(l1 * mp.exp(l1 * tau_c) - l2 * mp.exp(l2 * tau_c)) / (l1 - l2)
+    assert (seq.n_contacts, seq.sticks) == (1, False)
+    assert seq.end[0] == pytest.approx(float(tau_c), rel=1e-12)
+    assert seq.departure_speed[0] == pytest.approx(float(e), rel=1e-9, abs=1e-323)
+    assert seq.end[0] == contact_time(d, 0.0, condition="force")
+    assert seq.departure_speed[0] == restitution(d, 0.0, condition="force")

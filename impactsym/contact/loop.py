@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.contact import flight as _flight
-from impactsym.contact.kernel import first_release, z_dot
+from impactsym.contact.kernel import first_release, limits, z_dot
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_newton
 
@@ -152,9 +152,13 @@ def _released_speed(
     if fresh.any():  # the first impact at f/v, in units of v
         d, v = damping[fresh], arrival[fresh]
         f_v = force[fresh] / v
-        tau = first_release(d, f_v, condition=condition)
-        out = np.isfinite(tau)
-        u = np.zeros(tau.shape)
+        # as contact_time and restitution: the limits decide where the closed forms fail
+        decided, tau_limit, e_limit = limits(d, f_v, condition=condition)
+        tau, u = np.empty(d.shape), np.zeros(d.shape)
+        tau[decided], u[decided] = tau_limit, e_limit * v[decided]
+        near = ~decided
+        tau[near] = first_release(d[near], f_v[near], condition=condition)
+        out = near & np.isfinite(tau)
         u[out] = -z_dot()(tau[out], d[out], f_v[out]) * v[out]
         tau_c[fresh], speed[fresh] = tau, u
     if not fresh.all():  # the relaxing element met the body: a restart from (z0, v0)
