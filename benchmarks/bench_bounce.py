@@ -6,7 +6,10 @@ Prints, measured in one run:
     compiles the closed forms), and the contacts computed;
   * the same 10^5 points as padded per-contact sequences (starts, speeds, deflections);
   * speed-up per sequence over the event-driven scipy reference (tests/references/bounce.py);
-  * max deviation of start times and speeds from that reference on a random sample.
+  * max deviation of start times and speeds from that reference on a random sample;
+  * a huge cap on short sequences: bounce_map(linspace(.1, 1, 100), .2, "force",
+    max_contacts=10**6) (at most 9 contacts each), time and peak traced memory against the
+    same map with max_contacts = 100 (was 32 s and 4 GB: tables sized by the cap).
 
 Run: PYTHONPATH=. python benchmarks/bench_bounce.py (from the repository root)
 """
@@ -15,6 +18,7 @@ from __future__ import annotations
 
 import sys
 import time
+import tracemalloc
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +27,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from references.bounce import simulate
 
 from impactsym.contact import bounce_sequence
-from impactsym.contact.bounce import _sequences, bounce_map
+from impactsym.contact.bounce import bounce_map
+from impactsym.contact.loop import run_sequences
 
 CONDITIONS = ("position", "force")
 N = 100_000
@@ -47,7 +52,7 @@ def main() -> None:
             f"{(~result.sticks).sum()} not at rest within 100 contacts"
         )
         start = time.perf_counter()
-        _sequences(condition, D, f, 100)
+        run_sequences(D, f, 100, condition=condition)
         print(f"  per-contact tables for all of them: {time.perf_counter() - start:.2f} s")
 
     sample = rng.uniform([0.02, 0.02], [1.5, 0.6], size=(12, 2))
@@ -69,6 +74,28 @@ def main() -> None:
             f"{ref / len(sample) / (map_time[condition] / N):.0f}x faster; max |start - ref| = "
             f"{worst_t:.1e}, max |arrival velocity - ref| = {worst_v:.1e}"
         )
+
+    huge_cap(np.linspace(0.1, 1.0, 100))
+
+
+def huge_cap(damping: np.ndarray) -> None:
+    """Time and peak memory of a map whose cap is far above the contacts that occur."""
+    figures = {}
+    for cap in (100, 10**6):
+        tracemalloc.start()
+        start = time.perf_counter()
+        result = bounce_map(damping, 0.2, condition="force", max_contacts=cap)
+        elapsed = time.perf_counter() - start
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+        figures[cap] = (elapsed, peak, result)
+    (t_small, m_small, small), (t_huge, m_huge, huge) = figures[100], figures[10**6]
+    print(
+        f"bounce_map, {damping.size} points of at most {huge.n_contacts.max()} contacts: "
+        f"max_contacts=10**6 {t_huge:.2f} s, peak {m_huge / 1e6:.2f} MB; max_contacts=100 "
+        f"{t_small:.2f} s, peak {m_small / 1e6:.2f} MB (ratio {t_huge / t_small:.2f} in time, "
+        f"{m_huge / m_small:.2f} in memory; same result: {huge == small})"
+    )
 
 
 if __name__ == "__main__":

@@ -13,7 +13,9 @@
 * :mod:`~impactsym.contact.flight` -- SymPy: the free flight after a release and the
   relaxing element (the re-contact equation);
 * :mod:`~impactsym.contact.bounce` -- the bounce sequence until rest
-  (:func:`bounce_sequence`, :func:`bounce_map`, :func:`physical_bounce`).
+  (:func:`bounce_sequence`, :func:`bounce_map`, :func:`physical_bounce`), on the one
+  event loop of :mod:`~impactsym.contact.loop`;
+* :mod:`~impactsym.contact.records` -- ``==`` over the arrays the results hold.
 """
 
 from __future__ import annotations

@@ -21,6 +21,7 @@ from impactsym.contact.kernel import (
     F_FAR,
     F_LARGE,
     boundary_value,
+    check_derived,
     first_release,
     flat_inputs,
     kernels,
@@ -28,6 +29,7 @@ from impactsym.contact.kernel import (
     ridge,
     z_dot,
 )
+from impactsym.contact.records import ArrayRecord
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.validation import broadcast, check_condition, finish, real_array
 
@@ -237,18 +239,8 @@ def stick_boundary(f: ArrayLike, *, condition: str) -> ArrayLike:
     return finish(result.reshape(shape), scalar)
 
 
-def _check_derived(what: str, inputs: str, values: np.ndarray, valid) -> None:
-    """Raise naming the inputs when a derived quantity leaves double precision."""
-    bad = ~valid(values)
-    if np.any(bad):
-        raise ValueError(
-            f"the inputs {inputs} are too extreme: {what} = {float(values[bad].flat[0])!r} "
-            "is not representable in double precision"
-        )
-
-
-@dataclass(frozen=True)
-class PhysicalContact:
+@dataclass(frozen=True, eq=False)
+class PhysicalContact(ArrayRecord):
     r"""A spring-damper impact in physical units, with its normalized description.
 
     Attributes
@@ -330,15 +322,15 @@ def physical_contact(
         D_ = damping / 2.0 / (root_k * root_m)
         f_ = np.where(load > 0, load / damping / speed, 0.0)
         static = load / (root_k * root_m) / speed  # 2 D f, finite also where d = 0
-    _check_derived("omega0 = sqrt(k/m)", "m, k", omega0, lambda w: (w > 0) & np.isfinite(w))
-    _check_derived("D = d/(2 sqrt(k m))", "d, k, m", D_, np.isfinite)
+    check_derived("omega0 = sqrt(k/m)", "m, k", omega0, lambda w: (w > 0) & np.isfinite(w))
+    check_derived("D = d/(2 sqrt(k m))", "d, k, m", D_, np.isfinite)
     # d = 0 < F, or d so small that D b^2 and D (b = 2Df, the static penetration) vanish
     # to double precision: undamped with offset b (f may overflow there)
     with np.errstate(over="ignore", invalid="ignore"):  # 0 * inf where D = 0: caught below
         negligible = (D_ < 1e-16) & (D_ * static**2 < 1e-16)
     undamped_pressed = (load > 0) & ((D_ == 0) | (~np.isfinite(f_) & negligible))
     finite = ~undamped_pressed
-    _check_derived("f = F/(d v0)", "F, d, v0", f_[finite], np.isfinite)
+    check_derived("f = F/(d v0)", "F, d, v0", f_[finite], np.isfinite)
     tau_c, e = np.empty(D_.shape), np.empty(D_.shape)
     try:
         tau_c[finite] = contact_time(D_[finite], f_[finite], condition=condition)
@@ -349,7 +341,7 @@ def physical_contact(
     e[undamped_pressed] = 1.0
     with np.errstate(over="ignore", under="ignore"):
         t_c = tau_c / omega0
-    _check_derived(
+    check_derived(
         "t_c = tau_c/omega0", "m, k", t_c, lambda t: np.isinf(tau_c) | ((t > 0) & np.isfinite(t))
     )
     D_, f_, omega0, tau_c, t_c, e = (a.reshape(shape) for a in (D_, f_, omega0, tau_c, t_c, e))

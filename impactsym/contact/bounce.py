@@ -25,43 +25,29 @@ is signed (negative: the element catches the body from behind), ``arrival_speed`
 magnitude.
 
 **Why this numerics.** One loop over contacts, vectorized over all points
-(:func:`bounce_map`): each contact is one call of the section-2 kernel
+(:mod:`~impactsym.contact.loop`, shared by :func:`bounce_sequence` and
+:func:`bounce_map`): each contact is one call of the section-2 kernel
 (:func:`impactsym.contact.kernel.first_release`, ridge-bracketed Newton), each
 re-contact one bracketed Newton solve of the flight equation; points that rest drop
 out. A release at the fold to rounding (:math:`1/2 - r < 10^{-13}`) counts as sticking;
-``max_contacts`` bounds the loop (under the force condition finiteness is not proven).
+``max_contacts`` bounds the loop (under the force condition finiteness is not proven)
+but sizes nothing: memory follows the contacts that occur.
 """
 
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass
 from functools import cache
 from typing import Any
 
 import numpy as np
 
-from impactsym.contact import flight as _flight
-from impactsym.contact.kernel import first_release, flat_inputs, kernels, z_dot
-from impactsym.numeric.codegen import lambdify
-from impactsym.numeric.roots import bracketed_newton
+from impactsym.contact.kernel import check_derived, flat_inputs, kernels
+from impactsym.contact.loop import check_max_contacts, check_resolution, run_sequences
+from impactsym.contact.records import ArrayRecord
 from impactsym.validation import check_condition, finish, real_array
 
 ArrayLike = float | np.ndarray
-
-
-@cache
-def _chi() -> tuple[Any, Any]:
-    """chi(x) = x psi(x) and chi'(x) of the re-contact equation, as NumPy functions."""
-    model = _flight.free_flight()
-    return (
-        lambdify([_flight.x], model.chi_numeric, name="chi"),
-        lambdify([_flight.x], model.chi_dot_numeric, name="chi_dot"),
-    )
-
-
-#: a release with 1/2 - r below this is at the fold to rounding: the body stays on
-_TANGENT = 1e-13
 
 
 @cache
@@ -70,125 +56,8 @@ def _restart_z() -> Any:
     return kernels(condition="position", restart=True).g
 
 
-def _recontact(ratio: np.ndarray) -> np.ndarray:
-    r"""Root :math:`x^*` of :math:`\psi(x) = r` for :math:`0 < r < 1/2 - 10^{-13}`.
-
-    Solved as :math:`\chi(x) - r x = x(\psi(x) - r) = 0` in the bracket
-    :math:`[3/2 - 3r,\ 2/r]`: :math:`\psi(x) \ge 1/2 - x/6` puts :math:`\psi` at least
-    :math:`(1/2 - r)/2` above ``r`` at the left end, :math:`\psi(x) < 1/x` puts it
-    below :math:`r/2` at the right end, and :math:`\psi` is strictly decreasing.
-    """
-    chi, chi_dot = _chi()
-    return bracketed_newton(
-        lambda y, q: chi(y) - q * y,
-        lambda y, q: chi_dot(y) - q,
-        1.5 - 3.0 * ratio,
-        2.0 / ratio,
-        [ratio],
-        rtol=1e-15,
-    )
-
-
-@dataclass(frozen=True)
-class _Padded:
-    """Sequences of many points, padded with NaN to (points, max_contacts)."""
-
-    start: np.ndarray
-    end: np.ndarray
-    arrival_velocity: np.ndarray
-    departure_speed: np.ndarray
-    element_deflection: np.ndarray
-    n_contacts: np.ndarray
-    sticks: np.ndarray
-
-    @property
-    def time_to_rest(self) -> np.ndarray:
-        last = np.maximum(self.n_contacts - 1, 0)
-        start = self.start[np.arange(self.n_contacts.size), last]
-        return np.where(self.sticks, start, np.inf)
-
-
-def _sequences(
-    condition: str, damping: np.ndarray, force: np.ndarray, max_contacts: int
-) -> _Padded:
-    """Bounce sequences on flat arrays: a loop over contacts, vectorized over points."""
-    n = damping.size
-    table = {
-        name: np.full((n, max_contacts), np.nan)
-        for name in ("start", "end", "arrival", "departure", "deflection")
-    }
-    t, z, v = np.zeros(n), np.zeros(n), np.ones(n)
-    n_contacts = np.zeros(n, dtype=int)
-    sticks = np.zeros(n, dtype=bool)
-    active = np.arange(n)
-    for k in range(max_contacts):
-        if active.size == 0:
-            break
-        d, fr, za, va = damping[active], force[active], z[active], v[active]
-        table["start"][active, k] = t[active]
-        table["arrival"][active, k] = va
-        table["deflection"][active, k] = za
-        n_contacts[active] = k + 1
-        speed = np.zeros(active.size)  # speed of departure, first-impact units
-        if condition == "position":  # contact k = first impact at speed va, f_k = f/va
-            f_k = fr / va
-            tau_c = first_release(d, f_k, condition="position")
-            out = np.isfinite(tau_c)
-            speed[out] = -z_dot()(tau_c[out], d[out], f_k[out]) * va[out]
-        else:
-            tau_c = first_release(d, fr, state=(za, va), condition="force")
-            out = np.isfinite(tau_c)
-            speed[out] = -z_dot(restart=True)(tau_c[out], d[out], fr[out], za[out], va[out])
-        accel = 2.0 * d * fr
-        ratio = np.zeros(active.size)
-        if condition == "force":  # r = 2 D^2 f / u < 1/2 unless rounding at the fold
-            with np.errstate(divide="ignore", invalid="ignore"):
-                ratio[out] = d[out] * accel[out] / speed[out]
-            tangent = out & ((speed <= 0) | (ratio >= 0.5 - _TANGENT))
-        else:
-            tangent = out & (speed <= 0)
-        out &= ~tangent  # a release at the fold (to rounding) does not leave the element
-        tau_c[~out], speed[~out] = np.inf, 0.0
-        table["end"][active, k] = t[active] + tau_c
-        table["departure"][active, k] = speed
-        sticks[active[~out]] = True
-        # released and pushed back: there is a next contact, unless the flight is longer
-        # than floats reach (D f below ~1e-300): that body counts as never coming back
-        with np.errstate(all="ignore"):
-            reach = 2.0 * speed / accel if condition == "position" else 2.0 / ratio
-            back = out & (accel > 0) & np.isfinite(reach) & np.isfinite(t[active] + reach)
-        idx, d, u, a = active[back], d[back], speed[back], accel[back]
-        t_release = t[idx] + tau_c[back]
-        if condition == "position":
-            t[idx], v[idx] = t_release + 2.0 * u / a, u
-        else:
-            ratio = ratio[back]
-            x = _recontact(ratio)
-            t[idx] = t_release + 2.0 * d * x
-            v[idx] = u * (2.0 * ratio * x - 1.0)
-            z[idx] = 2.0 * d * u * np.exp(-x)
-        active = idx
-    return _Padded(
-        start=table["start"],
-        end=table["end"],
-        arrival_velocity=table["arrival"],
-        departure_speed=table["departure"],
-        element_deflection=table["deflection"],
-        n_contacts=n_contacts,
-        sticks=sticks,
-    )
-
-
-def _max_contacts(value: object) -> int:
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"max_contacts must be an integer, got {value!r}")
-    if value < 1:
-        raise ValueError(f"max_contacts must be >= 1, got {value!r}")
-    return int(value)
-
-
-@dataclass(frozen=True)
-class BounceSequence:
+@dataclass(frozen=True, eq=False)
+class BounceSequence(ArrayRecord):
     r"""The contacts of one body until it rests (normalized on the first impact).
 
     Attributes
@@ -300,11 +169,19 @@ def bounce_sequence(
     condition : {"position", "force"}
         How each contact ends.
     max_contacts : int
-        At most this many contacts are computed.
+        At most this many contacts are computed (``1 <= max_contacts <= 10**7``).
 
     Returns
     -------
     BounceSequence
+
+    Raises
+    ------
+    ValueError
+        Where a contact starts so late that double precision resolves its end only to
+        more than :math:`10^{-6}` of its duration (long flights, :math:`Df \lesssim
+        10^{-10}`): the message names the contact; :func:`bounce_map` still counts the
+        contacts and gives the time to rest.
 
     Examples
     --------
@@ -322,33 +199,35 @@ def bounce_sequence(
     (inf, 0.0)
     """
     check_condition(condition)
-    max_contacts = _max_contacts(max_contacts)
+    max_contacts = check_max_contacts(max_contacts)
     values = []
     for name, value in (("D", D), ("f", f)):
         array, scalar = real_array(name, value, lower=0.0)
         if not scalar:
             raise TypeError(f"{name} must be a scalar (use bounce_map for arrays), got {value!r}")
         values.append(array.reshape(1))
-    padded = _sequences(condition, values[0], values[1], max_contacts)
-    n = int(padded.n_contacts[0])
-    row = {
-        name: np.array(getattr(padded, name)[0, :n])
-        for name in ("start", "end", "departure_speed", "arrival_velocity", "element_deflection")
-    }
+    damping, force = float(values[0][0]), float(values[1][0])
+    what = f"bounce_sequence(D={damping!r}, f={force!r})"
+    result = run_sequences(values[0], values[1], max_contacts, condition=condition, resolved=what)
+    table = result.table(0)
     return BounceSequence(
-        D=float(values[0][0]),
-        f=float(values[1][0]),
+        D=damping,
+        f=force,
         condition=condition,
-        arrival_speed=np.abs(row["arrival_velocity"]),
-        n_contacts=n,
-        time_to_rest=float(padded.time_to_rest[0]),
-        sticks=bool(padded.sticks[0]),
-        **row,
+        start=table["start"],
+        end=table["start"] + table["duration"],
+        arrival_speed=np.abs(table["arrival"]),
+        departure_speed=table["departure"],
+        arrival_velocity=table["arrival"],
+        element_deflection=table["deflection"],
+        n_contacts=int(result.n_contacts[0]),
+        time_to_rest=float(result.time_to_rest[0]),
+        sticks=bool(result.sticks[0]),
     )
 
 
-@dataclass(frozen=True)
-class BounceMap:
+@dataclass(frozen=True, eq=False)
+class BounceMap(ArrayRecord):
     """Number of contacts and time to rest over arrays of ``(D, f)``.
 
     Attributes
@@ -397,21 +276,21 @@ def bounce_map(D: ArrayLike, f: ArrayLike, *, condition: str, max_contacts: int 
     >>> m.time_to_rest.round(3).tolist()  # D = 2 sticks at the first contact
     [608.025, 143.756, 0.0]
     """
-    max_contacts = _max_contacts(max_contacts)
+    max_contacts = check_max_contacts(max_contacts)
     (damping, force), shape, _ = flat_inputs(condition=condition, D=D, f=f)
-    padded = _sequences(condition, damping, force, max_contacts)
+    result = run_sequences(damping, force, max_contacts, condition=condition, record=False)
     return BounceMap(
         D=damping.reshape(shape),
         f=force.reshape(shape),
-        n_contacts=padded.n_contacts.reshape(shape),
-        time_to_rest=padded.time_to_rest.reshape(shape),
-        sticks=padded.sticks.reshape(shape),
+        n_contacts=result.n_contacts.reshape(shape),
+        time_to_rest=result.time_to_rest.reshape(shape),
+        sticks=result.sticks.reshape(shape),
         condition=condition,
     )
 
 
-@dataclass(frozen=True)
-class PhysicalBounce:
+@dataclass(frozen=True, eq=False)
+class PhysicalBounce(ArrayRecord):
     r"""A bounce sequence in physical units (seconds, metres, metres per second).
 
     Attributes
@@ -475,20 +354,29 @@ def physical_bounce(
     (3, True, 70.403)
     """
     check_condition(condition)
-    max_contacts = _max_contacts(max_contacts)
+    max_contacts = check_max_contacts(max_contacts)
     vals = {}
     for name, value, strict in (("m", m, True), ("k", k, True), ("d", d, False)):
         vals[name] = _scalar(name, value, strict)
     vals["v0"] = _scalar("v0", v0, True)
     vals["F"] = _scalar("F", F, False)
     mass, stiffness, damping, speed, load = vals.values()
-    omega0 = float(np.sqrt(stiffness / mass))
-    D_ = damping / (2.0 * np.sqrt(stiffness * mass))
-    length = speed / omega0  # metres per unit of z
+    with np.errstate(all="ignore"):  # what leaves double precision is refused below
+        root_k, root_m = np.sqrt(stiffness), np.sqrt(mass)  # no overflow in k m or k/m
+        omega0 = np.float64(root_k / root_m)
+        D_ = np.float64(damping / 2.0 / (root_k * root_m))
+        length = np.float64(speed / omega0)  # metres per unit of z
+        b = np.float64(load / (root_k * root_m) / speed)  # static penetration 2 D f
+    check_derived("omega0 = sqrt(k/m)", "m, k", omega0, lambda w: (w > 0) & np.isfinite(w))
+    check_derived("D = d/(2 sqrt(k m))", "d, k, m", D_, np.isfinite)
+    check_derived("v0/omega0", "m, k, v0", length, lambda x: (x > 0) & np.isfinite(x))
     if damping == 0 and load > 0:
-        b = load / (np.sqrt(stiffness * mass) * speed)
+        check_derived("b = F/(sqrt(k m) v0)", "F, k, m, v0", b, lambda x: (x > 0) & np.isfinite(x))
         tau_c = 2.0 * np.pi - 2.0 * np.arctan2(1.0, b)
-        start = np.arange(max_contacts) * (tau_c + 2.0 / b)
+        with np.errstate(over="ignore"):
+            start = np.arange(max_contacts) * (tau_c + 2.0 / b)
+        what = f"physical_bounce (undamped, b = F/(sqrt(k m) v0) = {float(b):g})"
+        check_resolution(start, np.full(max_contacts, tau_c), what)
         ones = np.ones(max_contacts)
         seq = {
             "f": np.inf, "start": start, "end": start + tau_c, "arrival": ones,
@@ -496,23 +384,39 @@ def physical_bounce(
             "n": max_contacts, "sticks": False,
         }  # fmt: skip
     else:
-        f_ = load / (damping * speed) if load > 0 else 0.0
-        s = bounce_sequence(D_, f_, condition=condition, max_contacts=max_contacts)
+        with np.errstate(all="ignore"):
+            f_ = np.float64(load / damping / speed) if load > 0 else np.float64(0.0)
+        check_derived("f = F/(d v0)", "F, d, v0", f_, np.isfinite)
+        try:
+            s = bounce_sequence(D_, f_, condition=condition, max_contacts=max_contacts)
+        except ValueError as exc:
+            raise ValueError(f"physical_bounce: the inputs m, k, d, v0, F give {exc}") from None
         seq = {
             "f": f_, "start": s.start, "end": s.end, "arrival": s.arrival_speed,
             "departure": s.departure_speed, "deflection": s.element_deflection,
             "time_to_rest": s.time_to_rest, "n": s.n_contacts, "sticks": s.sticks,
         }  # fmt: skip
+    with np.errstate(over="ignore", under="ignore"):
+        start, end = seq["start"] / omega0, seq["end"] / omega0
+        deflection = seq["deflection"] * length
+    tau = np.concatenate([seq["start"], seq["end"]])
+    check_derived(
+        "the contact times tau/omega0",
+        "m, k",
+        np.concatenate([start, end]),
+        lambda t: np.isinf(tau) | ((t > 0) | (tau == 0)) & np.isfinite(t),
+    )
+    check_derived("the element deflection", "m, k, v0", deflection, np.isfinite)
     return PhysicalBounce(
-        omega0=omega0,
+        omega0=float(omega0),
         D=float(D_),
         f=float(seq["f"]),
-        start=seq["start"] / omega0,
-        end=seq["end"] / omega0,
+        start=start,
+        end=end,
         arrival_speed=seq["arrival"] * speed,
         departure_speed=seq["departure"] * speed,
-        element_deflection=seq["deflection"] * length,
-        time_to_rest=float(seq["time_to_rest"]) / omega0,
+        element_deflection=deflection,
+        time_to_rest=float(seq["time_to_rest"]) / float(omega0),
         n_contacts=int(seq["n"]),
         sticks=bool(seq["sticks"]),
         condition=condition,

@@ -385,6 +385,19 @@ def first_release(
     return result
 
 
+def check_derived(what: str, inputs: str, values: np.ndarray, valid) -> None:
+    """Internal: raise naming the inputs when a derived quantity leaves double precision.
+
+    ``valid(values)`` is the mask of admissible values (e.g. finite and positive).
+    """
+    bad = ~valid(values)
+    if np.any(bad):
+        raise ValueError(
+            f"the inputs {inputs} are too extreme: {what} = {float(values[bad].flat[0])!r} "
+            "is not representable in double precision"
+        )
+
+
 def flat_inputs(
     *, condition: str, **arrays: object
 ) -> tuple[list[np.ndarray], tuple[int, ...], bool]:

@@ -33,7 +33,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from impactsym.contact.kernel import homogeneous
+from impactsym.contact.records import ArrayRecord
 from impactsym.numeric.roots import bracketed_newton
+from impactsym.validation import broadcast, real_array
 
 __all__ = ["LinearRelease", "linear_release", "release_margin"]
 
@@ -96,6 +98,19 @@ def _values_at(t1, t2, D, level, h0, h1):
     return np.where(np.isfinite(t1), g1, np.inf), np.where(np.isfinite(t2), g2, np.inf)
 
 
+def _oscillator_inputs(
+    D: object, load: object, offset: object
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``D``, ``load`` and ``offset`` as float arrays of one shape, each finite and
+    ``>= 0``; a bad one is refused by name."""
+    checked = {
+        name: real_array(name, value, lower=0.0)[0]
+        for name, value in (("D", D), ("load", load), ("offset", offset))
+    }
+    shape = broadcast(**checked)
+    return tuple(np.broadcast_to(a, shape) for a in checked.values())
+
+
 def release_margin(D, load, offset):
     r"""Smallest value the thresholds reach while the body stays: ``> 0`` where it sticks.
 
@@ -114,7 +129,7 @@ def release_margin(D, load, offset):
     >>> float(release_margin(0.2, 0.0, 0.0)) < 0, float(release_margin(1.0, 2.0, 1.0)) > 0
     (True, True)
     """
-    D, c, delta = (np.asarray(a, dtype=float) for a in np.broadcast_arrays(D, load, offset))
+    D, c, delta = _oscillator_inputs(D, load, offset)
     a2 = c - 2.0 * D
     a3 = -2.0 * D * a2 - 1.0
     _, _, f1, f2 = _extreme_values(D, c + delta, -a2, -a3)
@@ -177,8 +192,8 @@ def _first_crossing(D, level, h0, h1, exclude_start, before=None):
     return tau
 
 
-@dataclass(frozen=True)
-class LinearRelease:
+@dataclass(frozen=True, eq=False)
+class LinearRelease(ArrayRecord):
     """First release of the normalized oscillator (arrays of one shape; dimensionless).
 
     Attributes
@@ -252,7 +267,10 @@ def linear_release(
     >>> round(contact_time(0.5, 0.0, **f), 6), round(restitution(0.5, 0.0, **f), 6)
     (2.418399, 0.298436)
     """
-    D, c, delta = (np.asarray(a, dtype=float) for a in np.broadcast_arrays(D, load, offset))
+    D, c, delta = _oscillator_inputs(D, load, offset)
+    for name, flag in (("force", force), ("position", position), ("extremes", extremes)):
+        if not isinstance(flag, (bool, np.bool_)):
+            raise TypeError(f"{name} must be True or False, got {flag!r}")
     if not (force or position):
         raise ValueError("linear_release needs the force or the position threshold")
     # force: lambda = (c + delta) - z''  with z'' homogeneous
