@@ -67,7 +67,7 @@ def test_without_engines_every_engine_point_is_said_to_be_predicted(tmp_path, mo
     for text in (textbook, markdown):
         assert "Every point of this figure is a prediction" in text
         assert "no engine was run" in text
-        assert "measured in" not in text
+        assert "Markers: measured" not in text
     assert "prediction of impactsym" in stick
     assert "no point of this map is an engine run" in stick
 

@@ -134,7 +134,13 @@ def _sections(
 
 
 def _anchor(title: str) -> str:
+    """The HTML id of a section title."""
     return re.sub(r"[^a-z0-9]+", "-", title.lower()).strip("-")
+
+
+def _heading(title: str) -> str:
+    """A section title as a heading: its first letter in upper case."""
+    return title[:1].upper() + title[1:]
 
 
 def write_report(
@@ -167,7 +173,7 @@ def write_report(
     ]
     groups = _sections(files, sections)
     for title, paths in groups:
-        anchor = _anchor(title)
+        anchor, title = _anchor(title), _heading(title)
         md.append(f"- [{title}](#{anchor})")
         page.append(f'<li><a href="#{anchor}">{html.escape(title)}</a><ul>')
         for png in (p for p in paths if p.suffix == ".png"):
@@ -195,7 +201,7 @@ def _section(
     present: set[str],
 ) -> tuple[list[str], list[str]]:
     """The Markdown and HTML lines of one section."""
-    anchor = _anchor(title)
+    anchor, title = _anchor(title), _heading(title)
     md = [f'<a id="{anchor}"></a>', "", f"## {title}", ""]
     page = [f'<section><h2 id="{anchor}">{html.escape(title)}</h2>']
     for png in (p for p in paths if p.suffix == ".png"):
