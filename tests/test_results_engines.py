@@ -49,8 +49,12 @@ def _run(tmp_path, monkeypatch, versions):
     monkeypatch.setattr(results, "engine_versions", lambda: dict(versions))
     out = tmp_path / "out"
     reproduce.reproduce(out, quick=True, progress=lambda message: None)
+    page = (out / "index.html").read_text(encoding="utf-8")
+    assert not re.search(r"https?:", page)
+    for link in re.findall(r'(?:href|src)="([^"#][^"]*)"', page):
+        assert (out / link).is_file(), link
     parser = Captions()
-    parser.feed((out / "index.html").read_text(encoding="utf-8"))
+    parser.feed(page)
     return out, parser.captions, (out / "report.md").read_text(encoding="utf-8")
 
 

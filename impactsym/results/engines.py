@@ -87,7 +87,7 @@ def engine_versions() -> dict[str, str | None]:
         import mujoco as engine
 
         versions["MuJoCo"] = str(engine.__version__)
-    except ImportError:
+    except (ImportError, OSError):  # not installed, or its library cannot be loaded
         pass
     try:
         from impactsym.engines.drivers import load_mpi
