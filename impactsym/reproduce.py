@@ -4,11 +4,21 @@ from __future__ import annotations
 
 import importlib
 import os
+import stat
 import time
 from collections.abc import Callable
 from pathlib import Path
 
-from impactsym.results.files import MARKER, MARKER_HEADER, is_partial, recording, write_text
+from impactsym.results.files import (
+    MARKER,
+    MARKER_HEADER,
+    UnsafeTargetError,
+    describe,
+    is_partial,
+    read_marker,
+    recording,
+    write_text,
+)
 
 Progress = Callable[[str], None]
 
@@ -79,11 +89,14 @@ def check_output(out: str | Path) -> Path:
 def _recorded(out: Path) -> list[str]:
     """Names of the files a former run recorded in the marker of ``out``.
 
-    Only plain names inside ``out`` count; a marker that is not UTF-8 text was not
-    written by ``reproduce`` (or is damaged) and is refused before anything is deleted.
+    Only plain names inside ``out`` count; a marker that is not UTF-8 text, not a regular
+    file or larger than :data:`impactsym.results.files.MARKER_MAX_BYTES` was not written
+    by ``reproduce`` (or is damaged) and is refused before anything is deleted.
     """
     try:
-        lines = (out / MARKER).read_bytes().decode("utf-8").splitlines()
+        lines = read_marker(out).decode("utf-8").splitlines()
+    except UnsafeTargetError as exc:
+        raise OutputExistsError(str(exc)) from None
     except UnicodeDecodeError:
         raise OutputExistsError(
             f"the marker file {str(out / MARKER)!r} is not UTF-8 text: it was not written "
@@ -99,7 +112,9 @@ def prepare_output(out: str | Path, *, force: bool) -> Path:
     A non-empty ``out`` is refused unless it holds the marker :data:`MARKER` of a
     former run and ``force`` is given; then the files that run recorded (and its
     temporary files, named as :data:`impactsym.results.files.PARTIAL_NAME`) are deleted,
-    nothing else.
+    nothing else. Nothing is followed or replaced that is not a regular file: ``out``
+    must be a directory (not a symbolic link to one), the marker a regular file, and
+    every recorded name that still exists a regular file; otherwise nothing is deleted.
 
     >>> import tempfile
     >>> out = prepare_output(Path(tempfile.mkdtemp()) / "new", force=False)
@@ -118,33 +133,60 @@ def prepare_output(out: str | Path, *, force: bool) -> Path:
         ...
     impactsym.reproduce.OutputExistsError: ... was not written by impactsym reproduce ...
     """
-    out = check_output(out)
+    given, out = Path(out).expanduser(), check_output(out)
+    if given.is_symlink():
+        raise OutputExistsError(
+            f"output path {str(given)!r} is a symbolic link (to {str(out)!r}); reproduce "
+            "never follows one: name the directory itself"
+        )
     if out.exists() and not out.is_dir():
-        raise OutputExistsError(f"output path {str(out)!r} exists and is not a directory")
+        raise OutputExistsError(
+            f"output path {str(out)!r} exists and is {describe(os.lstat(out).st_mode)}, "
+            "not a directory"
+        )
     if out.is_dir() and any(out.iterdir()):
-        if not (out / MARKER).is_file():
+        try:
+            marker = os.lstat(out / MARKER).st_mode
+        except FileNotFoundError:
             raise OutputExistsError(
                 f"output directory {str(out)!r} is not empty and was not written by "
                 f"impactsym reproduce (no {MARKER} file); it is never overwritten, not even "
                 "with --force: choose a new directory"
+            ) from None
+        if not stat.S_ISREG(marker):
+            raise OutputExistsError(
+                f"the marker file {str(out / MARKER)!r} is {describe(marker)}, not a regular "
+                "file: it was not written by impactsym reproduce; nothing was deleted, "
+                "choose a new directory"
             )
         if not force:
             raise OutputExistsError(
                 f"output directory {str(out)!r} is not empty; pass --force to overwrite it"
             )
-        # everything is checked before anything is deleted: recorded regular files (or
-        # links, never what they point to) and reproduce's own temporary files only
-        doomed = [
-            out / name
-            for name in _recorded(out)
-            if (out / name).is_symlink() or (out / name).is_file()
-        ]
+        # everything is checked before anything is deleted: recorded regular files and
+        # reproduce's own temporary files only
+        doomed = [path for path in map(out.joinpath, _recorded(out)) if _regular(path)]
         doomed += [path for path in out.iterdir() if is_partial(path)]
         for path in dict.fromkeys(doomed):
             path.unlink(missing_ok=True)
     out.mkdir(parents=True, exist_ok=True)
     write_text(out / MARKER, MARKER_HEADER + "\n")
     return out
+
+
+def _regular(path: Path) -> bool:
+    """Whether ``path`` is a regular file (``False`` if absent); refuse anything else."""
+    try:
+        mode = os.lstat(path).st_mode
+    except FileNotFoundError:
+        return False
+    if not stat.S_ISREG(mode):
+        raise OutputExistsError(
+            f"{str(path)!r}, recorded as written by impactsym reproduce, is now "
+            f"{describe(mode)}; reproduce never follows or replaces one: remove it yourself "
+            "or choose a new directory (nothing was deleted)"
+        )
+    return True
 
 
 def reproduce(
@@ -165,9 +207,16 @@ def reproduce(
 
 
 def _reproduce_into(out: Path, *, quick: bool, progress: Progress) -> list[Path]:
-    """The steps of :func:`reproduce` into the prepared directory ``out``."""
+    """The steps of :func:`reproduce` into the prepared directory ``out``.
+
+    Each step's module gives the captions of its files (``captions(out)`` after it wrote
+    them, for captions that depend on what was run, else ``CAPTIONS``) and the data
+    files behind each figure (``DATA``) for the report.
+    """
     written: list[Path] = []
     captions: dict[str, str] = {}
+    data: dict[str, tuple[str, ...]] = {}
+    sections: list[tuple[str, list[Path]]] = []
     start = time.perf_counter()
     for number, (title, module_name) in enumerate(STEPS, start=1):
         prefix = f"[{number}/{len(STEPS)}] {title}"
@@ -178,66 +227,31 @@ def _reproduce_into(out: Path, *, quick: bool, progress: Progress) -> list[Path]
             out, quick=quick, progress=lambda msg, p=prefix: progress(f"{p}: {msg}")
         )
         written.extend(files)
-        captions.update(getattr(module, "CAPTIONS", {}))
+        sections.append((title, list(files)))
+        if hasattr(module, "captions"):
+            captions.update(module.captions(out))
+        else:
+            captions.update(getattr(module, "CAPTIONS", {}))
+        data.update(getattr(module, "DATA", {}))
         progress(f"{prefix}: {len(files)} files in {time.perf_counter() - step_start:.1f} s")
-    written += write_report(out, written, captions)
+    written += write_report(out, written, captions, sections=sections, data=data)
     progress(
         f"wrote {len(written)} files to {out.resolve()} in {time.perf_counter() - start:.1f} s"
     )
     return written
 
 
-def write_report(out: Path, files: list[Path], captions: dict[str, str]) -> list[Path]:
-    """``report.md`` and ``index.html``: every figure shown with its sentence, every
-    other file listed with its sentence (no timings or dates: reruns are identical)."""
-    import html
+def write_report(
+    out: Path,
+    files: list[Path],
+    captions: dict[str, str],
+    *,
+    sections: list[tuple[str, list[Path]]] | None = None,
+    data: dict[str, tuple[str, ...]] | None = None,
+) -> list[Path]:
+    """``report.md`` and ``index.html``: every figure shown with its sentence and links to
+    its PDF and data, every table rendered, every other file listed with its sentence (no
+    timings or dates: reruns are identical); see :mod:`impactsym.results.report`."""
+    from impactsym.results import report
 
-    figures = [p for p in files if p.suffix == ".png"]
-    others = [p for p in files if p.suffix not in (".png", ".pdf") or p.name == "formulas.pdf"]
-    md = [
-        "# impactsym: reproduced results",
-        "",
-        "Waltersberger, Keppler and Wauer, PAMM 2004, regenerated by `impactsym reproduce`.",
-        "",
-    ]
-    page = [
-        "<!doctype html><html><head><meta charset='utf-8'><title>impactsym results</title>",
-        "</head><body><h1>impactsym: reproduced results</h1>",
-    ]
-    for png in figures:
-        text = _caption(png, captions)
-        md += [
-            f"## {png.stem}",
-            "",
-            text,
-            "",
-            f"![{png.stem}]({png.name}) ([PDF]({png.with_suffix('.pdf').name}))",
-            "",
-        ]
-        page += [
-            f"<h2>{html.escape(png.stem)}</h2><p>{html.escape(text)}</p>",
-            f"<img src='{png.name}' style='max-width:900px'>",
-        ]
-    md += ["## Tables, formulas and code", ""]
-    page.append("<h2>Tables, formulas and code</h2><ul>")
-    for path in others:
-        text = _caption(path, captions)
-        md.append(f"- [{path.name}]({path.name}): {text}")
-        page.append(
-            f"<li><a href='{path.name}'>{html.escape(path.name)}</a>: {html.escape(text)}</li>"
-        )
-    page.append("</ul></body></html>")
-    write_text(out / "report.md", "\n".join(md) + "\n")
-    write_text(out / "index.html", "\n".join(page) + "\n")
-    return [out / "report.md", out / "index.html"]
-
-
-def _caption(path: Path, captions: dict[str, str]) -> str:
-    """The sentence for a file: by name, stem, or longest matching stem prefix."""
-    for key in (path.name, path.stem):
-        if key in captions:
-            return captions[key]
-    prefixes = [key for key in captions if path.stem.startswith(key)]
-    if prefixes:
-        return captions[max(prefixes, key=len)]
-    return path.stem.replace("_", " ") + "."
+    return report.write_report(out, files, captions, sections=sections, data=data)

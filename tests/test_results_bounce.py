@@ -9,6 +9,7 @@ import matplotlib
 
 from impactsym.contact import bounce_sequence
 from impactsym.results import bounce as results
+from impactsym.results.report import data_files
 
 matplotlib.use("Agg")
 
@@ -17,6 +18,8 @@ def test_quick_reproduction_writes_sequences_maps_and_tables(tmp_path):
     messages: list[str] = []
     files = results.write(tmp_path, quick=True, progress=messages.append)
     names = {p.name for p in files}
+    for png in sorted(n for n in names if n.endswith(".png")):  # the report links its data
+        assert data_files(png[: -len(".png")], results.DATA, names), png
     stems = ["bounce_sequence_1", "bounce_sequence_2"]
     stems += [
         f"bounce_{m}_map_{c}" for m in ("contacts", "time_to_rest") for c in results.CONDITIONS

@@ -8,6 +8,7 @@ import math
 import matplotlib
 
 from impactsym.results import contact as results
+from impactsym.results.report import data_files
 
 matplotlib.use("Agg")
 
@@ -18,6 +19,8 @@ def test_quick_reproduction_writes_figures_tables_and_formulas(tmp_path):
     messages: list[str] = []
     files = results.write(tmp_path, quick=True, progress=messages.append)
     names = {p.name for p in files}
+    for png in sorted(n for n in names if n.endswith(".png")):  # the report links its data
+        assert data_files(png[: -len(".png")], results.DATA, names), png
     for stem in (
         "fig1a_contact_surface_force",
         "fig1b_stick_boundary",

@@ -6,6 +6,9 @@ import json
 import subprocess
 import sys
 
+from impactsym.results.multibody import DATA
+from impactsym.results.report import data_files
+
 
 def test_reproduce_step_writes_its_files_without_scipy(tmp_path):
     # `impactsym reproduce` must not need SciPy: block it and run the quick step
@@ -20,6 +23,8 @@ def test_reproduce_step_writes_its_files_without_scipy(tmp_path):
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr[-3000:]
     names = set(run.stdout.split())
+    for png in sorted(n for n in names if n.endswith(".png")):  # the report links its data
+        assert data_files(png[: -len(".png")], DATA, names), png
     for stem in (
         "multibody_agreement",
         "multibody_verdict_map",

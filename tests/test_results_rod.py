@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from impactsym.results import rod as results
+from impactsym.results.report import data_files
 from impactsym.rod import contact_time, contact_time_map, latex_formulas
 
 matplotlib.use("Agg")
@@ -21,6 +22,8 @@ def test_quick_reproduction_writes_figures_table_and_formulas(tmp_path):
     messages: list[str] = []
     files = results.write(tmp_path, quick=True, progress=messages.append)
     names = {p.name for p in files}
+    for png in sorted(n for n in names if n.endswith(".png")):  # the report links its data
+        assert data_files(png[: -len(".png")], results.DATA, names), png
     for stem in ("rod_time_histories", "rod_finite_stiffness", "rod_contact_time_maps"):
         assert {f"{stem}.png", f"{stem}.pdf"} <= names
     assert {"rod_contact_times.csv", "rod_formulas.json", "rod_formulas.tex"} <= names

@@ -15,10 +15,13 @@ def test_quick_reproduction_writes_the_sequence_figures_and_table(tmp_path):
 
     matplotlib.use("Agg")
     from impactsym.results import rod_sequence as results
+    from impactsym.results.report import data_files
 
     messages: list[str] = []
     files = results.write(tmp_path, quick=True, progress=messages.append)
     names = {p.name for p in files}
+    for png in sorted(n for n in names if n.endswith(".png")):  # the report links its data
+        assert data_files(png[: -len(".png")], results.DATA, names), png
     for stem in ("rod_sequence", "rod_sequence_stress", "rod_restitution"):
         assert {f"{stem}.png", f"{stem}.pdf"} <= names
     for name in names:

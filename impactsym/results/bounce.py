@@ -19,16 +19,24 @@ SEQUENCES = ((0.1, 0.2), (0.4297, 0.2))
 
 CAPTIONS = {
     "bounce_sequence": "Bounce sequences until rest under the position and the force "
-    "condition side by side (normalized on the first impact; shaded: contacts; dashed: "
-    "the massless element relaxing after a force-condition release).",
+    "condition side by side, computed (normalized on the first impact; shaded: contacts; "
+    "dashed: the massless element relaxing after a force-condition release).",
     "bounce_contacts_map": "Number of contacts until the body rests (the sticking contact "
-    "included) over the D-f plane; black line: the first contact sticks to its right; grey: "
-    "not at rest within 100 contacts.",
+    "included) over the D–f plane, computed; black line: the first contact sticks to its "
+    "right; grey: not at rest within 100 contacts.",
     "bounce_time_to_rest_map": "Time to rest (start of the sticking contact, in units of "
-    "1/omega0) over the D-f plane; white: the first contact sticks.",
+    "1/ω_{0}) over the D–f plane, computed; white: the first contact sticks.",
     "bounce_sequence.csv": "Every contact of the sequences shown: start, end, arrival "
     "velocity, departure speed, element deflection at the start.",
-    "bounce_map.csv": "Number of contacts and time to rest on a 25 x 21 grid of (D, f).",
+    "bounce_map.csv": "Number of contacts and time to rest on a 25 × 21 grid of (D, f) (a "
+    "coarser grid than the maps).",
+}
+
+#: The data files behind each figure (for the report's links).
+DATA = {
+    "bounce_sequence": ("bounce_sequence.csv",),
+    "bounce_contacts_map": ("bounce_map.csv",),
+    "bounce_time_to_rest_map": ("bounce_map.csv",),
 }
 
 

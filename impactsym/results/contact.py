@@ -20,19 +20,36 @@ from impactsym.results.files import save_figure, write_csv, write_text
 CONDITIONS = ("position", "force")
 
 CAPTIONS = {
-    "fig1a_contact_surface_force": "Paper Fig. 1a: the implicit surface g(tau, D, f) = 0 of the "
-    "force condition; lower sheet = contact time, upper sheet = g rising through zero again; "
-    "they meet along the fold dg/dtau = 0, beyond which the body sticks.",
-    "fig1a_contact_surface_position": "Fig. 1a for the position condition (contact while z > 0).",
-    "fig1b_stick_boundary": "Paper Fig. 1b: the stick/release boundaries D*(f) of both "
-    "conditions; the body releases to the left of a curve and sticks to the right.",
-    "contact_time_map": "Normalized contact time tau_c over the D-f plane; grey where the "
-    "body sticks, black line: stick boundary.",
-    "restitution_map": "Coefficient of restitution e = -z'(tau_c) over the D-f plane; grey "
-    "where the body sticks.",
+    "fig1a_contact_surface_force": "Paper Fig. 1a, computed: the implicit surface "
+    "g(τ, D, f) = 0 of the force condition; lower sheet = contact time, upper sheet = g "
+    "rising through zero again; they meet along the fold ∂g/∂τ = 0, beyond which the "
+    "body sticks.",
+    "fig1a_contact_surface_position": "Fig. 1a for the position condition (contact while "
+    "z > 0), computed.",
+    "fig1a_contact_surface_force.csv": "The grid of Fig. 1a (force condition): D, f and "
+    "both sheets τ (nan where a sheet does not exist).",
+    "fig1a_contact_surface_position.csv": "The grid of Fig. 1a for the position condition.",
+    "fig1b_stick_boundary": "Paper Fig. 1b, computed: the stick/release boundaries D*(f) "
+    "of both conditions; the body releases to the left of a curve and sticks to the right.",
+    "contact_time_map": "Normalized contact time τ_{c} over the D–f plane, computed; grey "
+    "where the body sticks, black line: stick boundary.",
+    "restitution_map": "Coefficient of restitution e = −z′(τ_{c}) over the D–f plane, "
+    "computed; grey where the body sticks.",
     "stick_boundary.csv": "D*(f) for both conditions (f = 0 first: D* = 1 and inf).",
-    "contact_times": "Contact time and restitution on a 31 x 21 grid of (D, f).",
+    "contact_times": "Contact time and restitution on a 31 × 21 grid of (D, f) (a coarser "
+    "grid than the maps).",
     "spring_damper_formulas.json": "LaTeX of the section-2 formulas with labels and captions.",
+}
+
+#: The data files behind each figure (for the report's links).
+DATA = {
+    "fig1a_contact_surface_force": ("fig1a_contact_surface_force.csv",),
+    "fig1a_contact_surface_position": ("fig1a_contact_surface_position.csv",),
+    "fig1b_stick_boundary": ("stick_boundary.csv",),
+    "contact_time_map_force": ("contact_times_force.csv",),
+    "contact_time_map_position": ("contact_times_position.csv",),
+    "restitution_map_force": ("contact_times_force.csv",),
+    "restitution_map_position": ("contact_times_position.csv",),
 }
 
 
@@ -101,12 +118,16 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
 
     progress("Fig. 1a: contact-time surface (force condition)")
     for condition in ("force", "position"):
-        files += save_figure(
-            plots.plot_contact_surface(
-                *surface_grid(condition=condition, n_points=n_surface), condition=condition
-            ),
-            out,
-            f"fig1a_contact_surface_{condition}",
+        grid = surface_grid(condition=condition, n_points=n_surface)
+        stem = f"fig1a_contact_surface_{condition}"
+        files += save_figure(plots.plot_contact_surface(*grid, condition=condition), out, stem)
+        D, fg, first, second = (np.ravel(v) for v in grid[:4])
+        files.append(
+            write_csv(
+                out / f"{stem}.csv",
+                ["D", "f", "tau_lower_sheet", "tau_upper_sheet"],
+                zip(D, fg, first, second, strict=True),
+            )
         )
 
     progress("Fig. 1b: stick/release boundaries")

