@@ -229,7 +229,7 @@ def test_figure_has_units_outside_legends_and_readable_labels(module, name):
 def test_legend_outside_refuses_an_unknown_place():
     ax = plt.figure().add_subplot()
     with pytest.raises(ValueError, match="where must be one of"):
-        legend_outside(ax, where="inside")
+        legend_outside(ax=ax, where="inside")
     plt.close(ax.figure)
 
 

@@ -69,7 +69,7 @@ def plot_bounce_sequence(
     ax.set_xlabel(r"time $\tau = \omega_0 t$ [-]")
     ax.set_ylabel(r"$z = x\,\omega_0/v_0$ [-]")
     ax.set_xlim(0.0, horizon)
-    legend_outside(ax, fontsize=8)
+    legend_outside(ax=ax, fontsize=8)
     return ax
 
 
@@ -168,7 +168,7 @@ def plot_bounce_map(
     ax.set_xlabel("damping ratio $D$ [-]")
     ax.set_ylabel("pressing force $f$ [-]")
     legend_outside(
-        ax,
+        ax=ax,
         where="below",
         handles=ax.get_lines(),
         fontsize=8,

@@ -101,7 +101,7 @@ def plot_stick_boundary(
     ax.set_xlabel("damping ratio $D$ [-]")
     ax.set_ylabel("pressing force $f = F/(d v_0)$ [-]")
     ax.set_title("Stick/release boundary")
-    legend_outside(ax, fontsize="small")
+    legend_outside(ax=ax, fontsize="small")
     return ax
 
 
@@ -143,7 +143,7 @@ def _map(
     ax.figure.colorbar(mesh, ax=ax, label=label)
     ax.set_xlabel("damping ratio $D$ [-]")
     ax.set_ylabel("pressing force $f$ [-]")
-    legend_outside(ax, where="below", handles=ax.get_lines(), title="grey: sticks", ncols=2)
+    legend_outside(ax=ax, where="below", handles=ax.get_lines(), title="grey: sticks", ncols=2)
     ax.set_title(f"{title}, {LABELS[condition]}")
     return ax
 

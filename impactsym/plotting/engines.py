@@ -40,7 +40,7 @@ def plot_textbook_error(
     ax.set_ylabel("achieved restitution [-]")
     ax.set_xlim(0, 1)
     ax.set_ylim(0, 1)
-    legend_outside(ax, fontsize=8)
+    legend_outside(ax=ax, fontsize=8)
     return ax
 
 

@@ -90,7 +90,7 @@ def plot_agreement(agreement: Any, *, condition: str = "force", ax: Any = None) 
     ax.set_xlabel("$D$ of the reduced oscillator [-]")
     ax.set_ylabel(r"$|t_c^{\mathrm{reduced}} / t_c^{\mathrm{full}} - 1|$ [-]")
     ax.set_title(f"{agreement.example}: {condition} condition")
-    legend_outside(ax, where="below", fontsize="x-small")
+    legend_outside(ax=ax, where="below", fontsize="x-small")
     return ax
 
 
@@ -138,7 +138,7 @@ def plot_verdict_map(
     ax.set_xlabel("$f$ of the reduced oscillator [-]")
     ax.set_ylabel("$D$ of the reduced oscillator [-]")
     ax.set_title(f"{agreement.example}: {condition} condition, {projection} projection")
-    legend_outside(ax, fontsize="small")
+    legend_outside(ax=ax, fontsize="small")
     return ax
 
 
@@ -168,7 +168,7 @@ def plot_convergence(
     ax.set_xlabel(r"$\sqrt{k / \tilde m}$ [1/s]")
     ax.set_ylabel("relative contact-time error [-]")
     ax.set_title(title)
-    legend_outside(ax, where="below", fontsize="small", ncols=2)
+    legend_outside(ax=ax, where="below", fontsize="small", ncols=2)
     return ax
 
 
@@ -210,5 +210,5 @@ def plot_design_region(
     ax.set_ylabel(f"penalty damping $d$ [{units[1]}]")
     ax.text(0.03, 0.95, "stick above", transform=ax.transAxes, ha="left", va="top")
     ax.text(0.03, 0.05, "release below", transform=ax.transAxes, ha="left", va="bottom")
-    legend_outside(ax, fontsize="small")
+    legend_outside(ax=ax, fontsize="small")
     return ax

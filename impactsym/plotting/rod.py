@@ -71,7 +71,7 @@ def plot_time_history(
     kappa = histories[0].kappa
     stiffness = "rigid contact" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
     ax.set_title(f"Rod impact, persistent contact, {stiffness}; dots: first zero")
-    legend_outside(ax, fontsize="small")
+    legend_outside(ax=ax, fontsize="small")
     return ax
 
 
@@ -275,5 +275,5 @@ def plot_stiffness_comparison(
         ax.plot(h.t, getattr(h, values), lw=1.2, label=label)
     first = histories[0]
     ax.set_title(rf"Contact stiffness, $\alpha = {first.alpha:g}$, $f = {first.f:g}$")
-    legend_outside(ax, fontsize="small")
+    legend_outside(ax=ax, fontsize="small")
     return ax

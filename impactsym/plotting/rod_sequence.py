@@ -48,7 +48,7 @@ def plot_sequence(seq: Any, *, ax: Axes | None = None, n_points: int = 4001) -> 
         rf"$\alpha = {seq.alpha:g}$, $f = {seq.f:g}${stiffness}: "
         f"{len(seq.contacts)} contact(s) (grey)"
     )
-    legend_outside(ax, fontsize="small")
+    legend_outside(ax=ax, fontsize="small")
     return ax
 
 
@@ -78,7 +78,7 @@ def plot_fixed_end_stress(sequences: Sequence[Any], *, ax: Axes | None = None) -
     ax.set_xscale("log")
     ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$ [-]")
     ax.set_ylabel(r"max $\sigma(1, t)\,/\,(E v_0 / c)$ [-]")
-    legend_outside(ax, fontsize="small")
+    legend_outside(ax=ax, fontsize="small")
     return ax
 
 
@@ -107,5 +107,5 @@ def plot_restitution(sequences: Sequence[Any], *, ax: Axes | None = None) -> Axe
     ax.set_xscale("log")
     ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$ [-]")
     ax.set_ylabel("coefficient of restitution [-]")
-    legend_outside(ax, fontsize="small")
+    legend_outside(ax=ax, fontsize="small")
     return ax

@@ -45,13 +45,13 @@ def has_unit(label: str) -> bool:
     return UNIT_PATTERN.search(label) is not None
 
 
-def legend_outside(ax: Any, *, where: str = "right", **options: Any) -> Any:
+def legend_outside(*, ax: Any, where: str = "right", **options: Any) -> Any:
     """Draw the legend of ``ax`` outside its data area and return it.
 
     Parameters
     ----------
     ax
-        Matplotlib axes.
+        Matplotlib axes (keyword-only, as everywhere in the package).
     where
         ``"right"`` (beside the axes, top-aligned) or ``"below"`` (under the x label;
         for axes whose right-hand side holds a colour bar).
@@ -64,7 +64,7 @@ def legend_outside(ax: Any, *, where: str = "right", **options: Any) -> Any:
     >>> import matplotlib.pyplot as plt
     >>> ax = plt.figure().add_subplot()
     >>> _ = ax.plot([0, 1], [0, 1], label="line")
-    >>> box = legend_outside(ax).get_bbox_to_anchor().transformed(ax.transAxes.inverted())
+    >>> box = legend_outside(ax=ax).get_bbox_to_anchor().transformed(ax.transAxes.inverted())
     >>> round(float(box.x0), 6)
     1.02
     >>> plt.close(ax.figure)
