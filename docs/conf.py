@@ -4,12 +4,17 @@ Build (README): ``sphinx-build -W --keep-going -b html docs docs/_build/html``.
 
 * API reference: ``autosummary`` writes one page per module listed in ``api.md``
   (``docs/api/`` is generated, not committed); ``numpydoc`` renders the docstrings.
-* Notebooks: the narrative notebooks live in the repository's ``notebooks/`` (the test
-  suite runs them there). Sphinx reads sources from ``docs/`` only, so this file copies
-  them into ``docs/notebooks/`` (generated, not committed) before the build reads any
-  source, and myst-nb executes each copy from a clean kernel (``nb_execution_mode =
-  "force"``): the site shows the outputs of the code as it is now, and a cell that fails
-  fails the build.
+* Notebooks: the narrative notebooks live in the repository's ``notebooks/`` with their
+  outputs stored (the test suite executes each from a clean kernel and checks that the
+  stored outputs are current, ``tests/notebook_runner.py``). Sphinx reads sources from
+  ``docs/`` only, so this file copies them into ``docs/notebooks/`` (generated, not
+  committed) before the build reads any source, and myst-nb shows the stored outputs
+  (``nb_execution_mode = "off"``): the notebooks are not executed a second time. The
+  code cells of ``getting_started.md`` have no stored outputs; that page asks for
+  execution in its own front matter.
+* Math: MathJax is served from the site itself (``_static/mathjax``, copied from the
+  ``sphinx-mathjax-offline`` package), never from a CDN, so the pages show typeset math
+  offline; ``tests/test_docs.py`` checks that no built page loads anything from the web.
 """
 
 from __future__ import annotations
@@ -73,6 +78,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax 3 served from _static/mathjax: the site works offline
     "sphinx.ext.viewcode",
     "numpydoc",
 ]
@@ -95,11 +101,15 @@ numpydoc_xref_param_type = False
 # -- MyST and notebooks ------------------------------------------------------------------
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
-nb_execution_mode = "force"
+nb_execution_mode = "off"  # stored outputs; getting_started.md executes (front matter)
 nb_execution_timeout = 900
 nb_execution_raise_on_error = True
 nb_execution_show_tb = True
 nb_merge_streams = True
+
+# -- math ------------------------------------------------------------------------------
+# the local copy of MathJax (the extension also sets this; stated here so it is visible)
+mathjax_path = "mathjax/tex-chtml.js"
 
 # -- HTML --------------------------------------------------------------------------------
 html_theme = "furo"

@@ -15,7 +15,10 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
-BUILD_PACKAGES = ("sphinx", "myst_nb", "furo", "numpydoc")
+BUILD_PACKAGES = ("sphinx", "myst_nb", "furo", "numpydoc", "sphinx-mathjax-offline")
+README = (ROOT / "README.md").read_text()
+#: a tag that loads a script, style sheet, font or image from another host
+REMOTE = re.compile(r"<(?:script|link|img|iframe)\b[^>]*\b(?:src|href)=\"(?:https?:)?//", re.I)
 
 
 def require_sphinx() -> None:
@@ -51,6 +54,79 @@ def package_modules() -> set[str]:
     return names
 
 
+def fenced(language: str, text: str) -> list[str]:
+    """Bodies of the ```language fenced blocks of ``text``, in order."""
+    return re.findall(rf"^```{language}\n(.*?)^```", text, flags=re.M | re.S)
+
+
+def readme_section(title: str) -> str:
+    """The README text under the ``## title`` heading, up to the next ``## ``."""
+    start = README.index(f"\n## {title}")
+    end = README.find("\n## ", start + 1)
+    return README[start : end if end >= 0 else None]
+
+
+def pip_commands(text: str) -> set[str]:
+    """Every ``pip install ...`` command of ``text``, in code blocks or inline code."""
+    blocks = [line for block in fenced("bash", text) for line in block.splitlines()]
+    inline = re.findall(r"`(pip install [^`]+)`", text)
+    return {line.strip() for line in blocks + inline if line.strip().startswith("pip install")}
+
+
+def conf_value(name: str):
+    """The literal assigned to ``name`` in ``docs/conf.py`` (read, not executed: importing
+    the configuration copies the notebooks)."""
+    tree = ast.parse((DOCS / "conf.py").read_text())
+    for node in tree.body:
+        targets = getattr(node, "targets", None) or [getattr(node, "target", None)]
+        if any(isinstance(t, ast.Name) and t.id == name for t in targets) and node.value:
+            return ast.literal_eval(node.value)
+    raise KeyError(name)
+
+
+def test_install_page_shows_the_readme_commands():
+    # the README's set-up and documentation commands, verbatim and as commands to copy
+    page = (DOCS / "getting_started.md").read_text()
+    shown = fenced("bash", page)
+    wanted = fenced("bash", readme_section("Set-up")) + fenced(
+        "bash", readme_section("Documentation")
+    )
+    assert len(wanted) >= 3  # install + reproduce, install + tests, install + docs build
+    for block in wanted:
+        assert block in shown, f"getting_started.md lacks the README's command {block!r}"
+    # and no page of the site shows an install command the README does not
+    readme = pip_commands(README)
+    for path in sorted(DOCS.glob("*.md")):
+        stray = pip_commands(path.read_text()) - readme
+        assert not stray, f"{path.name} shows {sorted(stray)}, which the README does not"
+
+
+def test_front_page_lists_the_analyses_the_readme_lists():
+    def rows(text: str) -> dict[str, set[str]]:
+        """Numbered table rows: number -> the impactsym packages and names they cite."""
+        found = {}
+        for number, rest in re.findall(r"^\| (\d+)\. (.*)$", text, flags=re.M):
+            packages = re.findall(r"impactsym\.\w+", rest)
+            found[number] = set(packages) | set(re.findall(r"\b\w+_sequence\b", rest))
+        return found
+
+    readme, index = rows(README), rows((DOCS / "index.md").read_text())
+    assert sorted(readme) == ["1", "2", "3", "4"]
+    assert sorted(index) == sorted(readme)
+    for number, names in readme.items():
+        assert names <= index[number], f"row {number}: the front page lacks {names - index[number]}"
+    assert "four analyses" in (DOCS / "index.md").read_text()
+
+
+def test_site_uses_the_stored_notebook_outputs_and_a_local_mathjax():
+    assert conf_value("nb_execution_mode") == "off"  # the test suite executes the notebooks
+    assert "sphinx-mathjax-offline" in conf_value("extensions")
+    path = conf_value("mathjax_path")
+    assert not re.match(r"(https?:)?//", path)
+    front = (DOCS / "getting_started.md").read_text().split("---")[1]
+    assert "execution_mode: force" in front  # its cells have no stored outputs
+
+
 def test_api_reference_lists_every_public_module_once():
     documented = documented_modules()
     assert documented == package_modules()
@@ -84,6 +160,15 @@ def test_site_builds_without_warnings_and_shows_executed_notebooks(tmp_path):
         check=False,
     )
     assert run.returncode == 0, run.stderr[-5000:]
+    # nothing is loaded from another host: MathJax comes with the site
+    pages = sorted(html.rglob("*.html"))
+    remote = {p.name: REMOTE.findall(p.read_text()) for p in pages}
+    assert not {name: hits for name, hits in remote.items() if hits}
+    assert (html / "_static" / "mathjax" / "tex-chtml.js").is_file()
+    physics = (html / "physics.html").read_text()
+    assert '<script defer="defer" src="_static/mathjax/tex-chtml.js' in physics or (
+        'src="_static/mathjax/tex-chtml.js' in physics
+    )
     for notebook in sorted((ROOT / "notebooks").glob("*.ipynb")):
         page = (html / "notebooks" / notebook.with_suffix(".html").name).read_text()
         assert "<img" in page, f"{notebook.name}: no figure on the executed page"

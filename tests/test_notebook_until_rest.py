@@ -4,11 +4,12 @@ prose says about the printed numbers holds."""
 import math
 import re
 
-from notebook_runner import run_notebook
+from notebook_runner import assert_outputs_current, run_notebook
 
 
 def test_until_rest_notebook_runs_and_shows_the_sequences():
     notebook = run_notebook("05_until_rest.ipynb")
+    assert_outputs_current("05_until_rest.ipynb", notebook)
     outputs = [o for cell in notebook.cells if cell.cell_type == "code" for o in cell.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
     text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")

@@ -17,11 +17,12 @@ from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap, LogNorm
 
 from impactsym.plotting.contact import COLORS, LABELS
+from impactsym.plotting.style import legend_outside
 from impactsym.validation import check_condition, renamed
 
 QUANTITIES = {
-    "n_contacts": "number of contacts $N$ (sticking one included)",
-    "time_to_rest": r"time to rest $\omega_0 t_\mathrm{rest}$",
+    "n_contacts": "number of contacts $N$ (sticking one included) [-]",
+    "time_to_rest": r"time to rest $\omega_0 t_\mathrm{rest}$ [-]",
 }
 
 
@@ -43,10 +44,10 @@ def plot_bounce_sequence(
     >>> from impactsym.contact.bounce import bounce_sequence
     >>> ax = plot_bounce_sequence(bounce_sequence(0.1, 0.2, condition="force"))
     >>> ax.get_xlabel()
-    '$\\tau = \\omega_0 t$'
+    'time $\\tau = \\omega_0 t$ [-]'
     """
     if ax is None:
-        ax = plt.figure(figsize=(7, 3.5)).add_subplot()
+        ax = plt.figure(figsize=(8.5, 3.5), layout="tight").add_subplot()
     horizon = _horizon([seq], renamed("t_max", t_max, "tau_max", tau_max, None))
     t = np.linspace(0.0, horizon, n_points)
     t = np.union1d(t, np.concatenate([seq.start, seq.end[np.isfinite(seq.end)]]))
@@ -65,10 +66,10 @@ def plot_bounce_sequence(
         f"{seq.n_contacts} contact{'s' if seq.n_contacts != 1 else ''}, {state}",
         fontsize=10,
     )
-    ax.set_xlabel(r"$\tau = \omega_0 t$")
-    ax.set_ylabel(r"$z = x\,\omega_0/v_0$")
+    ax.set_xlabel(r"time $\tau = \omega_0 t$ [-]")
+    ax.set_ylabel(r"$z = x\,\omega_0/v_0$ [-]")
     ax.set_xlim(0.0, horizon)
-    ax.legend(loc="upper right", fontsize=8)
+    legend_outside(ax=ax, fontsize=8)
     return ax
 
 
@@ -92,7 +93,7 @@ def plot_bounce_sequences(
     ('position condition', 'force condition')
     """
     if axes is None:
-        fig = plt.figure(figsize=(6 * len(sequences), 3.8))
+        fig = plt.figure(figsize=(7.5 * len(sequences), 3.8), layout="tight")
         axes = fig.subplots(1, len(sequences), sharey=True, squeeze=False)[0]
     t_max = _horizon(sequences, None)
     for ax, seq in zip(axes, sequences, strict=True):
@@ -131,7 +132,7 @@ def plot_bounce_map(
         raise ValueError(f"result must be a bounce_map over 2-D grids, got shape {result.D.shape}")
     condition = check_condition(result.condition)
     if ax is None:
-        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
+        ax = plt.figure(figsize=(6, 5), layout="tight").add_subplot()
     values = np.asarray(getattr(result, quantity), dtype=float)
     rests = result.sticks
     positive = values[rests & (values > 0)]
@@ -164,11 +165,12 @@ def plot_bounce_map(
     if result.f.min() > 0 and result.f.max() > 100 * result.f.min():
         ax.set_yscale("log")  # a geometric grid in f: show it as one
     ax.figure.colorbar(mesh, ax=ax, label=QUANTITIES[quantity])
-    ax.set_xlabel("damping $D$")
-    ax.set_ylabel("pressing force $f$")
-    ax.legend(
+    ax.set_xlabel("damping ratio $D$ [-]")
+    ax.set_ylabel("pressing force $f$ [-]")
+    legend_outside(
+        ax=ax,
+        where="below",
         handles=ax.get_lines(),
-        loc="upper right",
         fontsize=8,
         title="grey: not at rest",
         title_fontsize=8,

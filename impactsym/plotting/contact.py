@@ -16,6 +16,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
 
+from impactsym.plotting.style import legend_outside
 from impactsym.validation import check_condition
 
 LABELS = {"position": "position condition", "force": "force condition"}
@@ -44,7 +45,7 @@ def plot_contact_surface(
     >>> from impactsym.results.contact import surface_grid
     >>> ax = plot_contact_surface(*surface_grid(condition="force", n_points=6), condition="force")
     >>> ax.get_zlabel()
-    '$\\tau$ with $g(\\tau, D, f) = 0$'
+    '$\\tau$ with $g(\\tau, D, f) = 0$ [-]'
     """
     check_condition(condition)
     if ax is None:
@@ -54,12 +55,12 @@ def plot_contact_surface(
     ax.plot_surface(D, f, first, color="tab:blue", alpha=0.8, label="contact time", **sheets)
     ax.plot_surface(D, f, second, color="tab:orange", alpha=0.6, label="second root", **sheets)
     ax.plot(*fold, color="k", lw=2.0, label="fold (ridge)")
-    ax.set_xlabel("damping $D$")
-    ax.set_ylabel("pressing force $f$")
-    ax.set_zlabel(r"$\tau$ with $g(\tau, D, f) = 0$")
+    ax.set_xlabel("damping ratio $D$ [-]")
+    ax.set_ylabel("pressing force $f$ [-]")
+    ax.set_zlabel(r"$\tau$ with $g(\tau, D, f) = 0$ [-]")
     ax.set_title(f"Contact-time surface, {LABELS[condition]}")
     ax.view_init(elev=22, azim=-125)
-    ax.legend(loc="upper left")
+    ax.legend(loc="upper left", bbox_to_anchor=(0.0, 1.0), fontsize="small")
     return ax
 
 
@@ -82,7 +83,7 @@ def plot_stick_boundary(
     ['$D^*(f)$, position condition', '$D^*(f)$, force condition']
     """
     if ax is None:
-        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
+        ax = plt.figure(figsize=(8, 4.5), layout="tight").add_subplot()
     for condition, d_star in boundaries.items():
         ax.plot(
             d_star,
@@ -97,10 +98,10 @@ def plot_stick_boundary(
     ax.set_ylim(float(np.min(f)), float(np.max(f)))
     ax.text(0.05, 0.08, "release", transform=ax.transAxes, fontsize=12)
     ax.text(0.6, 0.6, "stick", transform=ax.transAxes, fontsize=12)
-    ax.set_xlabel("damping $D$")
-    ax.set_ylabel("pressing force $f = F/(d v_0)$")
+    ax.set_xlabel("damping ratio $D$ [-]")
+    ax.set_ylabel("pressing force $f = F/(d v_0)$ [-]")
     ax.set_title("Stick/release boundary")
-    ax.legend(loc="upper right")
+    legend_outside(ax=ax, fontsize="small")
     return ax
 
 
@@ -118,7 +119,7 @@ def _map(
     """Color map of ``values`` over the D-f grid; grey where it ``sticks``, rasterized."""
     check_condition(condition)
     if ax is None:
-        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
+        ax = plt.figure(figsize=(6, 5), layout="tight").add_subplot()
     mesh = ax.pcolormesh(
         D,
         f,
@@ -140,9 +141,9 @@ def _map(
     ax.set_xlim(float(np.min(D)), float(np.max(D)))
     ax.set_ylim(float(np.min(f)), float(np.max(f)))
     ax.figure.colorbar(mesh, ax=ax, label=label)
-    ax.set_xlabel("damping $D$")
-    ax.set_ylabel("pressing force $f$")
-    ax.legend(handles=ax.get_lines(), loc="upper right", title="grey: sticks")
+    ax.set_xlabel("damping ratio $D$ [-]")
+    ax.set_ylabel("pressing force $f$ [-]")
+    legend_outside(ax=ax, where="below", handles=ax.get_lines(), title="grey: sticks", ncols=2)
     ax.set_title(f"{title}, {LABELS[condition]}")
     return ax
 
@@ -171,7 +172,7 @@ def plot_contact_time_map(
         tau_c,
         np.isinf(tau_c),
         boundary,
-        r"contact time $\tau_c$",
+        r"contact time $\tau_c = \omega_0 t_c$ [-]",
         "Contact time",
         condition,
         ax,
@@ -202,7 +203,7 @@ def plot_restitution_map(
         np.asarray(e, dtype=float),
         np.asarray(sticks, dtype=bool),
         boundary,
-        "restitution $e$",
+        "restitution $e$ [-]",
         "Coefficient of restitution",
         condition,
         ax,

@@ -14,6 +14,8 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
 
+from impactsym.plotting.style import legend_outside
+
 
 def plot_textbook_error(
     targets: np.ndarray, achieved: Mapping[str, np.ndarray], *, ax: Axes | None = None
@@ -27,18 +29,18 @@ def plot_textbook_error(
     >>> from impactsym.engines.survey import textbook_restitution
     >>> targets = np.linspace(0.02, 0.98, 5)
     >>> plot_textbook_error(targets, textbook_restitution(targets)).get_xlabel()
-    'wanted restitution e'
+    'wanted restitution $e$ [-]'
     """
     if ax is None:
-        _, ax = plt.subplots(figsize=(5.5, 4.5))
+        _, ax = plt.subplots(figsize=(7.5, 4.5), layout="tight")
     for (name, values), style in zip(achieved.items(), ("-", "--", ":"), strict=False):
         ax.plot(targets, values, style, label=f"textbook: {name}")
     ax.plot([0, 1], [0, 1], "k-", lw=0.8, label="impactsym design (all engines)")
-    ax.set_xlabel("wanted restitution e")
-    ax.set_ylabel("achieved restitution")
+    ax.set_xlabel("wanted restitution $e$ [-]")
+    ax.set_ylabel("achieved restitution [-]")
     ax.set_xlim(0, 1)
     ax.set_ylim(0, 1)
-    ax.legend(fontsize=8)
+    legend_outside(ax=ax, fontsize=8)
     return ax
 
 
@@ -60,21 +62,22 @@ def plot_stick_map(
     >>> from impactsym.engines.survey import stick_map
     >>> speed, dampratio = np.geomspace(0.01, 3.0, 8), np.geomspace(0.05, 2.0, 8)
     >>> plot_stick_map(speed, dampratio, *stick_map(speed, dampratio)).get_ylabel()
-    'dampratio'
+    'dampratio [-]'
     """
     if ax is None:
-        _, ax = plt.subplots(figsize=(6, 4.5))
+        _, ax = plt.subplots(figsize=(6, 4.5), layout="tight")
     cmap = ListedColormap(["0.75", "#c6dbef", "#fdd0a2"])
     ax.pcolormesh(
         speed, dampratio, verdict, cmap=cmap, vmin=-0.5, vmax=2.5, shading="auto", rasterized=True
     )
     released = np.where(verdict > 0, restitution, np.nan)
-    lines = ax.contour(speed, dampratio, released, levels=[0.1, 0.3, 0.5])
-    ax.clabel(lines, fmt="e=%.1f", fontsize=7)
+    # black contours and labels: readable on every background colour of the mesh
+    lines = ax.contour(speed, dampratio, released, levels=[0.1, 0.3, 0.5], colors="k")
+    ax.clabel(lines, fmt="e=%.1f", fontsize=8, colors="k")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("approach speed (m/s)")
-    ax.set_ylabel("dampratio")
+    ax.set_xlabel("approach speed [m/s]")
+    ax.set_ylabel("dampratio [-]")
     ax.set_title(
         f"MuJoCo, g = {gravity:g} m/s$^2$: grey sticks, blue force ends contact, "
         "orange contact lost",

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from impactsym.plotting.style import legend_outside
 from impactsym.validation import check_condition
 
 _MARKERS = {
@@ -41,7 +42,7 @@ def _axes(ax: Any) -> Any:
         return ax
     import matplotlib.pyplot as plt
 
-    return plt.figure(figsize=(5.0, 4.0)).add_subplot()
+    return plt.figure(figsize=(6.5, 4.5), layout="tight").add_subplot()
 
 
 def plot_agreement(agreement: Any, *, condition: str, ax: Any = None) -> Any:
@@ -86,10 +87,10 @@ def plot_agreement(agreement: Any, *, condition: str, ax: Any = None) -> Any:
     ax.set_yscale("log")
     _plain_log_ticks(ax.xaxis)
     ax.set_ylim(1e-6, 3 * top)
-    ax.set_xlabel("$D$ of the reduced oscillator")
-    ax.set_ylabel(r"$|t_c^{\mathrm{reduced}} / t_c^{\mathrm{full}} - 1|$")
+    ax.set_xlabel("$D$ of the reduced oscillator [-]")
+    ax.set_ylabel(r"$|t_c^{\mathrm{reduced}} / t_c^{\mathrm{full}} - 1|$ [-]")
     ax.set_title(f"{agreement.example}: {condition} condition")
-    ax.legend(loc="lower right", fontsize="x-small")
+    legend_outside(ax=ax, where="below", fontsize="x-small")
     return ax
 
 
@@ -134,10 +135,10 @@ def plot_verdict_map(
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_ylim(0.8 * D.min(), 1.25 * D.max())
-    ax.set_xlabel("$f$ (reduced)")
-    ax.set_ylabel("$D$ (reduced)")
+    ax.set_xlabel("$f$ of the reduced oscillator [-]")
+    ax.set_ylabel("$D$ of the reduced oscillator [-]")
     ax.set_title(f"{agreement.example}: {condition} condition, {projection} projection")
-    ax.legend(fontsize="small", loc="best")
+    legend_outside(ax=ax, fontsize="small")
     return ax
 
 
@@ -165,9 +166,9 @@ def plot_convergence(
             label=rf"$\propto \omega_0^{{-{order}}}$",
         )
     ax.set_xlabel(r"$\sqrt{k / \tilde m}$ [1/s]")
-    ax.set_ylabel("relative contact-time error")
+    ax.set_ylabel("relative contact-time error [-]")
     ax.set_title(title)
-    ax.legend(fontsize="small")
+    legend_outside(ax=ax, where="below", fontsize="small", ncols=2)
     return ax
 
 
@@ -179,6 +180,7 @@ def plot_design_region(
     restitution_curves: Mapping[float, Any] | None = None,
     restitution_condition: str,
     design: tuple[float, float] | None = None,
+    units: tuple[str, str] = ("N/m", "N s/m"),
 ) -> Any:
     """Admissible penalty parameters of a reduced contact over the stiffnesses ``k``.
 
@@ -186,8 +188,12 @@ def plot_design_region(
     (:func:`impactsym.multibody.design.stick_damping`; release below, stick above), the
     iso-restitution curves ``{e: d(k)}`` under ``restitution_condition``
     (:func:`impactsym.multibody.design.damping_for_restitution`) and a design point.
+    The axes are labelled in ``units`` of ``(k, d)``: SI by default, the units of a model
+    written in metres, kilograms and seconds.
     """
     check_condition(restitution_condition)
+    if len(units) != 2 or not all(isinstance(unit, str) for unit in units):
+        raise TypeError(f"units must be two strings (k, d), got {units!r}")
     ax = _axes(ax)
     k = np.asarray(k, dtype=float)
     for style, (condition, d_star) in zip(("-", "--"), boundaries.items(), strict=False):
@@ -200,9 +206,9 @@ def plot_design_region(
         ax.plot(*design, marker="*", ms=12, color="C3", ls="none", label="design")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("penalty stiffness $k$")
-    ax.set_ylabel("penalty damping $d$")
+    ax.set_xlabel(f"penalty stiffness $k$ [{units[0]}]")
+    ax.set_ylabel(f"penalty damping $d$ [{units[1]}]")
     ax.text(0.03, 0.95, "stick above", transform=ax.transAxes, ha="left", va="top")
     ax.text(0.03, 0.05, "release below", transform=ax.transAxes, ha="left", va="bottom")
-    ax.legend(fontsize="small", loc="lower right")
+    legend_outside(ax=ax, fontsize="small")
     return ax

@@ -16,7 +16,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.colors import LogNorm
+from matplotlib.patheffects import withStroke
 
+from impactsym.plotting.style import legend_outside
 from impactsym.validation import check_condition
 
 #: quantity -> (attribute of TimeHistory, its contact-time attribute, axis label)
@@ -24,9 +26,9 @@ QUANTITIES = {
     "y": (
         "displacement",
         "contact_time_position",
-        r"striker displacement $y\,/\,(v_0 L/c)$",
+        r"striker displacement $y\,/\,(v_0 L/c)$ [-]",
     ),
-    "N": ("contact_force", "contact_time_force", r"contact force $N\,/\,(E A v_0/c)$"),
+    "N": ("contact_force", "contact_time_force", r"contact force $N\,/\,(E A v_0/c)$ [-]"),
 }
 
 
@@ -69,7 +71,7 @@ def plot_time_history(
     kappa = histories[0].kappa
     stiffness = "rigid contact" if np.isinf(kappa) else rf"$\kappa = {kappa:g}$"
     ax.set_title(f"Rod impact, persistent contact, {stiffness}; dots: first zero")
-    ax.legend(fontsize="small", loc="best")
+    legend_outside(ax=ax, fontsize="small")
     return ax
 
 
@@ -80,12 +82,12 @@ def _time_axes(quantity: str, ax: Axes | None, t_max: float):
         raise ValueError(f"quantity must be 'y' or 'N', got {quantity!r}")
     values, zero, ylabel = QUANTITIES[quantity]
     if ax is None:
-        ax = plt.figure(figsize=(7, 4)).add_subplot()
+        ax = plt.figure(figsize=(8.5, 4), layout="tight").add_subplot()
     for k in range(2, int(t_max) + 1, 2):
         ax.axvline(k, color="0.6", lw=0.8, ls=":", zorder=0)
     ax.axhline(0.0, color="k", lw=0.6)
     ax.set_xlim(0, t_max)
-    ax.set_xlabel(r"time $t\,/\,(L/c)$ (dotted: reflections return)")
+    ax.set_xlabel(r"time $t\,/\,(L/c)$ [-] (dotted: reflections return)")
     ax.set_ylabel(ylabel)
     return values, zero, ax
 
@@ -105,7 +107,7 @@ def _ordinal(k: int) -> str:
 
 def _atlas_frame(study: Any, ax: Axes | None):
     if ax is None:
-        ax = plt.figure(figsize=(6, 4.5)).add_subplot()
+        ax = plt.figure(figsize=(6, 4.5), layout="tight").add_subplot()
     ae, fe = _pcolor_edges(study.alpha, True), _pcolor_edges(study.f, False)
     return ax, ae, fe
 
@@ -152,6 +154,7 @@ def _mark_intervals(ax: Axes, study: Any, condition: str) -> None:
             ha="center",
             va="center",
             fontweight="bold",
+            path_effects=[withStroke(linewidth=2, foreground="k")],  # readable on any colour
         )
 
 
@@ -181,15 +184,15 @@ def plot_contact_time_atlas(study: Any, *, condition: str, ax: Axes | None = Non
         norm=LogNorm(vmin=2.0, vmax=max(4.0, np.nanmax(finite, initial=4.0))),
         rasterized=True,
     )
-    ax.figure.colorbar(mesh, ax=ax, label=r"contact time $t_c\,/\,(L/c)$")
+    ax.figure.colorbar(mesh, ax=ax, label=r"contact time $t_c\,/\,(L/c)$ [-]")
     if min(times.shape) > 1 and np.isfinite(times).sum() > 3:
         levels = [3, 5, 8, 12, 20, 40]
         ax.contour(study.alpha, study.f, finite, levels=levels, colors="k", linewidths=0.5)
     _mark_intervals(ax, study, condition)
     _shade_sticking(ax, study, np.isinf(times), "k")
     ax.set_xscale("log")
-    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
-    ax.set_ylabel(r"pressing force $f$")
+    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$ [-]")
+    ax.set_ylabel(r"pressing force $f$ [-]")
     ax.set_title(
         f"{condition} condition{_stiffness(study)} (grey: sticks up to t = {study.t_max:g})"
     )
@@ -214,7 +217,7 @@ def plot_contact_time_ratio(study: Any, *, ax: Axes | None = None) -> Axes:
     mesh = ax.pcolormesh(
         ae, fe, ratio, cmap="RdBu_r", norm=LogNorm(vmin=0.25, vmax=4.0), rasterized=True
     )
-    ax.figure.colorbar(mesh, ax=ax, label=r"$t_c^{\,position} / t_c^{\,force}$")
+    ax.figure.colorbar(mesh, ax=ax, label=r"$t_c^{\,position} / t_c^{\,force}$ [-]")
     if min(ratio.shape) > 1 and np.isfinite(ratio).sum() > 3:
         ax.contour(study.alpha, study.f, ratio, levels=[0.5, 1.0, 2.0], colors="k", linewidths=0.6)
     force_sticks, position_sticks = np.isinf(study.force), np.isinf(study.position)
@@ -223,8 +226,8 @@ def plot_contact_time_ratio(study: Any, *, ax: Axes | None = None) -> Axes:
         shade = np.where(force_sticks & position_sticks, 2.0, np.where(either, 1.0, np.nan))
         ax.pcolormesh(ae, fe, shade, cmap="Greys", vmin=0, vmax=3, rasterized=True)
     ax.set_xscale("log")
-    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
-    ax.set_ylabel(r"pressing force $f$")
+    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$ [-]")
+    ax.set_ylabel(r"pressing force $f$ [-]")
     ax.set_title("contact-time ratio, position / force condition" + _stiffness(study))
     return ax
 
@@ -244,7 +247,7 @@ def plot_contact_time_atlases(study: Any, *, axes: Sequence[Axes] | None = None)
     >>> plt.close(axes[0].figure)
     """
     if axes is None:
-        axes = plt.figure(figsize=(16, 4.6)).subplots(1, 3)
+        axes = plt.figure(figsize=(16, 4.6), layout="tight").subplots(1, 3)
     plot_contact_time_atlas(study, condition="force", ax=axes[0])
     plot_contact_time_atlas(study, condition="position", ax=axes[1])
     plot_contact_time_ratio(study, ax=axes[2])
@@ -270,5 +273,5 @@ def plot_stiffness_comparison(
         ax.plot(h.t, getattr(h, values), lw=1.2, label=label)
     first = histories[0]
     ax.set_title(rf"Contact stiffness, $\alpha = {first.alpha:g}$, $f = {first.f:g}$")
-    ax.legend(fontsize="small")
+    legend_outside(ax=ax, fontsize="small")
     return ax

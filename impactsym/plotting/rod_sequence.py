@@ -13,6 +13,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
 
+from impactsym.plotting.style import legend_outside
+
 
 def plot_sequence(seq: Any, *, ax: Axes | None = None, n_points: int = 4001) -> Axes:
     r"""Energy split over time with the contact intervals shaded.
@@ -29,7 +31,7 @@ def plot_sequence(seq: Any, *, ax: Axes | None = None, n_points: int = 4001) -> 
     3
     """
     if ax is None:
-        ax = plt.figure(figsize=(8, 3.5)).add_subplot()
+        ax = plt.figure(figsize=(9.5, 3.5), layout="tight").add_subplot()
     t = np.linspace(0.0, seq.t_max, n_points)[:-1]
     energy = seq.energy
     ax.plot(t, energy.striker(t), label=r"striker $\alpha y'^2/2$")
@@ -39,14 +41,14 @@ def plot_sequence(seq: Any, *, ax: Axes | None = None, n_points: int = 4001) -> 
         ax.plot(t, energy.spring(t), label=r"contact spring $N^2/(2\kappa)$")
     for start, end in seq.contacts:
         ax.axvspan(start, end, color="0.85", zorder=0)
-    ax.set_xlabel(r"$t\,/\,(L/c)$")
-    ax.set_ylabel(r"energy $/\,(m_{rod} v_0^2)$")
+    ax.set_xlabel(r"time $t\,/\,(L/c)$ [-]")
+    ax.set_ylabel(r"energy $/\,(m_{rod} v_0^2)$ [-]")
     stiffness = "" if np.isinf(seq.kappa) else rf", $\kappa = {seq.kappa:g}$"
     ax.set_title(
         rf"$\alpha = {seq.alpha:g}$, $f = {seq.f:g}${stiffness}: "
         f"{len(seq.contacts)} contact(s) (grey)"
     )
-    ax.legend(loc="best", fontsize="small")
+    legend_outside(ax=ax, fontsize="small")
     return ax
 
 
@@ -66,7 +68,7 @@ def plot_fixed_end_stress(sequences: Sequence[Any], *, ax: Axes | None = None) -
     3
     """
     if ax is None:
-        ax = plt.figure(figsize=(6, 4)).add_subplot()
+        ax = plt.figure(figsize=(7.5, 4), layout="tight").add_subplot()
     alpha = np.array([seq.alpha for seq in sequences], dtype=float)
     stress = [seq.max_fixed_end_stress for seq in sequences]
     f, t_max = sequences[0].f, sequences[0].t_max
@@ -74,9 +76,9 @@ def plot_fixed_end_stress(sequences: Sequence[Any], *, ax: Axes | None = None) -
     ax.plot(alpha, 2 * (1 + np.exp(-2 / alpha)), ":", label=r"$2(1 + e^{-2/\alpha})$")
     ax.plot(alpha, np.sqrt(alpha), "--", label=r"massless spring $\sqrt{\alpha}$")
     ax.set_xscale("log")
-    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
-    ax.set_ylabel(r"max $\sigma(1, t)\,/\,(E v_0 / c)$")
-    ax.legend(fontsize="small")
+    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$ [-]")
+    ax.set_ylabel(r"max $\sigma(1, t)\,/\,(E v_0 / c)$ [-]")
+    legend_outside(ax=ax, fontsize="small")
     return ax
 
 
@@ -95,7 +97,7 @@ def plot_restitution(sequences: Sequence[Any], *, ax: Axes | None = None) -> Axe
     3
     """
     if ax is None:
-        ax = plt.figure(figsize=(6, 4)).add_subplot()
+        ax = plt.figure(figsize=(7.5, 4), layout="tight").add_subplot()
     alpha = np.array([seq.alpha for seq in sequences], dtype=float)
     e = [seq.restitution for seq in sequences]
     ax.plot(alpha, e, "o-", ms=3, label="exact (all contacts)")
@@ -103,7 +105,7 @@ def plot_restitution(sequences: Sequence[Any], *, ax: Axes | None = None) -> Axe
     ax.plot(alpha, np.where(alpha < 1.7, light, np.nan), ":", label="one contact, light striker")
     ax.plot(alpha, np.ones_like(alpha), "--", label="rigid body / massless spring")
     ax.set_xscale("log")
-    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$")
-    ax.set_ylabel("coefficient of restitution")
-    ax.legend(fontsize="small")
+    ax.set_xlabel(r"mass ratio $\alpha = M / m_{rod}$ [-]")
+    ax.set_ylabel("coefficient of restitution [-]")
+    legend_outside(ax=ax, fontsize="small")
     return ax
