@@ -107,7 +107,7 @@ def _f_line():
 
 #: function name -> a call drawing it from small inputs
 CASES = {
-    "plot_contact_surface": lambda m: m.plot_contact_surface(*_surface()),
+    "plot_contact_surface": lambda m: m.plot_contact_surface(*_surface(), condition="force"),
     "plot_stick_boundary": lambda m: m.plot_stick_boundary(*_f_line()),
     "plot_contact_time_map": lambda m: m.plot_contact_time_map(
         *_contact_maps()[:3], condition="force", boundary=_contact_maps()[4]
@@ -140,6 +140,7 @@ CASES = {
         {"force": 2 * np.sqrt(np.geomspace(1e3, 1e5, 5))},
         restitution_curves={0.5: 0.5 * np.sqrt(np.geomspace(1e3, 1e5, 5))},
         design=(1e4, 60.0),
+        restitution_condition="force",
     ),
     "plot_time_history": lambda m: m.plot_time_history(_histories(), "y"),
     "plot_stiffness_comparison": lambda m: m.plot_stiffness_comparison(
