@@ -328,3 +328,40 @@ def test_engine_and_bounce_readme_example_values_agree_with_mujoco_and_event_dri
         else:
             unchecked.append(ast.unparse(node))
     assert unchecked == []
+
+
+def test_exported_module_readme_example_gives_the_package_numbers(tmp_path, monkeypatch):
+    """The README's block for the generated module runs against a freshly written module,
+    and each shown value equals the package's own (the module is cut from its source)."""
+    import impactsym
+    from impactsym import rod
+    from impactsym.export import write_python_module
+
+    write_python_module(tmp_path / "impactsym_numpy.py")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    (code,) = [c for c in fenced("python") if "from impactsym_numpy" in c]
+    D, f, alpha = np.array([0.3, 1.0, 2.5]), 0.2, 1.5
+    t = np.linspace(0.0, 10.0, 11)
+    namespace = {"D": D, "f": f, "t": t, "alpha": alpha, "tau": np.linspace(0.0, 3.0, 4)}
+    shown = []
+    for node in ast.parse(code).body:
+        if isinstance(node, ast.Expr):
+            shown.append(eval(compile(ast.Expression(node.value), "README.md", "eval"), namespace))
+        else:
+            exec(compile(ast.Module([node], []), "README.md", "exec"), namespace)
+    expected = [
+        impactsym.contact_time(D, f, condition="force"),
+        (
+            impactsym.restitution(D, f, condition="position"),
+            impactsym.stick_boundary(f, condition="force"),
+        ),
+        None,  # ridge_time: compared with the package's kernel by tests/test_export.py
+        rod.contact_time(alpha, f, condition="position"),
+    ]
+    assert len(shown) == len(expected)
+    for got, want in zip(shown, expected, strict=True):
+        if want is not None:
+            np.testing.assert_array_equal(
+                np.asarray(got, dtype=float), np.asarray(want, dtype=float)
+            )
+    np.testing.assert_array_equal(namespace["y"], rod.displacement(t, alpha, f))
