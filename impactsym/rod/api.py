@@ -219,7 +219,6 @@ def impact_sequence(
     >>> bool(abs(seq.restitution - 2 * np.exp(-1 - np.exp(-4.0) / 2)) < 1e-13)
     True
     """
-    from impactsym.rod.elastic.search import check_stiffness
     from impactsym.rod.sequence import MAX_PIECES, follow
     from impactsym.rod.sequence_elastic import ElasticStep
     from impactsym.rod.sequence_rigid import RigidStep
@@ -245,6 +244,8 @@ def impact_sequence(
     if np.isinf(kappa):
         model = RigidStep(alpha, f, t_max=t_max)
     else:
+        from impactsym.rod.elastic.search import check_stiffness
+
         try:  # the rule of contact_time: too stiff for float64 pieces as well
             check_stiffness(alpha, kappa=kappa)
         except ValueError as exc:
