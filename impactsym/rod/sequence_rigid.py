@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import functools
 import math
+import operator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -239,7 +240,7 @@ def _g_max(tab: _Tables, s_end: float) -> float:
 
 _EPS = float(np.finfo(float).eps)
 _INVFACT = [1.0 / math.factorial(k) for k in range(171)]
-_BERNSTEIN_EXTRA = 8  # orders of e^x A kept beyond those of B where A has a negative part
+_BERNSTEIN_EXTRA = 8  # most orders of e^x A kept beyond those of B (A with a negative part)
 
 
 @functools.cache
@@ -276,30 +277,28 @@ def _bernstein_positive(A: list, B: list, X: float, *, rising_from_zero: bool = 
     m, nb = len(A), len(B)
     negative = any(a < 0.0 for a in A)
     lead = 1 if rising_from_zero else 0
-    K = max(nb, m, lead + 1) - 1 + (_BERNSTEIN_EXTRA if negative else 0)
-    n = K - lead
-    coef, mag = [], 0.0
+    first = max(nb, m, lead + 1) - 1  # the lowest top: every coefficient of B and A kept
+    coef, mag, tail = [], 0.0, 0.0
     power = 1.0  # X ** (k - lead)
-    for k in range(lead, K + 1):
-        t = B[k] if k < nb else 0.0
+    e_X = math.exp(X) if negative else 1.0
+    for top in range(lead, first + 1 + (_BERNSTEIN_EXTRA if negative else 0)):
+        t = B[top] if top < nb else 0.0
         size = abs(t)
-        for i in range(min(k + 1, m)):
-            term = A[i] * _INVFACT[k - i]
+        for i in range(min(top + 1, m)):
+            term = A[i] * _INVFACT[top - i]
             t += term
             size += abs(term)
         coef.append(t * power)
         mag += size * power
         power *= X
-    tail = 0.0
-    if negative:  # power is X ** (K + 1 - lead) now
-        tail = math.exp(X) * power * sum(abs(a) * _INVFACT[K + 1 - i] for i, a in enumerate(A))
-    lowest = math.inf
-    for row in _bernstein_ratios(n):
-        b = 0.0
-        for r, c in zip(row, coef, strict=False):
-            b += r * c
-        lowest = min(lowest, b)
-    return lowest - tail > 256.0 * (K + 16) * _EPS * (mag + tail)
+        if negative and top >= first:  # orders top + 1, ...: power is X ** (top + 1 - lead)
+            tail = e_X * power * sum(abs(a) * _INVFACT[top + 1 - i] for i, a in enumerate(A))
+            if tail <= 256.0 * _EPS * mag:  # below rounding: more orders add nothing
+                break
+    n = len(coef) - 1
+    floor = tail + 256.0 * (top + 16) * _EPS * (mag + tail)
+    # every Bernstein coefficient above the floor (the first one below ends the proof)
+    return all(sum(map(operator.mul, row, coef)) > floor for row in _bernstein_ratios(n))
 
 
 def _first_root(A: np.ndarray, B: list, X: float, *, rising_from_zero: bool = False):
