@@ -123,11 +123,31 @@ def test_memory_follows_the_contacts_not_the_cap():
     assert large_peak < 1.5 * small_peak + 1e5
 
 
-def test_piece_budget_bounds_the_memory():
+@pytest.mark.parametrize("kappa", [math.inf, 10.0])
+def test_piece_budget_bounds_the_memory(kappa):
     """A run that would need more pieces of g than the budget is refused by name."""
-    model = rigid_module.RigidStep(1.0, 0.5, t_max=40.0)
+    if math.isinf(kappa):
+        model = rigid_module.RigidStep(1.0, 0.5, t_max=40.0)
+    else:
+        model = elastic_module.ElasticStep(1.0, 0.5, kappa=kappa, t_max=40.0)
     with pytest.raises(ValueError, match="more than 50 pieces of g before t = .* lower t_max"):
         follow(model, t_max=40.0, max_contacts=2000, max_pieces=50)
+
+
+def test_a_finite_kappa_has_its_own_piece_budget(monkeypatch):
+    """The budget impact_sequence gives follow: 20000 pieces for a contact spring (a
+    light striker on a soft spring asked for 60000, minutes of work), MAX_PIECES rigid."""
+    seen = []
+    real = sequence_module.follow
+
+    def spy(model, **kwargs):
+        seen.append(kwargs["max_pieces"])
+        return real(model, **kwargs)
+
+    monkeypatch.setattr(sequence_module, "follow", spy)
+    impact_sequence(1.0, 0.5, kappa=10.0, t_max=2.0)
+    impact_sequence(1.0, 0.5, t_max=2.0)
+    assert seen == [20_000, sequence_module.MAX_PIECES]
 
 
 def test_the_stiffness_rule_is_contact_times():

@@ -23,6 +23,10 @@ __all__ = ["contact_force", "displacement"]
 #: millisecond, so a larger cap would let a chattering striker run for hours.
 MAX_CONTACTS = 1_000_000
 _F_MAX = 1e150  # largest pressing force of a sequence: energies of order f^2 stay finite
+# Piece budget of a contact spring: a piece costs 1 to 8 ms (rigid: 0.1 ms, budget
+# MAX_PIECES), the sequences that succeed need fewer than 2000 to t = 40, and a light
+# striker on a soft spring (alpha = 1e-6, kappa = 10) asks for 60000.
+_ELASTIC_PIECES = 20_000
 
 
 def _prepare(t, alpha, f, kappa):
@@ -202,8 +206,9 @@ def impact_sequence(
         outside ``[1, MAX_CONTACTS]``. During the run: when the float64 pieces stop being
         exact before ``t_max`` (energy balance residual above ``1e-9`` of
         :math:`\alpha/2 + |f y|` in the middle of a piece), or when the pieces of
-        :math:`g` would exceed :data:`impactsym.rod.sequence.MAX_PIECES`: the message
-        names the arguments and the time reached.
+        :math:`g` would exceed :data:`impactsym.rod.sequence.MAX_PIECES` (20000 for a
+        finite ``kappa``, whose pieces cost ten times more): the message names the
+        arguments and the time reached.
     RuntimeError
         When more than ``max_contacts`` contacts occur before ``t_max``.
 
@@ -241,9 +246,11 @@ def impact_sequence(
             f"float64), got {f!r}"
         )
     max_contacts = _check_count("max_contacts", max_contacts, MAX_CONTACTS)
+    budget = MAX_PIECES
     if np.isinf(kappa):
         model = RigidStep(alpha, f, t_max=t_max)
     else:
+        budget = _ELASTIC_PIECES
         from impactsym.rod.elastic.search import check_stiffness
 
         try:  # the rule of contact_time: too stiff for float64 pieces as well
@@ -251,7 +258,7 @@ def impact_sequence(
         except ValueError as exc:
             raise ValueError(f"impact_sequence: {exc}") from None
         model = ElasticStep(alpha, f, kappa=kappa, t_max=t_max)
-    return follow(model, t_max=t_max, max_contacts=max_contacts, max_pieces=MAX_PIECES)
+    return follow(model, t_max=t_max, max_contacts=max_contacts, max_pieces=budget)
 
 
 def _check_count(name: str, value: object, limit: int) -> int:
