@@ -308,3 +308,18 @@ def test_contact_time_rejects_bad_input():
         contact_time(1.0, 0.5, t_max=0.0, condition="force")
     with pytest.raises(TypeError, match="alpha"):
         contact_time("heavy", 0.5, condition="force")
+
+
+def test_contact_time_maps_compare_by_value_and_hash():
+    """== raised on the arrays (truth value ambiguous), hash on them (unhashable): now
+    maps compare by value, inf equal to inf, and equal maps hash alike."""
+    from impactsym.rod import contact_time_map
+
+    a, b = contact_time_map([0.1, 0.5], [0.0, 2.0]), contact_time_map([0.1, 0.5], [0.0, 2.0])
+    assert np.isinf(a.force).any()
+    assert a == b
+    assert hash(a) == hash(b)
+    assert len({a, b}) == 1
+    assert a != contact_time_map([0.1, 0.6], [0.0, 2.0])
+    assert a != contact_time_map([0.1, 0.5], [0.0])  # other shape: unequal, no error
+    assert a != "a map"

@@ -203,3 +203,37 @@ def test_result_classes_and_energies_by_contact_law():
     balance, work = spring.energy.balance_and_work(t)
     assert np.array_equal(balance, spring.energy.balance(t))
     assert np.array_equal(work, spring.energy.work(t))
+
+
+@pytest.mark.parametrize("kappa", [math.inf, 20.0])
+def test_results_compare_by_value_and_hash(kappa):
+    """== raised on the arrays inside (truth value ambiguous) and hash on the lists: now
+    == compares values, NaN equal to NaN (restitution is NaN for f > 0), and equal
+    results hash alike."""
+    a = impact_sequence(1.0, 0.5, kappa=kappa, t_max=10.0)
+    b = impact_sequence(1.0, 0.5, kappa=kappa, t_max=10.0)
+    assert a is not b
+    assert math.isnan(a.restitution)
+    assert a == b
+    assert (a != b) is False
+    assert hash(a) == hash(b)
+    assert len({a, b}) == 1
+    assert a.energy == b.energy
+    assert hash(a.energy) == hash(b.energy)
+    other = impact_sequence(1.0, 0.4, kappa=kappa, t_max=10.0)
+    assert a != other
+    assert a != impact_sequence(1.0, 0.5, kappa=kappa, t_max=9.0)
+    assert a != "a sequence"
+    assert a.energy != a
+
+
+def test_value_equality_sees_every_field():
+    from impactsym.rod.sequence import values_equal
+
+    tables = impact_sequence(1.0, 0.0, t_max=10.0)._tables
+    changed = tables.__class__(**{**vars(tables), "p": np.nextafter(tables.p, np.inf)})
+    assert values_equal(tables, changed) is False  # a change in the last place counts
+    assert values_equal(tables, tables.__class__(**vars(tables)))
+    assert values_equal([1.0, (2.0, math.nan)], [1.0, (2.0, math.nan)])
+    assert not values_equal([1.0, 2.0], (1.0, 2.0))  # a list is no tuple
+    assert not values_equal(np.zeros((2, 1)), np.zeros(2))

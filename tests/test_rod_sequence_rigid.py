@@ -186,3 +186,48 @@ def test_fewer_gauss_nodes_for_low_degree_pieces_change_only_rounding(monkeypatc
 
         assert float(i1[0]) == pytest.approx(float(mp.quad(g, [0, h])), abs=1e-13)
         assert float(i2[0]) == pytest.approx(float(mp.quad(lambda s: g(s) ** 2, [0, h])), abs=1e-13)
+
+
+def test_bernstein_certificate_proves_what_is_true_and_only_that():
+    """The event loop's second certificate (before a root search): closed cases, then
+    random exponential polynomials sampled on a fine grid (a proof of F > 0 that a
+    sampled minimum contradicts fails the test), and it proves cases the one-sided
+    Taylor certificate cannot."""
+    import impactsym.rod.sequence_rigid as rigid
+    from impactsym.numeric.exppoly import exp_poly_positive
+
+    prove = rigid._bernstein_positive
+    assert prove([1.0], [1.0, -2.0], 1.0)  # e^x + 1 - 2x >= 3 - 2 ln 2
+    assert not prove([1.0], [-3.0], 2.0)  # e^x - 3 vanishes at ln 3
+    assert not prove([], [0.25, -1.0, 1.0], 1.0)  # (x - 1/2)^2: a touch is no proof
+    assert prove([1.0], [-1.0], 2.0, rising_from_zero=True)  # e^x - 1 rises from 0
+    assert not prove([1.0], [-1.0, -2.0], 2.0, rising_from_zero=True)  # F'(0) = -1
+    # 1 - 1.5 x + x^2 >= 7/16 on [0, 1]: the one-sided Taylor bound 1 - 1.5 fails, the
+    # Bernstein coefficients 1, 1/4, 1/2 prove it
+    assert not exp_poly_positive([], [1.0, -1.5, 1.0], 1.0)
+    assert prove([], [1.0, -1.5, 1.0], 1.0)
+    rng = np.random.default_rng(7)
+    proven = 0
+    for _ in range(400):
+        A = rng.normal(size=rng.integers(0, 4)).tolist()
+        B = rng.normal(size=rng.integers(1, 12)).tolist()
+        B[0] = abs(B[0]) + 2.0 * rng.random()
+        X = float(rng.uniform(0.01, 2.0))
+        rising = bool(rng.random() < 0.3)
+        if rising:  # F(0) = 0, F'(0) >= 0
+            a0 = A[0] if A else 0.0
+            a1 = A[1] if len(A) > 1 else 0.0
+            B[0] = -a0
+            if len(B) < 2:
+                B.append(0.0)
+            B[1] = abs(B[1]) - a0 - a1
+        if not prove(A, B, X, rising_from_zero=rising):
+            continue
+        proven += 1
+        x = np.linspace(0.0, X, 4001)[1 if rising else 0 :]
+        F = np.polynomial.polynomial.polyval(x, B)
+        if A:
+            F += np.exp(x) * np.polynomial.polynomial.polyval(x, A)
+        low = F.min()
+        assert low > 0, (A, B, X, rising)
+    assert proven > 50

@@ -8,6 +8,8 @@ delay has arrived (docs/physics.md#1-rod-impact-paper-1).
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -16,6 +18,15 @@ from impactsym.rod.kernel import check_alpha, rigid_evaluate
 from impactsym.validation import broadcast, finish, real_array, renamed
 
 __all__ = ["contact_force", "displacement"]
+
+#: Largest ``max_contacts`` :func:`impact_sequence` accepts: a contact costs about a
+#: millisecond, so a larger cap would let a chattering striker run for hours.
+MAX_CONTACTS = 1_000_000
+_F_MAX = 1e150  # largest pressing force of a sequence: energies of order f^2 stay finite
+# Piece budget of a contact spring: a piece costs 1 to 8 ms (rigid: 0.1 ms, budget
+# MAX_PIECES), the sequences that succeed need fewer than 2000 to t = 40, and a light
+# striker on a soft spring (alpha = 1e-6, kappa = 10) asks for 60000.
+_ELASTIC_PIECES = 20_000
 
 
 def _prepare(t, alpha, f, kappa):
@@ -161,16 +172,22 @@ def impact_sequence(
     Parameters
     ----------
     alpha : float
-        Mass ratio :math:`M / m_{rod} > 0`.
+        Mass ratio :math:`M / m_{rod}`, in the verified range
+        :data:`impactsym.rod.kernel.ALPHA_RANGE` (as for :func:`contact_time`).
     f : float
-        Pressing force :math:`F c / (EA v_0) \ge 0`.
+        Pressing force :math:`F c / (EA v_0) \ge 0`, at most ``1e150`` (the energies,
+        of order :math:`f^2`, stay finite in float64).
     kappa : float, optional
         Contact stiffness :math:`k_c L / (EA) > 0`; ``inf`` (default) is rigid contact.
+        A finite spring is refused, as by :func:`contact_time`, where its fastest time
+        scale is below ``1e-8`` (its limit is rigid contact).
     t_max : float, optional
         End of the simulated time (unit :math:`L / c`, at most ``1e4``); default 40.
     max_contacts : int, optional
         Limit on the number of contacts before ``t_max``: a light striker pressed by
-        ``f > 0`` chatters on the vibrating rod end with ever shorter flights.
+        ``f > 0`` chatters on the vibrating rod end with ever shorter flights. Any
+        integer type (NumPy's too), from 1 to :data:`MAX_CONTACTS`; memory grows with
+        the contacts that occur, not with the cap.
     t_end : float, optional
         Former name of ``t_max`` (give one of the two).
 
@@ -182,10 +199,15 @@ def impact_sequence(
     Raises
     ------
     ValueError, TypeError
-        For ``alpha <= 0``, ``f < 0``, ``kappa <= 0``, ``t_max <= 0``, non-finite or
-        non-scalar input, both ``t_max`` and ``t_end``; and when the float64 pieces stop
-        being exact before ``t_max`` (energy balance residual above ``1e-9`` of
-        :math:`\alpha/2 + |f y|` in the middle of a piece): the message names the
+        Before any work, naming the argument: for ``alpha`` outside its range, ``f`` outside
+        ``[0, 1e150]``,
+        ``kappa <= 0`` or too stiff, ``t_max <= 0``, non-finite or non-scalar input, both
+        ``t_max`` and ``t_end``, a ``max_contacts`` that is no integer (``TypeError``) or
+        outside ``[1, MAX_CONTACTS]``. During the run: when the float64 pieces stop being
+        exact before ``t_max`` (energy balance residual above ``1e-9`` of
+        :math:`\alpha/2 + |f y|` in the middle of a piece), or when the pieces of
+        :math:`g` would exceed :data:`impactsym.rod.sequence.MAX_PIECES` (20000 for a
+        finite ``kappa``, whose pieces cost ten times more): the message names the
         arguments and the time reached.
     RuntimeError
         When more than ``max_contacts`` contacts occur before ``t_max``.
@@ -202,7 +224,7 @@ def impact_sequence(
     >>> bool(abs(seq.restitution - 2 * np.exp(-1 - np.exp(-4.0) / 2)) < 1e-13)
     True
     """
-    from impactsym.rod.sequence import follow
+    from impactsym.rod.sequence import MAX_PIECES, follow
     from impactsym.rod.sequence_elastic import ElasticStep
     from impactsym.rod.sequence_rigid import RigidStep
 
@@ -214,16 +236,41 @@ def impact_sequence(
     for name, arr in (("alpha", a_arr), ("f", f_arr), ("kappa", k_arr), ("t_max", t_arr)):
         if arr.ndim:
             raise TypeError(f"{name} must be a scalar, got an array of shape {arr.shape}")
+    check_alpha(a_arr)
     alpha, f, kappa, t_max = float(a_arr), float(f_arr), float(k_arr), float(t_arr)
     if t_max > 1e4:
         raise ValueError(f"t_max must be <= 1e4, got {t_max}")
-    if isinstance(max_contacts, bool) or not isinstance(max_contacts, int) or max_contacts < 1:
-        raise ValueError(f"max_contacts must be a positive integer, got {max_contacts!r}")
+    if f > _F_MAX:
+        raise ValueError(
+            f"f must be <= {_F_MAX:g} (the rod energy, of order f^2, must stay within "
+            f"float64), got {f!r}"
+        )
+    max_contacts = _check_count("max_contacts", max_contacts, MAX_CONTACTS)
+    budget = MAX_PIECES
     if np.isinf(kappa):
         model = RigidStep(alpha, f, t_max=t_max)
     else:
+        budget = _ELASTIC_PIECES
+        from impactsym.rod.elastic.search import check_stiffness
+
+        try:  # the rule of contact_time: too stiff for float64 pieces as well
+            check_stiffness(alpha, kappa=kappa)
+        except ValueError as exc:
+            raise ValueError(f"impact_sequence: {exc}") from None
         model = ElasticStep(alpha, f, kappa=kappa, t_max=t_max)
-    return follow(model, t_max=t_max, max_contacts=max_contacts)
+    return follow(model, t_max=t_max, max_contacts=max_contacts, max_pieces=budget)
 
 
-__all__ += ["impact_sequence"]
+def _check_count(name: str, value: object, limit: int) -> int:
+    """``value`` as an ``int`` in ``[1, limit]``: any integral type (Python's or NumPy's),
+    not ``bool``, refused by ``name`` with ``TypeError`` (no integer) or ``ValueError``."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name} must be an integer, got {value!r} of type {type(value).__name__}")
+    count = int(value)
+    if not 1 <= count <= limit:
+        shown = repr(count) if abs(count) < 10**18 else f"an integer of {count.bit_length()} bits"
+        raise ValueError(f"{name} must be an integer in [1, {limit}], got {shown}")
+    return count
+
+
+__all__ += ["MAX_CONTACTS", "impact_sequence"]

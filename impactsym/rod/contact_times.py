@@ -18,6 +18,7 @@ from impactsym.rod.elastic.poles import T_LIMIT_ELASTIC
 from impactsym.rod.elastic.search import elastic_contact_times
 from impactsym.rod.kernel import T_LIMIT, check_alpha
 from impactsym.rod.rigid_search import rigid_contact_times
+from impactsym.rod.sequence import ValueEquality
 from impactsym.validation import broadcast, check_condition, finish, real_array
 
 __all__ = ["ContactTimeMap", "contact_time", "contact_time_map"]
@@ -125,9 +126,13 @@ def contact_time(
     return finish(result.reshape(shape), a_scalar and f_scalar and k_scalar)
 
 
-@dataclass(frozen=True)
-class ContactTimeMap:
+@dataclass(frozen=True, eq=False)
+class ContactTimeMap(ValueEquality):
     """Contact times of both conditions over an ``alpha``-``f`` grid.
+
+    ``==`` compares the values (arrays element by element, see
+    :class:`impactsym.rod.sequence.ValueEquality`); the hash is that of ``kappa`` and
+    ``t_max``.
 
     Attributes
     ----------
@@ -153,6 +158,7 @@ class ContactTimeMap:
     position: np.ndarray
     kappa: float
     t_max: float
+    _hashed = ("kappa", "t_max")
 
     @property
     def ratio(self) -> np.ndarray:
@@ -209,6 +215,10 @@ def contact_time_map(
     a_axis, f_axis = np.atleast_1d(a_axis), np.atleast_1d(f_axis)
     if a_axis.ndim != 1 or f_axis.ndim != 1:
         raise ValueError("alpha and f must be 1-D axes of the grid")
+    k_value, k_scalar = real_array("kappa", kappa, lower=0.0, strict=True, allow_inf=True)
+    if not k_scalar:
+        raise TypeError(f"kappa must be a single number for a map, got {kappa!r}")
+    kappa = float(k_value)
     A, F = np.meshgrid(a_axis, f_axis)
     horizon = _check_t_max(t_max, bool(np.isinf(kappa)))
     times = {

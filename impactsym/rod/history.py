@@ -17,12 +17,22 @@ import numpy as np
 
 from impactsym.rod.api import contact_force, displacement
 from impactsym.rod.contact_times import contact_time
+from impactsym.rod.sequence import ValueEquality
 from impactsym.validation import real_array
 
+__all__ = ["MAX_POINTS", "TimeHistory", "time_history"]
 
-@dataclass(frozen=True)
-class TimeHistory:
+#: Most samples :func:`time_history` takes (a figure needs far fewer; each costs a
+#: few float64 numbers per array).
+MAX_POINTS = 1_000_000
+
+
+@dataclass(frozen=True, eq=False)
+class TimeHistory(ValueEquality):
     """:math:`y(t)` and :math:`N(t)` of one :math:`(\\alpha, f, \\kappa)` on ``t``.
+
+    ``==`` compares the values (arrays element by element, see
+    :class:`impactsym.rod.sequence.ValueEquality`); the hash is that of the parameters.
 
     Attributes
     ----------
@@ -47,6 +57,7 @@ class TimeHistory:
     contact_force: np.ndarray
     contact_time_position: float
     contact_time_force: float
+    _hashed = ("alpha", "f", "kappa", "t_max")
 
     def plot(self, quantity: str = "N", *, ax: Any = None) -> Any:
         """``y`` or ``N`` over time (see :func:`impactsym.plotting.rod.plot_time_history`)."""
@@ -85,7 +96,16 @@ def time_history(
     t_max
         End of the time axis (also the horizon of the contact-time search).
     n_points
-        Time samples on ``[0, t_max)`` (the left limits at the reflections are added).
+        Time samples on ``[0, t_max)`` (the left limits at the reflections are added),
+        an integer in ``[2, MAX_POINTS]``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Before any sampling, naming the argument: as :func:`contact_time` for ``alpha``,
+        ``f``, ``kappa`` and ``t_max`` (its range for rigid or finite ``kappa``), and
+        (``ValueError``) for an ``n_points`` that is no integer or outside
+        ``[2, MAX_POINTS]``.
 
     Examples
     --------
@@ -93,26 +113,33 @@ def time_history(
     >>> h.t[0], h.t_max, bool(h.contact_force[0] == 1.0)
     (np.float64(0.0), 4.0, True)
     """
-    for name, value in (("alpha", alpha), ("f", f), ("t_max", t_max)):
-        if np.ndim(real_array(name, value)[0]) != 0:
+    for name, value in (("alpha", alpha), ("f", f), ("kappa", kappa), ("t_max", t_max)):
+        if np.ndim(real_array(name, value, allow_inf=name == "kappa")[0]) != 0:
             raise TypeError(f"{name} must be a single number, got {value!r}")
-    if isinstance(n_points, bool) or not isinstance(n_points, (int, np.integer)) or n_points < 2:
-        raise ValueError(f"n_points must be an integer >= 2, got {n_points!r}")
+    if (
+        isinstance(n_points, (bool, np.bool_))
+        or not isinstance(n_points, (int, np.integer))
+        or not 2 <= n_points <= MAX_POINTS
+    ):
+        big = isinstance(n_points, int) and abs(n_points) >= 10**18
+        shown = "an integer of over 18 digits" if big else repr(n_points)
+        raise ValueError(f"n_points must be an integer >= 2 and <= {MAX_POINTS}, got {shown}")
     real_array("t_max", t_max, lower=0.0, strict=True)
-    t = _sample_times(t_max, n_points)
-    y = np.asarray(displacement(t, alpha, f, kappa=kappa))  # validates alpha, f and kappa
+    # the contact times first: they validate alpha, f, kappa and t_max (its range for
+    # rigid or finite kappa) before any sample is taken
+    times = {
+        c: float(contact_time(alpha, f, condition=c, kappa=kappa, t_max=t_max))
+        for c in ("position", "force")
+    }
+    t = _sample_times(float(t_max), int(n_points))
     return TimeHistory(
         alpha=float(alpha),
         f=float(f),
         kappa=float(kappa),
         t_max=float(t_max),
         t=t,
-        displacement=y,
+        displacement=np.asarray(displacement(t, alpha, f, kappa=kappa)),
         contact_force=np.asarray(contact_force(t, alpha, f, kappa=kappa)),
-        contact_time_position=float(
-            contact_time(alpha, f, condition="position", kappa=kappa, t_max=t_max)
-        ),
-        contact_time_force=float(
-            contact_time(alpha, f, condition="force", kappa=kappa, t_max=t_max)
-        ),
+        contact_time_position=times["position"],
+        contact_time_force=times["force"],
     )

@@ -17,6 +17,7 @@ checked in the middle of every piece): docs/physics.md#the-rod-impact-continued-
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any, Protocol
@@ -26,23 +27,89 @@ import numpy as np
 from impactsym.validation import real_array
 
 __all__ = [
+    "MAX_PIECES",
     "ElasticRodImpactSequence",
     "ElasticSequenceEnergy",
     "RodImpactSequence",
     "RodSequenceEnergy",
     "SequenceState",
     "StepModel",
+    "ValueEquality",
     "check_balance",
     "follow",
+    "values_equal",
 ]
 
 # Largest energy-balance residual, relative to alpha/2 + |f y|, at which the float64
 # pieces are still trusted (mid-piece); beyond it the sequence is refused.
 _BALANCE_RTOL = 1e-9
 
+#: Most pieces of ``g`` one sequence may hold (about 2.5 kB each for rigid contact): a
+#: run that needs more is refused, so that memory follows what happens up to a bound.
+MAX_PIECES = 100_000
 
-@dataclass(frozen=True)
-class RodSequenceEnergy:
+
+def values_equal(a: Any, b: Any) -> bool:
+    """Whether two results hold the same values: dataclasses field by field (whatever
+    their own ``==``), arrays element by element with their shapes, lists and tuples
+    item by item, NaN equal to NaN (a recomputed ``nan`` is the same value).
+
+    >>> values_equal([np.array([1.0, np.nan])], [np.array([1.0, np.nan])])
+    True
+    >>> values_equal(np.zeros(2), np.zeros(3))
+    False
+    """
+    if a is b:
+        return True
+    if dataclasses.is_dataclass(a) and not isinstance(a, type):
+        return type(a) is type(b) and all(
+            values_equal(getattr(a, fld.name), getattr(b, fld.name))
+            for fld in dataclasses.fields(a)
+            if fld.compare
+        )
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        a, b = np.asarray(a), np.asarray(b)
+        if a.shape != b.shape:
+            return False
+        numeric = a.dtype.kind in "biufc" and b.dtype.kind in "biufc"
+        return bool(np.array_equal(a, b, equal_nan=numeric))
+    if isinstance(a, (list, tuple)) or isinstance(b, (list, tuple)):
+        return (
+            type(a) is type(b)
+            and len(a) == len(b)
+            and all(values_equal(x, y) for x, y in zip(a, b, strict=True))
+        )
+    if isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b):
+        return True
+    return bool(a == b)
+
+
+class ValueEquality:
+    """Mixin for the rod's frozen result dataclasses that hold arrays (declared with
+    ``eq=False``): ``==`` compares values (:func:`values_equal`) where the generated one
+    would raise on the arrays' truth value; ``hash`` is that of the type and the scalar
+    parameters named in ``_hashed`` (never NaN), so that equal results hash alike.
+
+    >>> from impactsym.rod import contact_time_map
+    >>> a, b = contact_time_map([0.5], [0.0]), contact_time_map([0.5], [0.0])
+    >>> a == b, hash(a) == hash(b), a == contact_time_map([0.6], [0.0])
+    (True, True, False)
+    """
+
+    __slots__ = ()
+    _hashed: tuple[str, ...] = ()
+
+    def __eq__(self, other: object) -> bool:
+        if type(other) is not type(self):
+            return NotImplemented
+        return values_equal(self, other)
+
+    def __hash__(self) -> int:
+        return hash((type(self).__qualname__, *(getattr(self, n) for n in self._hashed)))
+
+
+@dataclass(frozen=True, eq=False)
+class RodSequenceEnergy(ValueEquality):
     r"""Energy split of a continued rod impact, unit :math:`m_{rod} v_0^2`.
 
     Methods take normalized times (array or float): :meth:`striker` the kinetic energy
@@ -60,6 +127,7 @@ class RodSequenceEnergy:
     """
 
     sequence: RodImpactSequence
+    _hashed = ("sequence",)
 
     def striker(self, t):
         return 0.5 * self.sequence.alpha * self.sequence.velocity(t) ** 2
@@ -80,17 +148,29 @@ class RodSequenceEnergy:
         in one pass (the same numbers as the separate methods)."""
         seq = self.sequence
         tt = seq._times(t)
-        now, before = seq._tables.integrals(tt), seq._tables.integrals(tt - 2.0)
-        rod = now[1] - before[1]
-        work = seq.f * seq._striker_position(tt, now[0] - before[0])
-        striker = 0.5 * seq.alpha * seq.velocity(tt) ** 2
+        if type(seq).velocity is not RodImpactSequence.velocity:  # a subclass's own law
+            now, before = seq._tables.integrals(tt), seq._tables.integrals(tt - 2.0)
+            rod = now[1] - before[1]
+            work = seq.f * seq._striker_position(tt, now[0] - before[0])
+            striker = 0.5 * seq.alpha * seq.velocity(tt) ** 2
+        else:  # t and t - 2 in one pass of each table function (elementwise the same)
+            flat = np.ravel(tt)
+            both = np.concatenate([flat, flat - 2.0])
+            i1, i2 = seq._tables.integrals(both)
+            g = seq._tables.g(both)
+            n = flat.size
+            rod = (i2[:n] - i2[n:]).reshape(tt.shape)
+            u = (i1[:n] - i1[n:]).reshape(tt.shape)
+            v = (g[:n] - g[n:]).reshape(tt.shape)
+            work = seq.f * seq._striker_position(tt, u, velocity=v)
+            striker = 0.5 * seq.alpha * v**2
         if np.ndim(t) == 0:
             striker, rod, work = float(striker), float(rod), float(work)
         return striker + rod - work - 0.5 * seq.alpha, work
 
 
-@dataclass(frozen=True)
-class RodImpactSequence:
+@dataclass(frozen=True, eq=False)
+class RodImpactSequence(ValueEquality):
     r"""The rigid-contact rod impact followed through contacts and flights up to ``t_max``.
 
     Attributes
@@ -127,6 +207,7 @@ class RodImpactSequence:
     max_fixed_end_stress: float
     _tables: Any = field(repr=False)  # the pieces of g (g, integral(s), start)
     _flights: tuple = field(repr=False)  # (t0, y0, v0) per flight
+    _hashed = ("alpha", "f", "kappa", "t_max")
 
     @property
     def t_end(self) -> float:
@@ -176,8 +257,10 @@ class RodImpactSequence:
         y = self._striker_position(tt, np.asarray(self.rod_end_displacement(tt), dtype=float))
         return float(y) if np.ndim(t) == 0 else y
 
-    def _striker_position(self, tt, u):
-        """:math:`y` at the times ``tt`` (checked) given the rod end position ``u`` there."""
+    def _striker_position(self, tt, u, velocity=None):
+        """:math:`y` at the times ``tt`` (checked) given the rod end position ``u`` there;
+        given the rod end velocity as well, that of the striker is set in it (in place,
+        as :meth:`velocity` does)."""
         y = u
         if self._flights:
             k, fl = self._flight_index(tt)
@@ -185,6 +268,8 @@ class RodImpactSequence:
             t0, y0, v0 = data[np.clip(k, 0, None)].T
             d = tt - t0
             y = np.where(fl, y0 + v0 * d + 0.5 * self.f / self.alpha * d * d, y)
+            if velocity is not None:
+                velocity[...] = np.where(fl, v0 + self.f / self.alpha * d, velocity)
         return y
 
     def velocity(self, t):
@@ -214,7 +299,7 @@ class RodImpactSequence:
         return plot_sequence(self, ax=ax)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ElasticSequenceEnergy(RodSequenceEnergy):
     r"""Energy split with a contact spring, unit :math:`m_{rod} v_0^2`.
 
@@ -241,7 +326,7 @@ class ElasticSequenceEnergy(RodSequenceEnergy):
         return self.balance(t), self.work(t)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ElasticRodImpactSequence(RodImpactSequence):
     r"""The rod impact with a finite contact stiffness followed up to ``t_max``.
 
@@ -338,25 +423,31 @@ class StepModel(Protocol):
         """Appended to a failed balance check's message."""
 
 
-def follow(model: StepModel, *, t_max: float, max_contacts: int) -> RodImpactSequence:
+def follow(
+    model: StepModel, *, t_max: float, max_contacts: int, max_pieces: int = MAX_PIECES
+) -> RodImpactSequence:
     """Follow the impact through contacts and flights to ``t_max`` with ``model``.
 
     The contact/flight state machine: pieces end where an incoming piece arrives, at
     ``t_max`` or at an event (separation, re-contact); more than ``max_contacts`` contacts
-    raise ``RuntimeError`` (chatter); for ``f = 0`` the striker has left for good
-    (``final``) once it recedes beyond any reach of the rod end (energy balance: the rod
-    end stays within :math:`\\sqrt{2 E_{rod}}`), and the rod then vibrates freely. The
-    result's energy balance is checked (:func:`check_balance`). Internal: called by
-    :func:`impactsym.rod.impact_sequence` (arguments validated there).
+    raise ``RuntimeError`` (chatter), more than ``max_pieces`` pieces of :math:`g` a
+    ``ValueError`` (memory grows with the pieces that occur, up to this bound); for
+    ``f = 0`` the striker has left for good (``final``) once it recedes beyond any reach
+    of the rod end (energy balance: the rod end stays within :math:`\\sqrt{2 E_{rod}}`),
+    and the rod then vibrates freely. The result's energy balance is checked
+    (:func:`check_balance`). Internal: called by :func:`impactsym.rod.impact_sequence`
+    (arguments validated there).
     """
     where = model.where
     with np.errstate(**model.errstate):
-        seq = _run(model, t_max, max_contacts, where)
+        seq = _run(model, t_max, max_contacts, max_pieces, where)
         check_balance(seq, model.balance_note())
     return seq
 
 
-def _run(model: StepModel, t_max: float, max_contacts: int, where: str) -> RodImpactSequence:
+def _run(
+    model: StepModel, t_max: float, max_contacts: int, max_pieces: int, where: str
+) -> RodImpactSequence:
     alpha, f, starts = model.alpha, model.f, model.starts
     state = SequenceState()
     contacts, velocities, flights = [], [], []
@@ -365,6 +456,11 @@ def _run(model: StepModel, t_max: float, max_contacts: int, where: str) -> RodIm
     try:
         while state.t < t_max:
             t = state.t
+            if len(starts) > max_pieces:
+                raise ValueError(
+                    f"{where}: more than {max_pieces} pieces of g before t = {t:.6g} < "
+                    f"t_max = {t_max} (memory); lower t_max"
+                )
             # piece boundaries are compared in the time of arrival (start + 2) so that
             # aligned pieces meet exactly
             while j + 1 < len(starts) and starts[j + 1] + 2.0 <= t:
@@ -432,7 +528,7 @@ def check_balance(seq: RodImpactSequence, note: str = "") -> None:
     residual, work = seq.energy.balance_and_work(ts)
     residual = np.abs(residual)
     scale = 0.5 * seq.alpha + np.abs(work)
-    bad = np.flatnonzero(residual > _BALANCE_RTOL * scale)
+    bad = np.flatnonzero(~(residual <= _BALANCE_RTOL * scale))  # NaN fails as well
     if bad.size:
         k = bad[0]
         good = float(ts[k - 1]) if k else 0.0
