@@ -1,103 +1,113 @@
-"""Result records whose fields may be NumPy arrays.
+"""Result records whose fields may be NumPy arrays: one ``==`` and one ``hash`` for all.
 
 The package returns its results as frozen dataclasses. Their fields are floats for
 scalar input and NumPy arrays for array input, and the ``__eq__`` and ``__hash__`` a
 dataclass writes for itself fail on arrays: ``==`` raises NumPy's "truth value of an
-array is ambiguous" and ``hash`` raises "unhashable type". :func:`array_record` replaces
-both:
+array is ambiguous" and ``hash`` raises "unhashable type". A result class declared
 
-* ``a == b`` is ``True`` when both are records of the same class whose fields are equal
-  element by element (same shape; NaN equals NaN, as a result compared with itself
-  must be equal); nested tuples, lists and dicts of arrays are compared the same way;
-* ``hash(a)`` works when no field holds an array (scalar results can be dictionary
-  keys and set members) and otherwise raises a ``TypeError`` that names the class and
-  the field: an array's contents can change, so a hash of them would lie.
+.. code-block:: python
+
+    @dataclass(frozen=True, eq=False)
+    class Result(ArrayRecord): ...
+
+gets instead:
+
+* ``a == b`` when both are of the same class and their fields hold the same values
+  (:func:`values_equal`: arrays element by element with their shapes, NaN equal to
+  NaN -- a recomputed NaN is the same result --, containers and nested records item by
+  item);
+* a ``hash`` of the class and of the fields that hold no array (the scalar parameters
+  a result was computed for), so records can be dictionary keys and set members, and
+  equal records hash alike. Arrays stay out of the hash: their contents can change.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, TypeVar
+import math
+from collections.abc import Hashable
+from typing import Any
 
 import numpy as np
 
-T = TypeVar("T", bound=type)
-
 
 def values_equal(a: Any, b: Any) -> bool:
-    """Element-wise equality of two field values, NaN equal to NaN, shapes included.
+    """Whether two values are the same result: dataclasses field by field, arrays element
+    by element with their shapes, lists, tuples and dicts item by item, NaN equal to NaN.
 
-    >>> values_equal(np.array([1.0, np.nan]), np.array([1.0, np.nan]))
+    >>> values_equal([np.array([1.0, np.nan])], [np.array([1.0, np.nan])])
     True
-    >>> values_equal((1, np.zeros(2)), (1, np.zeros(3)))
-    False
+    >>> values_equal(np.zeros(2), np.zeros(3)), values_equal([1.0], (1.0,))
+    (False, False)
     """
+    if a is b:
+        return True
+    if dataclasses.is_dataclass(a) and not isinstance(a, type):
+        return type(a) is type(b) and all(
+            values_equal(getattr(a, fld.name), getattr(b, fld.name))
+            for fld in dataclasses.fields(a)
+            if fld.compare
+        )
     if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
         a, b = np.asarray(a), np.asarray(b)
         if a.shape != b.shape:
             return False
-        if a.dtype.kind in "fc" and b.dtype.kind in "fc":
-            return bool(np.array_equal(a, b, equal_nan=True))
-        return bool(np.array_equal(a, b))
-    if isinstance(a, (tuple, list)) and isinstance(b, (tuple, list)):
-        return type(a) is type(b) and len(a) == len(b) and all(map(values_equal, a, b))
+        numeric = a.dtype.kind in "biufc" and b.dtype.kind in "biufc"
+        return bool(np.array_equal(a, b, equal_nan=numeric))
+    if isinstance(a, (list, tuple)) or isinstance(b, (list, tuple)):
+        return (
+            type(a) is type(b)
+            and len(a) == len(b)
+            and all(values_equal(x, y) for x, y in zip(a, b, strict=True))
+        )
     if isinstance(a, dict) and isinstance(b, dict):
         return a.keys() == b.keys() and all(values_equal(a[k], b[k]) for k in a)
-    if dataclasses.is_dataclass(a) or dataclasses.is_dataclass(b):
-        return bool(a == b)
-    if isinstance(a, float) and isinstance(b, float) and a != a and b != b:
-        return True  # NaN fields of two scalar results
+    if isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b):
+        return True
     try:
         return bool(a == b)
-    except (TypeError, ValueError):  # objects whose == is not a truth value
-        return a is b
+    except (TypeError, ValueError):  # an == that is not a truth value
+        return False
 
 
-def _holds_array(value: Any) -> bool:
+def _hash_key(value: Any) -> Any:
+    """``value`` as it enters a record's hash, or ``None`` to leave it out (arrays and
+    anything unhashable). NaN enters as one key: ``hash(nan)`` differs per object."""
+    if isinstance(value, float) and math.isnan(value):
+        return "nan"
     if isinstance(value, np.ndarray):
-        return True
-    if isinstance(value, (tuple, list)):
-        return any(map(_holds_array, value))
-    if isinstance(value, dict):
-        return any(map(_holds_array, value.values()))
-    return False
+        return None
+    if isinstance(value, (list, tuple)):
+        keys = tuple(_hash_key(v) for v in value)
+        return None if any(k is None for k in keys) else keys
+    if isinstance(value, dict) or not isinstance(value, Hashable):
+        return None
+    return value
 
 
-def array_record(cls: T) -> T:
-    """Class decorator (applied on top of ``@dataclass``): array-aware ``==`` and ``hash``.
+class ArrayRecord:
+    """Mixin for a frozen ``@dataclass(eq=False)`` whose fields may hold arrays.
 
-    >>> from dataclasses import dataclass
-    >>> @array_record
-    ... @dataclass(frozen=True)
-    ... class Result:
-    ...     time: Any
-    >>> Result(np.array([1.0, np.inf])) == Result(np.array([1.0, np.inf]))
-    True
-    >>> hash(Result(2.0)) == hash(Result(2.0))
-    True
-    >>> hash(Result(np.array([1.0])))
-    Traceback (most recent call last):
-    ...
-    TypeError: Result is not hashable: its field 'time' holds a NumPy array
+    >>> @dataclasses.dataclass(frozen=True, eq=False)
+    ... class Pair(ArrayRecord):
+    ...     speed: float
+    ...     times: Any
+    >>> a, b = Pair(1.0, np.array([1.0, np.inf])), Pair(1.0, np.array([1.0, np.inf]))
+    >>> a == b, hash(a) == hash(b), a == Pair(1.0, np.array([1.0, 2.0])), len({a, b})
+    (True, True, False, 1)
     """
-    if not dataclasses.is_dataclass(cls):
-        raise TypeError(f"array_record needs a dataclass, got {cls!r}")
-    fields = [f.name for f in dataclasses.fields(cls) if f.compare]
 
-    def equal(self: Any, other: Any) -> Any:
-        if other.__class__ is not self.__class__:
+    __slots__ = ()
+
+    def __eq__(self, other: object) -> bool:
+        if type(other) is not type(self):
             return NotImplemented
-        return all(values_equal(getattr(self, n), getattr(other, n)) for n in fields)
+        return values_equal(self, other)
 
-    def hashed(self: Any) -> int:
-        values = tuple(getattr(self, n) for n in fields)
-        for name, value in zip(fields, values, strict=True):
-            if _holds_array(value):
-                raise TypeError(
-                    f"{type(self).__name__} is not hashable: its field {name!r} holds a NumPy array"
-                )
-        return hash((type(self).__qualname__, values))
-
-    cls.__eq__ = equal  # type: ignore[method-assign]
-    cls.__hash__ = hashed  # type: ignore[method-assign,assignment]
-    return cls
+    def __hash__(self) -> int:
+        keys = [
+            _hash_key(getattr(self, fld.name))
+            for fld in dataclasses.fields(self)  # type: ignore[arg-type]
+            if fld.compare
+        ]
+        return hash((type(self).__qualname__, *keys))

@@ -44,7 +44,6 @@ def check_condition(condition: object) -> str:
     return condition
 
 
-
 def check_count(name: str, value: object, *, lower: int = 1, upper: int) -> int:
     """Return ``value`` as an ``int`` if it is a whole number in ``[lower, upper]``.
 
@@ -67,6 +66,7 @@ def check_count(name: str, value: object, *, lower: int = 1, upper: int) -> int:
     if not lower <= value <= upper:
         raise ValueError(f"{name} must be an integer in [{lower}, {upper}], got {value}")
     return int(value)
+
 
 def real_array(
     name: str,

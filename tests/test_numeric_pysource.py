@@ -132,8 +132,9 @@ def test_collect_follows_the_package_imports_to_every_definition_used():
     from impactsym.contact import api
 
     pieces = collect(["# banner", Cut(api, "stick_boundary", required=("condition",))])
-    assert pieces[0] == "# banner"
-    assert pieces[1].startswith("def stick_boundary(f: ArrayLike, *, condition: str)")
+    first = pieces.index("# banner")  # the items come last, after what they use
+    assert pieces[first + 1].startswith("def stick_boundary(f: ArrayLike, *, condition: str)")
+    assert len(pieces) == first + 2
     defined = {n for p in pieces for n in module_source_names(p)}
     # through api -> kernel -> numeric.roots and validation, as the package imports them
     for name in ("flat_inputs", "boundary_value", "ridge", "kernels", "bracketed_newton"):
@@ -141,8 +142,8 @@ def test_collect_follows_the_package_imports_to_every_definition_used():
     for name in ("real_array", "_where", "F_FAR", "D_FAR", "ArrayLike", "ArrayFunction"):
         assert name in defined, name
     assert "contact_time" not in defined  # only what is used
-    banner = "# -- impactsym.contact.kernel: definitions used above"
-    kernel_pieces = pieces[pieces.index(banner) + 1 :]
+    banner = "# -- impactsym.contact.kernel: definitions used below"
+    kernel_pieces = pieces[pieces.index(banner) + 1 : first]
     order = [p for p in kernel_pieces if p.split("\n")[-1].startswith(("D_FAR", "F_FAR"))]
     assert order[0].endswith("D_FAR = 1e8")  # in the module's own order: F_FAR uses D_FAR
 

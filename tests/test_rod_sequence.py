@@ -228,7 +228,7 @@ def test_results_compare_by_value_and_hash(kappa):
 
 
 def test_value_equality_sees_every_field():
-    from impactsym.rod.sequence import values_equal
+    from impactsym.records import values_equal
 
     tables = impact_sequence(1.0, 0.0, t_max=10.0)._tables
     changed = tables.__class__(**{**vars(tables), "p": np.nextafter(tables.p, np.inf)})

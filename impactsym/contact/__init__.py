@@ -15,7 +15,6 @@
 * :mod:`~impactsym.contact.bounce` -- the bounce sequence until rest
   (:func:`bounce_sequence`, :func:`bounce_map`, :func:`physical_bounce`), on the one
   event loop of :mod:`~impactsym.contact.loop`;
-* :mod:`~impactsym.contact.records` -- ``==`` over the arrays the results hold.
 """
 
 from __future__ import annotations

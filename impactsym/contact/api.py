@@ -29,8 +29,8 @@ from impactsym.contact.kernel import (
     ridge,
     z_dot,
 )
-from impactsym.contact.records import ArrayRecord
 from impactsym.numeric.roots import bracketed_newton
+from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, check_condition, finish, real_array
 
 ArrayLike = float | np.ndarray

@@ -44,7 +44,7 @@ import numpy as np
 
 from impactsym.contact.kernel import check_derived, flat_inputs, kernels
 from impactsym.contact.loop import check_max_contacts, check_resolution, run_sequences
-from impactsym.contact.records import ArrayRecord
+from impactsym.records import ArrayRecord
 from impactsym.validation import check_condition, finish, real_array
 
 ArrayLike = float | np.ndarray

@@ -33,8 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from impactsym.contact.kernel import homogeneous
-from impactsym.contact.records import ArrayRecord
 from impactsym.numeric.roots import bracketed_newton
+from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
 
 __all__ = ["LinearRelease", "linear_release", "release_margin"]

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from impactsym.records import array_record
+from impactsym.records import ArrayRecord
 from impactsym.validation import (
     as_sympy,
     as_sympy_matrix,
@@ -33,9 +33,8 @@ __all__ = ["ReducedContact"]
 Scalar = Any  # a float, a NumPy array (vectorized k, d) or a SymPy expression
 
 
-@array_record
-@dataclass(frozen=True)
-class ReducedContact:
+@dataclass(frozen=True, eq=False)
+class ReducedContact(ArrayRecord):
     """The scalar contact oscillator ``m~ z'' + d~ z' + c~ z = F_n`` of a multibody contact.
 
     Built by :func:`~impactsym.multibody.reduction.reduce_contact`. Attributes are

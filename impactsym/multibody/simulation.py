@@ -27,7 +27,7 @@ from impactsym.multibody.oscillator import ReducedContact
 from impactsym.multibody.reduction import PROJECTIONS
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_illinois
-from impactsym.records import array_record
+from impactsym.records import ArrayRecord
 from impactsym.validation import as_sympy, check_condition, check_count, real_array, renamed
 
 
@@ -90,9 +90,8 @@ def _rk4(eq: _Equations, y: np.ndarray, h: np.ndarray, k: np.ndarray, d: np.ndar
     return y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
 
 
-@array_record
-@dataclass(frozen=True)
-class SimulatedContact:
+@dataclass(frozen=True, eq=False)
+class SimulatedContact(ArrayRecord):
     """Result of :func:`simulate_contact`: contact time and restitution per case."""
 
     contact_time: np.ndarray  #: contact time (``inf``: still in contact at the horizon)
@@ -254,9 +253,8 @@ def reduce_at_speeds(
     )
 
 
-@array_record
-@dataclass(frozen=True)
-class Agreement:
+@dataclass(frozen=True, eq=False)
+class Agreement(ArrayRecord):
     """Reduced against full model over a sweep of ``(k, d, speed)`` for one example.
 
     ``m_eff`` is the effective mass, ``t_full[condition]`` the simulated contact times

@@ -240,8 +240,8 @@ def module_source(doc: str, pieces: Sequence[str], *, exports: Sequence[str] = (
         if bindings is None:
             code.append(piece)
             continue
-        foreign = {m for m, _, _ in bindings.values()} - set(sys.stdlib_module_names)
-        if {m.split(".")[0] for m in foreign} - {"numpy"}:
+        tops = {m.split(".")[0] for m, _, _ in bindings.values()}  # collections.abc
+        if tops - set(sys.stdlib_module_names) - {"numpy"}:
             raise ValueError(
                 f"the generated module may import the standard library and "
                 f"NumPy only, got {piece!r}"
@@ -343,8 +343,10 @@ def _import_of(module: ModuleType, name: str) -> str | None:
 
 
 def collect(items: Sequence[Cut | Text | str]) -> list[str]:
-    """The pieces of a module: ``items`` in order (a ``str`` is written as it is, e.g. a
-    comment), then every package definition they need, by module in source order.
+    """The pieces of a module: the imports, every package definition ``items`` need (by
+    module, the most basic module first, each in source order), then ``items`` in order
+    (a ``str`` is written as it is, e.g. a comment). Definitions come first because a
+    class base, a decorator or a default value is evaluated when the module is loaded.
 
     A name the items use and do not define is looked up where their module (a cut's, a
     text's ``context``) gets it from; its definition is cut there, and so on for the
@@ -356,6 +358,7 @@ def collect(items: Sequence[Cut | Text | str]) -> list[str]:
     ('def finish(result: np.ndarray, is_scalar: bool) -> float | np.ndarray:', 1)
     """
     given: list[str] = []
+    imports: list[str] = []
     defined: dict[str, str] = {}
     queue: list[tuple[ModuleType | None, str]] = []
 
@@ -382,7 +385,7 @@ def collect(items: Sequence[Cut | Text | str]) -> list[str]:
         origin = None if context is None else _origin(context, name)
         statement = None if context is None or origin else _import_of(context, name)
         if statement is not None:  # the standard library or NumPy, as the package imports it
-            given.insert(0, statement)
+            imports.insert(0, statement)
             defined[name] = statement
             continue
         if origin is None:
@@ -393,6 +396,7 @@ def collect(items: Sequence[Cut | Text | str]) -> list[str]:
             (_node(_parsed(origin)[1], name).lineno, piece)
         )
         define(piece, origin)
-    for module, pieces in groups.items():
-        given += [f"# -- {module}: definitions used above", *(p for _, p in sorted(pieces))]
-    return given
+    used: list[str] = []
+    for module, pieces in reversed(groups.items()):
+        used += [f"# -- {module}: definitions used below", *(p for _, p in sorted(pieces))]
+    return imports + used + given

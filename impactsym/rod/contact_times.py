@@ -14,11 +14,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from impactsym.records import ArrayRecord
 from impactsym.rod.elastic.poles import T_LIMIT_ELASTIC
 from impactsym.rod.elastic.search import elastic_contact_times
 from impactsym.rod.kernel import T_LIMIT, check_alpha
 from impactsym.rod.rigid_search import rigid_contact_times
-from impactsym.rod.sequence import ValueEquality
 from impactsym.validation import broadcast, check_condition, finish, real_array
 
 __all__ = ["ContactTimeMap", "contact_time", "contact_time_map"]
@@ -127,11 +127,11 @@ def contact_time(
 
 
 @dataclass(frozen=True, eq=False)
-class ContactTimeMap(ValueEquality):
+class ContactTimeMap(ArrayRecord):
     """Contact times of both conditions over an ``alpha``-``f`` grid.
 
     ``==`` compares the values (arrays element by element, see
-    :class:`impactsym.rod.sequence.ValueEquality`); the hash is that of ``kappa`` and
+    :class:`impactsym.records.ArrayRecord`); the hash is that of ``kappa`` and
     ``t_max``.
 
     Attributes
@@ -158,7 +158,6 @@ class ContactTimeMap(ValueEquality):
     position: np.ndarray
     kappa: float
     t_max: float
-    _hashed = ("kappa", "t_max")
 
     @property
     def ratio(self) -> np.ndarray:

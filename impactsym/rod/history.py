@@ -15,9 +15,9 @@ from typing import Any
 
 import numpy as np
 
+from impactsym.records import ArrayRecord
 from impactsym.rod.api import contact_force, displacement
 from impactsym.rod.contact_times import contact_time
-from impactsym.rod.sequence import ValueEquality
 from impactsym.validation import real_array
 
 __all__ = ["MAX_POINTS", "TimeHistory", "time_history"]
@@ -28,11 +28,11 @@ MAX_POINTS = 1_000_000
 
 
 @dataclass(frozen=True, eq=False)
-class TimeHistory(ValueEquality):
+class TimeHistory(ArrayRecord):
     """:math:`y(t)` and :math:`N(t)` of one :math:`(\\alpha, f, \\kappa)` on ``t``.
 
     ``==`` compares the values (arrays element by element, see
-    :class:`impactsym.rod.sequence.ValueEquality`); the hash is that of the parameters.
+    :class:`impactsym.records.ArrayRecord`); the hash is that of the parameters.
 
     Attributes
     ----------
@@ -57,7 +57,6 @@ class TimeHistory(ValueEquality):
     contact_force: np.ndarray
     contact_time_position: float
     contact_time_force: float
-    _hashed = ("alpha", "f", "kappa", "t_max")
 
     def plot(self, quantity: str = "N", *, ax: Any = None) -> Any:
         """``y`` or ``N`` over time (see :func:`impactsym.plotting.rod.plot_time_history`)."""

@@ -17,13 +17,13 @@ checked in the middle of every piece): docs/physics.md#the-rod-impact-continued-
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
 
+from impactsym.records import ArrayRecord
 from impactsym.validation import real_array
 
 __all__ = [
@@ -34,10 +34,8 @@ __all__ = [
     "RodSequenceEnergy",
     "SequenceState",
     "StepModel",
-    "ValueEquality",
     "check_balance",
     "follow",
-    "values_equal",
 ]
 
 # Largest energy-balance residual, relative to alpha/2 + |f y|, at which the float64
@@ -49,67 +47,8 @@ _BALANCE_RTOL = 1e-9
 MAX_PIECES = 100_000
 
 
-def values_equal(a: Any, b: Any) -> bool:
-    """Whether two results hold the same values: dataclasses field by field (whatever
-    their own ``==``), arrays element by element with their shapes, lists and tuples
-    item by item, NaN equal to NaN (a recomputed ``nan`` is the same value).
-
-    >>> values_equal([np.array([1.0, np.nan])], [np.array([1.0, np.nan])])
-    True
-    >>> values_equal(np.zeros(2), np.zeros(3))
-    False
-    """
-    if a is b:
-        return True
-    if dataclasses.is_dataclass(a) and not isinstance(a, type):
-        return type(a) is type(b) and all(
-            values_equal(getattr(a, fld.name), getattr(b, fld.name))
-            for fld in dataclasses.fields(a)
-            if fld.compare
-        )
-    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
-        a, b = np.asarray(a), np.asarray(b)
-        if a.shape != b.shape:
-            return False
-        numeric = a.dtype.kind in "biufc" and b.dtype.kind in "biufc"
-        return bool(np.array_equal(a, b, equal_nan=numeric))
-    if isinstance(a, (list, tuple)) or isinstance(b, (list, tuple)):
-        return (
-            type(a) is type(b)
-            and len(a) == len(b)
-            and all(values_equal(x, y) for x, y in zip(a, b, strict=True))
-        )
-    if isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b):
-        return True
-    return bool(a == b)
-
-
-class ValueEquality:
-    """Mixin for the rod's frozen result dataclasses that hold arrays (declared with
-    ``eq=False``): ``==`` compares values (:func:`values_equal`) where the generated one
-    would raise on the arrays' truth value; ``hash`` is that of the type and the scalar
-    parameters named in ``_hashed`` (never NaN), so that equal results hash alike.
-
-    >>> from impactsym.rod import contact_time_map
-    >>> a, b = contact_time_map([0.5], [0.0]), contact_time_map([0.5], [0.0])
-    >>> a == b, hash(a) == hash(b), a == contact_time_map([0.6], [0.0])
-    (True, True, False)
-    """
-
-    __slots__ = ()
-    _hashed: tuple[str, ...] = ()
-
-    def __eq__(self, other: object) -> bool:
-        if type(other) is not type(self):
-            return NotImplemented
-        return values_equal(self, other)
-
-    def __hash__(self) -> int:
-        return hash((type(self).__qualname__, *(getattr(self, n) for n in self._hashed)))
-
-
 @dataclass(frozen=True, eq=False)
-class RodSequenceEnergy(ValueEquality):
+class RodSequenceEnergy(ArrayRecord):
     r"""Energy split of a continued rod impact, unit :math:`m_{rod} v_0^2`.
 
     Methods take normalized times (array or float): :meth:`striker` the kinetic energy
@@ -127,7 +66,6 @@ class RodSequenceEnergy(ValueEquality):
     """
 
     sequence: RodImpactSequence
-    _hashed = ("sequence",)
 
     def striker(self, t):
         return 0.5 * self.sequence.alpha * self.sequence.velocity(t) ** 2
@@ -170,7 +108,7 @@ class RodSequenceEnergy(ValueEquality):
 
 
 @dataclass(frozen=True, eq=False)
-class RodImpactSequence(ValueEquality):
+class RodImpactSequence(ArrayRecord):
     r"""The rigid-contact rod impact followed through contacts and flights up to ``t_max``.
 
     Attributes
@@ -207,7 +145,6 @@ class RodImpactSequence(ValueEquality):
     max_fixed_end_stress: float
     _tables: Any = field(repr=False)  # the pieces of g (g, integral(s), start)
     _flights: tuple = field(repr=False)  # (t0, y0, v0) per flight
-    _hashed = ("alpha", "f", "kappa", "t_max")
 
     @property
     def t_end(self) -> float:
