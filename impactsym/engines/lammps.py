@@ -241,8 +241,9 @@ def predict(
     omega, root, D = _natural(k, eta, m)
     named = {"kn": k, "damping": eta, "mass": m, "speed": v, "gravity": g}
     _unrepresentable("the damping ratio eta_n / (2 sqrt(kn m))", D, named)
-    with np.errstate(over="ignore", under="ignore"):
+    with np.errstate(over="ignore", under="ignore", divide="ignore"):
         load = g / (omega * v)
+        load = np.where(np.isfinite(load), load, g / omega / v)
     _unrepresentable("the normalized load gravity / (omega0 speed)", load, named)
     rel = _release(D, load, limit)
     with np.errstate(over="ignore", under="ignore"):
