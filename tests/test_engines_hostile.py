@@ -393,3 +393,20 @@ def test_cli_lammps_refuses_bad_input_by_name(argv, message, capsys):
     err = capsys.readouterr().err
     assert err.startswith("impactsym: error:")
     assert message in err
+
+
+def test_mujoco_design_and_stick_speed_name_their_shapes():
+    with pytest.raises(ValueError, match=r"restitution \(shape \(2,\)\) and speed \(shape"):
+        mujoco.solref_for(restitution=[0.3, 0.5], speed=[1.0, 2.0, 3.0], solimp=FLAT)
+    with pytest.raises(ValueError, match=r"restitution \(shape \(2,\)\) and contact_time"):
+        mujoco.solref_for(restitution=[0.3, 0.5], speed=1.0, contact_time=[0.01] * 3, solimp=FLAT)
+    with pytest.raises(ValueError, match=r"solref \(shape \(2,\)\) and inverse_weight"):
+        mujoco.stick_speed(
+            solref=(np.full(2, 0.02), 1.0),
+            solimp=FLAT,
+            gravity=9.81,
+            mass=1.0,
+            inverse_weight=np.ones(3),
+        )
+    empty = mujoco.stick_speed(solref=(np.array([]), np.array([])), solimp=FLAT, gravity=9.81)
+    assert empty.shape == (0,)

@@ -33,7 +33,7 @@ from impactsym.engines.mujoco.model import (
 from impactsym.engines.mujoco.prediction import Prediction, flat_phase, predict, varying_phase
 from impactsym.engines.records import ArrayRecord
 from impactsym.numeric.roots import bracketed_illinois, newton_system
-from impactsym.validation import real_array
+from impactsym.validation import broadcast, real_array
 
 __all__ = ["Design", "from_reduced", "solref_for"]
 
@@ -380,7 +380,8 @@ def solref_for(
     m = check_mass(mass)
     rho = weight_ratio(m, inverse_weight)
     arrays = [e_t, v0, g, np.asarray(rho, float)] + ([t_c] if t_c is not None else [])
-    shape = np.broadcast_shapes(*(np.shape(a) for a in arrays))
+    names = ["restitution", "speed", "gravity", "inverse_weight", "contact_time"]
+    shape = broadcast(**dict(zip(names, arrays, strict=False)))
     flat = [np.broadcast_to(a, shape).ravel() for a in arrays]
     e_f, v_f, g_f, rho_f = flat[:4]
     t_f = flat[4] if t_c is not None else None

@@ -565,9 +565,10 @@ def stick_speed(
     rho = np.asarray(weight_ratio(m, inverse_weight), float)
     coeffs = coefficients(solref, simp, timestep)
     scalar = coeffs.damping.ndim == 0
+    shape = broadcast(solref=coeffs.damping, inverse_weight=rho)
     damp, stiff, rho = (
-        np.array(a, dtype=float).ravel()
-        for a in np.broadcast_arrays(coeffs.damping, coeffs.stiffness, rho)
+        np.array(np.broadcast_to(a, shape), dtype=float).ravel()
+        for a in (coeffs.damping, coeffs.stiffness, rho)
     )
     if g == 0:
         return 0.0 if scalar else np.zeros(np.shape(damp))
