@@ -410,3 +410,18 @@ def test_mujoco_design_and_stick_speed_name_their_shapes():
         )
     empty = mujoco.stick_speed(solref=(np.array([]), np.array([])), solimp=FLAT, gravity=9.81)
     assert empty.shape == (0,)
+
+
+def test_survey_names_its_arguments():
+    from impactsym.engines import survey
+
+    with pytest.raises(ValueError, match="targets must be <= 1"):
+        survey.textbook_restitution([0.5, 2.0])
+    with pytest.raises(ValueError, match="gravity must be one number"):
+        survey.stick_map([0.1], [0.5], gravity=[1.0, 2.0])
+    with pytest.raises(ValueError, match="dampratio must be a 1-D array"):
+        survey.stick_map([0.1], [[0.5]])
+    with pytest.raises(TypeError, match="speed"):
+        survey.stick_map("a", [0.5])
+    verdict, e = survey.stick_map(np.array([]), np.array([0.5]))
+    assert verdict.shape == e.shape == (1, 0)
