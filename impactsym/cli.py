@@ -6,7 +6,10 @@
 * ``impactsym export python FILE`` / ``impactsym export latex FILE`` -- generated files;
 * ``impactsym mujoco --restitution E --speed V [--gravity G] [--contact-time T] [--mass M]
   [--timestep DT] [--solimp ...] [--form stiffness]`` -- MJCF ``solref``/``solimp`` for a
-  wanted restitution, with the predictions (SI units).
+  wanted restitution, with the predictions (SI units);
+* ``impactsym lammps --restitution E --mass M (--contact-time T | --max-penetration X)
+  [--speed V] [--gravity G] [--no-limit-damping]`` -- LAMMPS ``pair_style granular``
+  Hooke ``kn`` and ``eta_n`` for a wanted restitution, with the predictions (SI units).
 """
 
 from __future__ import annotations
@@ -75,6 +78,31 @@ def build_parser() -> argparse.ArgumentParser:
         default="timeconst",
         help="solref as (timeconst, dampratio) or (-stiffness, -damping)",
     )
+
+    lmp = commands.add_parser(
+        "lammps", help="LAMMPS granular Hooke kn, eta_n for a wanted restitution (units si)"
+    )
+    lmp.add_argument("--restitution", type=float, required=True, help="wanted e, 0 < e < 1")
+    lmp.add_argument("--mass", type=float, required=True, help="effective mass m1 m2/(m1+m2), kg")
+    target = lmp.add_mutually_exclusive_group(required=True)
+    target.add_argument("--contact-time", type=float, help="wanted contact time, s")
+    target.add_argument("--max-penetration", type=float, help="wanted largest overlap, m")
+    lmp.add_argument(
+        "--speed", type=float, default=None, help="normal approach speed, m/s (default 1)"
+    )
+    lmp.add_argument(
+        "--gravity",
+        type=float,
+        default=0.0,
+        help="pressing acceleration for the prediction, m/s^2 (the design has none)",
+    )
+    lmp.add_argument(
+        "--limit-damping",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="LAMMPS's limit_damping keyword: contact ends when the force vanishes "
+        "(default; --no-limit-damping: when the overlap does)",
+    )
     return parser
 
 
@@ -107,6 +135,50 @@ def _mujoco(args: argparse.Namespace) -> None:
         f"textbook dampratio {textbook:.6g} would give restitution {naive.restitution:.6g}"
         + (" (sticks)" if naive.sticks else "")
     )
+
+
+def _lammps(args: argparse.Namespace) -> None:
+    from impactsym.engines import lammps
+
+    design = lammps.hooke_for(
+        restitution=args.restitution,
+        mass=args.mass,
+        contact_time=args.contact_time,
+        max_penetration=args.max_penetration,
+        speed=args.speed,
+        limit_damping=args.limit_damping,
+    )
+    speed = 1.0 if args.speed is None else args.speed
+    p = lammps.predict(
+        kn=design.kn,
+        damping=design.damping,
+        mass=args.mass,
+        speed=speed,
+        gravity=args.gravity,
+        limit_damping=args.limit_damping,
+    )
+    print("pair_style granular")
+    print(design.pair_coeff())
+    loaded = f" (gravity {args.gravity:g} m/s^2)" if args.gravity else ""
+    if p.sticks:
+        print(f"predicted: the particle sticks{loaded}")
+    else:
+        print(f"predicted restitution:  {p.restitution:.6g}{loaded}")
+        print(f"predicted contact time: {p.contact_time:.6g} s{loaded}")
+        print(f"contact ends by:        {'overlap' if p.released_by_position else 'force'}")
+    print(f"max overlap:            {p.max_penetration:.6g} m (at {speed:g} m/s)")
+    print(f"peak force:             {p.peak_force:.6g} N (at {speed:g} m/s)")
+    print(f"damping ratio:          {design.damping_ratio:.6g}")
+    if args.limit_damping:
+        naive = lammps.coeff_restitution_achieved(args.restitution)
+        try:
+            fixed = f"; {lammps.coeff_restitution_for(args.restitution):.6g} gives it"
+        except ValueError:
+            fixed = "; no coeff_restitution input gives it (e <= exp(-2))"
+        print(
+            f"'damping coeff_restitution {args.restitution:g}' would give restitution "
+            f"{naive:.6g} under limit_damping{fixed}"
+        )
 
 
 def _reproduce(args: argparse.Namespace) -> None:
@@ -161,6 +233,8 @@ def _run(args: argparse.Namespace) -> None:
             print(formula(args.name))
     elif args.command == "mujoco":
         _mujoco(args)
+    elif args.command == "lammps":
+        _lammps(args)
     else:
         from impactsym.export import write_latex_document, write_python_module
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import hashlib
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -102,6 +103,110 @@ def test_mujoco_refuses_an_unreachable_target_with_exit_code_2(capsys):
     argv = ["mujoco", "--restitution", "0.1", "--speed", "1", "--gravity", "9.81"]
     assert main([*argv, "--solimp", "0.9", "0.9", "0.001", "0.5", "2"]) == 2
     assert "cannot be reached" in capsys.readouterr().err
+
+
+def _lammps_design(capsys, *args):
+    """Run ``impactsym lammps`` and return its output and the ``kn``, ``eta_n`` it printed."""
+    assert main(["lammps", *args]) == 0
+    out = capsys.readouterr().out
+    lines = out.splitlines()
+    assert lines[0] == "pair_style granular"
+    words = lines[1].split()
+    assert words[:4] == ["pair_coeff", "*", "*", "hooke"]
+    return out, float(words[4]), float(words[5])
+
+
+@pytest.mark.parametrize("limit", [True, False])
+def test_lammps_prints_a_pasteable_hooke_line_and_predictions(capsys, limit):
+    from scipy.integrate import solve_ivp
+
+    flag = [] if limit else ["--no-limit-damping"]
+    args = ["--restitution", "0.4", "--contact-time", "2e-3", "--mass", "0.5", *flag]
+    out, kn, eta = _lammps_design(capsys, *args)
+    assert out.splitlines()[1].endswith("damping velocity limit_damping" if limit else "velocity")
+    assert "predicted restitution:  0.4\n" in out
+    assert "predicted contact time: 0.002 s\n" in out
+    # the printed kn, eta_n in LAMMPS's law m x'' = -kn x - eta_n x', SciPy's events:
+    # the force kn x + eta_n x' (limit_damping) or the overlap ends the contact
+    m = 0.5
+
+    def rhs(t, y):
+        return [y[1], -(kn * y[0] + eta * y[1]) / m]
+
+    def force(t, y):
+        return kn * y[0] + eta * y[1]
+
+    def overlap(t, y):
+        return y[0] if t > 1e-12 else 1.0
+
+    force.terminal = overlap.terminal = True
+    force.direction = overlap.direction = -1
+    events = [force, overlap] if limit else [overlap]
+    sol = solve_ivp(rhs, (0, 1.0), [0.0, 1.0], events=events, rtol=1e-12, atol=1e-15)
+    assert -sol.y[1, -1] == pytest.approx(0.4, rel=1e-8)  # 10 digits printed
+    assert sol.t[-1] == pytest.approx(2e-3, rel=1e-8)
+    if limit:
+        # LAMMPS's coeff_restitution sets the textbook D; under limit_damping the force
+        # ends the contact first (SciPy's events on z'' + 2 D z' + z = 0)
+        log_e = math.log(0.4)
+        D = -log_e / math.sqrt(math.pi**2 + log_e**2)
+
+        def rhs_z(t, y):
+            return [y[1], -2 * D * y[1] - y[0]]
+
+        def force_z(t, y):
+            return 2 * D * y[1] + y[0]
+
+        force_z.terminal, force_z.direction = True, -1
+        ref = solve_ivp(rhs_z, (0, 10.0), [0.0, 1.0], events=[force_z], rtol=1e-12, atol=1e-15)
+        naive = out.split("'damping coeff_restitution 0.4' would give restitution ")[1]
+        assert float(naive.split()[0]) == pytest.approx(-ref.y[1, -1], rel=1e-5)
+
+
+def test_lammps_overlap_design_and_gravity_prediction(capsys):
+    args = ["--restitution", "0.3", "--max-penetration", "1e-4", "--speed", "2", "--mass", "1"]
+    out, _, _ = _lammps_design(capsys, *args)
+    assert "max overlap:            0.0001 m (at 2 m/s)" in out
+    assert "predicted restitution:  0.3\n" in out
+    out, _, _ = _lammps_design(capsys, *args, "--gravity", "9.81")
+    assert "predicted restitution:  0.29" in out  # the design has no load; gravity lowers e
+    assert "s (gravity 9.81 m/s^2)" in out
+    out, _, _ = _lammps_design(
+        capsys,
+        "--restitution",
+        "0.5",
+        "--contact-time",
+        "1e-3",
+        "--mass",
+        "1",
+        "--speed",
+        "0.001",
+        "--gravity",
+        "1e4",
+    )
+    assert "predicted: the particle sticks (gravity 10000 m/s^2)" in out
+
+
+def test_lammps_refuses_unreachable_and_needs_one_target(capsys):
+    args = ["lammps", "--restitution", "0.5", "--contact-time", "1e-3", "--mass", "1e305"]
+    assert main(args) == 2
+    assert "mass = 1e+305" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["lammps", "--restitution", "0.5", "--mass", "1"])
+    with pytest.raises(SystemExit):
+        main(
+            [
+                "lammps",
+                "--restitution",
+                "0.5",
+                "--mass",
+                "1",
+                "--contact-time",
+                "1",
+                "--max-penetration",
+                "1",
+            ]
+        )
 
 
 # -- hostile input --------------------------------------------------------------------------

@@ -157,3 +157,27 @@ def test_mass_array_and_unreachable_restitution_are_named():
     c = hooke_for(restitution=1e-7, mass=1.0, contact_time=1e-3)
     assert c.restitution == pytest.approx(1e-7, rel=1e-6)
     assert c.damping_ratio == pytest.approx(0.5 / math.sqrt(1e-7), rel=1e-3)
+
+
+def test_cli_lammps_design_is_what_lammps_gives(capsys):
+    from impactsym.cli import main
+
+    argv = ["lammps", "--restitution", "0.3", "--contact-time", "0.01", "--mass", repr(MASS)]
+    assert main(argv) == 0
+    words = capsys.readouterr().out.splitlines()[1].split()
+    kn, eta = float(words[4]), float(words[5])
+    e_lmp, t_lmp, _ = lammps_collision(kn=kn, damping=eta, limit_damping=True, speed=1.0)
+    assert e_lmp == pytest.approx(0.3, rel=0.01)
+    assert t_lmp == pytest.approx(0.01, rel=0.02)
+
+
+def test_coeff_restitution_floor_in_lammps():
+    # LAMMPS's coeff_restitution with a tiny input under limit_damping: just above exp(-2),
+    # the floor coeff_restitution_for refuses at
+    e_lmp, _, _ = lammps_collision(
+        kn=1e5, damping=1e-9, limit_damping=True, speed=1.0, damping_style="coeff_restitution"
+    )
+    assert math.exp(-2) < e_lmp < 0.14
+    assert e_lmp == pytest.approx(coeff_restitution_achieved(1e-9), rel=0.01)
+    with pytest.raises(ValueError, match=r"exp\(-2\)"):
+        coeff_restitution_for(math.exp(-2))

@@ -149,6 +149,18 @@ def test_cli_design_is_what_mujoco_gives(capsys):
     assert t == pytest.approx(0.01, rel=0.02)
 
 
+def test_tiny_d_min_design_is_what_mujoco_gives(capsys):
+    # solimp[0] = 1e-300 overflowed the step estimate (exit code 3); MuJoCo clamps it
+    from impactsym.cli import main
+
+    solimp = ["1e-300", "0.95", "0.001", "0.5", "2"]
+    assert main(["mujoco", "--restitution", "0.5", "--speed", "1", "--solimp", *solimp]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    solref = tuple(float(x) for x in first.split('"')[1].split())
+    e, _ = mujoco_drop(solref=solref, solimp=[float(x) for x in solimp], speed=1.0, timestep=1e-5)
+    assert e == pytest.approx(0.5, rel=0.01)
+
+
 def test_default_solimp_design_of_both_restitution_and_contact_time():
     targets = np.array([0.2, 0.6, 0.9])
     design = solref_for(restitution=targets, speed=0.7, gravity=9.81, contact_time=0.01)

@@ -30,14 +30,16 @@ seconds, metres, m/s, newtons.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from impactsym.contact.release import linear_release
+from impactsym.engines.records import ArrayRecord
 from impactsym.numeric.roots import bracketed_illinois
-from impactsym.validation import finish, real_array, renamed
+from impactsym.validation import broadcast, finish, real_array, renamed
 
 __all__ = [
     "HookeContact",
@@ -69,13 +71,58 @@ def textbook_damping_ratio(restitution: Any) -> float | np.ndarray:
 _D_MAX = 4096.0
 
 
+#: the smallest normal float: products and quotients below it have lost digits
+_TINY = float(np.finfo(float).tiny)
+#: hooke_for refuses a design whose prediction misses a target by more than this
+#: (relative; as solref_for: the release is accurate to ~1e-6 at the largest damping)
+_DESIGN_RTOL = 1e-5
+
+
 def _release(D, load, limit_damping):
     """The normalized first release (``omega0``, ``v0`` units) of a Hooke contact."""
     return linear_release(D, load, np.zeros_like(D), force=limit_damping, position=True)
 
 
-@dataclass(frozen=True)
-class HookeContact:
+def _natural(k, eta, m):
+    """``omega0 = sqrt(kn / m)``, ``sqrt(kn m)`` and ``D = eta_n / (2 sqrt(kn m))``.
+
+    Scale-free: where ``kn / m`` or ``kn m`` leaves the normal float range (``kn = m =
+    1e160``: ``kn m = inf``, ``D = 0``) the square roots are taken first, which cannot
+    overflow or underflow for finite positive inputs; elsewhere the plain products
+    (unchanged results).
+    """
+    with np.errstate(over="ignore", under="ignore"):
+        omega = np.sqrt(k / m)
+        redo = ~(np.isfinite(omega) & (omega >= _TINY))
+        omega = np.where(redo, np.sqrt(k) / np.sqrt(m), omega)
+        root = np.sqrt(k * m)
+        redo = ~(np.isfinite(root) & (root >= _TINY))
+        root = np.where(redo, np.sqrt(k) * np.sqrt(m), root)
+        D = eta / (2.0 * root)
+    return omega, root, D
+
+
+def _check_flag(name: str, value: object) -> bool:
+    """``value`` if it is a bool (``bool("no")`` is True: strings are refused), else raise."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def _unrepresentable(what: str, values: np.ndarray, inputs: dict[str, Any]) -> None:
+    """Refuse a derived quantity beyond the float range, naming the inputs behind it."""
+    bad = ~np.isfinite(values)
+    if bad.any():
+        i = np.flatnonzero(bad.ravel())[0]
+        shown = ", ".join(
+            f"{name} = {float(np.ravel(np.broadcast_to(v, values.shape))[i])!r}"
+            for name, v in inputs.items()
+        )
+        raise ValueError(f"{what} is beyond the float range for {shown}")
+
+
+@dataclass(frozen=True, eq=False)
+class HookeContact(ArrayRecord):
     """A Hooke contact and its first release (SI units).
 
     Attributes
@@ -124,7 +171,8 @@ class HookeContact:
     @property
     def damping_ratio(self) -> float | np.ndarray:
         """Lehr's ``D = eta_n / (2 sqrt(kn m_eff))``."""
-        out = np.asarray(self.damping / (2.0 * np.sqrt(self.kn * self.mass)))
+        k, eta = np.asarray(self.kn, float), np.asarray(self.damping, float)
+        out = _natural(k, eta, self.mass)[2]
         return finish(out, out.ndim == 0)
 
     @property
@@ -165,7 +213,15 @@ def predict(
     gravity
         Pressing acceleration along the normal, m/s^2 (>= 0).
     limit_damping
-        LAMMPS's ``limit_damping`` keyword (force condition) or not (position).
+        LAMMPS's ``limit_damping`` keyword (force condition) or not (position): a bool.
+
+    Notes
+    -----
+    The contact is solved in its natural units (``omega0``, ``v0``); ``omega0`` and ``D``
+    are formed without the product ``kn m`` where it would leave the float range, so
+    the result depends only on the ratios (``kn = eta_n = m = 1e160`` is the same
+    contact as ``1, 1, 1``). A quantity whose value itself is beyond the float range
+    is refused with a ``ValueError`` naming the inputs.
 
     >>> c = predict(kn=1e5, damping=50.0, mass=4.18879 / 2, speed=1.0)
     >>> round(c.restitution, 4), round(c.contact_time, 6)  # LAMMPS: 0.8471
@@ -176,29 +232,38 @@ def predict(
     m, m_scalar = real_array("mass", mass, lower=0.0, strict=True)
     v, _ = real_array("speed", speed, lower=0.0, strict=True)
     g, _ = real_array("gravity", gravity, lower=0.0)
+    limit = _check_flag("limit_damping", limit_damping)
     if not m_scalar:
-        raise ValueError("mass must be one number (the effective mass)")
+        raise ValueError(f"mass must be one number (the effective mass), got {mass!r}")
     scalar = all(np.ndim(a) == 0 for a in (kn, damping, speed, gravity))
-    k, eta, v, g = np.broadcast_arrays(k, eta, v, g)
-    omega = np.sqrt(k / m)
-    D = eta / (2.0 * np.sqrt(k * m))
-    rel = _release(D, g / (omega * v), bool(limit_damping))
-    out = [
-        rel.restitution,
-        rel.contact_time / omega,
-        rel.max_penetration * v / omega,
-    ]
-    out = [finish(a, scalar) for a in out]
+    shape = broadcast(kn=k, damping=eta, speed=v, gravity=g)
+    k, eta, v, g = (np.broadcast_to(a, shape) for a in (k, eta, v, g))
+    omega, root, D = _natural(k, eta, m)
+    named = {"kn": k, "damping": eta, "mass": m, "speed": v, "gravity": g}
+    _unrepresentable("the damping ratio eta_n / (2 sqrt(kn m))", D, named)
+    with np.errstate(over="ignore", under="ignore", divide="ignore"):
+        load = g / (omega * v)
+        load = np.where(np.isfinite(load), load, g / omega / v)
+    _unrepresentable("the normalized load gravity / (omega0 speed)", load, named)
+    rel = _release(D, load, limit)
+    with np.errstate(over="ignore", under="ignore"):
+        t_c = rel.contact_time / omega
+        x_max = rel.max_penetration * v / omega
+        peak = rel.peak_force * m * omega * v
+        peak = np.where(np.isfinite(peak), peak, rel.peak_force * root * v)
+    _unrepresentable("the contact time", np.where(rel.sticks, 0.0, t_c), named)
+    _unrepresentable("the largest overlap", x_max, named)
+    _unrepresentable("the peak force", peak, named)
+    out = [finish(a, scalar) for a in (rel.restitution, t_c, x_max)]
     by_position = bool(rel.released_by_position) if scalar else rel.released_by_position
-    peak = finish(rel.peak_force * m * omega * v, scalar)
     return HookeContact(
         finish(k, scalar),
         finish(eta, scalar),
         float(m),
-        bool(limit_damping),
+        limit,
         *out,
         by_position,
-        peak,
+        finish(peak, scalar),
     )
 
 
@@ -272,6 +337,7 @@ def hooke_for(
     e, _ = real_array("restitution", restitution, lower=0.0, strict=True)
     if np.any(e >= 1):
         raise ValueError(f"restitution must be < 1, got {float(e.max())!r}")
+    limit = _check_flag("limit_damping", limit_damping)
     if (contact_time is None) == (max_penetration is None):
         raise ValueError("give exactly one of contact_time and max_penetration")
     if max_penetration is not None and speed is None:
@@ -282,28 +348,67 @@ def hooke_for(
     m = float(m_arr)
     v = 1.0 if speed is None else real_array("speed", speed, lower=0.0, strict=True)[0]
     scalar = all(np.ndim(a) == 0 for a in (restitution, contact_time, max_penetration, speed))
+    target_name = "contact_time" if max_penetration is None else "max_penetration"
     target = real_array(
-        "contact_time" if max_penetration is None else "max_penetration",
+        target_name,
         contact_time if max_penetration is None else max_penetration,
         lower=0.0,
         strict=True,
     )[0]
-    e, target, v = np.broadcast_arrays(e, target, v)
-    D = _damping_ratio_for(e.ravel(), bool(limit_damping)).reshape(e.shape)
-    rel = _release(D, np.zeros_like(D), bool(limit_damping))
-    if max_penetration is None:
-        omega = rel.contact_time / target
-    else:
-        omega = rel.max_penetration * v / target
-    kn = m * omega**2
-    eta = 2.0 * D * m * omega
-    return predict(
+    shape = broadcast(**{"restitution": e, target_name: target, "speed": v})
+    e, target, v = (np.broadcast_to(a, shape) for a in (e, target, v))
+    D = _damping_ratio_for(e.ravel(), limit).reshape(e.shape)
+    rel = _release(D, np.zeros_like(D), limit)
+    with np.errstate(over="ignore", under="ignore"):
+        if max_penetration is None:
+            omega = rel.contact_time / target
+        else:
+            omega = rel.max_penetration * v / target
+        kn = m * omega**2
+        eta = 2.0 * D * m * omega
+    named = {"restitution": e, target_name: target, "mass": m}
+    for what, value in (("the stiffness kn = m omega0^2", kn), ("the damping eta_n", eta)):
+        # an underflow to a subnormal or zero has lost the design as surely as an overflow
+        _unrepresentable(what, np.where(np.abs(value) < _TINY, np.inf, value), named)
+    design = predict(
         kn=finish(kn, scalar),
         damping=finish(eta, scalar),
         mass=m,
         speed=finish(v, scalar),
-        limit_damping=limit_damping,
+        limit_damping=limit,
     )
+    _check_design(design, e, target, target_name)
+    return design
+
+
+def _check_design(design: HookeContact, e, target, target_name) -> None:
+    """Refuse a design whose own prediction misses its targets (relative ``1e-5``).
+
+    Under ``limit_damping`` at damping ratios above a few hundred the release's contact
+    time is resolved only to ``1e-5 .. 1e-3`` in double precision (a cancellation in
+    the force ``2 D z' + z``): such designs are refused rather than returned off target.
+    """
+    got = getattr(design, target_name)
+    e_got = np.broadcast_to(design.restitution, e.shape)
+    t_got = np.broadcast_to(got, e.shape)
+    miss = np.abs(e_got - e) > _DESIGN_RTOL * e
+    miss |= ~(np.abs(t_got / target - 1.0) <= _DESIGN_RTOL)
+    if miss.any():
+        i = np.flatnonzero(miss.ravel())[0]
+        D = float(np.ravel(np.broadcast_to(design.damping_ratio, e.shape))[i])
+        raise ValueError(
+            f"restitution = {float(e.ravel()[i])!r} with {target_name} = "
+            f"{float(target.ravel()[i])!r} (element {i}) is not reached within "
+            f"{_DESIGN_RTOL:g}: the designed kn, eta_n (damping ratio {D:.6g}) give "
+            f"restitution {float(e_got.ravel()[i]):.10g} and {target_name} "
+            f"{float(t_got.ravel()[i]):.10g} in predict"
+            + (
+                "; at this damping the force-condition contact time is not resolved in "
+                "double precision: a larger restitution or limit_damping=False reaches it"
+                if D > 100
+                else ""
+            )
+        )
 
 
 def coeff_restitution_achieved(restitution: Any) -> float | np.ndarray:
@@ -327,9 +432,13 @@ def coeff_restitution_for(restitution: Any) -> float | np.ndarray:
 
     The force-condition damping ratio ``D`` for ``e`` is written in the textbook's
     terms, ``e_input = exp(-pi D / sqrt(1 - D^2))``. Needs ``D < 1`` (the textbook
-    cannot express more damping): below about ``e = 0.0016`` LAMMPS's
-    ``coeff_restitution`` cannot reach the target; use ``damping velocity`` with
-    :func:`hooke_for` instead.
+    cannot express more damping), and the critically damped force condition rebounds
+    with exactly ``e = exp(-2) = 0.1353...`` (``z = tau e^-tau``, the force
+    ``(2 - tau) e^-tau`` vanishes at ``tau = 2``): every target ``e <= exp(-2)`` is out
+    of reach of ``coeff_restitution`` under ``limit_damping`` (LAMMPS itself gives
+    0.1374 for ``e_input = 1e-9``), and just above it ``e_input`` falls towards zero
+    (``1.3e-16`` for 0.136); a target whose ``e_input`` underflows is refused too.
+    Use ``damping velocity`` with :func:`hooke_for` for those.
 
     >>> round(coeff_restitution_for(0.5), 4), round(coeff_restitution_achieved(0.4363), 4)
     (0.4363, 0.5)
@@ -338,11 +447,15 @@ def coeff_restitution_for(restitution: Any) -> float | np.ndarray:
     if np.any(e >= 1):
         raise ValueError(f"restitution must be < 1, got {float(e.max())!r}")
     D = _damping_ratio_for(e.ravel(), True).reshape(e.shape)
-    if np.any(D >= 1):
-        bad = float(e[D >= 1].flat[0])
+    with np.errstate(divide="ignore", invalid="ignore", under="ignore"):
+        out = np.exp(-np.pi * D / np.sqrt(1.0 - D**2))
+    bad = (D >= 1) | ~(out >= _TINY)
+    if np.any(bad):
         raise ValueError(
-            f"restitution = {bad!r} needs damping ratio >= 1 under limit_damping, which "
-            f"'damping coeff_restitution' cannot express; use 'damping velocity' with "
-            f"eta_n from hooke_for(...)"
+            f"restitution = {float(e[bad].flat[0])!r} is out of reach: under limit_damping "
+            f"'damping coeff_restitution' cannot express targets e <= exp(-2) = "
+            f"{math.exp(-2):.6g} (the critically damped force condition; just above it "
+            f"the input underflows to 0); use 'damping velocity' with eta_n from "
+            f"hooke_for(...)"
         )
-    return finish(np.exp(-np.pi * D / np.sqrt(1.0 - D**2)), scalar)
+    return finish(out, scalar)

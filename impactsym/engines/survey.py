@@ -32,6 +32,8 @@ def textbook_restitution(targets: np.ndarray) -> dict[str, np.ndarray]:
     0.5503
     """
     targets = real_array("targets", targets, lower=0.0, strict=True)[0]
+    if np.any(targets > 1):
+        raise ValueError(f"targets must be <= 1 (restitutions), got {float(targets.max())!r}")
     dampratio = np.asarray(lammps.textbook_damping_ratio(targets))
     out = {}
     for name, solimp in (("flat", FLAT), ("default", mujoco.DEFAULT_SOLIMP)):
@@ -55,9 +57,17 @@ def stick_map(speed: np.ndarray, dampratio: np.ndarray, gravity: float = 9.81, s
     >>> v.tolist()
     [[2, 1], [0, 0]]
     """
+    speed = real_array("speed", speed, lower=0.0, strict=True)[0]
+    dampratio = real_array("dampratio", dampratio, lower=0.0, strict=True)[0]
+    g, g_scalar = real_array("gravity", gravity, lower=0.0)
+    for name, value in (("speed", speed), ("dampratio", dampratio)):
+        if value.ndim != 1:
+            raise ValueError(f"{name} must be a 1-D array (one grid axis), got shape {value.shape}")
+    if not g_scalar:
+        raise ValueError(f"gravity must be one number, got {gravity!r}")
     S, R = np.meshgrid(speed, dampratio)
     p = mujoco.predict(
-        solref=(mujoco.DEFAULT_TIMECONST, R), solimp=solimp, speed=S, gravity=gravity
+        solref=(mujoco.DEFAULT_TIMECONST, R), solimp=solimp, speed=S, gravity=float(g)
     )
     verdict = np.where(p.sticks, 0, np.where(p.released_by_position, 2, 1))
     return verdict, np.asarray(p.restitution)

@@ -31,8 +31,9 @@ from impactsym.engines.mujoco.model import (
     weight_ratio,
 )
 from impactsym.engines.mujoco.prediction import Prediction, flat_phase, predict, varying_phase
+from impactsym.engines.records import ArrayRecord
 from impactsym.numeric.roots import bracketed_illinois, newton_system
-from impactsym.validation import real_array
+from impactsym.validation import broadcast, real_array
 
 __all__ = ["Design", "from_reduced", "solref_for"]
 
@@ -41,8 +42,8 @@ __all__ = ["Design", "from_reduced", "solref_for"]
 _DESIGN_TOL = 1e-5
 
 
-@dataclass(frozen=True)
-class Design:
+@dataclass(frozen=True, eq=False)
+class Design(ArrayRecord):
     """MuJoCo contact parameters for a wanted restitution (and contact time), SI units.
 
     Attributes
@@ -148,24 +149,40 @@ def _design_flat_dampratio(e_t, v0, g, tc, simp, rho):
         f_lo=e_t - e_lo,
         f_hi=e_t - e_hi,
     )
-    _check_gap(lambda x: e_at(x) if x is dr else e_of(x, idx), e_t, dr, "dampratio")
+
+    def stuck(x):
+        return np.isinf(_flat_restitution(tc, x, simp, rho, g, v0, extremes=False).contact_time)
+
+    _check_gap(lambda x: e_at(x) if x is dr else e_of(x, idx), e_t, dr, "dampratio", stuck)
     return dr
 
 
-def _check_gap(e_of, e_t, at, name):
-    """The restitution jumps where the release switches from force to position: refuse."""
+def _check_gap(e_of, e_t, at, name, stuck):
+    """Refuse a target the solver could not reach: the body starts to stick there, or the
+    restitution jumps where the release switches from force to position.
+
+    ``stuck(x)`` says where the design at ``x`` sticks (for a wanted contact time: where
+    no timeconst gives it without sticking).
+    """
     achieved = e_of(at)
     miss = np.abs(achieved - e_t) > 1e-6 * np.maximum(e_t, 1e-3)
-    if miss.any():
-        i = np.flatnonzero(miss)[0]
-        below, above = e_of(at * (1 - 1e-7))[i], e_of(at * (1 + 1e-7))[i]
+    if not miss.any():
+        return
+    i = np.flatnonzero(miss)[0]
+    below, above = e_of(at * (1 - 1e-7))[i], e_of(at * (1 + 1e-7))[i]
+    start = f"restitution = {float(e_t[i])!r} (element {i}) cannot be reached: "
+    hint = "a higher speed, less gravity or another contact_time"
+    if any(stuck(at * (1 + step))[i] for step in (1e-7, 1e-5, 1e-3)):
         raise ValueError(
-            f"restitution = {float(e_t[i])!r} (element {i}) cannot be reached: at "
-            f"{name} = {float(at[i]):.6g} the restitution jumps from {below:.4g} to "
-            f"{above:.4g} (the force no longer vanishes before the penetration does), "
-            f"so targets in between are out of reach here; a higher speed, less gravity "
-            f"or another contact_time moves the jump"
+            f"{start}the body starts to stick at {name} = {float(at[i]):.6g}, where the "
+            f"restitution is still {max(below, above):.4g}; with more damping it sticks, "
+            f"so smaller targets are out of reach here; {hint} reaches them"
         )
+    raise ValueError(
+        f"{start}at {name} = {float(at[i]):.6g} the restitution jumps from {below:.4g} to "
+        f"{above:.4g} (the force no longer vanishes before the penetration does), so "
+        f"targets in between are out of reach here; {hint} moves the jump"
+    )
 
 
 def _design_flat_both(e_t, v0, g, t_c, simp, rho):
@@ -226,7 +243,13 @@ def _design_flat_both(e_t, v0, g, t_c, simp, rho):
     dr = bracketed_illinois(
         lambda x, i: -residual(x, i), grid[first - 1], grid[first], log=True, rtol=1e-12
     )
-    _check_gap(lambda x: residual(x, idx) + e_t, e_t, dr, "dampratio")
+    _check_gap(
+        lambda x: residual(x, idx) + e_t,
+        e_t,
+        dr,
+        "dampratio",
+        lambda x: ~np.isfinite(inner(x, idx)),
+    )
     return inner(dr, idx), dr
 
 
@@ -245,7 +268,11 @@ def _design_varying(e_t, v0, g, t_c, tc0, dr0, simp, rho):
             r.append(np.log(np.where(np.isfinite(t), t, 1e300) / t_c))
         return np.stack(r)
 
-    u, r = newton_system(resid, u0, eps=1e-6, max_step=0.5, tol=1e-9, max_iter=12)
+    try:
+        u, r = newton_system(resid, u0, eps=1e-6, max_step=0.5, tol=1e-9, max_iter=12)
+    except np.linalg.LinAlgError:  # a residual flat in some unknown: no Newton step
+        _no_slope(resid(u0), e_t, t_c, tc0, dr0)
+        raise  # pragma: no cover - _no_slope always raises
     _unreachable(
         "the varying-impedance design did not converge",
         ~np.all(np.abs(r) < 1e-6, axis=0),
@@ -254,6 +281,30 @@ def _design_varying(e_t, v0, g, t_c, tc0, dr0, simp, rho):
     )
     tc = np.exp(u[0]) if both else tc0
     return tc, np.exp(u[-1])
+
+
+def _no_slope(r0, e_t, t_c, tc0, dr0) -> None:
+    """Refuse a varying-impedance design whose Newton Jacobian is singular, saying why."""
+    stuck = (r0[0] == -e_t) | (~np.isfinite(r0[-1]) if t_c is not None else False)
+    if t_c is not None:
+        stuck |= r0[-1] >= np.log(1e300 / t_c) - 1.0  # contact time inf: sticks
+    i = int(np.flatnonzero(stuck)[0]) if stuck.any() else 0
+    wanted = f"restitution = {float(e_t[i])!r}" + (
+        "" if t_c is None else f" with contact_time = {float(t_c[i])!r} s"
+    )
+    start = f"({float(np.ravel(tc0)[i]):.6g}, {float(np.ravel(dr0)[i]):.6g})"
+    why = (
+        f"at the flat design's solref = {start}, its start, the body sticks under the "
+        f"varying impedance, so restitution and contact time do not change with solref"
+        if stuck.any()
+        else f"near the flat design's solref = {start} the restitution or contact time "
+        f"does not change with solref (singular Newton system)"
+    )
+    raise ValueError(
+        f"{wanted} (element {i}): the varying-impedance design cannot proceed: {why}; "
+        f"a higher speed, less gravity, another contact_time or a flat solimp "
+        f"(solimp[0] == solimp[1]) avoids this"
+    )
 
 
 def solref_for(
@@ -329,7 +380,8 @@ def solref_for(
     m = check_mass(mass)
     rho = weight_ratio(m, inverse_weight)
     arrays = [e_t, v0, g, np.asarray(rho, float)] + ([t_c] if t_c is not None else [])
-    shape = np.broadcast_shapes(*(np.shape(a) for a in arrays))
+    names = ["restitution", "speed", "gravity", "inverse_weight", "contact_time"]
+    shape = broadcast(**dict(zip(names, arrays, strict=False)))
     flat = [np.broadcast_to(a, shape).ravel() for a in arrays]
     e_f, v_f, g_f, rho_f = flat[:4]
     t_f = flat[4] if t_c is not None else None

@@ -36,7 +36,8 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.validation import real_array
+from impactsym.engines.records import ArrayRecord
+from impactsym.validation import broadcast, real_array
 
 __all__ = ["DEFAULT_SOLIMP", "DEFAULT_TIMECONST", "Coefficients", "Oscillator", "impedance"]
 
@@ -46,6 +47,8 @@ DEFAULT_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)
 DEFAULT_TIMECONST = 0.02
 #: MuJoCo clamps the impedance to ``[MIN_IMPEDANCE, MAX_IMPEDANCE]`` (internal).
 MIN_IMPEDANCE, MAX_IMPEDANCE = 1e-4, 0.9999
+#: the smallest normal float: products and quotients below it have lost digits
+TINY = float(np.finfo(float).tiny)
 
 
 def check_solimp(solimp: object) -> tuple[float, ...]:
@@ -56,9 +59,16 @@ def check_solimp(solimp: object) -> tuple[float, ...]:
     >>> check_solimp((0.9, 0.95, 0.001))
     (0.9, 0.95, 0.001, 0.5, 2.0)
     """
-    if isinstance(solimp, (str, bytes)) or np.ndim(solimp) != 1 or len(solimp) not in (3, 5):
+    if isinstance(solimp, (str, bytes)) or not hasattr(solimp, "__len__"):
         raise TypeError(f"solimp must be 3 or 5 real numbers, got {solimp!r}")
-    values = [float(real_array("solimp", v)[0]) for v in solimp]
+    if len(solimp) not in (3, 5):
+        raise TypeError(f"solimp must be 3 or 5 real numbers, got {solimp!r}")
+    values = []
+    for i, v in enumerate(solimp):
+        arr, scalar = real_array(f"solimp[{i}]", v)
+        if not scalar:
+            raise TypeError(f"solimp must be 3 or 5 real numbers, got {solimp!r}")
+        values.append(float(arr))
     if len(values) == 3:
         values += [0.5, 2.0]
     dmin, dmax, width, mid, power = values
@@ -113,8 +123,8 @@ def d_max(solimp: tuple[float, ...]) -> float:
     return float(np.clip(solimp[1], MIN_IMPEDANCE, MAX_IMPEDANCE))
 
 
-@dataclass(frozen=True)
-class Coefficients:
+@dataclass(frozen=True, eq=False)
+class Coefficients(ArrayRecord):
     """MuJoCo's reference-acceleration coefficients of a ``solref`` (arrays or floats).
 
     Attributes
@@ -123,10 +133,36 @@ class Coefficients:
         ``b``, 1/s: ``a_ref = -b v - k r``.
     stiffness
         ``kbar = k / d``, 1/s^2 (the impedance-free part of ``k``).
+    rate
+        ``sqrt(kbar)``, 1/s, formed from ``solref`` without ``kbar`` (``None``: from
+        ``stiffness``). It stays representable where ``kbar`` over- or underflows
+        (``timeconst = 1e-160`` gives ``kbar = 1e320``), so that the natural
+        frequency of :func:`oscillator` is scale-free.
     """
 
     damping: np.ndarray
     stiffness: np.ndarray
+    rate: Any = None
+
+    def in_time_unit(self, unit: np.ndarray) -> Coefficients:
+        """The coefficients in time unit ``unit`` (s): ``b unit`` and ``kbar unit^2``.
+
+        Exact (unchanged) where ``unit == 1``; elsewhere ``kbar unit^2`` is formed as
+        ``(sqrt(kbar) unit)^2``, which stays in range. Internal (see :func:`time_unit`).
+        """
+        root = self.root_stiffness()
+        with np.errstate(over="ignore", under="ignore"):
+            stiff = np.where(unit == 1.0, self.stiffness, (root * unit) ** 2)
+            return Coefficients(self.damping * unit, stiff, root * unit)
+
+    def root_stiffness(self) -> np.ndarray:
+        """``sqrt(kbar)``: from ``stiffness`` where it is a normal float, else ``rate``."""
+        with np.errstate(over="ignore", under="ignore"):
+            root = np.sqrt(self.stiffness)
+        if self.rate is None:
+            return root
+        normal = np.isfinite(self.stiffness) & (self.stiffness >= TINY)
+        return np.where(normal, root, self.rate)
 
     def solref(self, solimp: tuple[float, ...], *, form: str = "timeconst") -> tuple[Any, Any]:
         """The ``solref`` pair with these coefficients (inverse of :func:`coefficients`).
@@ -140,6 +176,26 @@ class Coefficients:
             return -self.stiffness * dmax**2, -self.damping * dmax
         timeconst = 2.0 / (dmax * self.damping)
         return timeconst, 1.0 / (dmax * timeconst * np.sqrt(self.stiffness))
+
+
+def time_unit(coeffs: Coefficients) -> np.ndarray:
+    """Per contact, a time unit ``T`` (s) that brings extreme ``kbar`` and ``b`` to order one.
+
+    ``T = 1 / sqrt(kbar)`` where ``kbar`` or ``b`` lies outside ``[1e-100, 1e100]``
+    (``timeconst = 1e-160`` or ``1e160``), ``1.0`` elsewhere, where the results stay as
+    they were. Internal: the Runge-Kutta phase runs in these units
+    (:meth:`Coefficients.in_time_unit`, speed ``v T``, gravity ``g T^2``).
+    """
+    damp, stiff = np.asarray(coeffs.damping), np.asarray(coeffs.stiffness)
+
+    def moderate(x):
+        return np.isfinite(x) & (x >= 1e-100) & (x <= 1e100)
+
+    extreme = ~(moderate(stiff) & ((damp == 0) | moderate(damp)))
+    if coeffs.rate is None or not extreme.any():
+        return np.ones(np.shape(stiff))
+    with np.errstate(over="ignore", divide="ignore"):
+        return np.where(extreme, 1.0 / coeffs.root_stiffness(), 1.0)
 
 
 def refsafe(timeconst: Any, timestep: float | None) -> Any:
@@ -156,11 +212,12 @@ def coefficients(solref: Any, solimp: tuple[float, ...], timestep: float | None)
     (read back from MuJoCo 4's ``efc_KBIP``; `docs/physics.md#simulation-engines`).
     Internal: used by ``predict`` and ``design``.
     """
-    if isinstance(solref, (str, bytes)) or len(solref) != 2:
+    if isinstance(solref, (str, bytes)) or not hasattr(solref, "__len__") or len(solref) != 2:
         raise TypeError(f"solref must be a pair (timeconst, dampratio), got {solref!r}")
     a, _ = real_array("solref[0]", solref[0])
     b, _ = real_array("solref[1]", solref[1])
-    a, b = np.broadcast_arrays(a, b)
+    shape = broadcast(**{"solref[0]": a, "solref[1]": b})
+    a, b = np.broadcast_to(a, shape), np.broadcast_to(b, shape)
     positive = a > 0
     if np.any(positive & (b <= 0)) or np.any(~positive & (b > 0)) or np.any(a == 0):
         raise ValueError(
@@ -169,10 +226,21 @@ def coefficients(solref: Any, solimp: tuple[float, ...], timestep: float | None)
         )
     dmax = np.clip(solimp[1], MIN_IMPEDANCE, MAX_IMPEDANCE)
     tc = refsafe(a, timestep)
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore", under="ignore", invalid="ignore"):
         damp = np.where(positive, 2.0 / (dmax * tc), -b / dmax)
         stiff = np.where(positive, 1.0 / (dmax**2 * tc**2 * b**2), -a / dmax**2)
-    return Coefficients(damp, stiff)
+        # sqrt(kbar) without kbar: 1 / (d_max timeconst dampratio) or sqrt(stiffness) / d_max
+        rate = np.where(positive, 1.0 / (dmax * tc * b), np.sqrt(np.abs(a)) / dmax)
+    bad = ~np.isfinite(damp) | ~np.isfinite(rate) | (rate < TINY)
+    if bad.any():
+        i = np.flatnonzero(bad.ravel())[0]
+        pair = (float(a.ravel()[i]), float(b.ravel()[i]))
+        raise ValueError(
+            f"solref = {pair!r} (element {i}) is beyond the float range: its damping "
+            f"rate {float(damp.ravel()[i]):.3g} 1/s or natural frequency "
+            f"{float(rate.ravel()[i]):.3g} 1/s is not a finite normal float"
+        )
+    return Coefficients(damp, stiff, rate)
 
 
 def effective_impedance(d: Any, rho: Any) -> Any:
@@ -180,8 +248,8 @@ def effective_impedance(d: Any, rho: Any) -> Any:
     return d * rho / (d * rho + 1.0 - d)
 
 
-@dataclass(frozen=True)
-class Oscillator:
+@dataclass(frozen=True, eq=False)
+class Oscillator(ArrayRecord):
     """Paper section 2's coefficients of MuJoCo's contact with constant impedance.
 
     Attributes
@@ -210,8 +278,13 @@ def oscillator(coeffs: Coefficients, d: Any, rho: Any, gravity: Any, speed: Any)
     (100.0, 0.5)
     """
     dp = effective_impedance(d, rho)
-    omega = np.sqrt(dp * d * coeffs.stiffness)
-    gamma = gravity / (omega * speed)
+    with np.errstate(over="ignore", under="ignore"):
+        omega = np.sqrt(dp * d * coeffs.stiffness)
+        if coeffs.rate is not None:  # scale-free where kbar has left the float range
+            normal = np.isfinite(omega) & (omega >= TINY)
+            omega = np.where(normal, omega, np.sqrt(dp * d) * coeffs.root_stiffness())
+        gamma = gravity / (omega * speed)
+        gamma = np.where(np.isfinite(gamma), gamma, gravity / omega / speed)
     return Oscillator(omega, dp * coeffs.damping / (2.0 * omega), (1.0 - dp) * gamma, dp * gamma)
 
 

@@ -34,6 +34,9 @@ import numpy as np
 from impactsym.contact.release import linear_release, release_margin
 from impactsym.engines.mujoco.model import (
     DEFAULT_SOLIMP,
+    MAX_IMPEDANCE,
+    MIN_IMPEDANCE,
+    TINY,
     Coefficients,
     check_mass,
     check_solimp,
@@ -44,10 +47,12 @@ from impactsym.engines.mujoco.model import (
     impedance_at,
     is_flat,
     oscillator,
+    time_unit,
     weight_ratio,
 )
+from impactsym.engines.records import ArrayRecord
 from impactsym.numeric.roots import bracketed_illinois
-from impactsym.validation import real_array
+from impactsym.validation import broadcast, real_array
 
 __all__ = ["Prediction", "predict", "stick_speed"]
 
@@ -60,8 +65,8 @@ _MAX_RK_STEPS = 400_000  # more is refused (a sticking contact is detected well 
 _GAMMA_RANGE = (1e-9, 1e9)  # stick_speed searches gamma = g / (omega0 v0) here
 
 
-@dataclass(frozen=True)
-class Prediction:
+@dataclass(frozen=True, eq=False)
+class Prediction(ArrayRecord):
     """MuJoCo's first contact phase for a body arriving at ``speed`` (SI units).
 
     Attributes
@@ -98,8 +103,8 @@ class Prediction:
         return self.mass * self._peak_accel
 
 
-@dataclass(frozen=True)
-class ContactPhase:
+@dataclass(frozen=True, eq=False)
+class ContactPhase(ArrayRecord):
     """The first contact phase per unit mass, as arrays (SI). Internal: ``design`` reads it.
 
     Attributes
@@ -124,13 +129,14 @@ def flat_phase(
     osc = oscillator(coeffs, d, rho, gravity, speed)
     rel = linear_release(osc.damping_ratio, osc.load, osc.offset, extremes=extremes)
     omega = osc.omega0
-    return ContactPhase(
-        rel.restitution,
-        rel.contact_time / omega,
-        rel.released_by_position,
-        rel.max_penetration * speed / omega,
-        rel.peak_force * omega * speed,
-    )
+    with np.errstate(over="ignore", under="ignore"):  # out of range: refused by predict
+        return ContactPhase(
+            rel.restitution,
+            rel.contact_time / omega,
+            rel.released_by_position,
+            rel.max_penetration * speed / omega,
+            rel.peak_force * omega * speed,
+        )
 
 
 @dataclass(frozen=True)
@@ -162,7 +168,7 @@ class _Step:
             lo, hi, glo, ghi = np.zeros_like(s), np.ones_like(s), g0, g1
             for _ in range(4):
                 gs = threshold(*self.at(s))
-                left = gs * glo > 0
+                left = np.sign(gs) * np.sign(glo) > 0  # gs * glo may overflow
                 lo, glo = np.where(left, s, lo), np.where(left, gs, glo)
                 hi, ghi = np.where(left, hi, s), np.where(left, ghi, gs)
                 s = np.clip(lo + glo / (glo - ghi) * (hi - lo), 0.0, 1.0)
@@ -183,9 +189,14 @@ def varying_phase(coeffs: Coefficients, solimp, rho, gravity, speed) -> ContactP
         np.array(a, dtype=float).ravel()
         for a in (coeffs.damping, coeffs.stiffness, rho, gravity, speed)
     )
-    d_hi, d_lo = effective_impedance(solimp[1], rho), effective_impedance(solimp[0], rho)
-    omega_hi = np.sqrt(d_hi * solimp[1] * stiff)
-    omega_lo = np.sqrt(d_lo * solimp[0] * stiff)
+    if v0.size == 0:
+        empty = np.zeros(shape)
+        return ContactPhase(empty, empty.copy(), empty.astype(bool), empty.copy(), empty.copy())
+    # the impedances MuJoCo clamps to [1e-4, 0.9999] (solimp[0] = 1e-300 is 1e-4 there)
+    s_hi, s_lo = (float(np.clip(solimp[k], MIN_IMPEDANCE, MAX_IMPEDANCE)) for k in (1, 0))
+    d_hi, d_lo = effective_impedance(s_hi, rho), effective_impedance(s_lo, rho)
+    omega_hi = np.sqrt(d_hi * s_hi * stiff)
+    omega_lo = np.sqrt(d_lo * s_lo * stiff)
     D_lo = d_lo * damp / (2.0 * omega_lo)
     h = _RK_STEP / np.maximum(omega_hi, d_hi * damp)
     mu = np.sqrt(np.abs(1.0 - D_lo**2))
@@ -356,7 +367,7 @@ def _warn_timestep(coeffs: Coefficients, solimp, rho, gravity, speed, timestep, 
     Limits ``omega0 dt <= 0.03`` and ``g dt / v0 <= 0.005``; where they come from: See
     `docs/physics.md#mujoco-prediction`.
     """
-    if timestep is None:
+    if timestep is None or np.size(speed) == 0:
         return
     dp = effective_impedance(solimp[1], rho)
     omega = np.max(
@@ -445,15 +456,19 @@ def predict(
     rho = weight_ratio(m, inverse_weight)
     coeffs = coefficients(solref, simp, timestep)
     scalar = s_scalar and g_scalar and coeffs.damping.ndim == 0
-    damp, stiff, v0, g, rho = np.broadcast_arrays(
-        coeffs.damping, coeffs.stiffness, v0, g, np.asarray(rho, float)
+    rho = np.asarray(rho, float)
+    shape = broadcast(solref=coeffs.damping, speed=v0, gravity=g, inverse_weight=rho)
+    damp, stiff, rate, v0, g, rho = (
+        np.broadcast_to(a, shape)
+        for a in (coeffs.damping, coeffs.stiffness, coeffs.rate, v0, g, rho)
     )
-    coeffs = Coefficients(damp, stiff)
+    coeffs = Coefficients(damp, stiff, rate)
     _warn_timestep(coeffs, simp, rho, g, v0, timestep)
     if is_flat(simp):
         phase = flat_phase(coeffs, impedance_at(np.zeros(()), simp), rho, g, v0)
     else:
-        phase = varying_phase(coeffs, simp, rho, g, v0)
+        phase = _varying_in_time_unit(coeffs, simp, rho, g, v0)
+    _check_range(phase, solref, v0, g)
     sticks = np.isinf(phase.contact_time)
     fields = (
         phase.restitution,
@@ -467,6 +482,47 @@ def predict(
         kinds = (float, float, bool, bool, float, float)
         fields = tuple(kind(a) for kind, a in zip(kinds, fields, strict=True))
     return Prediction(*fields, m)
+
+
+def _varying_in_time_unit(coeffs: Coefficients, simp, rho, g, v0) -> ContactPhase:
+    """:func:`varying_phase` run in the time unit of :func:`~.model.time_unit` (scale-free)."""
+    unit = time_unit(coeffs)
+    with np.errstate(over="ignore", under="ignore"):
+        v_u, g_u = v0 * unit, g * unit * unit
+        # a gravity that underflows in these units is harmless where its load is negligible
+        felt = (g > 0) & (g_u < TINY) & (g * unit / v0 > 1e-20)
+    bad = ~np.isfinite(v_u) | (v_u < TINY) | ~np.isfinite(g_u) | felt
+    if bad.any():
+        i = np.flatnonzero(bad.ravel())[0]
+        raise ValueError(
+            f"speed = {float(v0.ravel()[i])!r} and gravity = {float(g.ravel()[i])!r} with "
+            f"solref of natural time {float(unit.ravel()[i]):.3g} s (element {i}): the "
+            f"contact's scales leave the float range; use a flat solimp, whose prediction "
+            f"is scale-free"
+        )
+    phase = varying_phase(coeffs.in_time_unit(unit), simp, rho, g_u, v_u)
+    with np.errstate(over="ignore", under="ignore"):
+        return ContactPhase(
+            phase.restitution,
+            phase.contact_time * unit,
+            phase.released_by_position,
+            phase.max_penetration,
+            phase.peak_accel / unit / unit,
+        )
+
+
+def _check_range(phase: ContactPhase, solref, speed, gravity) -> None:
+    """Refuse a contact whose time, penetration or force is beyond the float range."""
+    released = np.isfinite(phase.contact_time) | (phase.restitution == 0.0)
+    finite = np.isfinite(phase.max_penetration) & np.isfinite(phase.peak_accel)
+    bad = ~(released & finite)
+    if bad.any():
+        i = np.flatnonzero(bad.ravel())[0]
+        raise ValueError(
+            f"solref = {solref!r} with speed = {float(np.ravel(speed)[i])!r}, gravity = "
+            f"{float(np.ravel(gravity)[i])!r} (element {i}): the contact time, largest "
+            f"penetration or peak force is beyond the float range"
+        )
 
 
 def stick_speed(
@@ -509,9 +565,10 @@ def stick_speed(
     rho = np.asarray(weight_ratio(m, inverse_weight), float)
     coeffs = coefficients(solref, simp, timestep)
     scalar = coeffs.damping.ndim == 0
+    shape = broadcast(solref=coeffs.damping, inverse_weight=rho)
     damp, stiff, rho = (
-        np.array(a, dtype=float).ravel()
-        for a in np.broadcast_arrays(coeffs.damping, coeffs.stiffness, rho)
+        np.array(np.broadcast_to(a, shape), dtype=float).ravel()
+        for a in (coeffs.damping, coeffs.stiffness, rho)
     )
     if g == 0:
         return 0.0 if scalar else np.zeros(np.shape(damp))
