@@ -9,7 +9,5 @@ derivation of MuJoCo's contact equation, the reference of ``mujoco.model``, and
 :mod:`impactsym.engines.survey` compares the textbook design with both engines. None of
 them imports an engine: the engines (``pip install impactsym[engines]``) are needed only by
 :mod:`impactsym.engines.drivers`, which runs them to check the predictions
-(`docs/physics.md#simulation-engines`). :mod:`impactsym.engines.records` gives the
-result objects an array-aware ``==`` and a clear refusal of ``hash``. Submodules are
-imported on demand.
+(`docs/physics.md#simulation-engines`). Submodules are imported on demand.
 """

@@ -37,8 +37,8 @@ from typing import Any
 import numpy as np
 
 from impactsym.contact.release import linear_release
-from impactsym.engines.records import ArrayRecord
 from impactsym.numeric.roots import bracketed_illinois
+from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, finish, real_array, renamed
 
 __all__ = [

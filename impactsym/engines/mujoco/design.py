@@ -31,8 +31,8 @@ from impactsym.engines.mujoco.model import (
     weight_ratio,
 )
 from impactsym.engines.mujoco.prediction import Prediction, flat_phase, predict, varying_phase
-from impactsym.engines.records import ArrayRecord
 from impactsym.numeric.roots import bracketed_illinois, newton_system
+from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
 
 __all__ = ["Design", "from_reduced", "solref_for"]

@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.records import ArrayRecord
+from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
 
 __all__ = ["DEFAULT_SOLIMP", "DEFAULT_TIMECONST", "Coefficients", "Oscillator", "impedance"]

@@ -50,8 +50,8 @@ from impactsym.engines.mujoco.model import (
     time_unit,
     weight_ratio,
 )
-from impactsym.engines.records import ArrayRecord
 from impactsym.numeric.roots import bracketed_illinois
+from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
 
 __all__ = ["Prediction", "predict", "stick_speed"]
