@@ -203,7 +203,7 @@ def impact_sequence(
     True
     """
     from impactsym.rod.sequence import follow
-    from impactsym.rod.sequence_elastic import ElasticStep
+    from impactsym.rod.sequence_elastic import follow_spring
     from impactsym.rod.sequence_rigid import RigidStep
 
     t_max = renamed("t_max", t_max, "t_end", t_end, 40.0)
@@ -221,9 +221,8 @@ def impact_sequence(
         raise ValueError(f"max_contacts must be a positive integer, got {max_contacts!r}")
     if np.isinf(kappa):
         model = RigidStep(alpha, f, t_max=t_max)
-    else:
-        model = ElasticStep(alpha, f, kappa=kappa, t_max=t_max)
-    return follow(model, t_max=t_max, max_contacts=max_contacts)
+        return follow(model, t_max=t_max, max_contacts=max_contacts)
+    return follow_spring(alpha, f, kappa=kappa, t_max=t_max, max_contacts=max_contacts)
 
 
 __all__ += ["impact_sequence"]
