@@ -317,6 +317,7 @@ def stiff_maps() -> None:
     from impactsym.rod.elastic.search import elastic_contact_times
     from impactsym.rod.elastic.taylor import taylor_table
 
+    pole_sums.series_coefficients("N", 11), pole_sums.series_coefficients("y", 11)  # once
     A, F = np.meshgrid(np.geomspace(0.1, 10.0, 5), np.linspace(0.0, 2.0, 20))
     for k in (1e2, 1e3, 1e4):
         for which in ("N", "y"):
