@@ -20,7 +20,9 @@ Run ``python benchmarks/bench_rod_contact_times.py [--n 100]``. In one run, on t
   equations (:mod:`impactsym.rod.elastic.taylor`, the default) against the mpmath cell
   tables (:mod:`impactsym.rod.elastic.cells`) and the pointwise search on the pole sums
   alone (:func:`pointwise_pole_contact_times`, copied below: no table;
-  ``--kappa-only`` runs this part alone).
+  ``--kappa-only`` runs this part alone);
+* stiff springs: ``alpha``-``f`` maps at ``kappa = 1e2, 1e3, 1e4`` in ms per point
+  (``--stiff-only`` runs this part alone).
 
 Times are CPU seconds of this process (``time.process_time``), robust against a
 loaded machine; ``--repeat k`` quotes the best of ``k`` runs of the certified search.
@@ -306,7 +308,39 @@ def finite_stiffness() -> None:
             print(line + f" ({n_alpha} table builds included)")
 
 
+def stiff_maps() -> None:
+    """Stiff springs (issue 22): ``alpha``-``f`` maps (5 x 20, one table per ``alpha``,
+    built in the timed call) at ``kappa = 1e2 .. 1e4`` with the default method; the target
+    is under 1 ms per point up to ``kappa = 1e4``."""
+    from impactsym.rod.elastic import poles as pole_sums
+    from impactsym.rod.elastic.cells import cell_table
+    from impactsym.rod.elastic.search import elastic_contact_times
+    from impactsym.rod.elastic.taylor import taylor_table
+
+    pole_sums.series_coefficients("N", 11), pole_sums.series_coefficients("y", 11)  # once
+    A, F = np.meshgrid(np.geomspace(0.1, 10.0, 5), np.linspace(0.0, 2.0, 20))
+    for k in (1e2, 1e3, 1e4):
+        for which in ("N", "y"):
+            for cache in (cell_table, taylor_table):
+                cache.cache_clear()
+            pole_sums.clear_cache()
+            start = time.process_time()
+            out = elastic_contact_times(
+                which, A.ravel(), F.ravel(), kappa=np.full(A.size, k), t_max=20.0
+            )
+            spent = time.process_time() - start
+            print(
+                f"  stiff alpha-f map 5 x 20 at kappa={k:g}, {which}: "
+                f"{1e3 * spent / A.size:.2f} ms/point (target < 1), "
+                f"{np.isfinite(out).sum()} finite"
+            )
+
+
 if __name__ == "__main__":
+    if "--stiff-only" in sys.argv:
+        stiff_maps()
+        sys.exit()
     if "--kappa-only" not in sys.argv:
         main()
     finite_stiffness()
+    stiff_maps()

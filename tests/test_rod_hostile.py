@@ -145,9 +145,11 @@ def test_a_finite_kappa_has_its_own_piece_budget(monkeypatch):
         return real(model, **kwargs)
 
     monkeypatch.setattr(sequence_module, "follow", spy)
+    monkeypatch.setattr(elastic_module, "follow", spy)
     impact_sequence(1.0, 0.5, kappa=10.0, t_max=2.0)
     impact_sequence(1.0, 0.5, t_max=2.0)
-    assert seen == [20_000, sequence_module.MAX_PIECES]
+    assert seen == [elastic_module.MAX_SPRING_PIECES, sequence_module.MAX_PIECES]
+    assert elastic_module.MAX_SPRING_PIECES == 20_000
 
 
 def test_the_stiffness_rule_is_contact_times():

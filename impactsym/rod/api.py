@@ -26,7 +26,6 @@ _F_MAX = 1e150  # largest pressing force of a sequence: energies of order f^2 st
 # Piece budget of a contact spring: a piece costs 1 to 8 ms (rigid: 0.1 ms, budget
 # MAX_PIECES), the sequences that succeed need fewer than 2000 to t = 40, and a light
 # striker on a soft spring (alpha = 1e-6, kappa = 10) asks for 60000.
-_ELASTIC_PIECES = 20_000
 
 
 def _prepare(t, alpha, f, kappa):
@@ -225,7 +224,7 @@ def impact_sequence(
     True
     """
     from impactsym.rod.sequence import MAX_PIECES, follow
-    from impactsym.rod.sequence_elastic import ElasticStep
+    from impactsym.rod.sequence_elastic import follow_spring
     from impactsym.rod.sequence_rigid import RigidStep
 
     t_max = renamed("t_max", t_max, "t_end", t_end, 40.0)
@@ -246,19 +245,16 @@ def impact_sequence(
             f"float64), got {f!r}"
         )
     max_contacts = _check_count("max_contacts", max_contacts, MAX_CONTACTS)
-    budget = MAX_PIECES
     if np.isinf(kappa):
         model = RigidStep(alpha, f, t_max=t_max)
-    else:
-        budget = _ELASTIC_PIECES
-        from impactsym.rod.elastic.search import check_stiffness
+        return follow(model, t_max=t_max, max_contacts=max_contacts, max_pieces=MAX_PIECES)
+    from impactsym.rod.elastic.search import check_stiffness
 
-        try:  # the rule of contact_time: too stiff for float64 pieces as well
-            check_stiffness(alpha, kappa=kappa)
-        except ValueError as exc:
-            raise ValueError(f"impact_sequence: {exc}") from None
-        model = ElasticStep(alpha, f, kappa=kappa, t_max=t_max)
-    return follow(model, t_max=t_max, max_contacts=max_contacts, max_pieces=budget)
+    try:  # the rule of contact_time: too stiff for float64 pieces as well
+        check_stiffness(alpha, kappa=kappa)
+    except ValueError as exc:
+        raise ValueError(f"impact_sequence: {exc}") from None
+    return follow_spring(alpha, f, kappa=kappa, t_max=t_max, max_contacts=max_contacts)
 
 
 def _check_count(name: str, value: object, limit: int) -> int:

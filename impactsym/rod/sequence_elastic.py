@@ -28,10 +28,11 @@ from fractions import Fraction
 import numpy as np
 
 from impactsym.numeric.isolation import first_sign_change
-from impactsym.numeric.poly import antiderivative, derivative, pad, polyval_rows, taylor_shift
-from impactsym.rod.sequence import ElasticRodImpactSequence, SequenceState
+from impactsym.numeric.poly import derivative, pad, polyval_rows, taylor_shift
+from impactsym.rod.elastic.contact_piece import confluent_series, forced_split
+from impactsym.rod.sequence import ElasticRodImpactSequence, SequenceState, follow
 
-__all__ = ["ElasticStep"]
+__all__ = ["MAX_SPRING_PIECES", "ElasticStep", "follow_spring"]
 
 _EPS = np.finfo(float).eps
 _NEGLIGIBLE = 1e-17
@@ -40,15 +41,22 @@ _GAUSS = np.polynomial.legendre.leggauss(48)  # exact to degree 95 on a sub-inte
 # Largest bound of the per-rate parts (relative to max(1, |p|)) times their number of
 # coefficients before their rounding, ~eps times it, could reach 1e-8: refused beyond.
 _MAGNITUDE_LIMIT = 1e-8 / _EPS
+# Contact pieces are halved while their terms exceed _MAGNITUDE_TARGET (rounding 1e-13),
+# down to _SHORTEST of the span (a confluent piece) or to the confluent span (a split one,
+# which then gives way to the confluent form where that needs at most MAX_SPRING_PIECES pieces).
+_MAGNITUDE_TARGET = 1e-13 / _EPS
+_SHORTEST = 2.0**-12
+#: Most pieces of ``g`` a sequence with a contact spring may hold (up to 8 ms each): the
+#: budget of :func:`follow_spring`, and the bound under which the confluent form is used.
+MAX_SPRING_PIECES = 20_000
 _STRESS_TOL = 1e-13
 # Confluent form where |sqrt(d)| <= _CONFLUENT |sigma|: on a piece (length <= 2/|sigma|)
 # the split rates differ by at most 2 * 1.8 / length, too little for a per-rate split.
 _CONFLUENT = 0.9
 _TAIL = 1e-18  # truncation of the confluent series, relative to its size on the piece
-_MAX_COEFFICIENTS = 95  # taylor_shift's limit
 
 
-def _rates(alpha: float, kappa: float) -> tuple[np.ndarray, float | None]:
+def _rates(alpha: float, kappa: float, confluent: bool = False) -> tuple[np.ndarray, float | None]:
     r"""The rates of the representation and, for the confluent form, :math:`d`.
 
     With :math:`\sigma = -\kappa/2` and :math:`d = \kappa^2/4 - \kappa/\alpha` (exact
@@ -56,11 +64,12 @@ def _rates(alpha: float, kappa: float) -> tuple[np.ndarray, float | None]:
     :math:`\alpha s^2 + \alpha\kappa s + \kappa` are :math:`\sigma \pm \sqrt{d}`. Where
     :math:`d \le \theta^2 \sigma^2` (``_CONFLUENT``; every complex pair) the single rate
     :math:`\sigma` is returned with ``d`` (the confluent form); else (a stiff contact) the
-    two real roots and ``None``.
+    two real roots and ``None``; ``confluent`` asks for the confluent form whatever
+    :math:`d` (the fallback of :func:`follow_spring`).
     """
     sigma = -0.5 * kappa
     ratio = 1 - 4 / (Fraction(alpha) * Fraction(kappa))  # d / sigma^2, exact
-    if ratio <= Fraction(_CONFLUENT) ** 2:
+    if confluent or ratio <= Fraction(_CONFLUENT) ** 2:
         try:
             d = float(Fraction(sigma) ** 2 * ratio)
         except OverflowError:
@@ -85,6 +94,10 @@ def _expm1(z: np.ndarray) -> np.ndarray:
 def _polyval(Q: np.ndarray, x: np.ndarray) -> np.ndarray:
     """``Q[..., r, :]`` evaluated at ``x``; result ``x.shape + (n_rates,)`` when ``Q`` is
     2-D, or broadcast row-wise when ``Q`` has the leading axes of ``x``."""
+    if Q.ndim == 2 and not np.iscomplexobj(x) and not np.any(Q.imag):
+        # real rates (every form the solver builds): one matrix product of the powers
+        powers = np.asarray(x, dtype=float)[..., None] ** np.arange(Q.shape[-1])
+        return powers @ np.ascontiguousarray(Q.real.T)
     return polyval_rows(Q.astype(complex, copy=False), x[..., None])
 
 
@@ -308,14 +321,25 @@ class ElasticStep:
     result = ElasticRodImpactSequence
     errstate: dict = {"over": "ignore", "invalid": "ignore"}  # noqa: RUF012 (read only)
 
+    confluent = False  # the confluent form whatever d (the fallback of follow_spring)
+
     def __init__(self, alpha: float, f: float, *, kappa: float, t_max: float) -> None:
         self.alpha, self.f, self.kappa = alpha, f, kappa
         self.where = f"impact_sequence(alpha={alpha!r}, f={f!r}, kappa={kappa!r}, t_max={t_max!r})"
-        self.rates, self.d = _rates(alpha, kappa)
+        self.rates, self.d = _rates(alpha, kappa, self.confluent)
+        # |sqrt(d)| span <= 2 as well: the confluent series stays short and exact
+        self.confluent_span = _SPAN / math.sqrt(0.25 * kappa * kappa + abs(kappa / alpha))
         if self.d is None:
             self.span = _SPAN / float(np.min(np.abs(self.rates)))
-        else:  # |sqrt(d)| span <= 2 as well: the confluent series stays short and exact
+        else:
             self.span = _SPAN / math.sqrt(0.25 * kappa * kappa + abs(self.d))
+        self.fallback = False  # a split piece that cancels raises _SplitCancelsError
+        n = t_max / self.confluent_span
+        self.hint = (  # for the refusal of a split too long for the confluent fallback
+            f" (per-rate parts of a stiff contact; the confluent form needs ~{n:.2g} pieces)"
+            if self.d is None and n > MAX_SPRING_PIECES
+            else ""
+        )
         self.pieces = _Pieces(self.rates, self.span)
         self.pieces.append(-2.0, 2.0, 0.0, np.zeros((self.rates.size, 0), dtype=complex))
         self.starts = self.pieces.start
@@ -334,14 +358,8 @@ class ElasticStep:
         state.t += h
 
     def contact(self, state: SequenceState, incoming: tuple, t_next: float) -> bool:
-        alpha, f, kappa, rates, d, where = (
-            self.alpha,
-            self.f,
-            self.kappa,
-            self.rates,
-            self.d,
-            self.where,
-        )
+        alpha, f, kappa, rates, d = self.alpha, self.f, self.kappa, self.rates, self.d
+        where = self.where
         p_in, Qi = incoming
         t, v, N = state.t, state.v, self.N
         exp_in = Qi.shape[-1] > 0
@@ -349,18 +367,27 @@ class ElasticStep:
         Gi0 = p_in + float(Qi[:, 0].sum().real) if exp_in else p_in
         dN = kappa * (v - N + 2.0 * Gi0)  # N'(0)
         h = min(t_next - t, self.span)
-        if d is not None:
-            QN = _confluent(Qi, rates[0], d, kappa, h, A0, dN, where, t)
-        else:
-            QN, dN0 = _forced(Qi, rates, alpha, kappa)
+        scale = max(1.0, abs(f))
+        if d is None:
+            QN, dN0 = forced_split(Qi, rates, alpha=alpha, kappa=kappa)
             QN = pad(QN, 2)
             c1 = (dN - dN0 - rates[1] * A0) / (rates[0] - rates[1])
             QN[0, 0] += c1
             QN[1, 0] += A0 - c1
-            if rates[0].imag != 0.0:
-                QN[1] = np.conj(QN[0])  # a conjugate pair: the sum is real
+        while True:  # shorter pieces where the terms of this one would cancel
+            if d is not None:
+                QN = confluent_series(
+                    Qi, rates[0], d, kappa=kappa, h=h, A0=A0, dN=dN, where=where, t=t
+                )
+                if _terms(QN, rates, h) <= _MAGNITUDE_TARGET * scale or h <= _SHORTEST * self.span:
+                    break
+            elif not self.fallback or _terms(QN, rates, h) <= _MAGNITUDE_TARGET * scale:
+                break
+            elif h <= self.confluent_span:
+                raise _SplitCancelsError(t)
+            h *= 0.5
         Qg = QN - pad(Qi, QN.shape[-1])
-        _check_magnitude(QN, rates, h, max(1.0, abs(f)), where, t)
+        _check_magnitude(QN, rates, h, scale, where, t, self.hint)
         CN = _second(QN, rates)
         root = _first_change(
             lambda x: N + _increment(QN, rates, x),
@@ -399,7 +426,7 @@ class ElasticStep:
         W = rates[:, None] * Qi + derivative(Qi) if exp_in else Qi
         gap0 = 0.0 if opening else state.u - state.y
         if exp_in:
-            _check_magnitude(Qi, rates, h, max(1.0, abs(p_in)), where, t)
+            _check_magnitude(Qi, rates, h, max(1.0, abs(p_in)), where, t, self.hint)
 
         def gap(x):
             out = gap0 - (2.0 * p_in + v0) * x - 0.5 * f / alpha * x * x
@@ -449,55 +476,30 @@ class ElasticStep:
         return ""
 
 
-def _forced(Qi, rates, alpha, kappa):
-    r"""Per-rate polynomials ``M_r`` (``M_r(0) = 0``) of the particular solution of
-    :math:`\alpha N'' + \alpha\kappa N' + \kappa N = 2\alpha\kappa G'` (two distinct
-    rates) and :math:`\sum_r M_r'(0)`."""
-    nr = rates.size
-    if Qi.shape[-1] == 0:
-        return np.zeros((nr, 0), dtype=complex), 0.0
-    W = 2.0 * kappa * (rates[:, None] * Qi + derivative(Qi))
-    m = np.zeros_like(W)
-    c = (rates - rates[::-1])[:, None]  # P'(r) / alpha
-    D = W.copy()
-    for k in range(W.shape[-1]):  # m' + c m = W: m = sum_k (-1)^k W^(k) / c^(k+1)
-        m += (-1.0) ** k * D / c ** (k + 1)
-        D = derivative(D)
-    M = antiderivative(m)
-    return M, float(M[:, 1].sum().real)
+class _SplitCancelsError(ArithmeticError):
+    """The per-rate parts of a stiff contact cancel."""
 
 
-def _confluent(Qi, sigma, d, kappa, h, A0, dN, where, t):
-    r"""Taylor coefficients of :math:`M` in :math:`N = f + e^{\sigma x} M(x)` (confluent
-    form): :math:`M'' - d M = 2\kappa(\sigma Q_i + Q_i')`, :math:`M(0) = N(0) - f`,
-    :math:`M'(0) = N'(0) - \sigma M(0)`.
+class _ConfluentStep(ElasticStep):
+    confluent = True
 
-    The recurrence :math:`m_{k+2} = (d m_k + F_k)/((k+1)(k+2))` is exact; past the
-    forcing it is homogeneous, :math:`|m_{k+2}| h^{k+2} \le q |m_k| h^k` with
-    :math:`q = |d| h^2/((k+1)(k+2))`, so the series is cut where its last two terms on
-    :math:`[0, h]` are below ``_TAIL`` of its size (the rest is below twice that)."""
-    sigma = sigma.real
-    n = Qi.shape[-1]
-    F = 2.0 * kappa * (sigma * Qi[0].real + derivative(Qi[0].real)) if n else np.zeros(0)
-    m = [A0, dN - sigma * A0]
-    size = abs(m[0]) + abs(m[1]) * h
-    k = 0
-    while True:
-        K = k + 2
-        term = (d * m[k] + (F[k] if k < n else 0.0)) / ((k + 1) * (k + 2))
-        m.append(term)
-        size += abs(term) * h**K
-        last = abs(m[K]) * h**K + abs(m[K - 1]) * h ** (K - 1)
-        q = abs(d) * h * h / ((K + 1) * (K + 2))
-        if n + 1 <= K and q <= 0.5 and last <= _TAIL * max(size, 1.0):
-            break
-        if K + 1 >= _MAX_COEFFICIENTS:
-            raise ValueError(
-                f"{where}: the confluent series at t = {t:.6g} needs more than "
-                f"{_MAX_COEFFICIENTS} coefficients; lower t_max"
-            )
-        k += 1
-    return np.array(m, dtype=complex)[None, :]
+
+def follow_spring(
+    alpha: float, f: float, *, kappa: float, t_max: float, max_contacts: int
+) -> ElasticRodImpactSequence:
+    """:func:`impactsym.rod.sequence.follow` of :class:`ElasticStep`; a stiff contact whose
+    per-rate split cancels (terms rounding above 1e-13 on pieces as short as the confluent
+    ones) is run again in the confluent form if that needs at most ``MAX_SPRING_PIECES`` pieces
+    (docs/physics.md#the-rod-impact-continued-past-separation). Internal: called by
+    :func:`impactsym.rod.impact_sequence` (arguments validated there)."""
+    split = _rates(alpha, kappa)[1] is None
+    model = ElasticStep(alpha, f, kappa=kappa, t_max=t_max)
+    model.fallback = split and t_max / model.confluent_span <= MAX_SPRING_PIECES
+    try:
+        return follow(model, t_max=t_max, max_contacts=max_contacts, max_pieces=MAX_SPRING_PIECES)
+    except _SplitCancelsError:
+        model = _ConfluentStep(alpha, f, kappa=kappa, t_max=t_max)
+        return follow(model, t_max=t_max, max_contacts=max_contacts, max_pieces=MAX_SPRING_PIECES)
 
 
 def _increment(Q, rates, x):
@@ -528,14 +530,18 @@ def _slope(Q, rates, x):
     return _exp_values(rates[:, None] * Q + derivative(Q), rates, x)
 
 
-def _check_magnitude(Q, rates, h, scale, where, t) -> None:
+def _terms(Q, rates, h) -> float:
+    """Bound of the terms of a piece on ``[0, h]`` times their number."""
+    return float(_magnitude(Q, rates, h).sum()) * max(Q.shape[-1], 1)
+
+
+def _check_magnitude(Q, rates, h, scale, where, t, hint="") -> None:
     """Refuse where the rounding of the terms of a piece could reach 1e-8."""
-    mag = float(_magnitude(Q, rates, h).sum()) * max(Q.shape[-1], 1)
+    mag = _terms(Q, rates, h)
     if mag > _MAGNITUDE_LIMIT * scale:
         raise ValueError(
-            f"{where}: the polynomial pieces cancel (their degree grows with every "
-            f"reflection that meets the contact): terms of size {mag:.2g} at t = {t:.6g} "
-            "would lose more than 1e-8 in float64; lower t_max"
+            f"{where}: the terms of the pieces cancel{hint}: terms of size {mag:.2g} at "
+            f"t = {t:.6g} would lose more than 1e-8 in float64; lower t_max below {t:.6g}"
         )
 
 
