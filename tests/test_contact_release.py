@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import mpmath as mp
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -94,3 +95,108 @@ def test_release_margin_sign_is_sticking():
 def test_linear_release_needs_a_threshold():
     with pytest.raises(ValueError, match="force or the position threshold"):
         linear_release(np.ones(1), np.zeros(1), np.zeros(1), force=False, position=False)
+
+
+# -- far over-damped: against mpmath at 50 digits ---------------------------------------------
+
+
+def _mp_release(D, c, delta):
+    """First release of z'' + 2 D z' + z = c, z(0) = 0, z'(0) = 1 (D > 1) at
+    2 D z' + z + delta <= 0 or z <= 0: ``(tau_c, -z'(tau_c))`` at 50 digits, or ``None``.
+
+    The exponential solution is solved from its initial values by mpmath; both thresholds
+    are scanned on a logarithmic grid over the fast and slow time scales, and the first
+    sign change is polished by mpmath's root finder."""
+    with mp.workdps(50):
+        D, c, delta = mp.mpf(D), mp.mpf(c), mp.mpf(delta)
+        mu = mp.sqrt(D * D - 1)
+        rates = (D - mu, D + mu)  # exact enough at 50 digits
+        a, b = mp.lu_solve(mp.matrix([[1, 1], [-rates[0], -rates[1]]]), mp.matrix([-c, 1]))
+
+        def z(t):
+            return c + a * mp.exp(-rates[0] * t) + b * mp.exp(-rates[1] * t)
+
+        def v(t):
+            return -rates[0] * a * mp.exp(-rates[0] * t) - rates[1] * b * mp.exp(-rates[1] * t)
+
+        def force(t):
+            return 2 * D * v(t) + z(t) + delta
+
+        grid = [mp.mpf(10) ** k / rates[1] for k in mp.linspace(-4, 2, 300)]
+        grid += [mp.mpf(10) ** k * rates[1] for k in mp.linspace(-6, 1, 200)[1:]]
+        first = None
+        for fn in (force, z):
+            values = [fn(t) for t in grid]
+            for lo, hi, g_lo, g_hi in zip(grid, grid[1:], values, values[1:], strict=False):
+                if g_lo > 0 >= g_hi:
+                    root = mp.findroot(fn, (lo, hi), solver="anderson")
+                    first = root if first is None else min(first, root)
+                    break
+        return None if first is None else (first, -v(first))
+
+
+_FAR_D = [1.1, 1.5, 2.0, 10.0, 100.0, 1e3, 1581.0, 3e3, 1e4, 1e5]
+
+
+def _far_cases():
+    # loads and offsets as fractions of the depth of the unloaded force's dip below zero
+    # (~ 1/(8 D^3); its minimum is where r_s^3 e^{-r_s tau} = r_f^3 e^{-r_f tau}): most
+    # release, the last two stick
+    cases = []
+    for D in _FAR_D:
+        fast = D + math.sqrt(D * D - 1.0)
+        slow, w = 1.0 / fast, 2.0 * math.sqrt(D * D - 1.0)
+        dip = slow**2 * math.exp(-slow * 6.0 * math.log(fast) / w) * (1.0 - slow / fast) / w
+        for load, offset in (
+            (0, 0),
+            (0.3, 0),
+            (0, 0.4),
+            (0.2, 0.3),
+            (0.9, 0),
+            (0, 1.5),
+            (1.1, 0.4),
+        ):
+            cases.append((D, load * dip, offset * dip))
+    return cases
+
+
+def test_far_over_damped_release_matches_mpmath():
+    cases = _far_cases()
+    D, c, delta = (np.array(x) for x in zip(*cases, strict=True))
+    rel = linear_release(D, c, delta)
+    margin = release_margin(D, c, delta)  # its sign decides sticking under a load
+    released = 0
+    for i, case in enumerate(cases):
+        ref = _mp_release(*case)
+        if ref is None:
+            assert rel.sticks[i], case
+            assert case[1] == 0 or margin[i] > 0, case
+            continue
+        released += 1
+        assert margin[i] < 0, case
+        assert rel.contact_time[i] == pytest.approx(float(ref[0]), rel=1e-12, abs=0), case
+        assert rel.restitution[i] == pytest.approx(float(ref[1]), rel=1e-12, abs=0), case
+        assert not rel.released_by_position[i]
+    assert released >= 4 * len(_FAR_D)
+
+
+def test_far_over_damped_force_condition_is_the_papers():
+    # without load and offset: contact_time/restitution of the force condition
+    D = np.array([2.0, 10.0, 100.0, 1e3, 1581.0, 3e3, 1e4, 1e5, 1e7])
+    rel = linear_release(D, np.zeros_like(D), np.zeros_like(D))
+    f = {"condition": "force"}
+    np.testing.assert_allclose(rel.contact_time, contact_time(D, 0.0, **f), rtol=1e-13)
+    np.testing.assert_allclose(rel.restitution, restitution(D, 0.0, **f), rtol=1e-13)
+
+
+def test_over_damped_forms_join_without_a_step():
+    # the kernel's closed form (D <= 2) and the two-mode form (D > 2) meet continuously
+    D = np.array([2.0, np.nextafter(2.0, 3.0)])
+    for load, offset in ((0.0, 0.0), (1e-3, 0.0), (0.0, 2e-3), (0.5, 0.2)):
+        rel = linear_release(D, np.full(2, load), np.full(2, offset))
+        assert rel.contact_time[1] == pytest.approx(rel.contact_time[0], rel=1e-13)
+        assert rel.restitution[1] == pytest.approx(rel.restitution[0], rel=1e-13)
+        assert rel.max_penetration[1] == pytest.approx(rel.max_penetration[0], rel=1e-13)
+        assert rel.peak_force[1] == pytest.approx(rel.peak_force[0], rel=1e-13)
+        margin = release_margin(D, np.full(2, load), np.full(2, offset))
+        assert margin[1] == pytest.approx(margin[0], rel=1e-12, abs=1e-15)

@@ -22,7 +22,13 @@ the extrema of a damped oscillation shrink and alternate in sign, so a crossing 
 level ``L >= 0`` reached from above happens before the second extremum of ``h`` or
 never; the extrema (roots of ``h'``, closed form) bracket every first root, which
 :func:`impactsym.numeric.roots.bracketed_newton` polishes to ``rtol = 1e-13``. The
-paper's plane is left to :func:`impactsym.contact.contact_time`. Tolerances and checks:
+paper's plane is left to :func:`impactsym.contact.contact_time`. Above ``D = 2`` the
+kernel's ``e^{-D tau}(cosh, sinh)`` form loses the slow mode (amplitude ``~1/D^3`` of
+the force, left as a difference of terms ``~D^2``: relative error ``~1e-4`` of the
+contact time at ``D ~ 1e3``, false sticking beyond); there ``h`` is the sum of the
+modes ``e^{-r_s tau}``, ``e^{-r_f tau}`` (``r_s = 1/(D + mu)``, ``r_f = D + mu``) with
+amplitudes in closed forms free of cancellation, and its extremum and zero are
+logarithms. Tolerances and checks:
 See `docs/physics.md#loaded-oscillator`.
 """
 
@@ -42,18 +48,86 @@ __all__ = ["LinearRelease", "linear_release", "release_margin"]
 _SERIES = 1e-3  # below this |mu| tau the arctanh quotient is taken from its series
 
 
+#: Damping ratio above which the over-damped ``h`` is evaluated as two decaying modes
+#: with exact amplitudes (:func:`_modes`): the kernel's cosh/sinh form cancels there.
+_D_MODES = 2.0
+
+
+def _rates(D: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Decay rates ``r_s = 1/(D + mu)``, ``r_f = D + mu`` and ``w = r_f - r_s = 2 mu``
+    (``mu = sqrt(D^2 - 1)``), without cancellation; placeholders where ``D <= _D_MODES``."""
+    d = np.where(D > _D_MODES, D, 2.0 * _D_MODES)
+    mu = np.sqrt(d - 1.0) * np.sqrt(d + 1.0)
+    fast = d + mu
+    return 1.0 / fast, fast, 2.0 * mu
+
+
+def _modes(D: np.ndarray, h0: np.ndarray, h1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Mode numerators ``(a_s, a_f) = (h1 + r_f h0, -(h1 + r_s h0))`` of
+    ``h = (a_s e^{-r_s tau} + a_f e^{-r_f tau}) / w``, from the initial values.
+
+    Accurate for the position solution (``1 - r_f c``, ``r_s c - 1``); the force
+    solution has its own closed forms (:func:`_force_modes`).
+    """
+    slow, fast, _ = _rates(D)
+    return h1 + fast * h0, -(h1 + slow * h0)
+
+
+def _force_modes(D: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Mode numerators of ``-z''`` (``h0 = 2D - c``, ``h1 = 2D (c - 2D) + 1``).
+
+    ``h1 + r_f h0 = r_s (c - r_s)`` and ``h1 + r_s h0 = r_f (c - r_f)`` (``r_s + r_f = 2D``,
+    ``r_s r_f = 1``): the slow amplitude, of size ``1/D^3``, is not left as the difference
+    of terms of size ``D^2`` that the generic form would make of it.
+    """
+    slow, fast, _ = _rates(D)
+    return slow * (c - slow), fast * (fast - c)
+
+
+_Modes = tuple[np.ndarray, np.ndarray]
+
+
 def _homogeneous(
-    tau: np.ndarray, D: np.ndarray, h0: np.ndarray, h1: np.ndarray
+    tau: np.ndarray, D: np.ndarray, h0: np.ndarray, h1: np.ndarray, modes: _Modes
 ) -> tuple[np.ndarray, np.ndarray]:
     """``h`` and ``h'`` with ``h(0) = h0``, ``h'(0) = h1`` (the section-2 kernel's closed
-    forms, :class:`impactsym.contact.kernel.Homogeneous`), broadcast to one shape."""
-    shape = np.broadcast_shapes(np.shape(tau), np.shape(D), np.shape(h0), np.shape(h1))
-    t, d, a, b = (np.broadcast_to(np.asarray(x, float), shape).ravel() for x in (tau, D, h0, h1))
-    h, dh = homogeneous()(t, d, a, b)
+    forms, :class:`impactsym.contact.kernel.Homogeneous`), broadcast to one shape; above
+    ``_D_MODES`` as two decaying modes with the numerators ``modes`` (:func:`_modes`)."""
+    a_s, a_f = modes
+    shape = np.broadcast_shapes(*(np.shape(x) for x in (tau, D, h0, h1, a_s, a_f)))
+    t, d, a, b, ms, mf = (
+        np.broadcast_to(np.asarray(x, float), shape).ravel() for x in (tau, D, h0, h1, a_s, a_f)
+    )
+    over = d > _D_MODES
+    if not over.any():
+        h, dh = homogeneous()(t, d, a, b)
+        return h.reshape(shape), dh.reshape(shape)
+    h, dh = np.empty(t.shape), np.empty(t.shape)
+    k = ~over
+    if k.any():
+        h[k], dh[k] = homogeneous()(t[k], d[k], a[k], b[k])
+    slow, fast, w = _rates(d[over])
+    e_s, e_f = ms[over] * np.exp(-slow * t[over]), mf[over] * np.exp(-fast * t[over])
+    h[over] = (e_s + e_f) / w
+    dh[over] = -(slow * e_s + fast * e_f) / w
     return h.reshape(shape), dh.reshape(shape)
 
 
-def _extrema(D: np.ndarray, h0: np.ndarray, h1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _mode_time(D: np.ndarray, modes: _Modes, extremum: bool) -> np.ndarray:
+    """Above ``_D_MODES``: the one positive zero of ``h'`` (``extremum``) or of ``h``,
+    ``ln(-r_f^k a_f / (r_s^k a_s)) / w`` with ``k = 1`` or ``0``; ``inf`` where none."""
+    a_s, a_f = modes
+    _, fast, w = _rates(D)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = np.log(-a_f / a_s)
+        if extremum:
+            q = q + 2.0 * np.log(fast)  # r_f / r_s = r_f^2
+        return np.where(q > 0.0, q / w, np.inf)
+
+
+def _extrema(
+    D: np.ndarray, h0: np.ndarray, h1: np.ndarray, modes: _Modes
+) -> tuple[np.ndarray, np.ndarray]:
     """First two positive roots of ``h'`` (``inf`` where there are fewer)."""
     p = h0 + D * h1  # h' = e^{-D tau} [h1 C - p S]
     mu = np.sqrt(np.abs(1.0 - D * D))
@@ -73,28 +147,32 @@ def _extrema(D: np.ndarray, h0: np.ndarray, h1: np.ndarray) -> tuple[np.ndarray,
         ok = (ratio > 0) & (arg < 1.0)
     t1 = np.where(under, t1_under, np.where(ok, t1_over, np.inf))
     t2 = np.where(under, t2_under, np.inf)
+    over = D > _D_MODES
+    if np.any(over):
+        t1 = np.where(over, _mode_time(D, modes, extremum=True), t1)
     return t1, t2
 
 
-def _extreme_values(D, level, h0, h1, skip=None, extrema=None):
+def _extreme_values(D, level, h0, h1, modes, skip=None, extrema=None):
     """First two extrema of ``h`` and the values of ``level + h`` there.
 
     Where ``skip`` is True the values are not evaluated and reported as ``inf``;
     ``extrema`` are the extrema when the caller has them.
     """
-    t1, t2 = _extrema(D, h0, h1) if extrema is None else extrema
+    t1, t2 = _extrema(D, h0, h1, modes) if extrema is None else extrema
     if skip is not None and skip.any():
         g1, g2 = np.full(np.shape(t1), np.inf), np.full(np.shape(t2), np.inf)
         k = ~skip
         if k.any():
-            g1[k], g2[k] = _values_at(t1[k], t2[k], D[k], level[k], h0[k], h1[k])
+            sub = tuple(m[k] for m in modes)
+            g1[k], g2[k] = _values_at(t1[k], t2[k], D[k], level[k], h0[k], h1[k], sub)
         return t1, t2, g1, g2
-    return (t1, t2, *_values_at(t1, t2, D, level, h0, h1))
+    return (t1, t2, *_values_at(t1, t2, D, level, h0, h1, modes))
 
 
-def _values_at(t1, t2, D, level, h0, h1):
-    g1 = level + _homogeneous(np.where(np.isfinite(t1), t1, 0.0), D, h0, h1)[0]
-    g2 = level + _homogeneous(np.where(np.isfinite(t2), t2, 0.0), D, h0, h1)[0]
+def _values_at(t1, t2, D, level, h0, h1, modes):
+    g1 = level + _homogeneous(np.where(np.isfinite(t1), t1, 0.0), D, h0, h1, modes)[0]
+    g2 = level + _homogeneous(np.where(np.isfinite(t2), t2, 0.0), D, h0, h1, modes)[0]
     return np.where(np.isfinite(t1), g1, np.inf), np.where(np.isfinite(t2), g2, np.inf)
 
 
@@ -132,12 +210,13 @@ def release_margin(D, load, offset):
     D, c, delta = _oscillator_inputs(D, load, offset)
     a2 = c - 2.0 * D
     a3 = -2.0 * D * a2 - 1.0
-    _, _, f1, f2 = _extreme_values(D, c + delta, -a2, -a3)
-    _, _, _, p2 = _extreme_values(D, c, -c, np.ones_like(D))
+    _, _, f1, f2 = _extreme_values(D, c + delta, -a2, -a3, _force_modes(D, c))
+    one = np.ones_like(D)
+    _, _, _, p2 = _extreme_values(D, c, -c, one, _modes(D, -c, one))
     return np.minimum.reduce([f1, f2, p2, c + delta, c])
 
 
-def _first_crossing(D, level, h0, h1, exclude_start, before=None):
+def _first_crossing(D, level, h0, h1, modes, exclude_start, before=None):
     """First ``tau > 0`` with ``level + h(tau) <= 0`` (``level >= 0``, ``level + h0 >= 0``).
 
     With ``before``, a crossing proven to come after it is not solved for and reported
@@ -149,15 +228,21 @@ def _first_crossing(D, level, h0, h1, exclude_start, before=None):
     # (h1, -2 D h1 - h0), so the zeros of h are the "extrema" of that function's integral)
     zero = level == 0.0
     if zero.any():
-        z1, _ = _extrema(D[zero], -h1[zero] - 2.0 * D[zero] * h0[zero], h0[zero])
+        dz = D[zero]
+        unused = (dz, dz)  # modes of that integral: replaced above _D_MODES just below
+        z1, _ = _extrema(dz, -h1[zero] - 2.0 * dz * h0[zero], h0[zero], unused)
+        over = dz > _D_MODES  # above _D_MODES: the zero of the two modes directly
+        if over.any():
+            sub = tuple(m[zero] for m in modes)
+            z1 = np.where(over, _mode_time(dz, sub, extremum=False), z1)
         tau[zero] = z1
         if zero.all():
             return tau
     # a crossing that must wait for the first extremum comes after ``before`` when that
     # extremum does: its threshold values are not needed
-    extrema = _extrema(D, h0, h1)
+    extrema = _extrema(D, h0, h1, modes)
     skip = None if before is None else exclude_start & (extrema[0] > before)
-    t1, t2, g1, g2 = _extreme_values(D, level, h0, h1, skip, extrema)
+    t1, t2, g1, g2 = _extreme_values(D, level, h0, h1, modes, skip, extrema)
     first = np.isfinite(t1) & (g1 <= 0) & ~exclude_start
     second = ~first & np.isfinite(t2) & (g2 <= 0)
     lo = np.where(first, 0.0, np.where(second, t1, 0.0))
@@ -170,13 +255,14 @@ def _first_crossing(D, level, h0, h1, exclude_start, before=None):
         late = np.array(found & (lo > before))  # an array also when 0-d (item assignment)
         k = found & ~late & (hi > before)
         if k.any():
-            late[k] = level[k] + _homogeneous(before[k], D[k], h0[k], h1[k])[0] > 0
+            sub = tuple(m[k] for m in modes)
+            late[k] = level[k] + _homogeneous(before[k], D[k], h0[k], h1[k], sub)[0] > 0
         found &= ~late
     if found.any():
-        params = [a[found] for a in (D, level, h0, h1)]
+        params = [a[found] for a in (D, level, h0, h1, *modes)]
 
-        def g_dg(t, d, lv, a, b):
-            h, dh = _homogeneous(t, d, a, b)
+        def g_dg(t, d, lv, a, b, ms, mf):
+            h, dh = _homogeneous(t, d, a, b, (ms, mf))
             return lv + h, dh
 
         tau[found] = bracketed_newton(
@@ -276,8 +362,10 @@ def linear_release(
     # force: lambda = (c + delta) - z''  with z'' homogeneous
     a2 = c - 2.0 * D
     a3 = -2.0 * D * a2 - 1.0
+    one = np.ones_like(D)
+    force_modes, position_modes = _force_modes(D, c), _modes(D, -c, one)
     tau_f = (
-        _first_crossing(D, c + delta, -a2, -a3, np.zeros(D.shape, bool))
+        _first_crossing(D, c + delta, -a2, -a3, force_modes, np.zeros(D.shape, bool))
         if force
         else np.full(D.shape, np.inf)
     )
@@ -286,27 +374,28 @@ def linear_release(
     needed = position and not (force and not c.any() and not delta.any() and (D > 0).all())
     # (solved only where it may come before the force release: the first one counts)
     tau_p = (
-        _first_crossing(D, c, -c, np.ones_like(D), np.ones(D.shape, bool), before=tau_f)
+        _first_crossing(D, c, -c, one, position_modes, np.ones(D.shape, bool), before=tau_f)
         if needed
         else np.full(D.shape, np.inf)
     )
     tau_c = np.minimum(tau_f, tau_p)
     finite = np.isfinite(tau_c)
-    rate = _homogeneous(np.where(finite, tau_c, 0.0), D, -c, np.ones_like(D))[1]
+    rate = _homogeneous(np.where(finite, tau_c, 0.0), D, -c, one, position_modes)[1]
     e = np.where(finite, -rate, 0.0)
     if not extremes:
         nan = np.full(D.shape, np.nan)
         return LinearRelease(tau_c, e, finite & (tau_p <= tau_f), nan, nan)
     # largest penetration: at z' = 0 (first extremum of h), else the static value c
-    t_z, _ = _extrema(D, -c, np.ones_like(D))
+    t_z, _ = _extrema(D, -c, one, position_modes)
     reach = np.isfinite(t_z) & (t_z < tau_c)
-    z_at = c + _homogeneous(np.where(reach, t_z, 0.0), D, -c, np.ones_like(D))[0]
+    z_at = c + _homogeneous(np.where(reach, t_z, 0.0), D, -c, one, position_modes)[0]
     z_max = np.where(reach, z_at, np.where(finite, 0.0, c))
     z_max = np.where(finite, z_max, np.maximum(z_max, c))
     # largest force: at the first minimum of z'' if it comes before release
-    t_l, _ = _extrema(D, a2, a3)
+    lam_modes = (-force_modes[0], -force_modes[1])
+    t_l, _ = _extrema(D, a2, a3, lam_modes)
     reach_l = np.isfinite(t_l) & (t_l < tau_c)
-    lam_at = c + delta - _homogeneous(np.where(reach_l, t_l, 0.0), D, a2, a3)[0]
+    lam_at = c + delta - _homogeneous(np.where(reach_l, t_l, 0.0), D, a2, a3, lam_modes)[0]
     lam0 = 2.0 * D + delta
     force_max = np.maximum(lam0, np.where(reach_l, lam_at, lam0))
     force_max = np.where(finite, force_max, np.maximum(force_max, c + delta))
