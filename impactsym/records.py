@@ -82,6 +82,10 @@ def _hash_key(value: Any) -> Any:
         return None if any(k is None for k in keys) else keys
     if isinstance(value, dict) or not isinstance(value, Hashable):
         return None
+    try:  # a plain frozen dataclass holding arrays says Hashable and then raises
+        hash(value)
+    except TypeError:
+        return None
     return value
 
 
