@@ -18,6 +18,7 @@ from pathlib import Path
 import mpmath as mp
 import numpy as np
 from scipy.integrate import solve_ivp
+from timing import best_of
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from references.oscillator import contact_function, refine_root
@@ -25,15 +26,6 @@ from references.oscillator import contact_function, refine_root
 from impactsym import contact_time, stick_boundary
 
 CONDITIONS = ("position", "force")
-
-
-def best_of(repeats, fn, *args, **options):
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = fn(*args, **options)
-        times.append(time.perf_counter() - start)
-    return min(times), result
 
 
 def solve_ivp_contact(d, f, condition):

@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import math
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
+from timing import best_of
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's package
 from impactsym.engines import lammps, mujoco
@@ -27,20 +27,11 @@ FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
 DEFAULT = mujoco.DEFAULT_SOLIMP
 
 
-def best_of(repeats, fn):
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return min(times)
-
-
 def throughput(n):
     targets = np.linspace(0.1, 0.95, n)
     for gravity, lo in ((0.0, 0.1), (9.81, 0.2)):
         targets = np.linspace(lo, 0.95, n)
-        t = best_of(
+        t, _ = best_of(
             3,
             lambda g=gravity, e=targets: mujoco.solref_for(
                 restitution=e, speed=1.0, gravity=g, solimp=FLAT

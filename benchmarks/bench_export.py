@@ -18,15 +18,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-
-
-def best_of(repeats, fn, *args, **options):
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = fn(*args, **options)
-        times.append(time.perf_counter() - start)
-    return min(times), result
+from timing import best_of
 
 
 def main() -> None:

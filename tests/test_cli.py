@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 from conftest import CODE
+from references.hooke import hooke_contact
 
 from impactsym.cli import main
 from impactsym.export import formula, formula_names
@@ -118,8 +119,6 @@ def _lammps_design(capsys, *args):
 
 @pytest.mark.parametrize("limit", [True, False])
 def test_lammps_prints_a_pasteable_hooke_line_and_predictions(capsys, limit):
-    from scipy.integrate import solve_ivp
-
     flag = [] if limit else ["--no-limit-damping"]
     args = ["--restitution", "0.4", "--contact-time", "2e-3", "--mass", "0.5", *flag]
     out, kn, eta = _lammps_design(capsys, *args)
@@ -128,21 +127,7 @@ def test_lammps_prints_a_pasteable_hooke_line_and_predictions(capsys, limit):
     assert "predicted contact time: 0.002 s\n" in out
     # the printed kn, eta_n in LAMMPS's law m x'' = -kn x - eta_n x', SciPy's events:
     # the force kn x + eta_n x' (limit_damping) or the overlap ends the contact
-    m = 0.5
-
-    def rhs(t, y):
-        return [y[1], -(kn * y[0] + eta * y[1]) / m]
-
-    def force(t, y):
-        return kn * y[0] + eta * y[1]
-
-    def overlap(t, y):
-        return y[0] if t > 1e-12 else 1.0
-
-    force.terminal = overlap.terminal = True
-    force.direction = overlap.direction = -1
-    events = [force, overlap] if limit else [overlap]
-    sol = solve_ivp(rhs, (0, 1.0), [0.0, 1.0], events=events, rtol=1e-12, atol=1e-15)
+    sol = hooke_contact(kn, eta, 0.5, 1.0, limit_damping=limit)
     assert -sol.y[1, -1] == pytest.approx(0.4, rel=1e-8)  # 10 digits printed
     assert sol.t[-1] == pytest.approx(2e-3, rel=1e-8)
     if limit:
@@ -151,14 +136,7 @@ def test_lammps_prints_a_pasteable_hooke_line_and_predictions(capsys, limit):
         log_e = math.log(0.4)
         D = -log_e / math.sqrt(math.pi**2 + log_e**2)
 
-        def rhs_z(t, y):
-            return [y[1], -2 * D * y[1] - y[0]]
-
-        def force_z(t, y):
-            return 2 * D * y[1] + y[0]
-
-        force_z.terminal, force_z.direction = True, -1
-        ref = solve_ivp(rhs_z, (0, 10.0), [0.0, 1.0], events=[force_z], rtol=1e-12, atol=1e-15)
+        ref = hooke_contact(1.0, 2 * D, 1.0, 1.0, t_max=10.0)  # z'' + 2 D z' + z = 0
         naive = out.split("'damping coeff_restitution 0.4' would give restitution ")[1]
         assert float(naive.split()[0]) == pytest.approx(-ref.y[1, -1], rel=1e-5)
 

@@ -7,7 +7,7 @@ import os
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
+from references.hooke import hooke_contact
 
 from impactsym.contact import contact_time, restitution
 from impactsym.engines.lammps import (
@@ -119,21 +119,7 @@ def test_overlap_force_and_release_match_event_integration(limit_damping, gravit
     kn, eta, m, v = 1e5, 60.0, 2.0, 0.3
     c = predict(kn=kn, damping=eta, mass=m, speed=v, gravity=gravity, limit_damping=limit_damping)
 
-    def rhs(t, y):
-        return [y[1], gravity - (kn * y[0] + eta * y[1]) / m]
-
-    def force(t, y):
-        return kn * y[0] + eta * y[1]
-
-    def overlap(t, y):
-        return y[0] if t > 1e-12 else 1.0
-
-    force.terminal = overlap.terminal = True
-    force.direction = overlap.direction = -1
-    events = [force, overlap] if limit_damping else [overlap]
-    sol = solve_ivp(
-        rhs, (0, 1.0), [0.0, v], events=events, rtol=1e-12, atol=1e-15, dense_output=True
-    )
+    sol = hooke_contact(kn, eta, m, v, gravity=gravity, limit_damping=limit_damping)
     t_end = sol.t[-1]
     assert c.contact_time == pytest.approx(t_end, rel=1e-8)
     assert c.restitution == pytest.approx(-sol.y[1, -1] / v, rel=1e-7)
