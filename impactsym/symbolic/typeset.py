@@ -167,7 +167,7 @@ class Branch(NamedTuple):
 
 @dataclass(frozen=True)
 class Typeset:
-    r"""One display formula: ``lhs = `` its branches, then its abbreviations.
+    r"""One display formula: ``lhs``, an equals sign, its branches, then its abbreviations.
 
     Parameters
     ----------
