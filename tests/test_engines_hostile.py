@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 import pytest
+from references.mujoco_law import mujoco_contact
 from scipy.integrate import solve_ivp
 
 from impactsym.cli import main
@@ -274,38 +275,12 @@ def test_tiny_solimp_d_min_is_integrated_not_an_overflow():
     # d_min = 1e-300 (MuJoCo clamps the impedance to >= 1e-4): the step-size estimate
     # used d_min unclamped and overflowed; against SciPy's events on the same law
     solimp = (1e-300, 0.95, 0.001, 0.5, 2.0)
-    b, kbar = 2 / (0.95 * 0.02), 1 / (0.95**2 * 0.02**2 * 0.3**2)
-
-    def d_of(x):
-        return mujoco.impedance(max(x, 0.0), solimp)
-
-    def rhs(t, y):
-        d = d_of(y[0])
-        return [y[1], -d * (b * y[1] + d * kbar * y[0])]
-
-    def force(t, y):
-        return b * y[1] + d_of(y[0]) * kbar * y[0]
-
-    def position(t, y):
-        return y[0] if t > 1e-12 else 1.0
-
-    force.terminal = position.terminal = True
-    force.direction = position.direction = -1
-    sol = solve_ivp(
-        rhs,
-        (0, 2.0),
-        [0.0, 1.0],
-        method="DOP853",
-        events=[force, position],
-        rtol=1e-12,
-        atol=1e-15,
-        max_step=1e-4,
-    )
+    e, t_c, _ = mujoco_contact((0.02, 0.3), solimp, 1.0)  # max_step tc/200 = 1e-4
     p = mujoco.predict(solref=(0.02, 0.3), solimp=solimp, speed=1.0)
     # the fixed Runge-Kutta step resolves this steep impedance (1e-4 to 0.95 within 1 mm)
     # to 2e-6 (the reference is converged to 1e-12: max_step 1e-4 and 2e-6 agree)
-    assert p.restitution == pytest.approx(-sol.y[1, -1], rel=1e-5)
-    assert p.contact_time == pytest.approx(sol.t[-1], rel=1e-6)
+    assert p.restitution == pytest.approx(e, rel=1e-5)
+    assert p.contact_time == pytest.approx(t_c, rel=1e-6)
     argv = ["mujoco", "--restitution", ".5", "--speed", "1", "--solimp", "1e-300"]
     assert main([*argv, ".95", ".001", ".5", "2"]) == 0
 

@@ -9,9 +9,9 @@ import os
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
+from references.mujoco_law import mujoco_contact
 
-from impactsym.engines.mujoco import impedance, predict, stick_speed
+from impactsym.engines.mujoco import predict, stick_speed
 
 if os.environ.get("CI") == "true":
     import mujoco  # noqa: F401  (CI installs the [engines] extra: a missing engine fails)
@@ -22,40 +22,6 @@ from impactsym.engines.drivers import mujoco_drop
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
 DEFAULT = (0.9, 0.95, 0.001, 0.5, 2.0)
-
-
-def _event_reference(solref, solimp, speed, gravity):
-    """MuJoCo's law integrated by SciPy (DOP853) with events: (e, t_c, by position)."""
-    tc, dr = solref
-    b, kbar = 2 / (solimp[1] * tc), 1 / (solimp[1] ** 2 * tc**2 * dr**2)
-
-    def d_of(x):
-        return impedance(max(x, 0.0), solimp)
-
-    def rhs(t, y):
-        d = d_of(y[0])
-        return [y[1], (1 - d) * gravity - d * (b * y[1] + d * kbar * y[0])]
-
-    def force(t, y):
-        return gravity + b * y[1] + d_of(y[0]) * kbar * y[0]
-
-    def position(t, y):
-        return y[0] if t > 1e-12 else 1.0
-
-    force.terminal = position.terminal = True
-    force.direction = position.direction = -1
-    sol = solve_ivp(
-        rhs,
-        (0, 2.0),
-        [0.0, speed],
-        method="DOP853",
-        events=[force, position],
-        rtol=1e-12,
-        atol=1e-15,
-        max_step=tc / 200,
-    )
-    assert sol.status == 1
-    return -sol.y[1, -1] / speed, sol.t[-1], len(sol.t_events[1]) > 0
 
 
 @pytest.mark.parametrize(
@@ -70,7 +36,7 @@ def _event_reference(solref, solimp, speed, gravity):
 )
 def test_varying_impedance_matches_event_integration(solref, speed, gravity):
     # the Runge-Kutta loop and its Hermite crossing against SciPy's events
-    e, t, by_position = _event_reference(solref, DEFAULT, speed, gravity)
+    e, t, by_position = mujoco_contact(solref, DEFAULT, speed, gravity)
     p = predict(solref=solref, solimp=DEFAULT, speed=speed, gravity=gravity)
     assert p.restitution == pytest.approx(e, rel=1e-6)
     assert p.contact_time == pytest.approx(t, rel=1e-7)
