@@ -11,7 +11,7 @@ import pytest
 from references.rod_characteristics import Characteristics, UnilateralGrid
 from references.rod_sequence_mp import SequenceMP
 
-from impactsym.numeric.exppoly import exp_poly_roots
+from impactsym.numeric.exppoly import exp_poly_bernstein_positive, exp_poly_roots
 from impactsym.rod import contact_force, displacement, impact_sequence
 
 CASES = [(0.3, 0.0), (1.0, 0.0), (20.0, 0.0), (1.0, 0.5), (0.3, 1.0), (2.0, 0.3)]
@@ -193,10 +193,9 @@ def test_bernstein_certificate_proves_what_is_true_and_only_that():
     random exponential polynomials sampled on a fine grid (a proof of F > 0 that a
     sampled minimum contradicts fails the test), and it proves cases the one-sided
     Taylor certificate cannot."""
-    import impactsym.rod.sequence_rigid as rigid
     from impactsym.numeric.exppoly import exp_poly_positive
 
-    prove = rigid._bernstein_positive
+    prove = exp_poly_bernstein_positive
     assert prove([1.0], [1.0, -2.0], 1.0)  # e^x + 1 - 2x >= 3 - 2 ln 2
     assert not prove([1.0], [-3.0], 2.0)  # e^x - 3 vanishes at ln 3
     assert not prove([], [0.25, -1.0, 1.0], 1.0)  # (x - 1/2)^2: a touch is no proof

@@ -21,15 +21,17 @@ docs/physics.md#the-rod-impact-continued-past-separation.
 
 from __future__ import annotations
 
-import functools
 import math
-import operator
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.polynomial import polynomial as npoly
 
-from impactsym.numeric.exppoly import exp_poly_positive, exp_poly_roots
+from impactsym.numeric.exppoly import (
+    exp_poly_bernstein_positive,
+    exp_poly_positive,
+    exp_poly_roots,
+)
 from impactsym.numeric.poly import exp_antiderivative, horner, polyval_rows, taylor_shift, trim
 from impactsym.rod.sequence import RodImpactSequence, SequenceState
 
@@ -238,69 +240,6 @@ def _g_max(tab: _Tables, s_end: float) -> float:
     return best
 
 
-_EPS = float(np.finfo(float).eps)
-_INVFACT = [1.0 / math.factorial(k) for k in range(171)]
-_BERNSTEIN_EXTRA = 8  # most orders of e^x A kept beyond those of B (A with a negative part)
-
-
-@functools.cache
-def _bernstein_ratios(n: int) -> tuple:
-    r"""Rows ``i``: :math:`\binom{i}{k} / \binom{n}{k}`, ``k <= i`` (monomial to
-    Bernstein coefficients of degree ``n`` on ``[0, 1]``)."""
-    return tuple(
-        tuple(math.comb(i, k) / math.comb(n, k) for k in range(i + 1)) for i in range(n + 1)
-    )
-
-
-def _bernstein_positive(A: list, B: list, X: float, *, rising_from_zero: bool = False) -> bool:
-    r"""Whether :math:`F(x) = e^x A(x) + B(x)` is proven positive on :math:`[0, X]`: the
-    second, finer certificate of the event loop, tried where
-    :func:`impactsym.numeric.exppoly.exp_poly_positive` fails and before a search.
-
-    With the Taylor coefficients :math:`T_k = B_k + \sum_i A_i / (k - i)!` of :math:`F`
-    kept to order :math:`K`, :math:`F \ge P_K - \rho` on :math:`[0, X]` with
-    :math:`\rho = e^X \sum_i |A_i| X^{K+1} / (K + 1 - i)!` (:math:`\rho = 0` where every
-    :math:`A_i \ge 0`: the omitted orders are then nonnegative), and :math:`P_K` is at
-    least its smallest Bernstein coefficient on :math:`[0, X]` (a convex combination),
-    far tighter than the one-sided Taylor bound when the signs of the :math:`T_k`
-    alternate. ``rising_from_zero`` (:math:`F(0) = 0`, :math:`F'(0) \ge 0` known, as for
-    :func:`impactsym.numeric.exppoly.exp_poly_roots`): :math:`(F - T_0)/x` is bounded
-    instead (positive on :math:`[0, X]`: :math:`F > 0` on :math:`(0, X]`). ``True``
-    when the bound exceeds the rounding margin of :mod:`impactsym.numeric.exppoly`
-    (:math:`256 (K + 16)\,\epsilon` times the sum of the magnitudes). A proven
-    :math:`F > 0` is a search that finds no root: the sequence is the same, bit for bit
-    (checked on the 1000 sequences of benchmarks/bench_rod_sequence.py), where 98% of
-    the searches that found no root are now skipped.
-    """
-    if not 0.0 < X <= 40.0:
-        return False
-    m, nb = len(A), len(B)
-    negative = any(a < 0.0 for a in A)
-    lead = 1 if rising_from_zero else 0
-    first = max(nb, m, lead + 1) - 1  # the lowest top: every coefficient of B and A kept
-    coef, mag, tail = [], 0.0, 0.0
-    power = 1.0  # X ** (k - lead)
-    e_X = math.exp(X) if negative else 1.0
-    for top in range(lead, first + 1 + (_BERNSTEIN_EXTRA if negative else 0)):
-        t = B[top] if top < nb else 0.0
-        size = abs(t)
-        for i in range(min(top + 1, m)):
-            term = A[i] * _INVFACT[top - i]
-            t += term
-            size += abs(term)
-        coef.append(t * power)
-        mag += size * power
-        power *= X
-        if negative and top >= first:  # orders top + 1, ...: power is X ** (top + 1 - lead)
-            tail = e_X * power * sum(abs(a) * _INVFACT[top + 1 - i] for i, a in enumerate(A))
-            if tail <= 256.0 * _EPS * mag:  # below rounding: more orders add nothing
-                break
-    n = len(coef) - 1
-    floor = tail + 256.0 * (top + 16) * _EPS * (mag + tail)
-    # every Bernstein coefficient above the floor (the first one below ends the proof)
-    return all(sum(map(operator.mul, row, coef)) > floor for row in _bernstein_ratios(n))
-
-
 def _first_root(A: np.ndarray, B: list, X: float, *, rising_from_zero: bool = False):
     """First certified zero with sign change of :math:`e^x A + B` in :math:`(0, X]`, or
     ``None``."""
@@ -371,7 +310,7 @@ class RigidStep:
             return True
         # with B = 0, N = f >= 0 throughout: no sign change; most pieces are proven
         # positive by the cheap certificate, the others searched
-        if not any(B) or exp_poly_positive([f], B, X) or _bernstein_positive([f], B, X):
+        if not any(B) or exp_poly_positive([f], B, X) or exp_poly_bernstein_positive([f], B, X):
             root = None
         else:
             root = _first_root(np.array([f]), B, X)
@@ -416,7 +355,7 @@ class RigidStep:
         lo_gap = C[0] + (2 * alpha * R[0] if Q_in else 0.0)
         if lo_gap < 0.0:  # u - y >= 0 in flight; clear a rounding-level overlap
             C[0] -= lo_gap
-        if exp_poly_positive(A, Bgap, X, rising_from_zero=opening) or _bernstein_positive(
+        if exp_poly_positive(A, Bgap, X, rising_from_zero=opening) or exp_poly_bernstein_positive(
             A, Bgap, X, rising_from_zero=opening
         ):
             root = None  # the gap stays open (the cheap certificates)
