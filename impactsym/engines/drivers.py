@@ -151,7 +151,11 @@ def mujoco_steps(
     MuJoCo keeps a contact at distance exactly 0 out of its constraints
     (``engine_collision_driver.c``, ``mj_setContact``: excluded where
     ``dist >= includemargin``), so at ``phase = 0`` the Euler-type start state detects
-    nothing and the first detecting state is the next one.
+    nothing and the first detecting state is the next one. With ``"rk4"`` a stiff contact
+    can turn the body around within the stages of the entry step, before any state
+    detects it (e.g. ``solref = (0.02, 0.034)`` at ``timestep = 0.002``, phase above
+    about 0.78): the run then reads the next impact under gravity, or none (``sticks``
+    after ``max_steps``) without it.
 
     Returns a dict read from the engine's states (no interpolation): ``restitution`` (the
     separation speed of the end state over ``speed``), ``contact_time`` (touch to the end
