@@ -247,7 +247,7 @@ def _steps_run(model, data, advance, speed, gravity, timestep, integrator, phase
         if data.nefc:
             pen = float(-data.efc_pos[0])
             if force_ended and force > 0:  # the force came back inside the overlap
-                out.update(sticks=True, departure_speed=0.0)
+                out.update(sticks=True, restitution=0.0, contact_time=np.inf, departure_speed=0.0)
                 return out
             if not touched or not force_ended:
                 out["max_penetration"] = max(out["max_penetration"], pen)

@@ -157,7 +157,7 @@ def mujoco_steps(
         a, contact, force, dist = forward(z, v, law, gravity, mass)  # force: efc_force
         if contact:
             if force_ended and force > 0:
-                out.update(sticks=True, departure_speed=0.0)
+                out.update(sticks=True, restitution=0.0, contact_time=math.inf, departure_speed=0.0)
                 return out
             if not force_ended:
                 out["max_penetration"] = max(out["max_penetration"], -dist)
