@@ -8,6 +8,7 @@
 * :mod:`~impactsym.engines.lammps.phases`: mean and range over touch phases;
 * :mod:`~impactsym.engines.lammps.design`: :func:`hooke_for`, ``coeff_restitution``;
 * :mod:`~impactsym.engines.lammps.advisor`: :func:`timestep_for`;
+* :mod:`~impactsym.engines.lammps.derivation`: the SymPy derivation of the step map;
 * :mod:`~impactsym.engines.lammps.common`: shared helpers (natural units, checks).
 
 The physics is in `docs/physics.md#simulation-engines`. SI units throughout.
