@@ -233,3 +233,25 @@ def test_timestep_advisor_keeps_every_phase_within_tolerance_in_lammps():
         assert abs(got["restitution"] / 0.5 - 1) <= 0.01 + 1e-9
     wider = lammps.predict(kn=c.kn, damping=c.damping, mass=MASS, speed=1.0, timestep=1.05 * h)
     assert max(abs(v / 0.5 - 1) for v in wider.restitution_range) > 0.01
+
+
+def test_cli_lammps_timestep_design_and_phase_range_in_lammps(capsys):
+    from impactsym.cli import main
+
+    dt = T_C / 20
+    argv = ["lammps", "--restitution", "0.4", "--contact-time", repr(T_C), "--mass", repr(MASS)]
+    assert main([*argv, "--timestep", repr(dt)]) == 0
+    out = capsys.readouterr().out
+    words = out.splitlines()[1].split()
+    kn, eta = float(words[4]), float(words[5])
+    assert "velocity-Verlet at timestep" in out
+    line = next(s for s in out.splitlines() if s.startswith("restitution over phases"))
+    lo, hi = (float(v) for v in line.split(":")[1].split(".."))
+    e = [
+        lammps_drop(kn=kn, damping=eta, speed=1.0, timestep=dt, phase=p)["restitution"]
+        for p in (np.arange(16) + 0.5) / 16
+    ]
+    assert np.mean(e) == pytest.approx(0.4, rel=5e-3)
+    assert lo - 1e-6 <= min(e) <= max(e) <= hi + 1e-6
+    assert main(argv) == 0
+    assert "continuous (timestep -> 0)" in capsys.readouterr().out
