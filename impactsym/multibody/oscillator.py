@@ -64,6 +64,10 @@ class ReducedContact(ArrayRecord):
         SymPy column when symbolic).
     direction
         The speed projection ``P`` (``n0^T P = 1``), as ``normal``.
+    drift
+        The first-order drift of ``1/m~``, the pressing forces and the curvature during
+        the contact (:class:`impactsym.multibody.drift.ContactDrift`); ``None`` for a
+        symbolic reduction.
     """
 
     m_eff: Scalar
@@ -76,6 +80,7 @@ class ReducedContact(ArrayRecord):
     projection: str
     normal: Any = field(repr=False)
     direction: Any = field(repr=False)
+    drift: Any = field(default=None, repr=False)
 
     # -- derived quantities --------------------------------------------------------
     @property

@@ -37,6 +37,7 @@ from impactsym.multibody.equations import (
     from_model,
     is_mechanics_model,
 )
+from impactsym.multibody.drift import derive_drift
 from impactsym.multibody.oscillator import ReducedContact, penalty_parameter, to_scalar
 from impactsym.validation import (
     as_sympy,
@@ -215,6 +216,7 @@ def reduce_contact(
         projection=projection,
         normal=parts["normal"],
         direction=parts["direction"],
+        drift=parts["drift"],
     )
 
 
@@ -303,6 +305,21 @@ def _reduce(
         if simplify and not value.is_number:
             value = sp.simplify(value)
         out[key] = to_scalar(value)
+    # how M, w, F and the curvature move on during the contact (numeric reductions)
+    out["drift"] = derive_drift(
+        M=system.M,
+        F=system.F,
+        w=w,
+        kappa=kappa,
+        kinematics=A,
+        Q=Q,
+        U=U,
+        state=state,
+        r=r,
+        P_u=P_u,
+        P_q=P_q,
+        v0=v0,
+    )
     out["normal"] = _vector(w0.xreplace(back))
     out["direction"] = _vector(P_u.xreplace(back))
     if isinstance(out["v0"], float) and not out["v0"] > 0:

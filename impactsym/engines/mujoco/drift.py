@@ -1,0 +1,248 @@
+r"""MuJoCo's contact of a reduced multibody system whose configuration moves on during contact.
+
+:func:`~impactsym.engines.mujoco.design.from_reduced` hands MuJoCo's prediction the
+reduction frozen at impact. In MuJoCo the normal motion of a multibody contact obeys
+(penetration ``x``, ``A = J M^-1 J^T = 1/m~``, ``G = r^T F``, curvature ``kappa``;
+`docs/physics.md#multibody-drift`)
+
+.. math::
+
+    \ddot x = -d'(\rho)\,(b\,\dot x + d\,\bar k\,x) + (1 - d'(\rho))\,G + \kappa, \qquad
+    \rho = A / A_\mathrm{diag},
+
+with the force vanishing where ``G + b x' + d kbar x = 0``: MuJoCo's unconstrained
+acceleration ``a0 = J M^-1 F`` leaves out ``J' q'``, so the curvature acts in full and
+does not enter the force. :func:`predict_reduced` lets ``A``, ``G`` and ``kappa`` move
+with the configuration to first order along the reduced motion
+(:class:`impactsym.multibody.drift.ContactDrift`), integrates this equation and the
+frozen one with the same classical Runge-Kutta steps (vectorized over the designs) and
+corrects the frozen prediction by the difference; it warns where ``1/m~`` drifts by more
+than 1 % over the contact.
+
+All quantities are SI: seconds, metres, m/s, m/s^2, kilograms.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from impactsym.engines.mujoco.design import from_reduced
+from impactsym.engines.mujoco.model import (
+    DEFAULT_SOLIMP,
+    check_solimp,
+    check_timestep,
+    coefficients,
+    effective_impedance,
+    impedance_at,
+)
+from impactsym.engines.mujoco.prediction import Prediction, predict
+from impactsym.multibody.drift import DRIFT_LIMIT, drift_of, warn_mass_drift
+from impactsym.records import ArrayRecord
+from impactsym.validation import real_array
+
+__all__ = ["DriftPrediction", "predict_reduced"]
+
+_STEPS = 400  # Runge-Kutta steps over the frozen contact time (the difference cancels their error)
+_HORIZON = 3.0  # integrate up to this many frozen contact times before calling it a stick
+
+
+@dataclass(frozen=True, eq=False)
+class DriftPrediction(ArrayRecord):
+    """MuJoCo's first contact phase of a reduced multibody contact, drift corrected (SI).
+
+    Attributes
+    ----------
+    restitution, contact_time
+        Corrected to first order in the configuration change during contact (seconds).
+    frozen
+        The :class:`~impactsym.engines.mujoco.prediction.Prediction` of the reduction
+        frozen at impact (``predict(**from_reduced(reduced), ...)``).
+    mass_drift
+        Largest relative change of ``1/m~`` along the predicted contact motion.
+    drift_free_contact_time
+        The contact time at which that change would be :data:`DRIFT_LIMIT` (1 %),
+        seconds (the drift grows in proportion to the contact time).
+    """
+
+    restitution: float | np.ndarray
+    contact_time: float | np.ndarray
+    frozen: Prediction
+    mass_drift: float | np.ndarray
+    drift_free_contact_time: float | np.ndarray
+
+
+def _release(x, v, force, t, x1, v1, force1, t1):
+    """Linear interpolation of the first of ``force <= 0`` and ``x <= 0`` on a step."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s_f = np.where(force1 <= 0, force / (force - force1), np.inf)
+        s_x = np.where(x1 <= 0, x / (x - x1), np.inf)
+    s = np.clip(np.minimum(s_f, s_x), 0.0, 1.0)
+    return v + s * (v1 - v), t + s * (t1 - t)
+
+
+def _integrate(rhs, force, v0, t_end, track=None):
+    """Classical Runge-Kutta from ``x = 0, x' = v0`` to the first release (vectorized).
+
+    ``rhs(t, x, v)`` is the acceleration, ``force(t, x, v)`` the release function. Returns
+    the normal speed at release (positive inward), the release time (``inf``: none within
+    ``_HORIZON * t_end``) and the largest ``|track(t, x, v)|`` over the contact's steps.
+    """
+    h = t_end / _STEPS
+    x, v, t = np.zeros_like(v0), v0.copy(), np.zeros_like(v0)
+    done = np.zeros(v0.shape, bool)
+    v_rel, t_rel = np.zeros_like(v0), np.full(v0.shape, np.inf)
+    f = force(t, x, v)
+    peak = np.zeros_like(v0)
+    for _ in range(int(_HORIZON * _STEPS)):
+        k1x, k1v = v, rhs(t, x, v)
+        k2x, k2v = v + h / 2 * k1v, rhs(t + h / 2, x + h / 2 * k1x, v + h / 2 * k1v)
+        k3x, k3v = v + h / 2 * k2v, rhs(t + h / 2, x + h / 2 * k2x, v + h / 2 * k2v)
+        k4x, k4v = v + h * k3v, rhs(t + h, x + h * k3x, v + h * k3v)
+        x1 = x + h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x)
+        v1 = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+        t1 = t + h
+        f1 = force(t1, x1, v1)
+        if track is not None:
+            peak = np.where(done, peak, np.maximum(peak, np.abs(track(t1, x1, v1))))
+        ends = ~done & ((f1 <= 0) | (x1 <= 0))
+        if ends.any():
+            vr, tr = _release(x, v, f, t, x1, v1, f1, t1)
+            v_rel, t_rel = np.where(ends, vr, v_rel), np.where(ends, tr, t_rel)
+            done |= ends
+            if done.all():
+                break
+        x, v, t, f = x1, v1, t1, f1
+    return v_rel, t_rel, peak
+
+
+def _clear_roundoff(reduced: Any, drift: Any) -> Any:
+    """``reduced`` with a load that is negative by round-off only (e.g. ``-2e-15`` N where
+    every term of it vanishes exactly) set to zero, so that ``from_reduced`` accepts it."""
+    v = drift.speed
+    terms = (drift.press[0], drift.press[3] * v, drift.curvature[0], drift.curvature[4] * v * v)
+    scale = 1e-12 * float(reduced.m_eff) * sum(abs(x) for x in terms)
+    if -scale <= float(reduced.load) < 0:
+        return replace(reduced, load=0.0)
+    return reduced
+
+
+def predict_reduced(
+    reduced: Any,
+    *,
+    solref: Any,
+    solimp: Any = DEFAULT_SOLIMP,
+    inverse_weight: Any = None,
+    timestep: float | None = None,
+) -> DriftPrediction:
+    r"""MuJoCo's restitution and contact time for a reduced multibody contact, drift corrected.
+
+    The frozen prediction is
+    ``predict(solref=solref, solimp=solimp, **from_reduced(reduced), inverse_weight=...)``.
+    Along the reduced motion ``1/m~``, the system's pressing acceleration and the
+    curvature of the normal motion change to first order in the configuration change
+    (:class:`impactsym.multibody.drift.ContactDrift`); the normal equation of MuJoCo's
+    contact with them (module docstring) and the frozen one are integrated with the same
+    Runge-Kutta steps (400 over the frozen contact time), and the frozen prediction is
+    corrected by their difference (exactly the frozen prediction where nothing drifts).
+
+    Parameters
+    ----------
+    reduced
+        A numeric :class:`impactsym.multibody.ReducedContact` (with its ``drift``).
+    solref, solimp, timestep
+        As in :func:`~impactsym.engines.mujoco.prediction.predict` (``solref`` entries
+        may be arrays).
+    inverse_weight
+        MuJoCo's ``efc_diagA`` of the contact, 1/kg (default ``1/m~``). It stays fixed
+        while ``A = 1/m~`` drifts, so the effective impedance ``d'`` drifts with it.
+
+    Returns
+    -------
+    DriftPrediction
+
+    Warns
+    -----
+    RuntimeWarning
+        Where ``1/m~`` changes by more than 1 % along the predicted contact, with the
+        contact time that keeps it below.
+
+    Notes
+    -----
+    First order in the configuration change ``q - q0 = p_t t + p z``; the drift of the
+    body's own forces into the normal enters through ``G``. A contact that sticks in the
+    frozen prediction is left uncorrected (``inf``). See
+    `docs/physics.md#multibody-drift`.
+    """
+    drift = drift_of(reduced)
+    kw = from_reduced(_clear_roundoff(reduced, drift))
+    simp = check_solimp(solimp)
+    if timestep is not None:
+        timestep = check_timestep(timestep)
+    if inverse_weight is None:
+        diag = drift.inv_mass[0]
+    else:
+        w, w_scalar = real_array("inverse_weight", inverse_weight, lower=0.0, strict=True)
+        if not w_scalar:
+            raise ValueError(f"inverse_weight must be one number (1/kg), got {inverse_weight!r}")
+        diag = float(w)
+    frozen = predict(solref=solref, solimp=simp, inverse_weight=diag, timestep=timestep, **kw)
+    coeffs = coefficients(solref, simp, timestep)
+    shape = np.shape(frozen.restitution)
+    b, kbar, t_c0 = (
+        np.broadcast_to(np.asarray(a, float), shape).ravel()
+        for a in (coeffs.damping, coeffs.stiffness, frozen.contact_time)
+    )
+    v0, g_f = kw["speed"], kw["gravity"]
+    a_c, g_c, k_c = drift.inv_mass, drift.press, drift.curvature
+    live = np.isfinite(t_c0)
+
+    def expand(c, t, x, v):
+        dv = v - v0
+        return c[0] + c[1] * t + c[2] * x + c[3] * dv + c[4] * dv * dv
+
+    def frozen_rhs(t, x, v):
+        d = impedance_at(x, simp)
+        dp = effective_impedance(d, drift.inv_mass[0] / diag)
+        return -dp * (b * v + d * kbar * x) + (1.0 - dp) * g_f
+
+    def frozen_force(t, x, v):
+        return g_f + b * v + impedance_at(x, simp) * kbar * x
+
+    def drift_rhs(t, x, v):
+        d = impedance_at(x, simp)
+        dp = effective_impedance(d, expand(a_c, t, x, v) / diag)
+        return (
+            -dp * (b * v + d * kbar * x) + (1.0 - dp) * expand(g_c, t, x, v) + expand(k_c, t, x, v)
+        )
+
+    def drift_force(t, x, v):
+        return expand(g_c, t, x, v) + b * v + impedance_at(x, simp) * kbar * x
+
+    e, t_c = np.asarray(frozen.restitution, float).ravel(), t_c0.copy()
+    mass = np.zeros(t_c0.shape)
+    if live.any():
+        sel = np.flatnonzero(live)
+        b, kbar = b[sel], kbar[sel]
+        start = np.full(sel.size, v0)
+        v_f, t_f, _ = _integrate(frozen_rhs, frozen_force, start, t_c0[sel])
+        v_d, t_d, peak = _integrate(
+            drift_rhs, drift_force, start, t_c0[sel], lambda t, x, v: a_c[1] * t + a_c[2] * x
+        )
+        ok = np.isfinite(t_f) & np.isfinite(t_d)
+        e[sel] = np.where(ok, e[sel] + (v_f - v_d) / v0, e[sel])
+        t_c[sel] = np.where(ok, t_c0[sel] + (t_d - t_f), t_c0[sel])
+        mass[sel] = peak / abs(a_c[0])  # along the corrected motion
+    with np.errstate(divide="ignore"):
+        free = np.where(mass > 0, t_c * DRIFT_LIMIT / mass, np.inf)
+    warn_mass_drift(
+        mass,
+        t_c,
+        what="restitution and contact_time here are corrected to first order",
+    )
+    out = [a.reshape(shape) for a in (e, t_c, mass, free)]
+    if not shape:
+        out = [float(a) for a in out]
+    return DriftPrediction(out[0], out[1], frozen, out[2], out[3])
