@@ -31,13 +31,13 @@ from typing import Any, overload
 import numpy as np
 import sympy as sp
 
+from impactsym.multibody.drift import derive_drift
 from impactsym.multibody.equations import (
     EquationsOfMotion,
     from_matrices,
     from_model,
     is_mechanics_model,
 )
-from impactsym.multibody.drift import derive_drift
 from impactsym.multibody.oscillator import ReducedContact, penalty_parameter, to_scalar
 from impactsym.validation import (
     as_sympy,
