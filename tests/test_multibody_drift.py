@@ -1,0 +1,203 @@
+"""The drift of a reduced multibody contact during the contact, and its correction.
+
+The coefficients are checked against closed forms of the falling bar; the corrected
+MuJoCo prediction against MuJoCo itself on three scenes (a tilted capsule dropped on a
+plane, a pendulum swung into a wall under gravity, a ball hitting a free capsule), run
+at a fine timestep with flat impedance, where the frozen model is exact apart from the
+drift.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from impactsym.multibody import reduce_contact
+from impactsym.multibody.drift import DRIFT_LIMIT, ContactDrift, mass_drift
+from impactsym.multibody.examples import falling_bar
+
+FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
+
+
+def _capsule(model, tilt, speed, half=0.2, radius=0.05, mass=1.0):
+    inertia = float(model.body_inertia[1][1])  # about y (transverse, principal)
+    x, z, th, vx, vz, om = sp.symbols("x z theta v_x v_z omega")
+    gap = radius - z + half * sp.sin(th)
+    at = {x: 0, z: half * math.sin(tilt) + radius, th: tilt, vx: 0, vz: -speed, om: 0}
+    M = sp.diag(mass, mass, inertia)
+    return reduce_contact(M, sp.zeros(3, 1), gap, [x, z, th], [vx, vz, om], at, 1.0, 0.0)
+
+
+def _wall_pendulum(angle, omega, length=0.5, radius=0.05, mass=2.0, gravity=9.81):
+    ph, phd = sp.symbols("phi phidot")
+    inertia = mass * length**2 + sp.Rational(2, 5) * mass * radius**2
+    gap = -length * sp.sin(ph) + length * math.sin(angle)  # sphere beyond the wall
+    torque = sp.Matrix([-mass * gravity * length * sp.sin(ph)])
+    at = {ph: angle, phd: -omega}
+    return reduce_contact(sp.Matrix([[inertia]]), torque, gap, [ph], [phd], at, 1.0, 0.0)
+
+
+def _ball_on_capsule(model, tilt, offset, speed, h=0.2, radius=0.05, ball=0.05, m2=1.0):
+    inertia = float(model.body_inertia[1][1])
+    x1, z1, th, x2, z2 = sp.symbols("x1 z1 theta x2 z2")
+    us = sp.symbols("u1:6")
+    beta, reach = math.pi / 2 - tilt - offset, radius + ball
+    gap = reach - sp.sqrt((x2 - x1 - h * sp.cos(th)) ** 2 + (z2 - z1 + h * sp.sin(th)) ** 2)
+    at = {x1: 0, z1: 0, th: tilt}
+    at |= {x2: h * math.cos(tilt) + reach * math.cos(beta)}
+    at |= {z2: -h * math.sin(tilt) + reach * math.sin(beta)}
+    at |= dict(zip(us, (0, 0, 0, -speed * math.cos(beta), -speed * math.sin(beta)), strict=True))
+    M = sp.diag(1.0, 1.0, inertia, m2, m2)
+    return reduce_contact(M, sp.zeros(5, 1), gap, [x1, z1, th, x2, z2], list(us), at, 1.0, 0.0)
+
+
+# -- the coefficients ------------------------------------------------------------------
+def test_bar_coefficients_are_the_closed_form_derivatives():
+    bar = falling_bar()  # m = L = 1, I = 1/12, theta = 30 degrees, falling at speed
+    r = bar.reduce(1e4, 10.0, 0.5)
+    m, inertia, half, th = 1.0, 1.0 / 12.0, 0.5, math.pi / 6
+
+    def inv_mass(theta):
+        return 1.0 / m + (half * math.cos(theta)) ** 2 / inertia
+
+    eps = 1e-6
+    slope = (inv_mass(th + eps) - inv_mass(th - eps)) / (2 * eps)
+    p_theta = half * math.cos(th) / inertia / inv_mass(th)  # impulse projection, theta part
+    d = r.drift
+    assert isinstance(d, ContactDrift)
+    assert d.inv_mass[0] == pytest.approx(inv_mass(th), rel=1e-12)
+    # the bar falls without rotating: the motion that leaves z alone turns it at -P v0
+    assert d.inv_mass_rate == pytest.approx(slope * (-p_theta * 0.5), rel=1e-8)
+    assert d.inv_mass_slope == pytest.approx(slope * p_theta, rel=1e-8)
+    # curvature of the end's height: -(L/2) sin(theta) theta'^2, theta' = P_theta z'
+    assert d.curvature[4] == pytest.approx(-half * math.sin(th) * p_theta**2, rel=1e-10)
+    # gravity's press does not depend on the configuration; the drag's does on z'
+    assert d.press[1:3] == pytest.approx((0.0, 0.0), abs=1e-12)
+    assert d.press[3] == pytest.approx(-r.delta_d / r.m_eff, rel=1e-10)
+
+
+def test_symbolic_reduction_carries_no_drift_and_says_so():
+    m = sp.Symbol("m", positive=True)
+    x, v = sp.symbols("x v")
+    r = reduce_contact(sp.Matrix([[m]]), sp.Matrix([0]), x, [x], [v], {x: 0, v: 1}, 1.0, 0.0)
+    assert r.drift is None
+    with pytest.raises(ValueError, match="no drift coefficients"):
+        mass_drift(r.subs({m: 2.0}), 0.01)
+
+
+def test_mass_drift_grows_with_the_contact_time_and_the_limit_is_its_1_percent():
+    r = falling_bar().reduce(1e4, 10.0, 0.5)
+    times = np.array([1e-3, 2e-3, 4e-3])
+    drift = mass_drift(r, times)
+    assert drift == pytest.approx(drift[0] * times / times[0], rel=1e-12)
+    from impactsym.engines.mujoco import from_reduced
+
+    with pytest.warns(RuntimeWarning, match=r"below ([\d.]+) ms keeps") as info:
+        from_reduced(r, contact_time=0.02)
+    limit = float(str(info[0].message).split("below ")[1].split(" ms")[0]) * 1e-3
+    assert mass_drift(r, limit) == pytest.approx(DRIFT_LIMIT, rel=5e-3)  # 3 digits
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        from_reduced(r, contact_time=0.5 * limit)  # below the limit: silent
+        from_reduced(r)  # no contact time: silent, as before
+
+
+# -- MuJoCo ---------------------------------------------------------------------------
+def _check(p, e, t, frozen_off):
+    assert p.mass_drift > DRIFT_LIMIT
+    assert p.restitution == pytest.approx(e, rel=0.01)
+    assert p.contact_time == pytest.approx(t, rel=0.01)
+    off = max(abs(p.frozen.restitution / e - 1), abs(p.frozen.contact_time / t - 1))
+    assert off > frozen_off  # the uncorrected prediction visibly misses
+    fixed = max(abs(p.restitution / e - 1), abs(p.contact_time / t - 1))
+    assert fixed < off / 4
+
+
+def test_tilted_capsule_in_mujoco():
+    from impactsym.engines.drivers import mujoco_capsule
+    from impactsym.engines.mujoco.drift import predict_reduced
+
+    solref, tilt = (0.03, 0.3), 0.8
+    e, t, model = mujoco_capsule(solref=solref, solimp=FLAT, speed=1.0, tilt=tilt, timestep=2e-5)
+    r = _capsule(model, tilt, 1.0)
+    weight = float(model.body_invweight0[1][0])
+    with pytest.warns(RuntimeWarning, match=r"1/m_eff changes by [\d.]+ %"):
+        p = predict_reduced(r, solref=solref, solimp=FLAT, inverse_weight=weight)
+    _check(p, e, t, 0.025)
+
+
+def test_pendulum_into_a_wall_under_gravity_in_mujoco():
+    from impactsym.engines.drivers import mujoco_wall_pendulum
+    from impactsym.engines.mujoco.drift import predict_reduced
+
+    solref, angle, omega = (0.03, 0.3), 0.9, 2.0
+    e, t, model = mujoco_wall_pendulum(
+        solref=solref, solimp=FLAT, omega=omega, angle=angle, timestep=2e-5
+    )
+    r = _wall_pendulum(angle, omega)
+    assert r.load > 0  # gravity presses the sphere into the wall
+    weight = float(model.body_invweight0[1][0])
+    with pytest.warns(RuntimeWarning, match="drifts during the contact"):
+        p = predict_reduced(r, solref=solref, solimp=FLAT, inverse_weight=weight)
+    _check(p, e, t, 0.012)
+
+
+def test_ball_on_a_free_capsule_in_mujoco():
+    from impactsym.engines.drivers import mujoco_two_bodies
+    from impactsym.engines.mujoco.drift import predict_reduced
+
+    solref, tilt, offset, speed = (0.03, 0.3), 0.3, 0.6, 0.7
+    e, t, model = mujoco_two_bodies(
+        solref=solref, solimp=FLAT, speed=speed, tilt=tilt, offset=offset, ball_mass=1.0, timestep=2e-5
+    )
+    r = _ball_on_capsule(model, tilt, offset, speed)
+    weight = float(model.body_invweight0[1][0] + model.body_invweight0[2][0])
+    with pytest.warns(RuntimeWarning, match="drifts during the contact"):
+        p = predict_reduced(r, solref=solref, solimp=FLAT, inverse_weight=weight)
+    _check(p, e, t, 0.015)
+
+
+def test_without_drift_the_prediction_is_predict_and_silent():
+    from impactsym.engines.mujoco import from_reduced, predict
+    from impactsym.engines.mujoco.drift import predict_reduced
+
+    x, v = sp.symbols("x v")
+    r = reduce_contact(sp.Matrix([[2.0]]), sp.Matrix([19.62]), x, [x], [v], {x: 0, v: 1}, 1, 0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        p = predict_reduced(r, solref=(np.array([0.02, 0.05]), 0.3), solimp=FLAT)
+    q = predict(solref=(np.array([0.02, 0.05]), 0.3), solimp=FLAT, **from_reduced(r))
+    assert np.array_equal(p.restitution, q.restitution)
+    assert np.array_equal(p.contact_time, q.contact_time)
+    assert np.array_equal(p.mass_drift, [0.0, 0.0])
+
+
+# -- hostile input ---------------------------------------------------------------------
+def test_hostile_inputs_are_refused_by_name():
+    from impactsym.engines.mujoco import from_reduced
+    from impactsym.engines.mujoco.drift import predict_reduced
+
+    r = falling_bar().reduce(1e4, 10.0, 0.5)
+    for bad in (object(), None, "reduced"):
+        with pytest.raises(TypeError, match="numeric ReducedContact"):
+            mass_drift(bad, 0.01)
+        with pytest.raises(TypeError, match="ReducedContact"):
+            predict_reduced(bad, solref=(0.02, 0.3))
+    for bad, kind in ((-1e-3, ValueError), (0.0, ValueError), (np.nan, ValueError)):
+        with pytest.raises(kind, match="contact_time"):
+            mass_drift(r, bad)
+        with pytest.raises(kind, match="contact_time"):
+            from_reduced(r, contact_time=bad)
+    with pytest.raises(TypeError, match="contact_time"):
+        mass_drift(r, "0.01")
+    assert mass_drift(r, np.inf) == np.inf
+    with pytest.raises(ValueError, match="inverse_weight"):
+        predict_reduced(r, solref=(0.02, 0.3), inverse_weight=[1.0, 2.0])
+    with pytest.raises(ValueError, match="inverse_weight"):
+        predict_reduced(r, solref=(0.02, 0.3), inverse_weight=-1.0)
+    with pytest.raises((TypeError, ValueError), match="solref"):
+        predict_reduced(r, solref="0.02 0.3")
