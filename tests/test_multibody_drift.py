@@ -152,7 +152,13 @@ def test_ball_on_a_free_capsule_in_mujoco():
 
     solref, tilt, offset, speed = (0.03, 0.3), 0.3, 0.6, 0.7
     e, t, model = mujoco_two_bodies(
-        solref=solref, solimp=FLAT, speed=speed, tilt=tilt, offset=offset, ball_mass=1.0, timestep=2e-5
+        solref=solref,
+        solimp=FLAT,
+        speed=speed,
+        tilt=tilt,
+        offset=offset,
+        ball_mass=1.0,
+        timestep=2e-5,
     )
     r = _ball_on_capsule(model, tilt, offset, speed)
     weight = float(model.body_invweight0[1][0] + model.body_invweight0[2][0])
