@@ -21,6 +21,7 @@ from impactsym.multibody.drift import DRIFT_LIMIT, ContactDrift, mass_drift
 from impactsym.multibody.examples import falling_bar
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
+DEFAULT_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)  # MuJoCo's
 
 
 def _capsule(model, tilt, speed, half=0.2, radius=0.05, mass=1.0):
@@ -117,16 +118,17 @@ def _check(p, e, t, frozen_off):
     assert fixed < off / 4
 
 
-def test_tilted_capsule_in_mujoco():
+@pytest.mark.parametrize("solimp", [FLAT, DEFAULT_SOLIMP], ids=["flat", "default"])
+def test_tilted_capsule_in_mujoco(solimp):
     from impactsym.engines.drivers import mujoco_capsule
     from impactsym.engines.mujoco.drift import predict_reduced
 
     solref, tilt = (0.03, 0.3), 0.8
-    e, t, model = mujoco_capsule(solref=solref, solimp=FLAT, speed=1.0, tilt=tilt, timestep=2e-5)
+    e, t, model = mujoco_capsule(solref=solref, solimp=solimp, speed=1.0, tilt=tilt, timestep=2e-5)
     r = _capsule(model, tilt, 1.0)
     weight = float(model.body_invweight0[1][0])
     with pytest.warns(RuntimeWarning, match=r"1/m_eff changes by [\d.]+ %"):
-        p = predict_reduced(r, solref=solref, solimp=FLAT, inverse_weight=weight)
+        p = predict_reduced(r, solref=solref, solimp=solimp, inverse_weight=weight)
     _check(p, e, t, 0.025)
 
 
@@ -207,3 +209,55 @@ def test_hostile_inputs_are_refused_by_name():
         predict_reduced(r, solref=(0.02, 0.3), inverse_weight=-1.0)
     with pytest.raises((TypeError, ValueError), match="solref"):
         predict_reduced(r, solref="0.02 0.3")
+
+
+def test_mujoco_leaves_the_curvature_out_of_its_constraint_force():
+    """The engine fact the MuJoCo correction rests on: ``a0 = J M^-1 F`` without ``J' q'``.
+
+    The tilted capsule as a rigid body under MuJoCo's force law, integrated by SciPy,
+    reproduces MuJoCo when ``a0`` leaves ``J' q'`` out; with it, the restitution is the
+    frozen prediction's instead.
+    """
+    from scipy.integrate import solve_ivp
+
+    from impactsym.engines.drivers import mujoco_capsule
+    from impactsym.engines.mujoco import predict
+
+    solref, tilt, half, radius, d = (0.05, 0.3), 0.5, 0.2, 0.05, 0.9
+    e, t, model = mujoco_capsule(solref=solref, solimp=FLAT, speed=1.0, tilt=tilt)
+    inertia = float(model.body_inertia[1][1])
+    b = 2 / (d * solref[0])
+    k = 1 / (d * solref[0] ** 2 * solref[1] ** 2)  # d kbar
+    minv = np.array([1.0, 1.0, 1.0 / inertia])
+    weight = float(model.body_invweight0[1][0])  # MuJoCo's A_diag
+    R = (1 - d) / d * weight
+
+    def run(jdot):
+        def parts(s):
+            J = np.array([0.0, 1.0, -half * np.cos(s[2])])  # d(gap)/d(x, z, theta)
+            gap = s[1] - half * np.sin(s[2]) - radius
+            curv = half * np.sin(s[2]) * s[5] ** 2  # J' q'
+            return J, gap, J @ s[3:], curv
+
+        def rhs(_, s):
+            J, gap, rate, curv = parts(s)
+            force = max(0.0, (-b * rate - k * gap - jdot * curv) / (J @ (minv * J) + R))
+            return [*s[3:], *(minv * J * force)]
+
+        def release(time, s):
+            _, gap, rate, curv = parts(s)
+            return -b * rate - k * gap - jdot * curv if time > 1e-6 else 1.0
+
+        release.terminal, release.direction = True, -1
+        s0 = [0.0, half * np.sin(tilt) + radius, tilt, 0.0, -1.0, 0.0]
+        sol = solve_ivp(rhs, (0, 1), s0, events=release, rtol=1e-11, atol=1e-13, max_step=1e-4)
+        return parts(sol.y_events[0][0])[2], sol.t_events[0][0]
+
+    e_without, t_without = run(0.0)
+    assert e_without == pytest.approx(e, rel=1e-3)
+    assert t_without == pytest.approx(t, rel=1e-3)
+    e_with, _ = run(1.0)
+    r = _capsule(model, tilt, 1.0)
+    frozen = predict(solref=solref, solimp=FLAT, mass=r.m_eff, speed=1.0, inverse_weight=weight)
+    assert e_with == pytest.approx(frozen.restitution, rel=2e-3)
+    assert e_with < e * 0.97
