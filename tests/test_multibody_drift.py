@@ -17,20 +17,25 @@ import pytest
 import sympy as sp
 
 from impactsym.multibody import reduce_contact
-from impactsym.multibody.drift import DRIFT_LIMIT, ContactDrift, mass_drift
+from impactsym.multibody.drift import (
+    DRIFT_LIMIT,
+    ContactDrift,
+    drift_free_contact_time,
+    mass_drift,
+)
 from impactsym.multibody.examples import falling_bar
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
 DEFAULT_SOLIMP = (0.9, 0.95, 0.001, 0.5, 2.0)  # MuJoCo's
 
 
-def _capsule(model, tilt, speed, half=0.2, radius=0.05, mass=1.0):
+def _capsule(model, tilt, speed, gravity=0.0, half=0.2, radius=0.05, mass=1.0):
     inertia = float(model.body_inertia[1][1])  # about y (transverse, principal)
     x, z, th, vx, vz, om = sp.symbols("x z theta v_x v_z omega")
     gap = radius - z + half * sp.sin(th)
     at = {x: 0, z: half * math.sin(tilt) + radius, th: tilt, vx: 0, vz: -speed, om: 0}
-    M = sp.diag(mass, mass, inertia)
-    return reduce_contact(M, sp.zeros(3, 1), gap, [x, z, th], [vx, vz, om], at, 1.0, 0.0)
+    M, F = sp.diag(mass, mass, inertia), sp.Matrix([0, -mass * gravity, 0])
+    return reduce_contact(M, F, gap, [x, z, th], [vx, vz, om], at, 1.0, 0.0)
 
 
 def _wall_pendulum(angle, omega, length=0.5, radius=0.05, mass=2.0, gravity=9.81):
@@ -58,7 +63,7 @@ def _ball_on_capsule(model, tilt, offset, speed, h=0.2, radius=0.05, ball=0.05, 
 
 # -- the coefficients ------------------------------------------------------------------
 def test_bar_coefficients_are_the_closed_form_derivatives():
-    bar = falling_bar()  # m = L = 1, I = 1/12, theta = 30 degrees, falling at speed
+    bar = falling_bar(gravity=0.0)  # m = L = 1, I = 1/12, theta = 30 degrees, with drag
     r = bar.reduce(1e4, 10.0, 0.5)
     m, inertia, half, th = 1.0, 1.0 / 12.0, 0.5, math.pi / 6
 
@@ -76,9 +81,28 @@ def test_bar_coefficients_are_the_closed_form_derivatives():
     assert d.inv_mass_slope == pytest.approx(slope * p_theta, rel=1e-8)
     # curvature of the end's height: -(L/2) sin(theta) theta'^2, theta' = P_theta z'
     assert d.curvature[4] == pytest.approx(-half * math.sin(th) * p_theta**2, rel=1e-10)
-    # gravity's press does not depend on the configuration; the drag's does on z'
-    assert d.press[1:3] == pytest.approx((0.0, 0.0), abs=1e-12)
+    # the drag's press depends on z' (it is the reduction's delta_d) and, through the
+    # drag's pull on the free motion, on t
+    assert d.press[2] == pytest.approx(0.0, abs=1e-12)
     assert d.press[3] == pytest.approx(-r.delta_d / r.m_eff, rel=1e-10)
+
+
+def test_free_acceleration_terms_are_the_bars_own():
+    """Under gravity alone the contact force turns the bar at ``theta'' = -P_theta g``
+    (the part of the body's free acceleration that the contact takes out), so that
+    ``A_tt = A'(theta) theta''/2`` and the curvature gains ``t dv`` and ``t^2`` terms."""
+    g, m, inertia, half, th = 9.81, 1.0, 1.0 / 12.0, 0.5, math.pi / 6
+    r = falling_bar(drag=0.0, rotational_drag=0.0).reduce(1e4, 10.0, 0.5)
+    a0 = 1.0 / m + (half * math.cos(th)) ** 2 / inertia
+    p_theta = half * math.cos(th) / inertia / a0
+    theta_acc = -p_theta * g  # G0 = g (w = (0, -1, L/2 cos)); M^-1 F has no rotation
+    slope = -2 * half**2 * math.cos(th) * math.sin(th) / inertia  # dA/dtheta
+    d = r.drift
+    assert d.press[0] == pytest.approx(g, rel=1e-12)
+    assert d.inv_mass[5] == pytest.approx(slope * theta_acc / 2, rel=1e-10)
+    # kappa = -(L/2) sin(theta) theta'^2 with theta' = -P_theta v0 + P_theta z' + theta'' t
+    assert d.curvature[6] == pytest.approx(-half * math.sin(th) * 2 * p_theta * theta_acc)
+    assert d.curvature[1] == pytest.approx(0.0, abs=1e-12)  # theta'(0) = 0
 
 
 def test_symbolic_reduction_carries_no_drift_and_says_so():
@@ -91,7 +115,7 @@ def test_symbolic_reduction_carries_no_drift_and_says_so():
 
 
 def test_mass_drift_grows_with_the_contact_time_and_the_limit_is_its_1_percent():
-    r = falling_bar().reduce(1e4, 10.0, 0.5)
+    r = falling_bar(gravity=0.0, drag=0.0, rotational_drag=0.0).reduce(1e4, 10.0, 0.5)
     times = np.array([1e-3, 2e-3, 4e-3])
     drift = mass_drift(r, times)
     assert drift == pytest.approx(drift[0] * times / times[0], rel=1e-12)
@@ -101,6 +125,11 @@ def test_mass_drift_grows_with_the_contact_time_and_the_limit_is_its_1_percent()
         from_reduced(r, contact_time=0.02)
     limit = float(str(info[0].message).split("below ")[1].split(" ms")[0]) * 1e-3
     assert mass_drift(r, limit) == pytest.approx(DRIFT_LIMIT, rel=5e-3)  # 3 digits
+    exact = drift_free_contact_time(r.drift, 0.02, mass_drift(r, 0.02))
+    assert mass_drift(r, exact) == pytest.approx(DRIFT_LIMIT, rel=1e-9)
+    r_g = falling_bar().reduce(1e4, 10.0, 0.5)  # gravity: A_tt, no longer proportional
+    exact = drift_free_contact_time(r_g.drift, 0.05, mass_drift(r_g, 0.05))
+    assert mass_drift(r_g, exact) == pytest.approx(DRIFT_LIMIT, rel=1e-9)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         from_reduced(r, contact_time=0.5 * limit)  # below the limit: silent
@@ -118,18 +147,24 @@ def _check(p, e, t, frozen_off):
     assert fixed < off / 4
 
 
-@pytest.mark.parametrize("solimp", [FLAT, DEFAULT_SOLIMP], ids=["flat", "default"])
-def test_tilted_capsule_in_mujoco(solimp):
+@pytest.mark.parametrize(
+    ("solimp", "speed", "gravity", "frozen_off"),
+    [(FLAT, 1.0, 0.0, 0.025), (DEFAULT_SOLIMP, 0.5, 9.81, 0.05)],
+    ids=["flat", "default-solimp-gravity"],
+)
+def test_tilted_capsule_in_mujoco(solimp, speed, gravity, frozen_off):
     from impactsym.engines.drivers import mujoco_capsule
     from impactsym.engines.mujoco.drift import predict_reduced
 
     solref, tilt = (0.03, 0.3), 0.8
-    e, t, model = mujoco_capsule(solref=solref, solimp=solimp, speed=1.0, tilt=tilt, timestep=2e-5)
-    r = _capsule(model, tilt, 1.0)
+    e, t, model = mujoco_capsule(
+        solref=solref, solimp=solimp, speed=speed, gravity=gravity, tilt=tilt, timestep=2e-5
+    )
+    r = _capsule(model, tilt, speed, gravity)
     weight = float(model.body_invweight0[1][0])
     with pytest.warns(RuntimeWarning, match=r"1/m_eff changes by [\d.]+ %"):
         p = predict_reduced(r, solref=solref, solimp=solimp, inverse_weight=weight)
-    _check(p, e, t, 0.025)
+    _check(p, e, t, frozen_off)
 
 
 def test_pendulum_into_a_wall_under_gravity_in_mujoco():

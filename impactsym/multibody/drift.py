@@ -4,20 +4,22 @@ r"""How the frozen reduction of a multibody contact drifts while the contact las
 and the forces at the impact state. During a long contact of rotating bodies the
 configuration moves on, and the inverse effective mass ``A = 1/m~ = w^T M^-1 w``, the
 pressing acceleration ``G = r^T F`` and the curvature ``kappa`` of the normal motion
-change with it. To first order the configuration follows the reduced motion itself,
+change with it. To first order the motion follows the reduced motion itself,
 
 .. math::
 
-    u(t) = u_t + P\,\dot z(t), \qquad q(t) = q_0 + p_t\,t + p\,z(t), \qquad
-    u_t = u_0 - P v_0,\ p_t = A_\mathrm{kin} u_t,\ p = A_\mathrm{kin} P,
+    u(t) = u_0 + P\,(\dot z - v_0) + a_\perp t, \qquad
+    q(t) = q_0 + p_t\,t + p\,z(t) + \tfrac12 b_\perp t^2,
 
-(``P`` the impulse projection: what the contact impulse changes; ``u_t`` the rest of the
-motion, which does not change ``z``), so every quantity ``X(q, u)`` of the normal
-dynamics is, to first order in the configuration change,
+with ``P`` the impulse projection (what the contact impulse changes), ``u_t = u0 - P v0``
+the motion that does not change ``z``, ``a_perp = M^-1 F_0 - P G_0`` what the other forces
+add to it, ``p_t = A_kin u_t``, ``p = A_kin P``, ``b_perp = A_kin a_perp``. Every quantity
+``X(q, u)`` of the normal dynamics then is, to first order in the configuration change and
+exactly in the speeds where it is quadratic in them (``dv = z' - v0``),
 
 .. math::
 
-    X(t) \approx X_0 + X_t\,t + X_z\,z + X_v\,(\dot z - v_0) + X_{vv}\,(\dot z - v_0)^2 .
+    X \approx X_0 + X_t\,t + X_z\,z + X_v\,dv + X_{vv}\,dv^2 + X_{tt}\,t^2 + X_{tv}\,t\,dv .
 
 :func:`derive_drift` derives these coefficients (SymPy, at the impact state);
 :class:`ContactDrift` carries them (``ReducedContact.drift``); :func:`mass_drift`
@@ -39,7 +41,15 @@ import sympy as sp
 from impactsym.records import ArrayRecord
 from impactsym.validation import real_array
 
-__all__ = ["DRIFT_LIMIT", "ContactDrift", "derive_drift", "mass_drift", "warn_mass_drift"]
+__all__ = [
+    "DRIFT_LIMIT",
+    "ContactDrift",
+    "derive_drift",
+    "drift_free_contact_time",
+    "drift_of",
+    "mass_drift",
+    "warn_mass_drift",
+]
 
 #: relative change of ``1/m~`` over the contact above which the frozen reduction warns
 DRIFT_LIMIT = 0.01
@@ -73,6 +83,21 @@ class ContactDrift(ArrayRecord):
     press: tuple[float, ...]
     curvature: tuple[float, ...]
 
+    def value(self, name: str, t: Any, z: Any, rate: Any) -> Any:
+        """The expansion of ``name`` (``"inv_mass"``, ``"press"``, ``"curvature"``) at time
+        ``t``, penetration ``z`` and normal speed ``rate`` (NumPy arrays broadcast).
+
+        >>> d = ContactDrift(speed=1.0, inv_mass=(2.0, 0.5, 0, 0, 0, 0, 0),
+        ...                  press=(0.0,) * 7, curvature=(0.0,) * 7)
+        >>> d.value("inv_mass", 0.1, 0.0, 1.0)
+        2.05
+        """
+        c = getattr(self, name)
+        dv = rate - self.speed
+        return (
+            c[0] + c[1] * t + c[2] * z + c[3] * dv + c[4] * dv * dv + c[5] * t * t + c[6] * t * dv
+        )
+
     @property
     def inv_mass_rate(self) -> float:
         """``dA/dt`` at impact from the motion that does not change ``z``, 1/(kg s)."""
@@ -104,7 +129,9 @@ def derive_drift(
     Called by :func:`~impactsym.multibody.reduction.reduce_contact` with its own
     quantities: the mass matrix ``M(Q)``, forces ``F(Q, U)``, normal ``w(Q)`` in speed
     space, curvature ``kappa(Q, U)``, ``q' = kinematics * u``, the impact ``state``,
-    ``r = M0^-1 w0`` and the projections ``P_u``, ``P_q``. The gradients follow from
+    ``r = M0^-1 w0`` and the projections ``P_u``, ``P_q``. The speed terms are exact
+    where ``X`` is quadratic in ``u``; the configuration terms are first order (no Hessian
+    in ``q``, no mixed ``q``-``u`` terms). The gradients follow from
     ``dA/dq_i = 2 r^T w_{,i} - r^T M_{,i} r`` and
     ``dG/dq_i = r_{,i}^T F_0 + r^T F_{,i}``, ``r_{,i} = M0^-1 (w_{,i} - M_{,i} r)``
     (no symbolic inverse). Returns ``None`` when symbols remain (a symbolic reduction).
@@ -125,6 +152,8 @@ def derive_drift(
     M0, F0, w0 = at0(M), at0(F), at0(w)
     u_t = at0(U) - P_u * v0
     p_t = at0(kinematics) * u_t
+    a_perp = M0.LUsolve(F0) - P_u * (r.T * F0)[0]  # what the other forces add to u_t
+    b_perp = at0(kinematics) * a_perp
     grad_a, grad_g = [], []
     for qi in Q:
         w_i, M_i = at0(w_q.diff(qi)), at0(M_q.diff(qi))
@@ -143,10 +172,12 @@ def derive_drift(
     def terms(value, grad_q, grad_u, hess_u) -> tuple[float, ...]:
         out = (
             value,
-            (grad_q.T * p_t)[0],
+            (grad_q.T * p_t)[0] + (grad_u.T * a_perp)[0],
             (grad_q.T * P_q)[0],
             (grad_u.T * P_u)[0],
             (P_u.T * hess_u * P_u)[0] / 2,
+            (grad_q.T * b_perp)[0] / 2 + (a_perp.T * hess_u * a_perp)[0] / 2,
+            (P_u.T * hess_u * a_perp)[0],
         )
         return tuple(float(sp.re(sp.N(x))) for x in out)
 
@@ -182,55 +213,102 @@ def drift_of(reduced: Any) -> ContactDrift:
     return drift
 
 
+def _half_sine_drift(drift: ContactDrift, t_c: np.ndarray) -> np.ndarray:
+    """:func:`mass_drift`'s estimate for contact times ``t_c`` (an array, seconds)."""
+    a0 = drift.inv_mass[0]
+    if not any(drift.inv_mass[i] for i in (1, 2, 5)):
+        return np.zeros(np.shape(t_c))  # nothing drifts, however long the contact
+    s = np.linspace(0.0, 1.0, 257).reshape((-1,) + (1,) * t_c.ndim)
+    with np.errstate(invalid="ignore", over="ignore"):  # 0 * inf: an infinite contact
+        tau = s * t_c
+        z = drift.speed * t_c / np.pi * np.sin(np.pi * s)
+        path = drift.value("inv_mass", tau, z, drift.speed) - a0  # dv = 0: A has no u-terms
+        out = np.max(np.abs(path), axis=0) / abs(a0)
+    return np.where(np.isnan(out), np.inf, out)  # an infinite contact
+
+
 def mass_drift(reduced: Any, contact_time: Any) -> float | np.ndarray:
     r"""Estimated largest relative change of ``1/m~`` over a contact of ``contact_time`` s.
 
-    Along the reduced motion ``A(t) = A_0 + A_t t + A_z z(t)`` (module docstring), with
-    the penetration taken as the half sine ``z = v0 t_c/pi sin(pi t/t_c)`` of an elastic
-    contact of the same duration:
+    Along the reduced motion ``A = A_0 + A_t t + A_z z(t) + A_tt t^2`` (module docstring),
+    with the penetration taken as the half sine ``z = v0 t_c/pi sin(pi t/t_c)`` of an
+    elastic contact of the same duration:
 
     .. math::
 
-        \Delta = \max_{0 \le s \le 1} \frac{|A_t\, t_c\, s + A_z\, v_0 t_c \sin(\pi s)/\pi|}
-        {A_0},
+        \Delta = \max_{0 \le s \le 1} \frac{|A_t\, t_c\, s + A_z\, v_0 t_c \sin(\pi s)/\pi
+        + A_{tt}\, t_c^2 s^2|}{A_0},
 
-    which is proportional to ``t_c`` (so ``t_c * 0.01 / Delta`` keeps it at 1 %). The
-    engines' corrected predictions evaluate ``A`` along their own predicted motion
-    instead. ``contact_time`` may be an array (seconds, > 0; ``inf`` gives ``inf``).
+    proportional to ``t_c`` where ``A_tt`` is negligible. The engines' corrected
+    predictions evaluate ``A`` along their own predicted motion instead.
+    ``contact_time`` may be an array (seconds, > 0; ``inf`` gives ``inf`` unless nothing
+    drifts).
 
     >>> from types import SimpleNamespace
-    >>> d = ContactDrift(speed=1.0, inv_mass=(2.0, 0.4, 0.0, 0.0, 0.0), press=(0.0,) * 5,
-    ...                  curvature=(0.0,) * 5)
+    >>> d = ContactDrift(speed=1.0, inv_mass=(2.0, 0.4, 0, 0, 0, 0, 0), press=(0.0,) * 7,
+    ...                  curvature=(0.0,) * 7)
     >>> round(float(mass_drift(SimpleNamespace(drift=d, is_symbolic=False), 0.05)), 12)
     0.01
     """
     drift = drift_of(reduced)
     t_c, scalar = real_array("contact_time", contact_time, lower=0.0, strict=True, allow_inf=True)
-    a0, a_t, a_z = drift.inv_mass[:3]
-    s = np.linspace(0.0, 1.0, 513)
-    rate = np.max(np.abs(a_t * s + a_z * drift.speed * np.sin(np.pi * s) / np.pi)) / abs(a0)
-    with np.errstate(invalid="ignore"):
-        out = np.where(rate == 0, 0.0, rate * t_c)  # no drift at all: 0 even for inf
+    out = _half_sine_drift(drift, t_c)
     return float(out) if scalar else out
 
 
-def warn_mass_drift(drift: Any, contact_time: Any, *, what: str, stacklevel: int = 3) -> None:
+def drift_free_contact_time(drift: ContactDrift, contact_time: Any, observed: Any) -> np.ndarray:
+    """The contact time below which ``1/m~`` drifts by less than :data:`DRIFT_LIMIT`.
+
+    ``observed`` is the drift found over ``contact_time`` (e.g. along an engine's predicted
+    motion); shorter contacts follow :func:`mass_drift`'s estimate scaled to it: the first
+    crossing of the limit on 200 contact times from ``1e-6 contact_time`` up, refined by 40
+    bisections (vectorized); ``inf`` where the full contact stays below the limit (or
+    never ends).
+    """
+    t_c = np.asarray(contact_time, float)
+    seen = np.asarray(observed, float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scale = seen / _half_sine_drift(drift, t_c)
+    scale = np.where(np.isfinite(scale), scale, 1.0)
+
+    def over(tau):
+        return _half_sine_drift(drift, tau) * scale > DRIFT_LIMIT
+
+    grid = np.geomspace(1e-6, 1.0, 200).reshape((-1,) + (1,) * t_c.ndim) * t_c
+    grid = np.where(np.isfinite(grid), grid, np.nan)  # no limit for an infinite contact
+    above = over(grid)
+    first = np.argmax(above, axis=0)[None]
+    hi = np.take_along_axis(grid, first, axis=0)[0]
+    lo = np.take_along_axis(grid, np.maximum(first - 1, 0), axis=0)[0]
+    for _ in range(40):
+        mid = np.sqrt(lo * hi)
+        up = over(mid)
+        lo, hi = np.where(up, lo, mid), np.where(up, mid, hi)
+    found = np.isfinite(t_c) & above.any(axis=0) & (seen > DRIFT_LIMIT)
+    return np.where(found, lo, np.inf)
+
+
+def warn_mass_drift(
+    drift: Any, contact_time: Any, limit: Any, *, what: str, stacklevel: int = 3
+) -> None:
     """Warn (``RuntimeWarning``) where the relative drift ``drift`` of ``1/m~`` over a
     contact of ``contact_time`` exceeds :data:`DRIFT_LIMIT`, naming the drift and the
-    contact time that keeps it at the limit (the drift grows in proportion to it).
+    contact time ``limit`` that keeps it below (:func:`drift_free_contact_time`).
 
     ``what`` ends the message (e.g. how to correct the prediction).
     """
-    drift, t_c = np.broadcast_arrays(np.abs(np.asarray(drift, float)), np.asarray(contact_time))
+    drift, t_c, limit = np.broadcast_arrays(
+        np.abs(np.asarray(drift, float)), np.asarray(contact_time), np.asarray(limit)
+    )
     over = np.isfinite(drift) & np.isfinite(t_c) & (drift > DRIFT_LIMIT)
     if not over.any():
         return
     i = int(np.argmax(np.where(over, drift, -1.0)))
-    worst, t = float(drift.flat[i]), float(t_c.flat[i])
+    worst, t, free = float(drift.flat[i]), float(t_c.flat[i]), float(limit.flat[i])
     warnings.warn(
         f"the effective mass drifts during the contact: 1/m_eff changes by {100 * worst:.2g} % "
         f"over the {t * 1e3:.4g} ms contact (the reduction freezes it at impact); a contact "
-        f"time below {t * DRIFT_LIMIT / worst * 1e3:.3g} ms keeps the drift below "
+        f"time below {free * 1e3:.3g} ms keeps the drift below "
         f"{100 * DRIFT_LIMIT:g} %; {what}",
         RuntimeWarning,
         stacklevel=stacklevel,

@@ -478,11 +478,18 @@ def from_reduced(reduced: Any, *, contact_time: Any = None) -> dict[str, float]:
     if not (m > 0 and v > 0 and load >= 0 and math.isfinite(m + v + load)):
         raise ValueError(f"reduced needs m_eff > 0, v0 > 0, load >= 0, got {m}, {v}, {load}")
     if contact_time is not None:
-        from impactsym.multibody.drift import mass_drift, warn_mass_drift
+        from impactsym.multibody.drift import (
+            drift_free_contact_time,
+            drift_of,
+            mass_drift,
+            warn_mass_drift,
+        )
 
+        drift = mass_drift(reduced, contact_time)
         warn_mass_drift(
-            mass_drift(reduced, contact_time),
+            drift,
             contact_time,
+            drift_free_contact_time(drift_of(reduced), contact_time, drift),
             what="impactsym.engines.mujoco.drift.predict_reduced corrects the prediction",
         )
     return {"mass": m, "speed": v, "gravity": load / m}

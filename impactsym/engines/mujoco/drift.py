@@ -39,7 +39,11 @@ from impactsym.engines.mujoco.model import (
     impedance_at,
 )
 from impactsym.engines.mujoco.prediction import Prediction, predict
-from impactsym.multibody.drift import DRIFT_LIMIT, drift_of, warn_mass_drift
+from impactsym.multibody.drift import (
+    drift_free_contact_time,
+    drift_of,
+    warn_mass_drift,
+)
 from impactsym.records import ArrayRecord
 from impactsym.validation import real_array
 
@@ -63,8 +67,9 @@ class DriftPrediction(ArrayRecord):
     mass_drift
         Largest relative change of ``1/m~`` along the predicted contact motion.
     drift_free_contact_time
-        The contact time at which that change would be :data:`DRIFT_LIMIT` (1 %),
-        seconds (the drift grows in proportion to the contact time).
+        The contact time at which that change would be 1 %
+        (:data:`impactsym.multibody.drift.DRIFT_LIMIT`), seconds
+        (:func:`impactsym.multibody.drift.drift_free_contact_time`).
     """
 
     restitution: float | np.ndarray
@@ -196,16 +201,12 @@ def predict_reduced(
         for a in (coeffs.damping, coeffs.stiffness, frozen.contact_time)
     )
     v0, g_f = kw["speed"], kw["gravity"]
-    a_c, g_c, k_c = drift.inv_mass, drift.press, drift.curvature
+    a0 = drift.inv_mass[0]
     live = np.isfinite(t_c0)
-
-    def expand(c, t, x, v):
-        dv = v - v0
-        return c[0] + c[1] * t + c[2] * x + c[3] * dv + c[4] * dv * dv
 
     def frozen_rhs(t, x, v):
         d = impedance_at(x, simp)
-        dp = effective_impedance(d, drift.inv_mass[0] / diag)
+        dp = effective_impedance(d, a0 / diag)
         return -dp * (b * v + d * kbar * x) + (1.0 - dp) * g_f
 
     def frozen_force(t, x, v):
@@ -213,13 +214,15 @@ def predict_reduced(
 
     def drift_rhs(t, x, v):
         d = impedance_at(x, simp)
-        dp = effective_impedance(d, expand(a_c, t, x, v) / diag)
+        dp = effective_impedance(d, drift.value("inv_mass", t, x, v) / diag)
         return (
-            -dp * (b * v + d * kbar * x) + (1.0 - dp) * expand(g_c, t, x, v) + expand(k_c, t, x, v)
+            -dp * (b * v + d * kbar * x)
+            + (1.0 - dp) * drift.value("press", t, x, v)
+            + drift.value("curvature", t, x, v)
         )
 
     def drift_force(t, x, v):
-        return expand(g_c, t, x, v) + b * v + impedance_at(x, simp) * kbar * x
+        return drift.value("press", t, x, v) + b * v + impedance_at(x, simp) * kbar * x
 
     e, t_c = np.asarray(frozen.restitution, float).ravel(), t_c0.copy()
     mass = np.zeros(t_c0.shape)
@@ -229,17 +232,21 @@ def predict_reduced(
         start = np.full(sel.size, v0)
         v_f, t_f, _ = _integrate(frozen_rhs, frozen_force, start, t_c0[sel])
         v_d, t_d, peak = _integrate(
-            drift_rhs, drift_force, start, t_c0[sel], lambda t, x, v: a_c[1] * t + a_c[2] * x
+            drift_rhs,
+            drift_force,
+            start,
+            t_c0[sel],
+            lambda t, x, v: drift.value("inv_mass", t, x, v) - a0,
         )
         ok = np.isfinite(t_f) & np.isfinite(t_d)
         e[sel] = np.where(ok, e[sel] + (v_f - v_d) / v0, e[sel])
         t_c[sel] = np.where(ok, t_c0[sel] + (t_d - t_f), t_c0[sel])
-        mass[sel] = peak / abs(a_c[0])  # along the corrected motion
-    with np.errstate(divide="ignore"):
-        free = np.where(mass > 0, t_c * DRIFT_LIMIT / mass, np.inf)
+        mass[sel] = peak / abs(a0)  # along the corrected motion
+    free = drift_free_contact_time(drift, t_c, mass)
     warn_mass_drift(
         mass,
         t_c,
+        free,
         what="restitution and contact_time here are corrected to first order",
     )
     out = [a.reshape(shape) for a in (e, t_c, mass, free)]
