@@ -296,3 +296,53 @@ def test_mujoco_leaves_the_curvature_out_of_its_constraint_force():
     frozen = predict(solref=solref, solimp=FLAT, mass=r.m_eff, speed=1.0, inverse_weight=weight)
     assert e_with == pytest.approx(frozen.restitution, rel=2e-3)
     assert e_with < e * 0.97
+
+
+# -- the penalty contact of section 2 --------------------------------------------------
+def test_penalty_contact_of_a_turning_bar_is_the_full_simulation():
+    from impactsym.multibody.drift import corrected_contact
+    from impactsym.multibody.simulation import simulate_contact
+
+    bar = falling_bar(gravity=0.0, drag=0.0, rotational_drag=0.0)
+    r = bar.reduce(1e4, 3.0, 1.0)
+    sim = simulate_contact(bar, 1e4, 3.0, 1.0, condition=["force", "position"], steps=100)
+    for i, condition in enumerate(("force", "position")):
+        with pytest.warns(RuntimeWarning, match="drifts during the contact"):
+            c = corrected_contact(r, condition=condition)
+        e, t = float(sim.restitution[i]), float(sim.contact_time[i])
+        assert abs(c.frozen_restitution / e - 1) > 0.01  # the frozen reduction misses
+        assert c.restitution == pytest.approx(e, rel=1e-3)
+        assert c.contact_time == pytest.approx(t, rel=1e-3)
+        assert c.frozen_restitution == r.restitution(condition)
+
+
+def test_penalty_contact_of_the_double_pendulum_within_1_percent():
+    from impactsym.multibody.drift import corrected_contact
+    from impactsym.multibody.examples import double_pendulum
+    from impactsym.multibody.simulation import simulate_contact
+
+    pendulum = double_pendulum()  # gravity, joint springs and dampers
+    r = pendulum.reduce(np.array([1e4, 3e4]), np.array([3.0, 10.0]), 1.0)
+    sim = simulate_contact(
+        pendulum, np.array([1e4, 3e4]), np.array([3.0, 10.0]), 1.0, condition="position", steps=100
+    )
+    with pytest.warns(RuntimeWarning, match="drifts during the contact"):
+        c = corrected_contact(r, condition="position")
+    frozen = np.abs(c.frozen_restitution / sim.restitution - 1)
+    fixed = np.abs(c.restitution / sim.restitution - 1)
+    assert frozen[0] > 0.03
+    assert np.all(fixed < 0.01)
+    assert np.all(fixed < frozen / 3)
+    assert np.all(np.abs(c.contact_time / sim.contact_time - 1) < 0.002)
+
+
+def test_corrected_contact_refuses_bad_input():
+    from impactsym.multibody.drift import corrected_contact
+
+    r = falling_bar().reduce(1e4, 10.0, 0.5)
+    with pytest.raises(TypeError):
+        corrected_contact(r)  # the condition has no default
+    with pytest.raises(ValueError, match="condition"):
+        corrected_contact(r, condition="velocity")
+    with pytest.raises(TypeError, match="numeric ReducedContact"):
+        corrected_contact(object(), condition="force")

@@ -23,15 +23,19 @@ exactly in the speeds where it is quadratic in them (``dv = z' - v0``),
 
 :func:`derive_drift` derives these coefficients (SymPy, at the impact state);
 :class:`ContactDrift` carries them (``ReducedContact.drift``); :func:`mass_drift`
-estimates the relative change of ``1/m~`` over a contact of given duration and
-:func:`warn_mass_drift` warns above 1 %. The engines correct their predictions with the
-same coefficients (:mod:`impactsym.engines.mujoco.drift`). Derivation and checks:
+estimates the relative change of ``1/m~`` over a contact of given duration,
+:func:`drift_free_contact_time` the contact time that keeps it at 1 % and
+:func:`warn_mass_drift` warns above. :func:`corrected_contact` corrects the section-2
+penalty contact of the reduction to first order (:func:`integrate_release` integrates the
+frozen and the drifting normal equation alike); MuJoCo's contact is corrected with the
+same coefficients in :mod:`impactsym.engines.mujoco.drift`. Derivation and checks:
 `docs/physics.md#multibody-drift`.
 """
 
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -39,14 +43,17 @@ import numpy as np
 import sympy as sp
 
 from impactsym.records import ArrayRecord
-from impactsym.validation import real_array
+from impactsym.validation import check_condition, real_array
 
 __all__ = [
     "DRIFT_LIMIT",
     "ContactDrift",
+    "CorrectedContact",
+    "corrected_contact",
     "derive_drift",
     "drift_free_contact_time",
     "drift_of",
+    "integrate_release",
     "mass_drift",
     "warn_mass_drift",
 ]
@@ -190,6 +197,61 @@ def derive_drift(
     )
 
 
+_STEPS = 400  # Runge-Kutta steps over the expected contact time
+_HORIZON = 3.0  # integrate up to this many expected contact times before calling it a stick
+
+
+def _release(x, v, force, t, x1, v1, force1, t1):
+    """Linear interpolation of the first of ``force <= 0`` and ``x <= 0`` on a step."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s_f = np.where(force1 <= 0, force / (force - force1), np.inf)
+        s_x = np.where(x1 <= 0, x / (x - x1), np.inf)
+    s = np.clip(np.minimum(s_f, s_x), 0.0, 1.0)
+    return v + s * (v1 - v), t + s * (t1 - t)
+
+
+def integrate_release(
+    rhs: Callable, force: Callable, v0: np.ndarray, t_end: np.ndarray, track: Callable | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Classical Runge-Kutta from ``x = 0, x' = v0`` to the first release (vectorized).
+
+    ``rhs(t, x, v)`` is the acceleration, ``force(t, x, v)`` the release function: the
+    contact ends at the first step where it or ``x`` is ``<= 0`` (located by linear
+    interpolation on the step). ``t_end`` (an array like ``v0``) is the expected contact
+    time: ``_STEPS`` steps span it, at most ``_HORIZON`` times it are integrated. Returns
+    the normal speed at release (positive inward), the release time (``inf``: none) and
+    the largest ``|track(t, x, v)|`` over the contact's steps. Used by the drift
+    corrections, which take the difference of two such runs, so that the integration
+    error cancels to first order.
+    """
+    h = t_end / _STEPS
+    x, v, t = np.zeros_like(v0), v0.copy(), np.zeros_like(v0)
+    done = np.zeros(v0.shape, bool)
+    v_rel, t_rel = np.zeros_like(v0), np.full(v0.shape, np.inf)
+    f = force(t, x, v)
+    peak = np.zeros_like(v0)
+    for _ in range(int(_HORIZON * _STEPS)):
+        k1x, k1v = v, rhs(t, x, v)
+        k2x, k2v = v + h / 2 * k1v, rhs(t + h / 2, x + h / 2 * k1x, v + h / 2 * k1v)
+        k3x, k3v = v + h / 2 * k2v, rhs(t + h / 2, x + h / 2 * k2x, v + h / 2 * k2v)
+        k4x, k4v = v + h * k3v, rhs(t + h, x + h * k3x, v + h * k3v)
+        x1 = x + h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x)
+        v1 = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
+        t1 = t + h
+        f1 = force(t1, x1, v1)
+        if track is not None:
+            peak = np.where(done, peak, np.maximum(peak, np.abs(track(t1, x1, v1))))
+        ends = ~done & ((f1 <= 0) | (x1 <= 0))
+        if ends.any():
+            vr, tr = _release(x, v, f, t, x1, v1, f1, t1)
+            v_rel, t_rel = np.where(ends, vr, v_rel), np.where(ends, tr, t_rel)
+            done |= ends
+            if done.all():
+                break
+        x, v, t, f = x1, v1, t1, f1
+    return v_rel, t_rel, peak
+
+
 def drift_of(reduced: Any) -> ContactDrift:
     """The :class:`ContactDrift` of a numeric ``ReducedContact``, or a ``TypeError``/``ValueError``.
 
@@ -313,3 +375,127 @@ def warn_mass_drift(
         RuntimeWarning,
         stacklevel=stacklevel,
     )
+
+
+@dataclass(frozen=True, eq=False)
+class CorrectedContact(ArrayRecord):
+    """The section-2 contact of a reduced multibody contact, drift corrected (SI units).
+
+    Attributes
+    ----------
+    restitution, contact_time
+        Corrected to first order in the configuration change during contact (seconds).
+    frozen_restitution, frozen_contact_time
+        Those of the reduction frozen at impact (``ReducedContact.restitution`` and
+        ``.contact_time``).
+    mass_drift
+        Largest relative change of ``1/m~`` along the corrected contact motion.
+    drift_free_contact_time
+        The contact time at which that change would be 1 % (:func:`drift_free_contact_time`).
+    """
+
+    restitution: float | np.ndarray
+    contact_time: float | np.ndarray
+    frozen_restitution: float | np.ndarray
+    frozen_contact_time: float | np.ndarray
+    mass_drift: float | np.ndarray
+    drift_free_contact_time: float | np.ndarray
+
+
+def corrected_contact(reduced: Any, *, condition: str) -> CorrectedContact:
+    r"""The penalty contact of a reduced multibody contact with its drift, to first order.
+
+    The frozen reduction is the section-2 oscillator
+    ``m~ z'' + d~ z' + c~ z = F_n``. The penalty force ``-(d z' + k z)`` acts along the
+    current normal, so the exact normal dynamics is ``z'' = G + kappa - A (d z' + k z)``;
+    with ``A``, ``G`` and ``kappa`` drifting along the reduced motion (module docstring) it
+    is the frozen oscillator plus
+
+    .. math::
+
+        \delta = -(A - A_0)(d\dot z + kz) + (G - G_0 - G_v\,\delta v + (\tilde c - k)\,z/\tilde m)
+        + (\kappa - \kappa_0),
+
+    (what the frozen reduction already holds of ``G`` taken out). Both are integrated with
+    the same Runge-Kutta steps (:func:`integrate_release`) to the end of contact under
+    ``condition`` (``"force"``: ``d~ z' + c~ z`` turns tensile; ``"position"``: ``z``
+    returns to zero), and the section-2 result is corrected by their difference. Where
+    the frozen contact sticks it is left as it is. Warns (``RuntimeWarning``) where
+    ``1/m~`` drifts by more than 1 % over the contact.
+
+    Parameters
+    ----------
+    reduced
+        A numeric :class:`impactsym.multibody.ReducedContact` (``k``, ``d`` may be arrays).
+    condition
+        ``"force"`` or ``"position"`` (no default: the two differ).
+
+    Returns
+    -------
+    CorrectedContact
+
+    Notes
+    -----
+    Checked against the full nonlinear simulation
+    :func:`impactsym.multibody.simulation.simulate_contact`; see
+    `docs/physics.md#multibody-drift`.
+    """
+    check_condition(condition)
+    drift = drift_of(reduced)
+    e0 = np.asarray(reduced.restitution(condition), float)
+    t0 = np.asarray(reduced.contact_time(condition), float)
+    shape = e0.shape
+    m, v0 = float(reduced.m_eff), float(reduced.v0)
+    a0 = drift.inv_mass[0]
+    d_eff, c_eff, k, d = (
+        np.broadcast_to(np.asarray(x, float), shape).ravel()
+        for x in (reduced.d_eff, reduced.c_eff, reduced.k, reduced.d)
+    )
+    load, stiff_extra = float(reduced.load), float(reduced.delta_c) / m
+    e, t_c = e0.ravel().copy(), t0.ravel().copy()
+    mass = np.zeros(t_c.shape)
+    live = np.flatnonzero(np.isfinite(t_c))
+    if live.size:
+        dd, cc, kk, dp = d_eff[live], c_eff[live], k[live], d[live]
+        g0, gv, k0 = drift.press[0], drift.press[3], drift.curvature[0]
+
+        def frozen(t, x, v):
+            return (load - dd * v - cc * x) / m
+
+        def drifted(t, x, v):
+            d_inv = drift.value("inv_mass", t, x, v) - a0
+            d_press = drift.value("press", t, x, v) - (g0 + gv * (v - v0) - stiff_extra * x)
+            d_curv = drift.value("curvature", t, x, v) - k0
+            return frozen(t, x, v) - d_inv * (dp * v + kk * x) + d_press + d_curv
+
+        if condition == "force":
+
+            def release(t, x, v):
+                return dd * v + cc * x
+
+        else:
+
+            def release(t, x, v):
+                return x + 0.0 * v
+
+        start = np.full(live.size, v0)
+        v_f, t_f, _ = integrate_release(frozen, release, start, t_c[live])
+        v_d, t_d, peak = integrate_release(
+            drifted,
+            release,
+            start,
+            t_c[live],
+            lambda t, x, v: drift.value("inv_mass", t, x, v) - a0,
+        )
+        ok = np.isfinite(t_f) & np.isfinite(t_d)
+        e[live] = np.where(ok, e[live] + (v_f - v_d) / v0, e[live])
+        t_c[live] = np.where(ok, t_c[live] + (t_d - t_f), t_c[live])
+        mass[live] = peak / abs(a0)
+    free = drift_free_contact_time(drift, t_c, mass)
+    warn_mass_drift(
+        mass, t_c, free, what="restitution and contact_time here are corrected to first order"
+    )
+    out = [a.reshape(shape) for a in (e, t_c, e0, t0, mass, free)]
+    if not shape:
+        out = [float(a) for a in out]
+    return CorrectedContact(*out)

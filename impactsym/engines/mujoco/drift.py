@@ -42,15 +42,13 @@ from impactsym.engines.mujoco.prediction import Prediction, predict
 from impactsym.multibody.drift import (
     drift_free_contact_time,
     drift_of,
+    integrate_release,
     warn_mass_drift,
 )
 from impactsym.records import ArrayRecord
 from impactsym.validation import real_array
 
 __all__ = ["DriftPrediction", "predict_reduced"]
-
-_STEPS = 400  # Runge-Kutta steps over the frozen contact time (the difference cancels their error)
-_HORIZON = 3.0  # integrate up to this many frozen contact times before calling it a stick
 
 
 @dataclass(frozen=True, eq=False)
@@ -77,50 +75,6 @@ class DriftPrediction(ArrayRecord):
     frozen: Prediction
     mass_drift: float | np.ndarray
     drift_free_contact_time: float | np.ndarray
-
-
-def _release(x, v, force, t, x1, v1, force1, t1):
-    """Linear interpolation of the first of ``force <= 0`` and ``x <= 0`` on a step."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s_f = np.where(force1 <= 0, force / (force - force1), np.inf)
-        s_x = np.where(x1 <= 0, x / (x - x1), np.inf)
-    s = np.clip(np.minimum(s_f, s_x), 0.0, 1.0)
-    return v + s * (v1 - v), t + s * (t1 - t)
-
-
-def _integrate(rhs, force, v0, t_end, track=None):
-    """Classical Runge-Kutta from ``x = 0, x' = v0`` to the first release (vectorized).
-
-    ``rhs(t, x, v)`` is the acceleration, ``force(t, x, v)`` the release function. Returns
-    the normal speed at release (positive inward), the release time (``inf``: none within
-    ``_HORIZON * t_end``) and the largest ``|track(t, x, v)|`` over the contact's steps.
-    """
-    h = t_end / _STEPS
-    x, v, t = np.zeros_like(v0), v0.copy(), np.zeros_like(v0)
-    done = np.zeros(v0.shape, bool)
-    v_rel, t_rel = np.zeros_like(v0), np.full(v0.shape, np.inf)
-    f = force(t, x, v)
-    peak = np.zeros_like(v0)
-    for _ in range(int(_HORIZON * _STEPS)):
-        k1x, k1v = v, rhs(t, x, v)
-        k2x, k2v = v + h / 2 * k1v, rhs(t + h / 2, x + h / 2 * k1x, v + h / 2 * k1v)
-        k3x, k3v = v + h / 2 * k2v, rhs(t + h / 2, x + h / 2 * k2x, v + h / 2 * k2v)
-        k4x, k4v = v + h * k3v, rhs(t + h, x + h * k3x, v + h * k3v)
-        x1 = x + h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x)
-        v1 = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v)
-        t1 = t + h
-        f1 = force(t1, x1, v1)
-        if track is not None:
-            peak = np.where(done, peak, np.maximum(peak, np.abs(track(t1, x1, v1))))
-        ends = ~done & ((f1 <= 0) | (x1 <= 0))
-        if ends.any():
-            vr, tr = _release(x, v, f, t, x1, v1, f1, t1)
-            v_rel, t_rel = np.where(ends, vr, v_rel), np.where(ends, tr, t_rel)
-            done |= ends
-            if done.all():
-                break
-        x, v, t, f = x1, v1, t1, f1
-    return v_rel, t_rel, peak
 
 
 def _clear_roundoff(reduced: Any, drift: Any) -> Any:
@@ -230,8 +184,8 @@ def predict_reduced(
         sel = np.flatnonzero(live)
         b, kbar = b[sel], kbar[sel]
         start = np.full(sel.size, v0)
-        v_f, t_f, _ = _integrate(frozen_rhs, frozen_force, start, t_c0[sel])
-        v_d, t_d, peak = _integrate(
+        v_f, t_f, _ = integrate_release(frozen_rhs, frozen_force, start, t_c0[sel])
+        v_d, t_d, peak = integrate_release(
             drift_rhs,
             drift_force,
             start,
