@@ -130,9 +130,9 @@ def predict_reduced(
 
     Notes
     -----
-    First order in the configuration change ``q - q0 = p_t t + p z``; the drift of the
-    body's own forces into the normal enters through ``G``. A contact that sticks in the
-    frozen prediction is left uncorrected (``inf``). See
+    First order in the configuration change ``q - q0 = p_t t + p z + b_perp t^2 / 2``;
+    the drift of the body's own forces into the normal enters through ``G``. A contact
+    that sticks in the frozen prediction is left uncorrected (``inf``). See
     `docs/physics.md#multibody-drift`.
     """
     drift = drift_of(reduced)
@@ -178,7 +178,7 @@ def predict_reduced(
     def drift_force(t, x, v):
         return drift.value("press", t, x, v) + b * v + impedance_at(x, simp) * kbar * x
 
-    e, t_c = np.asarray(frozen.restitution, float).ravel(), t_c0.copy()
+    e, t_c = np.array(frozen.restitution, float).ravel(), t_c0.copy()  # copies
     mass = np.zeros(t_c0.shape)
     if live.any():
         sel = np.flatnonzero(live)
