@@ -346,3 +346,28 @@ def test_corrected_contact_refuses_bad_input():
         corrected_contact(r, condition="velocity")
     with pytest.raises(TypeError, match="numeric ReducedContact"):
         corrected_contact(object(), condition="force")
+
+
+def test_drift_building_blocks_refuse_bad_input():
+    from impactsym.multibody.drift import integrate_release
+
+    d = falling_bar().reduce(1e4, 10.0, 0.5).drift
+    with pytest.raises(ValueError, match="name"):
+        d.value("mass", 0.0, 0.0, 0.5)
+    with pytest.raises(TypeError, match="ContactDrift"):
+        drift_free_contact_time({"speed": 1.0}, 0.01, 0.02)
+    with pytest.raises(ValueError, match="contact_time"):
+        drift_free_contact_time(d, -0.01, 0.02)
+    with pytest.raises(ValueError, match="observed"):
+        drift_free_contact_time(d, 0.01, np.nan)
+    one = np.ones(1)
+
+    def rhs(t, x, v):
+        return -x
+
+    for v0, t_end in ((0 * one, one), (one, np.inf * one), (one, -one)):
+        with pytest.raises(ValueError, match="v0|t_end"):
+            integrate_release(rhs, rhs, v0, t_end)
+    v, t, _ = integrate_release(rhs, lambda t, x, v: x, one, np.pi * one)  # x'' = -x
+    assert t == pytest.approx(np.pi, rel=1e-6)
+    assert v == pytest.approx(-1.0, rel=1e-6)

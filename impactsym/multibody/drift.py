@@ -99,6 +99,8 @@ class ContactDrift(ArrayRecord):
         >>> d.value("inv_mass", 0.1, 0.0, 1.0)
         2.05
         """
+        if name not in ("inv_mass", "press", "curvature"):
+            raise ValueError(f"name must be 'inv_mass', 'press' or 'curvature', got {name!r}")
         c = getattr(self, name)
         dv = rate - self.speed
         return (
@@ -224,7 +226,12 @@ def integrate_release(
     corrections, which take the difference of two such runs, so that the integration
     error cancels to first order.
     """
-    h = t_end / _STEPS
+    for name, value in (("v0", v0), ("t_end", t_end)):
+        arr = np.asarray(value, float)
+        if not np.all(np.isfinite(arr) & (arr > 0)):
+            raise ValueError(f"{name} must be finite and > 0, got {value!r}")
+    v0 = np.asarray(v0, float)
+    h = np.asarray(t_end, float) / _STEPS
     x, v, t = np.zeros_like(v0), v0.copy(), np.zeros_like(v0)
     done = np.zeros(v0.shape, bool)
     v_rel, t_rel = np.zeros_like(v0), np.full(v0.shape, np.inf)
@@ -327,8 +334,10 @@ def drift_free_contact_time(drift: ContactDrift, contact_time: Any, observed: An
     bisections (vectorized); ``inf`` where the full contact stays below the limit (or
     never ends).
     """
-    t_c = np.asarray(contact_time, float)
-    seen = np.asarray(observed, float)
+    if not isinstance(drift, ContactDrift):
+        raise TypeError(f"drift must be a ContactDrift (ReducedContact.drift), got {drift!r}")
+    t_c, _ = real_array("contact_time", contact_time, lower=0.0, strict=True, allow_inf=True)
+    seen, _ = real_array("observed", observed, lower=0.0, allow_inf=True)
     with np.errstate(invalid="ignore", divide="ignore"):
         scale = seen / _half_sine_drift(drift, t_c)
     scale = np.where(np.isfinite(scale), scale, 1.0)
