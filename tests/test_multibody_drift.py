@@ -3,8 +3,8 @@
 The coefficients are checked against closed forms of the falling bar; the corrected
 MuJoCo prediction against MuJoCo itself on three scenes (a tilted capsule dropped on a
 plane, a pendulum swung into a wall under gravity, a ball hitting a free capsule), run
-at a fine timestep with flat impedance, where the frozen model is exact apart from the
-drift.
+at a fine timestep, where the frozen model is exact apart from the drift; the corrected
+penalty contact against the full nonlinear simulation of section 3.
 """
 
 from __future__ import annotations
