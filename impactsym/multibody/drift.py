@@ -135,10 +135,11 @@ def derive_drift(
 ) -> ContactDrift | None:
     r"""The :class:`ContactDrift` of a reduction at the impact state (SymPy, exact).
 
-    Called by :func:`~impactsym.multibody.reduction.reduce_contact` with its own
-    quantities: the mass matrix ``M(Q)``, forces ``F(Q, U)``, normal ``w(Q)`` in speed
-    space, curvature ``kappa(Q, U)``, ``q' = kinematics * u``, the impact ``state``,
-    ``r = M0^-1 w0`` and the projections ``P_u``, ``P_q``. The speed terms are exact
+    Bound by :func:`~impactsym.multibody.reduction.reduce_contact` to its own quantities
+    and called on first use of ``ReducedContact.drift``: the mass matrix ``M(Q)``, forces
+    ``F(Q, U)``, normal ``w(Q)`` in speed space, curvature ``kappa(Q, U)``,
+    ``q' = kinematics * u``, the impact ``state``, ``r = M0^-1 w0`` and the projections
+    ``P_u``, ``P_q``. The speed terms are exact
     where ``X`` is quadratic in ``u``; the configuration terms are first order (no Hessian
     in ``q``, no mixed ``q``-``u`` terms). The gradients follow from
     ``dA/dq_i = 2 r^T w_{,i} - r^T M_{,i} r`` and

@@ -24,6 +24,7 @@ The result object :class:`~impactsym.multibody.oscillator.ReducedContact` lives 
 
 from __future__ import annotations
 
+import functools
 import numbers
 from collections.abc import Mapping, Sequence
 from typing import Any, overload
@@ -216,7 +217,7 @@ def reduce_contact(
         projection=projection,
         normal=parts["normal"],
         direction=parts["direction"],
-        drift=parts["drift"],
+        drift_source=parts["drift"],
     )
 
 
@@ -305,8 +306,10 @@ def _reduce(
         if simplify and not value.is_number:
             value = sp.simplify(value)
         out[key] = to_scalar(value)
-    # how M, w, F and the curvature move on during the contact (numeric reductions)
-    out["drift"] = derive_drift(
+    # how M, w, F and the curvature move on during the contact: derived on first use
+    # (ReducedContact.drift), so reductions that never ask pay nothing
+    out["drift"] = functools.partial(
+        derive_drift,
         M=system.M,
         F=system.F,
         w=w,
