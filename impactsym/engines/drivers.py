@@ -452,3 +452,140 @@ def _setup_mass(lmp, script: str) -> float:
     for line in script.splitlines():
         lmp.command(line)
     return float(lmp.numpy.extract_atom("rmass")[0])
+
+
+def _contact_attrs(solref, solimp) -> str:
+    ref = f"{float(solref[0])!r} {float(solref[1])!r}"
+    imp = " ".join(repr(float(v)) for v in solimp)
+    return f'condim="1" solref="{ref}" solimp="{imp}"'
+
+
+def _option(timestep, gravity) -> str:
+    return f'timestep="{float(timestep)!r}" gravity="0 0 {-float(gravity)!r}" integrator="Euler"'
+
+
+def mujoco_capsule(
+    *,
+    solref,
+    solimp,
+    speed,
+    tilt=0.8,
+    half_length=0.2,
+    radius=0.05,
+    mass=1.0,
+    gravity=0.0,
+    timestep=1e-5,
+):
+    """A free capsule (axis tilted by ``tilt`` about ``y``) dropped on a plane: one end hits.
+
+    The capsule's centre falls at ``speed`` without rotation; its lower end cap touches
+    the plane at ``t = 0``. Returns ``(restitution, contact_time, model)`` read from the
+    engine's state as :func:`mujoco_pendulum` does (``model.body_inertia[1]`` holds the
+    principal inertia, about ``y`` the second entry).
+    """
+    import mujoco
+
+    attrs = _contact_attrs(solref, solimp)
+    h = float(half_length)
+    xml = f"""<mujoco><option {_option(timestep, gravity)}/>
+    <worldbody><geom type="plane" size="5 5 0.1" {attrs}/>
+    <body><freejoint/><geom type="capsule" fromto="{-h!r} 0 0 {h!r} 0 0" size="{radius!r}"
+    mass="{mass!r}" {attrs}/></body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    quat = np.zeros(4)
+    mujoco.mju_axisAngle2Quat(quat, np.array([0.0, 1.0, 0.0]), float(tilt))
+    data.qpos[2] = h * np.sin(tilt) + radius
+    data.qpos[3:7] = quat
+    data.qvel[2] = -speed
+    e, t = _first_release(model, data, speed, 1.0)
+    return e, t, model
+
+
+def mujoco_wall_pendulum(
+    *,
+    solref,
+    solimp,
+    omega,
+    length=0.5,
+    radius=0.05,
+    mass=2.0,
+    angle=0.6,
+    gravity=9.81,
+    timestep=1e-5,
+):
+    """A sphere on a hinged arm, hanging at ``angle`` beside a wall, swung into it.
+
+    The arm (hinge about ``y`` at the origin, the sphere ``length`` below it) hangs at
+    ``angle`` from the vertical on the ``-x`` side of a vertical wall that its sphere just
+    touches; gravity presses the sphere into the wall and the arm swings in at angular
+    speed ``omega`` (normal speed ``length cos(angle) omega``). Returns
+    ``(restitution, contact_time, model)`` as :func:`mujoco_pendulum`.
+    """
+    import mujoco
+
+    attrs = _contact_attrs(solref, solimp)
+    wall = float(-length * np.sin(angle) + radius)
+    xml = f"""<mujoco><option {_option(timestep, gravity)}/>
+    <worldbody><geom type="plane" pos="{wall!r} 0 0" zaxis="-1 0 0" size="2 2 0.1" {attrs}/>
+    <body><joint type="hinge" axis="0 1 0"/>
+    <geom type="sphere" pos="0 0 {-length!r}" size="{radius!r}" mass="{mass!r}" {attrs}/>
+    </body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    data.qpos[0] = angle  # the sphere at x = -length sin(angle)
+    data.qvel[0] = -omega  # towards +x
+    speed = float(length * np.cos(angle) * omega)
+    e, t = _first_release(model, data, speed, 1.0)
+    return e, t, model
+
+
+def mujoco_two_bodies(
+    *,
+    solref,
+    solimp,
+    speed,
+    tilt=0.5,
+    offset=0.2,
+    half_length=0.2,
+    radius=0.05,
+    capsule_mass=1.0,
+    ball_radius=0.05,
+    ball_mass=0.5,
+    timestep=1e-5,
+):
+    """Two free bodies, no gravity: a ball hits the lower end cap of a resting capsule.
+
+    The capsule (centre at the origin, axis tilted by ``tilt`` about ``y`` so that its
+    ``+x`` end is lower) rests; the ball touches that end's cap along the direction at
+    angle ``beta = pi/2 - tilt - offset`` from ``+x`` in the ``x-z`` plane (``offset`` > 0
+    inside the cap: the angle from the cap's edge) and moves at ``speed`` towards the end's
+    centre. Returns ``(restitution, contact_time, model)`` as :func:`mujoco_pendulum`
+    (bodies 1: capsule, 2: ball).
+    """
+    import mujoco
+
+    attrs = _contact_attrs(solref, solimp)
+    h = float(half_length)
+    beta = np.pi / 2 - tilt - offset
+    reach = radius + ball_radius
+    xml = f"""<mujoco><option {_option(timestep, 0.0)}/>
+    <worldbody>
+    <body><freejoint/><geom type="capsule" fromto="{-h!r} 0 0 {h!r} 0 0" size="{radius!r}"
+    mass="{capsule_mass!r}" {attrs}/></body>
+    <body><freejoint/><geom type="sphere" size="{ball_radius!r}" mass="{ball_mass!r}"
+    {attrs}/></body></worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    quat = np.zeros(4)
+    mujoco.mju_axisAngle2Quat(quat, np.array([0.0, 1.0, 0.0]), float(tilt))
+    data.qpos[3:7] = quat
+    data.qpos[7:10] = (
+        h * np.cos(tilt) + reach * np.cos(beta),
+        0.0,
+        -h * np.sin(tilt) + reach * np.sin(beta),
+    )
+    data.qpos[10] = 1.0
+    data.qvel[6:9] = (-speed * np.cos(beta), 0.0, -speed * np.sin(beta))
+    e, t = _first_release(model, data, speed, 1.0)
+    return e, t, model

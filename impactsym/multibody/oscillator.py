@@ -11,6 +11,7 @@ delta_d`` and ``c~ = k + delta_c`` depend on the penalty ``k, d``, so the object
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -64,6 +65,8 @@ class ReducedContact(ArrayRecord):
         SymPy column when symbolic).
     direction
         The speed projection ``P`` (``n0^T P = 1``), as ``normal``.
+    drift_source
+        Derives :attr:`drift` on first use (set by ``reduce_contact``; not compared).
     """
 
     m_eff: Scalar
@@ -76,6 +79,14 @@ class ReducedContact(ArrayRecord):
     projection: str
     normal: Any = field(repr=False)
     direction: Any = field(repr=False)
+    drift_source: Any = field(default=None, repr=False, compare=False)
+
+    @functools.cached_property
+    def drift(self) -> Any:
+        """The first-order drift of ``1/m~``, the pressing forces and the curvature during
+        the contact (:class:`impactsym.multibody.drift.ContactDrift`), derived on first
+        use; ``None`` for a symbolic reduction or one built without ``reduce_contact``."""
+        return None if self.drift_source is None else self.drift_source()
 
     # -- derived quantities --------------------------------------------------------
     @property

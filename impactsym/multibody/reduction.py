@@ -24,6 +24,7 @@ The result object :class:`~impactsym.multibody.oscillator.ReducedContact` lives 
 
 from __future__ import annotations
 
+import functools
 import numbers
 from collections.abc import Mapping, Sequence
 from typing import Any, overload
@@ -31,6 +32,7 @@ from typing import Any, overload
 import numpy as np
 import sympy as sp
 
+from impactsym.multibody.drift import derive_drift
 from impactsym.multibody.equations import (
     EquationsOfMotion,
     from_matrices,
@@ -215,6 +217,7 @@ def reduce_contact(
         projection=projection,
         normal=parts["normal"],
         direction=parts["direction"],
+        drift_source=parts["drift"],
     )
 
 
@@ -303,6 +306,23 @@ def _reduce(
         if simplify and not value.is_number:
             value = sp.simplify(value)
         out[key] = to_scalar(value)
+    # how M, w, F and the curvature move on during the contact: derived on first use
+    # (ReducedContact.drift), so reductions that never ask pay nothing
+    out["drift"] = functools.partial(
+        derive_drift,
+        M=system.M,
+        F=system.F,
+        w=w,
+        kappa=kappa,
+        kinematics=A,
+        Q=Q,
+        U=U,
+        state=state,
+        r=r,
+        P_u=P_u,
+        P_q=P_q,
+        v0=v0,
+    )
     out["normal"] = _vector(w0.xreplace(back))
     out["direction"] = _vector(P_u.xreplace(back))
     if isinstance(out["v0"], float) and not out["v0"] > 0:

@@ -449,7 +449,7 @@ def _check_design(pred: Prediction, e_t, t_c, shape) -> None:
         )
 
 
-def from_reduced(reduced: Any) -> dict[str, float]:
+def from_reduced(reduced: Any, *, contact_time: Any = None) -> dict[str, float]:
     """Keyword arguments ``mass``, ``speed``, ``gravity`` for a reduced multibody contact.
 
     ``mass`` is the effective mass ``m~``, ``speed`` the approach speed ``v0`` and
@@ -459,6 +459,12 @@ def from_reduced(reduced: Any) -> dict[str, float]:
     contact has no further stiffness or damping, so ``delta_c`` and ``delta_d`` of the
     reduction (the system's own linearized forces) are not part of the engine's contact
     model; they are small during a short impact and are ignored here.
+
+    With ``contact_time`` (seconds, e.g. the intended one) it estimates how much ``1/m~``
+    changes over such a contact as the configuration moves on
+    (:func:`impactsym.multibody.drift.mass_drift`) and warns (``RuntimeWarning``) above
+    1 %, naming the contact time that keeps it below;
+    :func:`impactsym.engines.mujoco.drift.predict_reduced` corrects the prediction.
 
     >>> from types import SimpleNamespace
     >>> from_reduced(SimpleNamespace(m_eff=2.0, v0=1.5, load=9.81, is_symbolic=False))
@@ -471,4 +477,19 @@ def from_reduced(reduced: Any) -> dict[str, float]:
     load = float(reduced.load)
     if not (m > 0 and v > 0 and load >= 0 and math.isfinite(m + v + load)):
         raise ValueError(f"reduced needs m_eff > 0, v0 > 0, load >= 0, got {m}, {v}, {load}")
+    if contact_time is not None:
+        from impactsym.multibody.drift import (
+            drift_free_contact_time,
+            drift_of,
+            mass_drift,
+            warn_mass_drift,
+        )
+
+        drift = mass_drift(reduced, contact_time)
+        warn_mass_drift(
+            drift,
+            contact_time,
+            drift_free_contact_time(drift_of(reduced), contact_time, drift),
+            what="impactsym.engines.mujoco.drift.predict_reduced corrects the prediction",
+        )
     return {"mass": m, "speed": v, "gravity": load / m}
