@@ -91,6 +91,24 @@ def exp_antiderivative(Q: list) -> list:
     return R
 
 
+def taylor_shift_list(c: list, u: float) -> list:
+    r"""Coefficients of :math:`c(x + u)` for a list of floats, in plain Python
+    (repeated synthetic division, :math:`n(n - 1)/2` multiply-adds): the event loop's
+    form of :func:`taylor_shift`, whose matrix NumPy builds at a cost per call that
+    dominates below about 20 coefficients. The same value up to rounding (each
+    coefficient within a few ulps of :math:`\sum_j \binom{j}{i} |u|^{j-i} |c_j|`).
+
+    >>> taylor_shift_list([0.0, 0.0, 1.0], 2.0)
+    [4.0, 4.0, 1.0]
+    """
+    d = list(c)
+    n = len(d)
+    for i in range(n - 1):
+        for k in range(n - 2, i - 1, -1):
+            d[k] += u * d[k + 1]
+    return d
+
+
 def pad(c: np.ndarray, n: int) -> np.ndarray:
     """``c`` zero padded to ``n`` coefficients along the last axis (``c`` itself if it
     has as many already).

@@ -32,7 +32,7 @@ from impactsym.numeric.exppoly import (
     exp_poly_positive,
     exp_poly_roots,
 )
-from impactsym.numeric.poly import exp_antiderivative, horner, polyval_rows, taylor_shift, trim
+from impactsym.numeric.poly import exp_antiderivative, horner, polyval_rows, taylor_shift_list, trim
 from impactsym.rod.sequence import RodImpactSequence, SequenceState
 
 __all__ = ["RigidStep"]
@@ -276,7 +276,8 @@ class RigidStep:
         delta = delta / self.alpha
         Q_in = self.pieces.q[j]
         if Q_in and delta > 0.0:
-            Q_in = (math.exp(-delta) * taylor_shift(np.array(Q_in), delta)).tolist()
+            decay = math.exp(-delta)
+            Q_in = [decay * c for c in taylor_shift_list(Q_in, delta)]
         return j, delta, self.pieces.p[j], Q_in
 
     def free(self, state: SequenceState, incoming: tuple, t_next: float) -> None:
