@@ -46,8 +46,9 @@ def polyval_rows(C: np.ndarray, x) -> np.ndarray:
     [4.0, 6.0]
     """
     out = np.zeros(np.broadcast_shapes(np.shape(x), C.shape[:-1]), dtype=np.result_type(C, x))
-    for k in range(C.shape[-1] - 1, -1, -1):
-        out = out * x + C[..., k]
+    for k in range(C.shape[-1] - 1, -1, -1):  # in place: no temporary arrays (the same sums)
+        out *= x
+        out += C[..., k]
     return out
 
 

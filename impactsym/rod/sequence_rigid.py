@@ -153,12 +153,13 @@ class _Tables:
                 ii, xx = flat_i[k], flat_x[k]
                 nodes = 0.5 * xx[:, None] * (1.0 + z[None, :])
                 d = int(flat_d[k].max()) + 1
-                vals = self.p[ii][:, None] + np.exp(-nodes) * polyval_rows(
-                    self.q[ii, :d][:, None, :], nodes
-                )
-                w = 0.5 * a * xx[:, None] * weight[None, :]
-                int1[k] = (w * vals).sum(axis=1)
-                int2[k] = (w * vals * vals).sum(axis=1)
+                vals = polyval_rows(self.q[ii, :d][:, None, :], nodes)
+                vals *= np.exp(-nodes)
+                vals += self.p[ii][:, None]
+                half = 0.5 * a * xx  # the rule's weights on [0, x], times alpha
+                int1[k] = half * (vals @ weight)
+                vals *= vals
+                int2[k] = half * (vals @ weight)
             int1, int2 = int1.reshape(x.shape), int2.reshape(x.shape)
         return int1, int2
 
@@ -240,6 +241,17 @@ def _g_max(tab: _Tables, s_end: float) -> float:
     return best
 
 
+def _ends_negative(A: list, B: list, X: float) -> bool:
+    """Whether :math:`e^X A(X) + B(X)` evaluates below zero: then no certificate of
+    positivity on :math:`[0, X]` can succeed (each needs a margin far above the
+    rounding of this evaluation) and the second, costlier one is skipped for the
+    search that will find the root (the same result, for less)."""
+    value = horner(B, X)
+    if A:
+        value += math.exp(X) * horner(A, X)
+    return value < 0.0
+
+
 def _first_root(A: np.ndarray, B: list, X: float, *, rising_from_zero: bool = False):
     """First certified zero with sign change of :math:`e^x A + B` in :math:`(0, X]`, or
     ``None``."""
@@ -311,7 +323,11 @@ class RigidStep:
             return True
         # with B = 0, N = f >= 0 throughout: no sign change; most pieces are proven
         # positive by the cheap certificate, the others searched
-        if not any(B) or exp_poly_positive([f], B, X) or exp_poly_bernstein_positive([f], B, X):
+        if (
+            not any(B)
+            or exp_poly_positive([f], B, X)
+            or (not _ends_negative([f], B, X) and exp_poly_bernstein_positive([f], B, X))
+        ):
             root = None
         else:
             root = _first_root(np.array([f]), B, X)
@@ -356,8 +372,9 @@ class RigidStep:
         lo_gap = C[0] + (2 * alpha * R[0] if Q_in else 0.0)
         if lo_gap < 0.0:  # u - y >= 0 in flight; clear a rounding-level overlap
             C[0] -= lo_gap
-        if exp_poly_positive(A, Bgap, X, rising_from_zero=opening) or exp_poly_bernstein_positive(
-            A, Bgap, X, rising_from_zero=opening
+        if exp_poly_positive(A, Bgap, X, rising_from_zero=opening) or (
+            not _ends_negative(A, Bgap, X)
+            and exp_poly_bernstein_positive(A, Bgap, X, rising_from_zero=opening)
         ):
             root = None  # the gap stays open (the cheap certificates)
         else:
