@@ -30,7 +30,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from impactsym.numeric.poly import taylor_shift_list, trim
+from impactsym.numeric.poly import shift_matrix, taylor_shift_list, trim
 from impactsym.numeric.roots import bracketed_newton_scalar
 
 __all__ = ["exp_poly_bernstein_positive", "exp_poly_positive", "exp_poly_roots"]
@@ -61,11 +61,24 @@ def _value_slope(A: list, B: list, x: float) -> tuple[float, float]:
     return ex * a + b, ex * (a + da) + db
 
 
+# _EXPAND[i, k] = 1 / (k - i)! (zero for k < i): e^z z^i = sum_k _EXPAND[i, k] z^k
+_LAG = np.subtract.outer(np.arange(171), np.arange(96)).T  # k - i
+_EXPAND = np.where(_LAG >= 0, _INVFACT[np.maximum(_LAG, 0)], 0.0)
+
+
+_LIST_SHIFT_PAIR_MAX = 11  # both shifts by synthetic division up to here (measured)
+
+
 def _shifted(c: list, u: float) -> tuple[list, list]:
     r"""``c(x + u)`` and the magnitude of its summands (for rounding bounds):
     :math:`\sum_j \binom{j}{i} |u|^{j-i} |c_j|`, the shift of ``|c|`` by ``|u|``."""
     if u == 0.0 or len(c) < 2:  # no shift: the identity (or a constant)
         return c, [abs(x) for x in c]
+    if len(c) > _LIST_SHIFT_PAIR_MAX:  # one matrix for both: cheaper from here on
+        S = shift_matrix(len(c), u)
+        Smag = np.abs(S) if u < 0.0 else S
+        v = np.array(c)
+        return (S @ v).tolist(), (Smag @ np.abs(v)).tolist()
     return taylor_shift_list(c, u), taylor_shift_list([abs(x) for x in c], abs(u))
 
 
@@ -81,14 +94,14 @@ def _coefficients(A: list, B: list, u: float, M: int) -> tuple[list, list, list]
         if eu != 1.0:
             Au = [eu * a for a in Au]
             Amag = [eu * a for a in Amag]
-        inv = _INVFACT_LIST
-        a, am = Au[0], Amag[0]
-        T = [a * c for c in inv[: M + 1]]
-        Tmag = [am * c for c in inv[: M + 1]]
-        for i in range(1, min(len(Au), M + 1)):  # order k gets Au[i] / (k - i)!, k >= i
-            a, am = Au[i], Amag[i]
-            T[i:] = map(operator.add, T[i:], [a * c for c in inv[: M + 1 - i]])
-            Tmag[i:] = map(operator.add, Tmag[i:], [am * c for c in inv[: M + 1 - i]])
+        if len(Au) == 1:
+            a, am = Au[0], Amag[0]
+            T = [a * c for c in _INVFACT_LIST[: M + 1]]
+            Tmag = [am * c for c in _INVFACT_LIST[: M + 1]]
+        else:  # (one matrix product beats Python's loops from two coefficients on)
+            expand = _EXPAND[: len(Au), : M + 1]
+            T = (np.array(Au) @ expand).tolist()
+            Tmag = (np.array(Amag) @ expand).tolist()
         absA = [abs(a) for a in Au]
     else:
         T, Tmag, absA = [0.0] * (M + 1), [0.0] * (M + 1), []
