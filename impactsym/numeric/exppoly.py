@@ -488,11 +488,11 @@ def exp_poly_roots(
         stack += [(mid, v), (u, mid)]  # left half first
     if not brackets:
         return np.empty(0)
+    value_slope = functools.partial(_value_slope, Al, Bl)
     roots = [
-        bracketed_newton_scalar(lambda x: _value_slope(Al, Bl, x), a, b, g_lo=ga, g_hi=gb)
-        for a, b, ga, gb in brackets
+        bracketed_newton_scalar(value_slope, a, b, g_lo=ga, g_hi=gb) for a, b, ga, gb in brackets
     ]
-    return np.sort(np.array(roots))
+    return np.array(roots) if len(roots) == 1 else np.sort(np.array(roots))
 
 
 def _sign(x: float) -> float:

@@ -22,10 +22,10 @@ docs/physics.md#the-rod-impact-continued-past-separation.
 from __future__ import annotations
 
 import math
+import operator
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.polynomial import polynomial as npoly
 
 from impactsym.numeric.exppoly import (
     exp_poly_bernstein_positive,
@@ -113,9 +113,8 @@ class _Tables:
         a = pieces.alpha
         n = len(pieces.start)
         deg = max((len(q) for q in pieces.q), default=1)
-        q = np.zeros((n, max(deg, 1)))
-        for i, Q in enumerate(pieces.q):
-            q[i, : len(Q)] = Q
+        width = max(deg, 1)
+        q = np.array([Q + [0.0] * (width - len(Q)) for Q in pieces.q]).reshape(n, width)
         start = np.array(pieces.start)
         p = np.array(pieces.p)
         h = np.diff(np.r_[start, s_end])
@@ -232,11 +231,14 @@ def _g_max(tab: _Tables, s_end: float) -> float:
         cand = [lo_i, hi_i]
         if Q.size > 1:
             crit = exp_poly_roots(
-                np.zeros(0), npoly.polysub(npoly.polyder(Q), Q), (lo_i - s0_i) / a, X
+                np.zeros(0),
+                np.append(Q[1:] * np.arange(1.0, Q.size), 0.0) - Q,
+                (lo_i - s0_i) / a,
+                X,
             )
             cand += list(s0_i + a * crit)
         xc = (np.array(cand) - s0_i) / a
-        vals = tab.p[i] + np.exp(-xc) * npoly.polyval(xc, Q)
+        vals = tab.p[i] + np.exp(-xc) * horner(Q, xc)
         best = max(best, float(vals.max()))
     return best
 
@@ -309,7 +311,7 @@ class RigidStep:
             n = len(Q_in)
             G = [G0] + [Q_in[k] - 2.0 * Q_in[k - 1] / k for k in range(1, n)]
             G.append(-2.0 * Q_in[n - 1] / n)
-            B = [G[k] + Q_in[k] for k in range(n)]
+            B = list(map(operator.add, G, Q_in))
             B.append(G[n])
         else:  # below rounding the exponential part is dropped, as in _Pieces.append
             G = [G0 if abs(G0) >= _NEGLIGIBLE * max(1.0, abs(p_new)) else 0.0]
@@ -336,9 +338,8 @@ class RigidStep:
             t_next = t + h
         self.pieces.append(t, h, p_new, G)
         ex = math.exp(-X)
-        Gd = G.copy()
-        for k in range(len(Q_in)):
-            Gd[k] -= Q_in[k]
+        Gd = list(map(operator.sub, G, Q_in))  # G - Q_in (G is one longer, or Q_in empty)
+        Gd.extend(G[len(Gd) :])
         state.v = p_new - p_in + ex * horner(Gd, X)
         R = exp_antiderivative(Gd)
         state.y += alpha * ((p_new - p_in) * X + R[0] - ex * horner(R, X))
