@@ -20,6 +20,7 @@ from impactsym.numeric.poly import (
     polyval_rows,
     shift_matrix,
     taylor_shift,
+    taylor_shift_list,
     trim,
 )
 
@@ -129,3 +130,21 @@ def test_taylor_shift_matches_numpy_composition_and_refuses_high_degree():
     assert np.allclose(taylor_shift(c, u), want, rtol=1e-12, atol=1e-12)
     with pytest.raises(ValueError, match="degree 96 exceeds 95"):
         shift_matrix(97, 0.5)
+
+
+@pytest.mark.parametrize("n", [1, 2, 5, 11, 16, 17, 24])
+def test_taylor_shift_list_is_the_exact_shift_to_rounding(n):
+    """The event loop's list form (synthetic division up to 16 coefficients, the matrix
+    beyond) against exact Fraction arithmetic: each coefficient within 8n ulps of the
+    sum of the magnitudes of its terms, for shifts of either sign."""
+    for u in (0.37, -1.3, 2.0 / 3.0):
+        c = (RNG.normal(size=n) * RNG.uniform(0.0, 3.0, size=n)).tolist()
+        got = taylor_shift_list(c, u)
+        assert isinstance(got, list)
+        assert len(got) == n
+        for i in range(n):
+            terms = [math.comb(k, i) * Fraction(c[k]) * Fraction(u) ** (k - i) for k in range(i, n)]
+            size = float(sum(abs(t) for t in terms))
+            assert abs(Fraction(got[i]) - sum(terms)) <= 8 * n * np.finfo(float).eps * size
+    assert taylor_shift_list([], 0.5) == []
+    assert taylor_shift_list([0.0, 0.0, 1.0], 2.0) == [4.0, 4.0, 1.0]

@@ -30,7 +30,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from impactsym.numeric.poly import shift_matrix, trim
+from impactsym.numeric.poly import shift_matrix, taylor_shift_list, trim
 from impactsym.numeric.roots import bracketed_newton_scalar
 
 __all__ = ["exp_poly_bernstein_positive", "exp_poly_positive", "exp_poly_roots"]
@@ -42,7 +42,7 @@ _FACT = np.array([math.factorial(k) for k in range(171)], dtype=float)
 _INVFACT = 1.0 / _FACT
 _INVFACT_LIST = _INVFACT.tolist()
 _INVFACT_PADDED = [0.0, 0.0, *_INVFACT_LIST]
-_ORDER = np.arange(171, dtype=float)
+_ORDER_LIST = [float(k) for k in range(171)]
 
 
 def _value_slope(A: list, B: list, x: float) -> tuple[float, float]:
@@ -66,40 +66,54 @@ _LAG = np.subtract.outer(np.arange(171), np.arange(96)).T  # k - i
 _EXPAND = np.where(_LAG >= 0, _INVFACT[np.maximum(_LAG, 0)], 0.0)
 
 
-def _shifted(c: np.ndarray, S, Smag) -> tuple[np.ndarray, np.ndarray]:
-    """``c(x + u)`` and the magnitude of its summands (for rounding bounds), with ``S``
-    a shift matrix by ``u`` of at least ``c.size`` rows (its leading block shifts
-    ``c``; ``None``: no shift) and ``Smag = |S|``."""
-    if S is None or c.size < 2:  # no shift: the identity (or a constant)
-        return c, np.abs(c)
-    n = c.size
-    return S[:n, :n] @ c, Smag[:n, :n] @ np.abs(c)
+_LIST_SHIFT_PAIR_MAX = 11  # both shifts by synthetic division up to here (measured)
 
 
-def _coefficients(A, B, u, M):
+def _shifted(c: list, u: float) -> tuple[list, list]:
+    r"""``c(x + u)`` and the magnitude of its summands (for rounding bounds):
+    :math:`\sum_j \binom{j}{i} |u|^{j-i} |c_j|`, the shift of ``|c|`` by ``|u|``."""
+    if u == 0.0 or len(c) < 2:  # no shift: the identity (or a constant)
+        return c, [abs(x) for x in c]
+    if len(c) > _LIST_SHIFT_PAIR_MAX:  # one matrix for both: cheaper from here on
+        S = shift_matrix(len(c), u)
+        Smag = np.abs(S) if u < 0.0 else S
+        v = np.array(c)
+        return (S @ v).tolist(), (Smag @ np.abs(v)).tolist()
+    return taylor_shift_list(c, u), taylor_shift_list([abs(x) for x in c], abs(u))
+
+
+def _coefficients(A: list, B: list, u: float, M: int) -> tuple[list, list, list]:
     """Taylor coefficients ``T`` of ``F`` at ``u`` (orders 0..M), the magnitudes of
     their summands (for rounding) and :math:`e^u |A(x + u)|` coefficientwise (for the
-    omitted orders): what does not depend on the interval's length."""
-    S = shift_matrix(max(A.size, B.size), u) if u != 0.0 else None
-    Smag = S if u >= 0.0 else np.abs(S)
-    Au, Amag = _shifted(A, S, Smag)
-    Bu, Bmag = _shifted(B, S, Smag)
-    if A.size:  # e^z Au(z) = sum_k z^k sum_i Au[i] / (k - i)!
+    omitted orders): what does not depend on the interval's length (lists of floats,
+    plain Python: at these sizes NumPy's cost per call dominates)."""
+    Bu, Bmag = _shifted(B, u)
+    if A:  # e^z Au(z) = sum_k z^k sum_i Au[i] / (k - i)!
+        Au, Amag = _shifted(A, u)
         eu = math.exp(u)
         if eu != 1.0:
-            Au, Amag = eu * Au, eu * Amag
-        if A.size == 1:
-            T = float(Au[0]) * _EXPAND[0, : M + 1]
-            Tmag = float(Amag[0]) * _EXPAND[0, : M + 1]
-        else:
-            T = Au @ _EXPAND[: A.size, : M + 1]
-            Tmag = Amag @ _EXPAND[: A.size, : M + 1]
-        absA = np.abs(Au).tolist()
+            Au = [eu * a for a in Au]
+            Amag = [eu * a for a in Amag]
+        if len(Au) == 1:
+            a, am = Au[0], Amag[0]
+            T = [a * c for c in _INVFACT_LIST[: M + 1]]
+            Tmag = [am * c for c in _INVFACT_LIST[: M + 1]]
+        else:  # (one matrix product beats Python's loops from two coefficients on)
+            expand = _EXPAND[: len(Au), : M + 1]
+            T = (np.array(Au) @ expand).tolist()
+            Tmag = (np.array(Amag) @ expand).tolist()
+        absA = [abs(a) for a in Au]
     else:
-        T, Tmag, absA = np.zeros(M + 1), np.zeros(M + 1), []
-    T[: B.size] += Bu
-    Tmag[: B.size] += Bmag
+        T, Tmag, absA = [0.0] * (M + 1), [0.0] * (M + 1), []
+    for k, (b, bm) in enumerate(zip(Bu, Bmag, strict=False)):
+        T[k] += b
+        Tmag[k] += bm
     return T, Tmag, absA
+
+
+def _dot(a, b) -> float:
+    """``sum(a[k] * b[k])`` over plain floats (the shorter length)."""
+    return sum(map(operator.mul, a, b))
 
 
 def _taylor(coefficients, r, M, powers):
@@ -107,7 +121,7 @@ def _taylor(coefficients, r, M, powers):
     ``rho0`` of the omitted tail plus rounding for ``F`` on ``[u, u + r]``, the rounding
     part of it alone, and ``slope_bound()``, the same bound ``rho1`` for ``F'``
     (computed only when asked for: most intervals are decided without it).
-    ``powers = r**k``."""
+    ``powers = r**k`` (a list)."""
     T, Tmag, absA = coefficients
     guard = 64.0 * (M + 4) * _EPS * 4.0
     tail0 = tail1 = 0.0
@@ -115,12 +129,12 @@ def _taylor(coefficients, r, M, powers):
         scale = math.exp(r) * powers[M]
         for i, a in enumerate(absA):
             K = M - i + 1  # first omitted power of e^z in term i: order i + K = M + 1
-            tail0 += a * scale * r * _INVFACT[K]
-            tail1 += a * scale * (i * _INVFACT[K] + _INVFACT[K - 1])
-    noise = guard * float(Tmag @ powers)
+            tail0 += a * scale * r * _INVFACT_LIST[K]
+            tail1 += a * scale * (i * _INVFACT_LIST[K] + _INVFACT_LIST[K - 1])
+    noise = guard * _dot(Tmag, powers)
 
     def slope_bound() -> float:
-        return tail1 + guard * float((_ORDER[1 : M + 1] * Tmag[1:]) @ powers[:-1])
+        return tail1 + guard * _dot(map(operator.mul, _ORDER_LIST[1 : M + 1], Tmag[1:]), powers)
 
     return T, tail0 + noise, slope_bound, noise
 
@@ -384,13 +398,12 @@ def exp_poly_roots(
     """
     if not (math.isfinite(lo) and math.isfinite(hi)):
         raise ValueError(f"exp_poly_roots: lo and hi must be finite, got [{lo!r}, {hi!r}]")
-    A, B = trim(A), trim(B)
-    if hi <= lo or (A.size == 0 and B.size == 0):
+    Al, Bl = trim(A).tolist(), trim(B).tolist()
+    if hi <= lo or not (Al or Bl):
         return np.empty(0)
-    if A.size and max(abs(lo), abs(hi)) > 600.0:
+    if Al and max(abs(lo), abs(hi)) > 600.0:
         raise ValueError(f"exp_poly_roots: e^x overflows on [{lo!r}, {hi!r}]; rescale x")
-    M = max(A.size, B.size) + 12
-    Al, Bl = A.tolist(), B.tolist()
+    M = max(len(Al), len(Bl)) + 12
     brackets: list[tuple] = []  # (lo, hi, F(lo), F(hi)), the values None if not evaluated
     # Leaves come left to right. A sign change is judged between consecutive points of
     # known nonzero sign (leaf ends, or the proven sign of a root-free leaf), so that
@@ -420,28 +433,49 @@ def exp_poly_roots(
             )
         u, v = stack.pop()
         r = v - u
-        powers = r ** _ORDER[: M + 1]
+        try:
+            powers = [r**k for k in range(M + 1)]
+        except OverflowError:  # (NumPy's power gives inf there, as the bounds expect)
+            powers = (r ** np.arange(M + 1.0)).tolist()
         if u != at[0]:  # a left half keeps its left end: the same coefficients
-            at[:] = [u, _coefficients(A, B, u, M)]
+            at[:] = [u, _coefficients(Al, Bl, u, M)]
         T, rho0, slope_bound, noise = _taylor(at[1], r, M, powers)
-        T0 = float(T[0])
-        s0 = 1.0 if T0 > 0.0 else -1.0
+        T0 = T[0]
         # one-sided: only terms of the sign opposite to T_0 can bring F to zero
-        against = float(np.maximum(-s0 * T[1:], 0.0) @ powers[1:])
+        if T0 > 0.0:
+            s0 = 1.0
+            against = -sum([t * p for t, p in zip(T[1:], powers[1:], strict=False) if t < 0.0])
+        else:
+            s0 = -1.0
+            against = sum([t * p for t, p in zip(T[1:], powers[1:], strict=False) if t > 0.0])
         if T0 != 0.0 and abs(T0) > against + rho0:  # no zero in [u, v]: F has T_0's sign
             visit(u, s0)
             visit(v, s0)
             continue
         if rising_from_zero and u == lo and r > 0.0:
-            rest = float(np.maximum(-T[3:], 0.0) @ powers[1:-2])
+            rest = -sum([t * p for t, p in zip(T[3:], powers[1:], strict=False) if t < 0.0])
             if T[2] > rest + rho0 / (r * r):
                 visit(v, 1.0)
                 continue  # F = T1 z + z^2 (T2 + ...) > 0 on (lo, v]
-        T1 = float(T[1])
-        s1 = 1.0 if T1 > 0.0 else -1.0
-        slope_against = float(np.maximum(-s1 * _ORDER[2 : M + 1] * T[2:], 0.0) @ powers[1:-1])
-        mono = T1 != 0.0 and abs(T1) > slope_against + slope_bound()
-        spread = float(np.abs(T[1:]) @ powers[1:])
+        T1 = T[1]
+        mono = False
+        if T1 != 0.0:
+            if T1 > 0.0:
+                terms = [
+                    k * t * p
+                    for k, t, p in zip(_ORDER_LIST[2:], T[2:], powers[1:], strict=False)
+                    if t < 0.0
+                ]
+                slope_against = -sum(terms)
+            else:
+                terms = [
+                    k * t * p
+                    for k, t, p in zip(_ORDER_LIST[2:], T[2:], powers[1:], strict=False)
+                    if t > 0.0
+                ]
+                slope_against = sum(terms)
+            mono = abs(T1) > slope_against + slope_bound()
+        spread = sum([abs(t) * p for t, p in zip(T[1:], powers[1:], strict=False)])
         flat = abs(T0) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
         if mono or flat or r <= min_width * max(1.0, abs(u)):
             Fu, Fv = _value_slope(Al, Bl, u)[0], _value_slope(Al, Bl, v)[0]
@@ -454,11 +488,11 @@ def exp_poly_roots(
         stack += [(mid, v), (u, mid)]  # left half first
     if not brackets:
         return np.empty(0)
+    value_slope = functools.partial(_value_slope, Al, Bl)
     roots = [
-        bracketed_newton_scalar(lambda x: _value_slope(Al, Bl, x), a, b, g_lo=ga, g_hi=gb)
-        for a, b, ga, gb in brackets
+        bracketed_newton_scalar(value_slope, a, b, g_lo=ga, g_hi=gb) for a, b, ga, gb in brackets
     ]
-    return np.sort(np.array(roots))
+    return np.array(roots) if len(roots) == 1 else np.sort(np.array(roots))
 
 
 def _sign(x: float) -> float:

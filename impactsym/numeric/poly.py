@@ -25,6 +25,9 @@ _EXPONENT = np.maximum(
 )
 
 
+_LIST_SHIFT_MAX = 16  # taylor_shift_list's synthetic division up to here (measured)
+
+
 def horner(c, x):
     """:math:`\\sum_k c_k x^k` by Horner's scheme (``c`` a list or 1-D array; ``x`` a
     float or an array, broadcast).
@@ -46,8 +49,9 @@ def polyval_rows(C: np.ndarray, x) -> np.ndarray:
     [4.0, 6.0]
     """
     out = np.zeros(np.broadcast_shapes(np.shape(x), C.shape[:-1]), dtype=np.result_type(C, x))
-    for k in range(C.shape[-1] - 1, -1, -1):
-        out = out * x + C[..., k]
+    for k in range(C.shape[-1] - 1, -1, -1):  # in place: no temporary arrays (the same sums)
+        out *= x
+        out += C[..., k]
     return out
 
 
@@ -89,6 +93,27 @@ def exp_antiderivative(Q: list) -> list:
     for k in range(len(R) - 2, -1, -1):
         R[k] += (k + 1) * R[k + 1]
     return R
+
+
+def taylor_shift_list(c: list, u: float) -> list:
+    r"""Coefficients of :math:`c(x + u)` for a list of floats, in plain Python
+    (repeated synthetic division, :math:`n(n - 1)/2` multiply-adds): the event loop's
+    form of :func:`taylor_shift`, whose matrix NumPy builds at a cost per call that
+    dominates below about 17 coefficients (beyond, the matrix form is used). The same
+    value up to rounding (each
+    coefficient within a few ulps of :math:`\sum_j \binom{j}{i} |u|^{j-i} |c_j|`).
+
+    >>> taylor_shift_list([0.0, 0.0, 1.0], 2.0)
+    [4.0, 4.0, 1.0]
+    """
+    d = list(c)
+    n = len(d)
+    if n > _LIST_SHIFT_MAX:  # the matrix form is cheaper there
+        return (shift_matrix(n, u) @ np.array(d)).tolist()
+    for i in range(n - 1):
+        for k in range(n - 2, i - 1, -1):
+            d[k] += u * d[k + 1]
+    return d
 
 
 def pad(c: np.ndarray, n: int) -> np.ndarray:

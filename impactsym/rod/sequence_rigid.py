@@ -22,17 +22,17 @@ docs/physics.md#the-rod-impact-continued-past-separation.
 from __future__ import annotations
 
 import math
+import operator
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.polynomial import polynomial as npoly
 
 from impactsym.numeric.exppoly import (
     exp_poly_bernstein_positive,
     exp_poly_positive,
     exp_poly_roots,
 )
-from impactsym.numeric.poly import exp_antiderivative, horner, polyval_rows, taylor_shift, trim
+from impactsym.numeric.poly import exp_antiderivative, horner, polyval_rows, taylor_shift_list, trim
 from impactsym.rod.sequence import RodImpactSequence, SequenceState
 
 __all__ = ["RigidStep"]
@@ -113,9 +113,8 @@ class _Tables:
         a = pieces.alpha
         n = len(pieces.start)
         deg = max((len(q) for q in pieces.q), default=1)
-        q = np.zeros((n, max(deg, 1)))
-        for i, Q in enumerate(pieces.q):
-            q[i, : len(Q)] = Q
+        width = max(deg, 1)
+        q = np.array([Q + [0.0] * (width - len(Q)) for Q in pieces.q]).reshape(n, width)
         start = np.array(pieces.start)
         p = np.array(pieces.p)
         h = np.diff(np.r_[start, s_end])
@@ -153,12 +152,13 @@ class _Tables:
                 ii, xx = flat_i[k], flat_x[k]
                 nodes = 0.5 * xx[:, None] * (1.0 + z[None, :])
                 d = int(flat_d[k].max()) + 1
-                vals = self.p[ii][:, None] + np.exp(-nodes) * polyval_rows(
-                    self.q[ii, :d][:, None, :], nodes
-                )
-                w = 0.5 * a * xx[:, None] * weight[None, :]
-                int1[k] = (w * vals).sum(axis=1)
-                int2[k] = (w * vals * vals).sum(axis=1)
+                vals = polyval_rows(self.q[ii, :d][:, None, :], nodes)
+                vals *= np.exp(-nodes)
+                vals += self.p[ii][:, None]
+                half = 0.5 * a * xx  # the rule's weights on [0, x], times alpha
+                int1[k] = half * (vals @ weight)
+                vals *= vals
+                int2[k] = half * (vals @ weight)
             int1, int2 = int1.reshape(x.shape), int2.reshape(x.shape)
         return int1, int2
 
@@ -186,7 +186,9 @@ class _Tables:
 def _g_max(tab: _Tables, s_end: float) -> float:
     """Largest value of ``g`` on ``[0, s_end]``: piece ends and zeros of ``Q' - Q``,
     searched only on the pieces whose upper bound reaches the largest sampled value
-    (docs/physics.md#the-rod-impact-continued-past-separation)."""
+    (docs/physics.md#the-rod-impact-continued-past-separation), the most promising
+    first, and not on those the cheap certificates prove below the best value found
+    so far (a search costs about ten certificates)."""
     a = tab.alpha
     ends = np.r_[tab.start[1:], np.inf]
     live = np.flatnonzero((tab.start < s_end) & (ends > 0.0))
@@ -216,6 +218,8 @@ def _g_max(tab: _Tables, s_end: float) -> float:
     constant = ~q.any(axis=1)
     best = max(0.0, float(p[constant].max())) if constant.any() else 0.0
     keep = np.flatnonzero(~constant & (bound >= floor))
+    # the most promising pieces first: the best value found early skips the others
+    keep = keep[np.argsort(-sampled[keep].max(axis=1), kind="stable")]
     for i, s0_i, lo_i, hi_i, X, bound_i in zip(
         live[keep].tolist(),
         s0[keep],
@@ -228,16 +232,42 @@ def _g_max(tab: _Tables, s_end: float) -> float:
         if bound_i <= best:
             continue  # cannot beat the best value so far
         Q = trim(tab.q[i])
+        if lo_i == s0_i and _below_on_piece(best - tab.p[i], Q, X):
+            continue  # proven below the best value so far (cheaper than the search)
         cand = [lo_i, hi_i]
         if Q.size > 1:
             crit = exp_poly_roots(
-                np.zeros(0), npoly.polysub(npoly.polyder(Q), Q), (lo_i - s0_i) / a, X
+                np.zeros(0),
+                np.append(Q[1:] * np.arange(1.0, Q.size), 0.0) - Q,
+                (lo_i - s0_i) / a,
+                X,
             )
             cand += list(s0_i + a * crit)
         xc = (np.array(cand) - s0_i) / a
-        vals = tab.p[i] + np.exp(-xc) * npoly.polyval(xc, Q)
+        vals = tab.p[i] + np.exp(-xc) * horner(Q, xc)
         best = max(best, float(vals.max()))
     return best
+
+
+def _ends_negative(A: list, B: list, X: float) -> bool:
+    """Whether :math:`e^X A(X) + B(X)` evaluates below zero: then no certificate of
+    positivity on :math:`[0, X]` can succeed (each needs a margin far above the
+    rounding of this evaluation) and the second, costlier one is skipped for the
+    search that will find the root (the same result, for less)."""
+    value = horner(B, X)
+    if A:
+        value += math.exp(X) * horner(A, X)
+    return value < 0.0
+
+
+def _below_on_piece(margin: float, Q: np.ndarray, X: float) -> bool:
+    """Whether :math:`e^{-x} Q(x)` is proven below ``margin`` on :math:`[0, X]`: the
+    cheap certificates of :mod:`impactsym.numeric.exppoly` applied to
+    :math:`e^x m - Q(x) > 0` (``False`` says nothing)."""
+    if margin <= 0.0 or X <= 0.0:
+        return False
+    A, B = [margin], (-Q).tolist()
+    return exp_poly_positive(A, B, X) or exp_poly_bernstein_positive(A, B, X)
 
 
 def _first_root(A: np.ndarray, B: list, X: float, *, rising_from_zero: bool = False):
@@ -276,7 +306,8 @@ class RigidStep:
         delta = delta / self.alpha
         Q_in = self.pieces.q[j]
         if Q_in and delta > 0.0:
-            Q_in = (math.exp(-delta) * taylor_shift(np.array(Q_in), delta)).tolist()
+            decay = math.exp(-delta)
+            Q_in = [decay * c for c in taylor_shift_list(Q_in, delta)]
         return j, delta, self.pieces.p[j], Q_in
 
     def free(self, state: SequenceState, incoming: tuple, t_next: float) -> None:
@@ -296,7 +327,7 @@ class RigidStep:
             n = len(Q_in)
             G = [G0] + [Q_in[k] - 2.0 * Q_in[k - 1] / k for k in range(1, n)]
             G.append(-2.0 * Q_in[n - 1] / n)
-            B = [G[k] + Q_in[k] for k in range(n)]
+            B = list(map(operator.add, G, Q_in))
             B.append(G[n])
         else:  # below rounding the exponential part is dropped, as in _Pieces.append
             G = [G0 if abs(G0) >= _NEGLIGIBLE * max(1.0, abs(p_new)) else 0.0]
@@ -310,7 +341,11 @@ class RigidStep:
             return True
         # with B = 0, N = f >= 0 throughout: no sign change; most pieces are proven
         # positive by the cheap certificate, the others searched
-        if not any(B) or exp_poly_positive([f], B, X) or exp_poly_bernstein_positive([f], B, X):
+        if (
+            not any(B)
+            or exp_poly_positive([f], B, X)
+            or (not _ends_negative([f], B, X) and exp_poly_bernstein_positive([f], B, X))
+        ):
             root = None
         else:
             root = _first_root(np.array([f]), B, X)
@@ -319,9 +354,8 @@ class RigidStep:
             t_next = t + h
         self.pieces.append(t, h, p_new, G)
         ex = math.exp(-X)
-        Gd = G.copy()
-        for k in range(len(Q_in)):
-            Gd[k] -= Q_in[k]
+        Gd = list(map(operator.sub, G, Q_in))  # G - Q_in (G is one longer, or Q_in empty)
+        Gd.extend(G[len(Gd) :])
         state.v = p_new - p_in + ex * horner(Gd, X)
         R = exp_antiderivative(Gd)
         state.y += alpha * ((p_new - p_in) * X + R[0] - ex * horner(R, X))
@@ -355,8 +389,9 @@ class RigidStep:
         lo_gap = C[0] + (2 * alpha * R[0] if Q_in else 0.0)
         if lo_gap < 0.0:  # u - y >= 0 in flight; clear a rounding-level overlap
             C[0] -= lo_gap
-        if exp_poly_positive(A, Bgap, X, rising_from_zero=opening) or exp_poly_bernstein_positive(
-            A, Bgap, X, rising_from_zero=opening
+        if exp_poly_positive(A, Bgap, X, rising_from_zero=opening) or (
+            not _ends_negative(A, Bgap, X)
+            and exp_poly_bernstein_positive(A, Bgap, X, rising_from_zero=opening)
         ):
             root = None  # the gap stays open (the cheap certificates)
         else:
