@@ -77,8 +77,8 @@ def design_number(law: str, target, b, q, *, condition: str) -> np.ndarray:
         if hi[rows].max() >= DELTA_MAX:
             bad = rows[np.argmax(hi[rows])]
             raise ValueError(
-                f"restitution {t[bad]!r} is out of reach of the {law} contact under the "
-                f"{condition} condition: it stays at {e_hi[bad]!r} or above up to damping "
+                f"restitution {float(t[bad])!r} is out of reach of the {law} contact under the "
+                f"{condition} condition: it stays at {float(e_hi[bad])!r} or above up to damping "
                 f"number {hi[bad]:g}; ask for a larger restitution"
             )
         lo[rows], e_lo[rows] = hi[rows], e_hi[rows]
@@ -113,7 +113,7 @@ def design_number(law: str, target, b, q, *, condition: str) -> np.ndarray:
     if jump.any():
         bad = np.flatnonzero(jump)[0]
         raise ValueError(
-            f"restitution {t[bad]!r} is out of reach of the {law} contact under the "
+            f"restitution {float(t[bad])!r} is out of reach of the {law} contact under the "
             f"{condition} condition with this pressing force: the body sticks for damping "
             f"numbers above {hi[bad]:.10g}, where the restitution still is {e_lo[bad]:.6g}; "
             "a smaller pressing force, or the position condition, reaches lower values"
