@@ -15,6 +15,14 @@
 * :mod:`~impactsym.contact.bounce` -- the bounce sequence until rest
   (:func:`bounce_sequence`, :func:`bounce_map`, :func:`physical_bounce`), on the one
   event loop of :mod:`~impactsym.contact.loop`;
+* :mod:`~impactsym.contact.laws` -- SymPy: the nonlinear contact laws (linear,
+  hertz-linear, Hunt–Crossley, Tsuji, viscoelastic) and their normalization
+  (:class:`ContactLaw`); :mod:`~impactsym.contact.lawmaps` their closed forms
+  (:class:`HuntCrossleyClosedForm`, :class:`TsujiMap`);
+* :mod:`~impactsym.contact.nonlinear` -- one impact on any law in physical units
+  (:func:`impact`); :mod:`~impactsym.contact.lawdesign` the damping that delivers a
+  restitution (:func:`damping_for`), on the array integrator of
+  :mod:`~impactsym.contact.lawkernel`;
 """
 
 from __future__ import annotations
@@ -35,6 +43,14 @@ _NAMES = {
     "SpringDamperContact": "impactsym.contact.derivation",
     "SpringDamperRestart": "impactsym.contact.derivation",
     "regime_of": "impactsym.contact.derivation",
+    "impact": "impactsym.contact.nonlinear",
+    "NonlinearImpact": "impactsym.contact.nonlinear",
+    "damping_for": "impactsym.contact.lawdesign",
+    "ContactLaw": "impactsym.contact.laws",
+    "contact_law": "impactsym.contact.laws",
+    "LAWS": "impactsym.contact.laws",
+    "HuntCrossleyClosedForm": "impactsym.contact.lawmaps",
+    "TsujiMap": "impactsym.contact.lawmaps",
 }
 __all__ = sorted(_NAMES)
 __getattr__, __dir__ = lazy_names(__name__, _NAMES)

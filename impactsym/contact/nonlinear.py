@@ -1,0 +1,218 @@
+r"""One impact on a nonlinear contact law, in physical units: :func:`impact`.
+
+A body of mass ``m`` hits a contact element at speed ``v0`` under a constant pressing
+force ``F`` (``docs/physics.md``, "Nonlinear contact laws"). The laws are those of
+:mod:`impactsym.contact.laws` (``"linear"``, ``"hertz-linear"``, ``"hunt-crossley"``,
+``"tsuji"``, ``"viscoelastic"``), whose damping parameter is ``c``, ``c``, ``lambda``,
+``alpha`` and ``A``. The numbers come from
+
+* the exact linear contact (:func:`~impactsym.contact.api.physical_contact`) for the
+  contact time and restitution of ``"linear"``, unchanged;
+* the closed forms of :mod:`impactsym.contact.lawclosed` without pressing force: the
+  Hunt–Crossley restitution (Lambert W) and the Tsuji map onto the linear contact with
+  :math:`\zeta = \alpha/\sqrt{2(p+1)}` (restitution and sticking);
+* the order-8 integration of :mod:`impactsym.contact.lawkernel` for everything else
+  (contact times, maximum penetration, peak force, and any law with a pressing force).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from impactsym.contact.api import physical_contact, restitution
+from impactsym.contact.lawclosed import hunt_crossley_restitution, tsuji_zeta
+from impactsym.contact.lawkernel import integrate
+from impactsym.contact.laws import check_law
+from impactsym.records import ArrayRecord
+from impactsym.validation import broadcast, check_condition, finish, real_array
+
+ArrayLike = float | np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class NonlinearImpact(ArrayRecord):
+    r"""One impact on a contact law, in physical units, with its normalized numbers.
+
+    Attributes
+    ----------
+    law, condition
+        The contact law and the contact condition used.
+    damping_number, pressing_number
+        The law's damping number (``D``, ``s``, ``alpha`` or ``beta``) and pressing
+        number ``f`` (``docs/physics.md``, "Nonlinear contact laws").
+    time_scale, length_scale
+        :math:`T = (m/(k v_0^{p-1}))^{1/(p+1)}` and :math:`L = v_0 T`.
+    contact_time
+        From touch to the end of contact (``inf``: the body sticks).
+    restitution
+        Speed at the end of contact over ``v0`` (``0.0`` when sticking).
+    max_penetration, peak_force
+        Largest overlap and largest compressive contact force (without the pressing
+        force); for a sticking body, over the whole motion towards rest.
+    """
+
+    law: str
+    condition: str
+    damping_number: ArrayLike
+    pressing_number: ArrayLike
+    time_scale: ArrayLike
+    length_scale: ArrayLike
+    contact_time: ArrayLike
+    restitution: ArrayLike
+    max_penetration: ArrayLike
+    peak_force: ArrayLike
+
+    @property
+    def sticks(self) -> bool | np.ndarray:
+        """Whether the body sticks (never releases)."""
+        stuck = np.isinf(self.contact_time)
+        return bool(stuck) if np.ndim(stuck) == 0 else stuck
+
+
+def normalize(law: str, k, c, m, v0, F, p) -> tuple[np.ndarray, ...]:
+    """Time scale, length scale, damping number, pressing term ``b`` and the exponent in
+    use, on flat arrays (``docs/physics.md``, "Nonlinear contact laws")."""
+    q = {"linear": np.ones_like(p), "viscoelastic": np.full_like(p, 1.5)}.get(law, p)
+    with np.errstate(all="ignore"):
+        T = np.exp((np.log(m) - np.log(k) - (q - 1.0) * np.log(v0)) / (q + 1.0))
+        L = v0 * T
+        delta = {
+            "linear": c / 2.0 / (np.sqrt(k) * np.sqrt(m)),
+            "hertz-linear": c * T / (2.0 * m),
+            "hunt-crossley": c * v0,
+            "tsuji": c,
+            "viscoelastic": 1.5 * c / T,
+        }[law]
+        b = F * T / m / v0
+    for label, value in (("time scale T", T), ("damping number", delta), ("pressing term", b)):
+        if not np.all(np.isfinite(value)) or not np.all(value >= 0):
+            raise ValueError(
+                f"{law}: the inputs give a {label} that is not a finite float "
+                f"({value[~np.isfinite(value)][:1]}); rescale the units"
+            )
+    return T, L, delta, b, q
+
+
+def normalized_impact(law: str, delta, b, q, *, condition: str):
+    """Contact time, restitution, maximum penetration, peak force (all normalized) of
+    flat arrays, with the closed forms where they hold."""
+    end = np.full(delta.shape, np.nan)
+    free = b == 0
+    if law == "tsuji":
+        zeta = tsuji_zeta(delta, q)
+        if condition == "position":
+            end[free & (zeta >= 1.0)] = np.inf  # the linear contact creeps back: sticks
+    result = integrate(law, delta, b, q, condition=condition, end_time=end)
+    e = result.e.copy()
+    if law == "hunt-crossley" and free.any():
+        e[free] = hunt_crossley_restitution(delta[free])
+    if law == "tsuji" and free.any():
+        e[free] = restitution(zeta[free], 0.0, condition=condition)
+    return result.tau_c, e, result.z_max, result.peak
+
+
+def impact(
+    law: str,
+    *,
+    stiffness: ArrayLike,
+    damping: ArrayLike,
+    mass: ArrayLike,
+    speed: ArrayLike,
+    force: ArrayLike = 0.0,
+    exponent: ArrayLike = 1.5,
+    condition: str,
+) -> NonlinearImpact:
+    r"""Contact time, restitution, maximum penetration and peak force of one impact.
+
+    A body of mass ``mass`` hits the contact element at ``speed`` under the pressing force
+    ``force`` (SI units, or any consistent set); ``m d'' = F - F_law(d, d')`` while in
+    contact, :math:`d(0) = 0`, :math:`d'(0) = v_0`.
+
+    Parameters
+    ----------
+    law : {"linear", "hertz-linear", "hunt-crossley", "tsuji", "viscoelastic"}
+        The contact force: :math:`k d + c d'`, :math:`k d^p + c d'`,
+        :math:`k d^p (1 + \lambda d')`, :math:`k d^p + \alpha\sqrt{mk}\, d^{(p-1)/2} d'`,
+        :math:`k (d^{3/2} + \tfrac32 A d^{1/2} d')`.
+    stiffness, damping, mass, speed, force : float or array_like
+        ``k > 0``; the law's damping parameter ``c``, ``lambda``, ``alpha`` or ``A``
+        (``>= 0``); ``m > 0``; ``v0 > 0``; ``F >= 0``. Arrays broadcast.
+    exponent : float or array_like
+        ``p >= 1`` of ``"hertz-linear"``, ``"hunt-crossley"`` and ``"tsuji"``; ignored by
+        ``"linear"`` and ``"viscoelastic"``.
+    condition : {"position", "force"}
+        Contact while ``d > 0``, or while the contact force is compressive (where the
+        force is zero at touch: until it first returns to zero after being positive).
+
+    Returns
+    -------
+    NonlinearImpact
+        ``contact_time = inf`` and ``restitution = 0`` where the body sticks.
+
+    Examples
+    --------
+    The linear law is the linear contact of :func:`~impactsym.contact.physical_contact`:
+
+    >>> r = impact("linear", stiffness=1e4, damping=20.0, mass=1.0, speed=1.0,
+    ...            condition="position")
+    >>> from impactsym.contact import physical_contact
+    >>> r.restitution == physical_contact(1.0, 1e4, 20.0, 1.0, condition="position").restitution
+    True
+
+    Hunt–Crossley without pressing force restitutes :math:`(1 + W_0(-(1+s)e^{-(1+s)}))/s`
+    for :math:`s = \lambda v_0`, whatever ``k`` and ``p``:
+
+    >>> round(impact("hunt-crossley", stiffness=1e6, damping=2.083, mass=0.1, speed=1.0,
+    ...              condition="force").restitution, 4)
+    0.3999
+    """
+    check_law(law)
+    check_condition(condition)
+    values = {
+        name: real_array(name, value, lower=lower, strict=strict)
+        for name, value, lower, strict in (
+            ("stiffness", stiffness, 0.0, True),
+            ("damping", damping, 0.0, False),
+            ("mass", mass, 0.0, True),
+            ("speed", speed, 0.0, True),
+            ("force", force, 0.0, False),
+            ("exponent", exponent, 1.0, False),
+        )
+    }
+    scalar = all(flag for _, flag in values.values())
+    shape = broadcast(**{name: a for name, (a, _) in values.items()})
+    k, c, m, v0, F, p = (np.broadcast_to(a, shape).ravel() for a, _ in values.values())
+    T, L, delta, b, q = normalize(law, k, c, m, v0, F, p)
+    if law == "linear":
+        exact = physical_contact(m, k, c, v0, F, condition=condition)
+        t_c, e = np.asarray(exact.contact_time), np.asarray(exact.restitution)
+        tau_c = np.asarray(exact.normalized_contact_time)
+        run = integrate(law, delta, b, q, condition=condition, end_time=tau_c)
+        z_max, peak = run.z_max, run.peak
+        pressing = np.asarray(exact.f)
+    else:
+        tau_c, e, z_max, peak = normalized_impact(law, delta, b, q, condition=condition)
+        with np.errstate(over="ignore"):
+            t_c = tau_c * T
+        pressing = b
+    unit = m * v0 / T
+    fields = {
+        "damping_number": delta,
+        "pressing_number": pressing,
+        "time_scale": T,
+        "length_scale": L,
+        "contact_time": t_c,
+        "restitution": e,
+        "max_penetration": z_max * L,
+        "peak_force": peak * unit,
+    }
+    return NonlinearImpact(
+        law=law,
+        condition=condition,
+        **{
+            name: finish(np.asarray(v, dtype=float).reshape(shape), scalar)
+            for name, v in fields.items()
+        },
+    )

@@ -1,0 +1,58 @@
+"""Hostile input to impact() and damping_for(): refused early, naming the argument."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from impactsym.contact import damping_for, impact
+
+KW = {"stiffness": 2000.0, "damping": 0.3, "mass": 0.5, "speed": 1.5}
+DESIGN = {"restitution": 0.5, "stiffness": 2000.0, "mass": 0.5, "speed": 1.5}
+
+
+def test_unknown_law_lists_the_laws():
+    laws = "'linear', 'hertz-linear', 'hunt-crossley', 'tsuji', 'viscoelastic'; got 'hertz'"
+    with pytest.raises(ValueError, match=laws):
+        impact("hertz", condition="force", **KW)
+    with pytest.raises(ValueError, match="'viscoelastic'; got 'jkr'"):
+        damping_for("jkr", condition="force", **DESIGN)
+
+
+def test_condition_is_required_and_checked():
+    with pytest.raises(TypeError, match="condition"):
+        impact("tsuji", **KW)
+    with pytest.raises(TypeError, match="condition"):
+        damping_for("tsuji", **DESIGN)
+    with pytest.raises(ValueError, match="condition must be 'position' or 'force'"):
+        impact("tsuji", condition="both", **KW)
+
+
+@pytest.mark.parametrize(
+    ("name", "value", "message"),
+    [
+        ("stiffness", -1.0, "stiffness must be > 0"),
+        ("mass", 0.0, "mass must be > 0"),
+        ("speed", np.nan, "speed must be finite"),
+        ("damping", -0.1, "damping must be >= 0"),
+        ("force", -2.0, "force must be >= 0"),
+        ("exponent", 0.5, "exponent must be >= 1"),
+    ],
+)
+def test_bad_numbers_are_named(name, value, message):
+    with pytest.raises(ValueError, match=message):
+        impact("hunt-crossley", condition="position", **{**KW, name: value})
+
+
+def test_strings_and_shapes_are_refused():
+    with pytest.raises(TypeError, match="stiffness"):
+        impact("tsuji", condition="force", **{**KW, "stiffness": "1e4"})
+    with pytest.raises(ValueError, match="cannot be broadcast"):
+        impact("tsuji", condition="force", **{**KW, "mass": np.ones(2), "speed": np.ones(3)})
+
+
+@pytest.mark.parametrize(("target", "message"), [(0.0, "restitution must be > 0"),
+                                                 (1.5, "restitution must be <= 1")])  # fmt: skip
+def test_impossible_targets_are_refused(target, message):
+    with pytest.raises(ValueError, match=message):
+        damping_for("linear", condition="force", **{**DESIGN, "restitution": target})
