@@ -11,8 +11,8 @@ import pytest
 import sympy as sp
 
 from impactsym.engines.derivation import mujoco_rk4_step
-from impactsym.engines.mujoco.model import check_solimp, coefficients, impedance_at
-from impactsym.engines.mujoco.rk4 import rk4_contact
+from impactsym.engines.mujoco.model import Coefficients, check_solimp, coefficients, impedance_at
+from impactsym.engines.mujoco.rk4 import rk4_contact, rk4_spectral_radius
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
 DEFAULT = (0.9, 0.95, 0.001, 0.5, 2.0)
@@ -90,6 +90,17 @@ def test_spectral_radius_is_the_modulus_of_p_at_the_eigenvalues():
     m = np.array(r["matrix"].subs(values).evalf(), dtype=float)
     mu = [complex(e.subs(values).evalf()) for e in r["eigenvalues"]]
     assert np.allclose(sorted(np.abs(np.linalg.eigvals(m))), sorted(np.abs(mu)), rtol=1e-12)
+
+
+def test_spectral_radius_crosses_one_at_the_undamped_limit():
+    # undamped, flat: omega0 h = 2 sqrt(2) is the limit the derivation gives
+    si = check_solimp(FLAT)
+    h = 0.002
+    y = np.array([2.8, 2 * np.sqrt(2) - 1e-6, 2 * np.sqrt(2) + 1e-6, 2.9])
+    c = Coefficients(np.zeros(4), (y / h) ** 2 / 0.81)
+    radius = rk4_spectral_radius(c, si, 1.0, h)
+    np.testing.assert_allclose(radius, np.sqrt(1 - y**6 / 72 + y**8 / 576), rtol=1e-12)
+    assert list(radius < 1) == [True, True, False, False]
 
 
 # -- the model against a plain recurrence ----------------------------------------------

@@ -20,14 +20,8 @@ its four stages (the later ones feel the contact), as the touch-phase definition
 Where all four stages are in contact with a positive force and a constant impedance (flat
 ``solimp``, or beyond the impedance width ``x >= w``) the step is the affine map
 ``u -> P(hA) u`` of ``u = y - y*`` (``P`` the degree-4 Taylor polynomial of ``exp``,
-:func:`impactsym.engines.derivation.mujoco_rk4_step`). Its ``n``-th power is closed form,
-
-.. math::
-
-    u_n = m^n\,\bigl(\cosh(n\delta)\,u_0 + \tfrac{\sinh(n\delta)}{\sinh\delta}
-          (M u_0/m - \cosh\delta\,u_0)\bigr),\qquad
-    m = \sqrt{\det M},\ \ \mu_\pm = m\,e^{\pm\delta} = P(h\lambda_\pm),
-
+:func:`impactsym.engines.derivation.mujoco_rk4_step`). Its ``n``-th power is closed form
+in the eigenvalues ``mu = m exp(+-delta) = P(h lambda)``,
 so every stage's penetration and force term is ``s* + m^n (q cosh n delta + w sinh n
 delta / sinh delta)``: an exponential polynomial in ``n``. The step where a stage first
 leaves the interior is found on it (per half-period window its one dip, or the monotone
@@ -36,7 +30,7 @@ stepping; the boundary steps, a varying impedance inside the width and the coast
 zero force (free flight inside the overlap until the contact is gone or the force comes
 back) run the exact recurrence, vectorized over contacts.
 
-All quantities are SI: seconds, metres, m/s, m/s^2.
+SI throughout: seconds, metres, m/s, m/s^2 (`docs/physics.md`, *MuJoCo's RK4 step*).
 """
 
 from __future__ import annotations
@@ -53,7 +47,7 @@ from impactsym.engines.mujoco.model import (
 )
 from impactsym.engines.mujoco.stepping import StepContact
 
-__all__ = ["rk4_contact"]
+__all__ = ["rk4_contact", "rk4_spectral_radius"]
 
 #: the driver's (and a long run's) limit: a contact not over after this many states sticks
 MAX_STEPS = 100_000
@@ -111,13 +105,8 @@ class _Law:
 
 
 def _mat(a, b):
-    """Product of 2x2 matrices stored as 4-tuples of arrays."""
-    return (
-        a[0] * b[0] + a[1] * b[2],
-        a[0] * b[1] + a[1] * b[3],
-        a[2] * b[0] + a[3] * b[2],
-        a[2] * b[1] + a[3] * b[3],
-    )
+    """Product of 2x2 matrices stored as 4-tuples of arrays (row-major)."""
+    return tuple(a[2 * r] * b[c] + a[2 * r + 1] * b[2 + c] for r in (0, 1) for c in (0, 1))
 
 
 def _lin(*terms):
@@ -408,6 +397,32 @@ def _row_max(row: _Row, last):
     return np.where(last >= 1, best, -np.inf)
 
 
+def rk4_spectral_radius(
+    coeffs: Coefficients, solimp: tuple[float, ...], rho: Any, timestep: Any
+) -> np.ndarray:
+    r"""Spectral radius of RK4's interior step map (all stages pressed, ``d = d_max``).
+
+    ``max |P(h lambda)|`` over the roots of ``lambda^2 + d' b lambda + d' d kbar = 0``, with
+    ``P`` the degree-4 Taylor polynomial of ``exp`` (``d`` the flat impedance, or ``d_max``
+    beyond the width). Above 1 the step map is unstable: undamped that is
+    ``omega0 h > 2 sqrt(2)``, overdamped ``h |lambda| > 2.785``. Inputs unvalidated.
+
+    >>> from impactsym.engines.mujoco.model import coefficients
+    >>> si = (0.9, 0.9, 0.001, 0.5, 2.0)
+    >>> [round(float(rk4_spectral_radius(coefficients(s, si, 0.002), si, 1.0, 0.002)), 4)
+    ...  for s in ((0.02, 0.05), (0.004, 0.05))]
+    [0.6563, 391.6618]
+    """
+    b, kbar, rho, h = np.broadcast_arrays(
+        *(np.asarray(a, dtype=float) for a in (coeffs.damping, coeffs.stiffness, rho, timestep))
+    )
+    shape = b.shape
+    law = _Law(b.ravel(), kbar.ravel(), np.zeros(b.size), rho.ravel(), solimp, is_flat(solimp))
+    interior = _Interior(law, h.ravel())
+    radius = np.exp(interior.lm + np.where(interior.osc, 0.0, interior.rate))
+    return radius.reshape(shape)
+
+
 def rk4_contact(
     coeffs: Coefficients,
     solimp: tuple[float, ...],
@@ -440,10 +455,15 @@ def rk4_contact(
     -------
     StepContact
         Exact per phase: the engine's states under the definitions of
-        :mod:`~impactsym.engines.mujoco.stepping`. Where the contact never ends (the body
-        settles) ``steps`` is -1; where a force comes back inside the overlap it counts
-        the states to the force zero. A contact that neither ends nor is proven to stick
-        within 100 000 states is reported as sticking, as the engine driver does.
+        :mod:`~impactsym.engines.mujoco.stepping`. Where the entering step throws the body
+        back out before the first state (only beyond the stability limit,
+        :func:`rk4_spectral_radius`), the contact ends at that state (``steps = 0``).
+        Where the body settles, ``max_penetration`` is the supremum over all states and
+        ``steps`` is -1; where a force comes back inside the overlap it counts
+        the states to the force zero. Settled means: the map returns to a state, or the
+        speed is below 1e-9 of ``speed`` under at least half the static force (a varying
+        impedance inside its width); else sticking is reported after 100 000 states, as
+        the engine driver does.
 
     Notes
     -----
@@ -476,16 +496,10 @@ def rk4_contact(
     x_prev, v_prev = np.full(size, np.nan), np.full(size, np.nan)
     touched = np.zeros(size, bool)
     ended = np.zeros(size, bool)
-    res = {
-        "restitution": np.zeros(size),
-        "contact_time": np.full(size, np.inf),
-        "sticks": np.zeros(size, bool),
-        "released_by_position": np.zeros(size, bool),
-        "departure_speed": np.zeros(size),
-        "steps": np.zeros(size, dtype=np.int64),
-        "max_penetration": np.zeros(size),
-        "peak_accel": np.zeros(size),
-    }
+    floats = ("restitution", "departure_speed", "max_penetration", "peak_accel")
+    res = {key: np.zeros(size) for key in floats}
+    res.update(contact_time=np.full(size, np.inf), steps=np.zeros(size, dtype=np.int64))
+    res.update(sticks=np.zeros(size, bool), released_by_position=np.zeros(size, bool))
     act = np.arange(size)
     while act.size:
         law = law_all.take(act)
@@ -496,14 +510,15 @@ def rk4_contact(
         ena = ended[act]
         back = on & ena & (drive > 0)
         counted = on & ~ena
-        res["max_penetration"][act] = np.where(
-            counted, np.maximum(res["max_penetration"][act], xa), res["max_penetration"][act]
+        ic = act[counted]
+        res["max_penetration"][ic] = np.maximum(res["max_penetration"][ic], xa[counted])
+        peak = dp * np.maximum(drive, 0.0)
+        res["peak_accel"][ic] = np.maximum(
+            res["peak_accel"][ic], np.broadcast_to(peak, xa.shape)[counted]
         )
-        accel = dp * np.maximum(drive, 0.0)
-        res["peak_accel"][act] = np.where(
-            counted, np.maximum(res["peak_accel"][act], accel), res["peak_accel"][act]
-        )
-        tou = touched[act] | on
+        # the first detecting state is the one after the entering step; where the entering
+        # step has thrown the body back out (beyond the stability limit) the contact ends there
+        tou = touched[act] | on | (k[act] >= 0)
         end_now = tou & ~ena & (~on | (drive <= 0))
         ia = act[end_now]
         res["restitution"][ia] = -va[end_now] / speed[ia]
