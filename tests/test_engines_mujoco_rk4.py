@@ -27,7 +27,9 @@ def _plain(solref, solimp, speed, gravity, timestep, phase, *, inside=False, max
 
     Starts from free flight one step before the first detecting state, as the touch-phase
     definitions say, or (``inside=True``) at the first detecting state itself. Returns
-    ``(restitution, contact_time, steps)`` of the force zero or contact loss.
+    ``(restitution, contact_time, steps, departure_speed)``: the force zero or contact loss,
+    then the coast through the overlap until the contact is gone (``departure_speed``,
+    ``nan`` where the force comes back).
     """
     si = check_solimp(solimp)
     c = coefficients(solref, si, timestep)
@@ -40,13 +42,16 @@ def _plain(solref, solimp, speed, gravity, timestep, phase, *, inside=False, max
 
     t = phase * h if inside else (phase - 1.0) * h
     x, v = speed * t + 0.5 * g * t * t, speed + g * t
-    touched, steps = False, 0
+    touched, steps, end = False, 0, None
     for _ in range(max_steps):
         a0, drive = accel(x, v)
         touched |= x >= 0
-        if touched and (x < 0 or drive <= 0):
-            return -v / speed, t, steps
-        steps += touched
+        if end is not None and (x < 0 or drive > 0):
+            return (*end, -v if x < 0 else np.nan)
+        if end is None and touched and (x < 0 or drive <= 0):
+            end = (-v / speed, t, steps)
+            continue
+        steps += touched and end is None
         x1, v1 = x + 0.5 * h * v, v + 0.5 * h * a0
         a1 = accel(x1, v1)[0]
         x2, v2 = x + 0.5 * h * v1, v + 0.5 * h * a1
@@ -58,7 +63,7 @@ def _plain(solref, solimp, speed, gravity, timestep, phase, *, inside=False, max
             v + h * (a0 / 6 + a1 / 3 + a2 / 3 + a3 / 6),
         )
         t += h
-    return 0.0, np.inf, -1
+    return 0.0, np.inf, -1, np.nan
 
 
 def _model(solref, solimp, speed, gravity, timestep, phase):
@@ -113,12 +118,13 @@ def test_closed_form_interior_equals_the_plain_recurrence_over_long_contacts(dam
     # at dt = 5e-5 a contact lasts hundreds of steps: the model jumps through its interior
     # by the closed form, the reference steps through every stage
     for phase in (0.2, 0.8):
-        e, t_c, steps = _plain((0.02, dampratio), FLAT, 2.0, gravity, 5e-5, phase)
+        e, t_c, steps, departure = _plain((0.02, dampratio), FLAT, 2.0, gravity, 5e-5, phase)
         r = _model((0.02, dampratio), FLAT, 2.0, gravity, 5e-5, phase)
         assert steps > 100
         assert int(r.steps) == steps
         assert float(r.restitution) == pytest.approx(e, rel=1e-9)
         assert float(r.contact_time) == pytest.approx(t_c, rel=1e-12)
+        assert float(r.departure_speed) == pytest.approx(departure, rel=1e-9)
 
 
 def test_arrays_broadcast_and_scalars_give_floats():

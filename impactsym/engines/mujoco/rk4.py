@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from impactsym.engines.mujoco.coast import coast_steps
 from impactsym.engines.mujoco.model import (
     Coefficients,
     effective_impedance,
@@ -70,12 +71,13 @@ class _Law:
         self.d_in = float(impedance_at(np.asarray(solimp[2] if not flat else 0.0), solimp))
         self.width = 0.0 if flat else float(solimp[2])
         self.dp_in = effective_impedance(self.d_in, rho)
+        self.k_hi = max(self.d_in, float(impedance_at(np.zeros(()), solimp))) * kbar
 
     def take(self, i: np.ndarray) -> _Law:
         out = object.__new__(_Law)
         out.b, out.kbar, out.g, out.rho = self.b[i], self.kbar[i], self.g[i], self.rho[i]
         out.solimp, out.flat, out.d_in, out.width = self.solimp, self.flat, self.d_in, self.width
-        out.dp_in = self.dp_in[i]
+        out.dp_in, out.k_hi = self.dp_in[i], self.k_hi[i]
         return out
 
     def stage(self, x, v):
@@ -91,7 +93,7 @@ class _Law:
         return acc, drive, dp, interior
 
     def step(self, x, v, h):
-        """One RK4 step stage by stage; also whether all four stages were interior."""
+        """One RK4 step stage by stage; whether all four stages were interior, or free."""
         a0, _, _, i0 = self.stage(x, v)
         x1, v1 = x + 0.5 * h * v, v + 0.5 * h * a0
         a1, _, _, i1 = self.stage(x1, v1)
@@ -101,7 +103,8 @@ class _Law:
         a3, _, _, i3 = self.stage(x3, v3)
         x_new = x + h * (v / 6.0 + v1 / 3.0 + v2 / 3.0 + v3 / 6.0)
         v_new = v + h * (a0 / 6.0 + a1 / 3.0 + a2 / 3.0 + a3 / 6.0)
-        return x_new, v_new, i0 & i1 & i2 & i3
+        free = (a0 == self.g) & (a1 == self.g) & (a2 == self.g) & (a3 == self.g)
+        return x_new, v_new, i0 & i1 & i2 & i3, free
 
 
 def _mat(a, b):
@@ -294,8 +297,7 @@ def _exit_real(row: _Row):
         valid = (den != 0) & (np.abs(tau) < 1)
         atc = np.where(tau == 0, 1.0, np.arctanh(tau) / np.where(tau == 0, 1.0, tau))
         t_e = np.where(valid, atc * t_d, -1.0)
-    n_exit = np.full(d.shape, np.inf)
-    bound = np.full(d.shape, np.inf)
+    n_exit, bound = np.full(d.shape, np.inf), np.full(d.shape, np.inf)
     # piece A: [1, floor(t_e)], monotone from g(0) > 0
     a_end = np.floor(t_e)
     piece_a = a_end >= 1
@@ -348,8 +350,7 @@ def _first_exit(interior: _Interior, x, v):
     rows = interior.rows
     s = np.concatenate([np.broadcast_to(o, (size,)) for o in interior.offsets])
     qw = [interior.coefficients(r, x, v) for r in rows]
-    q = np.concatenate([a for a, _ in qw])
-    w = np.concatenate([b for _, b in qw])
+    q, w = (np.concatenate([pair[j] for pair in qw]) for j in (0, 1))
     tile = len(rows)
     lm, rate, osc = (np.tile(a, tile) for a in (interior.lm, interior.rate, interior.osc))
     row = _Row(s, q, w, lm, rate, osc)
@@ -402,10 +403,9 @@ def rk4_spectral_radius(
 ) -> np.ndarray:
     r"""Spectral radius of RK4's interior step map (all stages pressed, ``d = d_max``).
 
-    ``max |P(h lambda)|`` over the roots of ``lambda^2 + d' b lambda + d' d kbar = 0``, with
-    ``P`` the degree-4 Taylor polynomial of ``exp`` (``d`` the flat impedance, or ``d_max``
-    beyond the width). Above 1 the step map is unstable: undamped that is
-    ``omega0 h > 2 sqrt(2)``, overdamped ``h |lambda| > 2.785``. Inputs unvalidated.
+    ``max |P(h lambda)|``, ``lambda^2 + d' b lambda + d' d kbar = 0``, ``P`` the degree-4
+    Taylor polynomial of ``exp``, ``d`` flat or ``d_max``. Above 1 the map is unstable
+    (undamped: ``omega0 h > 2 sqrt(2)``; overdamped: ``h |lambda| > 2.785``). Unvalidated.
 
     >>> from impactsym.engines.mujoco.model import coefficients
     >>> si = (0.9, 0.9, 0.001, 0.5, 2.0)
@@ -436,17 +436,13 @@ def rk4_contact(
 
     Parameters
     ----------
-    coeffs
-        ``b`` and ``kbar`` of the ``solref`` with refsafe applied
-        (:func:`~impactsym.engines.mujoco.model.coefficients` at ``timestep``).
-    solimp
-        Checked ``solimp`` (five floats).
+    coeffs, solimp
+        ``b``, ``kbar`` with refsafe (:func:`~impactsym.engines.mujoco.model.coefficients`
+        at ``timestep``) and the checked ``solimp`` (five floats).
     rho
         Weight ratio ``A / A_diag`` (1 for one body on a slide joint).
-    gravity, speed
-        Gravity pressing along the normal (m/s^2) and approach speed at touch (m/s, > 0).
-    timestep
-        MuJoCo's ``timestep`` (s).
+    gravity, speed, timestep
+        Gravity pressing along the normal (m/s^2), approach speed at touch (m/s, > 0), ``h``.
     phase
         Touch phase in ``[0, 1)``: touch lies ``phase * timestep`` before the first
         detecting state; the state one step earlier carries free flight.
@@ -490,12 +486,10 @@ def rk4_contact(
     size = b.size
     law_all = _Law(b, kbar, g, rho, solimp, flat)
     t0 = (phase - 1.0) * h
-    x = speed * t0 + 0.5 * g * t0 * t0
-    v = speed + g * t0
+    x, v = speed * t0 + 0.5 * g * t0 * t0, speed + g * t0
     k = -np.ones(size)  # state index from the first detecting state
     x_prev, v_prev = np.full(size, np.nan), np.full(size, np.nan)
-    touched = np.zeros(size, bool)
-    ended = np.zeros(size, bool)
+    touched, ended = np.zeros(size, bool), np.zeros(size, bool)
     floats = ("restitution", "departure_speed", "max_penetration", "peak_accel")
     res = {key: np.zeros(size) for key in floats}
     res.update(contact_time=np.full(size, np.inf), steps=np.zeros(size, dtype=np.int64))
@@ -541,12 +535,11 @@ def rk4_contact(
         if not act.size:
             break
         # advance: one exact step, or the closed-form jump through the interior
-        xn, vn, inner = law.step(xa, va, h[act])
+        xn, vn, inner, free = law.step(xa, va, h[act])
         pressed = touched[act] & ~ended[act]
         jump = inner & pressed & (k[act] >= _SHORT)
-        # settled: a state the map returns to (a fixed point or a 2-cycle in floating
-        # point), or one whose speed has died to 1e-9 of the approach speed under a force
-        # of at least half its static value (a varying impedance settling inside its width)
+        # settled: the map returns to a state (fixed point, 2-cycle), or the speed died to
+        # 1e-9 of `speed` under half the static force (varying impedance inside its width)
         _, drive_a, dp_a, _ = law.stage(xa, va)
         slow = (np.abs(va) <= 1e-9 * speed[act]) & (np.abs(vn) <= 1e-9 * speed[act])
         held = (law.g > 0) & (drive_a * dp_a >= 0.5 * law.g)
@@ -562,6 +555,15 @@ def rk4_contact(
             res["steps"][ic] = -1
             act, xa, va, law = act[~cycle], xa[~cycle], va[~cycle], law.take(np.flatnonzero(~cycle))
             jump = jump[~cycle]
+            free = free[~cycle]
+        glide = free & ended[act] & (xa >= 0)  # coasting inside the overlap: jump the parabola
+        if glide.any():
+            gl, ig = np.flatnonzero(glide), act[glide]
+            n = coast_steps(xa[gl], va[gl], law.g[gl], law.b[gl], law.k_hi[gl], h[ig])
+            t = np.where(np.isfinite(n), n, 1.0) * h[ig]
+            x[ig] = xa[gl] + va[gl] * t + 0.5 * law.g[gl] * t * t
+            v[ig] = va[gl] + law.g[gl] * t
+            k[ig] += np.where(np.isfinite(n), n, 1.0) - 1
         if jump.any():
             jx = np.flatnonzero(jump)
             ij = act[jx]
