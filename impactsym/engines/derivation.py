@@ -114,3 +114,75 @@ class MujocoContact:
     def solref_negative(self) -> dict[sp.Symbol, sp.Expr]:
         """``b``, ``kbar`` of ``solref = (-stiffness, -damping)``."""
         return {self.b: self.damping / self.d_max, self.kbar: self.stiffness / self.d_max**2}
+
+
+def mujoco_rk4_step() -> dict[str, sp.Expr]:
+    r"""SymPy: one step of MuJoCo's RK4 (``mj_RungeKutta``) in the interior of a flat contact.
+
+    MuJoCo's classical Runge-Kutta step (``engine_forward.c``) evaluates the state at four
+    stages, ``X_i = X_0 + h\,c_i F_{i-1}`` with ``c = (1/2, 1/2, 1)``, runs the whole forward
+    pass (collision, constraint force) at each, and advances
+    ``X_0 + h (F_0 + 2 F_1 + 2 F_2 + F_3) / 6``. Where every stage is in contact with a
+    positive force and the impedance is flat, the stage acceleration is the loaded
+    oscillator's (penetration ``x``, rate ``v``)
+
+    .. math::
+
+        a = g - d'\,(g + b\,v + d\,\bar k\,x) = (1 - d')\,g - d' b\,v - d' d \bar k\,x,
+
+    and the step is the affine map ``y -> M y + h q`` of ``y = (x, v)``. Returns
+
+    * ``"matrix"``: ``M`` (2x2) and ``"offset"``: ``h q`` from the four stages as MuJoCo
+      computes them;
+    * ``"taylor"``: ``P(hA) = I + hA + (hA)^2/2 + (hA)^3/6 + (hA)^4/24`` with
+      ``A = [[0, 1], [-d' d kbar, -d' b]]`` (``matrix - taylor`` simplifies to zero: the
+      step matrix is the degree-4 Taylor polynomial of ``exp(hA)``);
+    * ``"equilibrium"``: the fixed point ``x* = (1 - d') g / (d' d kbar)``, ``v* = 0``;
+    * ``"eigenvalues"``: ``P(h lambda)`` for the roots ``lambda`` of
+      ``lambda^2 + d' b lambda + d' d kbar = 0``; the spectral radius is the larger
+      modulus (the map is stable where it is below 1);
+    * ``"stages"``: the four stage states ``(x_i, v_i)`` as functions of ``(x, v)``;
+    * ``"undamped_modulus2"``: ``|P(i y)|^2 = 1 - y^6/72 + y^8/576`` (``y = omega0 h``, no
+      damping): at most 1 iff ``omega0 h <= 2 sqrt(2)``, RK4's stability limit there.
+
+    >>> r = mujoco_rk4_step()
+    >>> sp.simplify(r["matrix"] - r["taylor"])
+    Matrix([
+    [0, 0],
+    [0, 0]])
+    """
+    h, g, b, d, kbar, dp = sp.symbols("h g b d kbar d_eff", positive=True)
+    x, v, lam = sp.symbols("x v lambda")
+    y = sp.Symbol("y", positive=True)
+
+    def accel(xs, vs):
+        return g - dp * (g + b * vs + d * kbar * xs)
+
+    stages = [(x, v)]
+    for c in (sp.Rational(1, 2), sp.Rational(1, 2), 1):
+        xs, vs = stages[-1]
+        stages.append((x + h * c * vs, v + h * c * accel(xs, vs)))
+    weights = (sp.Rational(1, 6), sp.Rational(1, 3), sp.Rational(1, 3), sp.Rational(1, 6))
+    x1 = sp.expand(x + h * sum(w * s[1] for w, s in zip(weights, stages, strict=True)))
+    v1 = sp.expand(v + h * sum(w * accel(*s) for w, s in zip(weights, stages, strict=True)))
+    new = sp.Matrix([x1, v1])
+    matrix = new.jacobian([x, v])
+    offset = sp.expand(new.subs({x: 0, v: 0}))
+    a_mat = sp.Matrix([[0, 1], [-dp * d * kbar, -dp * b]])
+    hA = h * a_mat
+    taylor = sp.eye(2) + hA + hA**2 / 2 + hA**3 / 6 + hA**4 / 24
+    x_star = (1 - dp) * g / (dp * d * kbar)
+
+    def poly(z):
+        return 1 + z + z**2 / 2 + z**3 / 6 + z**4 / 24
+
+    roots = sp.solve(lam**2 + dp * b * lam + dp * d * kbar, lam)
+    return {
+        "matrix": sp.expand(matrix),
+        "offset": offset,
+        "taylor": sp.expand(taylor),
+        "equilibrium": sp.Matrix([x_star, 0]),
+        "eigenvalues": [poly(h * r) for r in roots],
+        "stages": [sp.Matrix([sp.expand(xs), sp.expand(vs)]) for xs, vs in stages],
+        "undamped_modulus2": sp.expand(poly(sp.I * y) * poly(-sp.I * y)),
+    }
