@@ -118,6 +118,7 @@ def plot_timestep_restitution(
     *,
     target: float,
     default_timestep: float = 0.002,
+    legend: str = "right",
     ax: Axes | None = None,
 ) -> Axes:
     """Achieved restitution against the engine's timestep, one colour per design.
@@ -126,7 +127,8 @@ def plot_timestep_restitution(
     phases at ``timesteps`` (a line and a band); ``measured[name]`` (optional) the
     engine's ``"timestep"``, ``"mean"``, ``"min"``, ``"max"`` (points with bars), as
     :func:`impactsym.engines.survey.mujoco_measured` returns them. The target and the
-    engine's default timestep are marked.
+    engine's default timestep are marked; ``legend`` is ``"right"`` or ``"below"``
+    (:func:`impactsym.plotting.style.legend_outside`).
 
     >>> dt = np.geomspace(1e-4, 4e-3, 5)
     >>> band = {"mean": 0.5 + 0 * dt, "min": 0.49 + 0 * dt, "max": 0.51 + 0 * dt}
@@ -149,7 +151,7 @@ def plot_timestep_restitution(
     ax.set_xscale("log")
     ax.set_xlabel("timestep [s]")
     ax.set_ylabel("achieved restitution $e$ [-]")
-    legend_outside(ax=ax, fontsize=8)
+    legend_outside(ax=ax, where=legend, fontsize=8)
     return ax
 
 
@@ -159,6 +161,7 @@ def plot_timestep_advice(
     *,
     default_timestep: float | None = 0.002,
     ylabel: str = "largest timestep for 1 % [s]",
+    legend: str = "right",
     ax: Axes | None = None,
 ) -> Axes:
     """The timestep advisor's curves: the largest timestep against the target restitution.
@@ -166,7 +169,7 @@ def plot_timestep_advice(
     ``timesteps[name]`` are the advisor's values for ``targets`` (e.g.
     :func:`impactsym.engines.mujoco.timestep_for` of the designs, or
     :func:`impactsym.engines.survey.lammps_advice`); a log axis. ``default_timestep``
-    (if not ``None``) is marked.
+    (if not ``None``) is marked; ``legend`` as in :func:`plot_timestep_restitution`.
 
     >>> e = np.linspace(0.1, 0.9, 5)
     >>> plot_timestep_advice(e, {"a": 1e-3 * e}).get_yscale()
@@ -183,7 +186,7 @@ def plot_timestep_advice(
     ax.set_yscale("log")
     ax.set_xlabel("target restitution $e$ [-]")
     ax.set_ylabel(ylabel)
-    legend_outside(ax=ax, fontsize=8)
+    legend_outside(ax=ax, where=legend, fontsize=8)
     return ax
 
 
@@ -193,6 +196,7 @@ def plot_at_timestep(
     measured: Mapping[str, Mapping[str, np.ndarray]] | None = None,
     *,
     title: str = "",
+    legend: str = "right",
     ax: Axes | None = None,
 ) -> Axes:
     """Achieved over target restitution at one timestep, one colour per design.
@@ -200,7 +204,8 @@ def plot_at_timestep(
     ``curves[name]``: predicted ``"mean"``, ``"min"``, ``"max"`` over touch phases of the
     ratio achieved/target at ``targets`` (line and band); ``measured[name]``: the
     engine's ``"targets"``, ``"mean"``, ``"min"``, ``"max"`` of that ratio (points with
-    bars). A line at 1 marks the target.
+    bars). A line at 1 marks the target; ``legend`` as in
+    :func:`plot_timestep_restitution`.
 
     >>> e = np.linspace(0.1, 0.9, 5)
     >>> band = {"mean": 1 + 0 * e, "min": 0.99 + 0 * e, "max": 1.01 + 0 * e}
@@ -221,5 +226,5 @@ def plot_at_timestep(
     ax.set_ylabel("achieved / target restitution [-]")
     if title:
         ax.set_title(title, fontsize=9)
-    legend_outside(ax=ax, fontsize=8)
+    legend_outside(ax=ax, where=legend, fontsize=8)
     return ax
