@@ -255,3 +255,25 @@ def test_cli_lammps_timestep_design_and_phase_range_in_lammps(capsys):
     assert lo - 1e-6 <= min(e) <= max(e) <= hi + 1e-6
     assert main(argv) == 0
     assert "continuous (timestep -> 0)" in capsys.readouterr().out
+
+
+def test_phase_ranges_hold_every_sampled_phase_of_random_contacts():
+    from impactsym.engines.lammps.verlet import positive_limit
+
+    rng = np.random.default_rng(11)
+    n = 40
+    D = rng.uniform(0.01, 2.5, n)
+    L = np.where(rng.random(n) < 0.4, 0.0, rng.uniform(0, 0.4, n))
+    tau = rng.uniform(0.02, 0.9, n) * np.minimum(stability_limit(D), positive_limit(D))
+    P = (np.arange(1000) + 0.5) / 1000
+    for limit in (True, False):
+        st = phase_statistics(D, L, tau, limit)
+        for i in range(n):
+            r = verlet_phase(D[i], L[i], tau[i], P, limit, extremes=False)
+            assert bool(st["sticks_somewhere"][i]) == bool(r["sticks"].any())
+            if r["sticks"].any():
+                continue
+            e = r["restitution"]
+            assert st["restitution_min"][i] <= e.min() + 1e-12
+            assert e.max() <= st["restitution_max"][i] + 1e-12
+            assert st["restitution"][i] == pytest.approx(e.mean(), abs=2 * np.ptp(e) / 1000 + 1e-9)

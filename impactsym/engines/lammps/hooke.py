@@ -1,4 +1,4 @@
-r"""The Hooke spring-dashpot of LAMMPS ``pair_style granular``: design and prediction.
+r"""The Hooke contact of LAMMPS ``pair_style granular``: the record and the prediction.
 
 LAMMPS's normal force for the ``hooke`` model with ``damping velocity`` is (LAMMPS
 documentation, ``pair_style granular``)
@@ -16,12 +16,16 @@ particles (or a particle and a wall) this is paper section 2 with
 * without ``limit_damping`` the force turns tensile near the end and contact lasts
   while the particles overlap: the **position condition**;
 * with ``limit_damping`` an attractive force is set to zero: contact force ends at
-  ``k_n delta - eta_n delta' = 0``, the **force condition** (the overlap then ends later
-  at constant speed when nothing presses).
+  ``k_n delta - eta_n delta' = 0``, the **force condition**; the body then coasts
+  through the rest of the overlap (:func:`coast`): at constant speed when nothing
+  presses, under gravity slowed, or caught again by the force (it sticks).
 
 A pressing acceleration ``gravity`` (e.g. a particle dropped on a wall) is the load
-``F = m_eff g``. Both are :func:`impactsym.contact.release.linear_release` (no force
-offset); the results use the wing's vocabulary (``restitution``, ``contact_time``,
+``F = m_eff g``. With a ``timestep``, :func:`predict` is LAMMPS's velocity-Verlet
+(:mod:`~impactsym.engines.lammps.verlet`, over phases
+:mod:`~impactsym.engines.lammps.phases`); without, the continuous contact, whose two
+conditions are :func:`impactsym.contact.release.linear_release` (no force offset). The
+results use the wing's vocabulary (``restitution``, ``contact_time``,
 ``max_penetration``, ``peak_force``, ``released_by_position``, as MuJoCo's
 :class:`~impactsym.engines.mujoco.prediction.Prediction`;
 `docs/physics.md#simulation-engines`). All quantities are SI: kilograms, N/m, N s/m,
@@ -41,7 +45,7 @@ from impactsym.engines.lammps.verlet import verlet_phase
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, finish, real_array
 
-__all__ = ["HookeContact", "predict"]
+__all__ = ["HookeContact", "coast", "predict"]
 
 
 @dataclass(frozen=True, eq=False)

@@ -104,22 +104,43 @@ class StepMap:
 
     def s(self, t: np.ndarray, idx) -> np.ndarray:
         """``s(t)`` (``s_0 = 0``, ``s_1 = 1``) at real ``t`` for the designs ``idx``."""
+        return self.s_pair(t, idx)[0]
+
+    def s_pair(self, t: np.ndarray, idx) -> tuple[np.ndarray, np.ndarray]:
+        """``s(t)`` and ``s(t - 1)``, each branch evaluated only where it applies."""
+        t = np.asarray(t, dtype=float)
+        idx = np.broadcast_to(np.arange(self.D.size)[idx], t.shape)
         c = self.complex[idx]
+        s1, s0 = np.empty(t.shape), np.empty(t.shape)
         with np.errstate(invalid="ignore", divide="ignore", over="ignore", under="ignore"):
-            r, th = self.r[idx], self.theta[idx]
-            sc = r ** (t - 1.0) * np.where(
-                th > 0, np.sin(t * th) / np.sin(np.where(th > 0, th, 1.0)), t
-            )
-            lq = self.log_q[idx]
-            ratio = np.where(lq < 0, np.expm1(t * lq) / np.expm1(np.where(lq < 0, lq, -1.0)), t)
-            sr = self.l1[idx] ** (t - 1.0) * ratio
-        return np.where(c, sc, sr)
+            if c.any():
+                tc, ic = t[c], idx[c]
+                r, th = self.r[ic], self.theta[ic]
+                sin_th = np.sin(th)
+                ok = th > 0
+                power = r ** (tc - 1.0)
+                sn, cs = np.sin(tc * th), np.cos(tc * th)
+                safe = np.where(ok, sin_th, 1.0)
+                s1[c] = power * np.where(ok, sn / safe, tc)
+                s0[c] = power / r * np.where(ok, (sn * np.cos(th) - cs * sin_th) / safe, tc - 1.0)
+            real = ~c
+            if real.any():
+                tr, ir = t[real], idx[real]
+                lq, l1 = self.log_q[ir], self.l1[ir]
+                distinct = lq < 0
+                den = np.expm1(np.where(distinct, lq, -1.0))
+                power = l1 ** (tr - 1.0)
+                s1[real] = power * np.where(distinct, np.expm1(tr * lq) / den, tr)
+                s0[real] = (
+                    power / l1 * np.where(distinct, np.expm1((tr - 1.0) * lq) / den, tr - 1.0)
+                )
+        return s1, s0
 
     def apply(self, t, y0x, y0w, idx):
         """``M^t y0`` (both components) for the designs ``idx``."""
         zx = self.m11[idx] * y0x + self.m12[idx] * y0w
         zw = self.m21[idx] * y0x + self.m22[idx] * y0w
-        s1, s0 = self.s(t, idx), self.s(t - 1.0, idx)
+        s1, s0 = self.s_pair(np.broadcast_to(t, np.shape(zx)), idx)
         det = self.det[idx]
         return s1 * zx - det * s0 * y0x, s1 * zw - det * s0 * y0w
 
@@ -197,10 +218,30 @@ def _first_end(m: StepMap, cx, cw, L, y0x, y0w):
         idx, lo, hi, f_hi, c = idx[reach], lo[reach], hi[reach], f_hi[reach], c[reach]
         if idx.size == 0:
             break
-        # the integer check below needs the root only to well within one step
-        root = bracketed_illinois(
-            lambda t, j, idx=idx: -phi(t, idx[j]), lo, hi, rtol=0.0, atol=1e-6, f_hi=-f_hi
-        )
+        # without load the first root is closed form: the zero of the cosine before the
+        # minimum, or (real) A l1^t + B l2^t = 0; else bracketed. The integer check below
+        # needs the root only to well within one step.
+        free = L[idx] == 0
+        with np.errstate(invalid="ignore", divide="ignore"):
+            k = k1[idx] + 2.0 * lobe[idx]
+            closed = np.where(
+                c,
+                (psi[idx] + 0.5 * np.pi + (k - 1.0) * np.pi) / th[idx],
+                np.log(-B[idx] / A[idx]) / (mu1[idx] - mu2[idx]),
+            )
+        free &= np.isfinite(closed)
+        root = np.where(free, np.clip(np.where(free, closed, 0.0), lo, hi), 0.0)
+        solve = ~free
+        if solve.any():
+            js = idx[solve]
+            root[solve] = bracketed_illinois(
+                lambda t, j, js=js: -phi(t, js[j]),
+                lo[solve],
+                hi[solve],
+                rtol=0.0,
+                atol=1e-6,
+                f_hi=-f_hi[solve],
+            )
         n = np.maximum(np.floor(root), 1.0)
         f_n = phi(n, idx)
         n = np.where(f_n <= 0, n, n + 1.0)
