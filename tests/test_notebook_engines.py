@@ -44,5 +44,13 @@ def test_engine_notebook_runs_and_checks_the_engines():
         assert float(got) == pytest.approx(float(mean), abs=0.005)
         if design == "discrete":
             assert float(mean) == pytest.approx(float(e), rel=5e-3)
+    # "your timestep changes your restitution": MuJoCo's own phase range at 0.002 s
+    mj = dict(
+        re.findall(r"continuous design, timestep ([\d.e-]+) s: MuJoCo e = [\d.]+ (\[[^]]+\])", text)
+    )
+    low, high = (float(v) for v in mj["0.002"].strip("[]").split(","))
+    assert low < 0.48 < 0.52 < high
+    low, high = (float(v) for v in mj["0.00025"].strip("[]").split(","))
+    assert 0.485 < low < high < 0.515
     off = float(re.search(r"phase mean off by up to ([\d.]+)%", text).group(1))
     assert 1.0 < off < 5.0  # the issue: up to about 4 % at t_c/50

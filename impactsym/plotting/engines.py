@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
+from matplotlib.ticker import NullFormatter
 
 from impactsym.plotting.style import legend_outside
 
@@ -149,6 +150,7 @@ def plot_timestep_restitution(
         default_timestep, color="0.4", ls=":", label=f"default timestep {default_timestep:g} s"
     )
     ax.set_xscale("log")
+    ax.xaxis.set_minor_formatter(NullFormatter())  # minor labels collide over two decades
     ax.set_xlabel("timestep [s]")
     ax.set_ylabel("achieved restitution $e$ [-]")
     legend_outside(ax=ax, where=legend, fontsize=8)
