@@ -226,7 +226,7 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     >>> import tempfile, matplotlib
     >>> matplotlib.use("Agg")
     >>> sorted(p.name for p in write(Path(tempfile.mkdtemp()), quick=True, progress=str))[:2]
-    ['engines_designs.json', 'engines_mujoco_stick_map.csv']
+    ['engines_designs.json', 'engines_lammps_advice.csv']
     """
     import matplotlib.pyplot as plt
 
