@@ -183,6 +183,7 @@ def test_overdamped_default_solimp_sticks_and_returns():
 
 def test_work_is_capped_with_an_error_naming_solref(monkeypatch):
     prediction = importlib.import_module("impactsym.engines.mujoco.prediction")
+    continuous = importlib.import_module("impactsym.engines.mujoco.continuous")
 
     # static penetration inside the impedance width: rest is not provable, and the
     # horizon needs > 400 000 steps: refused at once, naming the solref
@@ -192,7 +193,7 @@ def test_work_is_capped_with_an_error_naming_solref(monkeypatch):
     with pytest.raises(ValueError, match=r"\(-2500, -1000\)"):
         predict(solref=(-2500.0, -1000.0), speed=0.1, gravity=9.81)
     # the loop's own cap (a backstop) names it too
-    monkeypatch.setattr(prediction, "_MAX_RK_STEPS", 50)
+    monkeypatch.setattr(continuous, "_MAX_RK_STEPS", 50)
     with pytest.raises(ValueError, match="solref = "):
         prediction.predict(solref=(0.02, 2.0), speed=0.01, gravity=9.81)
 

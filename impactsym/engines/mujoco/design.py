@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from impactsym.engines.mujoco.continuous import flat_phase, varying_phase
 from impactsym.engines.mujoco.model import (
     DEFAULT_SOLIMP,
     DEFAULT_TIMECONST,
@@ -30,7 +31,7 @@ from impactsym.engines.mujoco.model import (
     is_flat,
     weight_ratio,
 )
-from impactsym.engines.mujoco.prediction import Prediction, flat_phase, predict, varying_phase
+from impactsym.engines.mujoco.prediction import Prediction, predict
 from impactsym.numeric.roots import bracketed_illinois, newton_system
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
