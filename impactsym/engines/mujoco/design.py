@@ -417,7 +417,7 @@ def solref_for(
         speed=speed if t_c is None or scalar else np.broadcast_to(v0, shape),
         gravity=gravity if scalar else np.broadcast_to(g, shape),
         mass=m,
-        timestep=timestep,
+        timestep=None,  # refsafe leaves the design alone: timeconst >= 2 timestep above
         inverse_weight=inverse_weight,
     )
     _check_design(pred, e_f, t_f, shape)

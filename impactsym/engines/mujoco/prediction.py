@@ -20,15 +20,18 @@ All physical quantities are SI: seconds, metres, m/s, m/s^2, kilograms, newtons.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 
 from impactsym.contact.release import release_margin
 from impactsym.engines.mujoco.continuous import ContactPhase, flat_phase, varying_phase
+from impactsym.engines.mujoco.discrete import check_integrator, phase_summary, step_contact
 from impactsym.engines.mujoco.model import (
     DEFAULT_SOLIMP,
+    MAX_IMPEDANCE,
+    MIN_IMPEDANCE,
     TINY,
     Coefficients,
     check_mass,
@@ -42,16 +45,13 @@ from impactsym.engines.mujoco.model import (
     time_unit,
     weight_ratio,
 )
+from impactsym.engines.mujoco.stepmap import spectral_radius
 from impactsym.numeric.roots import bracketed_illinois
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
 
 __all__ = ["Prediction", "predict", "stick_speed"]
 
-#: largest ``omega dt`` for which MuJoCo's Euler step keeps e within about 1 %
-_OMEGA_DT = 0.03
-#: largest ``g dt / v0`` for the same accuracy under gravity
-_GRAVITY_DT = 0.005
 _GAMMA_RANGE = (1e-9, 1e9)  # stick_speed searches gamma = g / (omega0 v0) here
 
 
@@ -75,6 +75,16 @@ class Prediction(ArrayRecord):
         Largest penetration, metres.
     peak_force
         Largest contact force, newtons (needs ``mass``).
+    restitution_range, contact_time_range
+        ``(min, max)`` over the touch phases with a ``timestep`` and ``phase=None``;
+        ``(value, value)`` for a given phase and for the continuous prediction.
+    departure_speed
+        Speed (m/s) with which the body finally leaves (``0`` where it sticks; below
+        ``restitution * speed`` where gravity slows it while it coasts out of the
+        overlap after a force zero).
+    timestep, integrator, phase
+        The engine's timestep (``None``: the continuous prediction, the limit
+        ``timestep -> 0``), integrator and touch phase (``None``: the phase mean).
     """
 
     restitution: float | np.ndarray
@@ -84,6 +94,17 @@ class Prediction(ArrayRecord):
     max_penetration: float | np.ndarray
     _peak_accel: Any
     mass: float | None
+    restitution_range: Any = None
+    contact_time_range: Any = None
+    departure_speed: Any = None
+    timestep: float | None = None
+    integrator: str | None = None
+    phase: Any = None
+
+    def __repr__(self) -> str:
+        body = ", ".join(f"{f.name}={getattr(self, f.name)!r}" for f in fields(self))
+        label = "  # continuous: the limit timestep -> 0" if self.timestep is None else ""
+        return f"Prediction({body}){label}"
 
     @property
     def peak_force(self) -> float | np.ndarray:
@@ -91,33 +112,6 @@ class Prediction(ArrayRecord):
         if self.mass is None:
             raise ValueError("peak_force needs the effective mass: call predict(..., mass=m)")
         return self.mass * self._peak_accel
-
-
-def _warn_timestep(coeffs: Coefficients, solimp, rho, gravity, speed, timestep, stacklevel=3):
-    """Warn when MuJoCo's Euler step is too coarse for about 1 % in the restitution.
-
-    Limits ``omega0 dt <= 0.03`` and ``g dt / v0 <= 0.005``; where they come from: See
-    `docs/physics.md#mujoco-prediction`.
-    """
-    if timestep is None or np.size(speed) == 0:
-        return
-    dp = effective_impedance(solimp[1], rho)
-    omega = np.max(
-        np.maximum(np.sqrt(dp * solimp[1] * coeffs.stiffness), 0.5 * dp * coeffs.damping)
-    )
-    limits = [(_OMEGA_DT / omega, f"omega0 * dt = {omega * timestep:.3g}")]
-    pressing = np.max(gravity / speed)
-    if pressing > 0:
-        limits.append((_GRAVITY_DT / pressing, f"g * dt / v0 = {pressing * timestep:.3g}"))
-    worst = min(limits)
-    if timestep > worst[0]:
-        warnings.warn(
-            f"timestep = {timestep:g} s is too coarse for this contact ({worst[1]}; "
-            f"MuJoCo's Euler step then misses the predicted restitution by more than "
-            f"about 1 %); timestep <= {worst[0]:.3g} s would do",
-            RuntimeWarning,
-            stacklevel=stacklevel,
-        )
 
 
 def predict(
@@ -129,6 +123,8 @@ def predict(
     mass: float | None = None,
     timestep: float | None = None,
     inverse_weight: Any = None,
+    integrator: str = "euler",
+    phase: Any = None,
 ) -> Prediction:
     r"""Predict MuJoCo's restitution and contact time for a contact with ``solref``, ``solimp``.
 
@@ -152,11 +148,24 @@ def predict(
         Effective mass of the contact, kg (``1 / (J M^-1 J^T)``); needed for
         ``peak_force`` and with ``inverse_weight``.
     timestep
-        MuJoCo's timestep, seconds: applies *refsafe* (``timeconst >= 2 timestep``) and
-        warns when it is too coarse for the contact.
+        MuJoCo's timestep, seconds. ``None`` (default): the continuous prediction, the
+        limit ``timestep -> 0`` (refsafe not applied). Given: the contact as the engine
+        steps it, exact (refsafe applied; `docs/physics.md#touch-phase`), with a
+        ``RuntimeWarning`` naming the stable timestep where the in-contact step map is
+        unstable (spectral radius ``>= 1``).
     inverse_weight
         MuJoCo's ``efc_diagA`` for the contact (the two bodies' ``body_invweight0[:, 0]``
         summed), 1/kg. Default: ``1 / mass``, exact for one free or slide-jointed body.
+    integrator
+        ``"euler"``, ``"implicitfast"`` (the same map without joint damping) or ``"rk4"``
+        (needs ``timestep``).
+    phase
+        Touch phase in ``[0, 1)`` (number or array, broadcasting; needs ``timestep``):
+        results exact at that phase. ``None``: the mean over the phase, with
+        ``restitution_range``/``contact_time_range`` over every phase; then ``sticks``
+        is True where the body sticks at some phase (the mean contact time is ``inf``
+        there), and ``released_by_position``, ``max_penetration``, ``peak_force`` and
+        ``departure_speed`` are those at phase 0.5.
 
     Returns
     -------
@@ -195,14 +204,18 @@ def predict(
         for a in (coeffs.damping, coeffs.stiffness, coeffs.rate, v0, g, rho)
     )
     coeffs = Coefficients(damp, stiff, rate)
-    _warn_timestep(coeffs, simp, rho, g, v0, timestep)
+    if timestep is not None:
+        return _discrete(coeffs, simp, rho, g, v0, timestep, integrator, phase, scalar, m)
+    if phase is not None:
+        raise ValueError(f"phase = {phase!r} needs a timestep (the continuous limit has none)")
+    check_integrator(integrator)
     if is_flat(simp):
         phase = flat_phase(coeffs, impedance_at(np.zeros(()), simp), rho, g, v0)
     else:
         phase = _varying_in_time_unit(coeffs, simp, rho, g, v0)
     _check_range(phase, solref, v0, g)
     sticks = np.isinf(phase.contact_time)
-    fields = (
+    values = (
         phase.restitution,
         phase.contact_time,
         sticks,
@@ -212,8 +225,72 @@ def predict(
     )
     if scalar:
         kinds = (float, float, bool, bool, float, float)
-        fields = tuple(kind(a) for kind, a in zip(kinds, fields, strict=True))
-    return Prediction(*fields, m)
+        values = tuple(kind(a) for kind, a in zip(kinds, values, strict=True))
+    e, t = values[0], values[1]
+    return Prediction(*values, m, (e, e), (t, t), e * v0 if not scalar else e * float(v0))
+
+
+def _discrete(coeffs, simp, rho, g, v0, timestep, integrator, phase, scalar, m) -> Prediction:
+    """``predict`` at a timestep: exact at ``phase``, or the phase mean and range."""
+    check_integrator(integrator)
+    _warn_unstable(coeffs, simp, rho, timestep)
+    if phase is not None:
+        p, p_scalar = real_array("phase", phase, lower=0.0)
+        if np.any(p >= 1):
+            raise ValueError(f"phase must lie in [0, 1), got {phase!r}")
+        scalar = scalar and p_scalar
+        at = step_contact(coeffs, simp, rho, g, v0, timestep, p, integrator=integrator)
+        e, t = at.restitution, at.contact_time
+        ranges = (e, e), (t, t)
+    else:
+        summary = phase_summary(coeffs, simp, rho, g, v0, timestep, integrator=integrator)
+        at = step_contact(coeffs, simp, rho, g, v0, timestep, 0.5, integrator=integrator)
+        e, t = summary.restitution, summary.contact_time
+        ranges = (
+            (summary.restitution_min, summary.restitution_max),
+            (summary.contact_time_min, summary.contact_time_max),
+        )
+    sticks = np.isinf(t)
+    values = [e, t, sticks, at.released_by_position, at.max_penetration, at.peak_accel]
+    dep = at.departure_speed
+    if scalar:
+        kinds = (float, float, bool, bool, float, float)
+        values = [kind(a) for kind, a in zip(kinds, values, strict=True)]
+        ranges = tuple((float(a), float(b)) for a, b in ranges)
+        dep = float(dep)
+    return Prediction(*values, m, *ranges, dep, timestep, integrator, phase)
+
+
+def _warn_unstable(coeffs: Coefficients, simp, rho, timestep: float) -> None:
+    """Warn where the in-contact Euler map is unstable (spectral radius ``>= 1``).
+
+    The map of :mod:`~impactsym.engines.mujoco.stepmap` is stable iff
+    ``omega^2 dt^2 + 2 d' b dt < 4`` (Jury), i.e.
+    ``dt < 4 / (d' b + sqrt(d'^2 b^2 + 4 omega^2))``; checked at both ends of the
+    impedance (`docs/physics.md#touch-phase`).
+    """
+    if np.size(coeffs.damping) == 0:
+        return
+    worst, limit = 0.0, np.inf
+    for k in (0, 1):
+        d = float(np.clip(simp[k], MIN_IMPEDANCE, MAX_IMPEDANCE))
+        if is_flat(simp):
+            d = float(impedance_at(np.zeros(()), simp))
+        dp = effective_impedance(d, rho)
+        kappa = dp * d * coeffs.stiffness * timestep**2
+        beta = dp * coeffs.damping * timestep
+        worst = max(worst, float(np.max(spectral_radius(kappa, beta))))
+        db, w2 = dp * coeffs.damping, dp * d * coeffs.stiffness
+        with np.errstate(all="ignore"):
+            limit = min(limit, float(np.min(4.0 / (db + np.sqrt(db * db + 4.0 * w2)))))
+    if worst >= 1.0:
+        warnings.warn(
+            f"timestep = {timestep:g} s makes MuJoCo's in-contact step unstable for this "
+            f"contact (spectral radius {worst:.4g} >= 1): the engine's contact is not a "
+            f"damped oscillation there; timestep < {limit:.3g} s would be stable",
+            RuntimeWarning,
+            stacklevel=3,
+        )
 
 
 def _varying_in_time_unit(coeffs: Coefficients, simp, rho, g, v0) -> ContactPhase:
