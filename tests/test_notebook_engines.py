@@ -56,5 +56,11 @@ def test_engine_notebook_runs_and_checks_the_engines():
     assert 0.07 < mean / 0.5 - 1 < 0.11  # "about 9 % high on average"
     low, high = (float(v) for v in mj["0.00025"].strip("[]").split(","))
     assert 0.485 < low < high < 0.515
+    # MuJoCo's 16 phases lie in the predicted range over all phases at 0.002 s
+    for name in ("textbook solref", "continuous design"):
+        got = re.search(rf"{name}, timestep 0.002 s: MuJoCo e = {band}", text).groups()
+        want = re.search(rf"{name}, timestep 0.002 s: predicted e = {band}", text).groups()
+        assert float(want[1]) - 1e-4 <= float(got[1]) <= float(got[2]) <= float(want[2]) + 1e-4
+        assert float(got[0]) == pytest.approx(float(want[0]), abs=0.005)
     off = float(re.search(r"phase mean off by up to ([\d.]+)%", text).group(1))
     assert 1.0 < off < 5.0  # the issue: up to about 4 % at t_c/50
