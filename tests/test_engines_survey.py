@@ -1,5 +1,6 @@
 """Engine surveys (:mod:`impactsym.engines.survey`) against SciPy integrations of the
-contact laws as the engines document them."""
+contact laws as the engines document them, against the engines themselves (LAMMPS,
+MuJoCo) and against the plain-Python reference of MuJoCo's step."""
 
 from __future__ import annotations
 
@@ -8,7 +9,17 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from impactsym.engines import lammps, mujoco
-from impactsym.engines.survey import FLAT, stick_map, textbook_restitution
+from impactsym.engines.survey import (
+    DROP_MASS,
+    FLAT,
+    lammps_advice,
+    lammps_at_timestep,
+    lammps_measured,
+    mujoco_measured,
+    stick_map,
+    textbook_restitution,
+    touch_phases,
+)
 
 
 def released(gain, b, k, speed=1.0):
@@ -69,3 +80,98 @@ def test_textbook_targets_are_refused_by_name():
         textbook_restitution("x")
     with pytest.raises(ValueError, match="^targets must be > 0"):
         textbook_restitution(np.array([0.0, 0.5]))
+
+
+def test_touch_phases_are_midpoints_and_bad_counts_are_refused():
+    assert touch_phases(2).tolist() == [0.25, 0.75]
+    # the midpoint rule is exact for a linear function of the phase: mean 1/2
+    assert touch_phases(7).mean() == pytest.approx(0.5, rel=1e-15)
+    for bad in (0, -1, 2.0, True):
+        with pytest.raises(ValueError, match="^count must be a positive integer"):
+            touch_phases(bad)
+
+
+def test_lammps_at_timestep_continuous_design_misses_and_discrete_hits():
+    e = np.array([0.1, 0.3, 0.5, 0.7, 0.9])
+    out = lammps_at_timestep(e, steps_per_contact=50)
+    assert out["timestep"] == pytest.approx(np.full(5, 0.01 / 50))
+    assert out["discrete_mean"] == pytest.approx(e, rel=5e-3)  # the issue's 0.5 %
+    assert np.max(np.abs(out["continuous_mean"] / e - 1)) > 5e-3  # what it fixes
+    for name in ("continuous", "discrete"):
+        assert np.all(out[f"{name}_min"] <= out[f"{name}_mean"])
+        assert np.all(out[f"{name}_mean"] <= out[f"{name}_max"])
+    # the continuous design converges to the target as the timestep shrinks
+    fine = lammps_at_timestep(e, steps_per_contact=5000)
+    assert fine["continuous_mean"] == pytest.approx(e, rel=1e-3)
+    errors = [
+        np.max(np.abs(lammps_at_timestep(e, steps_per_contact=n)["continuous_mean"] / e - 1))
+        for n in (20, 50, 200)
+    ]
+    assert errors[0] > errors[1] > errors[2]
+
+
+def test_lammps_measured_is_the_prediction_at_each_phase_and_inside_the_band():
+    pytest.importorskip("lammps")
+    out = lammps_at_timestep(np.array([0.3, 0.7]), steps_per_contact=50)
+    dt = float(out["timestep"][0])
+    got = lammps_measured(
+        kn=out["discrete_kn"], damping=out["discrete_damping"], speed=1.0, timestep=dt, phases=4
+    )
+    assert got["restitution"].shape == (2, 4)
+    per_phase = lammps.predict(
+        kn=out["discrete_kn"][:, None],
+        damping=out["discrete_damping"][:, None],
+        mass=DROP_MASS,
+        speed=1.0,
+        timestep=dt,
+        phase=got["phase"][None, :],
+    )
+    assert got["restitution"] == pytest.approx(np.asarray(per_phase.restitution), rel=1e-6)
+    assert np.all(got["min"] >= out["discrete_min"] - 1e-9)
+    assert np.all(got["max"] <= out["discrete_max"] + 1e-9)
+    # four phases already give the phase mean within the band's half width / 4
+    assert got["mean"] == pytest.approx(out["discrete_mean"], abs=0.01)
+
+
+def test_lammps_advice_keeps_one_percent_in_lammps_itself():
+    pytest.importorskip("lammps")
+    e = np.array([0.2, 0.8])
+    steps = lammps_advice(e)
+    assert np.all(steps > 1)
+    assert steps[0] > steps[1]  # more damping, finer steps
+    design = lammps.hooke_for(restitution=e, contact_time=0.01, mass=DROP_MASS, speed=1.0)
+    for k, eta, n, target in zip(design.kn, design.damping, steps, e, strict=True):
+        got = lammps_measured(kn=k, damping=eta, speed=1.0, timestep=0.01 / n, phases=5)
+        assert np.all(np.abs(got["restitution"] / target - 1) <= 0.01 + 1e-6)
+
+
+def test_mujoco_measured_is_the_reference_step_over_phases():
+    pytest.importorskip("mujoco")
+    from references.mujoco_steps import mujoco_steps
+
+    solref, dts = (0.02, 0.25), np.array([5e-4, 2e-3])
+    got = mujoco_measured(
+        solref=solref,
+        solimp=mujoco.DEFAULT_SOLIMP,
+        speed=1.0,
+        gravity=9.81,
+        timesteps=dts,
+        phases=4,
+    )
+    for i, dt in enumerate(dts):
+        e = [
+            mujoco_steps(
+                solref=solref,
+                solimp=mujoco.DEFAULT_SOLIMP,
+                speed=1.0,
+                gravity=9.81,
+                timestep=float(dt),
+                phase=float(p),
+            )["restitution"]
+            for p in touch_phases(4)
+        ]
+        assert got["mean"][i] == pytest.approx(np.mean(e), rel=1e-6)
+        assert got["min"][i] == pytest.approx(min(e), rel=1e-6)
+        assert got["max"][i] == pytest.approx(max(e), rel=1e-6)
+    assert not got["sticks"].any()
+    assert got["timestep"].tolist() == dts.tolist()

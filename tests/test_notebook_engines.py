@@ -31,3 +31,36 @@ def test_engine_notebook_runs_and_checks_the_engines():
     # "with limit_damping ... the achieved restitution is larger" than coeff_restitution
     for asked, got in re.findall(r"coeff_restitution ([\d.]+): LAMMPS gives ([\d.]+)", text):
         assert float(got) > float(asked)
+    # "LAMMPS at t_c/50": LAMMPS's own values lie in the predicted phase band, and the
+    # discrete design's phase mean is the target
+    number = r"([\d.]+)"
+    band = rf"{number} \[{number}, {number}\]"
+    rows = re.findall(
+        rf"(continuous|discrete) +e = {number}: predicted at t_c/50 {band}; LAMMPS {band}", text
+    )
+    assert len(rows) == 6
+    for design, e, mean, low, high, got, got_low, got_high in rows:
+        assert float(low) - 1e-4 <= float(got_low) <= float(got_high) <= float(high) + 1e-4
+        assert float(got) == pytest.approx(float(mean), abs=0.005)
+        if design == "discrete":
+            assert float(mean) == pytest.approx(float(e), rel=5e-3)
+    # "your timestep changes your restitution": MuJoCo's own phase range at 0.002 s
+    mj = dict(
+        re.findall(r"continuous design, timestep ([\d.e-]+) s: MuJoCo e = [\d.]+ (\[[^]]+\])", text)
+    )
+    low, high = (float(v) for v in mj["0.002"].strip("[]").split(","))
+    assert low < 0.46 < 0.54 < high  # "off by up to about 10 % either way"
+    mean = float(re.search(r"continuous design, timestep 0.002 s: MuJoCo e = ([\d.]+)", text)[1])
+    assert abs(mean / 0.5 - 1) < 0.02  # "within 2 % on average"
+    mean = float(re.search(r"textbook solref, timestep 0.002 s: MuJoCo e = ([\d.]+)", text)[1])
+    assert 0.07 < mean / 0.5 - 1 < 0.11  # "about 9 % high on average"
+    low, high = (float(v) for v in mj["0.00025"].strip("[]").split(","))
+    assert 0.485 < low < high < 0.515
+    # MuJoCo's 16 phases lie in the predicted range over all phases at 0.002 s
+    for name in ("textbook solref", "continuous design"):
+        got = re.search(rf"{name}, timestep 0.002 s: MuJoCo e = {band}", text).groups()
+        want = re.search(rf"{name}, timestep 0.002 s: predicted e = {band}", text).groups()
+        assert float(want[1]) - 1e-4 <= float(got[1]) <= float(got[2]) <= float(want[2]) + 1e-4
+        assert float(got[0]) == pytest.approx(float(want[0]), abs=0.005)
+    off = float(re.search(r"phase mean off by up to ([\d.]+)%", text).group(1))
+    assert 1.0 < off < 5.0  # the issue: up to about 4 % at t_c/50

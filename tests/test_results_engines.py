@@ -10,10 +10,13 @@ import re
 from html.parser import HTMLParser
 
 import matplotlib
+import numpy as np
 import pytest
 
 import impactsym.engines.drivers as drivers
 from impactsym import reproduce
+from impactsym.engines import lammps
+from impactsym.engines.survey import DROP_MASS
 from impactsym.results import engines as results
 
 matplotlib.use("Agg")
@@ -62,8 +65,8 @@ def test_without_engines_every_engine_point_is_said_to_be_predicted(tmp_path, mo
     def no_engine(**kwargs):
         raise AssertionError("no engine may be run when none is installed")
 
-    monkeypatch.setattr(drivers, "mujoco_drop", no_engine)
-    monkeypatch.setattr(drivers, "lammps_collision", no_engine)
+    for name in ("mujoco_drop", "lammps_collision", "mujoco_phases", "lammps_drop"):
+        monkeypatch.setattr(drivers, name, no_engine)
     out, captions, markdown = _run(tmp_path, monkeypatch, {"MuJoCo": None, "LAMMPS": None})
     record = json.loads((out / "engines_runs.json").read_text())
     assert record == {"engines": {"MuJoCo": None, "LAMMPS": None}, "runs": []}
@@ -74,6 +77,51 @@ def test_without_engines_every_engine_point_is_said_to_be_predicted(tmp_path, mo
         assert "Markers: measured" not in text
     assert "prediction of impactsym" in stick
     assert "no point of this map is an engine run" in stick
+    timestep = json.loads((out / "engines_timestep_runs.json").read_text())
+    assert timestep["lammps"] == {}
+    lammps_caption = captions["engines_lammps_timestep"]
+    assert "No LAMMPS point: LAMMPS was not installed" in lammps_caption
+    assert "every curve and band is a prediction" in lammps_caption
+    assert "Points with bars: measured" not in lammps_caption
+
+
+def test_lammps_at_its_timestep_files_hold_the_predictions(tmp_path, monkeypatch):
+    runs = []
+
+    def fake_drop(*, kn, damping, speed, timestep, phase, limit_damping):
+        runs.append((kn, damping, timestep, phase))
+        return {"restitution": 0.5, "contact_time": 0.01}
+
+    monkeypatch.setattr(drivers, "lammps_drop", fake_drop)
+    out, captions, markdown = _run(tmp_path, monkeypatch, {"MuJoCo": None, "LAMMPS": "1.2-test"})
+    for name in ("engines_lammps_timestep.png", "engines_lammps_timestep.pdf"):
+        assert (out / name).stat().st_size > 1000
+    rows = (out / "engines_lammps_timestep.csv").read_text().splitlines()
+    header = rows[0].split(",")
+    table = np.array([[float(v) for v in row.split(",")] for row in rows[1:]])
+    column = dict(zip(header, table.T, strict=True))
+    # the discrete design's phase mean hits the target at t_c/50 (the issue's 0.5 %)
+    assert column["discrete_mean"] == pytest.approx(column["e_target"], rel=5e-3)
+    assert column["timestep_s"] == pytest.approx(0.01 / 50)
+    assert np.all(column["continuous_min"] <= column["continuous_mean"])
+    # the designs' kn, eta_n are hooke_for's, and the advisor's steps are timestep_for's
+    design = lammps.hooke_for(
+        restitution=column["e_target"], contact_time=0.01, mass=DROP_MASS, speed=1.0
+    )
+    assert column["continuous_kn"] == pytest.approx(design.kn, rel=1e-12)
+    advice = np.loadtxt(out / "engines_lammps_advice.csv", delimiter=",", skiprows=1)
+    h = lammps.timestep_for(
+        kn=design.kn, damping=design.damping, mass=DROP_MASS, speed=1.0, limit_damping=True
+    )
+    assert advice[:, 1] == pytest.approx(0.01 / h, rel=1e-9)
+    record = json.loads((out / "engines_timestep_runs.json").read_text())
+    assert record["engines"]["LAMMPS"] == "1.2-test"
+    assert len(runs) == 2 * 3  # quick: two designs of e = 0.5 at three phases
+    assert record["lammps"]["discrete"]["restitution"] == [[0.5, 0.5, 0.5]]
+    text = captions["engines_lammps_timestep"]
+    assert "Points with bars: measured in LAMMPS 1.2-test" in text
+    assert "predicted by impactsym.engines.lammps.predict(timestep=...)" in text
+    assert "engines_lammps_timestep.csv" in markdown
 
 
 def test_with_one_engine_its_version_is_named_and_the_other_is_predicted(tmp_path, monkeypatch):

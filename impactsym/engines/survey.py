@@ -71,3 +71,201 @@ def stick_map(speed: np.ndarray, dampratio: np.ndarray, gravity: float = 9.81, s
     )
     verdict = np.where(p.sticks, 0, np.where(p.released_by_position, 2, 1))
     return verdict, np.asarray(p.restitution)
+
+
+#: Mass (kg) of the sphere that :func:`impactsym.engines.drivers.lammps_drop` drops on a
+#: wall (radius 0.1 m, density 1000 kg/m^3): the effective mass of that contact.
+DROP_MASS = 4.0 / 3.0 * np.pi * 0.1**3 * 1000.0
+
+
+def touch_phases(count: int) -> np.ndarray:
+    """``count`` touch phases at the midpoints of equal parts of ``[0, 1)``.
+
+    Their mean of a quantity is the midpoint rule for its mean over phases (uniform
+    phase), which is what the models' ``phase=None`` results are.
+
+    >>> touch_phases(4).tolist()
+    [0.125, 0.375, 0.625, 0.875]
+    """
+    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
+        raise ValueError(f"count must be a positive integer, got {count!r}")
+    return (np.arange(count) + 0.5) / count
+
+
+def mujoco_measured(
+    *,
+    solref,
+    solimp,
+    speed: float,
+    gravity: float,
+    timesteps,
+    integrator: str = "euler",
+    phases: int = 16,
+) -> dict[str, np.ndarray]:
+    """MuJoCo's restitution at each of ``timesteps``, over touch phases (engine output).
+
+    Runs MuJoCo (:func:`impactsym.engines.drivers.mujoco_phases`, one model per timestep,
+    ``phases`` touch phases of :func:`touch_phases`). Returns arrays over ``timesteps``:
+    ``"timestep"``, ``"mean"``, ``"min"``, ``"max"`` of the measured restitution, and
+    ``"sticks"`` (the body stuck at some phase). Needs MuJoCo.
+    """
+    from impactsym.engines.drivers import mujoco_phases
+
+    steps = real_array("timesteps", timesteps, lower=0.0, strict=True)[0].ravel()
+    at = touch_phases(phases)
+    # one engine model per timestep: a loop over engine runs, not over a computed grid
+    runs = [
+        mujoco_phases(
+            solref=solref,
+            solimp=solimp,
+            speed=speed,
+            gravity=gravity,
+            timestep=float(dt),
+            integrator=integrator,
+            phases=at,
+        )
+        for dt in steps
+    ]
+    e = np.array([run["restitution"] for run in runs])
+    sticks = np.array([run["sticks"].any() for run in runs], dtype=bool)
+    return {
+        "timestep": steps,
+        "mean": e.mean(1),
+        "min": e.min(1),
+        "max": e.max(1),
+        "sticks": sticks,
+    }
+
+
+def lammps_at_timestep(
+    targets,
+    *,
+    steps_per_contact: float = 50.0,
+    contact_time: float = 0.01,
+    mass: float = DROP_MASS,
+    speed: float = 1.0,
+    limit_damping: bool = True,
+) -> dict[str, np.ndarray]:
+    """What LAMMPS's velocity-Verlet gives at ``timestep = contact_time /
+    steps_per_contact`` for the continuous and the discrete design of each target e.
+
+    Designs: :func:`impactsym.engines.lammps.hooke_for` for ``targets`` and
+    ``contact_time`` without a timestep (``"continuous"``) and with it
+    (``"discrete"``); each predicted at the timestep
+    (:func:`impactsym.engines.lammps.predict`, phase mean and range). Returns the
+    ``"targets"``, the ``"timestep"`` and, per design ``name``, ``name_kn``,
+    ``name_damping``, ``name_mean``, ``name_min``, ``name_max`` (restitution) and
+    ``name_tc_mean`` (contact time, s). Predictions, no engine run.
+
+    >>> out = lammps_at_timestep(np.array([0.5]))
+    >>> round(float(out["discrete_mean"][0]), 9)
+    0.5
+    """
+    e = real_array("targets", targets, lower=0.0, strict=True)[0].ravel()
+    n, _ = real_array("steps_per_contact", steps_per_contact, lower=0.0, strict=True)
+    dt = float(contact_time) / float(n)
+    out = {"targets": e, "timestep": np.full(e.shape, dt)}
+    for name, design_step in (("continuous", None), ("discrete", dt)):
+        design = lammps.hooke_for(
+            restitution=e,
+            contact_time=contact_time,
+            mass=mass,
+            speed=speed,
+            limit_damping=limit_damping,
+            timestep=design_step,
+        )
+        p = lammps.predict(
+            kn=design.kn,
+            damping=design.damping,
+            mass=mass,
+            speed=speed,
+            limit_damping=limit_damping,
+            timestep=dt,
+        )
+        low, high = p.restitution_range
+        out |= {
+            f"{name}_kn": np.asarray(design.kn),
+            f"{name}_damping": np.asarray(design.damping),
+            f"{name}_mean": np.asarray(p.restitution),
+            f"{name}_min": np.asarray(low),
+            f"{name}_max": np.asarray(high),
+            f"{name}_tc_mean": np.asarray(p.contact_time),
+        }
+    return out
+
+
+def lammps_measured(
+    *, kn, damping, speed: float, timestep: float, limit_damping: bool = True, phases: int = 4
+) -> dict[str, np.ndarray]:
+    """LAMMPS's restitution for each design (``kn``, ``damping`` arrays) over touch phases.
+
+    Runs LAMMPS (:func:`impactsym.engines.drivers.lammps_drop`: a sphere of
+    :data:`DROP_MASS` on a wall, no gravity) at ``phases`` phases of
+    :func:`touch_phases`. Returns ``"restitution"`` and ``"contact_time"`` of shape
+    ``(designs, phases)``, the ``"phase"`` array and the restitution's ``"mean"``,
+    ``"min"``, ``"max"`` over the phases, per design. Needs LAMMPS.
+    """
+    from impactsym.engines.drivers import lammps_drop
+
+    kn = np.atleast_1d(np.asarray(kn, dtype=float))
+    damping = np.broadcast_to(np.asarray(damping, dtype=float), kn.shape)
+    at = touch_phases(phases)
+    # each run is one LAMMPS instance: a loop over engine runs
+    runs = [
+        [
+            lammps_drop(
+                kn=float(k),
+                damping=float(eta),
+                speed=speed,
+                timestep=timestep,
+                phase=float(p),
+                limit_damping=limit_damping,
+            )
+            for p in at
+        ]
+        for k, eta in zip(kn, damping, strict=True)
+    ]
+    e = np.array([[r["restitution"] for r in row] for row in runs])
+    return {
+        "phase": at,
+        "restitution": e,
+        "contact_time": np.array([[r["contact_time"] for r in row] for row in runs]),
+        "mean": e.mean(1),
+        "min": e.min(1),
+        "max": e.max(1),
+    }
+
+
+def lammps_advice(
+    targets,
+    *,
+    contact_time: float = 0.01,
+    mass: float = DROP_MASS,
+    speed: float = 1.0,
+    limit_damping: bool = True,
+    tolerance: float = 0.01,
+) -> np.ndarray:
+    """Steps per contact time ``t_c / timestep`` that LAMMPS needs to keep the restitution
+    of the continuous design of each target within ``tolerance`` at every touch phase
+    (:func:`impactsym.engines.lammps.timestep_for`). Prediction, no engine run.
+
+    >>> round(float(lammps_advice(np.array([0.5]))[0]))
+    90
+    """
+    e = real_array("targets", targets, lower=0.0, strict=True)[0].ravel()
+    design = lammps.hooke_for(
+        restitution=e,
+        contact_time=contact_time,
+        mass=mass,
+        speed=speed,
+        limit_damping=limit_damping,
+    )
+    step = lammps.timestep_for(
+        kn=design.kn,
+        damping=design.damping,
+        mass=mass,
+        speed=speed,
+        limit_damping=limit_damping,
+        tolerance=tolerance,
+    )
+    return contact_time / np.asarray(step)

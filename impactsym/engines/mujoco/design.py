@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from impactsym.engines.mujoco.continuous import flat_phase, varying_phase
 from impactsym.engines.mujoco.model import (
     DEFAULT_SOLIMP,
     DEFAULT_TIMECONST,
@@ -30,7 +31,7 @@ from impactsym.engines.mujoco.model import (
     is_flat,
     weight_ratio,
 )
-from impactsym.engines.mujoco.prediction import Prediction, flat_phase, predict, varying_phase
+from impactsym.engines.mujoco.prediction import Prediction, predict
 from impactsym.numeric.roots import bracketed_illinois, newton_system
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
@@ -416,7 +417,7 @@ def solref_for(
         speed=speed if t_c is None or scalar else np.broadcast_to(v0, shape),
         gravity=gravity if scalar else np.broadcast_to(g, shape),
         mass=m,
-        timestep=timestep,
+        timestep=None,  # refsafe leaves the design alone: timeconst >= 2 timestep above
         inverse_weight=inverse_weight,
     )
     _check_design(pred, e_f, t_f, shape)
