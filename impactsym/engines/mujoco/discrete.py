@@ -26,21 +26,22 @@ import numpy as np
 
 from impactsym.engines.mujoco.euler import euler_contact
 from impactsym.engines.mujoco.model import Coefficients
+from impactsym.engines.mujoco.rk4 import rk4_contact
+from impactsym.engines.mujoco.rk4_entry import rk4_entry_phases
 from impactsym.engines.mujoco.stepping import StepContact
 from impactsym.records import ArrayRecord
 
 __all__ = ["INTEGRATORS", "PhaseSummary", "phase_summary", "step_contact"]
 
 
-def _rk4_missing(*args: Any) -> StepContact:
-    raise NotImplementedError("integrator 'rk4' is not available in this build")
-
-
 #: the discrete contact model of each MuJoCo integrator (same signature)
-INTEGRATORS = {"euler": euler_contact, "implicitfast": euler_contact, "rk4": _rk4_missing}
+INTEGRATORS = {"euler": euler_contact, "implicitfast": euler_contact, "rk4": rk4_contact}
+#: phases where an integrator's entering step changes structure (besides end-step jumps)
+ENTRY_PHASES = {"rk4": rk4_entry_phases}
 
 _GRID = 8  # phase intervals searched for jumps of the end step
 _BISECT = 42  # bisection steps per jump (2^-42 < 1e-12 of a phase)
+_GOLDEN = 40  # golden-section steps for an extreme inside a piece
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(5)
 
 
@@ -124,31 +125,41 @@ def phase_summary(
         c = Coefficients(b[i], k[i])
         return model(c, solimp, rho[i], g[i], v[i], dt[i], p)
 
+    # the phase grid, with the phases where the model's entering step changes its
+    # structure (RK4's stages 2 and 3 reaching the contact) as extra piece ends
     grid = np.linspace(0.0, 1.0, _GRID + 1)
     grid[0] = 1e-300  # the limit phase -> 0+ (phase 0 itself is checked on its own)
-    i_all = np.repeat(np.arange(size), _GRID + 1)
-    p_all = np.tile(grid, size)
-    at = run(i_all, p_all)
-    key = np.where(at.sticks, -1, at.steps).reshape(size, _GRID + 1)
-    # bisection for the jump inside each grid interval whose ends differ
-    lo = np.tile(grid[:-1], (size, 1))
-    hi = np.tile(grid[1:], (size, 1))
-    lo[:, 0] = 1e-300
-    jump = key[:, :-1] != key[:, 1:]
+    breaks = np.zeros((size, 0))
+    if integrator in ENTRY_PHASES:
+        breaks = ENTRY_PHASES[integrator](g, v, dt).reshape(size, -1)
+        breaks = np.where(np.isnan(breaks), 1.0, breaks)  # none: an empty piece at 1
+    edges = np.sort(np.concatenate([np.tile(grid, (size, 1)), breaks], axis=1), axis=1)
+    lo, hi = edges[:, :-1].copy(), edges[:, 1:]
+    # a piece that starts at such a phase starts just after it (the stage is in contact
+    # only for x > 0: the phase itself belongs to the piece before)
+    after = (breaks[:, None, :] == lo[:, :, None]).any(axis=2) & (lo < 1.0)
+    lo = np.where(after, lo + 1e-12, lo)
+    n_pieces = lo.shape[1]
+    i_all = np.repeat(np.arange(size), n_pieces)
+    at_lo, at_hi = run(i_all, lo.ravel()), run(i_all, hi.ravel())
+    key_lo = _end_step(at_lo, lo.ravel(), dt[i_all]).reshape(size, n_pieces)
+    key_hi = _end_step(at_hi, hi.ravel(), dt[i_all]).reshape(size, n_pieces)
+    # bisection for the jump inside each interval whose ends differ
+    jump = key_lo != key_hi
     ii, kk = np.nonzero(jump)
     a, c = lo[ii, kk].copy(), hi[ii, kk].copy()
-    left_key = key[ii, kk]
+    left_key = key_lo[ii, kk]
     for _ in range(_BISECT):
         if ii.size == 0:
             break
         mid = 0.5 * (a + c)
         m = run(ii, mid)
-        same = np.where(m.sticks, -1, m.steps) == left_key
+        same = _end_step(m, mid, dt[ii]) == left_key
         a, c = np.where(same, mid, a), np.where(same, c, mid)
     # pieces: [lo, a], [c, hi] for jumping intervals, [lo, hi] otherwise
     starts = [lo.ravel()]
     ends = [np.where(jump, np.nan, hi).ravel()]
-    owner = [np.repeat(np.arange(size), _GRID)]
+    owner = [np.repeat(np.arange(size), n_pieces)]
     ends[0][np.ravel_multi_index((ii, kk), jump.shape)] = a
     starts.append(c)
     ends.append(hi[ii, kk])
@@ -170,8 +181,8 @@ def phase_summary(
     stick_frac = np.bincount(own, (w * stuck[:, 1:-1]).sum(axis=1), minlength=size)
     # the range: piece ends, nodes, and the vertex of the quadratic through each piece
     vertex = _vertex(pts[:, [0, 3, -1]], e[:, [0, 3, -1]], p0, p1)
-    e_lo = np.fmin(e.min(axis=1), vertex)
-    e_hi = np.fmax(e.max(axis=1), vertex)
+    e_lo = np.fmin(np.fmin(e.min(axis=1), vertex), _interior_extreme(run, own, pts, e, -1.0))
+    e_hi = np.fmax(np.fmax(e.max(axis=1), vertex), _interior_extreme(run, own, pts, e, 1.0))
     zero = run(np.arange(size), np.zeros(size))  # phase 0 exactly
     e_min = np.minimum(_reduce(np.minimum, own, e_lo, size, np.inf), zero.restitution)
     e_max = np.maximum(_reduce(np.maximum, own, e_hi, size, -np.inf), zero.restitution)
@@ -179,6 +190,54 @@ def phase_summary(
     t_max = np.maximum(_reduce(np.maximum, own, t.max(axis=1), size, -np.inf), zero.contact_time)
     fields = (e_mean, t_mean, e_min, e_max, t_min, t_max, stick_frac)
     return PhaseSummary(*(np.reshape(f, shape) for f in fields))
+
+
+def _interior_extreme(run, own, pts, e, sign):
+    """Largest (``sign = 1``) or smallest (``-1``) restitution inside each piece.
+
+    Where a piece's extreme sample is one of its interior nodes, golden-section search
+    between the neighbouring nodes (``_GOLDEN`` steps: ``0.618^40`` of a piece, ``~1e-9``
+    of a phase) finds it; it need not be the quadratic's vertex (a varying impedance has
+    kinks where a state crosses the impedance width, RK4's pieces are not quadratics).
+    ``nan`` where the extreme sample is a piece end.
+    """
+    j = np.argmax(sign * e, axis=1)
+    inner = np.flatnonzero((j > 0) & (j < pts.shape[1] - 1))
+    out = np.full(e.shape[0], np.nan)
+    if inner.size == 0:
+        return out
+    a, c = pts[inner, j[inner] - 1], pts[inner, j[inner] + 1]
+    owner = own[inner]
+    ratio = 0.5 * (np.sqrt(5.0) - 1.0)
+    x1, x2 = c - ratio * (c - a), a + ratio * (c - a)
+    f1, f2 = sign * run(owner, x1).restitution, sign * run(owner, x2).restitution
+    best = sign * e[inner, j[inner]]
+    for _ in range(_GOLDEN):
+        right = f2 > f1  # the extreme lies in [x1, c]
+        a, c = np.where(right, x1, a), np.where(right, c, x2)
+        x1, x2, f1, f2 = (
+            np.where(right, x2, c - ratio * (c - a)),
+            np.where(right, a + ratio * (c - a), x1),
+            np.where(right, f2, np.nan),
+            np.where(right, np.nan, f1),
+        )
+        new = np.where(right, x2, x1)
+        f_new = sign * run(owner, new).restitution
+        f1, f2 = np.where(right, f1, f_new), np.where(right, f_new, f2)
+        best = np.fmax(best, np.fmax(f1, f2))
+    out[inner] = sign * best
+    return out
+
+
+def _end_step(res: StepContact, phase: np.ndarray, dt: np.ndarray) -> np.ndarray:
+    """The end state's index counted from touch, ``contact_time / dt - phase`` (-1: sticks).
+
+    The key of a smooth piece: unlike ``steps`` it does not depend on which state first
+    detects the contact (at a phase of ``1e-300`` rounding can leave the first one out).
+    """
+    with np.errstate(invalid="ignore", over="ignore"):
+        index = np.rint(res.contact_time / dt - phase)
+    return np.where(res.sticks, -1, index)
 
 
 def _reduce(op, owner, values, size, start):

@@ -1,10 +1,11 @@
 r"""MuJoCo's ``Euler`` (and ``implicitfast``) step applied to one contact: exact per phase.
 
 One step of MuJoCo 4 (``mj_forward`` then ``mj_Euler``; `docs/physics.md#touch-phase`):
-the contact exists iff the distance is ``<= 0`` (``mjraw_PlaneSphere``: penetration
-``x >= 0``); its constraint acceleration is computed from the state at the start of the
-step, with the impedance ``d(x)`` there, ``R = (1 - d)/d A_diag`` and refsafe, and
-clipped at zero,
+the contact exists iff the distance is ``< 0`` (penetration ``x > 0``: the collision
+reports distance 0 too, but ``engine_collision_driver.c`` excludes a contact at distance
+exactly 0 from the constraints); its constraint acceleration is computed from the state
+at the start of the step, with the impedance ``d(x)`` there, ``R = (1 - d)/d A_diag``
+and refsafe, and clipped at zero,
 
 .. math::
 

@@ -2,14 +2,14 @@ r"""MuJoCo's RK4 integrator as an exact discrete model of one frictionless conta
 
 MuJoCo's ``mj_RungeKutta`` (``engine_forward.c``) runs the whole forward pass at each of
 four stages: the stage state ``X_i = X_0 + h c_i F_{i-1}`` (``c = 1/2, 1/2, 1``) gets its
-own collision (a sphere-plane contact exists where the penetration ``x >= 0``) and its own
+own collision (a contact where ``x > 0``; distance 0 is excluded) and its own
 constraint force; the step advances ``X_0 + h (F_0 + 2 F_1 + 2 F_2 + F_3) / 6``. Along the
 normal (penetration ``x``, rate ``v``, gravity ``g`` pressing) a stage accelerates with
 
 .. math::
 
-    a(x, v) = g - d'(x)\,\bigl(g + b\,v + d(x)\,\bar k\,x\bigr)_+ \quad (x \ge 0), \qquad
-    a = g \quad (x < 0),
+    a(x, v) = g - d'(x)\,\bigl(g + b\,v + d(x)\,\bar k\,x\bigr)_+ \quad (x > 0), \qquad
+    a = g \quad (x \le 0),
 
 the clipped force ``f = (a_ref - a_0) / (A + R)`` of ``engine_core_constraint.c`` with
 ``R = (1 - d)/d A_diag`` (:mod:`~impactsym.engines.mujoco.model`). The step that carries
@@ -88,7 +88,7 @@ class _Law:
             d = impedance_at(np.abs(x), self.solimp)
             dp = effective_impedance(d, self.rho)
         drive = self.g + self.b * v + d * self.kbar * x
-        acc = np.where((x >= 0) & (drive > 0), self.g - dp * drive, self.g)
+        acc = np.where((x > 0) & (drive > 0), self.g - dp * drive, self.g)
         interior = (x >= self.width) & (drive > 0)
         return acc, drive, dp, interior
 
@@ -500,7 +500,7 @@ def rk4_contact(
         xa, va = x[act], v[act]
         # observe the state as the driver does
         _, drive, dp, _ = law.stage(xa, va)
-        on = xa >= 0
+        on = xa > 0
         ena = ended[act]
         back = on & ena & (drive > 0)
         counted = on & ~ena
@@ -511,8 +511,8 @@ def rk4_contact(
             res["peak_accel"][ic], np.broadcast_to(peak, xa.shape)[counted]
         )
         # the first detecting state is the one after the entering step; where the entering
-        # step has thrown the body back out (beyond the stability limit) the contact ends there
-        tou = touched[act] | on | (k[act] >= 0)
+        # step threw the body back out (beyond the stability limit) the contact ends there
+        tou = touched[act] | on | ((k[act] >= 0) & (va < 0))
         end_now = tou & ~ena & (~on | (drive <= 0))
         ia = act[end_now]
         res["restitution"][ia] = -va[end_now] / speed[ia]
@@ -556,7 +556,7 @@ def rk4_contact(
             act, xa, va, law = act[~cycle], xa[~cycle], va[~cycle], law.take(np.flatnonzero(~cycle))
             jump = jump[~cycle]
             free = free[~cycle]
-        glide = free & ended[act] & (xa >= 0)  # coasting inside the overlap: jump the parabola
+        glide = free & ended[act] & (xa > 0)  # coasting inside the overlap: jump the parabola
         if glide.any():
             gl, ig = np.flatnonzero(glide), act[glide]
             n = coast_steps(xa[gl], va[gl], law.g[gl], law.b[gl], law.k_hi[gl], h[ig])
