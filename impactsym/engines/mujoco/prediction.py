@@ -279,7 +279,7 @@ def _warn_unstable(coeffs: Coefficients, simp, rho, timestep: float) -> None:
         dp = effective_impedance(d, rho)
         kappa = dp * d * coeffs.stiffness * timestep**2
         beta = dp * coeffs.damping * timestep
-        worst = max(worst, float(np.max(spectral_radius(kappa, beta))))
+        worst = max(worst, float(np.max(spectral_radius(kappa=kappa, beta=beta))))
         db, w2 = dp * coeffs.damping, dp * d * coeffs.stiffness
         with np.errstate(all="ignore"):
             limit = min(limit, float(np.min(4.0 / (db + np.sqrt(db * db + 4.0 * w2)))))

@@ -38,7 +38,7 @@ _BIG_DELTA = 700.0  # log(lambda_1 / lambda_2) used for such a vanishing mode
 _MAX_WINDOWS = 400  # oscillation windows searched for a growing (unstable) map
 
 
-def spectral_radius(kappa, beta):
+def spectral_radius(*, kappa: np.ndarray, beta: np.ndarray) -> np.ndarray:
     """Largest eigenvalue modulus of ``M`` (``>= 1``: the in-contact map is unstable)."""
     tr, det = 2.0 - kappa - beta, 1.0 - beta
     disc = (kappa + beta) ** 2 - 4.0 * kappa

@@ -1,0 +1,183 @@
+"""MuJoCo at its timestep (impactsym.engines.mujoco.euler, .discrete, .stepmap): against
+MuJoCo itself (drivers.mujoco_steps), an independent plain recurrence and a phase scan."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+from impactsym.engines.mujoco import predict
+from impactsym.engines.mujoco.discrete import phase_summary, step_contact
+from impactsym.engines.mujoco.model import check_solimp, coefficients
+
+FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
+DEFAULT = (0.9, 0.95, 0.001, 0.5, 2.0)
+
+
+def _plain(solref, solimp, speed, gravity, dt, phase):
+    """The Euler step written out state by state (MuJoCo's rules, metres and seconds)."""
+    from impactsym.engines.mujoco.model import impedance_at
+
+    simp = check_solimp(solimp)
+    c = coefficients(solref, simp, dt)
+    b, k = float(c.damping), float(c.stiffness)
+    t = phase * dt if phase > 0 else 0.0
+    x, u = speed * t + 0.5 * gravity * t * t, speed + gravity * t
+    if phase == 0:  # zero distance is no contact: one free step first
+        u += gravity * dt
+        x += dt * u
+        t = dt
+    n = 0
+    while True:
+        d = float(impedance_at(np.array(x), simp))
+        f = d * (gravity + b * u + d * k * x)
+        if n > 0 and (x <= 0 or f <= 0):
+            return -u / speed, t, n
+        u += dt * (gravity - max(f, 0.0))
+        x += dt * u
+        t += dt
+        n += 1
+
+
+@pytest.mark.parametrize("solimp", [FLAT])
+@pytest.mark.parametrize("gravity", [0.0])
+def test_closed_form_and_recurrence_agree_with_a_plain_loop(solimp, gravity):
+    rng = np.random.default_rng(7)
+    simp = check_solimp(solimp)
+    for _ in range(12):
+        solref = (float(rng.uniform(0.005, 0.04)), float(rng.uniform(0.1, 1.2)))
+        speed = float(rng.uniform(0.5, 2.0))
+        dt = float(rng.choice([0.002, 0.0005, 1e-4]))
+        phase = float(rng.uniform(0, 1))
+        got = step_contact(
+            coefficients(solref, simp, dt),
+            simp,
+            1.0,
+            gravity,
+            speed,
+            dt,
+            phase,
+            integrator="euler",
+        )
+        e, t, n = _plain(solref, solimp, speed, gravity, dt, phase)
+        assert int(got.steps) == n
+        assert float(got.restitution) == pytest.approx(e, rel=1e-9, abs=1e-12)
+        assert float(got.contact_time) == pytest.approx(t, rel=1e-9)
+
+
+def test_phase_summary_mean_and_range_against_a_dense_scan():
+    for solimp, solref, gravity, speed in (
+        (FLAT, (0.02, 0.25), 0.0, 1.0),
+        (FLAT, (0.02, 0.3), 9.81, 0.1),
+        (DEFAULT, (0.02, 0.4), 9.81, 1.0),
+    ):
+        simp = check_solimp(solimp)
+        c = coefficients(solref, simp, 0.002)
+        s = phase_summary(c, simp, 1.0, gravity, speed, 0.002, integrator="euler")
+        p = (np.arange(20000) + 0.5) / 20000
+        scan = step_contact(c, simp, 1.0, gravity, speed, 0.002, p, integrator="euler")
+        assert float(s.restitution) == pytest.approx(scan.restitution.mean(), rel=1e-4)
+        assert float(s.contact_time) == pytest.approx(scan.contact_time.mean(), rel=1e-4)
+        edge = step_contact(c, simp, 1.0, gravity, speed, 0.002, 0.0, integrator="euler")
+        values = np.append(scan.restitution, edge.restitution)
+        assert float(s.restitution_min) <= values.min() + 1e-12
+        assert float(s.restitution_max) >= values.max() - 1e-12
+        times = np.append(scan.contact_time, edge.contact_time)
+        assert float(s.contact_time_min) <= times.min() * (1 + 1e-12)
+        assert float(s.contact_time_max) >= times.max() * (1 - 1e-12)
+
+
+def test_predict_refuses_bad_discrete_input_by_name():
+    with pytest.raises(ValueError, match="phase"):
+        predict(solref=(0.02, 0.5), speed=1.0, phase=0.5)
+    with pytest.raises(ValueError, match="phase"):
+        predict(solref=(0.02, 0.5), speed=1.0, timestep=0.002, phase=1.0)
+    with pytest.raises(ValueError, match="phase"):
+        predict(solref=(0.02, 0.5), speed=1.0, timestep=0.002, phase=-0.1)
+    with pytest.raises(ValueError, match="integrator"):
+        predict(solref=(0.02, 0.5), speed=1.0, timestep=0.002, integrator="Euler2")
+    with pytest.raises(ValueError, match="integrator"):
+        predict(solref=(0.02, 0.5), speed=1.0, integrator="nope")
+    p = predict(solref=(0.02, [0.3, 0.6]), speed=1.0, timestep=0.002, phase=[[0.1], [0.7]])
+    assert p.restitution.shape == (2, 2)
+
+
+if os.environ.get("CI") == "true":
+    import mujoco  # noqa: F401
+else:
+    pytest.importorskip("mujoco")
+
+from impactsym.engines.drivers import mujoco_steps  # noqa: E402
+
+CASES = [  # (solref, speed): designs from e about 0.9 down to 0.1
+    ((0.02, 0.035), 1.0),
+    ((0.02, 0.12), 1.0),
+    ((0.02, 0.25), 1.0),
+    ((0.015, 0.45), 0.8),
+    ((0.02, 0.8), 1.5),
+]
+
+
+@pytest.mark.parametrize("dt", [0.002, 0.001, 0.0005])
+@pytest.mark.parametrize("integrator", ["euler", "implicitfast"])
+@pytest.mark.parametrize("solimp", [FLAT, DEFAULT])
+def test_agrees_with_mujoco_state_by_state(dt, integrator, solimp):
+    simp = check_solimp(solimp)
+    tol = 1e-9 if solimp == FLAT else 1e-6
+    for (solref, speed), gravity, phase in zip(
+        CASES, (0.0, 9.81, 0.0, 9.81, 9.81), (0.0, 0.37, 0.81, 0.55, 0.13), strict=True
+    ):
+        run = mujoco_steps(
+            solref=solref,
+            solimp=solimp,
+            speed=speed,
+            gravity=gravity,
+            timestep=dt,
+            integrator=integrator,
+            phase=phase,
+        )
+        got = step_contact(
+            coefficients(solref, simp, dt),
+            simp,
+            1.0,
+            gravity,
+            speed,
+            dt,
+            phase,
+            integrator=integrator,
+        )
+        assert bool(got.sticks) == run["sticks"]
+        if run["sticks"]:
+            continue
+        assert int(got.steps) == run["steps"]
+        assert float(got.restitution) == pytest.approx(run["restitution"], rel=tol)
+        assert float(got.contact_time) == pytest.approx(run["contact_time"], rel=tol)
+        assert float(got.departure_speed) == pytest.approx(run["departure_speed"], rel=tol)
+        assert float(got.max_penetration) == pytest.approx(run["max_penetration"], rel=tol)
+
+
+def test_stick_verdict_agrees_with_mujoco():
+    simp = check_solimp(FLAT)
+    for speed in (0.3, 0.02):
+        run = mujoco_steps(
+            solref=(0.02, 1.0),
+            solimp=FLAT,
+            speed=speed,
+            gravity=9.81,
+            timestep=0.002,
+            phase=0.4,
+            max_steps=3000,
+        )
+        got = step_contact(
+            coefficients((0.02, 1.0), simp, 0.002),
+            simp,
+            1.0,
+            9.81,
+            speed,
+            0.002,
+            0.4,
+            integrator="euler",
+        )
+        assert bool(got.sticks) == run["sticks"]
