@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.mujoco.euler import euler_contact
-from impactsym.engines.mujoco.model import Coefficients
+from impactsym.engines.mujoco.model import Coefficients, is_flat
 from impactsym.engines.mujoco.rk4 import rk4_contact
 from impactsym.engines.mujoco.rk4_entry import rk4_entry_phases
 from impactsym.engines.mujoco.stepping import StepContact
@@ -181,8 +181,11 @@ def phase_summary(
     stick_frac = np.bincount(own, (w * stuck[:, 1:-1]).sum(axis=1), minlength=size)
     # the range: piece ends, nodes, and the vertex of the quadratic through each piece
     vertex = _vertex(pts[:, [0, 3, -1]], e[:, [0, 3, -1]], p0, p1)
-    e_lo = np.fmin(np.fmin(e.min(axis=1), vertex), _interior_extreme(run, own, pts, e, -1.0))
-    e_hi = np.fmax(np.fmax(e.max(axis=1), vertex), _interior_extreme(run, own, pts, e, 1.0))
+    e_lo = np.fmin(e.min(axis=1), vertex)
+    e_hi = np.fmax(e.max(axis=1), vertex)
+    if integrator in ENTRY_PHASES or not is_flat(solimp):  # pieces that are no quadratics
+        e_lo = np.fmin(e_lo, _interior_extreme(run, own, pts, e, -1.0))
+        e_hi = np.fmax(e_hi, _interior_extreme(run, own, pts, e, 1.0))
     zero = run(np.arange(size), np.zeros(size))  # phase 0 exactly
     e_min = np.minimum(_reduce(np.minimum, own, e_lo, size, np.inf), zero.restitution)
     e_max = np.maximum(_reduce(np.maximum, own, e_hi, size, -np.inf), zero.restitution)
