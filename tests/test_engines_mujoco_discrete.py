@@ -181,3 +181,55 @@ def test_stick_verdict_agrees_with_mujoco():
             integrator="euler",
         )
         assert bool(got.sticks) == run["sticks"]
+
+
+def test_the_sympy_step_map_is_the_engines_and_implicitfast_is_the_same_map():
+    """The map derived from MuJoCo's update (engines.derivation.mujoco_euler_step) iterated in
+    plain floats reproduces euler_contact's closed form and the independent reference of
+    MuJoCo's step; implicitfast (D = 0) gives the identical matrix; trace, det and the
+    flip step are those the stability warning uses."""
+    import sys
+    from pathlib import Path
+
+    import sympy as sp
+
+    from impactsym.engines.derivation import mujoco_euler_step
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from references.mujoco_steps import mujoco_steps as reference
+
+    r = mujoco_euler_step()
+    assert sp.simplify(r["matrix"] - r["implicitfast"]) == sp.zeros(2, 2)
+    h, g, b, d, kbar, dp = sp.symbols("h g b d kbar d_eff", positive=True)
+    assert sp.simplify(r["det"] - (1 - h * dp * b)) == 0
+    assert sp.simplify(r["trace"] - (2 - h * dp * b - h**2 * dp * d * kbar)) == 0
+    assert sp.simplify((1 + r["trace"] + r["det"]).subs(h, r["flip_step"])) == 0
+    step = sp.lambdify((h, g, b, d, kbar, dp), (r["matrix"], r["offset"]), "numpy")
+    flip = sp.lambdify((b, d, kbar, dp), r["flip_step"], "math")
+    simp = check_solimp(FLAT)
+    for dampratio, gravity, phase in ((0.1, 0.0, 0.3), (0.5, 9.81, 0.7), (1.0, 9.81, 0.55)):
+        dt, speed = 0.002, 1.0
+        c = coefficients((0.02, dampratio), simp, dt)
+        bb, kk = float(c.damping), float(c.stiffness)
+        imp = 0.9  # flat impedance; one body on a slide joint: d' = d
+        mat, off = step(dt, gravity, bb, imp, kk, imp)
+        t = phase * dt
+        y = np.array([speed * t + 0.5 * gravity * t * t, speed + gravity * t])
+        n = 0
+        while y[0] > 0 and gravity + bb * y[1] + imp * kk * y[0] > 0:
+            y = np.array(mat, float) @ y + np.array(off, float).ravel()
+            n += 1
+        ref = reference(
+            solref=(0.02, dampratio), solimp=FLAT, speed=speed, gravity=gravity, timestep=dt,
+            integrator="euler", phase=phase,
+        )  # fmt: skip
+        got = step_contact(c, simp, 1.0, gravity, speed, dt, phase, integrator="euler")
+        assert -y[1] / speed == pytest.approx(ref["restitution"], rel=1e-9)
+        assert float(got.restitution) == pytest.approx(-y[1] / speed, rel=1e-9)
+        assert float(got.contact_time) == pytest.approx((phase + n) * dt, rel=1e-12)
+        # the flip step: the matrix has an eigenvalue -1 there (unstable beyond it)
+        hf = flip(bb, imp, kk, imp)
+        m_flip = np.array(step(hf * (1 + 1e-9), gravity, bb, imp, kk, imp)[0], float)
+        m_safe = np.array(step(hf * (1 - 1e-3), gravity, bb, imp, kk, imp)[0], float)
+        assert np.abs(np.linalg.eigvals(m_flip)).max() > 1.0
+        assert np.abs(np.linalg.eigvals(m_safe)).max() < 1.0

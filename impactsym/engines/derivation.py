@@ -186,3 +186,62 @@ def mujoco_rk4_step() -> dict[str, sp.Expr]:
         "stages": [sp.Matrix([sp.expand(xs), sp.expand(vs)]) for xs, vs in stages],
         "undamped_modulus2": sp.expand(poly(sp.I * y) * poly(-sp.I * y)),
     }
+
+
+def mujoco_euler_step() -> dict[str, sp.Expr]:
+    r"""MuJoCo's ``Euler`` step on one contact in SymPy: the affine map and its powers.
+
+    ``mj_forward`` computes the constraint acceleration from the state at the start of the
+    step (impedance ``d``, effective impedance ``d'``, per unit mass, unclipped inside the
+    contact); ``mj_Euler`` then updates the velocity first and the position with the new
+    velocity (``engine_forward.c``):
+
+    .. math::
+
+        v_1 = v + h\,\bigl(g - d'(g + b\,v + d\bar k\,x)\bigr), \qquad x_1 = x + h\,v_1 .
+
+    ``implicitfast`` solves ``(M - h D)\,a = f`` where ``D`` is the velocity derivative of
+    the *smooth* forces (joint damping, actuators); a contact without them has ``D = 0``
+    and the same ``a``: the same map (``"implicitfast"`` below builds it that way and
+    equals ``"matrix"``). Returns
+
+    * ``"matrix"`` ``M`` and ``"offset"`` ``c`` of ``y -> M y + c``, ``y = (x, v)``;
+    * ``"implicitfast"``: the matrix of ``(m - h D) a = f`` with ``D = 0``;
+    * ``"trace"``, ``"det"``: ``2 - h d'b - h^2 d' d kbar`` and ``1 - h d' b`` (so a
+      complex pair has modulus ``sqrt(1 - h d' b)``);
+    * ``"eigenvalues"``: the two roots of ``mu^2 - trace mu + det``;
+    * ``"equilibrium"``: the fixed point ``x* = (1 - d') g / (d' d kbar)``, ``v* = 0``;
+    * ``"flip_step"``: the step ``h`` where an eigenvalue reaches ``-1`` (the map is
+      unstable beyond it): ``4 / (d' b + sqrt(d'^2 b^2 + 4 d' d kbar))``.
+
+    >>> r = mujoco_euler_step()
+    >>> sp.simplify(r["matrix"] - r["implicitfast"])
+    Matrix([
+    [0, 0],
+    [0, 0]])
+    """
+    h, g, b, d, kbar, dp, m = sp.symbols("h g b d kbar d_eff m", positive=True)
+    x, v, mu = sp.symbols("x v mu")
+    accel = g - dp * (g + b * v + d * kbar * x)
+    v1 = v + h * accel
+    x1 = x + h * v1
+    new = sp.Matrix([x1, v1])
+    matrix = sp.expand(new.jacobian([x, v]))
+    offset = sp.expand(new.subs({x: 0, v: 0}))
+    # implicitfast: (m - h D) a = m accel with D = 0 (no smooth velocity-dependent force)
+    smooth_derivative = sp.Integer(0)
+    a_if = m * accel / (m - h * smooth_derivative)
+    v_if = v + h * a_if
+    matrix_if = sp.expand(sp.Matrix([x + h * v_if, v_if]).jacobian([x, v]))
+    trace, det = sp.expand(matrix.trace()), sp.factor(matrix.det())
+    omega2 = dp * d * kbar
+    return {
+        "matrix": matrix,
+        "offset": offset,
+        "implicitfast": matrix_if,
+        "trace": trace,
+        "det": det,
+        "eigenvalues": sp.solve(mu**2 - trace * mu + det, mu),
+        "equilibrium": sp.Matrix([(1 - dp) * g / omega2, 0]),
+        "flip_step": 4 / (dp * b + sp.sqrt(dp**2 * b**2 + 4 * omega2)),
+    }
