@@ -161,7 +161,7 @@ def _refuse(tg: DiscreteTarget, i: int, why: str, solve) -> None:
     )
     h = reaching_timestep(one, solve)
     where = (
-        f"timestep = {h:.4g} s reaches it"
+        f"timestep = {h!r} s reaches it"
         if h is not None
         else f"no timestep down to {tg.timestep / 2**_HALVINGS:.3g} s reaches it"
     )
@@ -202,7 +202,10 @@ def reaching_timestep(one: DiscreteTarget, solve) -> float | None:
             good = mid
         else:
             bad = mid
-    return float(good)
+    # the value the message prints (3 digits, rounded down) if it works too
+    scale = 10.0 ** (np.floor(np.log10(good)) - 2)
+    short = float(np.floor(good / scale) * scale)
+    return short if works(short) else float(good)
 
 
 def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True) -> np.ndarray:
@@ -281,13 +284,16 @@ def _both_design(tg: DiscreteTarget, refuse: bool = True) -> tuple:
         )
 
     def resid(u):
+        # below the refsafe floor MuJoCo runs timeconst 2 timestep: the contact time is
+        # continued there by log(timeconst / floor) so that the Newton system stays
+        # regular and a solution below the floor shows as such (refused below)
         tc = refsafe(np.exp(u[0]), h)
         dr = np.maximum(np.exp(u[1]), tg.stability_dampratio(tc) * (1.0 + 1e-3))
         p = tg.mean(tc, dr, rows)
         sticks = np.asarray(p.sticks)
         e = np.where(sticks, 0.0, np.asarray(p.restitution))
         t = np.where(sticks, 1e3 * tg.t_c, np.asarray(p.contact_time))
-        return np.stack([e - tg.e, np.log(t / tg.t_c)])
+        return np.stack([e - tg.e, np.log(t / tg.t_c) + np.minimum(u[0] - np.log(floor), 0.0)])
 
     u0 = np.stack([np.log(tc0), np.log(dr0)])
     try:
@@ -295,15 +301,20 @@ def _both_design(tg: DiscreteTarget, refuse: bool = True) -> tuple:
     except np.linalg.LinAlgError:  # a residual flat in an unknown: refsafe floor or stick
         u, r = u0, np.full((2, n), np.inf)
     tc, dr = np.exp(u[0]), np.exp(u[1])
-    miss = ~((np.abs(r[0]) <= _DESIGN_TOL) & (np.abs(r[1]) <= _DESIGN_TOL))
+    miss = ~((np.abs(r[0]) <= _DESIGN_TOL) & (np.abs(r[1]) <= _DESIGN_TOL)) | (tc < floor)
     if miss.any():
         i = int(np.flatnonzero(miss)[0])
         if tc[i] <= floor * (1.0 + 1e-6):
             why = (
-                f"it needs timeconst <= 2 * timestep = {floor:g} s, where MuJoCo's "
-                f"refsafe floor holds it"
+                f"it needs timeconst = {tc[i]:.4g} s < 2 * timestep (MuJoCo's refsafe "
+                f"floor raises it to {floor:g} s)"
             )
-        elif not np.isfinite(r[0, i]) or r[1, i] > 1.0:
+        elif not np.isfinite(r[0, i]):
+            why = (
+                "the Newton system is singular from the continuous design on (the body "
+                "sticks at some touch phase, or the phase mean does not change there)"
+            )
+        elif r[1, i] > 1.0:
             why = "the body sticks at some touch phase near the design"
         else:
             why = (
