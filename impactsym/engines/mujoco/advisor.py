@@ -33,10 +33,10 @@ __all__ = ["TimestepAdvice", "timestep_for"]
 
 #: the scan: points per decade of timestep / contact time, its lowest value, and how far
 #: down it extends when the deviation is too large already there
-_PER_DECADE = 12
-_LOW = 1e-3
+_PER_DECADE = 8
+_LOW = 1e-2
 _LOWEST = 1e-6
-_BISECTIONS = 30
+_BISECTIONS = 24
 
 
 @dataclass(frozen=True, eq=False)
@@ -130,9 +130,9 @@ def timestep_for(
     :func:`~impactsym.engines.mujoco.prediction.predict`). It is not monotone in ``dt``
     (the end step jumps, the rebound is read at a state), so "largest" is defined as
     the **first crossing from below**: ``dt / t_c`` (``t_c`` the continuous contact
-    time) is scanned upwards on a geometric grid (12 points per decade from ``1e-3``,
+    time) is scanned upwards on a geometric grid (8 points per decade from ``1e-2``,
     extended down to ``1e-6`` if needed, up to the stability limit of the step map or
-    ``t_c``), and the first grid interval in which ``err > tolerance`` is bisected (30
+    ``t_c``), and the first grid interval in which ``err > tolerance`` is bisected (24
     halvings in log). Every scanned timestep up to the result meets the tolerance
     (``err`` at the result is returned); a larger timestep at which the deviation
     happens to dip again is not returned. A timestep at which the body sticks at some
@@ -204,7 +204,7 @@ def timestep_for(
         return err, rng
 
     every = np.arange(n)
-    # the lowest scanned dt / t_c: 1e-3, or a decade lower while the deviation exceeds it
+    # the lowest scanned dt / t_c: 1e-2, or a decade lower while the deviation exceeds it
     low = np.full(n, _LOW)
     while True:
         bad = deviation(low * t_c, every)[0] > tol

@@ -431,6 +431,9 @@ def solref_for(
         target = DiscreteTarget(
             e_f, v_f, g_f, t_f, simp, m, w_f, rho_f, timestep, integrator, start
         )
+        target.continuous = lambda i: _continuous(
+            e_f[i], v_f[i], g_f[i], None if t_f is None else t_f[i], simp, rho_f[i]
+        )
         tc, dr = design_discrete(target)
     else:
         tc, dr = _continuous(e_f, v_f, g_f, t_f, simp, rho_f)

@@ -61,7 +61,7 @@ _DESIGN_TOL = 1e-5
 _EPS = 1e-6
 #: halvings of the timestep tried when looking for one that reaches a refused target
 _HALVINGS = 8
-_BISECTIONS = 8
+_BISECTIONS = 3
 
 
 def check_integrator(integrator: Any) -> str:
@@ -96,6 +96,9 @@ class DiscreteTarget:
         self.e, self.v, self.g, self.t_c = e, v, g, t_c
         self.solimp, self.mass, self.weight, self.rho = solimp, mass, weight, rho
         self.timestep, self.integrator, self.start = timestep, integrator, start
+        #: the continuous design of elements ``i`` (raises where it refuses them); set
+        #: by the caller, used to skip the timestep search where no timestep can help
+        self.continuous = None
 
     def take(self, i: np.ndarray) -> DiscreteTarget:
         """The targets of the elements ``i``."""
@@ -159,12 +162,18 @@ def _refuse(tg: DiscreteTarget, i: int, why: str, solve) -> None:
     wanted = f"restitution = {float(tg.e[i])!r}" + (
         "" if tg.t_c is None else f" with contact_time = {float(tg.t_c[i])!r} s"
     )
-    h = reaching_timestep(one, solve)
-    where = (
-        f"timestep = {h!r} s reaches it"
-        if h is not None
-        else f"no timestep down to {tg.timestep / 2**_HALVINGS:.3g} s reaches it"
-    )
+    try:
+        if tg.continuous is not None:
+            tg.continuous(np.array([i]))
+    except ValueError as exc:  # the limit timestep -> 0 refuses it too: no search
+        where = f"no timestep reaches it (the continuous design refuses it too: {exc})"
+    else:
+        h = reaching_timestep(one, solve)
+        where = (
+            f"timestep = {h!r} s reaches it"
+            if h is not None
+            else f"no timestep down to {tg.timestep / 2**_HALVINGS:.3g} s reaches it"
+        )
     raise ValueError(
         f"{wanted} (element {i}) cannot be reached at timestep = {tg.timestep!r} s with "
         f"integrator {tg.integrator!r} (phase mean): {why}; {where}"
