@@ -332,8 +332,8 @@ def test_mujoco_empty_arrays_and_results_under_eq_and_hash():
         assert p.restitution.shape == p.sticks.shape == (0,)
         d = mujoco.solref_for(restitution=np.array([]), speed=1.0, solimp=solimp)
         assert d.solref[0].shape == (0,)
-    with pytest.warns(RuntimeWarning, match="too coarse"):
-        mujoco.predict(solref=(np.array([0.02]), 1.0), speed=1.0, timestep=0.01)
+    with pytest.warns(RuntimeWarning, match="unstable"):
+        mujoco.predict(solref=(np.array([0.02]), 0.01), speed=1.0, timestep=0.002)
     mujoco.predict(solref=(np.array([]), np.array([])), speed=1.0, timestep=0.01)
     a = mujoco.predict(solref=(np.array([0.02, 0.03]), 1.0), solimp=FLAT, speed=1.0)
     b = mujoco.predict(solref=(np.array([0.02, 0.03]), 1.0), solimp=FLAT, speed=1.0)

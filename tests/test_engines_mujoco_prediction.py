@@ -6,6 +6,7 @@ from __future__ import annotations
 import importlib
 import math
 import os
+import warnings
 
 import numpy as np
 import pytest
@@ -81,15 +82,22 @@ def test_stick_or_bounce_is_predicted_as_mujoco_shows_it(solimp):
             assert math.isinf(t) == bool(sticks), (dampratio, v)
 
 
-def test_coarse_timestep_warns_with_the_timestep_that_would_do():
-    with pytest.warns(RuntimeWarning, match=r"omega0 \* dt = .*timestep <= 3e-05 s"):
-        predict(solref=(0.02, 0.05), solimp=FLAT, speed=1.0, timestep=1e-3)
-    with pytest.warns(RuntimeWarning, match=r"g \* dt / v0 = .*timestep <= 1.02e-05 s"):
-        predict(solref=(0.02, 0.2), solimp=FLAT, speed=0.02, gravity=9.81, timestep=5e-5)
-    # and the warned-about timestep really misses by more than 1 % in MuJoCo
-    p = predict(solref=(0.02, 0.05), solimp=FLAT, speed=1.0)
-    e, _ = mujoco_drop(solref=(0.02, 0.05), solimp=FLAT, speed=1.0, timestep=1e-3)
-    assert abs(e / p.restitution - 1) > 0.01
+def test_a_timestep_gives_the_engines_own_contact_and_warns_where_unstable():
+    # replaces the old one-parameter "too coarse" warning: with a timestep the
+    # prediction is MuJoCo's discrete contact itself (here where the old warning fired)
+    from impactsym.engines.drivers import mujoco_steps
+
+    p = predict(solref=(0.02, 0.05), solimp=FLAT, speed=1.0, timestep=1e-3, phase=0.3)
+    run = mujoco_steps(solref=(0.02, 0.05), solimp=FLAT, speed=1.0, timestep=1e-3, phase=0.3)
+    assert p.restitution == pytest.approx(run["restitution"], rel=1e-9)
+    assert p.contact_time == pytest.approx(run["contact_time"], rel=1e-9)
+    assert p.restitution_range == (p.restitution, p.restitution)
+    # an unstable in-contact map warns, naming a stable timestep
+    with pytest.warns(RuntimeWarning, match=r"spectral radius .* timestep < 0\.000"):
+        predict(solref=(0.02, 0.01), solimp=FLAT, speed=1.0, timestep=0.002, phase=0.5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        predict(solref=(0.02, 0.01), solimp=FLAT, speed=1.0, timestep=0.0003, phase=0.5)
 
 
 def test_bad_inputs_are_refused_by_name():
@@ -183,6 +191,7 @@ def test_overdamped_default_solimp_sticks_and_returns():
 
 def test_work_is_capped_with_an_error_naming_solref(monkeypatch):
     prediction = importlib.import_module("impactsym.engines.mujoco.prediction")
+    continuous = importlib.import_module("impactsym.engines.mujoco.continuous")
 
     # static penetration inside the impedance width: rest is not provable, and the
     # horizon needs > 400 000 steps: refused at once, naming the solref
@@ -192,7 +201,7 @@ def test_work_is_capped_with_an_error_naming_solref(monkeypatch):
     with pytest.raises(ValueError, match=r"\(-2500, -1000\)"):
         predict(solref=(-2500.0, -1000.0), speed=0.1, gravity=9.81)
     # the loop's own cap (a backstop) names it too
-    monkeypatch.setattr(prediction, "_MAX_RK_STEPS", 50)
+    monkeypatch.setattr(continuous, "_MAX_RK_STEPS", 50)
     with pytest.raises(ValueError, match="solref = "):
         prediction.predict(solref=(0.02, 2.0), speed=0.01, gravity=9.81)
 

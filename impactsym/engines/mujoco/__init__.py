@@ -4,7 +4,13 @@
   the coefficients of ``solref``, refsafe, the effective mass) as paper section 2's
   loaded oscillator;
 * :mod:`~impactsym.engines.mujoco.prediction`: :func:`predict` (restitution, contact time,
-  penetration, force of the first contact phase) and :func:`stick_speed`;
+  penetration, force of the first contact phase; continuous, or exact at the user's
+  timestep and touch phase) and :func:`stick_speed`;
+* :mod:`~impactsym.engines.mujoco.continuous` (the limit ``timestep -> 0``),
+  :mod:`~impactsym.engines.mujoco.euler` and :mod:`~impactsym.engines.mujoco.stepmap`
+  (MuJoCo's Euler/implicitfast step on one contact), :mod:`~impactsym.engines.mujoco.discrete`
+  (dispatch per integrator, the phase mean and range), and
+  :mod:`~impactsym.engines.mujoco.stepping` (the touch-phase definitions);
 * :mod:`~impactsym.engines.mujoco.design`: :func:`solref_for` (the inverse) and
   :func:`from_reduced` (a reduced multibody contact as its input); with a timestep
   :mod:`~impactsym.engines.mujoco.discrete_design` designs the phase mean;

@@ -15,7 +15,8 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.mujoco.discrete_design import check_integrator, stable
+from impactsym.engines.mujoco.discrete import check_integrator
+from impactsym.engines.mujoco.discrete_design import stable
 from impactsym.engines.mujoco.model import (
     DEFAULT_SOLIMP,
     check_mass,

@@ -19,11 +19,9 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.mujoco.discrete_design import (
-    DiscreteTarget,
-    check_integrator,
-    design_discrete,
-)
+from impactsym.engines.mujoco.continuous import flat_phase, varying_phase
+from impactsym.engines.mujoco.discrete import check_integrator
+from impactsym.engines.mujoco.discrete_design import DiscreteTarget, design_discrete
 from impactsym.engines.mujoco.model import (
     DEFAULT_SOLIMP,
     DEFAULT_TIMECONST,
@@ -35,7 +33,7 @@ from impactsym.engines.mujoco.model import (
     is_flat,
     weight_ratio,
 )
-from impactsym.engines.mujoco.prediction import Prediction, flat_phase, predict, varying_phase
+from impactsym.engines.mujoco.prediction import Prediction, predict
 from impactsym.numeric.roots import bracketed_illinois, newton_system
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
@@ -451,7 +449,7 @@ def solref_for(
         speed=speed if t_c is None or scalar else np.broadcast_to(v0, shape),
         gravity=gravity if scalar else np.broadcast_to(g, shape),
         mass=m,
-        timestep=timestep,
+        timestep=timestep,  # None: the continuous check; else the discrete phase mean
         inverse_weight=inverse_weight,
         **extra,
     )

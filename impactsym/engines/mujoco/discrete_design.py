@@ -48,10 +48,8 @@ from impactsym.engines.mujoco.model import (
 from impactsym.engines.mujoco.prediction import predict
 from impactsym.numeric.roots import bracketed_illinois, newton_system
 
-__all__ = ["INTEGRATORS", "DiscreteTarget", "check_integrator", "design_discrete", "stable"]
+__all__ = ["DiscreteTarget", "design_discrete", "stable"]
 
-#: integrators the discrete models cover (MuJoCo's names, lower case)
-INTEGRATORS = ("euler", "implicitfast", "rk4")
 #: dampratio grid of the restitution design: points, upper end
 _GRID = 33
 _DR_TOP = 1e2
@@ -62,13 +60,6 @@ _EPS = 1e-6
 #: halvings of the timestep tried when looking for one that reaches a refused target
 _HALVINGS = 8
 _BISECTIONS = 3
-
-
-def check_integrator(integrator: Any) -> str:
-    """``integrator`` as one of :data:`INTEGRATORS`, or raise ``ValueError``."""
-    if not isinstance(integrator, str) or integrator.lower() not in INTEGRATORS:
-        raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
-    return integrator.lower()
 
 
 def stable(kappa: Any, beta: Any, integrator: str) -> np.ndarray:

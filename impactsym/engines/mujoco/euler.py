@@ -1,0 +1,346 @@
+r"""MuJoCo's ``Euler`` (and ``implicitfast``) step applied to one contact: exact per phase.
+
+One step of MuJoCo 4 (``mj_forward`` then ``mj_Euler``; `docs/physics.md#touch-phase`):
+the contact exists iff the distance is ``<= 0`` (``mjraw_PlaneSphere``: penetration
+``x >= 0``); its constraint acceleration is computed from the state at the start of the
+step, with the impedance ``d(x)`` there, ``R = (1 - d)/d A_diag`` and refsafe, and
+clipped at zero,
+
+.. math::
+
+    F_n = d'_n\,\max(0,\ g + b\,u_n + d_n \bar k\,x_n), \qquad
+    u_{n+1} = u_n + \Delta t\,(g - F_n), \qquad x_{n+1} = x_n + \Delta t\,u_{n+1}
+
+(``u = x'``; semi-implicit: the position uses the new velocity). ``implicitfast``
+solves ``(M - dt D) a = f`` with ``D`` the velocity derivative of the *smooth* forces
+only, zero without joint damping or actuators, so its step is the same map
+(:func:`impactsym.engines.derivation.mujoco_euler_step` shows both).
+
+In units of ``speed * timestep`` (``X = x / (v0 dt)``, ``Y = u / v0``, ``G = g dt / v0``)
+the step is ``Y' = Y + G - F``, ``X' = X + Y'`` with
+``F = d' (G + b dt Y + d kbar dt^2 X)``. At flat impedance it is affine with the matrix
+of :mod:`~impactsym.engines.mujoco.stepmap`; the end step is found in closed form there
+and the coast after a force zero (free flight while the overlap lasts) from two
+quadratics in the step count. A varying impedance runs the exact recurrence, vectorized
+over designs and phases (a loop over steps on whole arrays), with a closed-form proof of
+rest once the body is beyond the impedance width.
+
+Internal: :mod:`~impactsym.engines.mujoco.discrete` dispatches to it.
+All quantities are SI: seconds, metres, m/s, m/s^2.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from impactsym.engines.mujoco.model import (
+    Coefficients,
+    d_max,
+    effective_impedance,
+    impedance_at,
+    is_flat,
+)
+from impactsym.engines.mujoco.stepmap import Sequence, first_hit, sequence_max
+from impactsym.engines.mujoco.stepping import StepContact
+
+__all__ = ["euler_contact"]
+
+_MAX_STEPS = 2_000_000  # recurrence steps refused beyond this (a contact that never settles)
+_PROOF_EVERY = 32  # recurrence steps between attempts to prove rest
+
+
+def euler_contact(
+    coeffs: Coefficients,
+    solimp: tuple[float, ...],
+    rho: Any,
+    gravity: Any,
+    speed: Any,
+    timestep: Any,
+    phase: Any,
+) -> StepContact:
+    """The contact as MuJoCo's Euler step shows it, at touch phase ``phase`` (arrays, SI).
+
+    Parameters
+    ----------
+    coeffs
+        ``b`` and ``kbar`` of the ``solref``, refsafe applied
+        (:func:`~impactsym.engines.mujoco.model.coefficients` with the timestep).
+    solimp
+        Checked five-tuple.
+    rho, gravity, speed, timestep, phase
+        Weight ratio ``A / A_diag``, pressing acceleration (m/s^2), approach speed at
+        geometric touch (m/s), timestep (s) and touch phase in ``[0, 1)``; all broadcast.
+
+    Returns
+    -------
+    StepContact
+        Per element, with the definitions of :mod:`~impactsym.engines.mujoco.stepping`.
+    """
+    arrays = np.broadcast_arrays(
+        *(
+            np.asarray(a, float)
+            for a in (coeffs.damping, coeffs.stiffness, rho, gravity, speed, timestep, phase)
+        )
+    )
+    shape = arrays[0].shape
+    b, kbar, rho, g, v0, dt, p = (a.ravel() for a in arrays)
+    G = g * dt / v0
+    # phase 0: the state at touch has zero distance, which MuJoCo does not count as
+    # contact (con->exclude for dist >= margin): one free Euler step to the first state
+    t0 = np.where(p > 0, p, 1.0)
+    state = {
+        "X": np.where(p > 0, p + 0.5 * G * p * p, 1.0 + G),
+        "Y": np.where(p > 0, 1.0 + G * p, 1.0 + G),
+        "G": G,
+        "bdt": b * dt,
+        "kdt2": kbar * dt * dt,
+        "rho": rho,
+        "L": v0 * dt,
+    }
+    size = b.size
+    out = {
+        "N": np.full(size, np.inf),
+        "Y_end": np.zeros(size),
+        "X_end": np.zeros(size),
+        "by_pos": np.zeros(size, bool),
+        "X_max": np.zeros(size),
+        "F_max": np.zeros(size),
+        "dep": np.zeros(size),
+        "sticks": np.zeros(size, bool),
+    }
+    todo = np.arange(size)
+    if is_flat(solimp) and size:
+        todo = _flat(state, float(impedance_at(np.zeros(()), solimp)), out)
+    if todo.size:
+        _recurrence(state, solimp, out, todo)
+    sticks = out["sticks"] | ~np.isfinite(out["N"])
+    with np.errstate(invalid="ignore"):
+        e = np.where(sticks, 0.0, -out["Y_end"])
+        t_c = np.where(sticks, np.inf, (t0 + out["N"]) * dt)
+        dep = np.where(sticks, 0.0, out["dep"] * v0)
+    fields = (
+        e,
+        t_c,
+        sticks,
+        out["by_pos"] & ~sticks,
+        dep,
+        np.where(np.isfinite(out["N"]), out["N"], -1).astype(np.int64),
+        out["X_max"] * v0 * dt,
+        out["F_max"] * v0 / dt,
+    )
+    return StepContact(*(np.reshape(a, shape) for a in fields))
+
+
+def _take(state: dict, i: np.ndarray) -> dict:
+    return {k: v[i] for k, v in state.items()}
+
+
+def _flat(state: dict, d: float, out: dict) -> np.ndarray:
+    """The closed form at flat impedance ``d``; returns the elements left to the recurrence."""
+    dp = effective_impedance(d, state["rho"])
+    kappa = dp * d * state["kdt2"]
+    beta = dp * state["bdt"]
+    G, X0, Y0 = state["G"], state["X"], state["Y"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x_star = np.where(G > 0, (1.0 - dp) * G / kappa, 0.0)
+    w1, w2 = X0 - x_star, Y0
+    zero = np.zeros_like(G)
+    pos = Sequence(kappa, beta, 1.0, 0.0, w1, w2, x_star)
+    force = Sequence(kappa, beta, kappa, beta, w1, w2, G)
+    vel = Sequence(kappa, beta, 0.0, 1.0, w1, w2, zero)
+    closed = np.flatnonzero((pos.kind > 0) & np.isfinite(x_star))
+    pos, force, vel = pos.take(closed), force.take(closed), vel.take(closed)
+    n_pos = first_hit(pos, lambda n, i: pos.take(i).at(n) <= 0)
+    n_force = first_hit(force, lambda n, i: force.take(i).at(n) <= 0)
+    N = np.minimum(n_pos, n_force)
+    by_pos = n_pos <= n_force
+    ended = np.isfinite(N)
+    at = np.where(ended, N, 0.0)
+    Y_end, X_end = vel.at(at), pos.at(at)
+    last = np.where(ended, N - 1.0, np.inf)
+    out["N"][closed] = N
+    out["Y_end"][closed] = Y_end
+    out["X_end"][closed] = X_end
+    out["by_pos"][closed] = by_pos & ended
+    out["X_max"][closed] = sequence_max(pos, last)
+    out["F_max"][closed] = sequence_max(force, last)
+    out["dep"][closed] = np.where(by_pos, -Y_end, 0.0)
+    coast = np.flatnonzero(ended & ~by_pos)
+    if coast.size:
+        c = closed[coast]
+        sticks, dep = _coast_flat(
+            X_end[coast], Y_end[coast], G[c], state["bdt"][c], d * state["kdt2"][c]
+        )
+        out["sticks"][c] = sticks
+        out["dep"][c] = dep
+    return np.setdiff1d(np.arange(G.size), closed)
+
+
+def _coast_flat(X, Y, G, bdt, dkdt2):
+    """After a force zero at ``(X, Y)``: free flight ``Y_j = Y + j G``,
+    ``X_j = X + j Y + G j (j + 1) / 2``; the body leaves at the first ``j`` with
+    ``X_j < 0`` unless the force ``G + b dt Y_j + d kbar dt^2 X_j`` is positive at an
+    earlier state in contact (it sticks). Both are quadratics in ``j``: their roots, then
+    the integer check. Returns ``(sticks, departure Y)``."""
+
+    def x_at(j):
+        return X + j * Y + 0.5 * G * j * (j + 1.0)
+
+    def f_at(j):
+        return G + bdt * (Y + j * G) + dkdt2 * x_at(j)
+
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # X_j = (G/2) j^2 + (Y + G/2) j + X: first j >= 1 with X_j < 0
+        a, bb = 0.5 * G, Y + 0.5 * G
+        disc = bb * bb - 4.0 * a * X
+        root = np.where(
+            G > 0, (-bb - np.sqrt(np.maximum(disc, 0.0))) / (2.0 * a), X / np.maximum(-Y, 0.0)
+        )
+        root = np.where((G > 0) & (bb < 0), 2.0 * X / (-bb + np.sqrt(np.maximum(disc, 0.0))), root)
+        j_x = _first_integer(np.where(np.isfinite(root), root, 1e300), lambda j: x_at(j) <= 0)
+        j_x = np.where((G > 0) & (disc < 0), np.inf, j_x)
+        # F_j: convex in j, <= 0 at j = 0: positive past its larger root
+        a2 = 0.5 * G * dkdt2
+        b2 = bdt * G + dkdt2 * (Y + 0.5 * G)
+        c2 = G + bdt * Y + dkdt2 * X
+        disc2 = b2 * b2 - 4.0 * a2 * c2
+        big = np.where(
+            b2 > 0,
+            -2.0 * c2 / (b2 + np.sqrt(np.maximum(disc2, 0.0))),
+            (-b2 + np.sqrt(np.maximum(disc2, 0.0))) / (2.0 * a2),
+        )
+        j_f = _first_integer(np.where(np.isfinite(big), big, 1e300), lambda j: f_at(j) > 0)
+        j_f = np.where(G > 0, j_f, np.inf)
+    sticks = j_f < j_x
+    dep = np.where(sticks | ~np.isfinite(j_x), 0.0, -(Y + np.where(np.isfinite(j_x), j_x, 0.0) * G))
+    return sticks | ~np.isfinite(j_x), dep
+
+
+def _first_integer(root, holds):
+    """Smallest integer ``j >= 1`` at or next to ``ceil(root)`` where ``holds(j)``."""
+    base = np.maximum(np.ceil(np.minimum(root, 1e15)), 1.0)
+    out = np.full(base.shape, np.inf)
+    for shift in (1.0, 0.0, -1.0):
+        j = base + shift
+        ok = (j >= 1) & (root < 1e15) & holds(j)
+        out = np.where(ok, j, out)
+    return out
+
+
+def _recurrence(state: dict, solimp, out: dict, todo: np.ndarray) -> None:
+    """The exact step-by-step recurrence on the elements ``todo`` (vectorized)."""
+    s = _take(state, todo)
+    X, Y, G, rho = s["X"].copy(), s["Y"].copy(), s["G"], s["rho"]
+    L = s["L"]
+    n = np.zeros(todo.size)
+    live = np.arange(todo.size)  # still in contact with a positive force
+    coast = np.zeros(todo.size, bool)
+    N = np.full(todo.size, np.inf)
+    Y_end, x_max, f_max = np.zeros(todo.size), np.zeros(todo.size), np.zeros(todo.size)
+    by_pos = np.zeros(todo.size, bool)
+    dep = np.zeros(todo.size)
+    sticks = np.zeros(todo.size, bool)
+    proof = _RestProof(s, solimp)
+    X1, Y1 = np.full(todo.size, np.nan), np.full(todo.size, np.nan)  # the previous state
+    for step in range(_MAX_STEPS):
+        if live.size == 0:
+            break
+        x, y = X[live], Y[live]
+        d = impedance_at(x * L[live], solimp)
+        dp = effective_impedance(d, rho[live])
+        F = dp * (G[live] + s["bdt"][live] * y + d * s["kdt2"][live] * x)
+        gone = x <= 0
+        zero = ~gone & (F <= 0)
+        c = coast[live]
+        if step > 0:
+            # in contact: the end state; coasting: left (gone) or stuck (force back)
+            end = ~c & (gone | zero)
+            i = live[end]
+            N[i], Y_end[i], by_pos[i] = n[i], y[end], gone[end]
+            dep[i] = np.where(gone[end], -y[end], 0.0)
+            coast[i[zero[end]]] = True
+            left = c & gone
+            dep[live[left]] = -y[left]
+            back = c & ~gone & (F > 0)
+            sticks[live[back]] = True
+            stay = ~(end & gone) & ~left & ~back
+            # without gravity the coast cannot end in contact: it leaves (F only falls)
+            free = end & zero & (G[live] == 0)
+            dep[live[free]] = -y[free]
+            stay &= ~free
+        else:
+            stay = np.ones(live.size, bool)
+        keep = stay & ~coast[live]
+        x_max[live[keep]] = np.maximum(x_max[live[keep]], x[keep])
+        f_max[live[keep]] = np.maximum(f_max[live[keep]], F[keep])
+        accel = np.where(coast[live], 0.0, np.maximum(F, 0.0))
+        y_new = y + G[live] - accel
+        x_new = x + y_new
+        # rest in floats: the state repeats (a fixed point or a 2-cycle) with the force
+        # on, or leaves the float range (an unstable map): the contact never ends
+        repeat = ((x_new == x) & (y_new == y)) | ((x_new == X1[live]) & (y_new == Y1[live]))
+        # ... or rests within rounding: the force carries the weight (F = G) to 1e-9
+        # and the body moves less than 1e-12 of a free step (floats may cycle there)
+        g_l = G[live]
+        repeat |= (g_l > 0) & (np.abs(F - g_l) <= 1e-9 * g_l) & (np.abs(y_new) <= 1e-12 * (1 + g_l))
+        stuck = stay & ~coast[live] & (F > 0) & (repeat | ~np.isfinite(x_new))
+        sticks[live[stuck]] = True
+        stay &= ~stuck
+        X1[live], Y1[live] = x, y
+        X[live], Y[live] = x_new, y_new
+        n[live] += 1.0
+        live = live[stay]
+        if step % _PROOF_EVERY == _PROOF_EVERY - 1 and live.size:
+            stuck = proof(X[live], Y[live], live) & ~coast[live]
+            sticks[live[stuck]] = True
+            live = live[~stuck]
+    else:
+        raise ValueError(
+            f"the Euler recurrence did not settle within {_MAX_STEPS} steps (element "
+            f"{int(todo[live[0]])}); use a flat solimp, whose contact is in closed form"
+        )
+    out["N"][todo] = np.where(sticks, np.inf, N)
+    out["Y_end"][todo] = Y_end
+    out["by_pos"][todo] = by_pos
+    out["X_max"][todo] = x_max
+    out["F_max"][todo] = f_max
+    out["dep"][todo] = dep
+    out["sticks"][todo] = sticks
+
+
+class _RestProof:
+    """Proof that a body in contact beyond the impedance width never leaves.
+
+    There ``d = d_max`` and the step is the flat affine map; if its closed form from the
+    current state never ends the contact and never brings the penetration back below
+    the width, the body sticks.
+    """
+
+    def __init__(self, s: dict, solimp):
+        self.width = 0.0 if is_flat(solimp) else solimp[2]
+        d = float(impedance_at(np.full((), np.inf), solimp)) if is_flat(solimp) else d_max(solimp)
+        dp = effective_impedance(d, s["rho"])
+        self.kappa = dp * d * s["kdt2"]
+        self.beta = dp * s["bdt"]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            self.x_star = (1.0 - dp) * s["G"] / self.kappa
+        self.W = self.width / s["L"]
+        self.G = s["G"]
+        self.usable = (s["G"] > 0) & (self.x_star > self.W) & np.isfinite(self.x_star)
+
+    def __call__(self, X, Y, i):
+        ok = self.usable[i] & (self.W[i] < X)
+        j = np.flatnonzero(ok)
+        if j.size == 0:
+            return ok
+        k = i[j]
+        w1 = X[j] - self.x_star[k]
+        kap, bet = self.kappa[k], self.beta[k]
+        wide = Sequence(kap, bet, 1.0, 0.0, w1, Y[j], self.x_star[k] - self.W[k])
+        force = Sequence(kap, bet, kap, bet, w1, Y[j], self.G[k])
+        n_w = first_hit(wide, lambda n, m: wide.take(m).at(n) <= 0)
+        n_f = first_hit(force, lambda n, m: force.take(m).at(n) <= 0)
+        ok[j] = (wide.kind > 0) & ~np.isfinite(n_w) & ~np.isfinite(n_f)
+        return ok
