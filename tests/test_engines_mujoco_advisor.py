@@ -91,7 +91,7 @@ def test_rk4_advised_timestep_keeps_every_phase_within_tolerance():
 
 
 def test_vectorized_advice_equals_the_scalar_ones():
-    dampratios = np.array([0.3, 0.6, 1.0])
+    dampratios = np.array([0.3, 1.0])
     many = timestep_for(solref=(0.02, dampratios), solimp=FLAT, speed=1.0)
     for i, dr in enumerate(dampratios):
         one = timestep_for(solref=(0.02, float(dr)), solimp=FLAT, speed=1.0)
