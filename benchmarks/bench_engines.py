@@ -21,7 +21,7 @@ from timing import best_of
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's package
 from impactsym.engines import lammps, mujoco
-from impactsym.engines.drivers import fine_timestep, lammps_collision, mujoco_drop
+from impactsym.engines.drivers import fine_timestep, lammps_collision, mujoco_drop, mujoco_phases
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
 DEFAULT = mujoco.DEFAULT_SOLIMP
@@ -38,6 +38,68 @@ def throughput(n):
             ),
         )
         print(f"solref_for, {n} targets, gravity {gravity}: {t:.3f} s ({n / t:,.0f} designs/s)")
+
+
+def discrete_throughput(n):
+    """1e5 discrete designs at dt = 0.002 (Euler): figures and ratios to the targets."""
+    dt = 0.002
+    e = np.linspace(0.2, 0.9, n)
+    cases = (
+        ("flat, gravity 9.81", 1.0, {"gravity": 9.81, "solimp": FLAT}),
+        ("flat, contact_time 0.02 s", 2.0, {"contact_time": 0.02, "solimp": FLAT}),
+        ("default solimp, gravity 9.81", 3.0, {"gravity": 9.81, "solimp": DEFAULT}),
+    )
+    for name, target, options in cases:
+        t, _ = best_of(
+            1,
+            lambda o=options: mujoco.solref_for(restitution=e, speed=1.0, timestep=dt, **o),
+        )
+        print(
+            f"solref_for at dt = {dt} (Euler), {n} targets, {name}: {t:.3f} s "
+            f"(target {target:g} s per 1e5: ratio {t * 1e5 / n / target:.2f})"
+        )
+
+
+def discrete_rows():
+    """MuJoCo per phase and in the phase mean against the discrete model at dt = 0.002."""
+    dt, phases = 0.002, (np.arange(64) + 0.5) / 64
+    rows = []
+    for integrator in ("euler", "implicitfast"):
+        for solimp, name in ((FLAT, "flat"), (DEFAULT, "default")):
+            for gravity in (0.0, 9.81):
+                for e in (0.3, 0.5, 0.8):
+                    des = mujoco.solref_for(
+                        restitution=e, speed=1.0, gravity=gravity, solimp=solimp,
+                        timestep=dt, integrator=integrator,
+                    )  # fmt: skip
+                    sr = tuple(float(v) for v in des.solref)
+                    mj = mujoco_phases(
+                        solref=sr, solimp=solimp, speed=1.0, gravity=gravity, timestep=dt,
+                        integrator=integrator, phases=phases,
+                    )  # fmt: skip
+                    per = mujoco.predict(
+                        solref=sr, solimp=solimp, speed=1.0, gravity=gravity, timestep=dt,
+                        integrator=integrator, phase=phases,
+                    )  # fmt: skip
+                    dev = np.abs(np.asarray(per.restitution) / mj["restitution"] - 1).max()
+                    lo, hi = des.restitution_range
+                    rows.append(
+                        (f"{integrator} {name} g={gravity}", e, mj["restitution"].mean(), dev,
+                         float(lo), float(hi))
+                    )  # fmt: skip
+    return rows
+
+
+def print_discrete_rows(rows):
+    print()
+    print(
+        f"{'dt = 0.002, design for the phase mean':34s} {'target':>7s} {'MuJoCo mean':>11s} "
+        f"{'mean err':>9s} {'per-phase':>10s} {'range':>17s}"
+    )
+    for case, e, mean, dev, lo, hi in rows:
+        print(
+            f"{case:34s} {e:7.3f} {mean:11.5f} {mean / e - 1:+9.3%} {dev:10.1e} {lo:8.4f}..{hi:.4f}"
+        )
 
 
 def mujoco_rows(targets):
@@ -103,6 +165,8 @@ def lammps_rows(targets):
 
 def main(quick=False):
     throughput(10_000 if quick else 100_000)
+    discrete_throughput(10_000 if quick else 100_000)
+    print_discrete_rows(discrete_rows())
     targets = (0.1, 0.5, 0.9) if quick else (0.1, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95)
     rows = mujoco_rows(targets) + lammps_rows(targets)
     print()

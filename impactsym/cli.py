@@ -5,8 +5,10 @@
 * ``impactsym latex NAME`` (``--list`` for the names) -- one formula, for pasting;
 * ``impactsym export python FILE`` / ``impactsym export latex FILE`` -- generated files;
 * ``impactsym mujoco --restitution E --speed V [--gravity G] [--contact-time T] [--mass M]
-  [--timestep DT] [--solimp ...] [--form stiffness]`` -- MJCF ``solref``/``solimp`` for a
-  wanted restitution, with the predictions (SI units);
+  [--timestep DT] [--integrator I] [--continuous] [--solimp ...] [--form stiffness]`` --
+  MJCF ``solref``/``solimp`` for a wanted restitution, designed as the mean over touch
+  phases at MuJoCo's timestep (default 0.002 s, Euler), with the range over phases and
+  the predictions (SI units; ``--continuous``: the limit ``timestep -> 0``);
 * ``impactsym lammps --restitution E --mass M (--contact-time T | --max-penetration X)
   [--speed V] [--gravity G] [--no-limit-damping] [--timestep DT]`` -- LAMMPS ``pair_style
   granular`` Hooke ``kn`` and ``eta_n`` for a wanted restitution, with the predictions
@@ -65,7 +67,24 @@ def build_parser() -> argparse.ArgumentParser:
     mj.add_argument("--gravity", type=float, default=0.0, help="pressing acceleration, m/s^2")
     mj.add_argument("--contact-time", type=float, default=None, help="wanted contact time, s")
     mj.add_argument("--mass", type=float, default=None, help="effective mass, kg")
-    mj.add_argument("--timestep", type=float, default=None, help="MuJoCo timestep, s")
+    mj.add_argument(
+        "--timestep",
+        type=float,
+        default=None,
+        help="MuJoCo timestep, s: design the phase mean at it (default: MuJoCo's 0.002; "
+        "0: the continuous design, as --continuous)",
+    )
+    mj.add_argument(
+        "--integrator",
+        choices=["euler", "implicitfast", "rk4"],
+        default=None,
+        help="MuJoCo integrator (default: MuJoCo's euler)",
+    )
+    mj.add_argument(
+        "--continuous",
+        action="store_true",
+        help="design for timestep -> 0 (exact only at very small timesteps)",
+    )
     mj.add_argument(
         "--solimp",
         type=float,
@@ -115,35 +134,91 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: MuJoCo's defaults (mjOption): the timestep and integrator the CLI designs for
+_MUJOCO_TIMESTEP = 0.002
+_MUJOCO_INTEGRATOR = "euler"
+_INTEGRATOR_NAMES = {"euler": "Euler", "implicitfast": "implicitfast", "rk4": "RK4"}
+
+
+def _mujoco_step(args: argparse.Namespace) -> tuple[float | None, str, str]:
+    """The timestep (``None``: continuous) and integrator to design for, and a note."""
+    continuous = args.continuous or args.timestep == 0
+    if continuous and args.timestep not in (None, 0):
+        raise ValueError(f"--continuous and --timestep {args.timestep:g} contradict each other")
+    if continuous and args.integrator is not None:
+        raise ValueError("--integrator needs a timestep (drop --continuous / --timestep 0)")
+    if continuous:
+        return None, "", "designed for the continuous limit (timestep -> 0)"
+    step = _MUJOCO_TIMESTEP if args.timestep is None else args.timestep
+    integrator = _MUJOCO_INTEGRATOR if args.integrator is None else args.integrator
+    name = _INTEGRATOR_NAMES[integrator]
+    default = " (MuJoCo's default; {} to change)"
+    said = [
+        f"timestep {step:g} s" + (default.format("--timestep") if args.timestep is None else ""),
+        f"integrator {name}" + (default.format("--integrator") if args.integrator is None else ""),
+    ]
+    return step, integrator, "designed for " + ", ".join(said) + ": the mean over touch phases"
+
+
 def _mujoco(args: argparse.Namespace) -> None:
+    import warnings
+
     from impactsym.engines import mujoco
 
     solimp = mujoco.DEFAULT_SOLIMP if args.solimp is None else tuple(args.solimp)
     common = {"speed": args.speed, "gravity": args.gravity, "mass": args.mass}
-    design = mujoco.solref_for(
-        restitution=args.restitution,
-        contact_time=args.contact_time,
-        solimp=solimp,
-        timestep=args.timestep,
-        form=args.form,
-        **common,
-    )
+    timestep, integrator, note = _mujoco_step(args)
+    at = {} if timestep is None else {"timestep": timestep, "integrator": integrator}
+    with warnings.catch_warnings(record=True) as caught:  # printed as notes, not raw
+        warnings.simplefilter("always")
+        design = mujoco.solref_for(
+            restitution=args.restitution,
+            contact_time=args.contact_time,
+            solimp=solimp,
+            form=args.form,
+            **at,
+            **common,
+        )
+        limit = mujoco.predict(solref=design.solref, solimp=solimp, **common)
+        log_e = math.log(args.restitution)
+        textbook = -log_e / math.sqrt(math.pi**2 + log_e**2)
+        timeconst = design.solref[0] if args.form == "timeconst" else mujoco.DEFAULT_TIMECONST
+        naive = mujoco.predict(solref=(timeconst, textbook), solimp=solimp, **at, **common)
     p = design.prediction
     print(design.mjcf())
-    print(f"predicted restitution:  {p.restitution:.6g}")
-    print(f"predicted contact time: {p.contact_time:.6g} s")
-    print(f"contact ends by:        {'penetration' if p.released_by_position else 'force'}")
-    print(f"max penetration:        {p.max_penetration:.6g} m")
+    print(note)
+    if timestep is None:
+        print(f"predicted restitution:  {p.restitution:.6g}")
+        print(f"predicted contact time: {p.contact_time:.6g} s")
+    else:
+        name = _INTEGRATOR_NAMES[integrator]
+        e_lo, e_hi = p.restitution_range
+        t_lo, t_hi = p.contact_time_range
+        print(
+            f"predicted restitution:  {p.restitution:.6g} (phase mean at dt = {timestep:g} s, "
+            f"{name}; {e_lo:.6g} .. {e_hi:.6g} over touch phases)"
+        )
+        print(
+            f"predicted contact time: {p.contact_time:.6g} s (phase mean; {t_lo:.6g} .. "
+            f"{t_hi:.6g} s over touch phases)"
+        )
+        print(
+            f"continuous limit:       restitution {limit.restitution:.6g}, contact time "
+            f"{limit.contact_time:.6g} s (this solref as timestep -> 0)"
+        )
+    tag = "" if timestep is None else " (continuous limit)"
+    ends = "penetration" if limit.released_by_position else "force"
+    print(f"contact ends by:        {ends}{tag}")
+    print(f"max penetration:        {limit.max_penetration:.6g} m{tag}")
     if args.mass is not None:
-        print(f"peak force:             {p.peak_force:.6g} N")
-    log_e = math.log(args.restitution)
-    textbook = -log_e / math.sqrt(math.pi**2 + log_e**2)
-    timeconst = design.solref[0] if args.form == "timeconst" else mujoco.DEFAULT_TIMECONST
-    naive = mujoco.predict(solref=(timeconst, textbook), solimp=solimp, **common)
+        print(f"peak force:             {limit.peak_force:.6g} N{tag}")
+    where = "" if timestep is None else " (phase mean)"
     print(
         f"textbook dampratio {textbook:.6g} would give restitution {naive.restitution:.6g}"
-        + (" (sticks)" if naive.sticks else "")
+        + ((" (sticks" + (" at some phase)" if where else ")")) if naive.sticks else where)
     )
+    for w in caught:
+        print(f"note: {w.message}")
 
 
 def _lammps(args: argparse.Namespace) -> None:

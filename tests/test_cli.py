@@ -6,6 +6,7 @@ import hashlib
 import math
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import pytest
@@ -13,6 +14,7 @@ from conftest import CODE
 from references.hooke import hooke_contact
 
 from impactsym.cli import main
+from impactsym.engines import mujoco
 from impactsym.export import formula, formula_names
 
 
@@ -91,13 +93,47 @@ def test_python_dash_m_entry_point(tmp_path):
 
 
 def test_mujoco_prints_mjcf_attributes_and_predictions(capsys):
-    assert main(["mujoco", "--restitution", "0.5", "--speed", "1", "--gravity", "9.81"]) == 0
+    # MuJoCo's default timestep and integrator unless told: says so, prints the phase range
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no raw RuntimeWarning after a result
+        assert main(["mujoco", "--restitution", "0.5", "--speed", "1", "--gravity", "9.81"]) == 0
     out = capsys.readouterr().out
     first = out.splitlines()[0]
     assert first.startswith('solref="0.02 ')
     assert first.endswith('solimp="0.9 0.95 0.001 0.5 2"')
-    assert "predicted restitution:  0.5\n" in out
+    assert "timestep 0.002 s (MuJoCo's default" in out
+    assert "integrator Euler (MuJoCo's default" in out
+    line = next(x for x in out.splitlines() if x.startswith("predicted restitution:"))
+    assert line.startswith("predicted restitution:  0.5 (phase mean at dt = 0.002 s, Euler; ")
+    low, high = (float(v) for v in line.split("; ")[1].split(" over")[0].split(" .. "))
+    assert low < 0.5 < high
     assert "textbook dampratio 0.215454 would give" in out
+    # the design is the phase mean of MuJoCo's default step, not the continuous one
+    solref = tuple(float(v) for v in first.split('"')[1].split())
+    design = mujoco.solref_for(restitution=0.5, speed=1.0, gravity=9.81, timestep=0.002)
+    assert solref == pytest.approx(design.solref, rel=1e-9)
+
+
+def test_mujoco_continuous_flag_and_timestep_zero_give_the_continuous_design(capsys):
+    argv = ["mujoco", "--restitution", "0.5", "--speed", "1", "--gravity", "9.81"]
+    assert main([*argv, "--continuous"]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[0] == 'solref="0.02 0.2540490701" solimp="0.9 0.95 0.001 0.5 2"'
+    assert "continuous limit (timestep -> 0)" in out
+    assert "predicted restitution:  0.5\n" in out
+    assert main([*argv, "--timestep", "0"]) == 0
+    assert capsys.readouterr().out == out
+    assert main([*argv, "--continuous", "--timestep", "0.001"]) == 2
+    assert "contradict" in capsys.readouterr().err
+
+
+def test_mujoco_designs_at_the_given_timestep_and_integrator(capsys):
+    argv = ["mujoco", "--restitution", "0.3", "--speed", "1", "--contact-time", "0.01"]
+    assert main([*argv, "--timestep", "0.001", "--integrator", "implicitfast"]) == 0
+    out = capsys.readouterr().out
+    assert "designed for timestep 0.001 s, integrator implicitfast:" in out
+    assert "(phase mean at dt = 0.001 s, implicitfast; " in out
+    assert "predicted contact time: 0.01 s (phase mean; " in out
 
 
 def test_mujoco_refuses_an_unreachable_target_with_exit_code_2(capsys):

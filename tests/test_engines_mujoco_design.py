@@ -140,8 +140,9 @@ def test_bad_targets_are_refused_by_name():
 def test_cli_design_is_what_mujoco_gives(capsys):
     from impactsym.cli import main
 
+    # the continuous design (the CLI designs for dt = 0.002 unless told), at dt = 1e-5
     argv = ["mujoco", "--restitution", "0.4", "--speed", "1", "--contact-time", "0.01"]
-    assert main([*argv, "--solimp", "0.9", "0.9", "0.001", "0.5", "2"]) == 0
+    assert main([*argv, "--continuous", "--solimp", "0.9", "0.9", "0.001", "0.5", "2"]) == 0
     first = capsys.readouterr().out.splitlines()[0]
     solref = tuple(float(x) for x in first.split('"')[1].split())
     e, t = mujoco_drop(solref=solref, solimp=FLAT, speed=1.0, timestep=1e-5)
@@ -154,7 +155,8 @@ def test_tiny_d_min_design_is_what_mujoco_gives(capsys):
     from impactsym.cli import main
 
     solimp = ["1e-300", "0.95", "0.001", "0.5", "2"]
-    assert main(["mujoco", "--restitution", "0.5", "--speed", "1", "--solimp", *solimp]) == 0
+    argv = ["mujoco", "--restitution", "0.5", "--speed", "1", "--continuous"]
+    assert main([*argv, "--solimp", *solimp]) == 0
     first = capsys.readouterr().out.splitlines()[0]
     solref = tuple(float(x) for x in first.split('"')[1].split())
     e, _ = mujoco_drop(solref=solref, solimp=[float(x) for x in solimp], speed=1.0, timestep=1e-5)

@@ -20,6 +20,8 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.mujoco.continuous import flat_phase, varying_phase
+from impactsym.engines.mujoco.discrete import check_integrator
+from impactsym.engines.mujoco.discrete_design import DiscreteTarget, design_discrete
 from impactsym.engines.mujoco.model import (
     DEFAULT_SOLIMP,
     DEFAULT_TIMECONST,
@@ -56,14 +58,36 @@ class Design(ArrayRecord):
         The ``solimp`` the design assumes (write it too).
     restitution, contact_time
         Predicted by :func:`~impactsym.engines.mujoco.prediction.predict` for this design
-        (contact time in seconds).
+        (contact time in seconds); with a ``timestep``, the means over touch phases.
+    restitution_range, contact_time_range
+        ``(min, max)`` over touch phases (with a ``timestep`` only).
     prediction
         The full :class:`~impactsym.engines.mujoco.prediction.Prediction`.
+    timestep, integrator
+        The timestep (seconds) and integrator designed for; ``None``: the continuous
+        design (the limit ``timestep -> 0``).
     """
 
     solref: tuple[Any, Any]
     solimp: tuple[float, ...]
     prediction: Prediction
+    timestep: float | None = None
+    integrator: str | None = None
+
+    @property
+    def restitution_range(self) -> tuple[Any, Any]:
+        """``(min, max)`` of the restitution over touch phases (needs a ``timestep``)."""
+        return self._range("restitution_range")
+
+    @property
+    def contact_time_range(self) -> tuple[Any, Any]:
+        """``(min, max)`` of the contact time over touch phases, seconds (needs a ``timestep``)."""
+        return self._range("contact_time_range")
+
+    def _range(self, name: str) -> tuple[Any, Any]:
+        if self.timestep is None:
+            raise ValueError(f"{name} needs a design at a timestep (solref_for(..., timestep=h))")
+        return getattr(self.prediction, name)
 
     @property
     def restitution(self) -> float | np.ndarray:
@@ -319,12 +343,17 @@ def solref_for(
     timestep: float | None = None,
     inverse_weight: Any = None,
     form: str = "timeconst",
+    integrator: str = "euler",
 ) -> Design:
     r"""``solref`` for which MuJoCo gives ``restitution`` (and ``contact_time``).
 
     Without ``contact_time`` the timeconst stays MuJoCo's default 0.02 s (or
     ``2 timestep`` if that is longer, as MuJoCo enforces) and the dampratio is designed;
-    with it both are designed. The result is checked by
+    with it both are designed. ``timestep=None`` designs the continuous contact (the
+    limit ``timestep -> 0``); with a ``timestep`` the **phase mean** of the
+    restitution (and contact time) at that timestep and ``integrator`` hits the target
+    (:mod:`~impactsym.engines.mujoco.discrete_design`), and the design carries the
+    range over touch phases. The result is checked by
     :func:`~impactsym.engines.mujoco.prediction.predict`, whose model it inverts (bracketed
     on a grid of dampratios, then the Illinois method; for a varying impedance
     :func:`impactsym.numeric.roots.newton_system` from the flat design;
@@ -341,6 +370,9 @@ def solref_for(
     form
         ``"timeconst"``: ``solref = (timeconst, dampratio)``; ``"stiffness"``:
         ``solref = (-stiffness, -damping)`` with the same contact dynamics.
+    integrator
+        ``"euler"``, ``"implicitfast"`` or ``"rk4"`` (MuJoCo's integrator; with a
+        ``timestep`` only).
 
     Returns
     -------
@@ -350,8 +382,10 @@ def solref_for(
     ------
     ValueError
         When no ``solref`` reaches the target (e.g. the body sticks at that speed under
-        gravity), saying what would reach it; when the design needs
-        ``timeconst < 2 timestep`` (MuJoCo would raise it); and when ``predict`` of the
+        gravity), saying what would reach it; with a ``timestep``, when the target
+        cannot be reached there (refsafe floor ``timeconst >= 2 timestep``, the
+        stability limit of the step map, sticking at some touch phase), saying why and
+        which timestep reaches it; and when ``predict`` of the
         design misses a target by more than ``1e-5`` (absolute in the restitution,
         relative in the contact time).
 
@@ -378,6 +412,7 @@ def solref_for(
         scalar = scalar and t_scalar
     if timestep is not None:
         timestep = check_timestep(timestep)
+        integrator = check_integrator(integrator)
     m = check_mass(mass)
     rho = weight_ratio(m, inverse_weight)
     arrays = [e_t, v0, g, np.asarray(rho, float)] + ([t_c] if t_c is not None else [])
@@ -386,24 +421,20 @@ def solref_for(
     flat = [np.broadcast_to(a, shape).ravel() for a in arrays]
     e_f, v_f, g_f, rho_f = flat[:4]
     t_f = flat[4] if t_c is not None else None
-    tc_default = DEFAULT_TIMECONST if timestep is None else max(DEFAULT_TIMECONST, 2 * timestep)
-    # flat design first (exact for flat solimp, a start for a varying one)
-    flat_imp = simp if is_flat(simp) else (simp[1], simp[1], 0.0, simp[3], simp[4])
-    if t_f is None:
-        tc = np.full(e_f.shape, tc_default)
-        dr = _design_flat_dampratio(e_f, v_f, g_f, tc, flat_imp, rho_f)
-    else:
-        tc, dr = _design_flat_both(e_f, v_f, g_f, t_f, flat_imp, rho_f)
-    if not is_flat(simp):
-        tc, dr = _design_varying(e_f, v_f, g_f, t_f, tc, dr, simp, rho_f)
-    if timestep is not None and np.any(tc < 2 * timestep):  # on the final timeconst
-        i = int(np.argmin(tc))
-        raise ValueError(
-            f"contact_time = {float(t_f[i])!r} with restitution = {float(e_f[i])!r} "
-            f"needs timeconst = {float(tc[i]):.6g} s < 2 * timestep; MuJoCo would raise "
-            f"it to {2 * timestep:g} s. Use timestep <= {float(tc[i]) / 2:.3g} s or a "
-            f"longer contact_time"
+    if timestep is not None:
+        w_f = None
+        if inverse_weight is not None:
+            w_f = np.broadcast_to(np.asarray(inverse_weight, float), shape).ravel()
+        start = None if t_f is None else _continuous(e_f, v_f, g_f, t_f, simp, rho_f)
+        target = DiscreteTarget(
+            e_f, v_f, g_f, t_f, simp, m, w_f, rho_f, timestep, integrator, start
         )
+        target.continuous = lambda i: _continuous(
+            e_f[i], v_f[i], g_f[i], None if t_f is None else t_f[i], simp, rho_f[i]
+        )
+        tc, dr = design_discrete(target)
+    else:
+        tc, dr = _continuous(e_f, v_f, g_f, t_f, simp, rho_f)
     tc, dr = tc.reshape(shape), dr.reshape(shape)
     if form == "timeconst":
         solref = (tc, dr)
@@ -411,17 +442,33 @@ def solref_for(
         solref = coefficients((tc, dr), simp, None).solref(simp, form="stiffness")
     if scalar:
         solref = (float(solref[0]), float(solref[1]))
+    extra = {} if timestep is None else {"integrator": integrator, "phase": None}
     pred = predict(
         solref=solref,
         solimp=simp,
         speed=speed if t_c is None or scalar else np.broadcast_to(v0, shape),
         gravity=gravity if scalar else np.broadcast_to(g, shape),
         mass=m,
-        timestep=None,  # refsafe leaves the design alone: timeconst >= 2 timestep above
+        timestep=timestep,  # None: the continuous check; else the discrete phase mean
         inverse_weight=inverse_weight,
+        **extra,
     )
     _check_design(pred, e_f, t_f, shape)
-    return Design(solref, simp, pred)
+    return Design(solref, simp, pred, timestep, None if timestep is None else integrator)
+
+
+def _continuous(e_f, v_f, g_f, t_f, simp, rho_f):
+    """The continuous design ``(timeconst, dampratio)``, flat arrays (module docstring)."""
+    # flat design first (exact for flat solimp, a start for a varying one)
+    flat_imp = simp if is_flat(simp) else (simp[1], simp[1], 0.0, simp[3], simp[4])
+    if t_f is None:
+        tc = np.full(e_f.shape, DEFAULT_TIMECONST)
+        dr = _design_flat_dampratio(e_f, v_f, g_f, tc, flat_imp, rho_f)
+    else:
+        tc, dr = _design_flat_both(e_f, v_f, g_f, t_f, flat_imp, rho_f)
+    if not is_flat(simp):
+        tc, dr = _design_varying(e_f, v_f, g_f, t_f, tc, dr, simp, rho_f)
+    return tc, dr
 
 
 def _check_design(pred: Prediction, e_t, t_c, shape) -> None:

@@ -1,0 +1,350 @@
+r"""``solref`` for a wanted restitution (and contact time) at the user's timestep.
+
+:func:`~impactsym.engines.mujoco.design.solref_for` with a ``timestep`` lands here. The
+target is the **phase mean** of :func:`~impactsym.engines.mujoco.prediction.predict` at
+that timestep and integrator (``phase=None``), used as a vectorized black box
+``E(timeconst, dampratio)``: whatever the discrete model inside, the design inverts it.
+
+* Restitution alone (timeconst fixed at ``max(0.02, 2 timestep)``): the phase mean falls
+  with the dampratio in the large, but not monotonically near the step map's stability
+  limit, so it is evaluated on a geometric dampratio grid from that limit to 100 and the
+  **largest-dampratio crossing** (the softest design: the most engine steps per contact,
+  the farthest from instability) is refined by the Illinois method in ``log dampratio``.
+  The mean is continuous in the ``solref`` even where the end step jumps at some phase
+  (the jump moves through the phases), so the bracket holds a root unless the body
+  starts to stick at some phase inside it (then refused).
+* With a contact time: a Newton iteration on ``(log timeconst, log dampratio)`` with a
+  forward-difference Jacobian (:func:`impactsym.numeric.roots.newton_system`), started
+  at the continuous design (close: the discrete mean differs by the step's error).
+* A target the timestep cannot deliver (MuJoCo's refsafe floor ``timeconst >= 2
+  timestep``, the stability limit of the step map, sticking at some phase) raises
+  ``ValueError`` with the reason and a timestep that does deliver it: found by halving
+  the timestep until the design succeeds, then bisection (in log) between the last
+  failure and that success; the returned value is one at which the design was
+  completed (the reachability need not be monotone in the timestep).
+
+The stability limit: inside the contact the Euler step (and ``implicitfast``, the same
+map here) is the affine map of matrix ``[[1 - k, 1 - b], [-k, 1 - b]]`` with
+``k = d' d kbar dt^2``, ``b = d' b dt``, stable iff ``b < 2`` and ``k + 2 b < 4`` (Jury);
+RK4 is stable iff ``|R(z)| < 1`` for both roots ``z`` of ``z^2 + b z + k = 0``,
+``R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24``. Both are taken at ``d = d_max`` (the largest
+``k`` and ``b`` of a varying impedance). `docs/physics.md#touch-phase`.
+All quantities are SI: seconds, m/s, m/s^2, kilograms.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from impactsym.engines.mujoco.model import (
+    DEFAULT_TIMECONST,
+    coefficients,
+    d_max,
+    effective_impedance,
+    refsafe,
+)
+from impactsym.engines.mujoco.prediction import predict
+from impactsym.numeric.roots import bracketed_illinois, newton_system
+
+__all__ = ["DiscreteTarget", "design_discrete", "stable"]
+
+#: dampratio grid of the restitution design: points, upper end
+_GRID = 33
+_DR_TOP = 1e2
+#: a design is accepted when its phase mean is this close (absolute in e, relative in t_c)
+_DESIGN_TOL = 1e-5
+#: forward-difference step of the Newton Jacobian (in log timeconst, log dampratio)
+_EPS = 1e-6
+#: halvings of the timestep tried when looking for one that reaches a refused target
+_HALVINGS = 8
+_BISECTIONS = 3
+
+
+def stable(kappa: Any, beta: Any, integrator: str) -> np.ndarray:
+    """Whether the in-contact step map with ``k = kappa``, ``b = beta`` is stable (docstring)."""
+    kappa, beta = np.asarray(kappa, float), np.asarray(beta, float)
+    if integrator != "rk4":
+        return (beta < 2.0) & (kappa + 2.0 * beta < 4.0)
+    root = np.sqrt((beta * beta - 4.0 * kappa).astype(complex))
+    ok = np.ones(np.broadcast(kappa, beta).shape, bool)
+    for z in (0.5 * (-beta + root), 0.5 * (-beta - root)):
+        ok &= np.abs(1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))) < 1.0
+    return ok
+
+
+class DiscreteTarget:
+    """The targets of one discrete design and the black box ``E(timeconst, dampratio)``.
+
+    Flat 1-D arrays: ``restitution``, ``speed``, ``gravity``, ``contact_time`` (or
+    ``None``), ``weight`` (``inverse_weight`` or ``None``), ``rho``, ``start`` (the
+    continuous design ``(timeconst, dampratio)``, or ``None``); scalars ``solimp``,
+    ``mass``, ``timestep``, ``integrator``.
+    """
+
+    def __init__(self, e, v, g, t_c, solimp, mass, weight, rho, timestep, integrator, start):
+        self.e, self.v, self.g, self.t_c = e, v, g, t_c
+        self.solimp, self.mass, self.weight, self.rho = solimp, mass, weight, rho
+        self.timestep, self.integrator, self.start = timestep, integrator, start
+        #: the continuous design of elements ``i`` (raises where it refuses them); set
+        #: by the caller, used to skip the timestep search where no timestep can help
+        self.continuous = None
+
+    def take(self, i: np.ndarray) -> DiscreteTarget:
+        """The targets of the elements ``i``."""
+
+        def part(a):
+            return None if a is None else np.broadcast_to(a, self.e.shape)[i]
+
+        return DiscreteTarget(
+            self.e[i], self.v[i], self.g[i], part(self.t_c), self.solimp, self.mass,
+            part(self.weight), part(self.rho), self.timestep, self.integrator,
+            None if self.start is None else tuple(part(a) for a in self.start),
+        )  # fmt: skip
+
+    def at(self, timestep: float) -> DiscreteTarget:
+        """The same targets at another timestep."""
+        out = self.take(np.arange(self.e.size))
+        out.timestep = timestep
+        return out
+
+    def mean(self, tc, dr, idx):
+        """Phase-mean prediction of elements ``idx`` at ``solref = (tc, dr)``."""
+
+        def part(a):
+            return None if a is None else np.broadcast_to(a, self.e.shape)[idx]
+
+        return predict(
+            solref=(tc, dr),
+            solimp=self.solimp,
+            speed=self.v[idx],
+            gravity=self.g[idx],
+            mass=self.mass,
+            timestep=self.timestep,
+            integrator=self.integrator,
+            phase=None,
+            inverse_weight=part(self.weight),
+        )
+
+    def stability_dampratio(self, tc: np.ndarray) -> np.ndarray:
+        """Smallest stable dampratio at timeconst ``tc`` (bisection in log; ``inf``: none)."""
+        dm = d_max(self.solimp)
+        dp = effective_impedance(dm, np.broadcast_to(self.rho, self.e.shape))
+        h = self.timestep
+
+        def ok(dr):
+            c = coefficients((tc, dr), self.solimp, h)
+            return stable(dp * dm * c.stiffness * h * h, dp * c.damping * h, self.integrator)
+
+        lo, hi = np.full(tc.shape, 1e-6), np.full(tc.shape, _DR_TOP)
+        top = ok(hi)
+        every = ok(lo)
+        for _ in range(60):
+            mid = np.sqrt(lo * hi)
+            good = ok(mid)
+            lo, hi = np.where(good, lo, mid), np.where(good, mid, hi)
+        return np.where(every, 0.0, np.where(top, hi, np.inf))
+
+
+def _refuse(tg: DiscreteTarget, i: int, why: str, solve) -> None:
+    """Raise for element ``i``: ``why``, and a timestep that reaches it (``solve`` on one)."""
+    one = tg.take(np.array([i]))
+    wanted = f"restitution = {float(tg.e[i])!r}" + (
+        "" if tg.t_c is None else f" with contact_time = {float(tg.t_c[i])!r} s"
+    )
+    try:
+        if tg.continuous is not None:
+            tg.continuous(np.array([i]))
+    except ValueError as exc:  # the limit timestep -> 0 refuses it too: no search
+        where = f"no timestep reaches it (the continuous design refuses it too: {exc})"
+    else:
+        h = reaching_timestep(one, solve)
+        where = (
+            f"timestep = {h!r} s reaches it"
+            if h is not None
+            else f"no timestep down to {tg.timestep / 2**_HALVINGS:.3g} s reaches it"
+        )
+    raise ValueError(
+        f"{wanted} (element {i}) cannot be reached at timestep = {tg.timestep!r} s with "
+        f"integrator {tg.integrator!r} (phase mean): {why}; {where}"
+    )
+
+
+def reaching_timestep(one: DiscreteTarget, solve) -> float | None:
+    """A timestep below ``one.timestep`` at which ``solve`` designs the single target.
+
+    Halves the timestep until the design succeeds, then bisects (in log) between the last
+    failure and the success; returns a timestep at which it succeeded (``None`` if none
+    down to ``timestep / 2**8``).
+    """
+
+    def works(h):
+        try:
+            solve(one.at(h), refuse=False)
+        except ValueError:
+            return False
+        return True
+
+    bad = one.timestep
+    good = None
+    for _ in range(_HALVINGS):
+        h = bad / 2.0
+        if works(h):
+            good = h
+            break
+        bad = h
+    if good is None:
+        return None
+    for _ in range(_BISECTIONS):
+        mid = np.sqrt(good * bad)
+        if works(mid):
+            good = mid
+        else:
+            bad = mid
+    # the value the message prints (3 digits, rounded down) if it works too
+    scale = 10.0 ** (np.floor(np.log10(good)) - 2)
+    short = float(np.floor(good / scale) * scale)
+    return short if works(short) else float(good)
+
+
+def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True) -> np.ndarray:
+    """Dampratio at timeconst ``tc`` whose phase-mean restitution is ``tg.e`` (module doc)."""
+    n = tg.e.size
+    dr_min = tg.stability_dampratio(tc)
+    if not np.all(np.isfinite(dr_min)):
+        i = int(np.flatnonzero(~np.isfinite(dr_min))[0])
+        _raise(tg, i, "the step map is unstable for every dampratio up to 100", refuse)
+    low = np.maximum(dr_min * (1.0 + 1e-3), 1e-3)
+    grid = np.exp(np.linspace(np.log(low), np.log(_DR_TOP), _GRID).T)  # (n, K)
+    idx = np.repeat(np.arange(n), _GRID)
+
+    def gap(dr, i):  # target minus phase mean; sticking counts as restitution 0
+        p = tg.mean(tc[i], dr, i)
+        return tg.e[i] - np.where(np.asarray(p.sticks), 0.0, np.asarray(p.restitution))
+
+    f = gap(grid.ravel(), idx).reshape(n, _GRID)
+    below = f < 0  # too bouncy at this dampratio
+    if np.any(below[:, -1]):
+        i = int(np.flatnonzero(below[:, -1])[0])
+        _raise(tg, i, f"even dampratio = {_DR_TOP:g} rebounds faster", refuse)
+    if not np.all(below.any(axis=1)):
+        i = int(np.flatnonzero(~below.any(axis=1))[0])
+        best = tg.e[i] - f[i].min()
+        _raise(
+            tg,
+            i,
+            f"the phase-mean restitution stays below it for every stable dampratio (at "
+            f"most {best:.4g}, the step map being unstable below dampratio = "
+            f"{dr_min[i]:.4g} at timeconst = {tc[i]:.4g} s), or the body sticks at some phase",
+            refuse,
+        )
+    last = _GRID - 1 - np.argmax(below[:, ::-1], axis=1)  # the largest-dampratio crossing
+    rows = np.arange(n)
+    dr = bracketed_illinois(
+        gap,
+        grid[rows, last],
+        grid[rows, last + 1],
+        log=True,
+        rtol=1e-12,
+        f_lo=f[rows, last],
+        f_hi=f[rows, last + 1],
+    )
+    p = tg.mean(tc, dr, rows)
+    e = np.asarray(p.restitution)
+    miss = np.asarray(p.sticks) | ~(np.abs(e - tg.e) <= _DESIGN_TOL)
+    if miss.any():
+        i = int(np.flatnonzero(miss)[0])
+        more = tg.mean(tc[i : i + 1], dr[i : i + 1] * (1 + 1e-6), np.array([i]))
+        why = (
+            f"the body starts to stick at some touch phase at dampratio = {dr[i]:.6g}, "
+            f"where the phase-mean restitution is still above it"
+            if bool(np.any(p.sticks)) or bool(np.any(more.sticks))
+            else f"the phase-mean restitution jumps at dampratio = {dr[i]:.6g}"
+        )
+        _raise(tg, i, why, refuse)
+    return dr
+
+
+def _both_design(tg: DiscreteTarget, refuse: bool = True) -> tuple:
+    """``(timeconst, dampratio)`` for the phase-mean restitution and contact time."""
+    h = tg.timestep
+    floor = 2.0 * h
+    n = tg.e.size
+    rows = np.arange(n)
+    tc0, dr0 = (np.asarray(a, float) for a in tg.start)
+    if np.any(tc0 < floor):
+        i = int(np.flatnonzero(tc0 < floor)[0])
+        _raise(
+            tg,
+            i,
+            f"it needs timeconst = {tc0[i]:.4g} s < 2 * timestep (MuJoCo's refsafe "
+            f"floor raises it to {floor:g} s)",
+            refuse,
+        )
+
+    def resid(u):
+        # below the refsafe floor MuJoCo runs timeconst 2 timestep: the contact time is
+        # continued there by log(timeconst / floor) so that the Newton system stays
+        # regular and a solution below the floor shows as such (refused below)
+        tc = refsafe(np.exp(u[0]), h)
+        dr = np.maximum(np.exp(u[1]), tg.stability_dampratio(tc) * (1.0 + 1e-3))
+        p = tg.mean(tc, dr, rows)
+        sticks = np.asarray(p.sticks)
+        e = np.where(sticks, 0.0, np.asarray(p.restitution))
+        t = np.where(sticks, 1e3 * tg.t_c, np.asarray(p.contact_time))
+        return np.stack([e - tg.e, np.log(t / tg.t_c) + np.minimum(u[0] - np.log(floor), 0.0)])
+
+    u0 = np.stack([np.log(tc0), np.log(dr0)])
+    try:
+        u, r = newton_system(resid, u0, eps=_EPS, max_step=0.5, tol=1e-9, max_iter=20)
+    except np.linalg.LinAlgError:  # a residual flat in an unknown: refsafe floor or stick
+        u, r = u0, np.full((2, n), np.inf)
+    tc, dr = np.exp(u[0]), np.exp(u[1])
+    miss = ~((np.abs(r[0]) <= _DESIGN_TOL) & (np.abs(r[1]) <= _DESIGN_TOL)) | (tc < floor)
+    if miss.any():
+        i = int(np.flatnonzero(miss)[0])
+        if tc[i] <= floor * (1.0 + 1e-6):
+            why = (
+                f"it needs timeconst = {tc[i]:.4g} s < 2 * timestep (MuJoCo's refsafe "
+                f"floor raises it to {floor:g} s)"
+            )
+        elif not np.isfinite(r[0, i]):
+            why = (
+                "the Newton system is singular from the continuous design on (the body "
+                "sticks at some touch phase, or the phase mean does not change there)"
+            )
+        elif r[1, i] > 1.0:
+            why = "the body sticks at some touch phase near the design"
+        else:
+            why = (
+                f"the Newton iteration from the continuous design stops at solref = "
+                f"({tc[i]:.6g}, {dr[i]:.6g}), missing it by {r[0, i]:.3g} in the "
+                f"restitution (the step map is near its stability limit, or the target "
+                f"is out of the phase mean's range)"
+            )
+        _raise(tg, i, why, refuse)
+    return tc, dr
+
+
+def _raise(tg: DiscreteTarget, i: int, why: str, refuse: bool) -> None:
+    if not refuse:  # probing another timestep: no nested timestep search
+        raise ValueError(why)
+    _refuse(tg, i, why, _solve)
+
+
+def _solve(tg: DiscreteTarget, refuse: bool = True) -> tuple:
+    """The discrete design of ``tg``."""
+    if tg.t_c is None:
+        tc = np.full(tg.e.shape, max(DEFAULT_TIMECONST, 2.0 * tg.timestep))
+        return tc, _restitution_design(tg, tc, refuse)
+    return _both_design(tg, refuse)
+
+
+def design_discrete(tg: DiscreteTarget) -> tuple[np.ndarray, np.ndarray]:
+    """``(timeconst, dampratio)`` arrays whose phase-mean prediction hits ``tg`` (module doc).
+
+    ``tg.start`` is the continuous design (needed with a contact time). Raises
+    ``ValueError`` with the reason and a timestep that reaches a refused target.
+    """
+    return _solve(tg, True)

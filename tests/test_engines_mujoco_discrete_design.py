@@ -1,0 +1,179 @@
+"""Designs at the user's timestep (impactsym.engines.mujoco.discrete_design through
+solref_for(..., timestep=..., integrator=...)) against MuJoCo itself: the phase mean
+over an even grid of touch phases (impactsym.engines.drivers.mujoco_phases) is the
+target within 0.5 %, every phase lies in the predicted range; unreachable targets are
+refused with the reason and a timestep at which the design does succeed.
+
+The RK4 cases are in the functions named ``test_rk4_*`` (they need the RK4 model).
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+if os.environ.get("CI") == "true":
+    import mujoco  # noqa: F401  (CI installs the [engines] extra: a missing engine fails)
+else:
+    pytest.importorskip("mujoco")
+
+from impactsym.engines.drivers import mujoco_phases
+from impactsym.engines.mujoco import solref_for
+from impactsym.engines.mujoco.discrete_design import stable
+
+FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
+DEFAULT = (0.9, 0.95, 0.001, 0.5, 2.0)
+GRID = (np.arange(128) + 0.5) / 128  # even phase grid (midpoints)
+RTOL = {FLAT: 1e-6, DEFAULT: 1e-4}  # per-phase agreement of the model with MuJoCo
+
+
+def engine(solref, solimp, gravity, dt, integrator, speed=1.0):
+    return mujoco_phases(
+        solref=tuple(float(v) for v in solref),
+        solimp=solimp,
+        speed=speed,
+        gravity=gravity,
+        timestep=dt,
+        integrator=integrator,
+        phases=GRID,
+        max_steps=3000,
+    )
+
+
+def assert_in_range(values, lo, hi, rtol, what):
+    slack = rtol * np.abs(values) + 1e-12
+    assert np.all(values >= lo - slack), f"{what}: {values.min()!r} below {lo!r}"
+    assert np.all(values <= hi + slack), f"{what}: {values.max()!r} above {hi!r}"
+
+
+def check_design(integrator, dt, solimp, gravity, target, t_c, speed=1.0):
+    design = solref_for(
+        restitution=target,
+        speed=speed,
+        gravity=gravity,
+        contact_time=t_c,
+        solimp=solimp,
+        timestep=dt,
+        integrator=integrator,
+    )
+    assert design.timestep == dt
+    assert design.integrator == integrator
+    assert float(design.restitution) == pytest.approx(target, abs=1e-5)
+    mj = engine(design.solref, solimp, gravity, dt, integrator, speed)
+    assert not mj["sticks"].any()
+    e = mj["restitution"]
+    assert e.mean() == pytest.approx(target, rel=5e-3)
+    lo, hi = (float(v) for v in design.restitution_range)
+    assert lo < hi  # the phase matters at this timestep: the range is not vacuous
+    assert_in_range(e, lo, hi, RTOL[solimp], "restitution")
+    if t_c is not None:
+        assert mj["contact_time"].mean() == pytest.approx(t_c, rel=5e-3)
+        lo, hi = (float(v) for v in design.contact_time_range)
+        assert_in_range(mj["contact_time"], lo, hi, RTOL[solimp], "contact time")
+    return design
+
+
+CASES = [
+    # (integrator, dt, solimp, gravity, target e, target contact time or None)
+    ("euler", 0.002, FLAT, 0.0, 0.5, None),
+    ("euler", 0.002, DEFAULT, 9.81, 0.3, None),
+    ("implicitfast", 0.002, FLAT, 9.81, 0.8, None),
+    ("implicitfast", 0.001, DEFAULT, 0.0, 0.2, None),
+    ("euler", 0.002, FLAT, 9.81, 0.3, 0.01),
+    ("euler", 0.001, DEFAULT, 0.0, 0.6, 0.008),
+    ("implicitfast", 0.002, DEFAULT, 9.81, 0.5, 0.02),
+]
+
+
+@pytest.mark.parametrize(("integrator", "dt", "solimp", "gravity", "target", "t_c"), CASES)
+def test_design_delivers_the_phase_mean_in_mujoco(integrator, dt, solimp, gravity, target, t_c):
+    check_design(integrator, dt, solimp, gravity, target, t_c)
+
+
+def test_rk4_design_delivers_the_phase_mean_in_mujoco():
+    # needs the RK4 model (predict(..., integrator="rk4"))
+    check_design("rk4", 0.002, FLAT, 9.81, 0.5, None)
+    check_design("rk4", 0.001, DEFAULT, 0.0, 0.4, 0.01)
+
+
+def test_discrete_design_is_not_the_continuous_one():
+    # the continuous design misses at dt = 0.002 (ISSUE: -12 % in one scene): the
+    # discrete design differs from it, and MuJoCo's phase mean of the continuous one is off
+    cont = solref_for(restitution=0.5, speed=1.0, gravity=9.81)
+    disc = solref_for(restitution=0.5, speed=1.0, gravity=9.81, timestep=0.002)
+    assert abs(disc.solref[1] / cont.solref[1] - 1.0) > 1e-3
+    e = engine(cont.solref, (0.9, 0.95, 0.001, 0.5, 2.0), 9.81, 0.002, "euler")["restitution"]
+    assert abs(e.mean() / 0.5 - 1.0) > 5e-3
+
+
+def test_vectorized_design_equals_the_scalar_ones():
+    targets = np.array([0.3, 0.5, 0.7])
+    many = solref_for(restitution=targets, speed=1.0, gravity=9.81, timestep=0.002)
+    for i, target in enumerate(targets):
+        one = solref_for(restitution=float(target), speed=1.0, gravity=9.81, timestep=0.002)
+        assert many.solref[1][i] == pytest.approx(one.solref[1], rel=1e-9)
+    np.testing.assert_allclose(many.restitution, targets, atol=1e-5)
+
+
+def test_continuous_design_is_unchanged_without_timestep():
+    # the continuous design of main before the discrete one, bit for bit
+    assert solref_for(restitution=0.5, speed=1.0, gravity=9.81).solref[1] == 0.2540490700607891
+
+
+def reached_at(message):
+    """The timestep a refusal names as reaching the target (seconds)."""
+    return float(message.split("timestep = ")[-1].split(" s reaches it")[0])
+
+
+def test_refsafe_floor_is_refused_with_a_timestep_that_reaches_it():
+    with pytest.raises(ValueError, match=r"refsafe.*timestep = .* s reaches it") as err:
+        solref_for(restitution=0.2, speed=1.0, contact_time=0.006, timestep=0.002, solimp=FLAT)
+    h = reached_at(str(err.value))
+    assert h < 0.002
+    design = check_design("euler", h, FLAT, 0.0, 0.2, 0.006)
+    assert design.solref[0] >= 2 * h
+
+
+def test_sticking_target_is_refused_naming_the_stick():
+    # 0.1 at 1 m/s under gravity: the body sticks at some phase before the mean gets
+    # there, and no smaller timestep helps (the continuous design refuses it too)
+    with pytest.raises(ValueError, match=r"stick.*no timestep reaches it"):
+        solref_for(restitution=0.1, speed=1.0, gravity=9.81, timestep=0.002, solimp=FLAT)
+
+
+def test_bad_integrator_is_refused_by_name():
+    with pytest.raises(ValueError, match="integrator must be one of"):
+        solref_for(restitution=0.5, speed=1.0, timestep=0.002, integrator="verlet")
+
+
+@pytest.mark.parametrize("integrator", ["euler", "rk4"])
+def test_stability_limits_against_the_linear_recurrence(integrator):
+    # stable() against the growth of the step map applied 3000 times (independent of the
+    # Jury / RK4 polynomial formulas): the in-contact map of x'' + b x' + k x = 0
+    rng = np.random.default_rng(3)
+    kappa, beta = 10.0 ** rng.uniform(-2.0, 1.5, 300), rng.uniform(0.0, 2.5, 300)
+    if integrator == "euler":
+        M = np.array([[1 - kappa, 1 - beta], [-kappa, 1 - beta]])
+    else:
+        z = np.array([[0 * kappa, 1 + 0 * kappa], [-kappa, -beta]])  # dt = 1
+        eye = np.eye(2)[:, :, None] + 0 * kappa
+        z2 = np.einsum("ijn,jkn->ikn", z, z)
+        z3 = np.einsum("ijn,jkn->ikn", z2, z)
+        z4 = np.einsum("ijn,jkn->ikn", z3, z)
+        M = eye + z + z2 / 2 + z3 / 6 + z4 / 24
+    v = np.ones((2, kappa.size))
+    log_growth = np.zeros(kappa.size)
+    for _ in range(3000):
+        v = np.einsum("ijn,jn->in", M, v)
+        size = np.linalg.norm(v, axis=0)
+        log_growth += np.log(size)
+        v /= size
+    grows = log_growth / 3000 > 2e-3
+    decays = log_growth / 3000 < -2e-3
+    ok = stable(kappa, beta, integrator)
+    assert not ok[grows].any()
+    assert np.all(ok[decays])
+    assert grows.sum() > 20
+    assert decays.sum() > 20
