@@ -45,6 +45,7 @@ from impactsym.engines.mujoco.model import (
     time_unit,
     weight_ratio,
 )
+from impactsym.engines.mujoco.rk4 import rk4_spectral_radius
 from impactsym.engines.mujoco.stepmap import spectral_radius
 from impactsym.numeric.roots import bracketed_illinois
 from impactsym.records import ArrayRecord
@@ -233,7 +234,10 @@ def predict(
 def _discrete(coeffs, simp, rho, g, v0, timestep, integrator, phase, scalar, m) -> Prediction:
     """``predict`` at a timestep: exact at ``phase``, or the phase mean and range."""
     check_integrator(integrator)
-    _warn_unstable(coeffs, simp, rho, timestep)
+    if integrator == "rk4":
+        _warn_unstable_rk4(coeffs, simp, rho, timestep)
+    else:
+        _warn_unstable(coeffs, simp, rho, timestep)
     if phase is not None:
         p, p_scalar = real_array("phase", phase, lower=0.0)
         if np.any(p >= 1):
@@ -291,6 +295,33 @@ def _warn_unstable(coeffs: Coefficients, simp, rho, timestep: float) -> None:
             RuntimeWarning,
             stacklevel=3,
         )
+
+
+def _warn_unstable_rk4(coeffs: Coefficients, simp, rho, timestep: float) -> None:
+    """Warn where RK4's interior map is unstable (:func:`~.rk4.rk4_spectral_radius` >= 1).
+
+    The stable timestep named is found by bisection on the timestep (the radius grows
+    with it), with the same coefficients.
+    """
+    if np.size(coeffs.damping) == 0:
+        return
+    worst = float(np.max(rk4_spectral_radius(coeffs, simp, rho, timestep)))
+    if worst < 1.0:
+        return
+    lo, hi = 0.0, timestep
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if float(np.max(rk4_spectral_radius(coeffs, simp, rho, mid))) < 1.0:
+            lo = mid
+        else:
+            hi = mid
+    warnings.warn(
+        f"timestep = {timestep:g} s makes MuJoCo's RK4 step unstable for this contact "
+        f"(spectral radius {worst:.4g} >= 1): the engine's contact is not a damped "
+        f"oscillation there; timestep < {lo:.3g} s would be stable",
+        RuntimeWarning,
+        stacklevel=3,
+    )
 
 
 def _varying_in_time_unit(coeffs: Coefficients, simp, rho, g, v0) -> ContactPhase:
