@@ -207,7 +207,7 @@ def test_the_sympy_step_map_is_the_engines_and_implicitfast_is_the_same_map():
     step = sp.lambdify((h, g, b, d, kbar, dp), (r["matrix"], r["offset"]), "numpy")
     flip = sp.lambdify((b, d, kbar, dp), r["flip_step"], "math")
     simp = check_solimp(FLAT)
-    for dampratio, gravity, phase in ((0.1, 0.0, 0.3), (0.5, 9.81, 0.7), (1.0, 9.81, 0.55)):
+    for dampratio, gravity, phase in ((0.1, 0.0, 0.3), (0.5, 9.81, 0.7), (0.3, 9.81, 0.55)):
         dt, speed = 0.002, 1.0
         c = coefficients((0.02, dampratio), simp, dt)
         bb, kk = float(c.damping), float(c.stiffness)
@@ -219,6 +219,7 @@ def test_the_sympy_step_map_is_the_engines_and_implicitfast_is_the_same_map():
         while y[0] > 0 and gravity + bb * y[1] + imp * kk * y[0] > 0:
             y = np.array(mat, float) @ y + np.array(off, float).ravel()
             n += 1
+            assert n < 10_000, "these cases release"
         ref = reference(
             solref=(0.02, dampratio), solimp=FLAT, speed=speed, gravity=gravity, timestep=dt,
             integrator="euler", phase=phase,
