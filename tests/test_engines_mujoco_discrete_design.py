@@ -172,7 +172,7 @@ def test_stability_limits_against_the_linear_recurrence(integrator):
         v /= size
     grows = log_growth / 3000 > 2e-3
     decays = log_growth / 3000 < -2e-3
-    ok = stable(kappa, beta, integrator)
+    ok = stable(kappa=kappa, beta=beta, integrator=integrator)
     assert not ok[grows].any()
     assert np.all(ok[decays])
     assert grows.sum() > 20

@@ -224,10 +224,12 @@ def test_the_package_keeps_its_public_names():
         "DEFAULT_TIMECONST",
         "Design",
         "Prediction",
+        "TimestepAdvice",
         "from_reduced",
         "impedance",
         "predict",
         "solref_for",
         "stick_speed",
+        "timestep_for",
     }
     assert all(hasattr(mj, name) for name in mj.__all__)

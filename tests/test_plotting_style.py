@@ -105,6 +105,12 @@ def _f_line():
     return f, {c: stick_boundary(f, condition=c) for c in ("position", "force")}
 
 
+def _band(x, level):
+    """A predicted or measured mean with its range over touch phases (small inputs)."""
+    x = np.asarray(x, float)
+    return {"mean": level + 0 * x, "min": 0.98 * level + 0 * x, "max": 1.02 * level + 0 * x}
+
+
 #: function name -> a call drawing it from small inputs
 CASES = {
     "plot_contact_surface": lambda m: m.plot_contact_surface(*_surface(), condition="force"),
@@ -128,6 +134,20 @@ CASES = {
         np.array([0.2, 0.5, 0.8]), {"MuJoCo": np.array([0.3, 0.6, 0.85])}
     ),
     "plot_stick_map": lambda m: m.plot_stick_map(*_stick_map()),
+    "plot_timestep_restitution": lambda m: m.plot_timestep_restitution(
+        np.geomspace(1e-4, 4e-3, 5),
+        {"design": _band(np.geomspace(1e-4, 4e-3, 5), 0.5)},
+        {"design": {"timestep": np.array([1e-3, 2e-3]), **_band(np.ones(2), 0.5)}},
+        target=0.5,
+    ),
+    "plot_timestep_advice": lambda m: m.plot_timestep_advice(
+        np.linspace(0.1, 0.9, 5), {"MuJoCo": 1e-3 * np.linspace(0.1, 0.9, 5)}
+    ),
+    "plot_at_timestep": lambda m: m.plot_at_timestep(
+        np.linspace(0.1, 0.9, 5),
+        {"continuous": _band(np.linspace(0.1, 0.9, 5), 1.0)},
+        {"continuous": {"targets": np.array([0.3, 0.5]), **_band(np.ones(2), 1.0)}},
+    ),
     "plot_agreement": lambda m: m.plot_agreement(_agreement(), condition="force"),
     "plot_verdict_map": lambda m: m.plot_verdict_map(
         _agreement(), condition="force", boundary=(np.array([1.0, 0.7]), np.array([0.1, 3.0]))

@@ -260,6 +260,36 @@ def integrate_release(
     return v_rel, t_rel, peak
 
 
+def correct_along_drift(
+    frozen: tuple[Callable, Callable],
+    drifted: tuple[Callable, Callable],
+    drift: ContactDrift,
+    v0: float,
+    contact_time: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """First-order drift correction: the drifting run minus the frozen one, same steps.
+
+    ``frozen`` and ``drifted`` are ``(rhs, release)`` pairs of :func:`integrate_release`,
+    started at ``x = 0, x' = v0`` over the predicted ``contact_time`` (array). Returns
+    ``ok`` (both runs released), the restitution change ``(v_f - v_d) / v0``, the contact
+    time change ``t_d - t_f`` and the largest ``|1/m_eff - 1/m_eff(0)|`` along the drifting
+    motion relative to ``1/m_eff(0)``. The integration error cancels to first order in the
+    differences. Used by :func:`corrected_contact` and MuJoCo's
+    :func:`impactsym.engines.mujoco.drift.predict_reduced`.
+    """
+    a0 = drift.inv_mass[0]
+    start = np.full(np.shape(contact_time), v0)
+    v_f, t_f, _ = integrate_release(*frozen, start, contact_time)
+    v_d, t_d, peak = integrate_release(
+        *drifted,
+        start,
+        contact_time,
+        lambda t, x, v: drift.value("inv_mass", t, x, v) - a0,
+    )
+    ok = np.isfinite(t_f) & np.isfinite(t_d)
+    return ok, (v_f - v_d) / v0, t_d - t_f, peak / abs(a0)
+
+
 def drift_of(reduced: Any) -> ContactDrift:
     """The :class:`ContactDrift` of a numeric ``ReducedContact``, or a ``TypeError``/``ValueError``.
 
@@ -488,19 +518,12 @@ def corrected_contact(reduced: Any, *, condition: str) -> CorrectedContact:
             def release(t, x, v):
                 return x + 0.0 * v
 
-        start = np.full(live.size, v0)
-        v_f, t_f, _ = integrate_release(frozen, release, start, t_c[live])
-        v_d, t_d, peak = integrate_release(
-            drifted,
-            release,
-            start,
-            t_c[live],
-            lambda t, x, v: drift.value("inv_mass", t, x, v) - a0,
+        ok, de, dt, rel = correct_along_drift(
+            (frozen, release), (drifted, release), drift, v0, t_c[live]
         )
-        ok = np.isfinite(t_f) & np.isfinite(t_d)
-        e[live] = np.where(ok, e[live] + (v_f - v_d) / v0, e[live])
-        t_c[live] = np.where(ok, t_c[live] + (t_d - t_f), t_c[live])
-        mass[live] = peak / abs(a0)
+        e[live] = np.where(ok, e[live] + de, e[live])
+        t_c[live] = np.where(ok, t_c[live] + dt, t_c[live])
+        mass[live] = rel
     free = drift_free_contact_time(drift, t_c, mass)
     warn_mass_drift(
         mass, t_c, free, what="restitution and contact_time here are corrected to first order"

@@ -70,6 +70,7 @@ CAPTIONS = {
     RUNS: "The engines run when this was reproduced (name and version; null: not "
     "installed, so not run) and every engine run: case, wanted e, e predicted by "
     "impactsym and e measured in the engine.",
+    **engines_timestep.DATA_CAPTIONS,
 }
 
 #: The data files behind each figure (for the report's links).

@@ -160,15 +160,20 @@ def captions(out: Path) -> dict[str, str]:
         + " Right: the steps per contact time t_c/Δt that keep e within 1 % of the "
         "continuous value at every touch phase for the continuous design "
         "(impactsym.engines.lammps.timestep_for, a prediction); dotted: t_c/50.",
-        "engines_lammps_timestep.csv": "Per target e: the designs' kn and eta_n and the "
-        "predicted phase mean, min, max of e and mean contact time at t_c/50: predictions.",
-        "engines_lammps_advice.csv": "Steps per contact time LAMMPS needs to keep e within "
-        "1 % at every phase (impactsym.engines.lammps.timestep_for): predictions.",
-        RUNS: "The engines' versions (null: not installed, not run) and every LAMMPS run "
-        "of the timestep figure (target e, touch phases): the measured restitution per "
-        "touch phase next to impactsym's predicted phase mean, min and max.",
+        **DATA_CAPTIONS,
     }
 
+
+#: The captions of the data files (they do not depend on which engines ran).
+DATA_CAPTIONS = {
+    "engines_lammps_timestep.csv": "Per target e: the designs' kn and eta_n and the "
+    "predicted phase mean, min, max of e and mean contact time at t_c/50: predictions.",
+    "engines_lammps_advice.csv": "Steps per contact time LAMMPS needs to keep e within "
+    "1 % at every phase (impactsym.engines.lammps.timestep_for): predictions.",
+    RUNS: "The engines' versions (null: not installed, not run) and every LAMMPS run "
+    "of the timestep figure (target e, touch phases): the measured restitution per "
+    "touch phase next to impactsym's predicted phase mean, min and max.",
+}
 
 #: The data files behind each figure (for the report's links).
 DATA = {
@@ -179,4 +184,4 @@ DATA = {
     ),
 }
 
-__all__ = ["DATA", "RUNS", "captions", "write"]
+__all__ = ["DATA", "DATA_CAPTIONS", "RUNS", "captions", "write"]

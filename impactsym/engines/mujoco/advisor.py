@@ -95,7 +95,9 @@ class _Scaled:
         dp = effective_impedance(dm, self.rho[i])
         c = coefficients(self.solref(sigma, i), self.simp, self.H)
         H = self.H
-        return stable(dp * dm * c.stiffness * H * H, dp * c.damping * H, self.integrator)
+        return stable(
+            kappa=dp * dm * c.stiffness * H * H, beta=dp * c.damping * H, integrator=self.integrator
+        )
 
     def phases(self, h, i):
         """``predict`` over phases (mean and range) of elements ``i`` at timesteps ``h``."""

@@ -62,7 +62,7 @@ _HALVINGS = 8
 _BISECTIONS = 3
 
 
-def stable(kappa: Any, beta: Any, integrator: str) -> np.ndarray:
+def stable(*, kappa: Any, beta: Any, integrator: str) -> np.ndarray:
     """Whether the in-contact step map with ``k = kappa``, ``b = beta`` is stable (docstring)."""
     kappa, beta = np.asarray(kappa, float), np.asarray(beta, float)
     if integrator != "rk4":
@@ -135,7 +135,11 @@ class DiscreteTarget:
 
         def ok(dr):
             c = coefficients((tc, dr), self.solimp, h)
-            return stable(dp * dm * c.stiffness * h * h, dp * c.damping * h, self.integrator)
+            return stable(
+                kappa=dp * dm * c.stiffness * h * h,
+                beta=dp * c.damping * h,
+                integrator=self.integrator,
+            )
 
         lo, hi = np.full(tc.shape, 1e-6), np.full(tc.shape, _DR_TOP)
         top = ok(hi)

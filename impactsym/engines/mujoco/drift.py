@@ -40,9 +40,9 @@ from impactsym.engines.mujoco.model import (
 )
 from impactsym.engines.mujoco.prediction import Prediction, predict
 from impactsym.multibody.drift import (
+    correct_along_drift,
     drift_free_contact_time,
     drift_of,
-    integrate_release,
     warn_mass_drift,
 )
 from impactsym.records import ArrayRecord
@@ -183,19 +183,12 @@ def predict_reduced(
     if live.any():
         sel = np.flatnonzero(live)
         b, kbar = b[sel], kbar[sel]
-        start = np.full(sel.size, v0)
-        v_f, t_f, _ = integrate_release(frozen_rhs, frozen_force, start, t_c0[sel])
-        v_d, t_d, peak = integrate_release(
-            drift_rhs,
-            drift_force,
-            start,
-            t_c0[sel],
-            lambda t, x, v: drift.value("inv_mass", t, x, v) - a0,
+        ok, de, dt, rel = correct_along_drift(
+            (frozen_rhs, frozen_force), (drift_rhs, drift_force), drift, v0, t_c0[sel]
         )
-        ok = np.isfinite(t_f) & np.isfinite(t_d)
-        e[sel] = np.where(ok, e[sel] + (v_f - v_d) / v0, e[sel])
-        t_c[sel] = np.where(ok, t_c0[sel] + (t_d - t_f), t_c0[sel])
-        mass[sel] = peak / abs(a0)  # along the corrected motion
+        e[sel] = np.where(ok, e[sel] + de, e[sel])
+        t_c[sel] = np.where(ok, t_c0[sel] + dt, t_c0[sel])
+        mass[sel] = rel  # along the corrected motion
     free = drift_free_contact_time(drift, t_c, mass)
     warn_mass_drift(
         mass,

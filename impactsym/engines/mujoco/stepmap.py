@@ -48,7 +48,7 @@ def spectral_radius(*, kappa: np.ndarray, beta: np.ndarray) -> np.ndarray:
 
 
 class Sequence:
-    """``H(s) = l . M^s w + q`` for arrays of maps, functionals and start vectors.
+    """``H(s) = l^T M^s w + q`` for arrays of maps, functionals and start vectors.
 
     ``kind`` is 1 (complex eigenvalues: ``H = K r^s cos(s theta - phi) + q``), 2 (real,
     ``0 < lambda_2 <= lambda_1 < 1``: ``H = lambda_1^(s-1) (alpha E(s) - gamma
