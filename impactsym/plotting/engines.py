@@ -88,6 +88,17 @@ def plot_stick_map(
     return ax
 
 
+def _draw_designs(ax, x, curves, measured, x_key):
+    """One colour per design: its predicted line and band, then its measured points."""
+    measured = measured or {}
+    for index, name in enumerate(dict.fromkeys([*curves, *measured])):
+        color = f"C{index}"
+        if name in curves:
+            _band_lines(ax, x, curves[name], name, color)
+        if name in measured:
+            _measured_points(ax, measured[name][x_key], measured[name], name, color)
+
+
 def _band_lines(ax: Axes, x, curve: Mapping[str, np.ndarray], label: str, color) -> None:
     """A predicted phase-mean curve and its phase band (``"mean"``, ``"min"``, ``"max"``)."""
     ax.fill_between(x, curve["min"], curve["max"], color=color, alpha=0.2, lw=0)
@@ -138,13 +149,7 @@ def plot_timestep_restitution(
     """
     if ax is None:
         _, ax = plt.subplots(figsize=(7.5, 4.5), layout="tight")
-    measured = measured or {}
-    for index, name in enumerate(dict.fromkeys([*curves, *measured])):
-        color = f"C{index}"
-        if name in curves:
-            _band_lines(ax, timesteps, curves[name], name, color)
-        if name in measured:
-            _measured_points(ax, measured[name]["timestep"], measured[name], name, color)
+    _draw_designs(ax, timesteps, curves, measured, "timestep")
     ax.axhline(target, color="k", lw=0.8, label=f"target e = {target:g}")
     ax.axvline(
         default_timestep, color="0.4", ls=":", label=f"default timestep {default_timestep:g} s"
@@ -216,13 +221,7 @@ def plot_at_timestep(
     """
     if ax is None:
         _, ax = plt.subplots(figsize=(7.5, 4.5), layout="tight")
-    measured = measured or {}
-    for index, name in enumerate(dict.fromkeys([*curves, *measured])):
-        color = f"C{index}"
-        if name in curves:
-            _band_lines(ax, targets, curves[name], name, color)
-        if name in measured:
-            _measured_points(ax, measured[name]["targets"], measured[name], name, color)
+    _draw_designs(ax, targets, curves, measured, "targets")
     ax.axhline(1.0, color="k", lw=0.8)
     ax.set_xlabel("target restitution $e$ [-]")
     ax.set_ylabel("achieved / target restitution [-]")
