@@ -159,7 +159,7 @@ class ContactLaw:
         self.exponent: sp.Expr = self._definition.exponent
         self.uses_exponent: bool = name in ("hertz-linear", "hunt-crossley", "tsuji")
         self.phi: sp.Expr = _NORMALIZED[name]
-        self.touch_factor: sp.Expr = sp.sympify(self._definition.touch_factor)
+        self.touch_factor: sp.Expr = sp.sympify(self._definition.touch_factor, strict=True)
 
     def __repr__(self) -> str:
         return f"ContactLaw({self.name!r})"

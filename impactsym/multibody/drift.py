@@ -151,7 +151,8 @@ def derive_drift(
         return expr.xreplace(state)
 
     numbers = [at0(x) for x in (*M, *F, *w, kappa, *kinematics, *U)]
-    if not all(getattr(x, "is_number", False) for x in numbers) or not sp.sympify(v0).is_number:
+    v0_is_number = sp.sympify(v0, strict=True).is_number  # strict: never parse a string
+    if not all(getattr(x, "is_number", False) for x in numbers) or not v0_is_number:
         return None
     # differentiate after substituting the other variables: far smaller expressions
     on_q = {k: v for k, v in state.items() if k not in set(Q)}
