@@ -425,7 +425,14 @@ def solref_for(
         w_f = None
         if inverse_weight is not None:
             w_f = np.broadcast_to(np.asarray(inverse_weight, float), shape).ravel()
-        start = None if t_f is None else _continuous(e_f, v_f, g_f, t_f, simp, rho_f)
+        if t_f is None:  # a guess for the restitution design: the continuous one
+            tc_d = np.full(e_f.shape, max(DEFAULT_TIMECONST, 2.0 * timestep))
+            try:
+                start = (tc_d, _design_flat_dampratio(e_f, v_f, g_f, tc_d, _flat(simp), rho_f))
+            except ValueError:  # refused somewhere: the discrete design searches alone
+                start = None
+        else:
+            start = _continuous(e_f, v_f, g_f, t_f, simp, rho_f)
         target = DiscreteTarget(
             e_f, v_f, g_f, t_f, simp, m, w_f, rho_f, timestep, integrator, start
         )
@@ -460,7 +467,7 @@ def solref_for(
 def _continuous(e_f, v_f, g_f, t_f, simp, rho_f):
     """The continuous design ``(timeconst, dampratio)``, flat arrays (module docstring)."""
     # flat design first (exact for flat solimp, a start for a varying one)
-    flat_imp = simp if is_flat(simp) else (simp[1], simp[1], 0.0, simp[3], simp[4])
+    flat_imp = _flat(simp)
     if t_f is None:
         tc = np.full(e_f.shape, DEFAULT_TIMECONST)
         dr = _design_flat_dampratio(e_f, v_f, g_f, tc, flat_imp, rho_f)
@@ -469,6 +476,11 @@ def _continuous(e_f, v_f, g_f, t_f, simp, rho_f):
     if not is_flat(simp):
         tc, dr = _design_varying(e_f, v_f, g_f, t_f, tc, dr, simp, rho_f)
     return tc, dr
+
+
+def _flat(simp: tuple[float, ...]) -> tuple[float, ...]:
+    """The flat ``solimp`` at ``d_max`` (itself if flat): the start of a varying design."""
+    return simp if is_flat(simp) else (simp[1], simp[1], 0.0, simp[3], simp[4])
 
 
 def _check_design(pred: Prediction, e_t, t_c, shape) -> None:

@@ -12,7 +12,13 @@ grid of phases, locates every change of the end step (or of the stick verdict) b
 grid points by bisection in the phase to ``1e-12``, and integrates each smooth piece by
 Gauss-Legendre (exact for the flat impedance, whose restitution is a quadratic in the
 phase on each piece); the range takes the piece ends (the one-sided limits at the jumps),
-the nodes and the vertex of the quadratic through each piece.
+the nodes and the vertex of the quadratic through each piece. An interval whose samples
+show two end steps (two jumps in it) is redone on a finer grid.
+
+Flat-impedance Euler contacts skip all that: their pieces and integrals are in closed
+form (:mod:`~impactsym.engines.mujoco.euler_phase`), the general way taking only the
+elements it leaves (an unstable map, a coast that re-engages). :func:`phase_mean` is the
+summary without phase 0 itself, what a design iterating on the mean needs.
 
 All quantities are SI: seconds, metres, m/s, m/s^2.
 """
@@ -25,13 +31,19 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.mujoco.euler import euler_contact
-from impactsym.engines.mujoco.model import Coefficients, is_flat
+from impactsym.engines.mujoco.euler_phase import flat_phases
+from impactsym.engines.mujoco.model import (
+    Coefficients,
+    effective_impedance,
+    impedance_at,
+    is_flat,
+)
 from impactsym.engines.mujoco.rk4 import rk4_contact
 from impactsym.engines.mujoco.rk4_entry import rk4_entry_phases
 from impactsym.engines.mujoco.stepping import StepContact
 from impactsym.records import ArrayRecord
 
-__all__ = ["INTEGRATORS", "PhaseSummary", "phase_summary", "step_contact"]
+__all__ = ["INTEGRATORS", "PhaseSummary", "phase_mean", "phase_summary", "step_contact"]
 
 
 #: the discrete contact model of each MuJoCo integrator (same signature)
@@ -109,6 +121,42 @@ def phase_summary(
 
     Arguments as in :func:`step_contact`, without ``phase``.
     """
+    inner = phase_mean(coeffs, solimp, rho, gravity, speed, timestep, integrator=integrator)
+    model = INTEGRATORS[integrator]
+    b, k, rho, g, v, dt = np.broadcast_arrays(
+        *(
+            np.asarray(a, float)
+            for a in (coeffs.damping, coeffs.stiffness, rho, gravity, speed, timestep)
+        )
+    )
+    zero = model(Coefficients(b, k), solimp, rho, g, v, dt, np.zeros(b.shape))  # phase 0
+    return PhaseSummary(
+        inner.restitution,
+        inner.contact_time,
+        np.minimum(inner.restitution_min, zero.restitution),
+        np.maximum(inner.restitution_max, zero.restitution),
+        np.minimum(inner.contact_time_min, zero.contact_time),
+        np.maximum(inner.contact_time_max, zero.contact_time),
+        inner.stick_fraction,
+    )
+
+
+def phase_mean(
+    coeffs: Coefficients,
+    solimp: tuple[float, ...],
+    rho: Any,
+    gravity: Any,
+    speed: Any,
+    timestep: Any,
+    *,
+    integrator: str,
+) -> PhaseSummary:
+    """:func:`phase_summary` with the bounds over the phases in ``(0, 1)`` only.
+
+    Phase 0 itself (one model run) is left out: what a design iterating on the mean
+    needs. Flat-impedance Euler contacts take the closed form of
+    :mod:`~impactsym.engines.mujoco.euler_phase`; the rest the general way.
+    """
     model = INTEGRATORS[check_integrator(integrator)]
     arrays = np.broadcast_arrays(
         *(
@@ -119,6 +167,36 @@ def phase_summary(
     shape = arrays[0].shape
     b, k, rho, g, v, dt = (a.ravel() for a in arrays)
     size = b.size
+    out = np.full((7, size), np.nan)  # the fields of PhaseSummary, phase 0 left out
+    todo = np.arange(size)
+    if integrator in ("euler", "implicitfast") and is_flat(solimp) and size:
+        d = float(impedance_at(np.zeros(()), solimp))
+        dp = effective_impedance(d, rho)
+        kdt2, bdt = d * k * dt * dt, b * dt
+        fast = flat_phases(dp * kdt2, dp * bdt, dp, g * dt / v, bdt, kdt2)
+        fields = (
+            fast.restitution, fast.steps * dt, fast.restitution_min, fast.restitution_max,
+            fast.steps_min * dt, fast.steps_max * dt, fast.stick_fraction,
+        )  # fmt: skip
+        out[:, fast.ok] = np.stack(fields)[:, fast.ok]
+        todo = np.flatnonzero(~fast.ok)
+    if todo.size:
+        out[:, todo] = _split_and_integrate(
+            model, integrator, solimp, b[todo], k[todo], rho[todo], g[todo], v[todo], dt[todo]
+        )
+    return PhaseSummary(*(np.reshape(f, shape) for f in out))
+
+
+def _split_and_integrate(
+    model, integrator, solimp, b, k, rho, g, v, dt, intervals: int = _GRID
+) -> np.ndarray:
+    """The phase statistics the general way (module docstring): ``(7, size)``, phase 0 out.
+
+    A grid interval can hold two jumps of the end step (bisection finds one); a piece
+    whose samples do not all share one end step shows it, and its element is done again
+    on a grid four times finer (up to ``_GRID * 4**3`` intervals).
+    """
+    size = b.size
 
     def run(i, p):
         """The contact of elements ``i`` at phases ``p`` (same shape)."""
@@ -127,7 +205,7 @@ def phase_summary(
 
     # the phase grid, with the phases where the model's entering step changes its
     # structure (RK4's stages 2 and 3 reaching the contact) as extra piece ends
-    grid = np.linspace(0.0, 1.0, _GRID + 1)
+    grid = np.linspace(0.0, 1.0, intervals + 1)
     grid[0] = 1e-300  # the limit phase -> 0+ (phase 0 itself is checked on its own)
     breaks = np.zeros((size, 0))
     if integrator in ENTRY_PHASES:
@@ -169,6 +247,9 @@ def phase_summary(
     nodes = centre[:, None] + half[:, None] * _NODES[None, :]
     pts = np.concatenate([p0[:, None], nodes, p1[:, None]], axis=1)
     res = run(np.repeat(own, pts.shape[1]), pts.ravel())
+    key = _end_step(res, pts.ravel(), dt[np.repeat(own, pts.shape[1])]).reshape(pts.shape)
+    mixed = np.zeros(size, bool)
+    mixed[own[(key != key[:, 3:4]).any(axis=1)]] = True
     e = res.restitution.reshape(pts.shape)
     t = res.contact_time.reshape(pts.shape)
     stuck = res.sticks.reshape(pts.shape)
@@ -186,13 +267,18 @@ def phase_summary(
     if integrator in ENTRY_PHASES or not is_flat(solimp):  # pieces that are no quadratics
         e_lo = np.fmin(e_lo, _interior_extreme(run, own, pts, e, -1.0))
         e_hi = np.fmax(e_hi, _interior_extreme(run, own, pts, e, 1.0))
-    zero = run(np.arange(size), np.zeros(size))  # phase 0 exactly
-    e_min = np.minimum(_reduce(np.minimum, own, e_lo, size, np.inf), zero.restitution)
-    e_max = np.maximum(_reduce(np.maximum, own, e_hi, size, -np.inf), zero.restitution)
-    t_min = np.minimum(_reduce(np.minimum, own, t.min(axis=1), size, np.inf), zero.contact_time)
-    t_max = np.maximum(_reduce(np.maximum, own, t.max(axis=1), size, -np.inf), zero.contact_time)
-    fields = (e_mean, t_mean, e_min, e_max, t_min, t_max, stick_frac)
-    return PhaseSummary(*(np.reshape(f, shape) for f in fields))
+    e_min = _reduce(np.minimum, own, e_lo, size, np.inf)
+    e_max = _reduce(np.maximum, own, e_hi, size, -np.inf)
+    t_min = _reduce(np.minimum, own, t.min(axis=1), size, np.inf)
+    t_max = _reduce(np.maximum, own, t.max(axis=1), size, -np.inf)
+    out = np.stack([e_mean, t_mean, e_min, e_max, t_min, t_max, stick_frac])
+    redo = np.flatnonzero(mixed)
+    if redo.size and intervals < _GRID * 4**3:
+        out[:, redo] = _split_and_integrate(
+            model, integrator, solimp, b[redo], k[redo], rho[redo], g[redo], v[redo],
+            dt[redo], 4 * intervals,
+        )  # fmt: skip
+    return out
 
 
 def _interior_extreme(run, own, pts, e, sign):

@@ -12,7 +12,10 @@ that timestep and integrator (``phase=None``), used as a vectorized black box
   the farthest from instability) is refined by the Illinois method in ``log dampratio``.
   The mean is continuous in the ``solref`` even where the end step jumps at some phase
   (the jump moves through the phases), so the bracket holds a root unless the body
-  starts to stick at some phase inside it (then refused).
+  starts to stick at some phase inside it (then refused). Where the continuous design
+  at that timeconst brackets the crossing within a factor ``_LOCAL`` and that bracket
+  lies well above the stability limit (the mean falls with the dampratio there), the
+  grid is skipped: the same crossing for a fraction of the evaluations.
 * With a contact time: a Newton iteration on ``(log timeconst, log dampratio)`` with a
   forward-difference Jacobian (:func:`impactsym.numeric.roots.newton_system`), started
   at the continuous design (close: the discrete mean differs by the step's error).
@@ -34,18 +37,20 @@ All quantities are SI: seconds, m/s, m/s^2, kilograms.
 
 from __future__ import annotations
 
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 
+from impactsym.engines.mujoco.discrete import phase_mean
 from impactsym.engines.mujoco.model import (
     DEFAULT_TIMECONST,
     coefficients,
     d_max,
     effective_impedance,
     refsafe,
+    weight_ratio,
 )
-from impactsym.engines.mujoco.prediction import predict
 from impactsym.numeric.roots import bracketed_illinois, newton_system
 
 __all__ = ["DiscreteTarget", "design_discrete", "stable"]
@@ -53,6 +58,10 @@ __all__ = ["DiscreteTarget", "design_discrete", "stable"]
 #: dampratio grid of the restitution design: points, upper end
 _GRID = 33
 _DR_TOP = 1e2
+#: factor on either side of the continuous design for the local bracket
+_LOCAL = 1.25
+#: ... used where it lies above this multiple of the stability limit's dampratio
+_CLEAR = 2.0
 #: a design is accepted when its phase mean is this close (absolute in e, relative in t_c)
 _DESIGN_TOL = 1e-5
 #: forward-difference step of the Newton Jacobian (in log timeconst, log dampratio)
@@ -110,21 +119,22 @@ class DiscreteTarget:
         return out
 
     def mean(self, tc, dr, idx):
-        """Phase-mean prediction of elements ``idx`` at ``solref = (tc, dr)``."""
-
-        def part(a):
-            return None if a is None else np.broadcast_to(a, self.e.shape)[idx]
-
-        return predict(
-            solref=(tc, dr),
-            solimp=self.solimp,
-            speed=self.v[idx],
-            gravity=self.g[idx],
-            mass=self.mass,
-            timestep=self.timestep,
+        """Phase mean at ``solref = (tc, dr)`` of elements ``idx``: ``restitution``,
+        ``contact_time`` and ``sticks`` (at some phase), as ``predict(phase=None)``."""
+        weight = None if self.weight is None else np.broadcast_to(self.weight, self.e.shape)[idx]
+        rho = weight_ratio(self.mass, weight)
+        h = self.timestep
+        p = phase_mean(
+            coefficients((tc, dr), self.solimp, h),
+            self.solimp,
+            rho,
+            self.g[idx],
+            self.v[idx],
+            h,
             integrator=self.integrator,
-            phase=None,
-            inverse_weight=part(self.weight),
+        )
+        return SimpleNamespace(
+            restitution=p.restitution, contact_time=p.contact_time, sticks=np.isinf(p.contact_time)
         )
 
     def stability_dampratio(self, tc: np.ndarray) -> np.ndarray:
@@ -219,41 +229,18 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
     if not np.all(np.isfinite(dr_min)):
         i = int(np.flatnonzero(~np.isfinite(dr_min))[0])
         _raise(tg, i, "the step map is unstable for every dampratio up to 100", refuse)
-    low = np.maximum(dr_min * (1.0 + 1e-3), 1e-3)
-    grid = np.exp(np.linspace(np.log(low), np.log(_DR_TOP), _GRID).T)  # (n, K)
-    idx = np.repeat(np.arange(n), _GRID)
 
     def gap(dr, i):  # target minus phase mean; sticking counts as restitution 0
         p = tg.mean(tc[i], dr, i)
         return tg.e[i] - np.where(np.asarray(p.sticks), 0.0, np.asarray(p.restitution))
 
-    f = gap(grid.ravel(), idx).reshape(n, _GRID)
-    below = f < 0  # too bouncy at this dampratio
-    if np.any(below[:, -1]):
-        i = int(np.flatnonzero(below[:, -1])[0])
-        _raise(tg, i, f"even dampratio = {_DR_TOP:g} rebounds faster", refuse)
-    if not np.all(below.any(axis=1)):
-        i = int(np.flatnonzero(~below.any(axis=1))[0])
-        best = tg.e[i] - f[i].min()
-        _raise(
-            tg,
-            i,
-            f"the phase-mean restitution stays below it for every stable dampratio (at "
-            f"most {best:.4g}, the step map being unstable below dampratio = "
-            f"{dr_min[i]:.4g} at timeconst = {tc[i]:.4g} s), or the body sticks at some phase",
-            refuse,
-        )
-    last = _GRID - 1 - np.argmax(below[:, ::-1], axis=1)  # the largest-dampratio crossing
+    dr = np.full(n, np.nan)
     rows = np.arange(n)
-    dr = bracketed_illinois(
-        gap,
-        grid[rows, last],
-        grid[rows, last + 1],
-        log=True,
-        rtol=1e-12,
-        f_lo=f[rows, last],
-        f_hi=f[rows, last + 1],
-    )
+    if tg.start is not None:  # the local bracket around the continuous design first
+        dr[:], rows = _local_crossing(gap, tg.start[1], dr_min)
+    if rows.size:
+        dr[rows] = _grid_crossing(tg, gap, tc, dr_min, rows, refuse)
+    rows = np.arange(n)
     p = tg.mean(tc, dr, rows)
     e = np.asarray(p.restitution)
     miss = np.asarray(p.sticks) | ~(np.abs(e - tg.e) <= _DESIGN_TOL)
@@ -268,6 +255,72 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
         )
         _raise(tg, i, why, refuse)
     return dr
+
+
+def _local_crossing(gap, guess: np.ndarray, dr_min: np.ndarray) -> tuple:
+    """Crossings bracketed by ``guess / _LOCAL`` and ``guess * _LOCAL`` (log Illinois).
+
+    ``guess`` is the continuous design, within the step's error of the discrete one.
+    Used only where the bracket lies well above the stability limit (``> _CLEAR dr_min``;
+    the phase mean rises with the dampratio only between about 1.43 and 1.52 times the
+    limit, measured), where it falls with the dampratio: the crossing found is then the
+    largest-dampratio one that the grid would find. Returns the dampratios (``nan``
+    where not found) and the elements left to the grid.
+    """
+    n = guess.size
+    dr = np.full(n, np.nan)
+    lo, hi = guess / _LOCAL, guess * _LOCAL
+    cand = np.flatnonzero(np.isfinite(guess) & (lo > _CLEAR * dr_min))
+    if cand.size:
+        f_lo, f_hi = gap(lo[cand], cand), gap(hi[cand], cand)
+        good = (f_lo < 0) & (f_hi >= 0)
+        c = cand[good]
+        if c.size:
+            dr[c] = bracketed_illinois(
+                lambda x, j: gap(x, c[j]),
+                lo[c],
+                hi[c],
+                log=True,
+                rtol=1e-12,
+                f_lo=f_lo[good],
+                f_hi=f_hi[good],
+            )
+    return dr, np.flatnonzero(np.isnan(dr))
+
+
+def _grid_crossing(tg, gap, tc, dr_min, rows, refuse) -> np.ndarray:
+    """The largest-dampratio crossing of elements ``rows`` on a geometric grid (module doc)."""
+    n = rows.size
+    low = np.maximum(dr_min[rows] * (1.0 + 1e-3), 1e-3)
+    grid = np.exp(np.linspace(np.log(low), np.log(_DR_TOP), _GRID).T)  # (n, K)
+    f = gap(grid.ravel(), np.repeat(rows, _GRID)).reshape(n, _GRID)
+    below = f < 0  # too bouncy at this dampratio
+    if np.any(below[:, -1]):
+        i = int(rows[np.flatnonzero(below[:, -1])[0]])
+        _raise(tg, i, f"even dampratio = {_DR_TOP:g} rebounds faster", refuse)
+    if not np.all(below.any(axis=1)):
+        j = int(np.flatnonzero(~below.any(axis=1))[0])
+        i = int(rows[j])
+        _raise(
+            tg,
+            i,
+            f"the phase-mean restitution stays below it for every stable dampratio (at "
+            f"most {tg.e[i] - f[j].min():.4g}, the step map being unstable below dampratio "
+            f"= {dr_min[i]:.4g} at timeconst = {tc[i]:.4g} s), or the body sticks at some "
+            f"phase",
+            refuse,
+        )
+    last = _GRID - 1 - np.argmax(below[:, ::-1], axis=1)  # the largest-dampratio crossing
+    k = np.arange(n)
+    return bracketed_illinois(
+        lambda x, j: gap(x, rows[j]),
+        grid[k, last],
+        grid[k, last + 1],
+        log=True,
+        rtol=1e-12,
+        f_lo=f[k, last],
+        f_hi=f[k, last + 1],
+    )
 
 
 def _both_design(tg: DiscreteTarget, refuse: bool = True) -> tuple:

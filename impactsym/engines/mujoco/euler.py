@@ -46,7 +46,7 @@ from impactsym.engines.mujoco.model import (
 from impactsym.engines.mujoco.stepmap import Sequence, first_hit, sequence_max
 from impactsym.engines.mujoco.stepping import StepContact
 
-__all__ = ["euler_contact"]
+__all__ = ["coast_flat", "euler_contact"]
 
 _MAX_STEPS = 2_000_000  # recurrence steps refused beyond this (a contact that never settles)
 _PROOF_EVERY = 32  # recurrence steps between attempts to prove rest
@@ -176,7 +176,7 @@ def _flat(state: dict, d: float, out: dict) -> np.ndarray:
     coast = np.flatnonzero(ended & ~by_pos)
     if coast.size:
         c = closed[coast]
-        sticks, dep = _coast_flat(
+        sticks, dep = coast_flat(
             X_end[coast], Y_end[coast], G[c], state["bdt"][c], d * state["kdt2"][c]
         )
         out["sticks"][c] = sticks
@@ -184,7 +184,7 @@ def _flat(state: dict, d: float, out: dict) -> np.ndarray:
     return np.setdiff1d(np.arange(G.size), closed)
 
 
-def _coast_flat(X, Y, G, bdt, dkdt2):
+def coast_flat(X, Y, G, bdt, dkdt2):
     """After a force zero at ``(X, Y)``: free flight ``Y_j = Y + j G``,
     ``X_j = X + j Y + G j (j + 1) / 2``; the body leaves at the first ``j`` with
     ``X_j < 0`` unless the force ``G + b dt Y_j + d kbar dt^2 X_j`` is positive at an
