@@ -134,8 +134,8 @@ def hertz_coefficient_for(
 
     ``coeff_restitution``: :math:`\zeta = \alpha/\sqrt5 < 1`,
     :math:`e = \exp(-\pi\zeta/\sqrt{1-\zeta^2})`; ``tsuji``: the root of the fit on
-    ``[0, 1]`` (bisection; the fit falls from 1.2728 at ``e = 0`` to 0.0005 at 1), which
-    exists for ``0.0005 <= alpha <= 1.2728`` (times :math:`\sqrt2`).
+    ``[0, 1]`` (bisection; the fit falls from 1.2728 at ``e = 0`` to 0.0003 at 1), which
+    exists for ``0.0003 <= alpha <= 1.2728`` (times :math:`\sqrt2`).
 
     >>> round(hertz_coefficient_for(tsuji_alpha(0.3, damping="coeff_restitution")), 12)
     0.3
