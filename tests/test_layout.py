@@ -56,6 +56,7 @@ FLOORS = [
         "impactsym.contact.loop",
         "impactsym.contact.nonlinear",
         "impactsym.contact.lawdesign",
+        "impactsym.contact.lawformulas",
         "impactsym.rod.elastic",
         "impactsym.rod.codegen",
         "impactsym.rod.api",

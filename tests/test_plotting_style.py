@@ -174,6 +174,9 @@ CASES = {
     "plot_sequence": lambda m: m.plot_sequence(_rod_sequences()[0], n_points=60),
     "plot_fixed_end_stress": lambda m: m.plot_fixed_end_stress(_rod_sequences()),
     "plot_restitution": lambda m: m.plot_restitution(_rod_sequences()),
+    "plot_formula_errors": lambda m: m.plot_formula_errors(
+        np.array([0.2, 0.5, 0.8]), np.array([[0.6, 0.7, 0.9], [0.2, 0.5, 0.8]]), ["a", "b"]
+    ),
 }
 
 
