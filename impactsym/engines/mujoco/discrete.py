@@ -9,7 +9,7 @@ over the touch phase, uniform in ``[0, 1)``, and bounds the result over all phas
 The restitution and contact time are piecewise smooth in the phase, with jumps where the
 end step changes (`docs/physics.md#touch-phase`). The summary evaluates the contact on a
 grid of phases, locates every change of the end step (or of the stick verdict) between
-grid points by bisection in the phase to ``1e-12``, and integrates each smooth piece by
+grid points by an 8-ary search in the phase to ``2^-42``, and integrates each smooth piece by
 Gauss-Legendre (exact for the flat impedance, whose restitution is a quadratic in the
 phase on each piece); the range takes the piece ends (the one-sided limits at the jumps),
 the nodes and the vertex of the quadratic through each piece. An interval whose samples
@@ -52,7 +52,7 @@ INTEGRATORS = {"euler": euler_contact, "implicitfast": euler_contact, "rk4": rk4
 ENTRY_PHASES = {"rk4": rk4_entry_phases}
 
 _GRID = 8  # phase intervals searched for jumps of the end step
-_BISECT = 42  # bisection steps per jump (2^-42 < 1e-12 of a phase)
+_WAYS, _ROUNDS = 8, 14  # search per jump: 8 sub-intervals a round (8^-14 = 2^-42 < 1e-12)
 _GOLDEN = 40  # golden-section steps for an extreme inside a piece
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(5)
 
@@ -150,12 +150,15 @@ def phase_mean(
     timestep: Any,
     *,
     integrator: str,
+    bounds: bool = True,
 ) -> PhaseSummary:
     """:func:`phase_summary` with the bounds over the phases in ``(0, 1)`` only.
 
     Phase 0 itself (one model run) is left out: what a design iterating on the mean
     needs. Flat-impedance Euler contacts take the closed form of
-    :mod:`~impactsym.engines.mujoco.euler_phase`; the rest the general way.
+    :mod:`~impactsym.engines.mujoco.euler_phase`; the rest the general way, where
+    ``bounds=False`` skips the search for extremes inside pieces (the ranges are then
+    only those of the samples: for a design that needs the mean alone).
     """
     model = INTEGRATORS[check_integrator(integrator)]
     arrays = np.broadcast_arrays(
@@ -182,17 +185,18 @@ def phase_mean(
         todo = np.flatnonzero(~fast.ok)
     if todo.size:
         out[:, todo] = _split_and_integrate(
-            model, integrator, solimp, b[todo], k[todo], rho[todo], g[todo], v[todo], dt[todo]
-        )
+            model, integrator, solimp, b[todo], k[todo], rho[todo], g[todo], v[todo], dt[todo],
+            bounds=bounds,
+        )  # fmt: skip
     return PhaseSummary(*(np.reshape(f, shape) for f in out))
 
 
 def _split_and_integrate(
-    model, integrator, solimp, b, k, rho, g, v, dt, intervals: int = _GRID
+    model, integrator, solimp, b, k, rho, g, v, dt, intervals: int = _GRID, bounds: bool = True
 ) -> np.ndarray:
     """The phase statistics the general way (module docstring): ``(7, size)``, phase 0 out.
 
-    A grid interval can hold two jumps of the end step (bisection finds one); a piece
+    A grid interval can hold two jumps of the end step (the search finds one); a piece
     whose samples do not all share one end step shows it, and its element is done again
     on a grid four times finer (up to ``_GRID * 4**3`` intervals).
     """
@@ -222,18 +226,25 @@ def _split_and_integrate(
     at_lo, at_hi = run(i_all, lo.ravel()), run(i_all, hi.ravel())
     key_lo = _end_step(at_lo, lo.ravel(), dt[i_all]).reshape(size, n_pieces)
     key_hi = _end_step(at_hi, hi.ravel(), dt[i_all]).reshape(size, n_pieces)
-    # bisection for the jump inside each interval whose ends differ
+    # the jump inside each interval whose ends differ
     jump = key_lo != key_hi
     ii, kk = np.nonzero(jump)
     a, c = lo[ii, kk].copy(), hi[ii, kk].copy()
     left_key = key_lo[ii, kk]
-    for _ in range(_BISECT):
+    # 8-ary search: 7 phases per round in one model call, the first whose end step
+    # differs bounds the jump (14 rounds: 8^-14 = 2^-42 of a grid interval)
+    frac = np.arange(1, _WAYS) / _WAYS
+    for _ in range(_ROUNDS):
         if ii.size == 0:
             break
-        mid = 0.5 * (a + c)
-        m = run(ii, mid)
-        same = _end_step(m, mid, dt[ii]) == left_key
-        a, c = np.where(same, mid, a), np.where(same, c, mid)
+        m = a[:, None] + (c - a)[:, None] * frac[None, :]
+        res = run(np.repeat(ii, _WAYS - 1), m.ravel())
+        key = _end_step(res, m.ravel(), np.repeat(dt[ii], _WAYS - 1)).reshape(m.shape)
+        differs = key != left_key[:, None]
+        j = np.where(differs.any(axis=1), np.argmax(differs, axis=1), _WAYS - 1)
+        pts = np.concatenate([a[:, None], m, c[:, None]], axis=1)
+        rows = np.arange(ii.size)
+        a, c = pts[rows, j], pts[rows, j + 1]
     # pieces: [lo, a], [c, hi] for jumping intervals, [lo, hi] otherwise
     starts = [lo.ravel()]
     ends = [np.where(jump, np.nan, hi).ravel()]
@@ -264,7 +275,7 @@ def _split_and_integrate(
     vertex = _vertex(pts[:, [0, 3, -1]], e[:, [0, 3, -1]], p0, p1)
     e_lo = np.fmin(e.min(axis=1), vertex)
     e_hi = np.fmax(e.max(axis=1), vertex)
-    if integrator in ENTRY_PHASES or not is_flat(solimp):  # pieces that are no quadratics
+    if bounds and (integrator in ENTRY_PHASES or not is_flat(solimp)):  # no quadratics
         e_lo = np.fmin(e_lo, _interior_extreme(run, own, pts, e, -1.0))
         e_hi = np.fmax(e_hi, _interior_extreme(run, own, pts, e, 1.0))
     e_min = _reduce(np.minimum, own, e_lo, size, np.inf)
@@ -276,7 +287,7 @@ def _split_and_integrate(
     if redo.size and intervals < _GRID * 4**3:
         out[:, redo] = _split_and_integrate(
             model, integrator, solimp, b[redo], k[redo], rho[redo], g[redo], v[redo],
-            dt[redo], 4 * intervals,
+            dt[redo], 4 * intervals, bounds,
         )  # fmt: skip
     return out
 

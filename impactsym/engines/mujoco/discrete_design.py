@@ -132,6 +132,7 @@ class DiscreteTarget:
             self.v[idx],
             h,
             integrator=self.integrator,
+            bounds=False,
         )
         return SimpleNamespace(
             restitution=p.restitution, contact_time=p.contact_time, sticks=np.isinf(p.contact_time)
