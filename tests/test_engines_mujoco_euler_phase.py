@@ -32,7 +32,9 @@ def _fast(c, g, v, dt):
     d = float(impedance_at(np.zeros(()), FLAT))
     dp = effective_impedance(d, 1.0)
     kdt2, bdt = d * c.stiffness * dt * dt, c.damping * dt
-    return flat_phases(dp * kdt2, dp * bdt, np.full(g.shape, dp), g * dt / v, bdt, kdt2)
+    return flat_phases(
+        kappa=dp * kdt2, beta=dp * bdt, dp=np.full(g.shape, dp), G=g * dt / v, bdt=bdt, dkdt2=kdt2
+    )
 
 
 def test_matches_the_general_summary_where_no_phase_sticks():

@@ -425,16 +425,13 @@ def solref_for(
         w_f = None
         if inverse_weight is not None:
             w_f = np.broadcast_to(np.asarray(inverse_weight, float), shape).ravel()
-        if t_f is None:  # a guess for the restitution design: the continuous one
-            tc_d = np.full(e_f.shape, max(DEFAULT_TIMECONST, 2.0 * timestep))
-            try:
-                start = (tc_d, _design_flat_dampratio(e_f, v_f, g_f, tc_d, _flat(simp), rho_f))
-            except ValueError:  # refused somewhere: the discrete design searches alone
-                start = None
-        else:
-            start = _continuous(e_f, v_f, g_f, t_f, simp, rho_f)
+        start = None if t_f is None else _continuous(e_f, v_f, g_f, t_f, simp, rho_f)
         target = DiscreteTarget(
             e_f, v_f, g_f, t_f, simp, m, w_f, rho_f, timestep, integrator, start
+        )
+        tc_d = max(DEFAULT_TIMECONST, 2.0 * timestep)  # the restitution design's
+        target.guess = lambda i: _design_flat_dampratio(
+            e_f[i], v_f[i], g_f[i], np.full(i.size, tc_d), _flat(simp), rho_f[i]
         )
         target.continuous = lambda i: _continuous(
             e_f[i], v_f[i], g_f[i], None if t_f is None else t_f[i], simp, rho_f[i]

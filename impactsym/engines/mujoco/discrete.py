@@ -176,7 +176,7 @@ def phase_mean(
         d = float(impedance_at(np.zeros(()), solimp))
         dp = effective_impedance(d, rho)
         kdt2, bdt = d * k * dt * dt, b * dt
-        fast = flat_phases(dp * kdt2, dp * bdt, dp, g * dt / v, bdt, kdt2)
+        fast = flat_phases(kappa=dp * kdt2, beta=dp * bdt, dp=dp, G=g * dt / v, bdt=bdt, dkdt2=kdt2)
         fields = (
             fast.restitution, fast.steps * dt, fast.restitution_min, fast.restitution_max,
             fast.steps_min * dt, fast.steps_max * dt, fast.stick_fraction,

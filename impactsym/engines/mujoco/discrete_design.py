@@ -16,7 +16,9 @@ that timestep and integrator (``phase=None``), used as a vectorized black box
   at that timeconst brackets the crossing within a factor ``_LOCAL`` and that bracket
   lies clear of the stability limit (``_local_crossing``), the grid is skipped and the
   crossing nearest the continuous design is taken: the same crossing wherever the mean
-  falls monotonically, for a fraction of the evaluations.
+  falls monotonically, for a fraction of the evaluations. Many targets of one contact
+  (speed, gravity, weight) share one phase mean: it is tabulated and inverted first
+  (:mod:`~impactsym.engines.mujoco.table_design`; hits the target to ``1e-9``).
 * With a contact time: a Newton iteration on ``(log timeconst, log dampratio)`` with a
   forward-difference Jacobian (:func:`impactsym.numeric.roots.newton_system`), started
   at the continuous design (close: the discrete mean differs by the step's error).
@@ -52,6 +54,7 @@ from impactsym.engines.mujoco.model import (
     refsafe,
     weight_ratio,
 )
+from impactsym.engines.mujoco.table_design import table_crossings
 from impactsym.numeric.roots import bracketed_illinois, newton_system
 
 __all__ = ["DiscreteTarget", "design_discrete", "stable"]
@@ -63,6 +66,8 @@ _DR_TOP = 1e2
 _LOCAL = 1.25
 #: ... used where it lies above this multiple of the stability limit's dampratio
 _CLEAR = 2.2
+#: targets from which the tabulated mean is tried (per contact it needs 128)
+_TABLE_FROM = 128
 #: a design is accepted when its phase mean is this close (absolute in e, relative in t_c)
 _DESIGN_TOL = 1e-5
 #: forward-difference step of the Newton Jacobian (in log timeconst, log dampratio)
@@ -100,6 +105,9 @@ class DiscreteTarget:
         #: the continuous design of elements ``i`` (raises where it refuses them); set
         #: by the caller, used to skip the timestep search where no timestep can help
         self.continuous = None
+        #: the continuous dampratio of elements ``i`` at the restitution design's
+        #: timeconst (raises where refused); set by the caller, a start for the design
+        self.guess = None
 
     def take(self, i: np.ndarray) -> DiscreteTarget:
         """The targets of the elements ``i``."""
@@ -238,8 +246,19 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
 
     dr = np.full(n, np.nan)
     rows = np.arange(n)
-    if tg.start is not None:  # the local bracket around the continuous design first
-        dr[:], rows = _local_crossing(gap, tg.start[1], dr_min)
+    low = np.maximum(dr_min * (1.0 + 1e-3), 1e-3)  # the bottom of the scan
+    if n >= _TABLE_FROM:  # many targets of one contact: the tabulated mean
+        same = np.stack([tg.g, tg.v, np.broadcast_to(tg.rho, (n,))])
+        contact = np.unique(same, axis=1, return_inverse=True)[1]
+        dr[:], rows = table_crossings(gap, contact.ravel(), tg.e, low, _DR_TOP)
+    if tg.guess is not None and rows.size:  # a local bracket around the continuous design
+        try:
+            guess = np.full(n, np.nan)
+            guess[rows] = tg.guess(rows)
+        except ValueError:  # the continuous design refuses some: the scan decides
+            pass
+        else:
+            dr[rows], rows = _local_crossing(gap, guess, dr_min, rows)
     if rows.size:
         dr[rows] = _grid_crossing(tg, gap, tc, dr_min, rows, refuse)
     rows = np.arange(n)
@@ -259,7 +278,7 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
     return dr
 
 
-def _local_crossing(gap, guess: np.ndarray, dr_min: np.ndarray) -> tuple:
+def _local_crossing(gap, guess: np.ndarray, dr_min: np.ndarray, rows: np.ndarray) -> tuple:
     """Crossings bracketed by ``guess / _LOCAL`` and ``guess * _LOCAL`` (log Illinois).
 
     ``guess`` is the continuous design, within the step's error of the discrete one.
@@ -272,25 +291,26 @@ def _local_crossing(gap, guess: np.ndarray, dr_min: np.ndarray) -> tuple:
     largest crossing elsewhere. Returns the dampratios (``nan`` where not found) and the
     elements left to the grid.
     """
-    n = guess.size
-    dr = np.full(n, np.nan)
-    lo, hi = guess / _LOCAL, guess * _LOCAL
-    cand = np.flatnonzero(np.isfinite(guess) & (lo > _CLEAR * dr_min))
+    dr = np.full(rows.size, np.nan)
+    lo, hi = guess[rows] / _LOCAL, guess[rows] * _LOCAL
+    ok = np.flatnonzero(np.isfinite(lo) & (lo > _CLEAR * dr_min[rows]))
+    cand = rows[ok]
+    lo, hi = lo[ok], hi[ok]
     if cand.size:
-        f_lo, f_hi = gap(lo[cand], cand), gap(hi[cand], cand)
+        f_lo, f_hi = gap(lo, cand), gap(hi, cand)
         good = (f_lo < 0) & (f_hi >= 0)
         c = cand[good]
         if c.size:
-            dr[c] = bracketed_illinois(
+            dr[ok[good]] = bracketed_illinois(
                 lambda x, j: gap(x, c[j]),
-                lo[c],
-                hi[c],
+                lo[good],
+                hi[good],
                 log=True,
                 rtol=1e-12,
                 f_lo=f_lo[good],
                 f_hi=f_hi[good],
             )
-    return dr, np.flatnonzero(np.isnan(dr))
+    return dr, rows[np.isnan(dr)]
 
 
 def _grid_crossing(tg, gap, tc, dr_min, rows, refuse) -> np.ndarray:

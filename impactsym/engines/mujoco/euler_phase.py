@@ -59,7 +59,7 @@ class FlatPhases:
         self.steps_min, self.steps_max = s_lo, s_hi
 
 
-def flat_phases(kappa, beta, dp, G, bdt, dkdt2) -> FlatPhases:
+def flat_phases(*, kappa, beta, dp, G, bdt, dkdt2) -> FlatPhases:
     """Mean and range over the touch phase of the flat-impedance Euler contact.
 
     Parameters (1-D arrays of one length): ``kappa = d' d kbar dt^2``, ``beta = d' b
