@@ -213,6 +213,28 @@ def _check_gap(e_of, e_t, at, name, stuck):
 def _design_flat_both(e_t, v0, g, t_c, simp, rho):
     """``(timeconst, dampratio)`` for restitution ``e_t`` and contact time ``t_c`` (flat).
 
+    Without gravity the restitution depends on the dampratio alone and the contact time
+    is proportional to the timeconst (both coefficients scale with ``1/timeconst``): the
+    dampratio of the restitution at timeconst 1, then the timeconst scaled to ``t_c``.
+    With gravity, nested brackets (:func:`_design_flat_both_loaded`).
+    """
+    free = np.flatnonzero(g == 0)
+    loaded = np.flatnonzero(g != 0)
+    tc, dr = np.empty(e_t.size), np.empty(e_t.size)
+    if free.size:
+        one = np.ones(free.size)
+        dr[free] = _design_flat_dampratio(e_t[free], v0[free], g[free], one, simp, rho[free])
+        t1 = _flat_restitution(one, dr[free], simp, rho[free], g[free], v0[free], extremes=False)
+        tc[free] = t_c[free] / t1.contact_time
+    if loaded.size:
+        part = (a[loaded] for a in (e_t, v0, g, t_c, np.broadcast_to(rho, e_t.shape)))
+        tc[loaded], dr[loaded] = _design_flat_both_loaded(*part, simp)
+    return tc, dr
+
+
+def _design_flat_both_loaded(e_t, v0, g, t_c, rho, simp):
+    """``(timeconst, dampratio)`` for ``e_t`` and ``t_c`` under gravity (flat).
+
     Nested brackets: for a dampratio the contact time grows with the timeconst (inner
     Illinois solve); the restitution at that timeconst falls with the dampratio (outer
     solve, bracketed on a grid because no timeconst may exist at some dampratios).
