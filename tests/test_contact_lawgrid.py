@@ -68,3 +68,16 @@ def test_bad_input_is_refused():
         law_contact_map("tsuji", np.ones(2), np.ones(3), condition="force")
     with pytest.raises(TypeError, match="condition"):
         law_contact_map("tsuji", 0.3, 0.1)
+
+
+def test_the_map_draws_itself():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    d, f = np.meshgrid([0.2, 0.6, 1.0], [0.01, 0.1, 1.0])
+    m = law_contact_map("linear", d, f, condition="position")
+    ax = m.plot(quantity="restitution")
+    assert ax.get_title() == "Coefficient of restitution, linear law, position condition"
+    plt.close(ax.figure)
