@@ -111,6 +111,13 @@ def _band(x, level):
     return {"mean": level + 0 * x, "min": 0.98 * level + 0 * x, "max": 1.02 * level + 0 * x}
 
 
+def _law_map():
+    from impactsym.contact import law_contact_map
+
+    d, f = np.meshgrid(np.linspace(0.1, 1.2, 5), np.geomspace(0.01, 10.0, 4))
+    return law_contact_map("linear", d, f, condition="force")
+
+
 #: function name -> a call drawing it from small inputs
 CASES = {
     "plot_contact_surface": lambda m: m.plot_contact_surface(*_surface(), condition="force"),
@@ -124,6 +131,14 @@ CASES = {
         sticks=np.isinf(_contact_maps()[2]),
         condition="force",
         boundary=_contact_maps()[4],
+    ),
+    "plot_law_stick_boundary": lambda m: m.plot_law_stick_boundary(
+        np.array([0.1, 0.5, 0.9]),
+        {"position": np.array([3.0, 0.4, 1e-3]), "force": np.array([4.0, 0.5, 0.03])},
+        law="tsuji",
+    ),
+    "plot_law_map": lambda m: m.plot_law_map(
+        _law_map(), quantity="restitution", boundary=(np.array([0.3, 0.9]), [5.0, 0.03])
     ),
     "plot_bounce_sequence": lambda m: m.plot_bounce_sequence(_bounce_pair()[1]),
     "plot_bounce_sequences": lambda m: m.plot_bounce_sequences(_bounce_pair()),

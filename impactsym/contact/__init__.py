@@ -23,6 +23,11 @@
   (:func:`impact`); :mod:`~impactsym.contact.lawdesign` the damping that delivers a
   restitution (:func:`damping_for`), on the array integrator of
   :mod:`~impactsym.contact.lawkernel`;
+* :mod:`~impactsym.contact.lawstick`, :mod:`~impactsym.contact.lawgrid`,
+  :mod:`~impactsym.contact.lawbounce` -- the paper's questions for every law: the stick
+  boundary f*(damping number) (:func:`law_stick_boundary`), contact-time and restitution
+  maps (:func:`law_contact_map`) and the bounce sequence (``bounce_sequence(..., law=)``),
+  on one impact in the law's numbers (:mod:`~impactsym.contact.lawnumbers`).
 """
 
 from __future__ import annotations
@@ -51,6 +56,9 @@ _NAMES = {
     "LAWS": "impactsym.contact.laws",
     "HuntCrossleyClosedForm": "impactsym.contact.lawmaps",
     "TsujiMap": "impactsym.contact.lawmaps",
+    "law_stick_boundary": "impactsym.contact.lawstick",
+    "law_contact_map": "impactsym.contact.lawgrid",
+    "LawContactMap": "impactsym.contact.lawgrid",
 }
 __all__ = sorted(_NAMES)
 __getattr__, __dir__ = lazy_names(__name__, _NAMES)

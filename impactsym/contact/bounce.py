@@ -43,6 +43,9 @@ from typing import Any
 import numpy as np
 
 from impactsym.contact.kernel import check_derived, flat_inputs, kernels
+from impactsym.contact.lawbounce import law_sequence
+from impactsym.contact.lawnumbers import exponent_in_use
+from impactsym.contact.laws import check_law
 from impactsym.contact.loop import check_max_contacts, check_resolution, run_sequences
 from impactsym.records import ArrayRecord
 from impactsym.validation import check_condition, finish, real_array
@@ -83,6 +86,9 @@ class BounceSequence(ArrayRecord):
     sticks
         False only when ``max_contacts`` ran out or the body is not pushed back (``f = 0``
         or ``D = 0``).
+    law, exponent
+        The contact law (``D`` is its damping number, ``f`` its pressing number, times are
+        in units of the first impact's :math:`T`) and the exponent in use.
     """
 
     D: float
@@ -97,6 +103,8 @@ class BounceSequence(ArrayRecord):
     n_contacts: int
     time_to_rest: float
     sticks: bool
+    law: str = "linear"
+    exponent: float = 1.0
 
     def trajectory(self, tau: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         r"""Body penetration :math:`z(\tau)` and element deflection :math:`z_e(\tau)`.
@@ -111,7 +119,14 @@ class BounceSequence(ArrayRecord):
         >>> z, z_e = seq.trajectory([np.pi / 2, 4.0])
         >>> np.round(z, 12).tolist(), z_e.tolist()  # sin(tau), then flying off at speed 1
         ([1.0, -0.85840734641], [1.0, 0.0])
+
+        Only for ``law="linear"`` (the closed forms): another law raises ``ValueError``.
         """
+        if self.law != "linear":
+            raise ValueError(
+                f"trajectory is available for the linear law only (this sequence is on the "
+                f"{self.law!r} law; its contacts are in start, end and the speeds)"
+            )
         t = real_array("tau", tau, lower=0.0)[0].ravel()
         i = np.maximum(np.searchsorted(self.start, t, side="right") - 1, 0)
         contact = t < self.end[i]
@@ -146,7 +161,13 @@ class BounceSequence(ArrayRecord):
 
 
 def bounce_sequence(
-    D: float, f: float, *, condition: str, max_contacts: int = 100
+    D: float,
+    f: float,
+    *,
+    condition: str,
+    max_contacts: int = 100,
+    law: str = "linear",
+    exponent: float = 1.5,
 ) -> BounceSequence:
     r"""The sequence of contacts and free flights of the spring-damper contact until rest.
 
@@ -160,16 +181,28 @@ def bounce_sequence(
     under the force condition the next contact starts from the still deflected element
     (the module docstring; physics.md, section 2, *Bounce sequences until rest*).
 
+    With ``law`` another contact law of :mod:`impactsym.contact.laws`: each contact is the
+    exact impact of that law at its arrival speed, whose damping and pressing numbers
+    follow from those of the first impact by powers of the speed
+    (:mod:`~impactsym.contact.lawbounce`); position condition (under the force condition
+    only a single contact without pressing force).
+
     Parameters
     ----------
     D : float
-        Lehr's damping ratio, ``>= 0``.
+        Lehr's damping ratio, ``>= 0`` (another law: its damping number ``D``, ``s``,
+        ``alpha`` or ``beta`` at the first impact).
     f : float
-        Pressing force over the damper force at the first impact, ``>= 0``.
+        Pressing force over the damper force at the first impact, ``>= 0`` (another law:
+        its pressing number :math:`F_0 T/(m v_0)` at the first impact).
     condition : {"position", "force"}
         How each contact ends.
     max_contacts : int
         At most this many contacts are computed (``1 <= max_contacts <= 10**7``).
+    law : {"linear", "hertz-linear", "hunt-crossley", "tsuji", "viscoelastic"}
+        The contact law (default the linear spring-damper of the paper).
+    exponent : float
+        ``p >= 1`` of the laws that have one (ignored by ``"linear"``, ``"viscoelastic"``).
 
     Returns
     -------
@@ -197,8 +230,16 @@ def bounce_sequence(
     (8, True, 131.428158)
     >>> float(seq.end[-1]), float(seq.departure_speed[-1])
     (inf, 0.0)
+
+    On a Hunt–Crossley contact, whose damping number :math:`s = \lambda v` falls with
+    the arrival speed:
+
+    >>> hc = bounce_sequence(0.3, 0.2, condition="position", law="hunt-crossley")
+    >>> hc.n_contacts, hc.sticks, np.round(hc.departure_speed[:3], 6).tolist()
+    (6, True, [0.72487, 0.533231, 0.38585])
     """
     check_condition(condition)
+    check_law(law)
     max_contacts = check_max_contacts(max_contacts)
     values = []
     for name, value in (("D", D), ("f", f)):
@@ -207,6 +248,8 @@ def bounce_sequence(
             raise TypeError(f"{name} must be a scalar (use bounce_map for arrays), got {value!r}")
         values.append(array.reshape(1))
     damping, force = float(values[0][0]), float(values[1][0])
+    if law != "linear":
+        return _law_bounce(law, damping, force, exponent, condition, max_contacts)
     what = f"bounce_sequence(D={damping!r}, f={force!r})"
     result = run_sequences(values[0], values[1], max_contacts, condition=condition, resolved=what)
     table = result.table(0)
@@ -223,6 +266,50 @@ def bounce_sequence(
         n_contacts=int(result.n_contacts[0]),
         time_to_rest=float(result.time_to_rest[0]),
         sticks=bool(result.sticks[0]),
+    )
+
+
+def _law_bounce(
+    law: str, damping: float, force: float, exponent: object, condition: str, max_contacts: int
+) -> BounceSequence:
+    """The sequence of a nonlinear law (:mod:`~impactsym.contact.lawbounce`)."""
+    array, scalar = real_array("exponent", exponent, lower=1.0)
+    if not scalar:
+        raise TypeError(f"exponent must be a scalar, got {exponent!r}")
+    q = float(exponent_in_use(law, array))
+    if condition == "force" and force > 0:
+        raise ValueError(
+            f"bounce_sequence(law={law!r}, condition='force') with f = {force!r} > 0: a "
+            "nonlinear contact releases with its element still deflected and the next "
+            "contact starts from that relaxing element, which is not covered; use "
+            "condition='position' (or f = 0: a single contact)"
+        )
+    what = f"bounce_sequence(D={damping!r}, f={force!r}, law={law!r})"
+
+    def check(start: np.ndarray, duration: np.ndarray, contact: int) -> None:
+        check_resolution(start, duration, what, contact=contact)
+
+    try:
+        seq = law_sequence(law, damping, force, q, max_contacts=max_contacts, check=check)
+    except ValueError as exc:
+        if str(exc).startswith(what):
+            raise
+        raise ValueError(f"{what}: {exc}") from None
+    return BounceSequence(
+        D=damping,
+        f=force,
+        condition=condition,
+        start=seq.start,
+        end=seq.start + seq.duration,
+        arrival_speed=seq.arrival,
+        departure_speed=seq.departure,
+        arrival_velocity=seq.arrival.copy(),
+        element_deflection=np.zeros(seq.n_contacts),
+        n_contacts=seq.n_contacts,
+        time_to_rest=seq.time_to_rest,
+        sticks=seq.sticks,
+        law=law,
+        exponent=q,
     )
 
 

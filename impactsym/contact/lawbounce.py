@@ -1,0 +1,133 @@
+r"""The bounce sequence until rest on a nonlinear contact law (position condition).
+
+**What.** A body pressed towards the contact by a constant force hits it at speed
+:math:`v_0`, leaves it, flies under the pressing force alone, hits again with its
+departure speed, and so on until a contact no longer ends (``docs/physics.md``,
+"Nonlinear contact laws", *Stick boundary and bounce sequence*). Used by
+:func:`~impactsym.contact.bounce.bounce_sequence` with ``law=``.
+
+**Which equations.** Everything is normalized on the first impact (:math:`T_0`,
+:math:`L_0 = v_0 T_0` of :mod:`impactsym.contact.laws`). Under the position condition every
+contact starts undeformed, so contact ``n`` at arrival speed :math:`u_n v_0` is a first
+impact at that speed. The law's groups depend on the impact speed as powers,
+:math:`T \propto v^{a_T}`, :math:`\delta \propto v^{a_\delta}`, :math:`f \propto v^{a_f}`
+(:func:`speed_exponents`, derived from the law's normalization by
+:math:`a_X = \partial \ln X / \partial \ln v_0`):
+
+.. math::
+
+    \delta_n = \delta\, u_n^{a_\delta}, \quad f_n = f\, u_n^{a_f}, \quad
+    u_{n+1} = e(\delta_n, f_n)\, u_n, \quad
+    \tau_{n+1}^\mathrm{start} = \tau_n^\mathrm{start} + u_n^{a_T}\, \tau_c(\delta_n, f_n)
+        + \frac{2 u_{n+1}}{b},
+
+with :math:`a_T = -(p-1)/(p+1)`, :math:`a_f = a_T - 1 = -2p/(p+1)` and :math:`a_\delta`
+:math:`0` (linear, Tsuji), :math:`a_T` (hertz-linear), :math:`1` (Hunt–Crossley),
+:math:`-a_T = 1/5` (viscoelastic); :math:`b` is the normalized pressing term of the first
+impact (the body's acceleration in flight: :math:`b = f`, :math:`2Df` for ``"linear"``).
+Since :math:`a_f < 0`, the pressing number grows as the arrival speed falls, so every
+damped sequence with a pressing force ends sticking after finitely many contacts (the
+linear recursion of :mod:`~impactsym.contact.bounce` is the case :math:`p = 1`).
+
+**Why this numerics.** One exact impact per contact
+(:func:`~impactsym.contact.lawnumbers.law_impact`), a loop over contacts only. The
+conventions are those of the linear sequence: the departure speed is capped by the
+arrival speed (energy), a release at zero speed counts as sticking, ``max_contacts``
+bounds the loop, and a contact whose end the absolute time cannot resolve is refused
+(:func:`~impactsym.contact.loop.check_resolution`). Under the force condition a
+nonlinear contact releases with the element still deflected, and the next contact would
+start from that relaxing element: not covered here, so only a single contact without
+pressing force is allowed there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+
+import numpy as np
+import sympy as sp
+
+from impactsym.contact.lawnumbers import law_impact
+from impactsym.contact.laws import contact_law, p, v0
+
+#: The time-scale symbol of :attr:`impactsym.contact.laws.ContactLaw.damping_number`.
+_T = sp.Symbol("T", positive=True)
+
+
+@cache
+def speed_exponents(law: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    r""":math:`(a_T, a_\delta, a_f)`: the powers of the impact speed in the law's time
+    scale, damping number and pressing number (SymPy, in the exponent ``p``).
+
+    >>> speed_exponents("hunt-crossley")
+    (-(p - 1)/(p + 1), 1, -2*p/(p + 1))
+    >>> speed_exponents("viscoelastic")
+    (-1/5, 1/5, -6/5)
+    """
+    ContactLaw = contact_law(law)
+    T = ContactLaw.time_scale
+    out = []
+    for expr in (T, ContactLaw.damping_number, ContactLaw.pressing_number):
+        expr = sp.sympify(expr, strict=True).subs(_T, T)
+        out.append(sp.factor(sp.simplify(v0 * sp.diff(sp.log(expr), v0))))
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class LawSequence:
+    """The contacts of one sequence (normalized on the first impact)."""
+
+    start: np.ndarray
+    duration: np.ndarray
+    arrival: np.ndarray
+    departure: np.ndarray
+    n_contacts: int
+    time_to_rest: float
+    sticks: bool
+
+
+def law_sequence(
+    law: str, delta: float, f: float, q: float, *, max_contacts: int, check=None
+) -> LawSequence:
+    """The bounce sequence of ``law`` (position condition) with damping number ``delta``,
+    pressing number ``f`` and exponent in use ``q`` of the first impact. ``check``, if
+    given, is called as ``check(start, duration, contact)`` for every contact."""
+    a_T, a_delta, a_f = (float(a.subs(p, q)) for a in speed_exponents(law))
+    accel = 2.0 * delta * f if law == "linear" else f
+    t, u = 0.0, 1.0
+    rows: list[tuple[float, float, float, float]] = []
+    sticks, time_to_rest = False, np.inf
+    for k in range(max_contacts):
+        with np.errstate(all="ignore"):
+            d_n, f_n = delta * u**a_delta, f * u**a_f
+        tau, e = law_impact(
+            law, np.array([d_n]), np.array([f_n]), np.array([q]), condition="position"
+        )
+        with np.errstate(over="ignore"):
+            duration = float(tau[0]) * u**a_T
+        speed = min(float(e[0]) * u, u)
+        if check is not None:
+            check(np.array([t]), np.array([duration]), k + 1)
+        if not np.isfinite(duration) or (f > 0 and speed <= 0):
+            rows.append((t, np.inf, u, 0.0))
+            sticks, time_to_rest = True, t
+            break
+        rows.append((t, duration, u, speed))
+        if not accel > 0:
+            break
+        with np.errstate(over="ignore"):
+            nxt = t + duration + 2.0 * speed / accel
+        if not np.isfinite(nxt):
+            break
+        t, u = nxt, speed
+    table = np.array(rows, dtype=float).reshape(-1, 4)
+    return LawSequence(
+        start=table[:, 0].copy(),
+        duration=table[:, 1].copy(),
+        arrival=table[:, 2].copy(),
+        departure=table[:, 3].copy(),
+        n_contacts=len(rows),
+        time_to_rest=float(time_to_rest),
+        sticks=sticks,
+    )

@@ -1,0 +1,119 @@
+"""Bounce sequences on the nonlinear laws, against one solve_ivp of the whole motion."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy.integrate import solve_ivp
+
+from impactsym.contact import bounce_sequence
+from impactsym.contact.lawbounce import law_sequence, speed_exponents
+from impactsym.contact.laws import p
+
+
+def test_speed_exponents_are_the_hand_derived_powers():
+    a_T = -(p - 1) / (p + 1)
+    expected = {
+        "linear": (0, 0, -1),
+        "hertz-linear": (a_T, a_T, a_T - 1),
+        "hunt-crossley": (a_T, 1, a_T - 1),
+        "tsuji": (a_T, 0, a_T - 1),
+        "viscoelastic": (sp.Rational(-1, 5), sp.Rational(1, 5), sp.Rational(-6, 5)),
+    }
+    for law, powers in expected.items():
+        got = speed_exponents(law)
+        assert all(sp.simplify(g - e) == 0 for g, e in zip(got, powers, strict=True)), law
+
+
+def test_the_recursion_at_p_1_is_the_linear_sequence():
+    old = bounce_sequence(0.1, 0.2, condition="position")
+    new = law_sequence("linear", 0.1, 0.2, 1.0, max_contacts=100)
+    assert new.n_contacts == old.n_contacts
+    np.testing.assert_allclose(new.start, old.start, rtol=1e-13)
+    np.testing.assert_allclose(new.departure, old.departure_speed, rtol=0, atol=1e-14)
+
+
+def test_linear_default_is_unchanged():
+    a = bounce_sequence(0.1, 0.2, condition="force")
+    b = bounce_sequence(0.1, 0.2, condition="force", law="linear", exponent=3.0)
+    assert a == b
+    assert a.law == "linear"
+
+
+PHI = {
+    "hunt-crossley": lambda z, w, d: z**1.5 * (1 + d * w),
+    "viscoelastic": lambda z, w, d: z**1.5 + d * np.sqrt(z) * w,
+    "hertz-linear": lambda z, w, d: z**1.5 + 2 * d * w,
+}
+
+
+def ivp_bounces(law, delta, f, n):
+    """The whole motion in units of the first impact: z'' = f - phi(z, z') while z > 0
+    (the first impact's numbers throughout), free flight z'' = f outside; contact by
+    contact with solve_ivp and a terminal event at z = 0."""
+    phi = PHI[law]
+
+    def out(t, y):
+        return y[0] if t > 1e-9 else 1.0
+
+    out.terminal, out.direction = True, -1
+    t, u, rows = 0.0, 1.0, []
+    for _ in range(n):
+        sol = solve_ivp(
+            lambda s, y: [y[1], f - phi(max(y[0], 0.0), y[1], delta)],
+            (0, 200), [0.0, u], method="DOP853", rtol=1e-12, atol=1e-14, events=out,
+        )  # fmt: skip
+        if not sol.t_events[0].size:
+            rows.append((t, np.inf, u, 0.0))
+            break
+        tau, e = sol.t_events[0][0], -sol.y_events[0][0][1]
+        rows.append((t, t + tau, u, e))
+        t, u = t + tau + 2 * e / f, e
+    return np.array(rows)
+
+
+@pytest.mark.parametrize(
+    ("law", "delta", "f"),
+    [("hunt-crossley", 0.3, 0.2), ("viscoelastic", 0.4, 0.1), ("hertz-linear", 0.05, 0.05)],
+)
+def test_bounces_against_one_solve_ivp_of_the_motion(law, delta, f):
+    seq = bounce_sequence(delta, f, condition="position", law=law)
+    assert seq.sticks
+    assert seq.n_contacts >= 3
+    ref = ivp_bounces(law, delta, f, seq.n_contacts)
+    assert len(ref) == seq.n_contacts
+    np.testing.assert_allclose(seq.start, ref[:, 0], rtol=1e-8)
+    np.testing.assert_allclose(seq.end, ref[:, 1], rtol=1e-8)
+    np.testing.assert_allclose(seq.arrival_speed, ref[:, 2], rtol=1e-8)
+    np.testing.assert_allclose(seq.departure_speed, ref[:, 3], rtol=1e-8, atol=1e-12)
+    assert seq.time_to_rest == pytest.approx(ref[-1, 0], rel=1e-8)
+
+
+def test_without_pressing_force_a_single_contact_under_either_condition():
+    for condition in ("position", "force"):
+        seq = bounce_sequence(0.5, 0.0, condition=condition, law="tsuji")
+        assert seq.n_contacts == 1
+        assert not seq.sticks
+        assert seq.departure_speed[0] > 0
+
+
+def test_no_damping_bounces_until_max_contacts():
+    seq = bounce_sequence(0.0, 0.3, condition="position", law="hunt-crossley", max_contacts=4)
+    assert seq.n_contacts == 4
+    assert not seq.sticks
+    np.testing.assert_allclose(seq.departure_speed, 1.0, rtol=1e-9)
+
+
+def test_refusals():
+    with pytest.raises(ValueError, match="condition='force'.*not covered"):
+        bounce_sequence(0.3, 0.2, condition="force", law="hunt-crossley")
+    with pytest.raises(ValueError, match="law must be one of"):
+        bounce_sequence(0.3, 0.2, condition="position", law="hertz")
+    with pytest.raises(ValueError, match="exponent must be >= 1"):
+        bounce_sequence(0.3, 0.2, condition="position", law="tsuji", exponent=0.5)
+    with pytest.raises(TypeError, match="exponent must be a scalar"):
+        bounce_sequence(0.3, 0.2, condition="position", law="tsuji", exponent=[1.5, 2.0])
+    seq = bounce_sequence(0.3, 0.2, condition="position", law="tsuji")
+    with pytest.raises(ValueError, match="linear law only"):
+        seq.trajectory([1.0])
