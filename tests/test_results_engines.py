@@ -64,10 +64,10 @@ def _designs_once(monkeypatch):
             _CACHE[key] = curves(solrefs, timesteps)
         return dict(_CACHE[key])
 
-    def cached_designs(restitution, contact_time=None):
+    def cached_designs(restitution, *, contact_time=None):
         key = ("designs", restitution, contact_time)
         if key not in _CACHE:
-            _CACHE[key] = designs(restitution, contact_time)
+            _CACHE[key] = designs(restitution, contact_time=contact_time)
         return dict(_CACHE[key])
 
     def cached_advice(targets, **kwargs):

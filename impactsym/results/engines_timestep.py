@@ -80,7 +80,7 @@ def write(
     return files
 
 
-def mujoco_designs(restitution: float, contact_time: float | None = None) -> dict[str, tuple]:
+def mujoco_designs(restitution: float, *, contact_time: float | None = None) -> dict[str, tuple]:
     """The solrefs compared for one target at 1 m/s under gravity 9.81 (default solimp).
 
     ``"textbook"`` (only without a contact time): timeconst 0.02 s with the textbook
@@ -116,7 +116,7 @@ def mujoco_curves(designs: dict[str, tuple], timesteps: np.ndarray) -> dict[str,
     }
 
 
-def mujoco_points(designs: dict[str, tuple], timesteps, phases: int) -> dict[str, dict]:
+def mujoco_points(designs: dict[str, tuple], timesteps, *, phases: int) -> dict[str, dict]:
     """MuJoCo's own restitution for each design at ``timesteps`` over ``phases`` touch
     phases (:func:`impactsym.engines.survey.mujoco_measured`; needs MuJoCo)."""
     return {
@@ -159,11 +159,11 @@ def _mujoco(
     header, columns = ["timestep_s"], [timesteps]
     for ax, (case, restitution, contact_time) in zip(axes, MUJOCO_CASES, strict=True):
         progress(f"MuJoCo at its timestep: {case}")
-        designs = mujoco_designs(restitution, contact_time)
+        designs = mujoco_designs(restitution, contact_time=contact_time)
         curves = mujoco_curves(designs, timesteps)
         measured = {}
         if versions.get("MuJoCo"):
-            measured = mujoco_points(designs, MUJOCO_STEPS[level], MUJOCO_PHASES[level])
+            measured = mujoco_points(designs, MUJOCO_STEPS[level], phases=MUJOCO_PHASES[level])
         plots.plot_timestep_restitution(
             timesteps,
             {LABELS[n]: c for n, c in curves.items()},
