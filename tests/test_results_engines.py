@@ -234,6 +234,7 @@ def test_mujoco_at_its_timestep_files_hold_the_predictions(tmp_path, monkeypatch
     assert np.all(advice[:, 4] <= 0.01)  # the worst deviation at the advised timestep
     text = captions["engines_mujoco_timestep"]
     assert "Points with bars: measured in MuJoCo 7.7-test" in text
+    assert f"over {engines_timestep.MUJOCO_PHASES[0]} evenly spaced touch phases" in text
     assert "predicted by impactsym.engines.mujoco.predict(timestep=...), not engine output" in text
     assert "engines_mujoco_advice.csv" in markdown
 

@@ -187,6 +187,7 @@ def _mujoco(
             "restitution": restitution,
             "contact_time": contact_time,
             "solref": {name: list(solref) for name, solref in designs.items()},
+            "phases": MUJOCO_PHASES[level] if measured else 0,
             "measured": {
                 name: {k: np.asarray(v).tolist() for k, v in m.items()}
                 for name, m in measured.items()
@@ -326,10 +327,11 @@ def captions(out: Path) -> dict[str, str]:
     versions = record["engines"]
     ran = any(case["measured"] for case in record.get("mujoco", {}).values())
     mj = versions.get("MuJoCo") if ran else None
+    phases = max((case.get("phases", 0) for case in record.get("mujoco", {}).values()), default=0)
     mj_points = (
         f"Points with bars: measured in MuJoCo {mj} (a sphere on a slide joint dropped on a "
-        "plane, impactsym.engines.drivers.mujoco_phases), mean and range over evenly spaced "
-        "touch phases."
+        "plane, impactsym.engines.drivers.mujoco_phases), mean and range over "
+        f"{phases} evenly spaced touch phases."
         if mj
         else "No MuJoCo point: MuJoCo was not installed when this was reproduced, so it was "
         "not run; every curve and band is a prediction."
