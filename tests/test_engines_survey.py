@@ -15,6 +15,8 @@ from impactsym.engines.survey import (
     lammps_advice,
     lammps_at_timestep,
     lammps_measured,
+    mujoco_advice,
+    mujoco_at_timesteps,
     mujoco_measured,
     stick_map,
     textbook_restitution,
@@ -175,3 +177,73 @@ def test_mujoco_measured_is_the_reference_step_over_phases():
         assert got["max"][i] == pytest.approx(max(e), rel=1e-6)
     assert not got["sticks"].any()
     assert got["timestep"].tolist() == dts.tolist()
+
+
+def test_mujoco_at_timesteps_is_predict_at_each_timestep():
+    # one call by exact time scaling, against one predict call per timestep; both solref
+    # forms (timeconst, dampratio) and (-stiffness, -damping), default solimp, gravity
+    steps = np.array([3e-4, 1.1e-3, 2e-3])
+    for solref in ((0.02, 0.25), (-2500.0, -40.0)):
+        got = mujoco_at_timesteps(solref=solref, speed=1.0, gravity=9.81, timesteps=steps)
+        for i, dt in enumerate(steps):
+            p = mujoco.predict(solref=solref, speed=1.0, gravity=9.81, timestep=float(dt))
+            assert got["mean"][i] == pytest.approx(p.restitution, rel=1e-9)
+            assert got["min"][i] == pytest.approx(p.restitution_range[0], rel=1e-9)
+            assert got["max"][i] == pytest.approx(p.restitution_range[1], rel=1e-9)
+            assert got["tc_mean"][i] == pytest.approx(p.contact_time, rel=1e-9)
+        assert got["timestep"] == pytest.approx(steps, rel=0)
+
+
+def test_mujoco_at_timesteps_band_holds_mujoco_itself():
+    pytest.importorskip("mujoco")
+    from impactsym.engines.drivers import mujoco_phases
+
+    # the textbook solref and the discrete design of e = 0.5 at 0.002 s (1 m/s, gravity)
+    steps = np.array([5e-4, 2e-3])
+    for solref in ((0.02, 0.2154537619662468), (0.02, 0.24860959916306014)):
+        curve = mujoco_at_timesteps(solref=solref, speed=1.0, gravity=9.81, timesteps=steps)
+        for i, dt in enumerate(steps):
+            run = mujoco_phases(
+                solref=solref,
+                solimp=mujoco.DEFAULT_SOLIMP,
+                speed=1.0,
+                gravity=9.81,
+                timestep=float(dt),
+                phases=touch_phases(16),
+            )
+            e = run["restitution"]
+            assert curve["min"][i] - 1e-4 <= e.min() <= e.max() <= curve["max"][i] + 1e-4
+            # 16 midpoint phases against the exact phase mean
+            assert e.mean() == pytest.approx(curve["mean"][i], abs=3e-3)
+
+
+def test_mujoco_at_timesteps_refuses_bad_input_by_name():
+    with pytest.raises(ValueError, match="timesteps"):
+        mujoco_at_timesteps(solref=(0.02, 1.0), speed=1.0, timesteps=[[1e-3]])
+    with pytest.raises(ValueError, match="timesteps"):
+        mujoco_at_timesteps(solref=(0.02, 1.0), speed=1.0, timesteps=[-1e-3])
+    with pytest.raises(ValueError, match="solref"):
+        mujoco_at_timesteps(solref=(0.02, 1.0, 3.0), speed=1.0, timesteps=[1e-3])
+    with pytest.raises(TypeError, match="solref"):
+        mujoco_at_timesteps(solref="0.02 1", speed=1.0, timesteps=[1e-3])
+
+
+def test_mujoco_advice_is_the_advisor_beside_the_rule_of_thumb(monkeypatch):
+    asked = {}
+
+    def advisor(**kwargs):
+        asked.update(kwargs)
+        return mujoco.TimestepAdvice(np.array([1e-4, 2e-4]), np.array([0.01, 0.009]), 0, (0, 0))
+
+    monkeypatch.setattr(mujoco, "timestep_for", advisor)
+    targets = np.array([0.3, 0.7])
+    out = mujoco_advice(targets, speed=1.0, gravity=9.81, solimp=FLAT, tolerance=0.02)
+    design = mujoco.solref_for(restitution=targets, speed=1.0, gravity=9.81, solimp=FLAT)
+    assert asked["tolerance"] == 0.02
+    assert asked["solref"][1] == pytest.approx(design.solref[1], rel=0)
+    assert out["timestep"].tolist() == [1e-4, 2e-4]
+    # MuJoCo's reference acceleration -d (b v + k x) at d = d_max, b = 2 / (d_max tc),
+    # k = d_max / (d_max^2 tc^2 dr^2): omega0^2 = d_max k = 1 / (tc dr)^2
+    tc, dr = design.solref
+    omega0 = np.sqrt(FLAT[1] * FLAT[1] / (FLAT[1] ** 2 * tc**2 * dr**2))
+    assert out["rule_of_thumb"] == pytest.approx(0.03 / omega0, rel=1e-12)

@@ -15,9 +15,10 @@ import pytest
 
 import impactsym.engines.drivers as drivers
 from impactsym import reproduce
-from impactsym.engines import lammps
-from impactsym.engines.survey import DROP_MASS
+from impactsym.engines import lammps, mujoco
+from impactsym.engines.survey import DROP_MASS, FLAT, mujoco_at_timesteps
 from impactsym.results import engines as results
+from impactsym.results import engines_timestep
 
 matplotlib.use("Agg")
 
@@ -45,6 +46,39 @@ class Captions(HTMLParser):
     def handle_data(self, data):
         if self._inside:
             self.captions[self._figure] += data
+
+
+_CACHE: dict = {}
+
+
+@pytest.fixture(autouse=True)
+def _designs_once(monkeypatch):
+    """Each reproduce run makes the same MuJoCo designs, curves and advice: make them once
+    (the real functions' results, kept for the module's runs)."""
+    designs, advice = engines_timestep.mujoco_designs, engines_timestep.mujoco_advice
+    curves = engines_timestep.mujoco_curves
+
+    def cached_curves(solrefs, timesteps):
+        key = ("curves", tuple(solrefs.items()), tuple(np.asarray(timesteps).tolist()))
+        if key not in _CACHE:
+            _CACHE[key] = curves(solrefs, timesteps)
+        return dict(_CACHE[key])
+
+    def cached_designs(restitution, *, contact_time=None):
+        key = ("designs", restitution, contact_time)
+        if key not in _CACHE:
+            _CACHE[key] = designs(restitution, contact_time=contact_time)
+        return dict(_CACHE[key])
+
+    def cached_advice(targets, **kwargs):
+        key = ("advice", tuple(np.asarray(targets).tolist()), tuple(sorted(kwargs.items())))
+        if key not in _CACHE:
+            _CACHE[key] = advice(targets, **kwargs)
+        return dict(_CACHE[key])
+
+    monkeypatch.setattr(engines_timestep, "mujoco_designs", cached_designs)
+    monkeypatch.setattr(engines_timestep, "mujoco_advice", cached_advice)
+    monkeypatch.setattr(engines_timestep, "mujoco_curves", cached_curves)
 
 
 def _run(tmp_path, monkeypatch, versions):
@@ -83,6 +117,10 @@ def test_without_engines_every_engine_point_is_said_to_be_predicted(tmp_path, mo
     assert "No LAMMPS point: LAMMPS was not installed" in lammps_caption
     assert "every curve and band is a prediction" in lammps_caption
     assert "Points with bars: measured" not in lammps_caption
+    assert all(not case["measured"] for case in timestep["mujoco"].values())
+    mujoco_caption = captions["engines_mujoco_timestep"]
+    assert "No MuJoCo point: MuJoCo was not installed" in mujoco_caption
+    assert "Points with bars: measured" not in mujoco_caption
 
 
 def test_lammps_at_its_timestep_files_hold_the_predictions(tmp_path, monkeypatch):
@@ -131,7 +169,11 @@ def test_with_one_engine_its_version_is_named_and_the_other_is_predicted(tmp_pat
         calls.append(solref)
         return 0.5, 0.01
 
+    def fake_phases(*, solref, solimp, speed, gravity, timestep, integrator, phases):
+        return {"restitution": np.full(len(phases), 0.5), "sticks": np.zeros(len(phases), bool)}
+
     monkeypatch.setattr(drivers, "mujoco_drop", fake_drop)
+    monkeypatch.setattr(drivers, "mujoco_phases", fake_phases)
     out, captions, markdown = _run(tmp_path, monkeypatch, {"MuJoCo": "9.8.7-test", "LAMMPS": None})
     runs = json.loads((out / "engines_runs.json").read_text())["runs"]
     assert len(runs) == len(calls) == 3 * 2 * 2  # 3 targets, 2 solimp, textbook and design
@@ -145,6 +187,56 @@ def test_with_one_engine_its_version_is_named_and_the_other_is_predicted(tmp_pat
     assert "Curves: predicted by impactsym" in text
     assert "measured in MuJoCo 9.8.7-test" in markdown
     assert "Every point of this figure is a prediction" not in text
+
+
+def test_mujoco_at_its_timestep_files_hold_the_predictions(tmp_path, monkeypatch):
+    calls = []
+
+    def fake_phases(*, solref, solimp, speed, gravity, timestep, integrator, phases):
+        calls.append((tuple(solref), timestep))
+        return {"restitution": np.full(len(phases), 0.5), "sticks": np.zeros(len(phases), bool)}
+
+    monkeypatch.setattr(drivers, "mujoco_drop", lambda **kwargs: (0.5, 0.01))
+    monkeypatch.setattr(drivers, "mujoco_phases", fake_phases)
+    out, captions, markdown = _run(tmp_path, monkeypatch, {"MuJoCo": "7.7-test", "LAMMPS": None})
+    for name in ("engines_mujoco_timestep", "engines_mujoco_advice"):
+        assert (out / f"{name}.png").stat().st_size > 1000
+        assert (out / f"{name}.pdf").stat().st_size > 1000
+    rows = (out / "engines_mujoco_timestep.csv").read_text().splitlines()
+    table = np.array([[float(v) for v in row.split(",")] for row in rows[1:]])
+    column = dict(zip(rows[0].split(","), table.T, strict=True))
+    record = json.loads((out / "engines_timestep_runs.json").read_text())
+    assert record["engines"]["MuJoCo"] == "7.7-test"
+    for case, e, contact_time in engines_timestep.MUJOCO_CASES:
+        solrefs = record["mujoco"][case]["solref"]
+        assert set(solrefs) == (
+            {"continuous", "discrete"} | ({"textbook"} if contact_time is None else set())
+        )
+        # the discrete design's phase mean is the target at MuJoCo's default timestep
+        p = mujoco.predict(
+            solref=solrefs["discrete"], speed=1.0, gravity=9.81, timestep=0.002, integrator="euler"
+        )
+        assert p.restitution == pytest.approx(e, rel=5e-3)
+        # the CSV's curves are the predictions for the recorded designs (two timesteps)
+        steps = column["timestep_s"][[3, -4]]
+        for name, solref in solrefs.items():
+            curve = mujoco_at_timesteps(solref=solref, speed=1.0, gravity=9.81, timesteps=steps)
+            for key in ("mean", "min", "max", "tc_mean"):
+                got = column[f"{case}_{name}_{key}"][[3, -4]]
+                assert got == pytest.approx(curve[key], rel=1e-12)
+        measured = record["mujoco"][case]["measured"]
+        assert measured["discrete"]["mean"] == [0.5] * len(engines_timestep.MUJOCO_STEPS[0])
+    assert len(calls) == 5 * len(engines_timestep.MUJOCO_STEPS[0])  # 3 + 2 designs
+    advice = np.loadtxt(out / "engines_mujoco_advice.csv", delimiter=",", skiprows=1)
+    design = mujoco.solref_for(restitution=advice[:, 0], speed=1.0, gravity=9.81, solimp=FLAT)
+    assert advice[:, 2] == pytest.approx(design.solref[1], rel=1e-12)
+    assert advice[:, 5] == pytest.approx(0.03 * advice[:, 1] * advice[:, 2], rel=1e-12)
+    assert np.all(advice[:, 4] <= 0.01)  # the worst deviation at the advised timestep
+    text = captions["engines_mujoco_timestep"]
+    assert "Points with bars: measured in MuJoCo 7.7-test" in text
+    assert f"over {engines_timestep.MUJOCO_PHASES[0]} evenly spaced touch phases" in text
+    assert "predicted by impactsym.engines.mujoco.predict(timestep=...), not engine output" in text
+    assert "engines_mujoco_advice.csv" in markdown
 
 
 def _engines_importable() -> bool:

@@ -1,5 +1,5 @@
 """Surveys over the engines' predictions: textbook against exact restitution, MuJoCo's
-stick map.
+stick map, the engines at their timestep and the timestep advisors.
 
 The textbook damping ``D = -ln e / sqrt(pi^2 + ln^2 e)`` gives the wanted restitution
 only for a linear spring-damper released when the force vanishes; the engines differ
@@ -10,6 +10,8 @@ notebooks/04_engine_parameters.ipynb.
 """
 
 from __future__ import annotations
+
+import warnings
 
 import numpy as np
 
@@ -134,6 +136,120 @@ def mujoco_measured(
         "min": e.min(1),
         "max": e.max(1),
         "sticks": sticks,
+    }
+
+
+def mujoco_at_timesteps(
+    *,
+    solref,
+    solimp=mujoco.DEFAULT_SOLIMP,
+    speed: float,
+    gravity: float = 0.0,
+    timesteps,
+    integrator: str = "euler",
+) -> dict[str, np.ndarray]:
+    """MuJoCo's predicted restitution over touch phases at each of ``timesteps``.
+
+    One design (``solref`` a pair of numbers) at every timestep of the 1-D array
+    ``timesteps`` (s), by :func:`impactsym.engines.mujoco.predict` with ``phase=None``.
+    ``predict`` takes one timestep; time scaling puts every timestep ``h`` into one call at
+    the common timestep ``H`` (the median), exactly: with ``sigma = h / H`` the contact
+    keeps its positions and runs ``1 / sigma`` times faster with ``solref`` ``(timeconst /
+    sigma, dampratio)`` (or ``(-sigma^2 k, -sigma b)``), speed ``sigma v`` and gravity
+    ``sigma^2 g``; velocities scale by ``sigma``, so the restitution is unchanged, the
+    contact time is ``sigma`` times the scaled one, and MuJoCo's refsafe (``timeconst >=
+    2 h``) holds at ``h`` iff it holds at ``H``. Returns arrays over ``timesteps``:
+    ``"timestep"``, the restitution's phase ``"mean"``, ``"min"``, ``"max"``, the mean
+    contact time ``"tc_mean"`` (s) and ``"sticks"`` (at some phase). Predictions, no
+    engine run; a ``RuntimeWarning`` where the in-contact step map is unstable.
+
+    >>> out = mujoco_at_timesteps(solref=(0.02, 1.0), speed=1.0, timesteps=[1e-3, 2e-3])
+    >>> bool(np.all(out["min"] <= out["mean"])), bool(np.all(out["mean"] <= out["max"]))
+    (True, True)
+    """
+    steps = real_array("timesteps", timesteps, lower=0.0, strict=True)[0]
+    if steps.ndim != 1:
+        raise ValueError(f"timesteps must be a 1-D array, got shape {steps.shape}")
+    ref = real_array("solref", solref)[0]
+    if ref.shape != (2,):
+        raise ValueError(f"solref must be one pair of numbers, got {solref!r}")
+    common = float(np.median(steps))
+    sigma = steps / common
+    a, b = float(ref[0]), float(ref[1])
+    scaled = (a / sigma, b + 0.0 * sigma) if a > 0 else (a * sigma**2, b * sigma)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RuntimeWarning)
+        p = mujoco.predict(
+            solref=scaled,
+            solimp=solimp,
+            speed=sigma * speed,
+            gravity=sigma**2 * gravity,
+            timestep=common,
+            integrator=integrator,
+        )
+    if any(issubclass(w.category, RuntimeWarning) for w in caught):
+        # predict names the scaled timestep: say it in the caller's timesteps instead
+        warnings.warn(
+            f"MuJoCo's in-contact step map is unstable for solref {solref!r} at some of "
+            f"the timesteps {steps.min():g} ... {steps.max():g} s: the restitution there "
+            "is that of a diverging map",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    low, high = p.restitution_range
+    return {
+        "timestep": steps,
+        "mean": np.asarray(p.restitution),
+        "min": np.asarray(low),
+        "max": np.asarray(high),
+        "tc_mean": sigma * np.asarray(p.contact_time),
+        "sticks": np.asarray(p.sticks, dtype=bool),
+    }
+
+
+#: ``omega0 dt`` of the one-parameter rule of thumb the advisor replaces.
+RULE_OF_THUMB = 0.03
+
+
+def mujoco_advice(
+    targets,
+    *,
+    speed: float,
+    gravity: float = 0.0,
+    solimp=mujoco.DEFAULT_SOLIMP,
+    tolerance: float = 0.01,
+    integrator: str = "euler",
+) -> dict[str, np.ndarray]:
+    """The timestep advisor for MuJoCo's continuous design of each target restitution.
+
+    Designs ``solref_for(restitution=targets, ...)`` (no timestep) and asks
+    :func:`impactsym.engines.mujoco.timestep_for` for the largest timestep keeping the
+    restitution within ``tolerance`` of the continuous value at every touch phase.
+    Returns ``"targets"``, ``"timeconst"``, ``"dampratio"``, the advisor's ``"timestep"``
+    (s) and worst ``"error"`` there, and ``"rule_of_thumb"``: the timestep of
+    ``omega0 dt =`` :data:`RULE_OF_THUMB` with ``omega0 = 1 / (timeconst dampratio)``
+    (the natural frequency at the impedance ``d_max``), the one-parameter rule the
+    advisor replaces. Predictions, no engine run; each advice costs many phase-exact
+    predictions (seconds per call, vectorized over the targets).
+    """
+    e = real_array("targets", targets, lower=0.0, strict=True)[0].ravel()
+    design = mujoco.solref_for(restitution=e, speed=speed, gravity=gravity, solimp=solimp)
+    tc, dr = (np.broadcast_to(np.asarray(v, dtype=float), e.shape) for v in design.solref)
+    advice = mujoco.timestep_for(
+        solref=design.solref,
+        solimp=solimp,
+        speed=speed,
+        gravity=gravity,
+        tolerance=tolerance,
+        integrator=integrator,
+    )
+    return {
+        "targets": e,
+        "timeconst": tc,
+        "dampratio": dr,
+        "timestep": np.asarray(advice.timestep, dtype=float),
+        "error": np.asarray(advice.error, dtype=float),
+        "rule_of_thumb": RULE_OF_THUMB * tc * dr,
     }
 
 
