@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.contact.lawdesign import damping_for
+from impactsym.contact.lawdesign import damping_for, restitution_of
 from impactsym.engines.drake.phases import phase_summary
 from impactsym.engines.drake.prediction import (
     Prediction,
@@ -113,7 +113,7 @@ def point_contact_for(
     --------
     >>> c = point_contact_for(restitution=0.5, speed=1.0, mass=0.1, contact_time=1e-3)
     >>> round(c.hunt_crossley_dissipation, 4), round(c.point_contact_stiffness)
-    (1.2978, 905413)
+    (1.4328, 1079336)
     """
     h = check_time_step(time_step)
     approx = check_approximation(approximation, h)
@@ -151,19 +151,18 @@ def point_contact_for(
     if h > 0 and size_name == "contact_time" and np.any(target < 2.0 * h):
         bad = np.flatnonzero(target < 2.0 * h)[0]
         raise ValueError(
-            f"contact_time {target[bad]!r} is out of reach at time_step {h!r}: a contact "
+            f"contact_time {float(target[bad])!r} is out of reach at time_step {h!r}: a contact "
             f"lasts at least two steps; use time_step <= {target[bad] / 20.0:.3g}"
         )
     # the undamped-law scale: t_c ~ pi sqrt(m/k), x_max ~ v sqrt(m/k)
     unit = np.pi if size_name == "contact_time" else v
-    k = m * (unit / target) ** 2
+    k = k_start = m * (unit / target) ** 2
     damp = np.zeros_like(k)
     log_prev = q_prev = None
+    best, stalled = np.inf, 0
     for _ in range(_OUTER):
         if approx is None:
-            damp = np.asarray(damping_for("hunt-crossley", restitution=e, stiffness=k, mass=m,
-                              speed=v, force=m * g, exponent=1.0, condition="position"),
-                              float).ravel()  # fmt: skip
+            damp = _continuous_damping(e, k, m, v, g, damp)
             p = predict(stiffness=k, dissipation=damp, mass=m, speed=v, gravity=g)
         else:
             damp = _discrete_damping(e, k, m, v, g, h, approx, damp)
@@ -172,9 +171,9 @@ def point_contact_for(
         if np.any(~np.isfinite(q)):
             bad = np.flatnonzero(~np.isfinite(q))[0]
             raise ValueError(
-                f"restitution {e[bad]!r} at speed {v[bad]!r}, gravity {g[bad]!r}: the body "
-                "sticks at the design (the pressing force holds it); ask for a larger "
-                "restitution, a smaller gravity or a larger speed"
+                f"restitution {float(e[bad])!r} at speed {float(v[bad])!r}, gravity "
+                f"{float(g[bad])!r}: the body sticks at the design (the pressing force holds "
+                "it); ask for a larger restitution, a smaller gravity or a larger speed"
             )
         ratio = q / target
         if np.all(np.abs(ratio - 1.0) <= _TOL):
@@ -188,12 +187,19 @@ def point_contact_for(
             slope = np.where(np.isfinite(secant), np.clip(secant, -2.0, -0.1), slope)
         log_prev, q_prev = log_k, log_q
         k = np.exp(log_k + (np.log(target) - log_q) / slope)
-    else:
+        miss = float(np.max(np.abs(ratio - 1.0)))
+        stalled = stalled + 1 if miss > 0.5 * best else 0
+        best = min(best, miss)
+        if stalled >= 6 or np.any(k > 1e6 * k_start) or np.any(k < 1e-6 * k_start):
+            break  # no progress: out of reach
+    if not np.all(np.abs(ratio - 1.0) <= _TOL):
         bad = int(np.argmax(np.abs(ratio - 1.0)))
         raise ValueError(
-            f"{size_name} {target[bad]!r} is out of reach at time_step {h!r} with "
-            f"restitution {e[bad]!r}: the stiffness iteration does not settle "
-            f"({size_name} {q[bad]!r} at k = {k[bad]:.6g}); use a smaller time_step"
+            f"{size_name} {float(target[bad])!r} is out of reach at time_step {h!r} with "
+            f"restitution {float(e[bad])!r}: the stiffness iteration does not settle "
+            f"({size_name} {float(q[bad])!r} at k = {k[bad]:.6g}; near the rebound bound "
+            "v_out < 1/d the contact time stops following the stiffness); use a smaller "
+            "time_step or a larger restitution"
         )
 
     def out(a):
@@ -223,6 +229,34 @@ def _predict(k, damp, m, v, g, h, approx) -> Prediction:
                    approximation=approx)  # fmt: skip
 
 
+def _continuous_damping(e, k, m, v, g, start) -> np.ndarray:
+    """The Hunt–Crossley ``d`` whose restitution is ``e`` at stiffness ``k`` (flat arrays):
+    warm-started Illinois on the exact restitution, else
+    :func:`~impactsym.contact.lawdesign.damping_for`."""
+
+    def e_of(p, rows):
+        b = g[rows] * np.sqrt(m[rows] / k[rows]) / v[rows]  # the pressing number
+        s = p * v[rows]
+        return restitution_of("hunt-crossley", s, b, np.ones(rows.size), condition="position")
+
+    if np.all(start > 0) and np.all(g > 0):
+        warm = _warm(e, start, (1.0 - 1e-12) / (e * v), e_of)
+        if warm is not None:
+            return warm
+    return np.asarray(damping_for("hunt-crossley", restitution=e, stiffness=k, mass=m, speed=v,
+                      force=m * g, exponent=1.0, condition="position"), float).ravel()  # fmt: skip
+
+
+def _warm(e, start, upper, e_of):
+    """The root in a narrow bracket around the last one, or ``None`` if it is not there."""
+    rows = np.arange(e.size)
+    lo, hi = start * (1.0 - 2e-2), np.minimum(start * (1.0 + 2e-2), upper)
+    e_lo, e_hi = e_of(lo, rows), e_of(hi, rows)
+    if np.all((e_lo > e) & (e_hi <= e)):
+        return _illinois(e, lo, hi, e_lo, e_hi, e_of)
+    return None
+
+
 def _discrete_damping(e, k, m, v, g, h, approx, start) -> np.ndarray:
     """The damping (``d``, or ``tau`` for ``"sap"``) whose phase-mean restitution is ``e``
     at stiffness ``k`` (flat arrays): Illinois inside a bracket, warm-started."""
@@ -236,18 +270,15 @@ def _discrete_damping(e, k, m, v, g, h, approx, start) -> np.ndarray:
 
     rows = np.arange(e.size)
     if np.all(start > 0):  # warm start: a narrow bracket around the last root
-        lo, hi = start * (1.0 - 1e-3), start * (1.0 + 1e-3)
-        if not sap:
-            hi = np.minimum(hi, (1.0 - 1e-12) / (e * v))
-        e_lo, e_hi = e_of(lo, rows), e_of(hi, rows)
-        if np.all((e_lo > e) & (e_hi <= e)):
-            return _illinois(e, lo, hi, e_lo, e_hi, lambda p, r: e_of(p, r))
+        warm = _warm(e, start, np.inf if sap else (1.0 - 1e-12) / (e * v), e_of)
+        if warm is not None:
+            return warm
     e0 = e_of(np.zeros(e.size), rows)
     high = e0 <= e
     if high.any():
         bad = np.flatnonzero(high)[0]
         raise ValueError(
-            f"restitution {e[bad]!r} is out of reach with {approx!r} at time_step {h!r}: "
+            f"restitution {float(e[bad])!r} is out of reach with {approx!r} at time_step {h!r}: "
             f"without dissipation the step itself restitutes {e0[bad]:.6g}; ask for a "
             "smaller restitution or use a smaller time_step"
         )
@@ -263,7 +294,7 @@ def _discrete_damping(e, k, m, v, g, h, approx, start) -> np.ndarray:
         else:
             bad = np.flatnonzero(e_hi > e)[0]
             raise ValueError(
-                f"restitution {e[bad]!r} is out of reach with 'sap': it stays at "
+                f"restitution {float(e[bad])!r} is out of reach with 'sap': it stays at "
                 f"{e_hi[bad]:.6g} up to relaxation_time {hi[bad]:.3g} s"
             )
     else:
@@ -274,7 +305,7 @@ def _discrete_damping(e, k, m, v, g, h, approx, start) -> np.ndarray:
         if bad.size:
             i = bad[0]
             raise ValueError(
-                f"restitution {e[i]!r} is out of reach with {approx!r} at time_step {h!r}: "
+                f"restitution {float(e[i])!r} is out of reach with {approx!r} at time_step {h!r}: "
                 f"the rebound speed e v must stay below 1/d, and at d = 1/(e v) = {hi[i]:.6g} "
                 f"s/m the step still restitutes {e_hi[i]:.6g}; use a smaller time_step"
             )

@@ -101,7 +101,9 @@ def drake_phases(
     touch, with the free-flight penetration ``speed t + g t^2/2`` and approach speed
     ``speed + g t``. A state's force is the contact result of the update from it. The
     contact ends at the first state without contact or with zero normal force
-    (``restitution``: its separation speed over ``speed``; ``contact_time``: touch to
+    (below ``1e-12 mass speed / time_step`` counts as zero, as in
+    :mod:`impactsym.engines.drake.stepping`; ``restitution``: its separation speed over
+    ``speed``; ``contact_time``: touch to
     it); if the force comes back while the overlap lasts, or the contact never ends
     within ``max_steps`` updates, the body sticks. ``relaxation_time`` is the combined
     value (``None``: Drake's default 0.1 s on each geometry, 0.2 s).
@@ -132,6 +134,8 @@ def drake_phases(
             touching = results.num_point_pair_contacts() > 0
             force = -results.point_pair_contact_info(0).contact_force()[2] if touching else 0.0
             rate = float(plant.GetVelocities(pc)[0])
+            if force <= 1e-12 * mass * speed / time_step:  # as in the model: rounding
+                force = 0.0
             if ended and touching and force > 0:
                 out.update(sticks=True)
                 break
@@ -164,7 +168,7 @@ def drake_continuous(
     speed,
     gravity=0.0,
     pair=None,
-    accuracy=1e-12,
+    accuracy=1e-14,
     t_max=None,
 ):
     """The sphere hits the half space on a continuous plant (``time_step = 0``).
@@ -173,7 +177,8 @@ def drake_continuous(
     in chunks of a hundredth of ``sqrt(m/k)`` until the sphere is clear of the plane,
     then places the release from the free flight: ``v_out^2 = v^2 + 2 g (z - R)`` and the
     time back to ``z = R``. ``max_penetration`` is the largest over the integrator's
-    steps (a monitor). Sticks if not clear by ``t_max`` (default ``200 sqrt(m/k)``).
+    steps (a monitor), refined by the cubic Hermite interpolant of the two steps
+    around the turn. Sticks if not clear by ``t_max`` (default ``200 sqrt(m/k)``).
     Returns a dict: ``restitution``, ``contact_time``, ``sticks``, ``max_penetration``.
     """
     from pydrake.systems.analysis import ResetIntegratorFromFlags, Simulator
@@ -200,10 +205,16 @@ def drake_continuous(
     ResetIntegratorFromFlags(simulator, "runge_kutta5", 0.01 * scale)
     simulator.get_mutable_integrator().set_target_accuracy(accuracy)
     deepest = [0.0]
+    last = []
 
     def monitor(root):
         z = float(plant.GetPositions(plant.GetMyContextFromRoot(root))[0])
-        deepest[0] = max(deepest[0], RADIUS - z)
+        w = float(plant.GetVelocities(plant.GetMyContextFromRoot(root))[0])
+        sample = (root.get_time(), RADIUS - z, -w)  # time, penetration, its rate
+        deepest[0] = max(deepest[0], sample[1])
+        if last and last[0][2] > 0 >= sample[2]:  # the turn: cubic Hermite between steps
+            deepest[0] = max(deepest[0], _hermite_peak(last[0], sample))
+        last[:] = [sample]
         return EventStatus.DidNothing()
 
     simulator.set_monitor(monitor)
@@ -225,3 +236,17 @@ def drake_continuous(
             }
     return {"restitution": 0.0, "contact_time": math.inf, "sticks": True,
             "max_penetration": deepest[0]}  # fmt: skip
+
+
+def _hermite_peak(a, b) -> float:
+    """Largest value of the cubic Hermite interpolant through ``(t, p, p')`` samples."""
+    (t0, p0, q0), (t1, p1, q1) = a, b
+    dt = t1 - t0
+    # p(s) on s in [0, 1]: Hermite basis; p'(s) = A s^2 + B s + C
+    c = (p0, q0 * dt, 3 * (p1 - p0) - (2 * q0 + q1) * dt, 2 * (p0 - p1) + (q0 + q1) * dt)
+    roots = np.roots([3 * c[3], 2 * c[2], c[1]])
+    best = max(p0, p1)
+    for r in roots[np.isreal(roots)].real:
+        if 0.0 <= r <= 1.0:
+            best = max(best, c[0] + c[1] * r + c[2] * r * r + c[3] * r**3)
+    return float(best)

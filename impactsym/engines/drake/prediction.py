@@ -149,7 +149,7 @@ def predict(
 
     >>> p = predict(stiffness=1e4, dissipation=0.5, mass=1.0, speed=1.0, time_step=1e-3)
     >>> round(p.restitution, 4), tuple(round(float(e), 4) for e in p.restitution_range)
-    (0.6581, (0.6549, 0.6622))
+    (0.6582, (0.6549, 0.6624))
     """
     h = check_time_step(time_step)
     approx = check_approximation(approximation, h)

@@ -11,7 +11,9 @@ first detecting one.
 From that state on the exact update of :mod:`impactsym.engines.drake.update` runs on
 whole arrays (a loop over steps, vectorized over designs and phases). The contact ends at
 the first state whose contact is gone (``x < 0``) or whose update carries no impulse; the
-restitution is that state's separation speed over ``v``. If the impulse comes back while
+restitution is that state's separation speed over ``v`` (an impulse below ``1e-12 m v``
+counts as zero: where the rebound approaches ``1/d`` the impulse decays geometrically
+and only rounding would end it). If the impulse comes back while
 the overlap lasts, or the body turns back inwards inside the overlap before the end (a
 loaded contact settling: its energy only falls from there, so it never leaves), the body
 sticks. The result is :class:`~impactsym.engines.mujoco.stepping.StepContact`.
@@ -29,6 +31,7 @@ __all__ = ["MAX_STEPS", "step_contact"]
 
 #: Updates stepped before a contact that has not ended is declared sticking.
 MAX_STEPS = 2_000_000
+_ZERO = 1e-12  # impulses below this times m v count as zero
 
 
 def step_contact(k, d, tau, m, g, v, h, phase, *, approximation: str) -> StepContact:
@@ -64,7 +67,9 @@ def step_contact(k, d, tau, m, g, v, h, phase, *, approximation: str) -> StepCon
         args = (k[live], tau[live] if sap else d[live], m[live], g[live], h[live])
         new, impulse = (sap_velocity if sap else hunt_crossley_velocity)(xl, ul, *args)
         new = np.where(contact, new, ul + h[live] * g[live])
-        impulse = np.where(contact, impulse, 0.0)
+        # an impulse below 1e-12 m v is zero: at the rebound bound u -> -1/d it decays
+        # geometrically and only rounding would decide when it is exactly zero
+        impulse = np.where(contact & (impulse > _ZERO * m[live] * v[live]), impulse, 0.0)
         was_ended = ended[live]
         # the end state: the first without contact or without impulse
         end_now = ~was_ended & (~contact | (impulse <= 0.0))
