@@ -50,7 +50,7 @@ def test_discrete_update_per_phase_is_drakes(approximation, gravity):
 
 
 def test_default_is_lagged_and_sap_ignores_dissipation_in_drake():
-    base = dict(stiffness=1e4, mass=1.0, speed=1.0, time_step=1e-3, phases=[0.3])
+    base = {"stiffness": 1e4, "mass": 1.0, "speed": 1.0, "time_step": 1e-3, "phases": [0.3]}
     lagged = drake_phases(dissipation=0.5, approximation="lagged", **base)
     sap = [drake_phases(dissipation=d, approximation="sap", **base) for d in (0.0, 5.0)]
     assert sap[0]["restitution"][0] == sap[1]["restitution"][0]
@@ -68,9 +68,11 @@ def test_phase_mean_and_range_hold_in_drake():
                        phases=phases)  # fmt: skip
     p = predict(stiffness=1e4, dissipation=0.5, mass=1.0, speed=1.0, time_step=1e-3)
     lo, hi = p.restitution_range
-    assert lo <= run["restitution"].min() and run["restitution"].max() <= hi
+    assert lo <= run["restitution"].min()
+    assert run["restitution"].max() <= hi
     assert abs(run["restitution"].mean() / p.restitution - 1.0) < 1e-3  # 64-point midpoint
-    assert abs(p.restitution - 0.658) < 1e-3 and abs(lo - 0.655) < 1e-3  # issue's figures
+    assert abs(p.restitution - 0.658) < 1e-3
+    assert abs(lo - 0.655) < 1e-3
 
 
 def test_pair_rules_are_drakes():
@@ -118,4 +120,5 @@ def test_stick_verdict_is_drakes(time_step):
         else:
             got = drake_continuous(stiffness=1e4, dissipation=d, mass=1.0, speed=v,
                                    gravity=9.81, t_max=0.5)["sticks"]  # fmt: skip
-        assert p.sticks is sticks and got is sticks
+        assert p.sticks is sticks
+        assert got is sticks
