@@ -21,6 +21,7 @@ instead, to check the combination rules. Friction is zero.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -94,7 +95,7 @@ def drake_phases(
     relaxation_time=None,
     pair=None,
     max_steps=100_000,
-):
+) -> dict[str, np.ndarray]:
     """A sphere hits the half space at Drake's ``time_step``, read state by state per phase.
 
     Each run starts at the first detecting state, ``phase * time_step`` after geometric
@@ -170,7 +171,7 @@ def drake_continuous(
     pair=None,
     accuracy=1e-14,
     t_max=None,
-):
+) -> dict[str, Any]:
     """The sphere hits the half space on a continuous plant (``time_step = 0``).
 
     Runs a :class:`Simulator` (``runge_kutta5``, target accuracy ``accuracy``) from touch

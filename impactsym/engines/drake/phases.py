@@ -15,6 +15,7 @@ All designs and pieces are evaluated together on whole arrays.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -57,8 +58,10 @@ class PhaseSummary(ArrayRecord):
     stick_fraction: np.ndarray
 
 
-def phase_summary(k, d, tau, m, g, v, h, *, approximation: str, bounds: bool = True
-                  ) -> PhaseSummary:  # fmt: skip
+def phase_summary(
+    k: Any, d: Any, tau: Any, m: Any, g: Any, v: Any, h: Any, *, approximation: str,
+    bounds: bool = True,
+) -> PhaseSummary:  # fmt: skip
     """Mean over the touch phase and bounds over every phase (module docstring).
 
     Arguments as in :func:`~impactsym.engines.drake.stepping.step_contact`, without the

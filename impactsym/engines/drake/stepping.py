@@ -22,6 +22,8 @@ All quantities are SI. Internal to :mod:`impactsym.engines.drake`.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from impactsym.engines.drake.update import hunt_crossley_velocity, sap_velocity
@@ -34,7 +36,9 @@ MAX_STEPS = 2_000_000
 _ZERO = 1e-12  # impulses below this times m v count as zero
 
 
-def step_contact(k, d, tau, m, g, v, h, phase, *, approximation: str) -> StepContact:
+def step_contact(
+    k: Any, d: Any, tau: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, *, approximation: str
+) -> StepContact:
     """The contact at touch phase ``phase`` under ``approximation`` (arrays broadcast, SI).
 
     ``k`` combined point stiffness, ``d`` Hunt–Crossley dissipation (s/m), ``tau``

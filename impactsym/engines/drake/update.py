@@ -30,6 +30,8 @@ All quantities are SI. Internal to :mod:`impactsym.engines.drake`.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 __all__ = ["APPROXIMATIONS", "DEFAULT_RELAXATION_TIME", "hunt_crossley_velocity", "sap_velocity"]
@@ -43,7 +45,9 @@ DEFAULT_RELAXATION_TIME = 0.2
 NEAR_RIGID_THRESHOLD = 1.0
 
 
-def hunt_crossley_velocity(x, u, k, d, m, g, h):
+def hunt_crossley_velocity(
+    x: Any, u: Any, k: Any, d: Any, m: Any, g: Any, h: Any
+) -> tuple[np.ndarray, np.ndarray]:
     """New approach rate and impulse of one ``tamsi``/``similar``/``lagged`` update.
 
     Arrays broadcast. The root of ``m (u' - u*) + h k (x + h u')(1 + d u') = 0`` in the
@@ -63,7 +67,9 @@ def hunt_crossley_velocity(x, u, k, d, m, g, h):
     return new, np.where(free, 0.0, m * (ustar - new))
 
 
-def sap_velocity(x, u, k, tau, m, g, h):
+def sap_velocity(
+    x: Any, u: Any, k: Any, tau: Any, m: Any, g: Any, h: Any
+) -> tuple[np.ndarray, np.ndarray]:
     """New approach rate and impulse of one ``sap`` update (arrays broadcast).
 
     ``m (u' - u*) = -(x/(h + tau) + u')_+ / R``: linear, so
