@@ -10,8 +10,10 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from impactsym.contact.nonlinear import impact
 from impactsym.engines.drake import combine, point_contact_for, predict
 from impactsym.engines.drake import derivation as drv
+from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
 from impactsym.engines.drake.stepping import step_contact
 from impactsym.engines.drake.update import hunt_crossley_velocity, sap_velocity
 
@@ -91,6 +93,22 @@ def test_continuous_prediction_is_the_clipped_law_integrated(gravity):
                     events=out, dense_output=True)  # fmt: skip
     assert abs(p.restitution + sol.y_events[0][0][1] / v) < 1e-10
     assert abs(p.contact_time / sol.t_events[0][0] - 1.0) < 1e-10
+
+
+def test_phase_plane_quadrature_is_the_integrated_law():
+    # every s in [0, S_MAX], against the order-8 integration of impact()
+    s = np.concatenate([[0.0, 1e-9, 1e-4], np.linspace(0.01, S_MAX, 60)])
+    e, tau, z_max = hunt_crossley_free(s)
+    r = impact("hunt-crossley", stiffness=1.0, damping=s, mass=1.0, speed=1.0, exponent=1.0,
+               condition="position")  # fmt: skip
+    np.testing.assert_allclose(e, r.restitution, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(tau, r.contact_time, rtol=1e-12)
+    np.testing.assert_allclose(z_max, r.max_penetration, rtol=1e-12)
+    # and predict uses it without gravity, the integration beyond S_MAX: one law
+    p = predict(stiffness=4e4, dissipation=[1.0, 5.0], mass=0.2, speed=1.0)
+    q = impact("hunt-crossley", stiffness=4e4, damping=[1.0, 5.0], mass=0.2, speed=1.0,
+               exponent=1.0, condition="position")  # fmt: skip
+    np.testing.assert_allclose(p.contact_time, q.contact_time, rtol=1e-12)
 
 
 def test_approximations_tamsi_similar_lagged_agree_and_phase_zero_detects():
