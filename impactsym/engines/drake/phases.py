@@ -25,10 +25,9 @@ from impactsym.records import ArrayRecord
 __all__ = ["PhaseSummary", "phase_summary"]
 
 _GRID = 8
-_SPLIT = 64  # multisection: 6 bits of the jump phase per call
-_ROUNDS = 7  # 2^-42 of a phase
+_SPLIT = 64  # multisection: 6 bits of the jump phase per call (2^-42: 7 calls)
+_BATCH = 200_000  # contacts per call above which the searches take fewer phases per call
 _ZOOM = 33  # phases per zoom round of an interior extreme
-_ZOOMS = 7
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(5)
 
 
@@ -88,22 +87,26 @@ def phase_summary(
     lo = np.tile(grid[:-1], (size, 1))
     hi = np.tile(grid[1:], (size, 1))
     i_all = np.repeat(np.arange(size), _GRID)
-    key_lo = key(run(i_all, lo.ravel()), lo.ravel(), i_all).reshape(size, _GRID)
-    key_hi = key(run(i_all, hi.ravel()), hi.ravel(), i_all).reshape(size, _GRID)
+    i_grid = np.repeat(np.arange(size), _GRID + 1)
+    at = np.tile(grid, size)
+    keys = key(run(i_grid, at), at, i_grid).reshape(size, _GRID + 1)
+    key_lo, key_hi = keys[:, :-1], keys[:, 1:]
     jump = key_lo != key_hi
     ii, kk = np.nonzero(jump)
     a, c = lo[ii, kk].copy(), hi[ii, kk].copy()
     left = key_lo[ii, kk]
-    frac = np.arange(1, _SPLIT) / _SPLIT
-    for _ in range(_ROUNDS):
+    # multisection: split - 1 phases per bracket and call, keep the first change; many
+    # small calls cost Python overhead, few large ones cost work: 64 for a few brackets
+    split = _SPLIT if ii.size * _SPLIT <= _BATCH else 4
+    frac = np.arange(1, split) / split
+    for _ in range(int(np.ceil(42 / np.log2(split)))):
         if ii.size == 0:
             break
-        # multisection: _SPLIT - 1 phases per bracket in one call, keep the first change
         pts = a[:, None] + (c - a)[:, None] * frac[None, :]
         rows = np.repeat(ii, frac.size)
         same = key(run(rows, pts.ravel()), pts.ravel(), rows) == np.repeat(left, frac.size)
-        j = np.argmin(same.reshape(pts.shape), axis=1)  # first phase past the change
-        j = np.where(same.reshape(pts.shape).all(axis=1), frac.size, j)
+        same = same.reshape(pts.shape)
+        j = np.where(same.all(axis=1), frac.size, np.argmin(same, axis=1))
         grid_pts = np.concatenate([a[:, None], pts, c[:, None]], axis=1)
         a, c = grid_pts[np.arange(ii.size), j], grid_pts[np.arange(ii.size), j + 1]
     ends = np.where(jump, np.nan, hi)
@@ -147,26 +150,28 @@ def phase_summary(
 def _interior_extreme(run, own, pts, e, sign):
     """Largest (``sign = 1``) or smallest (``-1``) restitution inside each piece where an
     interior node holds the extreme sample; ``nan`` elsewhere. Zoom search: sample
-    ``_ZOOM`` phases between the extreme's neighbours, keep the best and its neighbours,
-    ``_ZOOMS`` times (the bracket shrinks 16-fold per round: ``16^-7`` of a piece, and
-    the error of a smooth extreme is quadratic in that)."""
+    ``_ZOOM`` phases (9 for large batches) between the extreme's neighbours, keep the
+    best and its neighbours, until the bracket is ``1e-9`` of a piece (the error of a
+    smooth extreme is quadratic in that)."""
     j = np.argmax(sign * e, axis=1)
     inner = np.flatnonzero((j > 0) & (j < pts.shape[1] - 1))
     out = np.full(e.shape[0], np.nan)
     if inner.size == 0:
         return out
     a, c = pts[inner, j[inner] - 1], pts[inner, j[inner] + 1]
-    owner = np.repeat(own[inner], _ZOOM)
+    points = _ZOOM if inner.size * _ZOOM <= _BATCH else 9
+    owner = np.repeat(own[inner], points)
     best = sign * e[inner, j[inner]]
-    frac = np.linspace(0.0, 1.0, _ZOOM)
+    frac = np.linspace(0.0, 1.0, points)
     rows = np.arange(inner.size)
-    for _ in range(_ZOOMS):
+    # the bracket shrinks (points - 1)/2-fold per round: to ~1e-9 of a piece
+    for _ in range(int(np.ceil(9.0 / np.log10((points - 1) / 2.0)))):
         x = a[:, None] + (c - a)[:, None] * frac[None, :]
         f = (sign * run(owner, x.ravel()).restitution).reshape(x.shape)
         b = np.argmax(f, axis=1)
         best = np.fmax(best, f[rows, b])
         a = x[rows, np.maximum(b - 1, 0)]
-        c = x[rows, np.minimum(b + 1, _ZOOM - 1)]
+        c = x[rows, np.minimum(b + 1, points - 1)]
     out[inner] = sign * best
     return out
 
