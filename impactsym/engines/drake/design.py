@@ -239,6 +239,8 @@ def _continuous_damping(e, k, m, v, g, start) -> np.ndarray:
         s = p * v[rows]
         return restitution_of("hunt-crossley", s, b, np.ones(rows.size), condition="position")
 
+    if np.all(start > 0) and np.all(g == 0):
+        return start  # without gravity s = d v does not depend on k: the last root holds
     if np.all(start > 0) and np.all(g > 0):
         warm = _warm(e, start, (1.0 - 1e-12) / (e * v), e_of)
         if warm is not None:
