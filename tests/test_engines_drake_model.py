@@ -146,3 +146,17 @@ def test_designs_deliver_their_targets(time_step, approximation, gravity, size):
         assert np.all(c.relaxation_time > 0)
     else:
         assert c.relaxation_time is None
+
+
+def test_results_broadcast_and_scalars_stay_scalars():
+    p = predict(stiffness=np.array([[1e4], [1e5]]), dissipation=[0.0, 0.5, 3.0], mass=1.0,
+                speed=1.0, time_step=1e-3)  # fmt: skip
+    assert p.restitution.shape == p.restitution_range[0].shape == p.sticks.shape == (2, 3)
+    assert np.all(p.restitution_range[0] <= p.restitution)
+    assert np.all(p.restitution <= p.restitution_range[1])
+    q = predict(stiffness=1e4, dissipation=0.5, mass=1.0, speed=1.0, time_step=1e-3, phase=0.2)
+    assert isinstance(q.restitution, float)
+    assert isinstance(q.sticks, bool)
+    c = point_contact_for(restitution=0.6, speed=1.0, mass=0.2, contact_time=0.01)
+    assert isinstance(c.point_contact_stiffness, float)
+    assert isinstance(c.prediction.restitution, float)
