@@ -1,0 +1,341 @@
+r"""The point contact Drake needs for a target impact: :func:`point_contact_for`.
+
+The inverse of :func:`~impactsym.engines.drake.prediction.predict` (``docs/physics.md``,
+"Drake point contact"). Two numbers fix the contact: the restitution and one size, the
+contact time or the maximum penetration, which scale as :math:`\sqrt{m/k}` at a fixed
+damping number. So the stiffness is the fixed point of
+:math:`k \leftarrow k\,(q(k)/q^*)^2` (``q`` the size), exact in one step where the
+damping number does not depend on ``k`` (no gravity, continuous) and a fast contraction
+where gravity or the step couple them, and at each ``k`` the damping is the root of the
+restitution:
+
+* continuous: :func:`impactsym.contact.lawdesign.damping_for` (Hunt–Crossley, exponent 1,
+  pressing force ``m g``; the exact Lambert-W inverse without gravity);
+* discrete: the phase mean of the exact discrete map falls as the damping grows; a
+  bracketed Illinois root of it. For ``"tamsi"``/``"similar"``/``"lagged"`` the bracket
+  ends at ``d = 1/(e v)``: the rebound speed ``e v`` cannot exceed ``1/d``, where the
+  factor ``(1 + d x')`` of the law vanishes. For ``"sap"`` the damping is the
+  relaxation time (``hunt_crossley_dissipation`` is ignored there and returned as 0).
+
+All designs are solved together on whole arrays.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from impactsym.contact.lawdesign import damping_for, restitution_of
+from impactsym.engines.drake.phases import phase_summary
+from impactsym.engines.drake.prediction import (
+    Prediction,
+    check_approximation,
+    check_time_step,
+    predict,
+)
+from impactsym.records import ArrayRecord
+from impactsym.validation import broadcast, finish, real_array
+
+__all__ = ["PointContact", "point_contact_for"]
+
+_OUTER = 80  # fixed-point steps in the stiffness
+_INNER = 100  # Illinois steps in the damping
+_TOL = 1e-10
+
+
+@dataclass(frozen=True, eq=False)
+class PointContact(ArrayRecord):
+    """Drake point-contact parameters for a target impact, and what they deliver (SI).
+
+    Attributes
+    ----------
+    point_contact_stiffness, hunt_crossley_dissipation
+        Combined ``k`` (N/m) and ``d`` (s/m) of the pair (``d = 0`` for ``"sap"``,
+        which ignores it); e.g. give both geometries ``2 k`` and ``d``, which
+        :func:`~impactsym.engines.drake.pair.combine` turns back into ``k`` and ``d``.
+    relaxation_time
+        Combined relaxation time (s) for ``"sap"``; ``None`` otherwise.
+    restitution, contact_time, max_penetration, sticks
+        What :func:`~impactsym.engines.drake.prediction.predict` gives at the design
+        (phase means at a discrete step).
+    prediction
+        That :class:`~impactsym.engines.drake.prediction.Prediction`, with the ranges.
+    """
+
+    point_contact_stiffness: Any
+    hunt_crossley_dissipation: Any
+    relaxation_time: Any
+    restitution: Any
+    contact_time: Any
+    max_penetration: Any
+    sticks: Any
+    prediction: Prediction
+
+
+def point_contact_for(
+    *,
+    restitution: Any,
+    speed: Any,
+    mass: Any,
+    gravity: Any = 0.0,
+    contact_time: Any = None,
+    max_penetration: Any = None,
+    time_step: float = 0.0,
+    approximation: str | None = None,
+) -> PointContact:
+    r"""``point_contact_stiffness`` and ``hunt_crossley_dissipation`` for a target impact.
+
+    Parameters
+    ----------
+    restitution : float or array_like
+        Target coefficient of restitution, ``0 < e < 1`` (the phase mean at a step).
+    speed, mass, gravity : float or array_like
+        Approach speed (m/s), mass (kg), pressing acceleration (m/s^2, ``>= 0``).
+    contact_time, max_penetration : float or array_like
+        Exactly one: the target contact time (s) or largest penetration (m).
+    time_step, approximation
+        As in :func:`~impactsym.engines.drake.prediction.predict`.
+
+    Returns
+    -------
+    PointContact
+
+    Raises
+    ------
+    ValueError
+        For bad input, or a target out of reach, saying why (the rebound bound
+        ``e v < 1/d``, the restitution of the undamped step, a contact too short for the
+        step, sticking under gravity).
+
+    Examples
+    --------
+    >>> c = point_contact_for(restitution=0.5, speed=1.0, mass=0.1, contact_time=1e-3)
+    >>> round(c.hunt_crossley_dissipation, 4), round(c.point_contact_stiffness)
+    (1.4328, 1079336)
+    """
+    h = check_time_step(time_step)
+    approx = check_approximation(approximation, h)
+    if (contact_time is None) == (max_penetration is None):
+        raise ValueError(
+            "give exactly one of contact_time and max_penetration (the size of the contact "
+            f"that fixes the stiffness), got contact_time={contact_time!r}, "
+            f"max_penetration={max_penetration!r}"
+        )
+    size_name = "contact_time" if contact_time is not None else "max_penetration"
+    size_in = contact_time if contact_time is not None else max_penetration
+    values = {
+        name: real_array(name, value, lower=0.0, strict=strict)
+        for name, value, strict in (
+            ("restitution", restitution, True),
+            ("speed", speed, True),
+            ("mass", mass, True),
+            ("gravity", gravity, False),
+            (size_name, size_in, True),
+        )
+    }
+    e_arr = values["restitution"][0]
+    if (e_arr >= 1.0).any():
+        raise ValueError(
+            "restitution must be < 1 (e = 1 needs no dissipation and any stiffness), got "
+            f"{float(e_arr[e_arr >= 1.0].flat[0])!r}"
+        )
+    scalar = all(flag for _, flag in values.values())
+    shape = broadcast(**{name: a for name, (a, _) in values.items()})
+    e, v, m, g, target = (np.broadcast_to(a, shape).ravel() for a, _ in values.values())
+
+    def size_of(p: Prediction) -> np.ndarray:
+        return np.asarray(getattr(p, size_name), float).ravel()
+
+    if h > 0 and size_name == "contact_time" and np.any(target < 2.0 * h):
+        bad = np.flatnonzero(target < 2.0 * h)[0]
+        raise ValueError(
+            f"contact_time {float(target[bad])!r} is out of reach at time_step {h!r}: a contact "
+            f"lasts at least two steps; use time_step <= {target[bad] / 20.0:.3g}"
+        )
+    # the undamped-law scale: t_c ~ pi sqrt(m/k), x_max ~ v sqrt(m/k)
+    unit = np.pi if size_name == "contact_time" else v
+    k = k_start = m * (unit / target) ** 2
+    damp = np.zeros_like(k)
+    log_prev = q_prev = None
+    best, stalled = np.inf, 0
+    for _ in range(_OUTER):
+        if approx is None:
+            damp = _continuous_damping(e, k, m, v, g, damp)
+            p = predict(stiffness=k, dissipation=damp, mass=m, speed=v, gravity=g)
+        else:
+            damp = _discrete_damping(e, k, m, v, g, h, approx, damp)
+            p = _predict(k, damp, m, v, g, h, approx)
+        q = size_of(p)
+        if np.any(~np.isfinite(q)):
+            bad = np.flatnonzero(~np.isfinite(q))[0]
+            raise ValueError(
+                f"restitution {float(e[bad])!r} at speed {float(v[bad])!r}, gravity "
+                f"{float(g[bad])!r}: the body sticks at the design (the pressing force holds "
+                "it); ask for a larger restitution, a smaller gravity or a larger speed"
+            )
+        ratio = q / target
+        if np.all(np.abs(ratio - 1.0) <= _TOL):
+            break
+        # secant in (log k, log q): the slope is -1/2 where the damping number is fixed
+        log_k, log_q = np.log(k), np.log(q)
+        slope = np.full_like(k, -0.5)
+        if log_prev is not None:
+            with np.errstate(all="ignore"):
+                secant = (log_q - q_prev) / (log_k - log_prev)
+            slope = np.where(np.isfinite(secant), np.clip(secant, -2.0, -0.1), slope)
+        log_prev, q_prev = log_k, log_q
+        k = np.exp(log_k + (np.log(target) - log_q) / slope)
+        miss = float(np.max(np.abs(ratio - 1.0)))
+        stalled = stalled + 1 if miss > 0.5 * best else 0
+        best = min(best, miss)
+        if stalled >= 6 or np.any(k > 1e6 * k_start) or np.any(k < 1e-6 * k_start):
+            break  # no progress: out of reach
+    if not np.all(np.abs(ratio - 1.0) <= _TOL):
+        bad = int(np.argmax(np.abs(ratio - 1.0)))
+        raise ValueError(
+            f"{size_name} {float(target[bad])!r} is out of reach at time_step {h!r} with "
+            f"restitution {float(e[bad])!r}: the stiffness iteration does not settle "
+            f"({size_name} {float(q[bad])!r} at k = {k[bad]:.6g}; near the rebound bound "
+            "v_out < 1/d the contact time stops following the stiffness); use a smaller "
+            "time_step or a larger restitution"
+        )
+
+    def out(a):
+        return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
+
+    sap = approx == "sap"
+    if scalar or len(shape) != 1:  # the prediction in the shape of the input
+        p = _predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),
+                     h, approx)  # fmt: skip
+    return PointContact(
+        point_contact_stiffness=out(k),
+        hunt_crossley_dissipation=out(np.zeros_like(k) if sap else damp),
+        relaxation_time=out(damp) if sap else None,
+        restitution=p.restitution,
+        contact_time=p.contact_time,
+        max_penetration=p.max_penetration,
+        sticks=p.sticks,
+        prediction=p,
+    )
+
+
+def _predict(k, damp, m, v, g, h, approx) -> Prediction:
+    if approx == "sap":
+        return predict(stiffness=k, dissipation=0.0, mass=m, speed=v, gravity=g, time_step=h,
+                       approximation=approx, relaxation_time=damp)  # fmt: skip
+    return predict(stiffness=k, dissipation=damp, mass=m, speed=v, gravity=g, time_step=h,
+                   approximation=approx)  # fmt: skip
+
+
+def _continuous_damping(e, k, m, v, g, start) -> np.ndarray:
+    """The Hunt–Crossley ``d`` whose restitution is ``e`` at stiffness ``k`` (flat arrays):
+    warm-started Illinois on the exact restitution, else
+    :func:`~impactsym.contact.lawdesign.damping_for`."""
+
+    def e_of(p, rows):
+        b = g[rows] * np.sqrt(m[rows] / k[rows]) / v[rows]  # the pressing number
+        s = p * v[rows]
+        return restitution_of("hunt-crossley", s, b, np.ones(rows.size), condition="position")
+
+    if np.all(start > 0) and np.all(g == 0):
+        return start  # without gravity s = d v does not depend on k: the last root holds
+    if np.all(start > 0) and np.all(g > 0):
+        warm = _warm(e, start, (1.0 - 1e-12) / (e * v), e_of)
+        if warm is not None:
+            return warm
+    return np.asarray(damping_for("hunt-crossley", restitution=e, stiffness=k, mass=m, speed=v,
+                      force=m * g, exponent=1.0, condition="position"), float).ravel()  # fmt: skip
+
+
+def _warm(e, start, upper, e_of):
+    """The root in a narrow bracket around the last one, or ``None`` if it is not there."""
+    rows = np.arange(e.size)
+    lo, hi = start * (1.0 - 2e-2), np.minimum(start * (1.0 + 2e-2), upper)
+    e_lo, e_hi = e_of(lo, rows), e_of(hi, rows)
+    if np.all((e_lo > e) & (e_hi <= e)):
+        return _illinois(e, lo, hi, e_lo, e_hi, e_of)
+    return None
+
+
+def _discrete_damping(e, k, m, v, g, h, approx, start) -> np.ndarray:
+    """The damping (``d``, or ``tau`` for ``"sap"``) whose phase-mean restitution is ``e``
+    at stiffness ``k`` (flat arrays): Illinois inside a bracket, warm-started."""
+    sap = approx == "sap"
+
+    def e_of(p, rows):
+        d = np.zeros(rows.size) if sap else p
+        tau = p if sap else 0.0
+        return phase_summary(k[rows], d, tau, m[rows], g[rows], v[rows], h,
+                             approximation=approx, bounds=False).restitution  # fmt: skip
+
+    rows = np.arange(e.size)
+    if np.all(start > 0):  # warm start: a narrow bracket around the last root
+        warm = _warm(e, start, np.inf if sap else (1.0 - 1e-12) / (e * v), e_of)
+        if warm is not None:
+            return warm
+    e0 = e_of(np.zeros(e.size), rows)
+    high = e0 <= e
+    if high.any():
+        bad = np.flatnonzero(high)[0]
+        raise ValueError(
+            f"restitution {float(e[bad])!r} is out of reach with {approx!r} at time_step {h!r}: "
+            f"without dissipation the step itself restitutes {e0[bad]:.6g}; ask for a "
+            "smaller restitution or use a smaller time_step"
+        )
+    if sap:
+        hi = np.where(start > 0, 2.0 * start, 10.0 * h)
+        e_hi = e_of(hi, rows)
+        for _ in range(60):
+            grow = e_hi > e
+            if not grow.any():
+                break
+            hi[grow] *= 4.0
+            e_hi[grow] = e_of(hi[grow], rows[grow])
+        else:
+            bad = np.flatnonzero(e_hi > e)[0]
+            raise ValueError(
+                f"restitution {float(e[bad])!r} is out of reach with 'sap': it stays at "
+                f"{e_hi[bad]:.6g} up to relaxation_time {hi[bad]:.3g} s"
+            )
+    else:
+        # the rebound e v must stay below 1/d: the bracket ends just short of 1/(e v)
+        hi = (1.0 - 1e-12) / (e * v)
+        e_hi = e_of(hi, rows)
+        bad = np.flatnonzero(e_hi > e)
+        if bad.size:
+            i = bad[0]
+            raise ValueError(
+                f"restitution {float(e[i])!r} is out of reach with {approx!r} at time_step {h!r}: "
+                f"the rebound speed e v must stay below 1/d, and at d = 1/(e v) = {hi[i]:.6g} "
+                f"s/m the step still restitutes {e_hi[i]:.6g}; use a smaller time_step"
+            )
+    return _illinois(e, np.zeros(e.size), hi, e0, e_hi, e_of)
+
+
+def _illinois(e, lo, hi, e_lo, e_hi, e_of) -> np.ndarray:
+    """The root of ``e_of(p) = e`` inside ``[lo, hi]`` (``e_of`` falling), Illinois steps."""
+    lo, hi = lo.copy(), hi.copy()
+    g_lo, g_hi = e_lo - e, e_hi - e
+    side = np.zeros(e.size, int)
+    active = np.ones(e.size, bool)
+    for _ in range(_INNER):
+        r = np.flatnonzero(active)
+        if r.size == 0:
+            break
+        with np.errstate(all="ignore"):
+            trial = (lo[r] * g_hi[r] - hi[r] * g_lo[r]) / (g_hi[r] - g_lo[r])
+        bad = ~np.isfinite(trial) | (trial <= lo[r]) | (trial >= hi[r])
+        trial = np.where(bad, 0.5 * (lo[r] + hi[r]), trial)
+        g_t = e_of(trial, r) - e[r]
+        up = g_t > 0
+        ru, rd = r[up], r[~up]
+        lo[ru], g_lo[ru] = trial[up], g_t[up]
+        hi[rd], g_hi[rd] = trial[~up], g_t[~up]
+        g_hi[ru] = np.where(side[ru] == 1, 0.5 * g_hi[ru], g_hi[ru])
+        g_lo[rd] = np.where(side[rd] == -1, 0.5 * g_lo[rd], g_lo[rd])
+        side[ru], side[rd] = 1, -1
+        done = (np.abs(g_t) <= 1e-12) | (hi[r] - lo[r] <= 1e-13 * hi[r])
+        active[r[done]] = False
+    return np.where(np.abs(g_lo) <= np.abs(g_hi), lo, hi)
