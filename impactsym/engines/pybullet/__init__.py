@@ -16,7 +16,8 @@ The physics is in `docs/physics.md#pybullet-at-its-timestep`. SI units throughou
 
 from __future__ import annotations
 
+from impactsym.engines.pybullet.design import contact_for
 from impactsym.engines.pybullet.pair import combine_pair, split_pair
 from impactsym.engines.pybullet.prediction import PyBulletContact, predict
 
-__all__ = ["PyBulletContact", "combine_pair", "predict", "split_pair"]
+__all__ = ["PyBulletContact", "combine_pair", "contact_for", "predict", "split_pair"]
