@@ -106,3 +106,18 @@ def test_the_stick_verdict():
     engine = pybullet_steps(**free, phase=np.array([0.2, 0.8]))
     assert not engine.sticks.any()
     _agree(engine, pyb.predict(**free, phase=np.array([0.2, 0.8])))
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+@pytest.mark.parametrize("threshold", [None, 0.5])
+def test_velocity_restitution_is_the_product_and_has_its_threshold(gravity, threshold):
+    engine = pybullet_steps(
+        **BALL,
+        phase=PHASES,
+        gravity=gravity,
+        restitution=(0.5, 0.8),
+        restitution_threshold=threshold,
+    )
+    kw = {} if threshold is None else {"restitution_threshold": threshold}
+    model = pyb.predict(**BALL, phase=PHASES, gravity=gravity, velocity_restitution=0.4, **kw)
+    _agree(engine, model)

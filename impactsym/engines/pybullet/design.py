@@ -21,7 +21,7 @@ import numpy as np
 from impactsym.engines.pybullet.pair import split_pair
 from impactsym.engines.pybullet.phases import phase_summary
 from impactsym.engines.pybullet.prediction import PyBulletContact, check_settings, predict
-from impactsym.engines.pybullet.stepping import DEFAULT_SLOP
+from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD, DEFAULT_SLOP
 from impactsym.validation import broadcast, real_array
 
 __all__ = ["DEFAULT_CONTACT_STEPS", "contact_for"]
@@ -47,6 +47,8 @@ def contact_for(
     processing_threshold: float = np.inf,
     other_stiffness: Any = np.inf,
     other_damping: Any = 0.1,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> PyBulletContact:
     """``contactStiffness``/``contactDamping`` that give ``restitution`` (phase mean) in PyBullet.
 
@@ -59,7 +61,8 @@ def contact_for(
     contact_time
         Target phase-mean contact time (s); ``None``: ``DEFAULT_CONTACT_STEPS``
         timesteps.
-    timestep, substeps, slop, processing_threshold, other_stiffness, other_damping
+    timestep, substeps, slop, processing_threshold, other_stiffness, other_damping,
+    velocity_restitution, restitution_threshold
         As in :func:`~impactsym.engines.pybullet.prediction.predict`.
 
     Returns
@@ -91,10 +94,11 @@ def contact_for(
         t, s5 = np.asarray(DEFAULT_CONTACT_STEPS * h), True
     else:
         t, s5 = real_array("contact_time", contact_time, lower=0.0, strict=True)
-    s, threshold, n = check_settings(slop, processing_threshold, substeps)
+    settings = check_settings(
+        slop, processing_threshold, substeps, velocity_restitution, restitution_threshold
+    )
     shape = broadcast(restitution=e, speed=v, mass=m, gravity=g, contact_time=t)
     e, v, m, g, t = (np.broadcast_to(a, shape).ravel() for a in (e, v, m, g, t))
-    settings = {"substeps": n, "slop": s, "processing_threshold": threshold}
     k, c = _solve(e, t, v, m, g, h, settings)
     bad = ~(np.isfinite(k) & np.isfinite(c))
     if bad.any():

@@ -36,15 +36,20 @@ def pybullet_steps(
     processing_threshold: float | None = None,
     plane: tuple[float, float] | None = None,
     radius: float = 0.5,
+    restitution: tuple[float, float] | None = None,
+    restitution_threshold: float | None = None,
 ) -> StepContact:
     """Run PyBullet at each touch phase in ``phase`` and read the contact (arrays, SI).
 
     ``stiffness``/``damping`` go to the sphere (``changeDynamics``), ``plane=(k, c)`` to
     the plane (``None``: the plane keeps PyBullet's defaults, damping ``0.1``);
     ``slop``/``processing_threshold`` set ``contactSlop``/``contactProcessingThreshold``
-    where given. The sphere has ``linearDamping = angularDamping = 0``; ``radius`` must
-    keep the contact inside Bullet's contact-breaking distance (``0.02 sqrt(3) radius``
-    must exceed a step's travel). Geometric touch lies ``phase * timestep`` before the
+    where given; ``restitution=(r_ball, r_plane)`` sets both bodies' velocity
+    restitution (``changeDynamics(restitution=...)``, the pair uses the product) and
+    ``restitution_threshold`` the ``restitutionVelocityThreshold``. The sphere has
+    ``linearDamping = angularDamping = 0``; ``radius`` must keep the contact inside
+    Bullet's contact-breaking distance (``0.02 sqrt(3) radius`` must exceed a step's
+    travel). Geometric touch lies ``phase * timestep`` before the
     first state (after a call) that free flight would carry into overlap; the run starts
     one step earlier in free flight.
     """
@@ -56,6 +61,7 @@ def pybullet_steps(
     for i, p in enumerate(phases):
         cid = pb.connect(pb.DIRECT)
         try:
+            _settings(pb, cid, timestep, substeps, slop, restitution_threshold)
             one = _run(
                 pb,
                 cid,
@@ -66,12 +72,11 @@ def pybullet_steps(
                 float(p),
                 gravity,
                 timestep,
-                substeps,
-                slop,
                 processing_threshold,
                 plane,
                 radius,
                 budget,
+                restitution,
             )
         finally:
             pb.disconnect(cid)
@@ -83,13 +88,18 @@ def pybullet_steps(
     return StepContact(**{name: a.reshape(shape) for name, a in out.items()})
 
 
-def _run(pb, cid, k, c, m, v, p, g, h, substeps, slop, threshold, plane, radius, budget):
+def _settings(pb, cid, h, substeps, slop, restitution_threshold):
     params = {"fixedTimeStep": h, "physicsClientId": cid}
     if substeps > 1:
         params["numSubSteps"] = substeps
     if slop is not None:
         params["contactSlop"] = slop
+    if restitution_threshold is not None:
+        params["restitutionVelocityThreshold"] = restitution_threshold
     pb.setPhysicsEngineParameter(**params)
+
+
+def _run(pb, cid, k, c, m, v, p, g, h, threshold, plane, radius, budget, restitution):
     pb.setGravity(0, 0, -g, physicsClientId=cid)
     plane_id = pb.createMultiBody(
         0, pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=cid), physicsClientId=cid
@@ -113,6 +123,9 @@ def _run(pb, cid, k, c, m, v, p, g, h, substeps, slop, threshold, plane, radius,
         pb.changeDynamics(
             plane_id, -1, contactStiffness=plane[0], contactDamping=plane[1], physicsClientId=cid
         )
+    if restitution is not None:
+        pb.changeDynamics(ball, -1, restitution=restitution[0], physicsClientId=cid)
+        pb.changeDynamics(plane_id, -1, restitution=restitution[1], physicsClientId=cid)
     pb.resetBaseVelocity(ball, [0, 0, -w], [0, 0, 0], physicsClientId=cid)
     started = ended = False
     first = end = 0

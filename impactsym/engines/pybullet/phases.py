@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.mujoco.discrete import PhaseSummary
-from impactsym.engines.pybullet.stepping import step_pattern
+from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD, step_pattern
 
 __all__ = ["phase_summary"]
 
@@ -40,6 +40,8 @@ def phase_summary(
     substeps: int,
     slop: float,
     processing_threshold: float,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> PhaseSummary:
     """Mean over the touch phase (uniform in ``[0, 1)``) and bounds over every phase.
 
@@ -65,6 +67,8 @@ def phase_summary(
             substeps=substeps,
             slop=slop,
             processing_threshold=processing_threshold,
+            velocity_restitution=velocity_restitution,
+            restitution_threshold=restitution_threshold,
         )
 
     grid = np.linspace(0.0, 1.0, _GRID + 1)

@@ -22,8 +22,9 @@ Settings that do not change it: ``numSolverIterations`` (one contact row is solv
 the first iteration), warm starting, ``enableSplitImpulse`` (the reduced-coordinate
 bodies of ``createMultiBody``/``loadURDF`` never split; bodies created with
 ``useMaximalCoordinates=True`` are not modelled). Keep ``linearDamping=0`` on the body
-(PyBullet's default ``0.04`` adds a drag the model leaves out) and ``restitution=0``
-(the default; the velocity-restitution path is not modelled). SI units.
+(PyBullet's default ``0.04`` adds a drag the model leaves out). Velocity restitution
+(``velocity_restitution``, ``restitution_threshold``) is modelled as the row adds it to a
+contact with stiffness and damping. SI units.
 """
 
 from __future__ import annotations
@@ -35,7 +36,11 @@ import numpy as np
 
 from impactsym.engines.pybullet.pair import combine_pair
 from impactsym.engines.pybullet.phases import phase_summary
-from impactsym.engines.pybullet.stepping import DEFAULT_SLOP, step_contact
+from impactsym.engines.pybullet.stepping import (
+    DEFAULT_RESTITUTION_THRESHOLD,
+    DEFAULT_SLOP,
+    step_contact,
+)
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, check_count, real_array
 
@@ -83,8 +88,21 @@ class PyBulletContact(ArrayRecord):
     phase: Any = None
 
 
-def check_settings(slop: Any, processing_threshold: Any, substeps: Any) -> tuple:
-    """Validated ``(slop, processing_threshold, substeps)`` (one number each)."""
+def check_settings(
+    slop: Any,
+    processing_threshold: Any,
+    substeps: Any,
+    velocity_restitution: Any = 0.0,
+    restitution_threshold: Any = DEFAULT_RESTITUTION_THRESHOLD,
+) -> dict:
+    """The validated engine settings as keywords of the step map (one number each)."""
+    r, r_scalar = real_array("velocity_restitution", velocity_restitution, lower=0.0)
+    rt, rt_scalar = real_array("restitution_threshold", restitution_threshold, lower=0.0)
+    if not (r_scalar and rt_scalar):
+        raise ValueError(
+            f"velocity_restitution and restitution_threshold must be single numbers, "
+            f"got {velocity_restitution!r} and {restitution_threshold!r}"
+        )
     s, s_scalar = real_array("slop", slop, lower=0.0)
     t, t_scalar = real_array("processing_threshold", processing_threshold, allow_inf=True)
     if not (s_scalar and t_scalar):
@@ -93,7 +111,13 @@ def check_settings(slop: Any, processing_threshold: Any, substeps: Any) -> tuple
             f"got {slop!r} and {processing_threshold!r}"
         )
     n = check_count("substeps", substeps, lower=1, upper=10_000)
-    return float(s), float(t), n
+    return {
+        "substeps": n,
+        "slop": float(s),
+        "processing_threshold": float(t),
+        "velocity_restitution": float(r),
+        "restitution_threshold": float(rt),
+    }
 
 
 def predict(
@@ -110,6 +134,8 @@ def predict(
     processing_threshold: float = np.inf,
     other_stiffness: Any = np.inf,
     other_damping: Any = 0.1,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> PyBulletContact:
     """PyBullet's bounce of a body (``mass``, kg) arriving at ``speed`` on a static body.
 
@@ -124,6 +150,12 @@ def predict(
         Approach speed at touch (m/s) and the gravity pressing the body on (m/s^2).
     timestep, substeps, slop, processing_threshold
         Engine settings (module docstring: the PyBullet call behind each).
+    velocity_restitution, restitution_threshold
+        The pair's ``restitution`` (the product of both bodies' ``changeDynamics(...,
+        restitution=...)``, default 0) and ``setPhysicsEngineParameter(
+        restitutionVelocityThreshold=...)`` (default ``0.2f``): where the approach speed
+        after the unconstrained step is at least the threshold, the row also asks for a
+        separation speed ``velocity_restitution * w*``.
     phase
         Touch phase in ``[0, 1)`` (`docs/physics.md#touch-phase`); ``None``: the mean
         over phases, with the range over every phase.
@@ -149,7 +181,9 @@ def predict(
     h, h_scalar = real_array("timestep", timestep, lower=0.0, strict=True)
     if not h_scalar:
         raise ValueError(f"timestep must be one number (seconds), got {timestep!r}")
-    s, threshold, n = check_settings(slop, processing_threshold, substeps)
+    settings = check_settings(
+        slop, processing_threshold, substeps, velocity_restitution, restitution_threshold
+    )
     k_body, c_body, m, v, g = arrays
     k, c = combine_pair(
         stiffness=k_body,
@@ -159,7 +193,6 @@ def predict(
     )
     k, c = np.asarray(k, float), np.asarray(c, float)
     broadcast(stiffness=k, damping=c, mass=m, speed=v, gravity=g)
-    settings = {"substeps": n, "slop": s, "processing_threshold": threshold}
     if phase is not None:
         p, p_scalar = real_array("phase", phase, lower=0.0)
         if np.any(p >= 1):
@@ -183,4 +216,4 @@ def predict(
         kinds = (float, float, float, float, float, float, bool, float)
         out = [kind(a) for kind, a in zip(kinds, out, strict=True)]
         ranges = tuple((float(a), float(b)) for a, b in ranges)
-    return PyBulletContact(*out, *ranges, float(h), n, phase)
+    return PyBulletContact(*out, *ranges, float(h), settings["substeps"], phase)

@@ -40,10 +40,18 @@ import numpy as np
 
 from impactsym.engines.mujoco.stepping import StepContact
 
-__all__ = ["DEFAULT_SLOP", "step_budget", "step_contact", "step_pattern"]
+__all__ = [
+    "DEFAULT_RESTITUTION_THRESHOLD",
+    "DEFAULT_SLOP",
+    "step_budget",
+    "step_contact",
+    "step_pattern",
+]
 
 #: PyBullet's default ``contactSlop`` (``m_linearSlop`` set by PhysicsServerCommandProcessor)
 DEFAULT_SLOP = 1e-5
+#: ``m_restitutionVelocityThreshold = 0.2f`` (a float literal stored in a double)
+DEFAULT_RESTITUTION_THRESHOLD = float(np.float32(0.2))
 
 
 def step_budget(stiffness, damping, mass, timestep) -> np.ndarray:
@@ -66,6 +74,8 @@ def step_contact(
     substeps: int = 1,
     slop: float = DEFAULT_SLOP,
     processing_threshold: float = np.inf,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> StepContact:
     """The contact at touch phase ``phase`` as PyBullet's states show it (arrays, SI).
 
@@ -85,6 +95,8 @@ def step_contact(
         substeps=substeps,
         slop=slop,
         processing_threshold=processing_threshold,
+        velocity_restitution=velocity_restitution,
+        restitution_threshold=restitution_threshold,
     )[0]
 
 
@@ -100,6 +112,8 @@ def step_pattern(
     substeps: int = 1,
     slop: float = DEFAULT_SLOP,
     processing_threshold: float = np.inf,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> tuple[StepContact, np.ndarray]:
     """:func:`step_contact` and the *pattern* of each element (same shape).
 
@@ -136,6 +150,7 @@ def step_pattern(
     f_max = np.zeros(size)
     n_spec = np.zeros(size)
     n_pos = np.zeros(size)
+    n_rest = np.zeros(size)
     n = -1
     limit = int(budget.max())
     while not done.all():
@@ -144,6 +159,10 @@ def step_pattern(
             w_star = w + g * h
             d = slop - x
             b = np.where(d > 0, w_star - d / h, w_star - erp * d / h)
+            if velocity_restitution:  # restitutionCurve: a wanted separation speed
+                rest = (np.abs(w_star) >= restitution_threshold) & (w_star > 0)
+                b = b + np.where(rest, velocity_restitution * w_star, 0.0)
+                n_rest += ~ended & rest
             dv = np.where(-x <= processing_threshold, np.maximum(gain * b, 0.0), 0.0)
             counting = ~ended & (dv > 0)
             n_spec += counting & (d > 0)
@@ -187,7 +206,9 @@ def step_pattern(
         "peak_accel": f_max / m,
     }
     pattern = np.where(
-        sticks, -1.0, ((n_end * 1024.0 + n_first + 2.0) * 1024.0 + n_spec) * 1024.0 + n_pos
+        sticks,
+        -1.0,
+        (((n_end * 1024.0 + n_first + 2.0) * 1024.0 + n_spec) * 1024.0 + n_pos) * 1024.0 + n_rest,
     )
     record = StepContact(**{key: val.reshape(shape) for key, val in fields.items()})
     return record, pattern.reshape(shape)
