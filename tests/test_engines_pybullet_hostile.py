@@ -74,3 +74,18 @@ def test_bad_design_targets_are_named(kwargs, match):
 def test_a_design_needing_less_damping_than_the_plane_brings_is_refused():
     with pytest.raises(ValueError, match="other body already brings"):
         pyb.contact_for(restitution=0.8, speed=1.0, mass=0.1, contact_time=0.1)
+
+
+def test_a_timestep_too_fine_for_the_step_by_step_map_is_refused_with_one_that_works():
+    with pytest.raises(ValueError, match=r"too fine .* use a timestep of at least"):
+        pyb.predict(**OK, timestep=1e-6)
+    with pytest.raises(ValueError, match="too fine"):
+        pyb.contact_for(restitution=0.5, speed=1.0, mass=1.0, contact_time=0.1, timestep=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("name", "bad"), [("velocity_restitution", -0.1), ("restitution_threshold", -1.0)]
+)
+def test_bad_restitution_settings_are_named(name, bad):
+    with pytest.raises(ValueError, match=name):
+        pyb.predict(**OK, **{name: bad})

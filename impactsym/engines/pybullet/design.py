@@ -20,7 +20,12 @@ import numpy as np
 
 from impactsym.engines.pybullet.pair import split_pair
 from impactsym.engines.pybullet.phases import phase_summary
-from impactsym.engines.pybullet.prediction import PyBulletContact, check_settings, predict
+from impactsym.engines.pybullet.prediction import (
+    PyBulletContact,
+    check_budget,
+    check_settings,
+    predict,
+)
 from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD, DEFAULT_SLOP
 from impactsym.validation import broadcast, real_array
 
@@ -99,6 +104,7 @@ def contact_for(
     )
     shape = broadcast(restitution=e, speed=v, mass=m, gravity=g, contact_time=t)
     e, v, m, g, t = (np.broadcast_to(a, shape).ravel() for a in (e, v, m, g, t))
+    check_budget(m * (np.pi / t) ** 2, 0.0, m, h)  # the stiffness of an undamped contact of t
     k, c = _solve(e, t, v, m, g, h, settings)
     bad = ~(np.isfinite(k) & np.isfinite(c))
     if bad.any():

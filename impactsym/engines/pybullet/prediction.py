@@ -39,12 +39,14 @@ from impactsym.engines.pybullet.phases import phase_summary
 from impactsym.engines.pybullet.stepping import (
     DEFAULT_RESTITUTION_THRESHOLD,
     DEFAULT_SLOP,
+    MAX_STEPS,
+    step_budget,
     step_contact,
 )
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, check_count, real_array
 
-__all__ = ["PyBulletContact", "check_settings", "predict"]
+__all__ = ["PyBulletContact", "check_budget", "check_settings", "predict"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,6 +88,17 @@ class PyBulletContact(ArrayRecord):
     timestep: float
     substeps: int
     phase: Any = None
+
+
+def check_budget(k: Any, c: Any, m: Any, h: float) -> None:
+    """Refuse a ``timestep`` so fine that the exact map would take minutes (``ValueError``)."""
+    budget = np.max(step_budget(k, c, m, h))
+    if budget > MAX_STEPS:
+        raise ValueError(
+            f"timestep = {h!r} s is too fine for the exact step-by-step map: the contact "
+            f"needs a budget of {budget:.3g} steps (limit {MAX_STEPS}); use a timestep of at "
+            f"least {h * budget / MAX_STEPS:.3g} s (the continuous contact is the limit)"
+        )
 
 
 def check_settings(
@@ -193,6 +206,7 @@ def predict(
     )
     k, c = np.asarray(k, float), np.asarray(c, float)
     broadcast(stiffness=k, damping=c, mass=m, speed=v, gravity=g)
+    check_budget(k, c, m, float(h))
     if phase is not None:
         p, p_scalar = real_array("phase", phase, lower=0.0)
         if np.any(p >= 1):

@@ -43,6 +43,7 @@ from impactsym.engines.mujoco.stepping import StepContact
 __all__ = [
     "DEFAULT_RESTITUTION_THRESHOLD",
     "DEFAULT_SLOP",
+    "MAX_STEPS",
     "step_budget",
     "step_contact",
     "step_pattern",
@@ -50,6 +51,9 @@ __all__ = [
 
 #: PyBullet's default ``contactSlop`` (``m_linearSlop`` set by PhysicsServerCommandProcessor)
 DEFAULT_SLOP = 1e-5
+#: the step budget is capped here (a contact still on then counts as sticking); the
+#: public functions refuse a timestep whose contact would need more
+MAX_STEPS = 50_000
 #: ``m_restitutionVelocityThreshold = 0.2f`` (a float literal stored in a double)
 DEFAULT_RESTITUTION_THRESHOLD = float(np.float32(0.2))
 
@@ -152,6 +156,7 @@ def step_pattern(
     n_pos = np.zeros(size)
     n_rest = np.zeros(size)
     n = -1
+    budget = np.minimum(budget, MAX_STEPS)
     limit = int(budget.max())
     while not done.all():
         n += 1
