@@ -119,3 +119,15 @@ def test_an_unreachable_design_names_a_timestep_that_reaches_it():
     step = float(err.value.args[0].split("timestep = ")[-1].split(" s reaches")[0])
     d = pyb.contact_for(restitution=0.75, speed=1.0, mass=0.1, contact_time=0.02, timestep=step)
     assert d.restitution == pytest.approx(0.75, rel=1e-6)
+
+
+def test_close_pattern_changes_inside_one_grid_interval_are_all_found():
+    # three sub-steps put two changes 0.011 apart in one grid interval near 1/3 and 2/3
+    case = {"stiffness": 15789.73, "mass": 2.6011, "speed": 4.9899, "gravity": 9.81}
+    damping = 18.22 - 0.1
+    phases = (np.arange(200_000) + 0.5) / 200_000
+    dense = pyb.predict(**case, damping=damping, substeps=3, phase=phases)
+    mean = pyb.predict(**case, damping=damping, substeps=3)
+    assert mean.restitution == pytest.approx(dense.restitution.mean(), abs=2e-6)
+    assert mean.restitution_range[1] >= dense.restitution.max() - 1e-12
+    assert mean.restitution_range[0] <= dense.restitution.min() + 1e-12
