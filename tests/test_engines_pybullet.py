@@ -121,3 +121,19 @@ def test_velocity_restitution_is_the_product_and_has_its_threshold(gravity, thre
     kw = {} if threshold is None else {"restitution_threshold": threshold}
     model = pyb.predict(**BALL, phase=PHASES, gravity=gravity, velocity_restitution=0.4, **kw)
     _agree(engine, model)
+
+
+@pytest.mark.parametrize(
+    "solver",
+    [
+        {"numSolverIterations": 1},
+        {"useSplitImpulse": 0},
+        {"useSplitImpulse": 1, "splitImpulsePenetrationThreshold": 1.0},
+        {"numSolverIterations": 200, "solverResidualThreshold": 0.0},
+    ],
+    ids=["one-iteration", "no-split", "split-always", "many-iterations"],
+)
+def test_solver_settings_that_do_not_change_the_answer(solver):
+    # one row is solved in the first Gauss-Seidel sweep; the multibody solver never splits
+    engine = pybullet_steps(**BALL, phase=PHASES, gravity=9.81, solver=solver)
+    _agree(engine, pyb.predict(**BALL, phase=PHASES, gravity=9.81))

@@ -38,6 +38,7 @@ def pybullet_steps(
     radius: float = 0.5,
     restitution: tuple[float, float] | None = None,
     restitution_threshold: float | None = None,
+    solver: dict | None = None,
 ) -> StepContact:
     """Run PyBullet at each touch phase in ``phase`` and read the contact (arrays, SI).
 
@@ -46,7 +47,9 @@ def pybullet_steps(
     ``slop``/``processing_threshold`` set ``contactSlop``/``contactProcessingThreshold``
     where given; ``restitution=(r_ball, r_plane)`` sets both bodies' velocity
     restitution (``changeDynamics(restitution=...)``, the pair uses the product) and
-    ``restitution_threshold`` the ``restitutionVelocityThreshold``. The sphere has
+    ``restitution_threshold`` the ``restitutionVelocityThreshold``; ``solver`` holds
+    further ``setPhysicsEngineParameter`` keywords (e.g. ``numSolverIterations``,
+    ``useSplitImpulse``). The sphere has
     ``linearDamping = angularDamping = 0``; ``radius`` must keep the contact inside
     Bullet's contact-breaking distance (``0.02 sqrt(3) radius`` must exceed a step's
     travel). Geometric touch lies ``phase * timestep`` before the
@@ -61,7 +64,7 @@ def pybullet_steps(
     for i, p in enumerate(phases):
         cid = pb.connect(pb.DIRECT)
         try:
-            _settings(pb, cid, timestep, substeps, slop, restitution_threshold)
+            _settings(pb, cid, timestep, substeps, slop, restitution_threshold, solver)
             one = _run(
                 pb,
                 cid,
@@ -88,8 +91,8 @@ def pybullet_steps(
     return StepContact(**{name: a.reshape(shape) for name, a in out.items()})
 
 
-def _settings(pb, cid, h, substeps, slop, restitution_threshold):
-    params = {"fixedTimeStep": h, "physicsClientId": cid}
+def _settings(pb, cid, h, substeps, slop, restitution_threshold, solver):
+    params = {**(solver or {}), "fixedTimeStep": h, "physicsClientId": cid}
     if substeps > 1:
         params["numSubSteps"] = substeps
     if slop is not None:

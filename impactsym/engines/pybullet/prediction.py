@@ -19,7 +19,7 @@ that change the answer are keyword options, each with the PyBullet call that set
   defaults, which adds ``0.1`` N s/m).
 
 Settings that do not change it: ``numSolverIterations`` (one contact row is solved in
-the first iteration), warm starting, ``enableSplitImpulse`` (the reduced-coordinate
+the first iteration), warm starting, ``useSplitImpulse`` (the reduced-coordinate
 bodies of ``createMultiBody``/``loadURDF`` never split; bodies created with
 ``useMaximalCoordinates=True`` are not modelled). Keep ``linearDamping=0`` on the body
 (PyBullet's default ``0.04`` adds a drag the model leaves out). Velocity restitution
