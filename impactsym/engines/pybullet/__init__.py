@@ -1,0 +1,23 @@
+"""PyBullet's ``contactStiffness``/``contactDamping`` contact at the user's timestep.
+
+* :mod:`~impactsym.engines.pybullet.stepping`: the exact one-contact map of Bullet's
+  sequential-impulse solver (ERP/CFM from ``k``, ``c`` and the step, speculative
+  contacts, slop, the non-negative impulse, sub-steps) per touch phase;
+* :mod:`~impactsym.engines.pybullet.phases`: mean and range over touch phases;
+* :mod:`~impactsym.engines.pybullet.prediction`: :func:`predict`;
+* :mod:`~impactsym.engines.pybullet.design`: :func:`contact_for`;
+* :mod:`~impactsym.engines.pybullet.pair`: the pair rules (:func:`combine_pair`,
+  :func:`split_pair`);
+* :mod:`~impactsym.engines.pybullet.derivation`: the SymPy derivation of the map;
+* :mod:`~impactsym.engines.pybullet.driver`: PyBullet itself, a sphere on a plane.
+
+The physics is in `docs/physics.md#pybullet-at-its-timestep`. SI units throughout.
+"""
+
+from __future__ import annotations
+
+from impactsym.engines.pybullet.design import contact_for
+from impactsym.engines.pybullet.pair import combine_pair, split_pair
+from impactsym.engines.pybullet.prediction import PyBulletContact, predict
+
+__all__ = ["PyBulletContact", "combine_pair", "contact_for", "predict", "split_pair"]

@@ -1,0 +1,213 @@
+r"""Designing a PyBullet contact: ``contactStiffness``, ``contactDamping`` for a wanted bounce.
+
+:func:`contact_for` inverts :func:`~impactsym.engines.pybullet.prediction.predict` at the
+user's timestep: the pair's ``(k, c)`` whose phase-mean restitution and contact time are
+the targets, found by Newton's method in ``(ln k, ln zeta)`` (``zeta = c / (2 sqrt(k
+m))``) on whole arrays of designs, started from the continuous textbook design; then the
+body's own values by the pair rules (:func:`~impactsym.engines.pybullet.pair.split_pair`:
+the other body's default ``contactDamping`` ``0.1`` is taken off). The phase mean is
+continuous and piecewise smooth in ``(k, c)`` (the jumps of the per-phase result move
+continuously), so Newton converges where a design exists; where it does not (too short a
+contact for the step, a restitution the map cannot give, a body that sticks) a
+``ValueError`` names the reason and a smaller timestep that reaches the target. SI units.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from impactsym.engines.pybullet.pair import split_pair
+from impactsym.engines.pybullet.phases import phase_summary
+from impactsym.engines.pybullet.prediction import (
+    PyBulletContact,
+    check_budget,
+    check_settings,
+    predict,
+)
+from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD, DEFAULT_SLOP
+from impactsym.validation import broadcast, real_array
+
+__all__ = ["DEFAULT_CONTACT_STEPS", "contact_for"]
+
+#: without ``contact_time`` the design lasts this many timesteps (phase spread of a few %)
+DEFAULT_CONTACT_STEPS = 10
+_ITERATIONS = 16  # Newton converges in 6-9 where a design exists
+_RTOL = 1e-9  # Newton's tolerance on both targets (relative)
+_CHECK = 1e-6  # a design whose prediction misses a target by more is refused
+_FD = 1e-7  # finite-difference step in ln k and ln zeta
+
+
+def contact_for(
+    *,
+    restitution: Any,
+    speed: Any,
+    mass: Any,
+    gravity: Any = 0.0,
+    contact_time: Any = None,
+    timestep: float = 1 / 240,
+    substeps: int = 1,
+    slop: float = DEFAULT_SLOP,
+    processing_threshold: float = np.inf,
+    other_stiffness: Any = np.inf,
+    other_damping: Any = 0.1,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
+) -> PyBulletContact:
+    """``contactStiffness``/``contactDamping`` that give ``restitution`` (phase mean) in PyBullet.
+
+    Parameters
+    ----------
+    restitution
+        Target phase-mean restitution, in ``(0, 1)``.
+    speed, mass, gravity
+        Approach speed (m/s), the contact's effective mass (kg), gravity (m/s^2).
+    contact_time
+        Target phase-mean contact time (s); ``None``: ``DEFAULT_CONTACT_STEPS``
+        timesteps.
+    timestep, substeps, slop, processing_threshold, other_stiffness, other_damping,
+    velocity_restitution, restitution_threshold
+        As in :func:`~impactsym.engines.pybullet.prediction.predict`.
+
+    Returns
+    -------
+    PyBulletContact
+        ``.stiffness``/``.damping`` to pass to ``changeDynamics`` of the body, the pair's
+        values and the prediction (phase mean and range) at ``timestep``.
+
+    Raises
+    ------
+    ValueError
+        Where no design exists at this step: the reason and a timestep that reaches it.
+
+    >>> d = contact_for(restitution=0.5, speed=1.0, mass=0.1, contact_time=0.05)
+    >>> round(d.restitution, 9), round(d.contact_time, 9)
+    (0.5, 0.05)
+    """
+    e, s1 = real_array("restitution", restitution, lower=0.0, strict=True)
+    if np.any(e >= 1):
+        raise ValueError(f"restitution must be < 1, got {restitution!r}")
+    v, s2 = real_array("speed", speed, lower=0.0, strict=True)
+    m, s3 = real_array("mass", mass, lower=0.0, strict=True)
+    g, s4 = real_array("gravity", gravity, lower=0.0)
+    h, h_scalar = real_array("timestep", timestep, lower=0.0, strict=True)
+    if not h_scalar:
+        raise ValueError(f"timestep must be one number (seconds), got {timestep!r}")
+    h = float(h)
+    if contact_time is None:
+        t, s5 = np.asarray(DEFAULT_CONTACT_STEPS * h), True
+    else:
+        t, s5 = real_array("contact_time", contact_time, lower=0.0, strict=True)
+    settings = check_settings(
+        slop, processing_threshold, substeps, velocity_restitution, restitution_threshold
+    )
+    shape = broadcast(restitution=e, speed=v, mass=m, gravity=g, contact_time=t)
+    e, v, m, g, t = (np.broadcast_to(a, shape).ravel() for a in (e, v, m, g, t))
+    check_budget(m * (np.pi / t) ** 2, 0.0, m, h)  # the stiffness of an undamped contact of t
+    k, c = _solve(e, t, v, m, g, h, settings)
+    bad = ~(np.isfinite(k) & np.isfinite(c))
+    if bad.any():
+        _refuse(e, t, v, m, g, h, settings, int(np.flatnonzero(bad)[0]))
+    k_body, c_body = split_pair(
+        stiffness=k, damping=c, other_stiffness=other_stiffness, other_damping=other_damping
+    )
+    scalar = s1 and s2 and s3 and s4 and s5
+    shaped = [np.reshape(a, shape) for a in (k_body, c_body, m, v, g)]
+    if scalar:
+        shaped = [float(a) for a in shaped]
+    k_b, c_b, m_, v_, g_ = shaped
+    return predict(
+        stiffness=k_b,
+        damping=c_b,
+        mass=m_,
+        speed=v_,
+        gravity=g_,
+        timestep=h,
+        other_stiffness=other_stiffness,
+        other_damping=other_damping,
+        **settings,
+    )
+
+
+def _means(k, c, m, v, g, h, settings):
+    r = phase_summary(k, c, m, v, g, h, **settings)
+    return r.restitution, r.contact_time
+
+
+def _solve(e, t, v, m, g, h, settings):
+    """Newton in ``(ln k, ln zeta)`` on all designs; ``nan`` where it does not converge.
+
+    ``h`` is one timestep or one per design.
+    """
+    h = np.broadcast_to(np.asarray(h, float), e.shape)
+    zeta = -np.log(e) / np.sqrt(np.pi**2 + np.log(e) ** 2)
+    omega = np.pi / (t * np.sqrt(1.0 - zeta**2))
+    u = np.stack([np.log(m * omega**2), np.log(zeta)])  # (2, size)
+    target = np.stack([e, np.log(t)])
+    live = np.ones(e.size, bool)
+    done = np.zeros(e.size, bool)
+    for _ in range(_ITERATIONS):
+        i = np.flatnonzero(live)
+        if i.size == 0:
+            break
+        # the point and its two finite-difference neighbours in one call
+        pts = np.concatenate([u[:, i], u[:, i] + [[_FD], [0.0]], u[:, i] + [[0.0], [_FD]]], 1)
+        mm, vv, gg, hh = (np.tile(a[i], 3) for a in (m, v, g, h))
+        k = np.exp(pts[0])
+        c = 2.0 * np.exp(pts[1]) * np.sqrt(k * mm)
+        em, tm = _means(k, c, mm, vv, gg, hh, settings)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            f = np.stack([em, np.log(tm)]).reshape(2, 3, i.size) - target[:, None, i]
+        r0 = f[:, 0]
+        ok = np.all(np.isfinite(r0), axis=0) & (np.abs(r0[0]) < _RTOL * e[i])
+        ok &= np.abs(r0[1]) < _RTOL
+        done[i[ok]] = True
+        live[i[ok]] = False
+        with np.errstate(divide="ignore", invalid="ignore"):
+            jac = np.stack([(f[:, 1] - r0) / _FD, (f[:, 2] - r0) / _FD], axis=1)  # (2, 2, n)
+            det = jac[0, 0] * jac[1, 1] - jac[0, 1] * jac[1, 0]
+            du0 = -(jac[1, 1] * r0[0] - jac[0, 1] * r0[1]) / det
+            du1 = -(-jac[1, 0] * r0[0] + jac[0, 0] * r0[1]) / det
+            step = np.stack([du0, du1])
+            size = np.max(np.abs(step), axis=0)
+            step *= np.where(size > 0.5, 0.5 / np.where(size > 0, size, 1.0), 1.0)
+        broken = ~np.all(np.isfinite(step), axis=0)
+        live[i[broken]] = False
+        move = ~ok & ~broken
+        u[:, i[move]] += step[:, move]
+    k = np.where(done, np.exp(u[0]), np.nan)
+    c = np.where(done, 2.0 * np.exp(u[1]) * np.sqrt(k * m), np.nan)
+    if done.any():  # the check: the prediction of the design meets both targets
+        em, tm = _means(k[done], c[done], m[done], v[done], g[done], h[done], settings)
+        miss = (np.abs(em - e[done]) > _CHECK * e[done]) | (np.abs(tm / t[done] - 1) > _CHECK)
+        k[np.flatnonzero(done)[miss]] = np.nan
+    return k, c
+
+
+def _refuse(e, t, v, m, g, h, settings, i):
+    """Raise the ``ValueError`` for design ``i``: the reason and a step that reaches it."""
+    reaching = None
+    for trial in h / 2.0 ** np.arange(1, 7):
+        k, _ = _solve(*(a[i : i + 1] for a in (e, t, v, m, g)), trial, settings)
+        if np.isfinite(k[0]):
+            reaching = float(trial)
+            break
+    e, t, v, m, g = (float(a[i]) for a in (e, t, v, m, g))
+    steps = t / h
+    why = (
+        f"the contact lasts only {steps:.3g} timesteps"
+        if steps < 3
+        else "the phase-mean restitution of PyBullet's map does not reach it at this step "
+        "(or the body sticks)"
+    )
+    hint = (
+        f"; timestep = {reaching:.6g} s reaches it"
+        if reaching is not None
+        else "; no timestep down to timestep / 64 reaches it"
+    )
+    raise ValueError(
+        f"no PyBullet contact gives restitution = {e!r} with contact_time = {t!r} s "
+        f"(speed {v!r} m/s, mass {m!r} kg, gravity {g!r}) at timestep = {h!r} s: "
+        f"{why}{hint}"
+    )
