@@ -13,6 +13,15 @@ The formulas are derived in :mod:`impactsym.contact.lawmaps`:
   :func:`hunt_crossley_parameter` inverts it exactly (bisection on the same equation, whose
   sign tells on which side of the root a trial ``s`` lies).
 * Tsuji: :math:`\zeta = \alpha/\sqrt{2(p+1)}` of the linear contact (:func:`tsuji_zeta`).
+* The linear contact without pressing force, inverted (:func:`linear_damping_ratio`): the
+  position condition restitutes :math:`e = \exp(-\pi D/\sqrt{1 - D^2})`, so
+  :math:`D = -\ln e/\sqrt{\pi^2 + \ln^2 e}`; the force condition, whose force
+  :math:`z + 2Dz' = e^{-D\tau}\sin(\omega\tau + \pi - 2\psi)/\omega`
+  (:math:`\omega = \sqrt{1 - D^2}`, :math:`\psi = \arccos D`) first vanishes at
+  :math:`\omega\tau = 2\psi`, restitutes :math:`e = e^{-D\tau} = \exp(-2 h(D))`,
+  :math:`h(D) = D\arccos D/\sqrt{1 - D^2}` (:math:`D \operatorname{arcosh} D/\sqrt{D^2
+  - 1}` above 1, 1 at 1), increasing from 0 to infinity: its root is bracketed and
+  found by Illinois steps.
 """
 
 from __future__ import annotations
@@ -131,3 +140,51 @@ def tsuji_zeta(alpha: np.ndarray, exponent: np.ndarray) -> np.ndarray:
     1.0
     """
     return np.asarray(alpha, dtype=float) / np.sqrt(2.0 * (np.asarray(exponent) + 1.0))
+
+
+def _force_h(D: np.ndarray) -> np.ndarray:
+    """:math:`h(D) = D \\arccos D / \\sqrt{1 - D^2}` (arcosh above 1, 1 at D = 1)."""
+    with np.errstate(all="ignore"):
+        under = D * np.arccos(np.minimum(D, 1.0)) / np.sqrt((1.0 - D) * (1.0 + D))
+        over = D * np.arccosh(np.maximum(D, 1.0)) / np.sqrt((D - 1.0) * (D + 1.0))
+    return np.where(D < 1.0, under, np.where(D > 1.0, over, 1.0))
+
+
+def linear_damping_ratio(e: np.ndarray, *, condition: str) -> np.ndarray:
+    r"""The damping ratio ``D`` at which the linear contact without pressing force
+    restitutes ``e`` (``0 < e <= 1``; ``D = 0`` at ``e = 1``), under ``condition``.
+
+    >>> from impactsym.contact.api import restitution
+    >>> D = linear_damping_ratio(np.array([0.3, 0.05]), condition="force")
+    >>> np.round(restitution(D, 0.0, condition="force"), 12).tolist()
+    [0.3, 0.05]
+    """
+    e = np.asarray(e, dtype=float)
+    L = -np.log(e)
+    if condition == "position":
+        return L / np.sqrt(np.pi**2 + L * L)
+    L = 0.5 * L.ravel()  # h(D) = -ln(e)/2
+    lo, hi = np.zeros(L.size), np.maximum(2.0, np.exp(L))  # e(2) < 0.05; e(1/sqrt(e)) < e
+    g_lo, g_hi = -L, _force_h(hi) - L
+    D = np.zeros(L.size)
+    side = np.zeros(L.size, dtype=int)
+    idx = np.flatnonzero(L > 0)  # the elements still iterating
+    for _ in range(200):
+        lo_i, hi_i, gl, gh = lo[idx], hi[idx], g_lo[idx], g_hi[idx]
+        with np.errstate(all="ignore"):
+            trial = (lo_i * gh - hi_i * gl) / (gh - gl)
+        bad = ~np.isfinite(trial) | (trial <= lo_i) | (trial >= hi_i)
+        trial = np.where(bad, 0.5 * (lo_i + hi_i), trial)
+        g = _force_h(trial) - L[idx]
+        above = g > 0
+        hi_i, gh = np.where(above, trial, hi_i), np.where(above, g, gh)
+        lo_i, gl = np.where(above, lo_i, trial), np.where(above, gl, g)
+        s_i = side[idx]  # Illinois: halve the value kept on the same side twice
+        gl = np.where(above & (s_i == 1), 0.5 * gl, gl)
+        gh = np.where(~above & (s_i == -1), 0.5 * gh, gh)
+        lo[idx], hi[idx], g_lo[idx], g_hi[idx], D[idx] = lo_i, hi_i, gl, gh, trial
+        side[idx] = np.where(above, 1, -1)
+        idx = idx[~((hi_i - lo_i <= 4e-16 * hi_i) | (g == 0))]
+        if idx.size == 0:
+            break
+    return D.reshape(e.shape)
