@@ -82,3 +82,11 @@ def test_linear_damping_ratio_inverts_the_linear_contact(condition):
     np.testing.assert_allclose(restitution(D, 0.0, condition=condition), e, rtol=1e-13)
     single = [float(linear_damping_ratio(np.array(v), condition=condition)) for v in e[::17]]
     np.testing.assert_array_equal(D[::17], single)
+
+
+def test_linear_damping_ratio_refuses_what_it_cannot_invert():
+    with pytest.raises(ValueError, match="condition must be"):
+        linear_damping_ratio(np.array(0.5), condition="speed")
+    for bad in (0.0, 1.5, np.nan):
+        with pytest.raises(ValueError, match="restitution must be in"):
+            linear_damping_ratio(np.array([0.5, bad]), condition="force")

@@ -29,6 +29,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import lambertw
 
+from impactsym.validation import check_condition
+
 #: Below this |x| the function rho is evaluated from its Taylor series.
 _SERIES = 0.05
 _TERMS = 24
@@ -159,7 +161,11 @@ def linear_damping_ratio(e: np.ndarray, *, condition: str) -> np.ndarray:
     >>> np.round(restitution(D, 0.0, condition="force"), 12).tolist()
     [0.3, 0.05]
     """
+    check_condition(condition)
     e = np.asarray(e, dtype=float)
+    if not np.all((e > 0) & (e <= 1)):
+        bad = e[~((e > 0) & (e <= 1))].flat[0]
+        raise ValueError(f"restitution must be in (0, 1], got {float(bad)!r}")
     L = -np.log(e)
     if condition == "position":
         return L / np.sqrt(np.pi**2 + L * L)
