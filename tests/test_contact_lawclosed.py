@@ -11,6 +11,7 @@ from impactsym.contact.lawclosed import (
     hunt_crossley_parameter,
     hunt_crossley_restitution,
     linear_damping_ratio,
+    linear_free_restitution,
     rho,
 )
 
@@ -90,3 +91,17 @@ def test_linear_damping_ratio_refuses_what_it_cannot_invert():
     for bad in (0.0, 1.5, np.nan):
         with pytest.raises(ValueError, match="restitution must be in"):
             linear_damping_ratio(np.array([0.5, bad]), condition="force")
+
+
+@pytest.mark.parametrize("condition", ["position", "force"])
+def test_linear_free_restitution_is_the_linear_contact(condition):
+    from impactsym.contact.api import restitution
+
+    D = np.concatenate([np.linspace(0, 0.99, 100), [1.0, 1.5, 40.0, np.inf]])
+    got = linear_free_restitution(D, condition=condition)
+    exact = restitution(D[:-1], 0.0, condition=condition)  # D = inf: refused there
+    np.testing.assert_allclose(got[:-1], exact, rtol=1e-13, atol=0)
+    assert got[0] == 1.0
+    assert (got[100:] == 0).all() if condition == "position" else got[-1] == 0.0
+    np.testing.assert_allclose(linear_damping_ratio(got[1:100], condition=condition), D[1:100],
+                               rtol=1e-12)  # fmt: skip
