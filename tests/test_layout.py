@@ -57,6 +57,7 @@ FLOORS = [
         "impactsym.contact.nonlinear",
         "impactsym.contact.lawdesign",
         "impactsym.contact.lawformulas",
+        "impactsym.contact.lawlatex",
         "impactsym.rod.elastic",
         "impactsym.rod.codegen",
         "impactsym.rod.api",
