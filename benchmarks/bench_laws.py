@@ -10,9 +10,10 @@ shared) and the ratio to the target of the issue, all scaled to 10^5 elements:
     targets being restitutions measured by ``impact`` (the round-trip error is printed).
 
 Closed forms run on 10^5 elements. Paths that integrate run on ``--sample`` elements (designs
-on ``--designs``) and are scaled linearly to 10^5 (the work is per element; the per-step
-overhead, a few hundred NumPy calls per step whatever the size, makes the scaled figure an
-upper bound, loose for the designs' small samples); ``--full`` runs everything on 10^5.
+on ``--designs``) and are scaled linearly to 10^5: indicative only, since the per-step
+overhead (a few hundred NumPy calls per step whatever the size) weighs on small samples
+and memory traffic on large ones (Hunt-Crossley at 2 x 10^4 elements took twice its
+scaled 2,000-element figure per element); ``--full`` runs everything on 10^5.
 
 Run: python benchmarks/bench_laws.py [--sample 2000] [--designs 200] [--full]
 """
