@@ -34,6 +34,7 @@ def typeset_formulas(n_terms: int = 3) -> list[tuple[str, list[tuple[str, str, A
     >>> [label for label, _, _ in typeset_formulas()[1][1]][:2]
     ['sd-ode', 'sd-conditions']
     """
+    from impactsym.contact import lawlatex
     from impactsym.multibody import reduction as multibody
     from impactsym.rod import derivation as rod
 
@@ -41,6 +42,7 @@ def typeset_formulas(n_terms: int = 3) -> list[tuple[str, list[tuple[str, str, A
         (SECTIONS[0], rod.typeset_formulas(n_terms)),
         (SECTIONS[1], derivation.typeset_formulas()),
         (SECTIONS[2], multibody.typeset_formulas()),
+        (SECTIONS[3], lawlatex.typeset_formulas()),
     ]
 
 
@@ -49,6 +51,7 @@ SECTIONS = (
     "Rod impact (paper section 1)",
     "Spring-damper contact (paper section 2)",
     "Multibody penalty contact (paper section 3)",
+    "Nonlinear contact laws",
 )
 
 
@@ -157,6 +160,10 @@ _SECTION_INTRO = (
     r"A multibody system with a penalty contact is reduced, for the short duration of an "
     r"impact, to the contact oscillator of section~B. The projection and the corrections "
     r"to the paper's eq.~(5) are derived and checked in the documentation of impactsym.",
+    r"A body of mass $m$ hits a contact element at speed $v_0$ under a constant pressing "
+    r"force $F_0$ ($d$ the overlap); each law is normalized with the time $T$ at which spring "
+    r"and inertia balance and the length $L = v_0 T$, which leaves a damping number and a "
+    r"pressing number $f$ ($z = d/L$, $w = z'$, primes on $z$ derivatives in $t/T$).",
 )
 
 

@@ -61,6 +61,7 @@ FLOORS = [
         "impactsym.contact.lawstick",
         "impactsym.contact.lawgrid",
         "impactsym.contact.lawbounce",
+        "impactsym.contact.lawlatex",
         "impactsym.rod.elastic",
         "impactsym.rod.codegen",
         "impactsym.rod.api",

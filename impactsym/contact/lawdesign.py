@@ -5,6 +5,9 @@ damping number (``docs/physics.md``, "Nonlinear contact laws"):
 
 * Hunt–Crossley without pressing force: the exact inverse of the Lambert-W restitution
   (:func:`~impactsym.contact.lawclosed.hunt_crossley_parameter`);
+* the linear and (through the Tsuji map) the Tsuji contact without pressing force: the
+  inverse of the linear contact's restitution
+  (:func:`~impactsym.contact.lawclosed.linear_damping_ratio`);
 * everywhere else a bracketed root of the exact restitution (the closed forms of the
   linear contact, the Tsuji map, or the order-8 integration), which falls monotonically
   from 1 at zero damping: the bracket grows by factors of 4, then Illinois steps (bisection
@@ -21,7 +24,11 @@ from __future__ import annotations
 import numpy as np
 
 from impactsym.contact.api import restitution as linear_restitution
-from impactsym.contact.lawclosed import hunt_crossley_parameter, tsuji_zeta
+from impactsym.contact.lawclosed import (
+    hunt_crossley_parameter,
+    linear_damping_ratio,
+    tsuji_zeta,
+)
 from impactsym.contact.laws import contact_law
 from impactsym.contact.nonlinear import normalize, normalized_impact
 from impactsym.validation import broadcast, check_condition, finish, real_array
@@ -46,9 +53,13 @@ def design_number(law: str, target, b, q, *, condition: str) -> np.ndarray:
     n = target.size
     result = np.zeros(n)
     todo = target < 1.0
+    free = todo & (b == 0)
     if law == "hunt-crossley":
-        free = todo & (b == 0)
         result[free] = hunt_crossley_parameter(target[free])
+        todo &= ~free
+    elif law in ("linear", "tsuji") and free.any():  # the linear contact inverted
+        zeta = linear_damping_ratio(target[free], condition=condition)
+        result[free] = zeta if law == "linear" else zeta * np.sqrt(2.0 * (q[free] + 1.0))
         todo &= ~free
     idx = np.flatnonzero(todo)
     if idx.size == 0:

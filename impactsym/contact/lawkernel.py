@@ -162,12 +162,17 @@ class _System:
     def step(self, y: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """One DOP853 step of length ``h`` (per element): new state and error norm."""
         n = y.shape[1]
-        K = np.empty((rk853.N_STAGES + 1, 2 * n))
-        K[0] = self.rhs(y).ravel()
-        for i in range(1, rk853.N_STAGES):
-            K[i] = self.rhs(y + h * (rk853.A[i, :i] @ K[:i]).reshape(2, n)).ravel()
-        y1 = y + h * (rk853.B @ K[: rk853.N_STAGES]).reshape(2, n)
-        K[-1] = self.rhs(y1).ravel()
+        K = np.empty((rk853.N_STAGES + 1, 2 * n))  # row i: the stage's (z', w') flattened
+        phi, delta, q, b = self.fns.phi, self.delta, self.q, self.b
+        with np.errstate(all="ignore"):  # once per step, not per stage
+            yi = y
+            for i in range(rk853.N_STAGES + 1):
+                if i == rk853.N_STAGES:
+                    yi = y1 = y + h * (rk853.B @ K[: rk853.N_STAGES]).reshape(2, n)
+                elif i > 0:
+                    yi = y + h * (rk853.A[i, :i] @ K[:i]).reshape(2, n)
+                K[i, :n] = yi[1]
+                K[i, n:] = b - phi(np.maximum(yi[0], 0.0), yi[1], delta, q)
         scale = ATOL + RTOL * np.maximum(np.abs(y), np.abs(y1))
         e5 = ((rk853.E5 @ K).reshape(2, n) / scale) ** 2
         e3 = ((rk853.E3 @ K).reshape(2, n) / scale) ** 2
@@ -177,32 +182,50 @@ class _System:
         return y1, np.where((n5 == 0) & (n3 == 0), 0.0, err)
 
     def locate(self, y0: np.ndarray, h: np.ndarray, event) -> tuple[np.ndarray, np.ndarray]:
-        """Where ``event`` (positive at ``y0``, not positive at the end of the step of
-        length ``h``) crosses zero: Illinois iteration on the step length."""
+        """Where ``event(system, y)`` (positive at ``y0``, not positive at the end of the
+        step of length ``h``) crosses zero: Illinois iteration on the step length, each
+        element until its bracket is 4e-16 of its step (or it lands on the root)."""
         lo, hi = np.zeros_like(h), h.copy()
-        g_lo, y_hi = event(y0), self.step(y0, h)[0]
-        g_hi = event(y_hi)
+        y_hi = self.step(y0, h)[0]
+        g_lo, g_hi = (
+            np.array(event(self, y0), dtype=float),
+            np.array(event(self, y_hi), dtype=float),
+        )
         best_y, best_h = y_hi, hi.copy()
         side = np.zeros(h.shape, dtype=int)
+        idx = np.arange(h.size)  # the elements still iterating
+        system = self
         for _ in range(60):
+            lo_i, hi_i, gl, gh = lo[idx], hi[idx], g_lo[idx], g_hi[idx]
             with np.errstate(all="ignore"):
-                theta = (lo * g_hi - hi * g_lo) / (g_hi - g_lo)
-            bad = ~np.isfinite(theta) | (theta <= lo) | (theta >= hi)
-            theta = np.where(bad, 0.5 * (lo + hi), theta)
-            y_t = self.step(y0, theta)[0]
-            g_t = event(y_t)
+                theta = (lo_i * gh - hi_i * gl) / (gh - gl)
+            bad = ~np.isfinite(theta) | (theta <= lo_i) | (theta >= hi_i)
+            theta = np.where(bad, 0.5 * (lo_i + hi_i), theta)
+            y_t = system.step(y0[:, idx], theta)[0]
+            g_t = event(system, y_t)
             right = g_t <= 0  # the root is in [lo, theta]
-            best_y = np.where(right, y_t, best_y)
-            best_h = np.where(right, theta, best_h)
-            hi, g_hi = np.where(right, theta, hi), np.where(right, g_t, g_hi)
-            lo, g_lo = np.where(right, lo, theta), np.where(right, g_lo, g_t)
+            r_idx = idx[right]
+            best_y[:, r_idx], best_h[r_idx] = y_t[:, right], theta[right]
+            hi_i, gh = np.where(right, theta, hi_i), np.where(right, g_t, gh)
+            lo_i, gl = np.where(right, lo_i, theta), np.where(right, gl, g_t)
             # Illinois: halve the value kept on the same side twice
-            g_lo = np.where(right & (side == 1), 0.5 * g_lo, g_lo)
-            g_hi = np.where(~right & (side == -1), 0.5 * g_hi, g_hi)
-            side = np.where(right, 1, -1)
-            if np.all((hi - lo) <= 4e-16 * h) or np.all(g_t == 0):
+            s_i = side[idx]
+            gl = np.where(right & (s_i == 1), 0.5 * gl, gl)
+            gh = np.where(~right & (s_i == -1), 0.5 * gh, gh)
+            lo[idx], hi[idx], g_lo[idx], g_hi[idx] = lo_i, hi_i, gl, gh
+            side[idx] = np.where(right, 1, -1)
+            keep = ~(((hi_i - lo_i) <= 4e-16 * h[idx]) | (g_t == 0))
+            if not keep.any():
                 break
+            if not keep.all():
+                idx = idx[keep]
+                system = self.sub(idx)
         return best_h, best_y
+
+
+def _rate_of_overlap(_system: _System, y: np.ndarray) -> np.ndarray:
+    """The event of the maximum penetration: :math:`z' = 0`."""
+    return y[1]
 
 
 def equilibrium(fns: LawFunctions, delta, b, q) -> tuple[np.ndarray, np.ndarray]:
@@ -311,20 +334,20 @@ def integrate(
             cross = (g0 > 0) & ~(g1 > 0) & ~np.isfinite(end[acc])
             if cross.any():
                 c = np.flatnonzero(cross)
-                hc, yc = sub.sub(c).locate(y0[:, c], hs[c], sub.sub(c).reduced)
+                hc, yc = sub.sub(c).locate(y0[:, c], hs[c], _System.reduced)
                 hs[c], y1[:, c] = hc, yc
                 ended[c] = True
         # maximum penetration and force maxima inside the (truncated) step
         first = ~found_max[acc] & (y0[1] > 0) & ~(y1[1] > 0)
         if first.any():
             c = np.flatnonzero(first)
-            _, ym = sub.sub(c).locate(y0[:, c], hs[c], lambda yy: yy[1])
+            _, ym = sub.sub(c).locate(y0[:, c], hs[c], _rate_of_overlap)
             z_max[acc[c]], found_max[acc[c]] = ym[0], True
             peak[acc[c]] = np.maximum(peak[acc[c]], sub.sub(c).phi(ym))
         top = ~(sub.rate(y0) <= 0) & (sub.rate(y1) <= 0)
         if top.any():
             c = np.flatnonzero(top)
-            _, yp = sub.sub(c).locate(y0[:, c], hs[c], sub.sub(c).rate)
+            _, yp = sub.sub(c).locate(y0[:, c], hs[c], _System.rate)
             peak[acc[c]] = np.maximum(peak[acc[c]], sub.sub(c).phi(yp))
         peak[acc] = np.maximum(peak[acc], sub.phi(y1))
         z_max[acc] = np.where(found_max[acc], z_max[acc], np.maximum(z_max[acc], y1[0]))

@@ -21,8 +21,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactsym.contact.api import physical_contact, restitution
-from impactsym.contact.lawclosed import hunt_crossley_restitution, tsuji_zeta
+from impactsym.contact.api import physical_contact
+from impactsym.contact.lawclosed import (
+    hunt_crossley_restitution,
+    linear_free_restitution,
+    tsuji_zeta,
+)
 from impactsym.contact.lawkernel import integrate
 from impactsym.contact.laws import check_law
 from impactsym.records import ArrayRecord
@@ -109,7 +113,7 @@ def normalized_impact(law: str, delta, b, q, *, condition: str):
     if law == "hunt-crossley" and free.any():
         e[free] = hunt_crossley_restitution(delta[free])
     if law == "tsuji" and free.any():
-        e[free] = restitution(zeta[free], 0.0, condition=condition)
+        e[free] = linear_free_restitution(zeta[free], condition=condition)
     return result.tau_c, e, result.z_max, result.peak
 
 

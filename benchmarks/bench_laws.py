@@ -1,0 +1,145 @@
+"""Benchmark of the nonlinear contact laws (impactsym.contact.nonlinear, lawdesign, lawclosed).
+
+Prints, per law and condition, wall and CPU time (``time.process_time``: the machine may be
+shared) and the ratio to the target of the issue, all scaled to 10^5 elements:
+  * without pressing force, (restitution, contact time) evaluations (target < 0.1 s): the
+    closed forms and maps alone (Hunt-Crossley Lambert W restitution, Tsuji map onto the
+    linear contact) and the full ``impact`` (contact time by the order-8 integration);
+  * with pressing force, ``impact`` (target < 2 s);
+  * 10^5 designs ``damping_for`` (target < 2 s), without and with pressing force, the
+    targets being restitutions measured by ``impact`` (the round-trip error is printed).
+
+Closed forms run on 10^5 elements. Paths that integrate run on ``--sample`` elements (designs
+on ``--designs``) and are scaled linearly to 10^5: indicative only, since the per-step
+overhead (a few hundred NumPy calls per step whatever the size) weighs on small samples
+and memory traffic on large ones (Hunt-Crossley at 2 x 10^4 elements took twice its
+scaled 2,000-element figure per element); ``--full`` runs everything on 10^5.
+
+Run: python benchmarks/bench_laws.py [--sample 2000] [--designs 200] [--full]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from impactsym.contact.lawclosed import (
+    hunt_crossley_parameter,
+    hunt_crossley_restitution,
+    linear_free_restitution,
+    tsuji_zeta,
+)
+from impactsym.contact.lawdesign import damping_for
+from impactsym.contact.nonlinear import impact
+
+N = 10**5
+LAWS = ("linear", "hertz-linear", "hunt-crossley", "tsuji", "viscoelastic")
+CONDITIONS = ("position", "force")
+#: k = m = v0 = 1, so T = L = 1: the damping parameter that gives a damping number
+PARAMETER = {"linear": 2.0, "hertz-linear": 2.0, "hunt-crossley": 1.0, "tsuji": 1.0,
+             "viscoelastic": 2.0 / 3.0}  # fmt: skip
+
+
+def timed(fn, *args, **options):
+    """Wall and CPU seconds of one call, and its result (best wall of 3 below 0.5 s)."""
+    best = None
+    for _ in range(3):
+        wall, cpu = time.perf_counter(), time.process_time()
+        result = fn(*args, **options)
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+        best = (wall, cpu) if best is None or wall < best[0] else best
+        if wall > 0.5:
+            break
+    return best[0], best[1], result
+
+
+def report(label: str, n: int, wall: float, cpu: float, target: float, note: str = "") -> None:
+    scale = N / n
+    ratio = cpu * scale / target
+    flag = "ok" if ratio <= 1 else "over"
+    measured = "" if n == N else f" (measured on {n:,}, scaled)"
+    print(
+        f"  {label:42s} wall {wall * scale:8.3f} s  cpu {cpu * scale:8.3f} s  "
+        f"cpu/target {ratio:7.2f} {flag}{measured}{note}",
+        flush=True,
+    )
+
+
+def impact_of(law, delta, force, condition):
+    return impact(
+        law, stiffness=1.0, damping=PARAMETER[law] * delta, mass=1.0, speed=1.0,
+        force=force, condition=condition,
+    )  # fmt: skip
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sample", type=int, default=2000, help="elements of integrating paths")
+    parser.add_argument("--designs", type=int, default=200, help="designs that integrate")
+    parser.add_argument("--full", action="store_true", help="every path on 10^5 elements")
+    args = parser.parse_args()
+    sample, designs = (N, N) if args.full else (args.sample, args.designs)
+    rng = np.random.default_rng(0)
+    for law in LAWS:  # build the lambdified kernels once
+        for condition in CONDITIONS:
+            impact_of(law, np.array([0.3]), 0.1, condition)
+
+    print("impactsym benchmark: nonlinear contact laws, per 10^5 elements")
+    print("without pressing force, closed forms and maps (target < 0.1 s):")
+    s = rng.uniform(0.01, 10.0, N)
+    wall, cpu, _ = timed(hunt_crossley_restitution, s)
+    report("hunt-crossley restitution (Lambert W)", N, wall, cpu, 0.1)
+    alpha = rng.uniform(0.02, 3.0, N)
+    for condition in CONDITIONS:
+        wall, cpu, _ = timed(
+            lambda a, c=condition: linear_free_restitution(tsuji_zeta(a, 1.5), condition=c), alpha
+        )
+        report(f"tsuji restitution (map), {condition}", N, wall, cpu, 0.1)
+
+    print("without pressing force, impact: restitution and contact time (target < 0.1 s):")
+    delta = rng.uniform(0.02, 1.5, sample)
+    for law in LAWS:
+        for condition in CONDITIONS:
+            wall, cpu, r = timed(impact_of, law, delta, 0.0, condition)
+            note = f"; {np.mean(r.sticks):.0%} stick"
+            report(f"{law}, {condition}", sample, wall, cpu, 0.1, note)
+
+    print("with pressing force f in (0, 1), impact (target < 2 s):")
+    f = rng.uniform(0.0, 1.0, sample)
+    for law in LAWS:
+        for condition in CONDITIONS:
+            wall, cpu, r = timed(impact_of, law, delta, f, condition)
+            note = f"; {np.mean(r.sticks):.0%} stick"
+            report(f"{law}, {condition}", sample, wall, cpu, 2.0, note)
+
+    print("designs damping_for (target < 2 s), targets measured by impact:")
+    e = rng.uniform(0.05, 0.95, N)
+    wall, cpu, _ = timed(hunt_crossley_parameter, e)
+    report("hunt-crossley lambda v0 (exact inverse)", N, wall, cpu, 2.0)
+    for force in (0.0, 0.05):
+        for law in LAWS:
+            closed = force == 0.0 and law in ("linear", "hunt-crossley", "tsuji")
+            n = N if closed else designs
+            for condition in CONDITIONS:
+                d = rng.uniform(0.05, 1.0, n)
+                achieved = impact_of(law, d, force, condition).restitution if n < N else None
+                if achieved is None:  # the closed forms: targets of the whole range
+                    targets, keep = rng.uniform(0.05, 0.95, n), slice(None)
+                else:
+                    keep = achieved > 0
+                    targets = achieved[keep]
+                wall, cpu, got = timed(
+                    damping_for, law, restitution=targets, stiffness=1.0, mass=1.0,
+                    speed=1.0, force=force, condition=condition,
+                )  # fmt: skip
+                note = ""
+                if achieved is not None:
+                    error = np.max(np.abs(got / PARAMETER[law] - d[keep]) / d[keep])
+                    note = f"; round trip max rel. error {error:.1e}"
+                report(f"{law}, {condition}, f = {force:g}", targets.size, wall, cpu, 2.0, note)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,41 @@
+"""The order-8 integration of the contact laws: events located per element (a batch and
+its elements agree), checked on the linear law against the exact linear contact."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from impactsym.contact.api import contact_time, restitution
+from impactsym.contact.lawkernel import integrate
+
+
+@pytest.mark.parametrize("condition", ["position", "force"])
+def test_linear_law_events_match_the_exact_contact_in_a_batch_and_alone(condition):
+    rng = np.random.default_rng(11)
+    D = rng.uniform(0.02, 0.9, 24)
+    f = np.where(rng.uniform(size=24) < 0.5, 0.0, rng.uniform(0, 0.3, 24))
+    q = np.ones_like(D)
+    run = integrate("linear", D, 2 * D * f, q, condition=condition)
+    tau, e = contact_time(D, f, condition=condition), restitution(D, f, condition=condition)
+    released = np.isfinite(tau)
+    assert released.sum() > 12
+    np.testing.assert_array_equal(np.isinf(run.tau_c), ~released)
+    np.testing.assert_allclose(run.tau_c[released], tau[released], rtol=1e-11)
+    np.testing.assert_allclose(run.e[released], e[released], rtol=1e-10, atol=1e-12)
+    for i in range(0, 24, 5):  # each element alone gives what it gave in the batch
+        alone = integrate("linear", D[i : i + 1], 2 * D[i : i + 1] * f[i : i + 1], q[:1],
+                          condition=condition)  # fmt: skip
+        for field in ("tau_c", "e", "z_max", "peak"):
+            np.testing.assert_allclose(
+                getattr(alone, field), getattr(run, field)[i : i + 1], rtol=1e-14
+            )
+
+
+def test_maximum_penetration_and_peak_of_the_undamped_linear_contact():
+    # z = sin(tau): the maximum penetration and the peak force are 1 (located by events)
+    run = integrate("linear", np.array([0.0]), np.array([0.0]), np.array([1.0]),
+                    condition="position")  # fmt: skip
+    assert run.z_max[0] == pytest.approx(1.0, rel=1e-13)
+    assert run.peak[0] == pytest.approx(1.0, rel=1e-13)
+    assert run.tau_c[0] == pytest.approx(np.pi, rel=1e-12)
