@@ -181,6 +181,10 @@ class _System:
             err = np.abs(h) * n5 / np.sqrt((n5 + 0.01 * n3) * 2.0)
         return y1, np.where((n5 == 0) & (n3 == 0), 0.0, err)
 
+    def falling_rate(self, y: np.ndarray) -> np.ndarray:
+        """``-rate``: positive while the force falls (the event of a force minimum)."""
+        return -self.rate(y)
+
     def locate(self, y0: np.ndarray, h: np.ndarray, event) -> tuple[np.ndarray, np.ndarray]:
         """Where ``event(system, y)`` (positive at ``y0``, not positive at the end of the
         step of length ``h``) crosses zero: Illinois iteration on the step length, each
@@ -332,6 +336,20 @@ def integrate(
         if condition == "force":
             g0, g1 = sub.reduced(y0), sub.reduced(y1)
             cross = (g0 > 0) & ~(g1 > 0) & ~np.isfinite(end[acc])
+            # a dip through zero inside the step, positive at both ends: the force has a
+            # minimum in the step (its rate turns from falling to rising); where the force
+            # there is not positive, the step is cut at that minimum and the zero before
+            # it is located below
+            dip = (g0 > 0) & (g1 > 0) & ~np.isfinite(end[acc])
+            dip &= (sub.rate(y0) < 0) & (sub.rate(y1) > 0)
+            if dip.any():
+                c = np.flatnonzero(dip)
+                part = sub.sub(c)
+                hm, ym = part.locate(y0[:, c], hs[c], part.falling_rate)
+                low = ~(part.reduced(ym) > 0)
+                c, hm, ym = c[low], hm[low], ym[:, low]
+                hs[c], y1[:, c] = hm, ym
+                cross[c] = True
             if cross.any():
                 c = np.flatnonzero(cross)
                 hc, yc = sub.sub(c).locate(y0[:, c], hs[c], _System.reduced)
