@@ -345,7 +345,7 @@ def integrate(
             if dip.any():
                 c = np.flatnonzero(dip)
                 part = sub.sub(c)
-                hm, ym = part.locate(y0[:, c], hs[c], part.falling_rate)
+                hm, ym = part.locate(y0[:, c], hs[c], _System.falling_rate)
                 low = ~(part.reduced(ym) > 0)
                 c, hm, ym = c[low], hm[low], ym[:, low]
                 hs[c], y1[:, c] = hm, ym
