@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.drake.stepping import step_contact
+from impactsym.engines.phase_pieces import integrate_pieces, reduce_at
 from impactsym.records import ArrayRecord
 
 __all__ = ["PhaseSummary", "phase_summary"]
@@ -28,7 +29,7 @@ _GRID = 8
 _SPLIT = 64  # multisection: 6 bits of the jump phase per call (2^-42: 7 calls)
 _BATCH = 200_000  # contacts per call above which the searches take fewer phases per call
 _ZOOM = 33  # phases per zoom round of an interior extreme
-_NODES, _WEIGHTS = np.polynomial.legendre.leggauss(5)
+_NODES = 5  # Gauss-Legendre nodes per piece
 
 
 @dataclass(frozen=True, eq=False)
@@ -114,21 +115,11 @@ def phase_summary(
     p0 = np.concatenate([lo.ravel(), c])
     p1 = np.concatenate([ends.ravel(), hi[ii, kk]])
     own = np.concatenate([i_all, ii])
-    half, centre = 0.5 * (p1 - p0), 0.5 * (p1 + p0)
-    pts = np.concatenate(
-        [p0[:, None], centre[:, None] + half[:, None] * _NODES[None, :], p1[:, None]], axis=1
-    )
-    res = run(np.repeat(own, pts.shape[1]), pts.ravel())
-    e = res.restitution.reshape(pts.shape)
-    t = res.contact_time.reshape(pts.shape)
-    stuck = res.sticks.reshape(pts.shape)
-    w = half[:, None] * _WEIGHTS[None, :]
-    e_mean = np.bincount(own, (w * e[:, 1:-1]).sum(axis=1), minlength=size)
-    with np.errstate(invalid="ignore"):
-        t_piece = np.where(stuck[:, 1:-1].any(axis=1), np.inf, (w * t[:, 1:-1]).sum(axis=1))
-    t_mean = np.zeros(size)
-    np.add.at(t_mean, own, t_piece)
-    stick_frac = np.bincount(own, (w * stuck[:, 1:-1]).sum(axis=1), minlength=size)
+    pieces = integrate_pieces(run, p0, p1, own, size, nodes=_NODES)
+    pts, res, e, t = pieces.pts, pieces.result, pieces.restitution, pieces.contact_time
+    e_mean, t_mean, stick_frac = (
+        pieces.restitution_mean, pieces.contact_time_mean, pieces.stick_fraction
+    )  # fmt: skip
     e_lo, e_hi = e.min(axis=1), e.max(axis=1)
     if bounds:
         e_lo = np.fmin(e_lo, _interior_extreme(run, own, pts, e, -1.0))
@@ -137,11 +128,11 @@ def phase_summary(
     fields = (
         e_mean,
         t_mean,
-        _reduce(np.minimum, own, e_lo, size, np.inf),
-        _reduce(np.maximum, own, e_hi, size, -np.inf),
-        _reduce(np.minimum, own, t.min(axis=1), size, np.inf),
-        _reduce(np.maximum, own, t.max(axis=1), size, -np.inf),
-        _reduce(np.maximum, own, pen, size, 0.0),
+        reduce_at(np.minimum, own, e_lo, size, np.inf),
+        reduce_at(np.maximum, own, e_hi, size, -np.inf),
+        reduce_at(np.minimum, own, t.min(axis=1), size, np.inf),
+        reduce_at(np.maximum, own, t.max(axis=1), size, -np.inf),
+        reduce_at(np.maximum, own, pen, size, 0.0),
         stick_frac,
     )
     return PhaseSummary(*(np.reshape(f, shape) for f in fields))
@@ -173,10 +164,4 @@ def _interior_extreme(run, own, pts, e, sign):
         a = x[rows, np.maximum(b - 1, 0)]
         c = x[rows, np.minimum(b + 1, points - 1)]
     out[inner] = sign * best
-    return out
-
-
-def _reduce(op, owner, values, size, start):
-    out = np.full(size, start)
-    op.at(out, owner, values)
     return out

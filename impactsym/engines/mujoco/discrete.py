@@ -41,6 +41,7 @@ from impactsym.engines.mujoco.model import (
 from impactsym.engines.mujoco.rk4 import rk4_contact
 from impactsym.engines.mujoco.rk4_entry import rk4_entry_phases
 from impactsym.engines.mujoco.stepping import StepContact
+from impactsym.engines.phase_pieces import integrate_pieces, reduce_at, vertex
 from impactsym.records import ArrayRecord
 
 __all__ = ["INTEGRATORS", "PhaseSummary", "phase_mean", "phase_summary", "step_contact"]
@@ -54,7 +55,7 @@ ENTRY_PHASES = {"rk4": rk4_entry_phases}
 _GRID = 8  # phase intervals searched for jumps of the end step
 _WAYS, _ROUNDS = 8, 14  # search per jump: 8 sub-intervals a round (8^-14 = 2^-42 < 1e-12)
 _GOLDEN = 40  # golden-section steps for an extreme inside a piece
-_NODES, _WEIGHTS = np.polynomial.legendre.leggauss(5)
+_NODES = 5  # Gauss-Legendre nodes per piece
 
 
 def check_integrator(integrator: object) -> str:
@@ -254,34 +255,24 @@ def _split_and_integrate(
     ends.append(hi[ii, kk])
     owner.append(ii)
     p0, p1, own = np.concatenate(starts), np.concatenate(ends), np.concatenate(owner)
-    half, centre = 0.5 * (p1 - p0), 0.5 * (p1 + p0)
-    nodes = centre[:, None] + half[:, None] * _NODES[None, :]
-    pts = np.concatenate([p0[:, None], nodes, p1[:, None]], axis=1)
-    res = run(np.repeat(own, pts.shape[1]), pts.ravel())
+    pieces = integrate_pieces(run, p0, p1, own, size, nodes=_NODES)
+    pts, res, e, t = pieces.pts, pieces.result, pieces.restitution, pieces.contact_time
     key = _end_step(res, pts.ravel(), dt[np.repeat(own, pts.shape[1])]).reshape(pts.shape)
     mixed = np.zeros(size, bool)
     mixed[own[(key != key[:, 3:4]).any(axis=1)]] = True
-    e = res.restitution.reshape(pts.shape)
-    t = res.contact_time.reshape(pts.shape)
-    stuck = res.sticks.reshape(pts.shape)
-    w = half[:, None] * _WEIGHTS[None, :]
-    e_mean = np.bincount(own, (w * e[:, 1:-1]).sum(axis=1), minlength=size)
-    with np.errstate(invalid="ignore"):
-        t_piece = np.where(stuck[:, 1:-1].any(axis=1), np.inf, (w * t[:, 1:-1]).sum(axis=1))
-    t_mean = np.zeros(size)
-    np.add.at(t_mean, own, t_piece)
-    stick_frac = np.bincount(own, (w * stuck[:, 1:-1]).sum(axis=1), minlength=size)
+    e_mean, t_mean = pieces.restitution_mean, pieces.contact_time_mean
+    stick_frac = pieces.stick_fraction
     # the range: piece ends, nodes, and the vertex of the quadratic through each piece
-    vertex = _vertex(pts[:, [0, 3, -1]], e[:, [0, 3, -1]], p0, p1)
-    e_lo = np.fmin(e.min(axis=1), vertex)
-    e_hi = np.fmax(e.max(axis=1), vertex)
+    top = vertex(pts[:, [0, 3, -1]], e[:, [0, 3, -1]], p0, p1)
+    e_lo = np.fmin(e.min(axis=1), top)
+    e_hi = np.fmax(e.max(axis=1), top)
     if bounds and (integrator in ENTRY_PHASES or not is_flat(solimp)):  # no quadratics
         e_lo = np.fmin(e_lo, _interior_extreme(run, own, pts, e, -1.0))
         e_hi = np.fmax(e_hi, _interior_extreme(run, own, pts, e, 1.0))
-    e_min = _reduce(np.minimum, own, e_lo, size, np.inf)
-    e_max = _reduce(np.maximum, own, e_hi, size, -np.inf)
-    t_min = _reduce(np.minimum, own, t.min(axis=1), size, np.inf)
-    t_max = _reduce(np.maximum, own, t.max(axis=1), size, -np.inf)
+    e_min = reduce_at(np.minimum, own, e_lo, size, np.inf)
+    e_max = reduce_at(np.maximum, own, e_hi, size, -np.inf)
+    t_min = reduce_at(np.minimum, own, t.min(axis=1), size, np.inf)
+    t_max = reduce_at(np.maximum, own, t.max(axis=1), size, -np.inf)
     out = np.stack([e_mean, t_mean, e_min, e_max, t_min, t_max, stick_frac])
     redo = np.flatnonzero(mixed)
     if redo.size and intervals < _GRID * 4**3:
@@ -338,22 +329,3 @@ def _end_step(res: StepContact, phase: np.ndarray, dt: np.ndarray) -> np.ndarray
     with np.errstate(invalid="ignore", over="ignore"):
         index = np.rint(res.contact_time / dt - phase)
     return np.where(res.sticks, -1, index)
-
-
-def _reduce(op, owner, values, size, start):
-    out = np.full(size, start)
-    op.at(out, owner, values)
-    return out
-
-
-def _vertex(p, e, lo, hi):
-    """Value at the vertex of the quadratic through three points, where inside the piece."""
-    (x0, x1, x2), (y0, y1, y2) = p.T, e.T
-    with np.errstate(all="ignore"):
-        d01, d12 = (y1 - y0) / (x1 - x0), (y2 - y1) / (x2 - x1)
-        c2 = (d12 - d01) / (x2 - x0)
-        c1 = d01 - c2 * (x0 + x1)
-        xv = -c1 / (2.0 * c2)
-        yv = y0 + d01 * (xv - x0) + c2 * (xv - x0) * (xv - x1)
-    inside = np.isfinite(yv) & (xv > lo) & (xv < hi)
-    return np.where(inside, yv, np.nan)

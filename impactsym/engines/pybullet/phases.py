@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.mujoco.discrete import PhaseSummary
+from impactsym.engines.phase_pieces import integrate_pieces, reduce_at, vertex
 from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD, step_pattern
 
 __all__ = ["phase_summary"]
@@ -27,7 +28,7 @@ __all__ = ["phase_summary"]
 _GRID = 32  # phase intervals searched for changes of the pattern
 _BISECT = 42  # bisection steps per change (2^-42 < 1e-12 of a phase)
 _ROUNDS = 6  # changes of the pattern found inside one grid interval
-_NODES, _WEIGHTS = np.polynomial.legendre.leggauss(3)
+_NODES = 3  # Gauss-Legendre nodes per piece
 
 
 def phase_summary(
@@ -104,49 +105,21 @@ def phase_summary(
         ends.append(hi)
         owner.append(own)
     p0, p1, own = np.concatenate(starts), np.concatenate(ends), np.concatenate(owner)
-    half, centre = 0.5 * (p1 - p0), 0.5 * (p1 + p0)
-    nodes = centre[:, None] + half[:, None] * _NODES[None, :]
-    pts = np.concatenate([p0[:, None], nodes, p1[:, None]], axis=1)
-    res, _ = run(np.repeat(own, pts.shape[1]), pts.ravel())
-    e = res.restitution.reshape(pts.shape)
-    t = res.contact_time.reshape(pts.shape)
-    stuck = res.sticks.reshape(pts.shape)
-    w = half[:, None] * _WEIGHTS[None, :]
-    e_mean = np.bincount(own, (w * e[:, 1:-1]).sum(axis=1), minlength=size)
-    with np.errstate(invalid="ignore"):
-        t_piece = np.where(stuck[:, 1:-1].any(axis=1), np.inf, (w * t[:, 1:-1]).sum(axis=1))
-    t_mean = np.zeros(size)
-    np.add.at(t_mean, own, t_piece)
-    stick_frac = np.bincount(own, (w * stuck[:, 1:-1]).sum(axis=1), minlength=size)
-    vertex = _vertex(pts[:, [0, 2, 4]], e[:, [0, 2, 4]], p0, p1)
-    e_lo = np.fmin(e.min(axis=1), vertex)
-    e_hi = np.fmax(e.max(axis=1), vertex)
+    pieces = integrate_pieces(lambda i, q: run(i, q)[0], p0, p1, own, size, nodes=_NODES)
+    pts, e, t = pieces.pts, pieces.restitution, pieces.contact_time
+    e_mean, t_mean, stick_frac = (
+        pieces.restitution_mean, pieces.contact_time_mean, pieces.stick_fraction
+    )  # fmt: skip
+    top = vertex(pts[:, [0, 2, 4]], e[:, [0, 2, 4]], p0, p1)
+    e_lo = np.fmin(e.min(axis=1), top)
+    e_hi = np.fmax(e.max(axis=1), top)
     fields = (
         e_mean,
         t_mean,
-        _reduce(np.minimum, own, e_lo, size, np.inf),
-        _reduce(np.maximum, own, e_hi, size, -np.inf),
-        _reduce(np.minimum, own, t.min(axis=1), size, np.inf),
-        _reduce(np.maximum, own, t.max(axis=1), size, -np.inf),
+        reduce_at(np.minimum, own, e_lo, size, np.inf),
+        reduce_at(np.maximum, own, e_hi, size, -np.inf),
+        reduce_at(np.minimum, own, t.min(axis=1), size, np.inf),
+        reduce_at(np.maximum, own, t.max(axis=1), size, -np.inf),
         stick_frac,
     )
     return PhaseSummary(*(np.reshape(f, shape) for f in fields))
-
-
-def _reduce(op, owner, values, size, start):
-    out = np.full(size, start)
-    op.at(out, owner, values)
-    return out
-
-
-def _vertex(p, e, lo, hi):
-    """Value at the vertex of the quadratic through three points, where inside the piece."""
-    (x0, x1, x2), (y0, y1, y2) = p.T, e.T
-    with np.errstate(all="ignore"):
-        d01, d12 = (y1 - y0) / (x1 - x0), (y2 - y1) / (x2 - x1)
-        c2 = (d12 - d01) / (x2 - x0)
-        c1 = d01 - c2 * (x0 + x1)
-        xv = -c1 / (2.0 * c2)
-        yv = y0 + d01 * (xv - x0) + c2 * (xv - x0) * (xv - x1)
-    inside = np.isfinite(yv) & (xv > lo) & (xv < hi)
-    return np.where(inside, yv, np.nan)
