@@ -148,9 +148,15 @@ class DiscreteTarget:
         )
 
     def stability_dampratio(self, tc: np.ndarray) -> np.ndarray:
-        """Smallest stable dampratio at timeconst ``tc`` (bisection in log; ``inf``: none)."""
+        """Smallest stable dampratio at timeconst ``tc`` (bisection in log; ``inf``: none).
+
+        Computed once per distinct ``(timeconst, weight ratio)``: many targets share one.
+        """
+        shape = self.e.shape
+        pairs = np.stack([np.broadcast_to(tc, shape), np.broadcast_to(self.rho, shape)])
+        (tc, rho), back = np.unique(pairs, axis=1, return_inverse=True)
         dm = d_max(self.solimp)
-        dp = effective_impedance(dm, np.broadcast_to(self.rho, self.e.shape))
+        dp = effective_impedance(dm, rho)
         h = self.timestep
 
         def ok(dr):
@@ -168,7 +174,7 @@ class DiscreteTarget:
             mid = np.sqrt(lo * hi)
             good = ok(mid)
             lo, hi = np.where(good, lo, mid), np.where(good, mid, hi)
-        return np.where(every, 0.0, np.where(top, hi, np.inf))
+        return np.where(every, 0.0, np.where(top, hi, np.inf))[back.ravel()]
 
 
 def _refuse(tg: DiscreteTarget, i: int, why: str, solve) -> None:
@@ -247,10 +253,11 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
     dr = np.full(n, np.nan)
     rows = np.arange(n)
     low = np.maximum(dr_min * (1.0 + 1e-3), 1e-3)  # the bottom of the scan
+    checked = np.zeros(n, bool)  # hit to 1e-9 by one exact evaluation of the table's guess
     if n >= _TABLE_FROM:  # many targets of one contact: the tabulated mean
         same = np.stack([tg.g, tg.v, np.broadcast_to(tg.rho, (n,))])
         contact = np.unique(same, axis=1, return_inverse=True)[1]
-        dr[:], rows = table_crossings(gap, contact.ravel(), tg.e, low, _DR_TOP)
+        dr[:], rows, checked = table_crossings(gap, contact.ravel(), tg.e, low, _DR_TOP)
     if tg.guess is not None and rows.size:  # a local bracket around the continuous design
         try:
             guess = np.full(n, np.nan)
@@ -261,12 +268,12 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
             dr[rows], rows = _local_crossing(gap, guess, dr_min, rows)
     if rows.size:
         dr[rows] = _grid_crossing(tg, gap, tc, dr_min, rows, refuse)
-    rows = np.arange(n)
-    p = tg.mean(tc, dr, rows)
+    rows = np.flatnonzero(~checked)
+    p = tg.mean(tc[rows], dr[rows], rows)
     e = np.asarray(p.restitution)
-    miss = np.asarray(p.sticks) | ~(np.abs(e - tg.e) <= _DESIGN_TOL)
+    miss = np.asarray(p.sticks) | ~(np.abs(e - tg.e[rows]) <= _DESIGN_TOL)
     if miss.any():
-        i = int(np.flatnonzero(miss)[0])
+        i = int(rows[np.flatnonzero(miss)[0]])
         more = tg.mean(tc[i : i + 1], dr[i : i + 1] * (1 + 1e-6), np.array([i]))
         why = (
             f"the body starts to stick at some touch phase at dampratio = {dr[i]:.6g}, "

@@ -10,8 +10,10 @@ maximum of ``E`` makes it one ``searchsorted``), the crossing is estimated by in
 cubic interpolation in ``log dampratio`` through the four table points around it, and
 one exact evaluation there accepts it when it hits the target to ``_ACCEPT``. The others
 are refined by the Illinois method inside their table bracket, where the sign change is
-known. A target the table does not bracket (unreachable, or still too bouncy at the top
-of the scan) is left to the caller's scan, which refuses it with the reason.
+known, to ``_RTOL`` in the dampratio (the phase mean then hits the target to about
+``1e-11``; all designs here hit it to ``1e-9`` or better). A target the table does not
+bracket (unreachable, or still too bouncy at the top of the scan) is left to the
+caller's scan, which refuses it with the reason.
 
 This pays where a contact has at least ``_MIN_GROUP`` targets (a table costs
 ``_TABLE`` evaluations, a target of the scan about 40). `docs/physics.md#touch-phase`.
@@ -30,6 +32,7 @@ __all__ = ["table_crossings"]
 _TABLE = 1024  # dampratios per table
 _MIN_GROUP = 128  # targets per contact from which a table pays
 _ACCEPT = 1e-9  # |phase mean - target| accepted from the interpolated crossing
+_RTOL = 1e-11  # the Illinois refinement's relative width in the dampratio (e to ~1e-11)
 
 
 def table_crossings(
@@ -38,8 +41,9 @@ def table_crossings(
     target: np.ndarray,
     low: np.ndarray,
     top: float,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Dampratios of the targets whose contact has a table, and the elements left.
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Dampratios of the targets whose contact has a table, the elements left, and a
+    mask of those whose design was checked to ``_ACCEPT`` by an exact evaluation.
 
     ``gap(dr, i)`` is target minus phase mean of elements ``i`` at dampratios ``dr``
     (sticking counts as restitution 0); ``contact`` labels the elements that share one
@@ -48,6 +52,7 @@ def table_crossings(
     """
     n = target.size
     dr = np.full(n, np.nan)
+    checked = np.zeros(n, bool)
     labels, first, counts = np.unique(contact, return_index=True, return_counts=True)
     for label, i0, count in zip(labels, first, counts, strict=True):
         if count < _MIN_GROUP:
@@ -56,21 +61,23 @@ def table_crossings(
         grid = np.exp(np.linspace(np.log(low[i0]), np.log(top), _TABLE))
         # the phase mean on the table, through the gap of one member (target known)
         E = target[i0] - gap(grid, np.full(_TABLE, i0))
-        dr[members] = _invert(gap, grid, E, members, target[members])
-    return dr, np.flatnonzero(np.isnan(dr))
+        dr[members], checked[members] = _invert(gap, grid, E, members, target[members])
+    return dr, np.flatnonzero(np.isnan(dr)), checked
 
 
 def _invert(gap, grid, E, members, e):
-    """The crossings of the targets ``e`` of one contact (``nan``: left to the scan)."""
+    """The crossings of the targets ``e`` of one contact (``nan``: left to the scan) and
+    the mask of those accepted at the interpolated guess."""
     x = np.log(grid)
     # largest index with E > e: the suffix maximum is non-increasing
     suffix = np.maximum.accumulate(E[::-1])[::-1]
     i = np.searchsorted(-suffix, -e, side="left") - 1
     inside = (i >= 0) & (i < x.size - 1)
     out = np.full(e.size, np.nan)
+    checked = np.zeros(e.size, bool)
     k = np.flatnonzero(inside)
     if k.size == 0:
-        return out
+        return out, checked
     i, ek, who = i[k], e[k], members[k]
     # inverse cubic through i-1 .. i+2 where E falls strictly there, else inverse linear
     j = np.clip(i - 1, 0, x.size - 4)
@@ -91,6 +98,7 @@ def _invert(gap, grid, E, members, e):
     f = gap(np.exp(guess), who)  # target minus mean: < 0 too bouncy, >= 0 enough
     done = np.abs(f) <= _ACCEPT
     out[k[done]] = np.exp(guess[done])
+    checked[k[done]] = True
     rest = np.flatnonzero(~done)
     if rest.size:
         lo = np.where(f[rest] < 0, guess[rest], x[i[rest]])
@@ -103,8 +111,8 @@ def _invert(gap, grid, E, members, e):
             np.exp(lo),
             np.exp(hi),
             log=True,
-            rtol=1e-12,
+            rtol=_RTOL,
             f_lo=f_lo,
             f_hi=f_hi,
         )
-    return out
+    return out, checked
