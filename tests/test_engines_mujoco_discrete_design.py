@@ -177,3 +177,40 @@ def test_stability_limits_against_the_linear_recurrence(integrator):
     assert np.all(ok[decays])
     assert grows.sum() > 20
     assert decays.sum() > 20
+
+
+def test_euler_stability_dampratio_in_closed_form_is_the_bisection_on_jury():
+    """The closed-form smallest stable dampratio (Euler) against a bisection on the Jury
+    conditions of ``stable`` at the coefficients MuJoCo uses (refsafe applied)."""
+    from impactsym.engines.mujoco.discrete_design import DiscreteTarget, stable
+    from impactsym.engines.mujoco.model import coefficients, d_max, effective_impedance
+
+    flat = (0.9, 0.9, 0.001, 0.5, 2.0)
+    for solimp, h, rho in ((flat, 0.002, 1.0), (flat, 0.0005, 0.3), (DEFAULT, 0.004, 2.0)):
+        n = 40
+        tc = np.geomspace(1e-3, 0.2, n)
+        tg = DiscreteTarget(
+            np.full(n, 0.5), np.ones(n), np.zeros(n), None, solimp, None, None,
+            np.full(n, rho), h, "euler", None,
+        )  # fmt: skip
+        got = tg.stability_dampratio(tc)
+        dm = d_max(solimp)
+        dp = effective_impedance(dm, rho)
+
+        def ok(dr, tc=tc, solimp=solimp, h=h, dm=dm, dp=dp):
+            c = coefficients((tc, dr), solimp, h)
+            return stable(
+                kappa=dp * dm * c.stiffness * h * h, beta=dp * c.damping * h, integrator="euler"
+            )
+
+        lo, hi = np.full(n, 1e-6), np.full(n, 1e2)
+        for _ in range(80):
+            mid = np.sqrt(lo * hi)
+            good = ok(mid)
+            lo, hi = np.where(good, lo, mid), np.where(good, mid, hi)
+        want = np.where(ok(np.full(n, 1e-6)), 0.0, np.where(ok(np.full(n, 1e2)), hi, np.inf))
+        finite = np.isfinite(want) & (want > 0)
+        assert finite.sum() > 10
+        np.testing.assert_allclose(got[finite], want[finite], rtol=1e-12)
+        assert np.array_equal(np.isinf(got), np.isinf(want))
+        assert np.array_equal(got == 0, want == 0)

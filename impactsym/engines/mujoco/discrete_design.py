@@ -151,7 +151,20 @@ class DiscreteTarget:
         """Smallest stable dampratio at timeconst ``tc`` (bisection in log; ``inf``: none).
 
         Computed once per distinct ``(timeconst, weight ratio)``: many targets share one.
+        Euler and ``implicitfast`` in closed form: with ``tc`` after refsafe,
+        ``beta = 2 d' h / (d_max tc)`` and ``kappa = d' h^2 / (d_max tc^2 dr^2)``, the map
+        is stable iff ``beta < 2`` and ``dr^2 > d' h^2 / (d_max tc^2 (4 - 2 beta))``.
         """
+        if self.integrator != "rk4":
+            dm = d_max(self.solimp)
+            dp = effective_impedance(dm, np.broadcast_to(self.rho, self.e.shape))
+            h = self.timestep
+            tc = refsafe(np.broadcast_to(tc, self.e.shape), h)
+            beta = 2.0 * dp * h / (dm * tc)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                dr = np.sqrt(dp * h * h / (dm * tc * tc * (4.0 - 2.0 * beta)))
+            dr = np.where(beta < 2.0, dr, np.inf)
+            return np.where(dr < 1e-6, 0.0, np.where(dr < _DR_TOP, dr, np.inf))
         shape = self.e.shape
         pairs = np.stack([np.broadcast_to(tc, shape), np.broadcast_to(self.rho, shape)])
         (tc, rho), back = np.unique(pairs, axis=1, return_inverse=True)
