@@ -35,6 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from impactsym.engines.mujoco.euler import coast_flat
+from impactsym.engines.mujoco.stepmap import spectral_radius
 
 __all__ = ["FlatPhases", "flat_phases"]
 
@@ -80,7 +81,7 @@ def flat_phases(*, kappa, beta, dp, G, bdt, dkdt2) -> FlatPhases:
     lam1, lam2 = 0.5 * (2.0 - kappa - beta + root), 0.5 * (2.0 - kappa - beta - root)
     rest = np.zeros(size, bool)  # proven: no phase that is still in contact ever leaves
     # an unstable map (spectral radius >= 1) is left to the general summary
-    live = np.flatnonzero((np.abs(lam1) < 1.0) & (np.abs(lam2) < 1.0))
+    live = np.flatnonzero(spectral_radius(kappa=kappa, beta=beta) < 1.0)
     x, y = x[:, live], y[:, live]
     par = [a[live] for a in (kappa, beta, c_step, c_force, x_star, lam1, lam2, G)]
     for n in range(1, _MAX_STEPS + 1):
