@@ -118,3 +118,13 @@ def test_bad_input_is_refused_by_name():
         predict_rigid(restitution=-0.1, speed=1.0)
     with pytest.raises(ValueError, match="phase"):
         predict_rigid(restitution=0.5, speed=1.0, phase=1.0)
+
+
+def test_contact_erp_is_the_setting_that_sets_the_bias():
+    # setPhysicsEngineParameter(contactERP=0.2) changes the push-out bias as contact_erp
+    # says; the joint error reduction erp does not touch the contact row
+    kw = {"speed": 1.0, "processing_threshold": 0.0}
+    for solver, erp in (({"contactERP": 0.2}, 0.2), ({"erp": 0.5}, 0.08)):
+        engine = pybullet_steps(stiffness=None, damping=None, mass=1.0, phase=PHASES,
+                                restitution=(0.5, 1.0), solver=solver, **kw)  # fmt: skip
+        _agree(engine, predict_rigid(restitution=0.5, phase=PHASES, contact_erp=erp, **kw))
