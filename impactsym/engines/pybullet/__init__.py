@@ -8,6 +8,9 @@
 * :mod:`~impactsym.engines.pybullet.design`: :func:`contact_for`;
 * :mod:`~impactsym.engines.pybullet.pair`: the pair rules (:func:`combine_pair`,
   :func:`split_pair`);
+* :mod:`~impactsym.engines.pybullet.rigid`, :mod:`~impactsym.engines.pybullet.rigid_prediction`:
+  the rigid contact (no ``contactStiffness``) with velocity ``restitution``,
+  :func:`predict_rigid`;
 * :mod:`~impactsym.engines.pybullet.derivation`: the SymPy derivation of the map;
 * :mod:`~impactsym.engines.pybullet.driver`: PyBullet itself, a sphere on a plane.
 
@@ -19,5 +22,14 @@ from __future__ import annotations
 from impactsym.engines.pybullet.design import contact_for
 from impactsym.engines.pybullet.pair import combine_pair, split_pair
 from impactsym.engines.pybullet.prediction import PyBulletContact, predict
+from impactsym.engines.pybullet.rigid_prediction import RigidContact, predict_rigid
 
-__all__ = ["PyBulletContact", "combine_pair", "contact_for", "predict", "split_pair"]
+__all__ = [
+    "PyBulletContact",
+    "RigidContact",
+    "combine_pair",
+    "contact_for",
+    "predict",
+    "predict_rigid",
+    "split_pair",
+]

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.mujoco.stepping import StepContact
+from impactsym.engines.pybullet.rigid import RIGID_BUDGET
 from impactsym.engines.pybullet.stepping import step_budget
 
 __all__ = ["pybullet_steps"]
@@ -24,8 +25,8 @@ __all__ = ["pybullet_steps"]
 
 def pybullet_steps(
     *,
-    stiffness: float,
-    damping: float,
+    stiffness: float | None,
+    damping: float | None,
     mass: float,
     speed: float,
     phase: Any,
@@ -55,11 +56,18 @@ def pybullet_steps(
     travel). Geometric touch lies ``phase * timestep`` before the
     first state (after a call) that free flight would carry into overlap; the run starts
     one step earlier in free flight.
+
+    ``stiffness=None`` (``damping`` is then ignored) leaves the sphere rigid (no
+    ``contactStiffness``) and reads the run with the rigid rule of
+    :mod:`~impactsym.engines.pybullet.rigid`: a state without force ends the contact
+    only where the sphere separates, and it sticks if it has not separated within
+    :data:`~impactsym.engines.pybullet.rigid.RIGID_BUDGET` calls.
     """
     import pybullet as pb
 
     phases = np.atleast_1d(np.asarray(phase, float))
-    budget = int(step_budget(stiffness, damping + 0.1, mass, timestep))
+    rigid = stiffness is None
+    budget = RIGID_BUDGET if rigid else int(step_budget(stiffness, damping + 0.1, mass, timestep))
     out = {name: np.zeros(phases.size) for name in StepContact.__dataclass_fields__}
     for i, p in enumerate(phases):
         cid = pb.connect(pb.DIRECT)
@@ -111,15 +119,8 @@ def _run(pb, cid, k, c, m, v, p, g, h, threshold, plane, radius, budget, restitu
     x, w = v * t + 0.5 * g * t * t, v + g * t
     shape = pb.createCollisionShape(pb.GEOM_SPHERE, radius=radius, physicsClientId=cid)
     ball = pb.createMultiBody(m, shape, basePosition=[0, 0, radius - x], physicsClientId=cid)
-    pb.changeDynamics(
-        ball,
-        -1,
-        contactStiffness=k,
-        contactDamping=c,
-        linearDamping=0.0,
-        angularDamping=0.0,
-        physicsClientId=cid,
-    )
+    law = {} if k is None else {"contactStiffness": k, "contactDamping": c}
+    pb.changeDynamics(ball, -1, linearDamping=0.0, angularDamping=0.0, physicsClientId=cid, **law)
     if threshold is not None:
         pb.changeDynamics(ball, -1, contactProcessingThreshold=threshold, physicsClientId=cid)
     if plane is not None:
@@ -133,7 +134,9 @@ def _run(pb, cid, k, c, m, v, p, g, h, threshold, plane, radius, budget, restitu
     started = ended = False
     first = end = 0
     w_end = x_end = x_max = f_max = 0.0
-    for n in range(budget + 1):
+    for n in range(budget + 1 if k is not None else budget + 10):
+        if k is None and started and n - first > budget:
+            break  # rigid: not separated and gone within the budget: sticks
         pb.stepSimulation(physicsClientId=cid)
         z = pb.getBasePositionAndOrientation(ball, physicsClientId=cid)[0][2]
         x, w = radius - z, -pb.getBaseVelocity(ball, physicsClientId=cid)[0][2]
@@ -145,7 +148,7 @@ def _run(pb, cid, k, c, m, v, p, g, h, threshold, plane, radius, budget, restitu
                 x_max, f_max = x, force
             continue
         if not ended:
-            if force > 0:
+            if force > 0 or (k is None and w >= 0):  # rigid: ends where it separates
                 x_max, f_max = max(x_max, x), max(f_max, force)
                 continue
             ended, end, w_end, x_end = True, n, w, x

@@ -15,6 +15,7 @@ one interval would go unseen (tested against dense phase sampling). All arrays, 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -44,12 +45,16 @@ def phase_summary(
     processing_threshold: float,
     velocity_restitution: float = 0.0,
     restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
+    pattern: Callable[..., tuple[Any, np.ndarray]] | None = None,
 ) -> PhaseSummary:
     """Mean over the touch phase (uniform in ``[0, 1)``) and bounds over every phase.
 
     Arguments as in :func:`~impactsym.engines.pybullet.stepping.step_contact`, without
-    ``phase`` (validated arrays, broadcast together).
+    ``phase`` (validated arrays, broadcast together). ``pattern`` replaces
+    :func:`~impactsym.engines.pybullet.stepping.step_pattern` (same arguments and
+    result; the rigid contact of :mod:`~impactsym.engines.pybullet.rigid` passes its own).
     """
+    step = step_pattern if pattern is None else pattern
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
     )
@@ -58,7 +63,7 @@ def phase_summary(
     size = k.size
 
     def run(i, p):
-        return step_pattern(
+        return step(
             k[i],
             c[i],
             m[i],
