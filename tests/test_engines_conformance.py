@@ -145,6 +145,36 @@ def test_cli_prints_every_engine_and_the_reason_of_the_one_that_refuses(capsys):
     assert "AddContactMaterial(dissipation=" in blocks["Drake"]
 
 
+def test_under_gravity_lammps_predicts_its_load_free_design_and_refusals_stay_rows(monkeypatch):
+    # the other bridges refuse here (stubbed: a designed MuJoCo, Drake or PyBullet row under
+    # gravity is checked by their own tests, and takes seconds); the LAMMPS row still comes
+    def refuse(**kwargs):
+        raise ValueError("stub: out of reach")
+
+    monkeypatch.setattr(mujoco, "solref_for", refuse)
+    monkeypatch.setattr(drake, "point_contact_for", refuse)
+    monkeypatch.setattr(pybullet, "contact_for", refuse)
+    table = conformance_table(**REQUEST, gravity=9.81)
+    for engine in ("MuJoCo", "Drake", "PyBullet"):
+        assert table.row(engine).error == "stub: out of reach"
+        assert "unreachable: stub: out of reach" in table.text()
+    row = table.row("LAMMPS")
+    assert any("without a load" in note for note in row.notes)
+    assert "note: hooke_for designs collisions without a load" in row.text()
+    c = row.design  # the load-free design, predicted under the load at the row's step
+    assert c.restitution == pytest.approx(0.5, abs=1e-6)
+    p = lammps.predict(kn=c.kn, damping=c.damping, mass=MASS, speed=1.0, gravity=9.81,
+                       limit_damping=True, timestep=row.step)  # fmt: skip
+    assert row.restitution == p.restitution
+    assert abs(row.restitution - 0.5) > 1e-3
+    got = lammps_drop(kn=c.kn, damping=c.damping, speed=1.0, timestep=row.step, gravity=9.81,
+                      phase=0.3)  # fmt: skip
+    one = lammps.predict(kn=c.kn, damping=c.damping, mass=MASS, speed=1.0, gravity=9.81,
+                         limit_damping=True, timestep=row.step, phase=0.3)  # fmt: skip
+    assert one.restitution == pytest.approx(got["restitution"], rel=1e-6)
+    within(got["restitution"], row.restitution_range, 1e-6)
+
+
 @pytest.mark.parametrize(
     ("option", "value", "bound"),
     [

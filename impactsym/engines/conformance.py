@@ -82,8 +82,9 @@ class EngineRow(ArrayRecord):
     engine
         ``"MuJoCo"``, ``"LAMMPS"``, ``"Drake"`` or ``"PyBullet"``.
     step, model
-        The step the answer is designed at (s) and the integrator or contact
-        approximation there (e.g. ``"Euler"``, ``"velocity-Verlet"``, ``"lagged"``).
+        The step the answer is designed at (s; ``nan`` where LAMMPS's step could not be
+        chosen) and the integrator or contact approximation there (e.g. ``"Euler"``,
+        ``"velocity-Verlet"``, ``"lagged"``).
     step_note
         Where the step comes from (the engine's default, or why this one).
     parameters
@@ -126,7 +127,8 @@ class EngineRow(ArrayRecord):
 
     def text(self) -> str:
         """The row as a readable block: header, parameters to paste, prediction."""
-        head = f"{self.engine}: step {self.step:.6g} s, {self.model} ({self.step_note})"
+        step = "no step" if math.isnan(self.step) else f"step {self.step:.6g} s"
+        head = f"{self.engine}: {step}, {self.model} ({self.step_note})"
         notes = "".join(f"\n  note: {n}" for n in self.notes)
         if self.error is not None:
             return f"{head}\n  unreachable: {self.error}{notes}"
@@ -272,6 +274,11 @@ def _row(engine: str, request: dict) -> EngineRow:
         except ValueError as exc:
             error = str(exc)
     notes = tuple(str(w.message) for w in caught)
+    if engine == "LAMMPS" and request["gravity"] > 0:
+        notes += (
+            "hooke_for designs collisions without a load; the prediction is that design "
+            f"under gravity {request['gravity']:g} m/s^2",
+        )
     if error is not None:
         return EngineRow(engine, math.nan if step is None else step, model, note,
                          error=error, notes=notes)  # fmt: skip
