@@ -37,7 +37,7 @@ Nothing is derived here: every number comes from
 One engine failing does not stop the table: where a bridge refuses the request at its
 step (a ``ValueError``: e.g. a contact shorter than two Drake steps, MuJoCo's refsafe
 floor ``timeconst >= 2 timestep``, a contact of one PyBullet step), that row carries the
-bridge's reason, which names a step that would reach the target, instead of numbers.
+bridge's reason instead of numbers (most reasons name a step that would reach the target).
 Bad input (not a bridge's verdict) raises at once. SI units throughout.
 """
 
