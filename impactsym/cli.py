@@ -13,7 +13,12 @@
   [--speed V] [--gravity G] [--no-limit-damping] [--timestep DT]`` -- LAMMPS ``pair_style
   granular`` Hooke ``kn`` and ``eta_n`` for a wanted restitution, with the predictions
   (SI units; with ``--timestep`` designed for LAMMPS's velocity-Verlet at that step, the
-  phase mean and range printed).
+  phase mean and range printed);
+* ``impactsym engines --restitution E --contact-time T --mass M --speed V [--gravity G]`` --
+  the same impact for MuJoCo, LAMMPS, Drake and PyBullet: per engine the parameters to
+  paste and the predicted restitution and contact time (phase mean and range) at its
+  default step, or why the engine cannot deliver it there
+  (:func:`impactsym.engines.conformance.conformance_table`).
 """
 
 from __future__ import annotations
@@ -131,7 +136,54 @@ def build_parser() -> argparse.ArgumentParser:
         help="LAMMPS timestep, s: design for velocity-Verlet at it (phase mean) and print "
         "the range over touch phases (default: the continuous design, timestep -> 0)",
     )
+
+    eng = commands.add_parser(
+        "engines",
+        help="one impact in MuJoCo, LAMMPS, Drake and PyBullet: parameters and predictions",
+    )
+    eng.add_argument("--restitution", type=_positive(), required=True, help="wanted e, 0 < e < 1")
+    eng.add_argument("--contact-time", type=_positive(), required=True, help="wanted t_c, s")
+    eng.add_argument(
+        "--mass", type=_positive(), required=True, help="effective mass of the contact, kg"
+    )
+    eng.add_argument("--speed", type=_positive(), required=True, help="normal approach speed, m/s")
+    eng.add_argument(
+        "--gravity",
+        type=_positive(zero=True),
+        default=0.0,
+        help="pressing acceleration, m/s^2 (default 0)",
+    )
     return parser
+
+
+def _positive(*, zero: bool = False):
+    """An argparse ``type``: a finite real ``> 0`` (``>= 0`` with ``zero``); argparse names
+    the option in its error (exit code 2)."""
+
+    def convert(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not math.isfinite(value) or value < 0 or (value == 0 and not zero):
+            bound = ">= 0" if zero else "> 0"
+            raise argparse.ArgumentTypeError(f"must be a finite number {bound}, got {text!r}")
+        return value
+
+    return convert
+
+
+def _engines(args: argparse.Namespace) -> None:
+    from impactsym.engines.conformance import conformance_table
+
+    table = conformance_table(
+        restitution=args.restitution,
+        contact_time=args.contact_time,
+        mass=args.mass,
+        speed=args.speed,
+        gravity=args.gravity,
+    )
+    print(table.text())
 
 
 #: MuJoCo's defaults (mjOption): the timestep and integrator the CLI designs for
@@ -335,6 +387,8 @@ def _run(args: argparse.Namespace) -> None:
         _mujoco(args)
     elif args.command == "lammps":
         _lammps(args)
+    elif args.command == "engines":
+        _engines(args)
     else:
         from impactsym.export import write_latex_document, write_python_module
 
