@@ -24,7 +24,7 @@ def test_condition_is_required_and_checked():
         impact("tsuji", **KW)
     with pytest.raises(TypeError, match="condition"):
         damping_for("tsuji", **DESIGN)
-    with pytest.raises(ValueError, match="condition must be 'position' or 'force'"):
+    with pytest.raises(ValueError, match="condition must be one of 'position', 'force', 'clipped'"):
         impact("tsuji", condition="both", **KW)
 
 
