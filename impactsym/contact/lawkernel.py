@@ -124,13 +124,16 @@ def law_functions(name: str) -> LawFunctions:
 @dataclass(frozen=True)
 class Normalized:
     """One impact per element, normalized: ``tau_c`` (``inf`` when sticking), ``e``,
-    ``z_max``, ``peak`` (largest normalized compressive force), ``sticks``."""
+    ``z_max``, ``peak`` (largest normalized compressive force), ``sticks``, and
+    ``z_end``, the overlap where the contact ended (``0`` at ``z = 0``, ``nan`` where it
+    sticks or the end was given)."""
 
     tau_c: np.ndarray
     e: np.ndarray
     z_max: np.ndarray
     peak: np.ndarray
     sticks: np.ndarray
+    z_end: np.ndarray | None = None
 
 
 class _System:
@@ -319,7 +322,7 @@ def integrate(
         y = np.stack([np.broadcast_to(np.asarray(a, dtype=float), (n,)) for a in start])
     t = np.zeros(n)
     h = np.full(n, 1e-3)
-    tau_c, e = np.full(n, np.nan), np.zeros(n)
+    tau_c, e, z_end = np.full(n, np.nan), np.zeros(n), np.full(n, np.nan)
     z_max, found_max = y[0].copy(), np.zeros(n, dtype=bool)
     peak = np.maximum(np.array(system.phi(y)), 0.0)
     sticks = np.isinf(end)
@@ -412,6 +415,8 @@ def integrate(
         with np.errstate(divide="ignore"):
             tau_c[acc[exit_]] = t1[exit_] + y1[0, exit_] / -y1[1, exit_]
         e[acc[exit_]] = -y1[1, exit_]
+        z_end[acc[ended]] = y1[0, ended]
+        z_end[acc[exit_]] = 0.0
         tau_c[acc[at_end]] = end[acc[at_end]]
         done = ended | exit_ | at_end
         # trapped: the body can no longer leave (sticks)
@@ -451,4 +456,5 @@ def integrate(
     peak = np.where(pressed, np.maximum(peak, b), peak)
     tau_c = np.where(sticks, np.inf, tau_c)
     e = np.where(sticks, 0.0, np.clip(e, 0.0, 1.0))
-    return Normalized(tau_c=tau_c, e=e, z_max=z_max, peak=peak, sticks=sticks)
+    z_end = np.where(sticks, np.nan, z_end)
+    return Normalized(tau_c=tau_c, e=e, z_max=z_max, peak=peak, sticks=sticks, z_end=z_end)
