@@ -184,8 +184,9 @@ def bounce_sequence(
     With ``law`` another contact law of :mod:`impactsym.contact.laws`: each contact is the
     exact impact of that law at its arrival speed, whose damping and pressing numbers
     follow from those of the first impact by powers of the speed
-    (:mod:`~impactsym.contact.lawbounce`); position condition (under the force condition
-    only a single contact without pressing force).
+    (:mod:`~impactsym.contact.lawbounce`); under the force condition each contact starts
+    from the element relaxing with zero force where the body meets it (in the first
+    impact's units).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-r"""The bounce sequence until rest on a nonlinear contact law (position condition).
+r"""The bounce sequence until rest on a nonlinear contact law (position and force conditions).
 
 **What.** A body pressed towards the contact by a constant force hits it at speed
 :math:`v_0`, leaves it, flies under the pressing force alone, hits again with its
@@ -34,10 +34,17 @@ linear recursion of :mod:`~impactsym.contact.bounce` is the case :math:`p = 1`).
 conventions are those of the linear sequence: the departure speed is capped by the
 arrival speed (energy), a release at zero speed counts as sticking, ``max_contacts``
 bounds the loop, and a contact whose end the absolute time cannot resolve is refused
-(:func:`~impactsym.contact.loop.check_resolution`). Under the force condition a
-nonlinear contact releases with the element still deflected, and the next contact would
-start from that relaxing element: not covered here, so only a single contact without
-pressing force is allowed there.
+(:func:`~impactsym.contact.loop.check_resolution`).
+
+**Force condition** (:func:`law_sequences`). A contact ends at a force zero with the
+massless element still deflected, :math:`z_c > 0`. While the body flies
+(:math:`z_b = z_c - u s + b s^2/2`) the element, free of load, keeps its force zero,
+:math:`\varphi(z_e, z_e') = 0`, i.e. relaxes as :math:`z_e' = w_0(z_e)` (the analogue of
+section 2's :math:`z_e' = -z_e/(2D)`); the next contact starts where the body meets it,
+from :math:`(z_e, z_b')`, in the first impact's units throughout
+(:func:`~impactsym.contact.lawcoast.recontact`; the integration of
+:mod:`~impactsym.contact.lawkernel` from that state). Hunt–Crossley's force vanishes only
+with the overlap under a pressing force, so its sequence is the position one.
 """
 
 from __future__ import annotations

@@ -16,7 +16,11 @@ damping number (``docs/physics.md``, "Nonlinear contact laws"):
 Under the force condition with a pressing force the restitution does not fall to zero
 continuously: at the stick boundary it jumps from a positive value to 0 (the force
 touches zero with the body still moving). Targets below that value cannot be reached by
-any damping and are refused with the reason and the lowest value that can.
+any damping and are refused with the reason and the lowest value that can. Under the
+``"clipped"`` condition the departure speed at ``z = 0`` falls continuously to 0 at its
+stick boundary (the coast's free flight just reaches ``z = 0``), so every target is
+reachable; without pressing force a clipped coast keeps the force condition's speed,
+whose inverses (linear, Tsuji map, Hunt–Crossley) apply unchanged.
 """
 
 from __future__ import annotations

@@ -20,7 +20,13 @@ Why this numerics
   :math:`z/|z'|` to ``z = 0``, so steps shrink geometrically, no stage ever evaluates a
   negative overlap, and the exit is reached when :math:`z` is :math:`10^{-14}` of the
   maximum penetration (the remaining flight :math:`z/|z'|` is added).
-* **Events by the step map.** A sign change of the reduced force (force condition), of
+* **Coasts in closed form (clipped condition).** Where the reduced force falls through
+  zero the clipped contact's force :math:`\max(0, \varphi)` vanishes and the body flies,
+  :math:`z'' = b`: the coast is solved exactly (:func:`~impactsym.contact.lawcoast.coast`:
+  it leaves at ``z = 0`` iff the free flight reaches it, else the force returns at the
+  root of the convex reduced force), and the integration restarts from there.
+* **Events by the step map.** A sign change of the reduced force (force and clipped
+  conditions), of
   :math:`z'` (maximum penetration) or of :math:`d\varphi/d\tau` (a force maximum) inside
   an accepted step is located by Illinois iteration on the length of one order-8 step
   from the step's start, so the event is as accurate as the integration.
@@ -29,7 +35,10 @@ Why this numerics
   never reach ``z = 0`` once :math:`E < 0` (position condition), and never reach a zero of
   the force once :math:`E < E_\mathrm{c} = \min(0, \min_z [w_0(z)^2/2 + V(z) - bz])`,
   :math:`w_0(z)` the rate at which the force vanishes (force condition; the bracket is
-  convex in ``z``, minimized by bisection of its slope). A trapped body is followed to its
+  convex in ``z``, minimized by bisection of its slope); clipped: once
+  :math:`E < E_\mathrm{esc}`, the least energy of a force zero from which the coast
+  reaches ``z = 0`` (:func:`~impactsym.contact.lawcoast.escape_energy`). A trapped body
+  is followed to its
   rest for the maximum penetration and peak force: until an upper bound of all later
   forces (at the largest overlap of its energy, and its largest speed) is below the
   largest force met, or it is within :math:`10^{-12}` of equilibrium. A heavily

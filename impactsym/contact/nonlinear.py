@@ -13,6 +13,16 @@ force ``F`` (``docs/physics.md``, "Nonlinear contact laws"). The laws are those 
   :math:`\zeta = \alpha/\sqrt{2(p+1)}` (restitution and sticking);
 * the order-8 integration of :mod:`impactsym.contact.lawkernel` for everything else
   (contact times, maximum penetration, peak force, and any law with a pressing force).
+
+Three contact conditions (:data:`LAW_CONDITIONS`): ``"position"`` (contact while the
+overlap ``d > 0``), ``"force"`` (while the force is compressive; the element's own
+relaxation after it) and ``"clipped"``, what the engines integrate: the force
+:math:`\max(0, F(d, \dot d))` on the geometric overlap, so the body may coast inside the
+overlap where the force would pull, be caught again by the force, and leaves at
+``d = 0`` (LAMMPS ``limit_damping``, Chrono's ``if (forceN < 0) forceN = 0``, Drake's
+Hunt–Crossley factor :math:`(1 + d\,\dot x)_+`). For the linear law it is the
+force-condition release followed by the closed-form coast (:func:`clipped_linear`, the
+LAMMPS continuous ``limit_damping`` contact).
 """
 
 from __future__ import annotations
@@ -222,6 +232,15 @@ def impact(
     >>> round(impact("hunt-crossley", stiffness=1e6, damping=2.083, mass=0.1, speed=1.0,
     ...              condition="force").restitution, 4)
     0.3999
+
+    Clipped, the force of a pressed Tsuji contact ends at 0.529 of the impact speed, then
+    the body coasts out of the overlap against the pressing force, leaving later and
+    slower:
+
+    >>> kw = dict(stiffness=2000.0, damping=0.5, mass=0.5, speed=1.5, force=1.0)
+    >>> f, c = (impact("tsuji", condition=x, **kw) for x in ("force", "clipped"))
+    >>> round(f.restitution, 4), round(c.restitution, 4), bool(c.contact_time > f.contact_time)
+    (0.5292, 0.4992, True)
     """
     check_law(law)
     check_law_condition(condition)
