@@ -49,21 +49,21 @@ ArrayLike = float | np.ndarray
 LAW_CONDITIONS = (*CONDITIONS, "clipped")
 
 
-def check_law_condition(condition: object) -> str:
-    """Return ``condition`` if it names a condition of :data:`LAW_CONDITIONS`, else raise.
+def check_law_condition(value: object) -> str:
+    """Return ``value`` if it names a condition of :data:`LAW_CONDITIONS`, else raise.
 
     >>> check_law_condition("clipped")
     'clipped'
     """
     known = ", ".join(repr(c) for c in LAW_CONDITIONS)
-    if not isinstance(condition, str):
+    if not isinstance(value, str):
         raise TypeError(
-            f"condition must be one of the strings {known}, got {condition!r} of type "
-            f"{type(condition).__name__}"
+            f"condition must be one of the strings {known}, got {value!r} of type "
+            f"{type(value).__name__}"
         )
-    if condition not in LAW_CONDITIONS:
-        raise ValueError(f"condition must be one of {known}, got {condition!r}")
-    return condition
+    if value not in LAW_CONDITIONS:
+        raise ValueError(f"condition must be one of {known}, got {value!r}")
+    return value
 
 
 def clipped_linear(tau_f, e_f, D, b) -> tuple[np.ndarray, np.ndarray]:
