@@ -106,8 +106,6 @@ def test_no_damping_bounces_until_max_contacts():
 
 
 def test_refusals():
-    with pytest.raises(ValueError, match="condition='force'.*not covered"):
-        bounce_sequence(0.3, 0.2, condition="force", law="hunt-crossley")
     with pytest.raises(ValueError, match="law must be one of"):
         bounce_sequence(0.3, 0.2, condition="position", law="hertz")
     with pytest.raises(ValueError, match="exponent must be >= 1"):
@@ -117,3 +115,108 @@ def test_refusals():
     seq = bounce_sequence(0.3, 0.2, condition="position", law="tsuji")
     with pytest.raises(ValueError, match="linear law only"):
         seq.trajectory([1.0])
+
+
+# the force condition: contact until the force vanishes, then the body flies while the
+# massless element relaxes with zero force, z_e' = -R(z_e)/c (reduced force R(z) + c z')
+REDUCED = {  # (R(z), c as a function of the damping number)
+    "viscoelastic": (lambda z: z, lambda d: d),
+    "hertz-linear": (lambda z: z**1.5, lambda d: 2 * d),
+    "tsuji": (lambda z: z**1.25, lambda d: d),
+}
+PHI["tsuji"] = lambda z, w, d: z**1.5 + d * z**0.25 * w
+
+
+def ivp_force_bounces(law, delta, f, n, t_end=400.0):
+    """The whole motion in first-impact units with solve_ivp: contact z'' = f - phi until
+    the terminal event "reduced force falls through 0"; then flight of the body (z_b'' =
+    f) and relaxation of the element (z_e' = -R(z_e)/c) until the terminal event "body
+    meets element" (z_b - z_e rising through 0); the next contact starts from there."""
+    phi, (R, c_of) = PHI[law], REDUCED[law]
+    c = c_of(delta)
+    opts = {"method": "DOP853", "rtol": 1e-13, "atol": 1e-15}
+    t, z, w, rows = 0.0, 0.0, 1.0, []
+    for _ in range(n):
+
+        def released(s, y):
+            return R(max(y[0], 0.0)) + c * y[1]
+
+        released.terminal, released.direction = True, -1
+        sol = solve_ivp(lambda s, y: [y[1], f - phi(max(y[0], 0.0), y[1], delta)],
+                        (t, t_end), [z, w], events=released, **opts)  # fmt: skip
+        if not sol.t_events[0].size:
+            rows.append((t, np.inf, w, 0.0, z))
+            break
+        t1, (zc, wc) = sol.t_events[0][0], sol.y_events[0][0]
+        rows.append((t, t1, w, -wc, z))
+
+        def meet(s, y, t1=t1):
+            return y[0] - y[2] if s > t1 + 1e-9 else -1.0
+
+        meet.terminal, meet.direction = True, 1
+        sol = solve_ivp(lambda s, y: [y[1], f, -R(max(y[2], 0.0)) / c], (t1, t_end),
+                        [zc, wc, zc], events=meet, **opts)  # fmt: skip
+        t, (_, w, z) = sol.t_events[0][0], sol.y_events[0][0]
+    return np.array(rows)
+
+
+@pytest.mark.parametrize(
+    ("law", "delta", "f"),
+    [("tsuji", 0.4, 0.05), ("viscoelastic", 0.5, 0.1), ("hertz-linear", 0.1, 0.05)],
+)
+def test_force_bounces_against_one_solve_ivp_of_the_motion(law, delta, f):
+    seq = bounce_sequence(delta, f, condition="force", law=law)
+    assert seq.sticks
+    assert seq.n_contacts >= 3
+    assert np.all(seq.element_deflection[1:] > 0)  # every re-contact meets a deflected element
+    ref = ivp_force_bounces(law, delta, f, seq.n_contacts)
+    assert len(ref) == seq.n_contacts
+    np.testing.assert_allclose(seq.start, ref[:, 0], rtol=1e-8)
+    np.testing.assert_allclose(seq.end, ref[:, 1], rtol=1e-8)
+    np.testing.assert_allclose(seq.arrival_velocity, ref[:, 2], rtol=1e-8, atol=1e-12)
+    np.testing.assert_allclose(seq.departure_speed, ref[:, 3], rtol=1e-8, atol=1e-12)
+    np.testing.assert_allclose(seq.element_deflection, ref[:, 4], rtol=1e-7, atol=1e-14)
+    assert seq.time_to_rest == pytest.approx(ref[-1, 0], rel=1e-8)
+
+
+def test_linear_force_sequence_from_the_relaxing_element_is_section_2_s():
+    """The nonlinear machinery on the linear law (b = 2 D f, element z_e' = -z_e/(2D)) meets
+    the section-2 sequence of the closed forms (contact.loop)."""
+    from impactsym.contact.lawbounce import law_sequences
+
+    seq = law_sequences("linear", np.array([0.1]), np.array([0.2]), np.array([1.0]),
+                        condition="force", max_contacts=100, record=True).sequence(0)  # fmt: skip
+    ref = bounce_sequence(0.1, 0.2, condition="force")
+    assert seq.n_contacts == ref.n_contacts
+    np.testing.assert_allclose(seq.start, ref.start, rtol=1e-10)
+    np.testing.assert_allclose(seq.departure, ref.departure_speed, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(seq.arrival_velocity, ref.arrival_velocity, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(seq.deflection, ref.element_deflection, rtol=0, atol=1e-12)
+
+
+def test_hunt_crossley_force_sequence_is_its_position_sequence():
+    """Its force vanishes only with the overlap (under a pressing force the force rate at
+    a zero is s z^p b > 0): every contact starts undeformed, as under the position
+    condition (there: rescaled to each arrival speed; here: in first-impact units)."""
+    a = bounce_sequence(0.3, 0.2, condition="force", law="hunt-crossley")
+    b = bounce_sequence(0.3, 0.2, condition="position", law="hunt-crossley")
+    assert a.n_contacts == b.n_contacts
+    np.testing.assert_allclose(a.start, b.start, rtol=1e-10)
+    np.testing.assert_allclose(a.departure_speed, b.departure_speed, rtol=0, atol=1e-10)
+    assert np.all(a.element_deflection == 0)
+
+
+@pytest.mark.parametrize("condition", ["position", "force"])
+def test_bounce_map_on_a_law_is_the_sequences_point_by_point(condition):
+    from impactsym.contact import bounce_map
+
+    D, f = np.array([0.3, 2.0]), np.array([[0.1]])
+    m = bounce_map(D, f, condition=condition, law="viscoelastic")
+    assert m.law == "viscoelastic"
+    assert m.n_contacts.shape == (1, 2)
+    for i in range(1):
+        for j in range(2):
+            seq = bounce_sequence(D[j], f[i, 0], condition=condition, law="viscoelastic")
+            assert m.n_contacts[i, j] == seq.n_contacts
+            assert m.sticks[i, j] == seq.sticks
+            assert m.time_to_rest[i, j] == pytest.approx(seq.time_to_rest, rel=1e-12)

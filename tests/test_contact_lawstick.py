@@ -104,3 +104,54 @@ def test_bad_input_is_refused(kwargs, error, message):
 def test_condition_is_required():
     with pytest.raises(TypeError, match="condition"):
         law_stick_boundary("tsuji", 0.3)
+
+
+def releases_clipped_ivp(law, delta, f, t_max=200.0):
+    """Whether a clipped contact leaves: solve_ivp on the piecewise system (contact
+    z'' = f - phi, coast z'' = f where the force would be tensile), switched by terminal
+    events of the reduced force, ended by the terminal event z = 0."""
+    phi, reduced = _phi(law, delta)
+    t, y, contact = 0.0, [0.0, 1.0], True
+    while True:
+
+        def out(s, y, t=t):
+            return y[0] if s > t + 1e-12 else 1.0
+
+        def zero(s, y):
+            return reduced(max(y[0], 0.0), y[1])
+
+        out.terminal = zero.terminal = True
+        out.direction, zero.direction = -1, (-1 if contact else 1)
+
+        def rhs(s, y, contact=contact):
+            return [y[1], f - (phi(max(y[0], 0.0), y[1]) if contact else 0.0)]
+
+        sol = solve_ivp(rhs, (t, t_max), y, method="DOP853", rtol=1e-12, atol=1e-15,
+                        events=[out, zero])  # fmt: skip
+        if sol.t_events[0].size:
+            return True
+        if not sol.t_events[1].size:
+            return False
+        t, y, contact = sol.t_events[1][0], list(sol.y_events[1][0]), not contact
+
+
+def test_clipped_linear_boundary_is_where_the_coast_stops_reaching_the_surface():
+    """f*: the force-condition release speed e equals 4 D b = 8 D^2 f (the coast's
+    parabola 2De - es + bs^2/2 just touches z = 0), below the force condition's f*."""
+    from impactsym.contact import restitution
+
+    D = np.array([0.05, 0.3, 0.7, 2.0])
+    f_star = law_stick_boundary("linear", D, condition="clipped")
+    e = restitution(D, f_star, condition="force")
+    np.testing.assert_allclose(e, 8 * D**2 * f_star, rtol=1e-8)
+    assert np.all(f_star < law_stick_boundary("linear", D, condition="force"))
+
+
+@pytest.mark.parametrize(("law", "delta"), [("tsuji", 1.0), ("viscoelastic", 0.5)])
+def test_clipped_boundary_against_solve_ivp(law, delta):
+    f_star = law_stick_boundary(law, delta, condition="clipped", rtol=1e-6)
+    assert releases_clipped_ivp(law, delta, f_star * (1 - 1e-4))
+    assert not releases_clipped_ivp(law, delta, f_star * (1 + 1e-4))
+    # between the position and the force boundaries (the table of docs/physics.md)
+    assert {"tsuji": 0.07605, "viscoelastic": 0.3265}[law] < f_star
+    assert f_star < {"tsuji": 0.14772, "viscoelastic": 0.3547}[law]

@@ -157,3 +157,71 @@ def test_exponent_is_ignored_where_the_law_has_none():
         b = impact(law, stiffness=1e4, damping=0.01, mass=1.0, speed=1.0, exponent=2.5,
                    condition="force")  # fmt: skip
         assert a == b
+
+
+def test_the_clipped_linear_law_is_the_lammps_limit_damping_contact():
+    """LAMMPS's continuous Hooke contact with limit_damping and gravity: the body leaves
+    the overlap with departure_speed, or sticks in the coast's band."""
+    from impactsym.engines.lammps import predict
+
+    kn, m, v, g = 1e5, 0.02, 0.3, 29.43
+    eta = np.array([0.0, 1.0, 5.0, 20.0, 40.0, 60.0, 80.0, 120.0, 300.0])
+    r = impact("linear", stiffness=kn, damping=eta, mass=m, speed=v, force=m * g,
+               condition="clipped")  # fmt: skip
+    ref = predict(kn=kn, damping=eta, mass=m, speed=v, gravity=g, limit_damping=True)
+    np.testing.assert_array_equal(r.sticks, ref.sticks)
+    assert r.sticks[-3:].all()
+    assert not r.sticks[:-3].any()
+    np.testing.assert_allclose(r.restitution, ref.departure_speed / v, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(r.max_penetration, ref.max_penetration, rtol=1e-12)
+    np.testing.assert_allclose(r.peak_force, ref.peak_force, rtol=1e-12)
+    # contact time: LAMMPS's force zero, then the coast 2 D e - e s + b s^2 / 2 to z = 0
+    D, b = r.damping_number, m * g / np.sqrt(kn * m) / v
+    e = ref.restitution
+    with np.errstate(all="ignore"):
+        s = (e - np.sqrt(e * e - 4 * D * b * e)) / b
+    t_ref = ref.contact_time + s / np.sqrt(kn / m)
+    free = ~r.sticks
+    np.testing.assert_allclose(r.contact_time[free], t_ref[free], rtol=1e-12)
+
+
+@pytest.mark.parametrize("law", ["hertz-linear", "tsuji", "viscoelastic", "hunt-crossley"])
+def test_clipped_without_pressing_force_is_the_force_release_then_a_free_coast(law):
+    kw = {"stiffness": K[law], "damping": 0.4, "mass": M, "speed": V0}
+    if law == "hertz-linear":
+        kw["damping"] = 10.0
+    force = impact(law, condition="force", **kw)
+    clipped = impact(law, condition="clipped", **kw)
+    assert clipped.restitution == pytest.approx(force.restitution, rel=1e-10)
+    assert clipped.max_penetration == force.max_penetration
+    assert clipped.peak_force == force.peak_force
+    if law == "hunt-crossley":  # its force vanishes only with the overlap
+        assert clipped.contact_time == pytest.approx(force.contact_time, rel=1e-10)
+    else:
+        assert clipped.contact_time > force.contact_time
+
+
+def test_clipped_impact_in_physical_units_against_solve_ivp():
+    """Tsuji under a pressing force: coast inside the overlap, then out; the reference
+    switches the force off and on by terminal events (physical units)."""
+    k, c, F = K["tsuji"], 0.5, 1.0
+
+    def contact(t, y):
+        return [y[1], (F - law_force("tsuji", y[0], y[1], c, k)) / M]
+
+    def sign(t, y):
+        return force_sign("tsuji", y[0], y[1], c, k)
+
+    def out(t, y):
+        return y[0] if t > 1e-12 else 1.0
+
+    sign.terminal = out.terminal = True
+    sign.direction = out.direction = -1
+    opts = {"method": "DOP853", "rtol": 1e-13, "atol": 1e-16}
+    first = solve_ivp(contact, (0, 1), [0.0, V0], events=[out, sign], **opts)
+    assert first.t_events[1].size  # the force vanished inside the overlap
+    t1, y1 = first.t_events[1][0], first.y_events[1][0]
+    flight = solve_ivp(lambda t, y: [y[1], F / M], (t1, 1), y1, events=[out], **opts)
+    r = impact("tsuji", stiffness=k, damping=c, mass=M, speed=V0, force=F, condition="clipped")
+    assert r.contact_time == pytest.approx(flight.t_events[0][0], rel=1e-10)
+    assert r.restitution == pytest.approx(-flight.y_events[0][0][1] / V0, rel=1e-10)

@@ -35,6 +35,9 @@ def test_hunt_crossley_designs_match_the_table_and_the_integration():
         ("hunt-crossley", "position", 5.0),
         ("tsuji", "force", 5.0),
         ("viscoelastic", "position", 5.0),
+        ("linear", "clipped", 5.0),
+        ("tsuji", "clipped", 5.0),
+        ("tsuji", "clipped", 0.0),
     ],
 )
 def test_designs_deliver_their_target(law, condition, force):
@@ -59,3 +62,16 @@ def test_a_target_below_the_stick_jump_is_refused_with_the_reason():
 
 def test_full_restitution_needs_no_damping():
     assert damping_for("viscoelastic", restitution=1.0, condition="force", **KW) == 0.0
+
+
+@pytest.mark.parametrize("law", ["linear", "tsuji"])
+def test_clipped_reaches_targets_the_force_condition_cannot(law):
+    """Under a pressing force the clipped restitution falls continuously to 0 at its stick
+    boundary (the coast's departure speed vanishes there): e = 0.05 is designable where
+    the force condition refuses it."""
+    if law == "linear":  # (tsuji: test_a_target_below_the_stick_jump_is_refused_with_the_reason)
+        with pytest.raises(ValueError, match="out of reach"):
+            damping_for(law, restitution=0.05, force=5.0, condition="force", **KW)
+    c = damping_for(law, restitution=0.05, force=5.0, condition="clipped", **KW)
+    got = impact(law, damping=c, force=5.0, condition="clipped", **KW)
+    assert got.restitution == pytest.approx(0.05, abs=1e-10)

@@ -24,7 +24,7 @@ def test_condition_is_required_and_checked():
         impact("tsuji", **KW)
     with pytest.raises(TypeError, match="condition"):
         damping_for("tsuji", **DESIGN)
-    with pytest.raises(ValueError, match="condition must be 'position' or 'force'"):
+    with pytest.raises(ValueError, match="condition must be one of 'position', 'force', 'clipped'"):
         impact("tsuji", condition="both", **KW)
 
 
@@ -56,3 +56,40 @@ def test_strings_and_shapes_are_refused():
 def test_impossible_targets_are_refused(target, message):
     with pytest.raises(ValueError, match=message):
         damping_for("linear", condition="force", **{**DESIGN, "restitution": target})
+
+
+def test_clipped_without_damping_never_coasts():
+    """No damping: the force k d^p never pulls, so clipped is the position condition."""
+    kw = {"stiffness": 2000.0, "damping": 0.0, "mass": 0.5, "speed": 1.5, "force": 3.0}
+    for law in ("hertz-linear", "tsuji", "viscoelastic"):
+        a = impact(law, condition="clipped", **kw)
+        b = impact(law, condition="position", **kw)
+        assert a.restitution == pytest.approx(b.restitution, rel=1e-12)
+        assert a.contact_time == pytest.approx(b.contact_time, rel=1e-12)
+
+
+def test_the_law_functions_name_the_three_conditions():
+    from impactsym.contact import law_contact_map, law_stick_boundary
+
+    message = "condition must be one of 'position', 'force', 'clipped'"
+    with pytest.raises(ValueError, match=message):
+        law_contact_map("tsuji", 0.3, 0.1, condition="clip")
+    with pytest.raises(ValueError, match=message):
+        law_stick_boundary("tsuji", 0.3, condition="limit_damping")
+    with pytest.raises(TypeError, match="condition must be one of the strings"):
+        damping_for("tsuji", condition=True, **DESIGN)
+
+
+def test_bounce_sequences_refuse_clipped_and_stick_under_a_crushing_force():
+    from impactsym.contact import bounce_map, bounce_sequence
+
+    with pytest.raises(ValueError, match="condition must be 'position' or 'force'"):
+        bounce_sequence(0.3, 0.1, condition="clipped", law="tsuji")
+    seq = bounce_sequence(0.3, 1e6, condition="force", law="tsuji")
+    assert seq.n_contacts == 1
+    assert seq.sticks
+    assert seq.time_to_rest == 0.0
+    with pytest.raises(TypeError, match="exponent must be a scalar"):
+        bounce_map([0.3], 0.1, condition="force", law="tsuji", exponent=[1.5, 2.0])
+    with pytest.raises(ValueError, match="law must be one of"):
+        bounce_map([0.3], 0.1, condition="force", law="hertz")

@@ -43,6 +43,7 @@ FLOORS = [
         "impactsym.contact.lawmaps",
         "impactsym.contact.lawclosed",
         "impactsym.contact.lawkernel",
+        "impactsym.contact.lawcoast",
         "impactsym.contact.rk853",
         "impactsym.rod.derivation",
         "impactsym.rod.kernel",

@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.contact.kernel import check_derived, flat_inputs, kernels
-from impactsym.contact.lawbounce import law_sequence
+from impactsym.contact.lawbounce import law_sequence, law_sequences
 from impactsym.contact.lawnumbers import exponent_in_use
 from impactsym.contact.laws import check_law
 from impactsym.contact.loop import check_max_contacts, check_resolution, run_sequences
@@ -184,8 +184,9 @@ def bounce_sequence(
     With ``law`` another contact law of :mod:`impactsym.contact.laws`: each contact is the
     exact impact of that law at its arrival speed, whose damping and pressing numbers
     follow from those of the first impact by powers of the speed
-    (:mod:`~impactsym.contact.lawbounce`); position condition (under the force condition
-    only a single contact without pressing force).
+    (:mod:`~impactsym.contact.lawbounce`); under the force condition each contact starts
+    from the element relaxing with zero force where the body meets it (in the first
+    impact's units).
 
     Parameters
     ----------
@@ -277,20 +278,19 @@ def _law_bounce(
     if not scalar:
         raise TypeError(f"exponent must be a scalar, got {exponent!r}")
     q = float(exponent_in_use(law, array))
-    if condition == "force" and force > 0:
-        raise ValueError(
-            f"bounce_sequence(law={law!r}, condition='force') with f = {force!r} > 0: a "
-            "nonlinear contact releases with its element still deflected and the next "
-            "contact starts from that relaxing element, which is not covered; use "
-            "condition='position' (or f = 0: a single contact)"
-        )
     what = f"bounce_sequence(D={damping!r}, f={force!r}, law={law!r})"
 
     def check(start: np.ndarray, duration: np.ndarray, contact: int) -> None:
         check_resolution(start, duration, what, contact=contact)
 
     try:
-        seq = law_sequence(law, damping, force, q, max_contacts=max_contacts, check=check)
+        if condition == "force":  # from the relaxing element (lawbounce.law_sequences)
+            seq = law_sequences(
+                law, *(np.array([v]) for v in (damping, force, q)), condition=condition,
+                max_contacts=max_contacts, record=True, check=check,
+            ).sequence(0)  # fmt: skip
+        else:
+            seq = law_sequence(law, damping, force, q, max_contacts=max_contacts, check=check)
     except ValueError as exc:
         if str(exc).startswith(what):
             raise
@@ -303,8 +303,10 @@ def _law_bounce(
         end=seq.start + seq.duration,
         arrival_speed=seq.arrival,
         departure_speed=seq.departure,
-        arrival_velocity=seq.arrival.copy(),
-        element_deflection=np.zeros(seq.n_contacts),
+        arrival_velocity=seq.arrival.copy()
+        if seq.arrival_velocity is None
+        else seq.arrival_velocity,
+        element_deflection=np.zeros(seq.n_contacts) if seq.deflection is None else seq.deflection,
         n_contacts=seq.n_contacts,
         time_to_rest=seq.time_to_rest,
         sticks=seq.sticks,
@@ -337,6 +339,7 @@ class BounceMap(ArrayRecord):
     time_to_rest: np.ndarray
     sticks: np.ndarray
     condition: str
+    law: str = "linear"
 
     def plot(self, *, quantity: str = "n_contacts", ax: Any = None) -> Any:
         """Map of ``quantity`` with the first contact's stick boundary (see
@@ -349,11 +352,21 @@ class BounceMap(ArrayRecord):
         return plot_bounce_map(self, quantity=quantity, boundary=line, ax=ax)
 
 
-def bounce_map(D: ArrayLike, f: ArrayLike, *, condition: str, max_contacts: int = 100) -> BounceMap:
+def bounce_map(
+    D: ArrayLike,
+    f: ArrayLike,
+    *,
+    condition: str,
+    max_contacts: int = 100,
+    law: str = "linear",
+    exponent: float = 1.5,
+) -> BounceMap:
     """Number of contacts and time to rest, vectorized over ``D`` and ``f``.
 
     The same computation as :func:`bounce_sequence`, one contact after another for all
-    points at once (points that rest drop out).
+    points at once (points that rest drop out); with ``law`` another contact law
+    (``D``, ``f`` its damping and pressing numbers at the first impact,
+    :func:`~impactsym.contact.lawbounce.law_sequences`; ``exponent`` a scalar).
 
     Examples
     --------
@@ -364,8 +377,18 @@ def bounce_map(D: ArrayLike, f: ArrayLike, *, condition: str, max_contacts: int 
     [608.025, 143.756, 0.0]
     """
     max_contacts = check_max_contacts(max_contacts)
+    check_law(law)
     (damping, force), shape, _ = flat_inputs(condition=condition, D=D, f=f)
-    result = run_sequences(damping, force, max_contacts, condition=condition, record=False)
+    if law == "linear":
+        result = run_sequences(damping, force, max_contacts, condition=condition, record=False)
+    else:
+        array, scalar = real_array("exponent", exponent, lower=1.0)
+        if not scalar:
+            raise TypeError(f"exponent must be a scalar, got {exponent!r}")
+        q = np.full(damping.shape, float(exponent_in_use(law, array)))
+        result = law_sequences(
+            law, damping, force, q, condition=condition, max_contacts=max_contacts
+        )
     return BounceMap(
         D=damping.reshape(shape),
         f=force.reshape(shape),
@@ -373,6 +396,7 @@ def bounce_map(D: ArrayLike, f: ArrayLike, *, condition: str, max_contacts: int 
         time_to_rest=result.time_to_rest.reshape(shape),
         sticks=result.sticks.reshape(shape),
         condition=condition,
+        law=law,
     )
 
 

@@ -1,4 +1,4 @@
-r"""The bounce sequence until rest on a nonlinear contact law (position condition).
+r"""The bounce sequence until rest on a nonlinear contact law (position and force conditions).
 
 **What.** A body pressed towards the contact by a constant force hits it at speed
 :math:`v_0`, leaves it, flies under the pressing force alone, hits again with its
@@ -34,10 +34,17 @@ linear recursion of :mod:`~impactsym.contact.bounce` is the case :math:`p = 1`).
 conventions are those of the linear sequence: the departure speed is capped by the
 arrival speed (energy), a release at zero speed counts as sticking, ``max_contacts``
 bounds the loop, and a contact whose end the absolute time cannot resolve is refused
-(:func:`~impactsym.contact.loop.check_resolution`). Under the force condition a
-nonlinear contact releases with the element still deflected, and the next contact would
-start from that relaxing element: not covered here, so only a single contact without
-pressing force is allowed there.
+(:func:`~impactsym.contact.loop.check_resolution`).
+
+**Force condition** (:func:`law_sequences`). A contact ends at a force zero with the
+massless element still deflected, :math:`z_c > 0`. While the body flies
+(:math:`z_b = z_c - u s + b s^2/2`) the element, free of load, keeps its force zero,
+:math:`\varphi(z_e, z_e') = 0`, i.e. relaxes as :math:`z_e' = w_0(z_e)` (the analogue of
+section 2's :math:`z_e' = -z_e/(2D)`); the next contact starts where the body meets it,
+from :math:`(z_e, z_b')`, in the first impact's units throughout
+(:func:`~impactsym.contact.lawcoast.recontact`; the integration of
+:mod:`~impactsym.contact.lawkernel` from that state). Hunt–Crossley's force vanishes only
+with the overlap under a pressing force, so its sequence is the position one.
 """
 
 from __future__ import annotations
@@ -48,8 +55,13 @@ from functools import cache
 import numpy as np
 import sympy as sp
 
+from impactsym.contact.lawcoast import recontact
+from impactsym.contact.lawkernel import integrate, law_functions
 from impactsym.contact.lawnumbers import law_impact
 from impactsym.contact.laws import contact_law, p, v0
+
+#: A force-condition release this close to the fold (relative) does not leave the element.
+TANGENT = 1e-13
 
 #: The time-scale symbol of :attr:`impactsym.contact.laws.ContactLaw.damping_number`.
 _T = sp.Symbol("T", positive=True)
@@ -85,6 +97,121 @@ class LawSequence:
     n_contacts: int
     time_to_rest: float
     sticks: bool
+    arrival_velocity: np.ndarray | None = None
+    deflection: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class LawSequences:
+    """The sequences of many points: contacts, verdicts, and (``record``) the per-contact
+    rows ``(point indices, start, duration, arrival velocity, departure speed,
+    deflection)``, one tuple of arrays per contact number."""
+
+    n_contacts: np.ndarray
+    sticks: np.ndarray
+    time_to_rest: np.ndarray
+    rows: list | None = None
+
+    def sequence(self, i: int) -> LawSequence:
+        """The contacts of point ``i`` (needs ``record``)."""
+        table = [[a[np.flatnonzero(r[0] == i)[0]] for a in r[1:]] for r in self.rows if i in r[0]]
+        table = np.array(table, dtype=float).reshape(-1, 5)
+        start, duration, arrival, departure, deflection = (table[:, j].copy() for j in range(5))
+        return LawSequence(
+            start=start,
+            duration=duration,
+            arrival=np.abs(arrival),
+            departure=departure,
+            n_contacts=int(self.n_contacts[i]),
+            time_to_rest=float(self.time_to_rest[i]),
+            sticks=bool(self.sticks[i]),
+            arrival_velocity=arrival,
+            deflection=deflection,
+        )
+
+
+def law_sequences(
+    law: str,
+    delta: np.ndarray,
+    f: np.ndarray,
+    q: np.ndarray,
+    *,
+    condition: str,
+    max_contacts: int,
+    record: bool = False,
+    check=None,
+) -> LawSequences:
+    r"""The bounce sequences of many points at once (flat arrays of the first impact's
+    damping number, pressing number and exponent in use), one contact after another for
+    all points (points that rest drop out). ``check(start, duration, contact)`` is called
+    for every contact number on the points still bouncing.
+
+    Position condition: the recursion of the module docstring on arrays. Force condition
+    (not for ``"linear"``, whose section-2 sequence is :mod:`~impactsym.contact.loop`):
+    everything in the first impact's units; contact ``n`` starts from the state
+    :math:`(z_0, w_0)` where the body meets the relaxing element and ends at the force zero
+    :math:`(z_c, -u)`; the element relaxes with zero force, :math:`z_e' = w_0(z_e)`, while
+    the body flies, :math:`z_b = z_c - u s + b s^2/2`
+    (:func:`~impactsym.contact.lawcoast.recontact`). A release with :math:`b \ge
+    (1 - 10^{-13})\, w_0 w_0'(z_c)` is at the fold (the body does not separate from the
+    element) and counts as sticking, as does a release at zero speed.
+    """
+    n = delta.size
+    accel = 2.0 * delta * f if law == "linear" else f
+    t, z0, w0 = np.zeros(n), np.zeros(n), np.ones(n)
+    n_contacts = np.zeros(n, dtype=int)
+    sticks = np.zeros(n, dtype=bool)
+    time_to_rest = np.full(n, np.inf)
+    rows: list | None = [] if record else None
+    exponents, where = np.unique(q, return_inverse=True)  # a loop over distinct p only
+    a_T, a_delta, a_f = (
+        np.array([float(a.subs(p, x)) for x in exponents])[where] for a in speed_exponents(law)
+    )
+    fns = law_functions(law) if condition == "force" else None
+    active = np.arange(n)
+    for k in range(max_contacts):
+        if active.size == 0:
+            break
+        n_contacts[active] = k + 1
+        d, b, qq, u, ta = delta[active], accel[active], q[active], w0[active], t[active]
+        if condition == "force":
+            run = integrate(law, d, b, qq, condition="force", start=(z0[active], u))
+            duration, speed, zc = run.tau_c.copy(), run.e.copy(), run.z_end
+            with np.errstate(all="ignore"):
+                margin = fns.release_slope(zc, 0.0 * d, d, qq)
+            fold = (zc > 0) & ~(b < margin * (1.0 - TANGENT))
+        else:
+            with np.errstate(all="ignore"):
+                d_n, f_n = d * u ** a_delta[active], f[active] * u ** a_f[active]
+            tau, e = law_impact(law, d_n, f_n, qq, condition="position")
+            with np.errstate(over="ignore"):
+                duration = tau * u ** a_T[active]
+            speed, zc = np.minimum(e * u, u), np.zeros(active.size)
+            fold = np.zeros(active.size, dtype=bool)
+        if check is not None:
+            check(ta, duration, k + 1)
+        pressed = b > 0
+        out = np.isfinite(duration) & ~(pressed & ((speed <= 0) | fold))
+        duration[~out], speed[~out] = np.inf, 0.0
+        sticks[active[~out]] = True
+        time_to_rest[active[~out]] = ta[~out]
+        if rows is not None:
+            rows.append((active, ta, duration, u.copy(), speed, z0[active].copy()))
+        back = out & pressed
+        if condition == "force" and back.any():
+            rc = recontact(fns, zc[back], -speed[back], d[back], b[back], qq[back])
+            flight, z_next, w_next = rc.flight, rc.z, rc.w
+        else:
+            with np.errstate(all="ignore"):
+                flight = 2.0 * speed[back] / b[back]
+            z_next, w_next = np.zeros(flight.size), speed[back]
+        with np.errstate(over="ignore", invalid="ignore"):
+            t_next = ta[back] + duration[back] + flight
+        ok = np.isfinite(t_next)
+        idx = active[back][ok]
+        t[idx], z0[idx], w0[idx] = t_next[ok], z_next[ok], w_next[ok]
+        active = idx
+    return LawSequences(n_contacts, sticks, time_to_rest, rows)
 
 
 def law_sequence(

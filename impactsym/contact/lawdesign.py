@@ -16,7 +16,11 @@ damping number (``docs/physics.md``, "Nonlinear contact laws"):
 Under the force condition with a pressing force the restitution does not fall to zero
 continuously: at the stick boundary it jumps from a positive value to 0 (the force
 touches zero with the body still moving). Targets below that value cannot be reached by
-any damping and are refused with the reason and the lowest value that can.
+any damping and are refused with the reason and the lowest value that can. Under the
+``"clipped"`` condition the departure speed at ``z = 0`` falls continuously to 0 at its
+stick boundary (the coast's free flight just reaches ``z = 0``), so every target is
+reachable; without pressing force a clipped coast keeps the force condition's speed,
+whose inverses (linear, Tsuji map, Hunt–Crossley) apply unchanged.
 """
 
 from __future__ import annotations
@@ -30,8 +34,13 @@ from impactsym.contact.lawclosed import (
     tsuji_zeta,
 )
 from impactsym.contact.laws import contact_law
-from impactsym.contact.nonlinear import normalize, normalized_impact
-from impactsym.validation import broadcast, check_condition, finish, real_array
+from impactsym.contact.nonlinear import (
+    check_law_condition,
+    clipped_linear,
+    normalize,
+    normalized_impact,
+)
+from impactsym.validation import broadcast, finish, real_array
 
 ArrayLike = float | np.ndarray
 
@@ -43,8 +52,13 @@ _WIDTH = 1e-13
 def restitution_of(law: str, delta, b, q, *, condition: str) -> np.ndarray:
     """The exact restitution at damping numbers ``delta`` (flat arrays, ``delta > 0``)."""
     if law == "linear":
-        with np.errstate(divide="ignore"):
-            return np.asarray(linear_restitution(delta, b / (2.0 * delta), condition=condition))
+        released = "force" if condition == "clipped" else condition
+        with np.errstate(divide="ignore", invalid="ignore"):
+            e = np.asarray(linear_restitution(delta, b / (2.0 * delta), condition=released))
+            if condition == "clipped":
+                tau = np.where(e > 0, 0.0, np.inf)  # only the sticking verdict is used
+                e = clipped_linear(tau, e, delta, b)[1]
+        return e
     return normalized_impact(law, delta, b, q, condition=condition)[1]
 
 
@@ -58,7 +72,9 @@ def design_number(law: str, target, b, q, *, condition: str) -> np.ndarray:
         result[free] = hunt_crossley_parameter(target[free])
         todo &= ~free
     elif law in ("linear", "tsuji") and free.any():  # the linear contact inverted
-        zeta = linear_damping_ratio(target[free], condition=condition)
+        # without pressing force a clipped coast keeps the force condition's speed
+        released = "force" if condition == "clipped" else condition
+        zeta = linear_damping_ratio(target[free], condition=released)
         result[free] = zeta if law == "linear" else zeta * np.sqrt(2.0 * (q[free] + 1.0))
         todo &= ~free
     idx = np.flatnonzero(todo)
@@ -71,7 +87,8 @@ def design_number(law: str, target, b, q, *, condition: str) -> np.ndarray:
             free = bb[rows] == 0
             out = np.empty(delta.shape)
             zeta = tsuji_zeta(delta[free], qq[rows][free])
-            out[free] = linear_restitution(zeta, 0.0, condition=condition)
+            released = "force" if condition == "clipped" else condition
+            out[free] = linear_restitution(zeta, 0.0, condition=released)
             if (~free).any():
                 pressed = rows[~free]
                 out[~free] = restitution_of(
@@ -176,7 +193,7 @@ def damping_for(
     4.919
     """
     law = contact_law(law).name
-    check_condition(condition)
+    check_law_condition(condition)
     values = {
         name: real_array(name, value, lower=lower, strict=strict)
         for name, value, lower, strict in (

@@ -85,8 +85,10 @@ def law_contact_map(
         otherwise; ``>= 0``). Arrays broadcast (e.g. a meshgrid).
     exponent : float or array_like
         ``p >= 1`` of the laws that have one.
-    condition : {"position", "force"}
-        How the contact ends.
+    condition : {"position", "force", "clipped"}
+        How the contact ends (``"clipped"``: :func:`~impactsym.contact.nonlinear.impact`);
+        clipped, the contact time runs to the end of the overlap and the restitution is
+        the speed there.
 
     Returns
     -------

@@ -20,7 +20,13 @@ Why this numerics
   :math:`z/|z'|` to ``z = 0``, so steps shrink geometrically, no stage ever evaluates a
   negative overlap, and the exit is reached when :math:`z` is :math:`10^{-14}` of the
   maximum penetration (the remaining flight :math:`z/|z'|` is added).
-* **Events by the step map.** A sign change of the reduced force (force condition), of
+* **Coasts in closed form (clipped condition).** Where the reduced force falls through
+  zero the clipped contact's force :math:`\max(0, \varphi)` vanishes and the body flies,
+  :math:`z'' = b`: the coast is solved exactly (:func:`~impactsym.contact.lawcoast.coast`:
+  it leaves at ``z = 0`` iff the free flight reaches it, else the force returns at the
+  root of the convex reduced force), and the integration restarts from there.
+* **Events by the step map.** A sign change of the reduced force (force and clipped
+  conditions), of
   :math:`z'` (maximum penetration) or of :math:`d\varphi/d\tau` (a force maximum) inside
   an accepted step is located by Illinois iteration on the length of one order-8 step
   from the step's start, so the event is as accurate as the integration.
@@ -29,7 +35,10 @@ Why this numerics
   never reach ``z = 0`` once :math:`E < 0` (position condition), and never reach a zero of
   the force once :math:`E < E_\mathrm{c} = \min(0, \min_z [w_0(z)^2/2 + V(z) - bz])`,
   :math:`w_0(z)` the rate at which the force vanishes (force condition; the bracket is
-  convex in ``z``, minimized by bisection of its slope). A trapped body is followed to its
+  convex in ``z``, minimized by bisection of its slope); clipped: once
+  :math:`E < E_\mathrm{esc}`, the least energy of a force zero from which the coast
+  reaches ``z = 0`` (:func:`~impactsym.contact.lawcoast.escape_energy`). A trapped body
+  is followed to its
   rest for the maximum penetration and peak force: until an upper bound of all later
   forces (at the largest overlap of its energy, and its largest speed) is below the
   largest force met, or it is within :math:`10^{-12}` of equilibrium. A heavily
@@ -51,6 +60,7 @@ import numpy as np
 import sympy as sp
 
 from impactsym.contact import rk853
+from impactsym.contact.lawcoast import coast, escape_energy
 from impactsym.contact.laws import contact_law, p, w, z
 from impactsym.numeric.codegen import lambdify
 
@@ -81,6 +91,9 @@ class LawFunctions:
     potential: object
     release: object
     release_slope: object
+    reduced_z: object
+    reduced_w: object
+    relax_power: object
 
 
 @cache
@@ -89,6 +102,7 @@ def law_functions(name: str) -> LawFunctions:
     law = contact_law(name)
     args = [z, w, law.number, p]
     w0 = law.release_speed
+    spring = law.reduced_force.subs(w, 0)  # R(z) = z^a of lawcoast
 
     def fn(expr: sp.Expr, label: str, extra: tuple = ()) -> object:
         compiled = lambdify([*args, *extra], expr, name=f"{name}_{label}").compiled
@@ -110,19 +124,25 @@ def law_functions(name: str) -> LawFunctions:
         potential=fn(law.potential, "potential"),
         release=fn(w0, "release"),
         release_slope=fn(sp.powsimp(sp.expand(w0 * sp.diff(w0, z)), force=True), "slope"),
+        reduced_z=fn(sp.diff(law.reduced_force, z), "reduced_z"),
+        reduced_w=fn(sp.diff(law.reduced_force, w), "reduced_w"),
+        relax_power=fn(sp.simplify(z * sp.diff(spring, z) / spring), "relax_power"),
     )
 
 
 @dataclass(frozen=True)
 class Normalized:
     """One impact per element, normalized: ``tau_c`` (``inf`` when sticking), ``e``,
-    ``z_max``, ``peak`` (largest normalized compressive force), ``sticks``."""
+    ``z_max``, ``peak`` (largest normalized compressive force), ``sticks``, and
+    ``z_end``, the overlap where the contact ended (``0`` at ``z = 0``, ``nan`` where it
+    sticks or the end was given)."""
 
     tau_c: np.ndarray
     e: np.ndarray
     z_max: np.ndarray
     peak: np.ndarray
     sticks: np.ndarray
+    z_end: np.ndarray | None = None
 
 
 class _System:
@@ -288,26 +308,40 @@ def integrate(
     *,
     condition: str,
     end_time: np.ndarray | None = None,
+    start: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> Normalized:
     r"""Integrate one impact per element of the flat arrays ``delta``, ``b``, ``q``.
 
-    ``end_time``: ``nan`` where the end is to be found, a finite time where it is known
-    (the contact is followed up to it only for the maximum penetration and peak force),
-    ``inf`` where the body is known to stick.
+    ``condition``: ``"position"``, ``"force"`` or ``"clipped"`` (the force
+    :math:`\max(0, \varphi)` on the overlap ``z > 0``: where it would turn tensile the
+    body coasts, :func:`~impactsym.contact.lawcoast.coast`, and the contact ends at
+    ``z = 0``). ``end_time``: ``nan`` where the end is to be found, a finite time where it
+    is known (the contact is followed up to it only for the maximum penetration and peak
+    force), ``inf`` where the body is known to stick. ``start``: the state ``(z, z')`` at
+    the start of the contact (default ``(0, 1)``, a first impact; a force-condition
+    re-contact starts from a deflected element), with a compressive force there.
     """
     n = delta.size
     fns = law_functions(name)
     system = _System(fns, delta, b, q)
     end = np.full(n, np.nan) if end_time is None else np.asarray(end_time, dtype=float)
-    y = np.stack((np.zeros(n), np.ones(n)))
+    if start is None:
+        y = np.stack((np.zeros(n), np.ones(n)))
+    else:
+        y = np.stack([np.broadcast_to(np.asarray(a, dtype=float), (n,)) for a in start])
     t = np.zeros(n)
     h = np.full(n, 1e-3)
-    tau_c, e = np.full(n, np.nan), np.zeros(n)
-    z_max, found_max = np.zeros(n), np.zeros(n, dtype=bool)
-    peak = np.array(system.phi(y))
+    tau_c, e, z_end = np.full(n, np.nan), np.zeros(n), np.full(n, np.nan)
+    z_max, found_max = y[0].copy(), np.zeros(n, dtype=bool)
+    peak = np.maximum(np.array(system.phi(y)), 0.0)
     sticks = np.isinf(end)
     z_s, E_eq = equilibrium(fns, delta, b, q)
-    E_trap = np.zeros(n) if condition == "position" else force_trap_energy(fns, delta, b, q, z_s)
+    E_trap = {
+        "position": lambda: np.zeros(n),
+        "force": lambda: force_trap_energy(fns, delta, b, q, z_s),
+        "clipped": lambda: escape_energy(fns, delta, b, q),
+    }[condition]()
+    by_force = condition in ("force", "clipped")
     hertz_trap = name == "hertz-linear"
     active = np.ones(n, dtype=bool)
     followed = np.zeros(n, dtype=int)
@@ -332,8 +366,9 @@ def integrate(
         sub = system.sub(acc)
         y0, y1, hs, t0 = y0[:, ok], y1[:, ok], hi[ok], t0[ok]
         ended = np.zeros(acc.size, dtype=bool)
-        # the end of the contact inside this step: truncate the step there
-        if condition == "force":
+        coasts = np.zeros(acc.size, dtype=bool)
+        # the end of the contact force inside this step: truncate the step there
+        if by_force:
             g0, g1 = sub.reduced(y0), sub.reduced(y1)
             cross = (g0 > 0) & ~(g1 > 0) & ~np.isfinite(end[acc])
             # a dip through zero inside the step, positive at both ends: the force has a
@@ -354,7 +389,10 @@ def integrate(
                 c = np.flatnonzero(cross)
                 hc, yc = sub.sub(c).locate(y0[:, c], hs[c], _System.reduced)
                 hs[c], y1[:, c] = hc, yc
-                ended[c] = True
+                if condition == "force":
+                    ended[c] = True
+                else:
+                    coasts[c] = True
         # maximum penetration and force maxima inside the (truncated) step
         first = ~found_max[acc] & (y0[1] > 0) & ~(y1[1] > 0)
         if first.any():
@@ -370,6 +408,13 @@ def integrate(
         peak[acc] = np.maximum(peak[acc], sub.phi(y1))
         z_max[acc] = np.where(found_max[acc], z_max[acc], np.maximum(z_max[acc], y1[0]))
         t1 = t0 + hs
+        if coasts.any():  # clipped: coast through the overlap (closed form)
+            c = np.flatnonzero(coasts)
+            ac = acc[c]
+            flight = coast(fns, y1[0, c], y1[1, c], delta[ac], b[ac], q[ac])
+            t1[c] += flight.duration
+            y1[:, c] = np.stack((flight.z, flight.w))
+            ended[c[flight.leaves]] = True
         tau_c[acc[ended]] = t1[ended]
         e[acc[ended]] = -y1[1, ended]
         # a known end, or the exit at z = 0 (graded approach)
@@ -379,6 +424,8 @@ def integrate(
         with np.errstate(divide="ignore"):
             tau_c[acc[exit_]] = t1[exit_] + y1[0, exit_] / -y1[1, exit_]
         e[acc[exit_]] = -y1[1, exit_]
+        z_end[acc[ended]] = y1[0, ended]
+        z_end[acc[exit_]] = 0.0
         tau_c[acc[at_end]] = end[acc[at_end]]
         done = ended | exit_ | at_end
         # trapped: the body can no longer leave (sticks)
@@ -418,4 +465,5 @@ def integrate(
     peak = np.where(pressed, np.maximum(peak, b), peak)
     tau_c = np.where(sticks, np.inf, tau_c)
     e = np.where(sticks, 0.0, np.clip(e, 0.0, 1.0))
-    return Normalized(tau_c=tau_c, e=e, z_max=z_max, peak=peak, sticks=sticks)
+    z_end = np.where(sticks, np.nan, z_end)
+    return Normalized(tau_c=tau_c, e=e, z_max=z_max, peak=peak, sticks=sticks, z_end=z_end)

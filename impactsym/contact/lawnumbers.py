@@ -21,8 +21,8 @@ import numpy as np
 
 from impactsym.contact.api import contact_time, restitution
 from impactsym.contact.laws import check_law
-from impactsym.contact.nonlinear import normalized_impact
-from impactsym.validation import broadcast, check_condition, real_array
+from impactsym.contact.nonlinear import check_law_condition, clipped_linear, normalized_impact
+from impactsym.validation import broadcast, real_array
 
 ArrayLike = float | np.ndarray
 
@@ -42,7 +42,7 @@ def law_inputs(
     return the arrays broadcast and flattened, the exponent in use (flat), the common
     shape and whether all inputs were scalars."""
     check_law(law)
-    check_condition(condition)
+    check_law_condition(condition)
     checked = {name: real_array(name, value, lower=0.0) for name, value in arrays.items()}
     checked["exponent"] = real_array("exponent", exponent, lower=1.0)
     shape = broadcast(**{name: a for name, (a, _) in checked.items()})
@@ -61,8 +61,11 @@ def law_impact(
     if delta.size == 0:
         return np.empty(0), np.empty(0)
     if law == "linear":
-        tau_c = np.asarray(contact_time(delta, f, condition=condition), dtype=float)
-        e = np.asarray(restitution(delta, f, condition=condition), dtype=float)
+        released = "force" if condition == "clipped" else condition
+        tau_c = np.asarray(contact_time(delta, f, condition=released), dtype=float)
+        e = np.asarray(restitution(delta, f, condition=released), dtype=float)
+        if condition == "clipped":
+            tau_c, e = clipped_linear(tau_c, e, delta, 2.0 * delta * f)
         return tau_c.reshape(delta.shape), e.reshape(delta.shape)
     tau_c, e, _, _ = normalized_impact(law, delta, f, q, condition=condition)
     return tau_c, e

@@ -67,8 +67,10 @@ def law_stick_boundary(
         (viscoelastic).
     exponent : float or array_like
         ``p >= 1`` of the laws that have one; broadcasts with ``damping_number``.
-    condition : {"position", "force"}
-        How the contact ends.
+    condition : {"position", "force", "clipped"}
+        How the contact ends (``"clipped"``: the engines' force :math:`\max(0, F)` on the
+        overlap, :func:`~impactsym.contact.nonlinear.impact`); for ``"linear"`` clipped,
+        the body sticks where the force-condition release speed is below :math:`8D^2 f`.
     rtol : float
         Relative width of the final bracket, in ``[1e-14, 1e-2]``.
 
@@ -83,12 +85,10 @@ def law_stick_boundary(
 
     Notes
     -----
-    The accuracy is that of the sticking verdict. Under the force condition the
-    integrator of :mod:`~impactsym.contact.lawkernel` looks for a zero of the reduced
-    force at step ends only; near the boundary the force dips below zero within one step
-    and the release is missed, so :math:`f^*` there comes out about :math:`10^{-3}` low
-    (``docs/physics.md``). Under the position condition it agrees with an independent
-    integration to :math:`10^{-4}` (the test's resolution).
+    The accuracy is that of the sticking verdict: under every condition it agrees with
+    an independent integration to :math:`10^{-4}` (the tests' resolution; near the force
+    condition's boundary the force dips below zero inside one step, which the kernel
+    finds by locating the force minimum in the step, ``docs/physics.md``).
 
     Raises
     ------

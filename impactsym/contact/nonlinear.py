@@ -13,6 +13,16 @@ force ``F`` (``docs/physics.md``, "Nonlinear contact laws"). The laws are those 
   :math:`\zeta = \alpha/\sqrt{2(p+1)}` (restitution and sticking);
 * the order-8 integration of :mod:`impactsym.contact.lawkernel` for everything else
   (contact times, maximum penetration, peak force, and any law with a pressing force).
+
+Three contact conditions (:data:`LAW_CONDITIONS`): ``"position"`` (contact while the
+overlap ``d > 0``), ``"force"`` (while the force is compressive; the element's own
+relaxation after it) and ``"clipped"``, what the engines integrate: the force
+:math:`\max(0, F(d, \dot d))` on the geometric overlap, so the body may coast inside the
+overlap where the force would pull, be caught again by the force, and leaves at
+``d = 0`` (LAMMPS ``limit_damping``, Chrono's ``if (forceN < 0) forceN = 0``, Drake's
+Hunt–Crossley factor :math:`(1 + d\,\dot x)_+`). For the linear law it is the
+force-condition release followed by the closed-form coast (:func:`clipped_linear`, the
+LAMMPS continuous ``limit_damping`` contact).
 """
 
 from __future__ import annotations
@@ -30,9 +40,52 @@ from impactsym.contact.lawclosed import (
 from impactsym.contact.lawkernel import integrate
 from impactsym.contact.laws import check_law
 from impactsym.records import ArrayRecord
-from impactsym.validation import broadcast, check_condition, finish, real_array
+from impactsym.validation import CONDITIONS, broadcast, finish, real_array
 
 ArrayLike = float | np.ndarray
+
+#: The contact conditions of the nonlinear-law functions: those of section 2 and the
+#: engines' ``"clipped"`` force :math:`\max(0, F)` on the geometric overlap.
+LAW_CONDITIONS = (*CONDITIONS, "clipped")
+
+
+def check_law_condition(value: object) -> str:
+    """Return ``value`` if it names a condition of :data:`LAW_CONDITIONS`, else raise.
+
+    >>> check_law_condition("clipped")
+    'clipped'
+    """
+    known = ", ".join(repr(c) for c in LAW_CONDITIONS)
+    if not isinstance(value, str):
+        raise TypeError(
+            f"condition must be one of the strings {known}, got {value!r} of type "
+            f"{type(value).__name__}"
+        )
+    if value not in LAW_CONDITIONS:
+        raise ValueError(f"condition must be one of {known}, got {value!r}")
+    return value
+
+
+def clipped_linear(tau_f, e_f, D, b) -> tuple[np.ndarray, np.ndarray]:
+    r"""Contact time and restitution of the linear law under the clipped condition, from
+    its force-condition release (normalized: :math:`\tau = \omega_0 t`, ``b = 2Df``).
+
+    At the force zero :math:`z = 2De`, :math:`z' = -e`; the body coasts,
+    :math:`z = 2De - es + bs^2/2`, and leaves at ``z = 0`` with speed
+    :math:`\sqrt{e(e - 4Db)}` where :math:`e \ge 4Db`; otherwise the force returns inside
+    the overlap and the body sticks (``docs/physics.md``, *The clipped condition*: the
+    linear oscillator's energy then stays below any that could leave). The LAMMPS
+    ``limit_damping`` contact (:func:`impactsym.engines.lammps.predict`,
+    ``departure_speed``). Returns ``(tau_c, e)``, ``(inf, 0)`` where the body sticks.
+    """
+    tau_f, e_f, D, b = (np.asarray(a, dtype=float) for a in (tau_f, e_f, D, b))
+    z1 = 2.0 * D * e_f
+    disc = e_f * (e_f - 4.0 * D * b)
+    sticks = np.isinf(tau_f) | (disc < 0)
+    with np.errstate(all="ignore"):
+        root = np.sqrt(np.maximum(disc, 0.0))
+        s = np.where(z1 > 0, 2.0 * z1 / (e_f + root), 0.0)
+    return np.where(sticks, np.inf, tau_f + s), np.where(sticks, 0.0, root)
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,6 +157,8 @@ def normalized_impact(law: str, delta, b, q, *, condition: str):
     flat arrays, with the closed forms where they hold."""
     end = np.full(delta.shape, np.nan)
     free = b == 0
+    # without pressing force a clipped coast keeps its speed: the force condition's e
+    released = "force" if condition == "clipped" else condition
     if law == "tsuji":
         zeta = tsuji_zeta(delta, q)
         if condition == "position":
@@ -113,7 +168,7 @@ def normalized_impact(law: str, delta, b, q, *, condition: str):
     if law == "hunt-crossley" and free.any():
         e[free] = hunt_crossley_restitution(delta[free])
     if law == "tsuji" and free.any():
-        e[free] = linear_free_restitution(zeta[free], condition=condition)
+        e[free] = linear_free_restitution(zeta[free], condition=released)
     return result.tau_c, e, result.z_max, result.peak
 
 
@@ -146,9 +201,15 @@ def impact(
     exponent : float or array_like
         ``p >= 1`` of ``"hertz-linear"``, ``"hunt-crossley"`` and ``"tsuji"``; ignored by
         ``"linear"`` and ``"viscoelastic"``.
-    condition : {"position", "force"}
-        Contact while ``d > 0``, or while the contact force is compressive (where the
-        force is zero at touch: until it first returns to zero after being positive).
+    condition : {"position", "force", "clipped"}
+        Contact while ``d > 0``; or while the contact force is compressive (where the
+        force is zero at touch: until it first returns to zero after being positive);
+        or ``"clipped"``, the engines' contact: the force :math:`\max(0, F_{law})` acts
+        while ``d > 0``, so where it would turn tensile the body coasts inside the
+        overlap under the pressing force alone, the force may come back (re-engage),
+        and the contact ends at ``d = 0`` (LAMMPS ``limit_damping``, Chrono's
+        ``if (forceN < 0) forceN = 0``, Drake's :math:`(1 + d\,\dot x)_+`; restitution is
+        the speed at ``d = 0``).
 
     Returns
     -------
@@ -171,9 +232,18 @@ def impact(
     >>> round(impact("hunt-crossley", stiffness=1e6, damping=2.083, mass=0.1, speed=1.0,
     ...              condition="force").restitution, 4)
     0.3999
+
+    Clipped, the force of a pressed Tsuji contact ends at 0.529 of the impact speed, then
+    the body coasts out of the overlap against the pressing force, leaving later and
+    slower:
+
+    >>> kw = dict(stiffness=2000.0, damping=0.5, mass=0.5, speed=1.5, force=1.0)
+    >>> f, c = (impact("tsuji", condition=x, **kw) for x in ("force", "clipped"))
+    >>> round(f.restitution, 4), round(c.restitution, 4), bool(c.contact_time > f.contact_time)
+    (0.5292, 0.4992, True)
     """
     check_law(law)
-    check_condition(condition)
+    check_law_condition(condition)
     values = {
         name: real_array(name, value, lower=lower, strict=strict)
         for name, value, lower, strict in (
@@ -190,10 +260,16 @@ def impact(
     k, c, m, v0, F, p = (np.broadcast_to(a, shape).ravel() for a, _ in values.values())
     T, L, delta, b, q = normalize(law, k, c, m, v0, F, p)
     if law == "linear":
-        exact = physical_contact(m, k, c, v0, F, condition=condition)
+        released = "force" if condition == "clipped" else condition
+        exact = physical_contact(m, k, c, v0, F, condition=released)
         t_c, e = np.asarray(exact.contact_time), np.asarray(exact.restitution)
         tau_c = np.asarray(exact.normalized_contact_time)
-        run = integrate(law, delta, b, q, condition=condition, end_time=tau_c)
+        if condition == "clipped":
+            tau_c, e = clipped_linear(tau_c, e, delta, b)
+            with np.errstate(over="ignore"):
+                t_c = tau_c * T
+        end = np.where(np.isinf(tau_c), np.inf, np.nan) if condition == "clipped" else tau_c
+        run = integrate(law, delta, b, q, condition=condition, end_time=end)
         z_max, peak = run.z_max, run.peak
         pressing = np.asarray(exact.f)
     else:
