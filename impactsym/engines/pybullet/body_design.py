@@ -46,6 +46,7 @@ def body_contact_for(
     processing_threshold: float = np.inf,
     other_stiffness: Any = np.inf,
     other_damping: Any = 0.1,
+    breaking_threshold: float = np.inf,
 ) -> BodyContact:
     """The design that gives a body's point contact ``restitution`` and ``contact_time``.
 
@@ -59,6 +60,8 @@ def body_contact_for(
         The body, as in :func:`~impactsym.engines.pybullet.body_prediction.predict_body`.
     timestep, slop, processing_threshold, other_stiffness, other_damping
         As in :func:`~impactsym.engines.pybullet.design.contact_for`.
+    breaking_threshold
+        As in :func:`~impactsym.engines.pybullet.body_prediction.predict_body`.
 
     Returns
     -------
@@ -78,8 +81,15 @@ def body_contact_for(
     if np.any(e >= 1):
         raise ValueError(f"restitution must be < 1, got {restitution!r}")
     m_eff = effective_mass(m, moments, rotation, at)
+    limits = []
+    for name, value in (("processing_threshold", processing_threshold),
+                        ("breaking_threshold", breaking_threshold)):  # fmt: skip
+        a, a_scalar = real_array(name, value, allow_inf=True)
+        if not a_scalar:
+            raise ValueError(f"{name} must be one number (m), got {value!r}")
+        limits.append(float(a))
     common = {"speed": speed, "gravity": gravity, "timestep": timestep, "slop": slop,
-              "processing_threshold": processing_threshold,
+              "processing_threshold": min(limits),
               "other_stiffness": other_stiffness, "other_damping": other_damping}  # fmt: skip
     body = {"mass": m, "inertia": moments, "orientation": rotation, "point": at}
     ask_e, ask_t = e, t

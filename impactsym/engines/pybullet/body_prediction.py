@@ -117,6 +117,7 @@ def predict_body(
     processing_threshold: float = np.inf,
     other_stiffness: Any = np.inf,
     other_damping: Any = 0.1,
+    breaking_threshold: float = np.inf,
 ) -> BodyContact:
     """PyBullet's bounce of a free rigid body touching a static plane with one ``point``.
 
@@ -135,6 +136,11 @@ def predict_body(
         The body's approach speed at touch, without rotation (m/s), and gravity (m/s^2).
     timestep, slop, processing_threshold
         As in :func:`~impactsym.engines.pybullet.prediction.predict`.
+    breaking_threshold
+        The collision detection's own gap limit (m): Bullet reports no point farther than
+        the contact-breaking threshold of the body's shape
+        (:func:`~impactsym.engines.pybullet.body.box_breaking_threshold` for a box); the
+        row sees the smaller of the two thresholds. Default: no limit (slow bodies).
     phase
         Touch phase in ``[0, 1)``; ``None``: the mean over :data:`PHASES` phases.
 
@@ -157,6 +163,11 @@ def predict_body(
         raise ValueError(f"timestep must be one number (seconds), got {timestep!r}")
     h = float(h)
     settings = check_settings(slop, processing_threshold, 1)
+    brk, brk_scalar = real_array("breaking_threshold", breaking_threshold, lower=0.0,
+                                 allow_inf=True)  # fmt: skip
+    if not brk_scalar:
+        raise ValueError(f"breaking_threshold must be one number (m), got {breaking_threshold!r}")
+    settings["processing_threshold"] = min(settings["processing_threshold"], float(brk))
     k_body, c_body, v, g = arrays
     k, c = (np.asarray(a, float) for a in combine_pair(
         stiffness=k_body, damping=c_body, other_stiffness=other_stiffness,
