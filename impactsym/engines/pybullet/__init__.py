@@ -11,6 +11,10 @@
 * :mod:`~impactsym.engines.pybullet.rigid`, :mod:`~impactsym.engines.pybullet.rigid_prediction`:
   the rigid contact (no ``contactStiffness``) with velocity ``restitution``,
   :func:`predict_rigid`;
+* :mod:`~impactsym.engines.pybullet.body`, :mod:`~impactsym.engines.pybullet.body_prediction`,
+  :mod:`~impactsym.engines.pybullet.body_design`: a free rigid body touching the plane with
+  one point (a box's corner), its row's effective mass and lever turning with it step by
+  step: :func:`predict_body`, :func:`body_contact_for`;
 * :mod:`~impactsym.engines.pybullet.derivation`: the SymPy derivation of the map;
 * :mod:`~impactsym.engines.pybullet.driver`: PyBullet itself, a sphere on a plane.
 
@@ -19,17 +23,22 @@ The physics is in `docs/physics.md#pybullet-at-its-timestep`. SI units throughou
 
 from __future__ import annotations
 
+from impactsym.engines.pybullet.body_design import body_contact_for
+from impactsym.engines.pybullet.body_prediction import BodyContact, predict_body
 from impactsym.engines.pybullet.design import contact_for
 from impactsym.engines.pybullet.pair import combine_pair, split_pair
 from impactsym.engines.pybullet.prediction import PyBulletContact, predict
 from impactsym.engines.pybullet.rigid_prediction import RigidContact, predict_rigid
 
 __all__ = [
+    "BodyContact",
     "PyBulletContact",
     "RigidContact",
+    "body_contact_for",
     "combine_pair",
     "contact_for",
     "predict",
+    "predict_body",
     "predict_rigid",
     "split_pair",
 ]
