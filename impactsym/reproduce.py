@@ -28,6 +28,7 @@ STEPS: tuple[tuple[str, str], ...] = (
     ("spring-damper contact (paper section 2)", "impactsym.results.contact"),
     ("multibody penalty contact (paper section 3)", "impactsym.results.multibody"),
     ("bounce sequences until rest", "impactsym.results.bounce"),
+    ("nonlinear contact laws: stick boundaries, restitution", "impactsym.results.laws"),
     ("what the usual damping design formulas deliver", "impactsym.results.lawformulas"),
     (
         "rod impact until rest (contacts, flights, fixed-end stress)",

@@ -137,6 +137,20 @@ CASES = {
         {"position": np.array([3.0, 0.4, 1e-3]), "force": np.array([4.0, 0.5, 0.03])},
         law="tsuji",
     ),
+    "plot_law_stick_boundaries": lambda m: m.plot_law_stick_boundaries(
+        {"hunt-crossley": np.array([0.1, 1.0]), "tsuji": np.array([0.1, 0.5, 2.0])},
+        {
+            "hunt-crossley": {"position": np.array([1.4, 0.3])},
+            "tsuji": {"position": np.array([1.9, 0.3, 0.0]), "force": np.array([2.0, 0.3, 0.05])},
+        },
+    ),
+    "plot_law_restitution": lambda m: m.plot_law_restitution(
+        {"linear": np.array([0.0, 0.5, 1.0]), "viscoelastic": np.array([0.0, 0.2, 1.0])},
+        {
+            "linear": {"position": np.array([1.0, 0.16, 0.0]), "force": np.array([1, 0.2, 0.1])},
+            "viscoelastic": {"position": np.array([1.0, 0.8, 0.4])},
+        },
+    ),
     "plot_law_map": lambda m: m.plot_law_map(
         _law_map(), quantity="restitution", boundary=(np.array([0.3, 0.9]), [5.0, 0.03])
     ),

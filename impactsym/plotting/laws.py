@@ -1,9 +1,11 @@
-"""Figures of the nonlinear contact laws: stick/release boundaries and contact maps.
+"""Figures of the nonlinear contact laws: stick/release boundaries, restitution, maps.
 
 The analogue of the paper's Fig. 1b and of the section-2 maps for every law of
 :mod:`impactsym.contact.laws`, drawn from arrays computed by the caller
-(:func:`impactsym.contact.law_stick_boundary`, :func:`impactsym.contact.law_contact_map`);
-each function takes an optional Matplotlib axes and returns it. Map cells are rasterized
+(:func:`impactsym.contact.law_stick_boundary`, :func:`impactsym.contact.law_contact_map`;
+several laws side by side for ``impactsym reproduce``, :mod:`impactsym.results.laws`).
+A one-panel function takes an optional Matplotlib axes and returns it; a function of one
+panel per law makes its figure and returns the array of axes. Map cells are rasterized
 in vector output, as in :mod:`impactsym.plotting.contact`.
 """
 
@@ -72,6 +74,16 @@ def plot_law_stick_boundary(
     law = _law(law)
     if ax is None:
         ax = plt.figure(figsize=(8, 4.5), layout="tight").add_subplot()
+    _boundary_lines(ax, damping_number, boundaries, law=law)
+    ax.set_title(f"Stick/release boundary, {law} law")
+    legend_outside(ax=ax, fontsize="small")
+    return ax
+
+
+def _boundary_lines(
+    ax: Axes, damping_number: np.ndarray, boundaries: Mapping[str, np.ndarray], *, law: str
+) -> None:
+    """The lines ``f*(damping_number)`` of each condition on ``ax``, log ``f``, labels."""
     for condition, f_star in boundaries.items():
         f_star = np.asarray(f_star, dtype=float)
         shown = np.where((f_star > 0) & np.isfinite(f_star), f_star, np.nan)
@@ -87,9 +99,79 @@ def plot_law_stick_boundary(
     ax.text(0.6, 0.85, "stick", transform=ax.transAxes, fontsize=12)
     ax.set_xlabel(DAMPING_LABELS[law])
     ax.set_ylabel(PRESSING_LABELS[law])
-    ax.set_title(f"Stick/release boundary, {law} law")
-    legend_outside(ax=ax, fontsize="small")
-    return ax
+
+
+def plot_law_stick_boundaries(
+    damping_numbers: Mapping[str, np.ndarray],
+    boundaries: Mapping[str, Mapping[str, np.ndarray]],
+) -> np.ndarray:
+    """The stick/release boundaries of several laws side by side, one panel per law.
+
+    ``damping_numbers[law]`` are the damping numbers of ``law`` and
+    ``boundaries[law][condition]`` its :math:`f^*` there (as for
+    :func:`plot_law_stick_boundary`); the laws are drawn in the order of
+    ``damping_numbers``, the legend beside the last panel. Returns the axes.
+
+    >>> d = np.array([0.1, 0.5])
+    >>> axes = plot_law_stick_boundaries(
+    ...     {"tsuji": d, "viscoelastic": d},
+    ...     {"tsuji": {"force": [0.8, 0.3]}, "viscoelastic": {"force": [1.2, 0.5]}})
+    >>> [ax.get_title() for ax in axes]
+    ['tsuji', 'viscoelastic']
+    """
+    laws = [_law(law) for law in damping_numbers]
+    if not laws or set(boundaries) != set(laws):
+        raise ValueError(
+            f"boundaries must hold the laws of damping_numbers {laws}, got {sorted(boundaries)}"
+        )
+    fig = plt.figure(figsize=(3.6 * len(laws) + 2.4, 4.2), layout="tight")
+    axes = np.array(fig.subplots(1, len(laws), squeeze=False)[0])
+    for ax, law in zip(axes, laws, strict=True):
+        _boundary_lines(ax, np.asarray(damping_numbers[law]), boundaries[law], law=law)
+        ax.set_title(law)
+    legend_outside(ax=axes[-1], fontsize="small")
+    return axes
+
+
+def plot_law_restitution(
+    damping_numbers: Mapping[str, np.ndarray],
+    restitution: Mapping[str, Mapping[str, np.ndarray]],
+) -> np.ndarray:
+    """Restitution against the damping number without pressing force, one panel per law.
+
+    ``damping_numbers[law]`` are the damping numbers of ``law`` and
+    ``restitution[law][condition]`` the restitution there (0 where the body sticks); one
+    line per condition, the legend beside the last panel. Returns the axes.
+
+    >>> d = np.array([0.0, 0.5, 1.0])
+    >>> axes = plot_law_restitution({"linear": d}, {"linear": {"position": [1.0, 0.16, 0.0]}})
+    >>> axes[0].get_ylabel()
+    'restitution $e$ [-]'
+    """
+    laws = [_law(law) for law in damping_numbers]
+    if not laws or set(restitution) != set(laws):
+        raise ValueError(
+            f"restitution must hold the laws of damping_numbers {laws}, got {sorted(restitution)}"
+        )
+    fig = plt.figure(figsize=(3.6 * len(laws) + 2.4, 4.2), layout="tight")
+    axes = np.array(fig.subplots(1, len(laws), squeeze=False)[0])
+    for ax, law in zip(axes, laws, strict=True):
+        for condition, e in restitution[law].items():
+            ax.plot(
+                damping_numbers[law],
+                e,
+                color=COLORS[check_condition(condition)],
+                lw=2,
+                ls="-" if condition == "position" else "--",
+                label=LABELS[condition],
+            )
+        ax.set_ylim(0.0, 1.02)
+        ax.grid(alpha=0.3)
+        ax.set_xlabel(DAMPING_LABELS[law])
+        ax.set_ylabel(QUANTITIES["restitution"][0])
+        ax.set_title(law)
+    legend_outside(ax=axes[-1], fontsize="small")
+    return axes
 
 
 def plot_law_map(
