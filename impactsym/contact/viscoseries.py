@@ -108,6 +108,7 @@ def reduction_residual() -> sp.Expr:
     return sp.simplify(total)
 
 
+@cache
 def universal_coefficients(order: int, *, nodes: int = 48, dps: int = 40) -> tuple:
     r"""Taylor coefficients :math:`c_0, \dots, c_{order}` of :math:`Y(g) = y(0; g)`.
 
@@ -385,10 +386,11 @@ def _series(order: int, condition: str) -> ViscoelasticRestitutionSeries:
         ]
         worst = max((err for err, x in zip(errors, exact, strict=True) if x is None), default=0)
         digits = 35 if worst == 0 else min(35, int(-mpmath.log10(worst)))
-    precise = tuple(
-        mpmath.mpf(str(sp.N(x, 50))) if x is not None else v
-        for x, v in zip(exact, values[1], strict=True)
-    )
+    with mpmath.workdps(50):
+        precise = tuple(
+            mpmath.mpf(str(sp.N(x, 50))) if x is not None else v
+            for x, v in zip(exact, values[1], strict=True)
+        )
     coefficients = np.array([float(v) for v in precise])
     powers = np.arange(size) / 2
     coefficients.flags.writeable = powers.flags.writeable = False
