@@ -157,7 +157,8 @@ def test_the_evaluator_is_vectorized_and_checks_its_input():
     s = viscoelastic_restitution_series(4, condition="force")
     grid = np.linspace(0.0, 0.1, 12).reshape(3, 4)
     e = s.restitution(grid)
-    assert e.shape == (3, 4) and e[0, 0] == 1.0
+    assert e.shape == (3, 4)
+    assert e[0, 0] == 1.0
     assert isinstance(s.restitution(0.02), float)
     np.testing.assert_allclose(s.restitution(grid.ravel()), e.ravel(), rtol=0, atol=0)
     with pytest.raises(ValueError, match="beta"):
