@@ -6,12 +6,17 @@ the closeness)."""
 
 from __future__ import annotations
 
+import re
+
 import mpmath
 import numpy as np
 import pytest
 import sympy as sp
+from references import latex_reader
 from scipy.integrate import solve_ivp
 
+from impactsym.cli import main
+from impactsym.contact.lawlatex import viscoelastic_formulas
 from impactsym.contact.nonlinear import impact
 from impactsym.contact.viscoseries import (
     delayed_recovery_coefficients,
@@ -173,3 +178,48 @@ def test_the_evaluator_is_vectorized_and_checks_its_input():
         viscoelastic_restitution_series(2)  # condition has no default
     assert s == viscoelastic_restitution_series(4, condition="force")
     assert s != viscoelastic_restitution_series(4, condition="position")
+
+
+@pytest.fixture
+def formulas(monkeypatch):
+    """The viscoelastic formulas of ``impactsym latex`` read back by the test reader,
+    without their remainder terms."""
+    monkeypatch.setitem(latex_reader.NAMES, r"\beta", "beta")
+    monkeypatch.setitem(latex_reader.FUNCTIONS, r"\Gamma", "gamma")
+    read = {}
+    for label, _, text in viscoelastic_formulas():
+        text = re.sub(r" \+ \\mathcal\{O\}\\left\(.*?\\right\)", "", text)
+        read[label] = latex_reader.read(text.replace(r"\cdot", " "), {"gamma": sp.gamma})["rhs"]
+    return read
+
+
+def test_the_formulas_are_printed_by_the_command_line(capsys):
+    for label, _, text in viscoelastic_formulas():
+        assert main(["latex", label]) == 0
+        assert capsys.readouterr().out.strip() == text
+
+
+def test_the_formulas_read_back_give_the_exact_numerics(formulas):
+    beta, C_1, e_p = sp.symbols("beta C_1 e_p")
+    c1_value = float(formulas["law-viscoelastic-c1"])
+    assert c1_value == pytest.approx(1.15344, abs=1e-5)
+    series = sp.lambdify(beta, formulas["law-viscoelastic-restitution-series"].subs(C_1, c1_value))
+    recovery = sp.lambdify((beta, e_p), formulas["law-viscoelastic-delayed-recovery"])
+    betas = np.array([0.01, 0.02, 0.05, 0.1, 0.2])
+    runs = {
+        condition: impact(
+            "viscoelastic",
+            stiffness=1.0,
+            damping=betas / 1.5,
+            mass=1.0,
+            speed=1.0,
+            condition=condition,
+        ).restitution
+        for condition in ("position", "force")
+    }
+    # position: the remainder is h_3 beta^3 with |h_3| = 0.523
+    np.testing.assert_array_less(np.abs(runs["position"] - series(betas)), 0.6 * betas**3)
+    # force from position: the remainder is O(beta^(15/2)) (g_3 = 0.0304)
+    np.testing.assert_array_less(
+        np.abs(runs["force"] - recovery(betas, runs["position"])), 0.05 * betas**7.5 + 1e-12
+    )
