@@ -66,6 +66,14 @@ def test_the_published_constants_and_the_exact_second_coefficient():
     # C2 = 3/5 C1^2 exactly, and both are exact Gamma-function numbers
     assert sp.simplify(s.exact[4] - sp.Rational(3, 5) * s.exact[2] ** 2) == 0
     assert s.powers.tolist() == [0.0, 0.5, 1.0, 1.5, 2.0]
+    # the force condition's first half-integer terms involve C_1 only: exact
+    f = viscoelastic_restitution_series(5, condition="force")
+    C_1 = -f.exact[2]
+    assert f.exact[5] == sp.Rational(4, 15)
+    assert sp.simplify(f.exact[7] + sp.Rational(2, 5) * C_1) == 0
+    assert sp.simplify(f.exact[9] - sp.Rational(17, 50) * C_1**2) == 0
+    assert f.exact[6] is None
+    assert f.exact[10] is None
 
 
 def test_the_reduction_to_the_universal_function_is_exact():
