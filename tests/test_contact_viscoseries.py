@@ -184,6 +184,12 @@ def test_the_evaluator_is_vectorized_and_checks_its_input():
         viscoelastic_restitution_series(2, condition="positon")
     with pytest.raises(TypeError):
         viscoelastic_restitution_series(2)  # condition has no default
+    with pytest.raises(ValueError, match="order"):
+        viscoelastic_restitution_series(17, condition="force")
+    with pytest.raises(ValueError, match="nodes"):
+        universal_coefficients(2, nodes=4)
+    with pytest.raises(ValueError, match="dps"):
+        universal_coefficients(2, dps=10.5)
     assert s == viscoelastic_restitution_series(4, condition="force")
     assert s != viscoelastic_restitution_series(4, condition="position")
 

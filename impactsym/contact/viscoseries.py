@@ -132,8 +132,9 @@ def universal_coefficients(order: int, *, nodes: int = 48, dps: int = 40) -> tup
     ...     bool(abs(c[1] - c_1) < 1e-18), mpmath.nstr(c[2], 15)
     (True, '0.0793550465879704')
     """
-    if isinstance(order, bool) or not isinstance(order, int) or order < 0:
-        raise ValueError(f"order must be a non-negative integer; got {order!r}")
+    for name, value, least in (("order", order, 0), ("nodes", nodes, 8), ("dps", dps, 20)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < least:
+            raise ValueError(f"{name} must be an integer >= {least}; got {value!r}")
     with mpmath.workdps(dps):
         cos, sin = np.frompyfunc(mpmath.cos, 1, 1), np.frompyfunc(mpmath.sin, 1, 1)
         sqrt = np.frompyfunc(mpmath.sqrt, 1, 1)
