@@ -41,6 +41,7 @@ FLOORS = [
         "impactsym.contact.kernel",
         "impactsym.contact.laws",
         "impactsym.contact.lawmaps",
+        "impactsym.contact.viscoseries",
         "impactsym.contact.lawclosed",
         "impactsym.contact.lawkernel",
         "impactsym.contact.lawcoast",
