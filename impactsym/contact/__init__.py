@@ -27,7 +27,9 @@
   :mod:`~impactsym.contact.lawbounce` -- the paper's questions for every law: the stick
   boundary f*(damping number) (:func:`law_stick_boundary`), contact-time and restitution
   maps (:func:`law_contact_map`) and the bounce sequence (``bounce_sequence(..., law=)``),
-  on one impact in the law's numbers (:mod:`~impactsym.contact.lawnumbers`).
+  on one impact in the law's numbers (:mod:`~impactsym.contact.lawnumbers`);
+* :mod:`~impactsym.contact.viscoseries` -- the viscoelastic restitution as a series in
+  its damping number, derived to any order (:func:`viscoelastic_restitution_series`).
 """
 
 from __future__ import annotations
@@ -59,6 +61,7 @@ _NAMES = {
     "law_stick_boundary": "impactsym.contact.lawstick",
     "law_contact_map": "impactsym.contact.lawgrid",
     "LawContactMap": "impactsym.contact.lawgrid",
+    "viscoelastic_restitution_series": "impactsym.contact.viscoseries",
 }
 __all__ = sorted(_NAMES)
 __getattr__, __dir__ = lazy_names(__name__, _NAMES)
