@@ -33,6 +33,7 @@ _TABLE = 1024  # dampratios per table
 _MIN_GROUP = 128  # targets per contact from which a table pays
 _ACCEPT = 1e-9  # |phase mean - target| accepted from the interpolated crossing
 _RTOL = 1e-11  # the Illinois refinement's relative width in the dampratio (e to ~1e-11)
+_REFINE = 16  # the table between the brackets in use is refined up to this factor
 
 
 def table_crossings(
@@ -61,17 +62,50 @@ def table_crossings(
         grid = np.exp(np.linspace(np.log(low[i0]), np.log(top), _TABLE))
         # the phase mean on the table, through the gap of one member (target known)
         E = target[i0] - gap(grid, np.full(_TABLE, i0))
-        dr[members], checked[members] = _invert(gap, grid, E, members, target[members])
+        e = target[members]
+        x = np.log(grid)
+        i = _crossing(E, e)
+        fine = _refine(gap, grid, x, E, i, i0, target[i0], members.size)
+        if fine is not None:  # the crossing on the finer table, where it is the same one
+            xf, Ef, a, r = fine
+            jf = _crossing(Ef, e)
+            same = (i >= a) & (jf >= (i - a) * r) & (jf < (i - a + 1) * r)
+            dr[members], checked[members] = _invert(gap, xf, Ef, np.where(same, jf, -1), members, e)
+            members, e, i = members[~same], e[~same], i[~same]
+        dr[members], checked[members] = _invert(gap, x, E, i, members, e)
     return dr, np.flatnonzero(np.isnan(dr)), checked
 
 
-def _invert(gap, grid, E, members, e):
-    """The crossings of the targets ``e`` of one contact (``nan``: left to the scan) and
-    the mask of those accepted at the interpolated guess."""
-    x = np.log(grid)
-    # largest index with E > e: the suffix maximum is non-increasing
+def _crossing(E, e):
+    """Largest index ``i`` with ``E[i] > e`` (``-1``: none; the suffix maximum of ``E``
+    is non-increasing, so one ``searchsorted``)."""
     suffix = np.maximum.accumulate(E[::-1])[::-1]
-    i = np.searchsorted(-suffix, -e, side="left") - 1
+    return np.searchsorted(-suffix, -e, side="left") - 1
+
+
+def _refine(gap, grid, x, E, i, i0, e0, members):
+    """The table between the lowest and the highest bracket in use, each of its intervals
+    split in ``r`` (up to ``_REFINE``, ``members / 4`` evaluations at most): ``(x, E, a,
+    r)`` with ``a`` the coarse index of its first point, or ``None`` (not worth it)."""
+    used = i[(i >= 0) & (i < x.size - 1)]
+    if used.size == 0:
+        return None
+    a, b = int(used.min()), int(used.max()) + 1
+    r = int(min(_REFINE, members // (4 * (b - a)) + 1))
+    if r < 2:
+        return None
+    frac = np.arange(1, r) / r
+    inner = x[a:b, None] + (x[a + 1 : b + 1] - x[a:b])[:, None] * frac[None, :]
+    E_in = e0 - gap(np.exp(inner.ravel()), np.full(inner.size, i0)).reshape(inner.shape)
+    xf = np.concatenate([np.concatenate([x[a:b, None], inner], axis=1).ravel(), x[b : b + 1]])
+    Ef = np.concatenate([np.concatenate([E[a:b, None], E_in], axis=1).ravel(), E[b : b + 1]])
+    return xf, Ef, a, r
+
+
+def _invert(gap, x, E, i, members, e):
+    """The crossings of the targets ``e`` of one contact (``nan``: left to the scan) and
+    the mask of those accepted at the interpolated guess; ``i`` is each target's
+    bracket on the table ``(x = log dampratio, E)`` (:func:`_crossing`)."""
     inside = (i >= 0) & (i < x.size - 1)
     out = np.full(e.size, np.nan)
     checked = np.zeros(e.size, bool)
