@@ -269,7 +269,10 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
     checked = np.zeros(n, bool)  # hit to 1e-9 by one exact evaluation of the table's guess
     if n >= _TABLE_FROM:  # many targets of one contact: the tabulated mean
         same = np.stack([tg.g, tg.v, np.broadcast_to(tg.rho, (n,))])
-        contact = np.unique(same, axis=1, return_inverse=True)[1]
+        if np.all(same == same[:, :1]):  # one contact (the common case): no sort
+            contact = np.zeros(n, int)
+        else:
+            contact = np.unique(same, axis=1, return_inverse=True)[1]
         dr[:], rows, checked = table_crossings(gap, contact.ravel(), tg.e, low, _DR_TOP)
     if tg.guess is not None and rows.size:  # a local bracket around the continuous design
         try:

@@ -34,6 +34,7 @@ _MIN_GROUP = 128  # targets per contact from which a table pays
 _ACCEPT = 1e-9  # |phase mean - target| accepted from the interpolated crossing
 _RTOL = 1e-11  # the Illinois refinement's relative width in the dampratio (e to ~1e-11)
 _REFINE = 16  # the table between the brackets in use is refined up to this factor
+_NEAR = 1.5  # the table's part below this multiple of its bottom is evaluated on demand
 
 
 def table_crossings(
@@ -60,11 +61,19 @@ def table_crossings(
             continue
         members = np.flatnonzero(contact == label)
         grid = np.exp(np.linspace(np.log(low[i0]), np.log(top), _TABLE))
-        # the phase mean on the table, through the gap of one member (target known)
-        E = target[i0] - gap(grid, np.full(_TABLE, i0))
         e = target[members]
         x = np.log(grid)
-        i = _crossing(E, e)
+        # the phase mean on the table, through the gap of one member (target known);
+        # first above _NEAR times its bottom (the stability limit): the maps just above
+        # the limit ring long and take the general summary, and they matter only to
+        # targets not crossed above them (the largest crossing is sought)
+        m = int(np.searchsorted(x, x[0] + np.log(_NEAR)))
+        E = np.full(_TABLE, np.nan)
+        E[m:] = target[i0] - gap(grid[m:], np.full(_TABLE - m, i0))
+        i = _crossing(E[m:], e) + m
+        if np.any(i <= m):  # some target is crossed near the bottom, or not at all
+            E[:m] = target[i0] - gap(grid[:m], np.full(m, i0))
+            i = _crossing(E, e)
         fine = _refine(gap, grid, x, E, i, i0, target[i0], members.size)
         if fine is not None:  # the crossing on the finer table, where it is the same one
             xf, Ef, a, r = fine
