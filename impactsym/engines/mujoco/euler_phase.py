@@ -114,10 +114,11 @@ def flat_phases(*, kappa, beta, dp, G, bdt, dkdt2) -> FlatPhases:
             rest[live[never]] = done[live[never]] = True
             full |= never
         full |= count[live] > _SLOTS
-        stay = ~full
-        live = live[stay]
-        x, y = x[:, stay], y[:, stay]
-        par = [a[stay] for a in par]
+        if full.any():
+            stay = ~full
+            live = live[stay]
+            x, y = x[:, stay], y[:, stay]
+            par = [a[stay] for a in par]
     ok = done & (count <= _SLOTS)
     return _pieces(slot_n, slot_x, slot_q, slot_y, count, ok, rest, G, bdt, dkdt2)
 

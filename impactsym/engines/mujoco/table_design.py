@@ -34,7 +34,7 @@ _MIN_GROUP = 128  # targets per contact from which a table pays
 _ACCEPT = 1e-9  # |phase mean - target| accepted from the interpolated crossing
 _RTOL = 1e-11  # the Illinois refinement's relative width in the dampratio (e to ~1e-11)
 _REFINE = 16  # the table between the brackets in use is refined up to this factor
-_NEAR = 1.5  # the table's part below this multiple of its bottom is evaluated on demand
+_NEAR = 1.1  # the table's part below this multiple of its bottom is evaluated on demand
 
 
 def table_crossings(
