@@ -233,7 +233,10 @@ def _pieces(slot_n, slot_x, slot_q, slot_y, count, ok, rest, G, bdt, dkdt2) -> F
             p = p0 + frac * width
             X = cx[0] + p * (cx[1] + p * cx[2])
             Y = -(a0 + p * (a1 + p * a2))
-            sel = real[:, gravity] & (X[:, gravity] > 0)
+            # a body that is out at the next state (X + Y + G <= 0) cannot stick: only
+            # the others need coast_flat's integer check
+            Xg, Yg = X[:, gravity], Y[:, gravity]
+            sel = real[:, gravity] & (Xg > 0) & (Xg + Yg + G[gravity] > 0)
             pi, ei = np.nonzero(sel)
             if pi.size == 0:
                 continue
