@@ -5,8 +5,15 @@ fixes the timeconst, so at a given timestep, ``solimp`` and integrator the phase
 restitution of a target depends on the dampratio and on the contact (speed, gravity,
 weight ratio) alone. Targets that share a contact share one function ``E(dampratio)``:
 it is evaluated once on a geometric grid of ``_TABLE`` dampratios (the design's own scan,
-finer), each target's largest-dampratio crossing is read off the table (the suffix
-maximum of ``E`` makes it one ``searchsorted``), the crossing is estimated by inverse
+finer; the part within ``_NEAR`` times its bottom, the stability limit, only for targets
+not crossed above it: the maps there ring long and take the general summary), each
+target's largest-dampratio crossing is read off the table (the suffix maximum of ``E``
+makes it one ``searchsorted``), and again off the table between the lowest and the
+highest bracket in use refined ``_REFINE`` times (where the targets are many: at most a
+quarter of them in evaluations), which is kept where it brackets the crossing inside the
+same coarse interval (a bump of ``E`` inside one coarse interval is then resolved: the
+largest crossing is found, not one the coarse bracket happened to hold). The crossing is
+estimated by inverse
 cubic interpolation in ``log dampratio`` through the four table points around it, and
 one exact evaluation there accepts it when it hits the target to ``_ACCEPT``. The others
 are refined by the Illinois method inside their table bracket, where the sign change is
