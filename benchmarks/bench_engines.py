@@ -5,8 +5,8 @@ Prints, measured in one run:
     (target: 1e5 targets in under 1 s), with and without gravity;
   * discrete designs at MuJoCo's default dt = 0.002 (Euler, phase mean; targets 1e5 in
     1 s flat with gravity, 2 s with a contact time, 3 s with the default solimp): the
-    flat ones measured on 1e5 targets (wall and CPU time), the default solimp on 128
-    (512 without --quick) and extrapolated; and the per-phase agreement table of those
+    flat ones measured on 1e5 targets (wall and CPU time), the default solimp on 128 and
+    256 (512 and 1024 without --quick) and extrapolated; and the per-phase agreement table of those
     designs with MuJoCo (drivers.mujoco_phases over 64 touch phases);
   * the engine-vs-prediction table: MuJoCo (flat and default solimp, gravity on/off,
     both solref forms, a multibody contact) and LAMMPS (with/without limit_damping),
@@ -28,8 +28,6 @@ from timing import best_of
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's package
 from impactsym.engines import lammps, mujoco
 from impactsym.engines.drivers import fine_timestep, lammps_collision, mujoco_drop, mujoco_phases
-from impactsym.engines.mujoco.discrete import phase_mean
-from impactsym.engines.mujoco.model import coefficients
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
 DEFAULT = mujoco.DEFAULT_SOLIMP
@@ -56,10 +54,10 @@ def discrete_throughput(n_default):
     contact share one tabulated phase mean, or one curve of contact-time designs), as
     wall time and as CPU time of this process (the figure that counts on a shared
     machine). The default solimp takes the general phase summary per design: measured
-    on ``n_default`` targets (>= 128: the tabulated path) and extrapolated as its table
-    (1024 general phase means, timed on its own) plus ``1e5`` times the cost per target
-    beyond it. Targets from 0.3: e = 0.2 at 1 m/s under gravity sticks at some touch
-    phase at dt = 0.002.
+    on ``n_default`` and twice as many targets (>= 128: the tabulated path), the
+    difference giving the cost per target, the rest the table's (1024 general phase
+    means), and extrapolated to 1e5 targets. Targets from 0.3: e = 0.2 at 1 m/s under
+    gravity sticks at some touch phase at dt = 0.002.
     """
     dt, n = 0.002, 100_000
     for options in ({"gravity": 9.81, "solimp": FLAT}, {"contact_time": 0.02, "solimp": FLAT}):
@@ -80,23 +78,21 @@ def discrete_throughput(n_default):
             f"solref_for at dt = {dt} (Euler), {n} targets, {name}: {t:.3f} s wall, "
             f"{cpu:.3f} s CPU (target {target:g} s: ratio {cpu / target:.3g} in CPU)"
         )
-    e = np.linspace(0.3, 0.9, n_default)
     options = {"gravity": 9.81, "solimp": DEFAULT}
-    cpu = time.process_time()
-    mujoco.solref_for(restitution=e, speed=1.0, timestep=dt, **options)
-    cpu = time.process_time() - cpu
-    grid = np.exp(np.linspace(np.log(0.05), np.log(100.0), 1024))
-    c = coefficients((np.full(grid.size, 0.02), grid), DEFAULT, dt)
-    table = time.process_time()
-    phase_mean(c, DEFAULT, 1.0, 9.81, 1.0, dt, integrator="euler", bounds=False)
-    table = time.process_time() - table
-    per = max(cpu - table, 0.0) / n_default
+    cpu = []
+    for m in (n_default, 2 * n_default):
+        e = np.linspace(0.3, 0.9, m)
+        start = time.process_time()
+        mujoco.solref_for(restitution=e, speed=1.0, timestep=dt, **options)
+        cpu.append(time.process_time() - start)
+    per = max(cpu[1] - cpu[0], 0.0) / n_default  # the cost of a target beyond the table
+    table = max(cpu[0] - per * n_default, 0.0)
     total = table + per * n
     print(
-        f"solref_for at dt = {dt} (Euler), {n_default} targets, default solimp, gravity "
-        f"9.81: {cpu:.3f} s CPU, of which the table ~{table:.3f} s; {per * 1e3:.3g} ms per "
-        f"target beyond it: extrapolated {total:.3g} s CPU per 1e5 (target 3 s: ratio "
-        f"{total / 3.0:.3g})"
+        f"solref_for at dt = {dt} (Euler), default solimp, gravity 9.81: {n_default} "
+        f"targets {cpu[0]:.3f} s CPU, {2 * n_default} targets {cpu[1]:.3f} s CPU: table "
+        f"~{table:.3g} s, {per * 1e3:.3g} ms per target, extrapolated {total:.3g} s CPU per "
+        f"1e5 (target 3 s: ratio {total / 3.0:.3g})"
     )
 
 
