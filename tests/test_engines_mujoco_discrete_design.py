@@ -214,3 +214,33 @@ def test_euler_stability_dampratio_in_closed_form_is_the_bisection_on_jury():
         np.testing.assert_allclose(got[finite], want[finite], rtol=1e-12)
         assert np.array_equal(np.isinf(got), np.isinf(want))
         assert np.array_equal(got == 0, want == 0)
+
+
+def test_many_contact_time_designs_of_one_contact_equal_the_target_by_target_ones():
+    """>= 128 contact-time targets of one contact: the designs taken from the curve u(e)
+    solved at some of them (discrete_design._curve_newton) equal those of the plain
+    Newton iteration target by target, and hit restitution and contact time in the
+    general phase summary (an algorithm that shares nothing with either)."""
+    from impactsym.engines.mujoco import discrete
+    from impactsym.engines.mujoco.euler import euler_contact
+    from impactsym.engines.mujoco.model import coefficients
+
+    targets = np.linspace(0.3, 0.85, 1000)  # 125 nodes: most accepted where interpolated
+    t_c, dt = 0.02, 0.002
+    many = solref_for(
+        restitution=targets, speed=1.0, contact_time=t_c, timestep=dt, solimp=FLAT
+    ).solref
+    pick = np.arange(3, 1000, 37)  # 27 targets, off the nodes: the plain Newton iteration
+    few = solref_for(
+        restitution=targets[pick], speed=1.0, contact_time=t_c, timestep=dt, solimp=FLAT
+    ).solref
+    np.testing.assert_allclose(many[0][pick], few[0], rtol=1e-7)
+    np.testing.assert_allclose(many[1][pick], few[1], rtol=1e-7)
+    c = coefficients((many[0][pick], many[1][pick]), FLAT, dt)
+    n = pick.size
+    ref = discrete._split_and_integrate(
+        euler_contact, "euler", FLAT, c.damping, c.stiffness, np.ones(n),
+        np.zeros(n), np.ones(n), np.full(n, dt),
+    )  # fmt: skip
+    np.testing.assert_allclose(ref[0], targets[pick], rtol=0, atol=2e-9)
+    np.testing.assert_allclose(ref[1], t_c, rtol=2e-9)

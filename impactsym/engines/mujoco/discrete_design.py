@@ -22,6 +22,11 @@ that timestep and integrator (``phase=None``), used as a vectorized black box
 * With a contact time: a Newton iteration on ``(log timeconst, log dampratio)`` with a
   forward-difference Jacobian (:func:`impactsym.numeric.roots.newton_system`), started
   at the continuous design (close: the discrete mean differs by the step's error).
+  Many targets of one contact and one contact time lie on one curve of designs
+  ``u(e)``: Newton solves up to ``_CURVE`` of them, the others start at its cubic
+  interpolation and keep it where both residuals are below the Newton tolerance
+  already (``_curve_newton``; 99 % of 1e5 evenly spread targets), Newton from there
+  elsewhere.
 * A target the timestep cannot deliver (MuJoCo's refsafe floor ``timeconst >= 2
   timestep``, the stability limit of the step map, sticking at some phase) raises
   ``ValueError`` with the reason and a timestep that does deliver it: found by halving
@@ -72,6 +77,10 @@ _TABLE_FROM = 128
 _DESIGN_TOL = 1e-5
 #: forward-difference step of the Newton Jacobian (in log timeconst, log dampratio)
 _EPS = 1e-6
+#: the Newton iteration's tolerance on both residuals
+_NEWTON_TOL = 1e-9
+#: designs solved by Newton on the curve of many contact-time designs of one contact
+_CURVE = 1024
 #: halvings of the timestep tried when looking for one that reaches a refused target
 _HALVINGS = 8
 _BISECTIONS = 3
@@ -269,7 +278,10 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
     checked = np.zeros(n, bool)  # hit to 1e-9 by one exact evaluation of the table's guess
     if n >= _TABLE_FROM:  # many targets of one contact: the tabulated mean
         same = np.stack([tg.g, tg.v, np.broadcast_to(tg.rho, (n,))])
-        contact = np.unique(same, axis=1, return_inverse=True)[1]
+        if np.all(same == same[:, :1]):  # one contact (the common case): no sort
+            contact = np.zeros(n, int)
+        else:
+            contact = np.unique(same, axis=1, return_inverse=True)[1]
         dr[:], rows, checked = table_crossings(gap, contact.ravel(), tg.e, low, _DR_TOP)
     if tg.guess is not None and rows.size:  # a local bracket around the continuous design
         try:
@@ -373,7 +385,6 @@ def _both_design(tg: DiscreteTarget, refuse: bool = True) -> tuple:
     h = tg.timestep
     floor = 2.0 * h
     n = tg.e.size
-    rows = np.arange(n)
     tc0, dr0 = (np.asarray(a, float) for a in tg.start)
     if np.any(tc0 < floor):
         i = int(np.flatnonzero(tc0 < floor)[0])
@@ -385,23 +396,8 @@ def _both_design(tg: DiscreteTarget, refuse: bool = True) -> tuple:
             refuse,
         )
 
-    def resid(u):
-        # below the refsafe floor MuJoCo runs timeconst 2 timestep: the contact time is
-        # continued there by log(timeconst / floor) so that the Newton system stays
-        # regular and a solution below the floor shows as such (refused below)
-        tc = refsafe(np.exp(u[0]), h)
-        dr = np.maximum(np.exp(u[1]), tg.stability_dampratio(tc) * (1.0 + 1e-3))
-        p = tg.mean(tc, dr, rows)
-        sticks = np.asarray(p.sticks)
-        e = np.where(sticks, 0.0, np.asarray(p.restitution))
-        t = np.where(sticks, 1e3 * tg.t_c, np.asarray(p.contact_time))
-        return np.stack([e - tg.e, np.log(t / tg.t_c) + np.minimum(u[0] - np.log(floor), 0.0)])
-
     u0 = np.stack([np.log(tc0), np.log(dr0)])
-    try:
-        u, r = newton_system(resid, u0, eps=_EPS, max_step=0.5, tol=1e-9, max_iter=20)
-    except np.linalg.LinAlgError:  # a residual flat in an unknown: refsafe floor or stick
-        u, r = u0, np.full((2, n), np.inf)
+    u, r = _curve_newton(tg, u0) if n >= _TABLE_FROM else _newton(tg, u0)
     tc, dr = np.exp(u[0]), np.exp(u[1])
     miss = ~((np.abs(r[0]) <= _DESIGN_TOL) & (np.abs(r[1]) <= _DESIGN_TOL)) | (tc < floor)
     if miss.any():
@@ -427,6 +423,78 @@ def _both_design(tg: DiscreteTarget, refuse: bool = True) -> tuple:
             )
         _raise(tg, i, why, refuse)
     return tc, dr
+
+
+def _residual(tg: DiscreteTarget):
+    """The Newton residual of the contact-time design of ``tg`` in ``u = (log tc, log dr)``."""
+    h = tg.timestep
+    floor = 2.0 * h
+    rows = np.arange(tg.e.size)
+
+    def resid(u):
+        # below the refsafe floor MuJoCo runs timeconst 2 timestep: the contact time is
+        # continued there by log(timeconst / floor) so that the Newton system stays
+        # regular and a solution below the floor shows as such (refused below)
+        tc = refsafe(np.exp(u[0]), h)
+        dr = np.maximum(np.exp(u[1]), tg.stability_dampratio(tc) * (1.0 + 1e-3))
+        p = tg.mean(tc, dr, rows)
+        sticks = np.asarray(p.sticks)
+        e = np.where(sticks, 0.0, np.asarray(p.restitution))
+        t = np.where(sticks, 1e3 * tg.t_c, np.asarray(p.contact_time))
+        return np.stack([e - tg.e, np.log(t / tg.t_c) + np.minimum(u[0] - np.log(floor), 0.0)])
+
+    return resid
+
+
+def _newton(tg: DiscreteTarget, u0: np.ndarray) -> tuple:
+    """``(u, r)`` of the Newton iteration from ``u0`` (``r = inf`` where it breaks down)."""
+    try:
+        return newton_system(
+            _residual(tg), u0, eps=_EPS, max_step=0.5, tol=_NEWTON_TOL, max_iter=20
+        )
+    except np.linalg.LinAlgError:  # a residual flat in an unknown: refsafe floor or stick
+        return u0, np.full(u0.shape, np.inf)
+
+
+def _curve_newton(tg: DiscreteTarget, u0: np.ndarray) -> tuple:
+    """:func:`_newton` for many targets; those of one contact and one contact time share
+    a curve ``u(e)`` of designs: solved at ``_CURVE`` of them (nodes spread over the
+    sorted restitutions), interpolated (cubic Lagrange through the four nearest nodes)
+    for the others, kept where the interpolated design's residual is below the Newton
+    tolerance already, iterated from there elsewhere."""
+    n = tg.e.size
+    same = np.stack([tg.g, tg.v, np.broadcast_to(tg.rho, (n,)), tg.t_c])
+    if not np.all(same == same[:, :1]):
+        return _newton(tg, u0)
+    order = np.argsort(tg.e, kind="stable")
+    pick = order[np.round(np.linspace(0, n - 1, min(_CURVE, n // 8))).astype(int)]
+    nodes = pick[np.concatenate([[True], np.diff(tg.e[pick]) > 0])]  # distinct targets
+    u_n, r_n = _newton(tg.take(nodes), u0[:, nodes])
+    if nodes.size < 4 or not np.all(np.abs(r_n) < _NEWTON_TOL):
+        return _newton(tg, u0)  # some node is refused: the plain way says why
+    u, r = np.empty_like(u0), np.empty_like(u0)
+    u[:, nodes], r[:, nodes] = u_n, r_n
+    rest = np.setdiff1d(np.arange(n), nodes)
+    u[:, rest] = _lagrange4(tg.e[nodes], u_n, tg.e[rest])
+    r[:, rest] = _residual(tg.take(rest))(u[:, rest])
+    again = rest[~np.all(np.abs(r[:, rest]) < _NEWTON_TOL, axis=0)]
+    if again.size:
+        u[:, again], r[:, again] = _newton(tg.take(again), u[:, again])
+    return u, r
+
+
+def _lagrange4(x: np.ndarray, y: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """Cubic Lagrange interpolation of ``y`` (rows over increasing ``x``) at ``at``,
+    through the four nodes around each point (clamped at the ends)."""
+    j = np.clip(np.searchsorted(x, at) - 2, 0, x.size - 4)
+    out = np.zeros((y.shape[0], at.size))
+    for a in range(4):
+        w = np.ones(at.size)
+        for b in range(4):
+            if b != a:
+                w = w * (at - x[j + b]) / (x[j + a] - x[j + b])
+        out += w * y[:, j + a]
+    return out
 
 
 def _raise(tg: DiscreteTarget, i: int, why: str, refuse: bool) -> None:

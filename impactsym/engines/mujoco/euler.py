@@ -149,15 +149,19 @@ def _flat(state: dict, d: float, out: dict) -> np.ndarray:
     G, X0, Y0 = state["G"], state["X"], state["Y"]
     with np.errstate(divide="ignore", invalid="ignore"):
         x_star = np.where(G > 0, (1.0 - dp) * G / kappa, 0.0)
-    w1, w2 = X0 - x_star, Y0
+    # short contacts (fewer than about 24 steps per half period) are cheaper stepped:
+    # the sequences are built for the long ones only
+    cand = np.flatnonzero((kappa < _SHORT_KAPPA) & np.isfinite(x_star))
+    kappa, beta, x_star, G = kappa[cand], beta[cand], x_star[cand], G[cand]
+    w1, w2 = X0[cand] - x_star, Y0[cand]
     zero = np.zeros_like(G)
     pos = Sequence(kappa, beta, 1.0, 0.0, w1, w2, x_star)
+    keep = np.flatnonzero(pos.kind > 0)
+    closed = cand[keep]
+    kappa, beta, x_star, G, w1, w2 = (a[keep] for a in (kappa, beta, x_star, G, w1, w2))
+    pos = pos.take(keep)
     force = Sequence(kappa, beta, kappa, beta, w1, w2, G)
-    vel = Sequence(kappa, beta, 0.0, 1.0, w1, w2, zero)
-    # short contacts (fewer than about 24 steps per half period) are cheaper stepped
-    long = kappa < _SHORT_KAPPA
-    closed = np.flatnonzero((pos.kind > 0) & np.isfinite(x_star) & long)
-    pos, force, vel = pos.take(closed), force.take(closed), vel.take(closed)
+    vel = Sequence(kappa, beta, 0.0, 1.0, w1, w2, zero[keep])
     n_pos = first_hit(pos, lambda n, i: pos.take(i).at(n) <= 0)
     n_force = first_hit(force, lambda n, i: force.take(i).at(n) <= 0)
     N = np.minimum(n_pos, n_force)
@@ -177,11 +181,13 @@ def _flat(state: dict, d: float, out: dict) -> np.ndarray:
     if coast.size:
         c = closed[coast]
         sticks, dep = coast_flat(
-            X_end[coast], Y_end[coast], G[c], state["bdt"][c], d * state["kdt2"][c]
+            X_end[coast], Y_end[coast], G[coast], state["bdt"][c], d * state["kdt2"][c]
         )
         out["sticks"][c] = sticks
         out["dep"][c] = dep
-    return np.setdiff1d(np.arange(G.size), closed)
+    left = np.ones(state["G"].size, bool)
+    left[closed] = False
+    return np.flatnonzero(left)
 
 
 def coast_flat(X, Y, G, bdt, dkdt2):

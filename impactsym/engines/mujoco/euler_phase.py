@@ -114,10 +114,11 @@ def flat_phases(*, kappa, beta, dp, G, bdt, dkdt2) -> FlatPhases:
             rest[live[never]] = done[live[never]] = True
             full |= never
         full |= count[live] > _SLOTS
-        stay = ~full
-        live = live[stay]
-        x, y = x[:, stay], y[:, stay]
-        par = [a[stay] for a in par]
+        if full.any():
+            stay = ~full
+            live = live[stay]
+            x, y = x[:, stay], y[:, stay]
+            par = [a[stay] for a in par]
     ok = done & (count <= _SLOTS)
     return _pieces(slot_n, slot_x, slot_q, slot_y, count, ok, rest, G, bdt, dkdt2)
 
@@ -232,7 +233,10 @@ def _pieces(slot_n, slot_x, slot_q, slot_y, count, ok, rest, G, bdt, dkdt2) -> F
             p = p0 + frac * width
             X = cx[0] + p * (cx[1] + p * cx[2])
             Y = -(a0 + p * (a1 + p * a2))
-            sel = real[:, gravity] & (X[:, gravity] > 0)
+            # a body that is out at the next state (X + Y + G <= 0) cannot stick: only
+            # the others need coast_flat's integer check
+            Xg, Yg = X[:, gravity], Y[:, gravity]
+            sel = real[:, gravity] & (Xg > 0) & (Xg + Yg + G[gravity] > 0)
             pi, ei = np.nonzero(sel)
             if pi.size == 0:
                 continue

@@ -5,8 +5,15 @@ fixes the timeconst, so at a given timestep, ``solimp`` and integrator the phase
 restitution of a target depends on the dampratio and on the contact (speed, gravity,
 weight ratio) alone. Targets that share a contact share one function ``E(dampratio)``:
 it is evaluated once on a geometric grid of ``_TABLE`` dampratios (the design's own scan,
-finer), each target's largest-dampratio crossing is read off the table (the suffix
-maximum of ``E`` makes it one ``searchsorted``), the crossing is estimated by inverse
+finer; the part within ``_NEAR`` times its bottom, the stability limit, only for targets
+not crossed above it: the maps there ring long and take the general summary), each
+target's largest-dampratio crossing is read off the table (the suffix maximum of ``E``
+makes it one ``searchsorted``), and again off the table between the lowest and the
+highest bracket in use refined ``_REFINE`` times (where the targets are many: at most a
+quarter of them in evaluations), which is kept where it brackets the crossing inside the
+same coarse interval (a bump of ``E`` inside one coarse interval is then resolved: the
+largest crossing is found, not one the coarse bracket happened to hold). The crossing is
+estimated by inverse
 cubic interpolation in ``log dampratio`` through the four table points around it, and
 one exact evaluation there accepts it when it hits the target to ``_ACCEPT``. The others
 are refined by the Illinois method inside their table bracket, where the sign change is
@@ -33,6 +40,8 @@ _TABLE = 1024  # dampratios per table
 _MIN_GROUP = 128  # targets per contact from which a table pays
 _ACCEPT = 1e-9  # |phase mean - target| accepted from the interpolated crossing
 _RTOL = 1e-11  # the Illinois refinement's relative width in the dampratio (e to ~1e-11)
+_REFINE = 16  # the table between the brackets in use is refined up to this factor
+_NEAR = 1.1  # the table's part below this multiple of its bottom is evaluated on demand
 
 
 def table_crossings(
@@ -59,19 +68,60 @@ def table_crossings(
             continue
         members = np.flatnonzero(contact == label)
         grid = np.exp(np.linspace(np.log(low[i0]), np.log(top), _TABLE))
-        # the phase mean on the table, through the gap of one member (target known)
-        E = target[i0] - gap(grid, np.full(_TABLE, i0))
-        dr[members], checked[members] = _invert(gap, grid, E, members, target[members])
+        e = target[members]
+        x = np.log(grid)
+        # the phase mean on the table, through the gap of one member (target known);
+        # first above _NEAR times its bottom (the stability limit): the maps just above
+        # the limit ring long and take the general summary, and they matter only to
+        # targets not crossed above them (the largest crossing is sought)
+        m = int(np.searchsorted(x, x[0] + np.log(_NEAR)))
+        E = np.full(_TABLE, np.nan)
+        E[m:] = target[i0] - gap(grid[m:], np.full(_TABLE - m, i0))
+        i = _crossing(E[m:], e) + m
+        if np.any(i <= m):  # some target is crossed near the bottom, or not at all
+            E[:m] = target[i0] - gap(grid[:m], np.full(m, i0))
+            i = _crossing(E, e)
+        fine = _refine(gap, grid, x, E, i, i0, target[i0], members.size)
+        if fine is not None:  # the crossing on the finer table, where it is the same one
+            xf, Ef, a, r = fine
+            jf = _crossing(Ef, e)
+            same = (i >= a) & (jf >= (i - a) * r) & (jf < (i - a + 1) * r)
+            dr[members], checked[members] = _invert(gap, xf, Ef, np.where(same, jf, -1), members, e)
+            members, e, i = members[~same], e[~same], i[~same]
+        dr[members], checked[members] = _invert(gap, x, E, i, members, e)
     return dr, np.flatnonzero(np.isnan(dr)), checked
 
 
-def _invert(gap, grid, E, members, e):
-    """The crossings of the targets ``e`` of one contact (``nan``: left to the scan) and
-    the mask of those accepted at the interpolated guess."""
-    x = np.log(grid)
-    # largest index with E > e: the suffix maximum is non-increasing
+def _crossing(E, e):
+    """Largest index ``i`` with ``E[i] > e`` (``-1``: none; the suffix maximum of ``E``
+    is non-increasing, so one ``searchsorted``)."""
     suffix = np.maximum.accumulate(E[::-1])[::-1]
-    i = np.searchsorted(-suffix, -e, side="left") - 1
+    return np.searchsorted(-suffix, -e, side="left") - 1
+
+
+def _refine(gap, grid, x, E, i, i0, e0, members):
+    """The table between the lowest and the highest bracket in use, each of its intervals
+    split in ``r`` (up to ``_REFINE``, ``members / 4`` evaluations at most): ``(x, E, a,
+    r)`` with ``a`` the coarse index of its first point, or ``None`` (not worth it)."""
+    used = i[(i >= 0) & (i < x.size - 1)]
+    if used.size == 0:
+        return None
+    a, b = int(used.min()), int(used.max()) + 1
+    r = int(min(_REFINE, members // (4 * (b - a)) + 1))
+    if r < 2:
+        return None
+    frac = np.arange(1, r) / r
+    inner = x[a:b, None] + (x[a + 1 : b + 1] - x[a:b])[:, None] * frac[None, :]
+    E_in = e0 - gap(np.exp(inner.ravel()), np.full(inner.size, i0)).reshape(inner.shape)
+    xf = np.concatenate([np.concatenate([x[a:b, None], inner], axis=1).ravel(), x[b : b + 1]])
+    Ef = np.concatenate([np.concatenate([E[a:b, None], E_in], axis=1).ravel(), E[b : b + 1]])
+    return xf, Ef, a, r
+
+
+def _invert(gap, x, E, i, members, e):
+    """The crossings of the targets ``e`` of one contact (``nan``: left to the scan) and
+    the mask of those accepted at the interpolated guess; ``i`` is each target's
+    bracket on the table ``(x = log dampratio, E)`` (:func:`_crossing`)."""
     inside = (i >= 0) & (i < x.size - 1)
     out = np.full(e.size, np.nan)
     checked = np.zeros(e.size, bool)
