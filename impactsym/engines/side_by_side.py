@@ -216,7 +216,8 @@ def cases(
 def _model(case: Case, phase: Any):
     """The engine model's prediction for the reachable targets of ``case`` at ``phase``
     (``None``: phase mean and range; else an array broadcasting against the targets)."""
-    p = {k: v[case.reachable] for k, v in case.parameters.items()}
+    column = (slice(None),) if phase is None else (slice(None), None)  # targets down
+    p = {k: v[case.reachable][column] for k, v in case.parameters.items()}
     common = {"speed": case.speed, "gravity": case.gravity}
     if case.engine == "MuJoCo":
         return mujoco.predict(
