@@ -21,8 +21,8 @@ def load(name: str) -> nbformat.NotebookNode:
     return nbformat.read(NOTEBOOKS / name, as_version=4)
 
 
-def test_there_are_five_notebooks():
-    assert len(NAMES) == 5
+def test_there_are_six_notebooks():
+    assert len(NAMES) == 6
 
 
 @pytest.mark.parametrize("name", NAMES)
