@@ -73,7 +73,7 @@ def linear_textbook(*, restitution: Any, contact_time: Any, mass: Any) -> tuple[
 
     >>> k, c = linear_textbook(restitution=0.5, contact_time=0.02, mass=0.1)
     >>> round(float(k), 3), round(float(c), 5)
-    (2707.337, 6.93147)
+    (2587.514, 6.93147)
     """
     e, t_c, m = _inputs(restitution, contact_time, mass)
     D = np.asarray(textbook_damping_ratio(e), dtype=float)
