@@ -54,16 +54,9 @@ RECIPES = ("native", "impactsym")
 #: Each engine's default step (s); LAMMPS: ``contact_time / LAMMPS_STEPS_PER_CONTACT``.
 TIMESTEPS = {"MuJoCo": 0.002, "LAMMPS": None, "Drake": 1e-3, "PyBullet": 1 / 240}
 LAMMPS_STEPS_PER_CONTACT = 50
-#: The native recipe of each engine, in words (for tables and captions).
-NATIVE = {
-    "MuJoCo": "solref (0.02, textbook dampratio)",
-    "LAMMPS": "kn textbook, damping coeff_restitution e",
-    "Drake": "k = m (pi/t_c)^2, d = 3(1-e)/(2 v0) (Hunt-Crossley 1975)",
-    "PyBullet": "textbook contactStiffness, contactDamping",
-}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Case:
     """One engine and recipe over the wanted restitutions (arrays over ``targets``).
 
