@@ -35,6 +35,10 @@ STEPS: tuple[tuple[str, str], ...] = (
         "impactsym.results.rod_sequence",
     ),
     ("engine parameters (MuJoCo, LAMMPS)", "impactsym.results.engines"),
+    (
+        "the engines side by side (MuJoCo, LAMMPS, Drake, PyBullet)",
+        "impactsym.results.engines_side_by_side",
+    ),
     ("formulas and exported functions", "impactsym.results.documents"),
 )
 

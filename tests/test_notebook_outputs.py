@@ -21,8 +21,8 @@ def load(name: str) -> nbformat.NotebookNode:
     return nbformat.read(NOTEBOOKS / name, as_version=4)
 
 
-def test_there_are_six_notebooks():
-    assert len(NAMES) == 6
+def test_there_are_seven_notebooks():
+    assert len(NAMES) == 7
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -177,6 +177,11 @@ CASES = {
         {"continuous": _band(np.linspace(0.1, 0.9, 5), 1.0)},
         {"continuous": {"targets": np.array([0.3, 0.5]), **_band(np.ones(2), 1.0)}},
     ),
+    "plot_side_by_side": lambda m: m.plot_side_by_side(
+        np.linspace(0.2, 0.9, 5),
+        {"MuJoCo": _band(np.linspace(0.2, 0.9, 5), 1.0)},
+        {("MuJoCo", "native"): {"targets": np.array([0.3, 0.5]), "mean": np.array([0.4, 0.6])}},
+    ),
     "plot_agreement": lambda m: m.plot_agreement(_agreement(), condition="force"),
     "plot_verdict_map": lambda m: m.plot_verdict_map(
         _agreement(), condition="force", boundary=(np.array([1.0, 0.7]), np.array([0.1, 3.0]))
