@@ -182,6 +182,28 @@ def test_limit_damping_without_gravity_is_the_force_condition_field_by_field():
     assert (clipped.contact_time > force.contact_time).all()  # the coast the reading skips
 
 
+def test_a_re_engaged_clipped_tsuji_contact_sticks_as_the_reading_says():
+    # LAMMPS's reading calls a force that comes back inside the overlap a stick; the
+    # clipped contact agrees wherever the coast from the force zero does not leave
+    import numpy as np
+
+    from impactsym.contact.lawcoast import coast
+    from impactsym.contact.lawkernel import integrate, law_functions
+    from impactsym.contact.lawnumbers import law_impact
+
+    d, b = (a.ravel() for a in np.meshgrid(np.geomspace(0.05, 5, 20), np.geomspace(1e-3, 2, 20)))
+    q = np.full(d.shape, 1.5)
+    run = integrate("tsuji", d, b, q, condition="force")
+    released = np.isfinite(run.tau_c) & (run.e > 0)
+    d, b, q = d[released], b[released], q[released]
+    caught = ~coast(law_functions("tsuji"), run.z_end[released], -run.e[released], d, b, q).leaves
+    tau_c, e = law_impact("tsuji", d, b, q, condition="clipped")
+    assert caught.sum() >= 10
+    assert np.isinf(tau_c[caught]).all()
+    assert (e[caught] == 0).all()
+    assert np.isfinite(tau_c[~caught]).all()
+
+
 def test_damping_for_design_delivers_the_target_where_the_coast_matters():
     # target 0.2 at 0.3 m/s under gravity: the force end would show about 0.41
     k = hertz_stiffness(modulus=E, poisson=NU, effective_radius=RADIUS["wall"])
