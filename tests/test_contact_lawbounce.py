@@ -28,7 +28,7 @@ def test_speed_exponents_are_the_hand_derived_powers():
 
 def test_the_recursion_at_p_1_is_the_linear_sequence():
     old = bounce_sequence(0.1, 0.2, condition="position")
-    new = law_sequence("linear", 0.1, 0.2, 1.0, max_contacts=100)
+    new = law_sequence("linear", 0.1, 0.2, 1.0, condition="position", max_contacts=100)
     assert new.n_contacts == old.n_contacts
     np.testing.assert_allclose(new.start, old.start, rtol=1e-13)
     np.testing.assert_allclose(new.departure, old.departure_speed, rtol=0, atol=1e-14)
@@ -217,6 +217,139 @@ def test_bounce_map_on_a_law_is_the_sequences_point_by_point(condition):
     for i in range(1):
         for j in range(2):
             seq = bounce_sequence(D[j], f[i, 0], condition=condition, law="viscoelastic")
+            assert m.n_contacts[i, j] == seq.n_contacts
+            assert m.sticks[i, j] == seq.sticks
+            assert m.time_to_rest[i, j] == pytest.approx(seq.time_to_rest, rel=1e-12)
+
+
+# the clipped condition: the engines' max(0, F) on the geometric overlap; the body coasts
+# inside the overlap where the force would pull, may be caught again, and leaves at z = 0
+CLIP_PHI = {  # the force and the reduced force (its sign), first-impact units, b
+    "linear": (lambda z, w, d: z + 2 * d * w, lambda z, w, d: z + 2 * d * w),
+    "tsuji": (lambda z, w, d: z**1.5 + d * z**0.25 * w, lambda z, w, d: z**1.25 + d * w),
+    "viscoelastic": (lambda z, w, d: z**1.5 + d * np.sqrt(z) * w, lambda z, w, d: z + d * w),
+    "hertz-linear": (lambda z, w, d: z**1.5 + 2 * d * w, lambda z, w, d: z**1.5 + 2 * d * w),
+}
+
+
+def ivp_clipped_bounces(law, delta, b, n, t_rest=300.0):
+    """The whole motion in first-impact units with solve_ivp, nothing of the package:
+    three modes switched by terminal events, contact (z'' = b - phi) -> coast (z'' = b,
+    the reduced force falls through 0) -> contact (it rises through 0), either -> flight
+    (z = 0 falling; z'' = b) -> contact (z = 0 rising). A contact that has not left
+    ``t_rest`` after its start sticks. Rows (start, end, arrival, departure)."""
+    force, red = CLIP_PHI[law]
+    opts = {"method": "DOP853", "rtol": 1e-13, "atol": 1e-15}
+    t, y, rows = 0.0, [0.0, 1.0], []
+    while len(rows) < n:
+        start, u, mode = t, y[1], "contact"
+        while True:
+
+            def out(s, y, t=t):
+                return y[0] if s > t + 1e-12 else 1.0
+
+            def zero(s, y):
+                return red(max(y[0], 0.0), y[1], delta)
+
+            out.terminal, out.direction = True, -1
+            zero.terminal, zero.direction = True, (-1 if mode == "contact" else 1)
+
+            def rhs(s, y, mode=mode):
+                push = force(max(y[0], 0.0), y[1], delta) if mode == "contact" else 0.0
+                return [y[1], b - push]
+
+            sol = solve_ivp(rhs, (t, start + t_rest), y, events=[out, zero], **opts)
+            if sol.t_events[0].size:
+                t, y = sol.t_events[0][0], list(sol.y_events[0][0])
+                rows.append((start, t, u, -y[1]))
+                break
+            if not sol.t_events[1].size:
+                rows.append((start, np.inf, u, 0.0))
+                return np.array(rows)
+            t, y = sol.t_events[1][0], list(sol.y_events[1][0])
+            mode = "coast" if mode == "contact" else "contact"
+        t, y = t + 2.0 * -y[1] / b, [0.0, -y[1]]  # the flight z'' = b from z = 0 to z = 0
+    return np.array(rows)
+
+
+@pytest.mark.parametrize(
+    ("law", "delta", "f"),
+    [("tsuji", 1.0, 0.02), ("linear", 0.1, 0.2), ("viscoelastic", 0.5, 0.05),
+     ("hertz-linear", 0.1, 0.02)],
+)  # fmt: skip
+def test_clipped_bounces_against_one_solve_ivp_of_the_motion(law, delta, f):
+    seq = bounce_sequence(delta, f, condition="clipped", law=law)
+    assert seq.sticks
+    assert seq.n_contacts >= 3
+    assert np.all(seq.element_deflection == 0)
+    b = 2 * delta * f if law == "linear" else f
+    ref = ivp_clipped_bounces(law, delta, b, seq.n_contacts)
+    assert len(ref) == seq.n_contacts
+    np.testing.assert_allclose(seq.start, ref[:, 0], rtol=1e-8)
+    np.testing.assert_allclose(seq.end, ref[:, 1], rtol=1e-8)
+    np.testing.assert_allclose(seq.arrival_speed, ref[:, 2], rtol=1e-8)
+    np.testing.assert_allclose(seq.departure_speed, ref[:, 3], rtol=1e-8, atol=1e-12)
+    assert seq.time_to_rest == pytest.approx(ref[-1, 0], rel=1e-8)
+    # the coast matters: the clipped sequence is neither the position nor the force one
+    pos = bounce_sequence(delta, f, condition="position", law=law)
+    assert not np.allclose(pos.departure_speed[:2], seq.departure_speed[:2], rtol=1e-3)
+
+
+def test_law_sequence_refuses_the_force_condition():
+    with pytest.raises(ValueError, match="condition must be 'position' or 'clipped' here"):
+        law_sequence("tsuji", 0.3, 0.1, 1.5, condition="force", max_contacts=5)
+
+
+def test_linear_clipped_sequence_is_lammps_limit_damping_contact_by_contact():
+    """LAMMPS's continuous Hooke contact under limit_damping and gravity
+    (engines.lammps.predict: force release, then the closed-form coast) at each arrival
+    speed gives the next departure speed; the body sticks where LAMMPS's force comes back."""
+    from impactsym.engines.lammps import predict
+
+    kn, eta, m, v0, g = 2000.0, 4.0, 0.5, 1.0, 9.81
+    D, f = eta / (2 * np.sqrt(kn * m)), m * g / (eta * v0)
+    seq = bounce_sequence(D, f, condition="clipped")
+    assert seq.law == "linear"
+    assert seq.sticks
+    assert seq.n_contacts >= 4
+    omega0 = np.sqrt(kn / m)
+    for n in range(seq.n_contacts):
+        c = predict(kn=kn, damping=eta, mass=m, speed=seq.arrival_speed[n] * v0, gravity=g,
+                    limit_damping=True)  # fmt: skip
+        if n < seq.n_contacts - 1:
+            assert not c.sticks
+            assert c.departure_speed / v0 == pytest.approx(seq.departure_speed[n], rel=1e-10)
+            # contact: the force end plus the coast, longer than LAMMPS's force end
+            assert (seq.end[n] - seq.start[n]) / omega0 > c.contact_time
+            assert seq.start[n + 1] - seq.end[n] == pytest.approx(
+                2 * seq.departure_speed[n] / (2 * D * f), rel=1e-12
+            )
+        else:
+            assert c.sticks
+    with pytest.raises(ValueError, match="linear law only"):
+        seq.trajectory([1.0])
+
+
+def test_clipped_without_pressing_force_leaves_once_with_the_force_restitution():
+    seq = bounce_sequence(0.5, 0.0, condition="clipped", law="tsuji")
+    force = bounce_sequence(0.5, 0.0, condition="force", law="tsuji")
+    assert seq.n_contacts == 1
+    assert not seq.sticks
+    assert seq.departure_speed[0] == pytest.approx(force.departure_speed[0], rel=1e-12)
+    assert seq.end[0] > force.end[0]  # the coast to zero overlap
+
+
+@pytest.mark.parametrize("law", ["linear", "tsuji"])
+def test_clipped_bounce_map_is_the_sequences_point_by_point(law):
+    from impactsym.contact import bounce_map
+
+    D, f = np.array([0.1, 0.5, 3.0]), np.array([[0.05], [0.2]])
+    m = bounce_map(D, f, condition="clipped", law=law)
+    assert m.condition == "clipped"
+    assert m.n_contacts.shape == (2, 3)
+    for i in range(2):
+        for j in range(3):
+            seq = bounce_sequence(D[j], f[i, 0], condition="clipped", law=law)
             assert m.n_contacts[i, j] == seq.n_contacts
             assert m.sticks[i, j] == seq.sticks
             assert m.time_to_rest[i, j] == pytest.approx(seq.time_to_rest, rel=1e-12)

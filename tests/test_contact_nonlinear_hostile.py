@@ -80,11 +80,20 @@ def test_the_law_functions_name_the_three_conditions():
         damping_for("tsuji", condition=True, **DESIGN)
 
 
-def test_bounce_sequences_refuse_clipped_and_stick_under_a_crushing_force():
-    from impactsym.contact import bounce_map, bounce_sequence
+def test_bounce_sequences_name_the_three_conditions_and_stick_under_a_crushing_force():
+    from impactsym.contact import bounce_map, bounce_sequence, physical_bounce
 
+    message = "condition must be one of 'position', 'force', 'clipped'"
+    for call in (bounce_sequence, bounce_map):
+        with pytest.raises(ValueError, match=message):
+            call(0.3, 0.1, condition="clip", law="tsuji")
+        with pytest.raises(TypeError, match="condition must be one of the strings"):
+            call(0.3, 0.1, condition=True)
+    clipped = bounce_sequence(0.3, 1e6, condition="clipped", law="tsuji")
+    assert (clipped.n_contacts, clipped.sticks, clipped.time_to_rest) == (1, True, 0.0)
+    # physical_bounce is section 2's linear contact: position or force only
     with pytest.raises(ValueError, match="condition must be 'position' or 'force'"):
-        bounce_sequence(0.3, 0.1, condition="clipped", law="tsuji")
+        physical_bounce(1.0, 1.0, 1.0, 1.0, 1.0, condition="clipped")
     seq = bounce_sequence(0.3, 1e6, condition="force", law="tsuji")
     assert seq.n_contacts == 1
     assert seq.sticks

@@ -15,6 +15,7 @@ import os
 import pytest
 
 from impactsym.contact.lawformulas import delivered_restitution
+from impactsym.contact.nonlinear import impact
 from impactsym.engines.lammps.hertz import (
     design_alpha,
     hertz_coefficient_for,
@@ -85,7 +86,11 @@ def test_prediction_agrees_with_lammps_tsuji(geometry, normal, limit, gravity, s
     )
     assert not out["sticks"]
     assert out["released_by_position"] is (not limit)
-    assert out["restitution"] == pytest.approx(pred.restitution, rel=TOL)
+    # clipped (limit_damping): the restitution is the speed at zero overlap; the
+    # contact time ends with the contact force, as the reading ends it
+    assert out["departure_speed"] / speed == pytest.approx(pred.restitution, rel=TOL)
+    if not gravity:  # no coast under gravity: the force end's speed is the departure's
+        assert out["restitution"] == pytest.approx(pred.restitution, rel=TOL)
     assert out["contact_time"] == pytest.approx(pred.contact_time, rel=TOL)
 
 
@@ -116,7 +121,7 @@ def test_damping_for_design_delivers_the_target_under_limit_damping_and_gravity(
         gravity=9.81, speed=0.3,
     )  # fmt: skip
     assert pred.restitution == pytest.approx(0.4, abs=1e-9)
-    assert out["restitution"] == pytest.approx(0.4, rel=TOL)
+    assert out["departure_speed"] / 0.3 == pytest.approx(0.4, rel=TOL)
 
 
 def test_damping_for_design_delivers_the_target_with_damping_tsuji_on_a_pair():
@@ -129,6 +134,91 @@ def test_damping_for_design_delivers_the_target_with_damping_tsuji_on_a_pair():
         speed=1.0, normal="hertz", modulus=2e8,
     )  # fmt: skip
     assert out["restitution"] == pytest.approx(0.6, rel=TOL)
+
+
+@pytest.mark.parametrize(
+    ("coefficient", "speed", "force_end"),
+    [(0.3, 0.3, 0.4024), (0.7, 0.1, 0.4133)],  # leaves after a coast; caught again
+)
+def test_limit_damping_under_gravity_is_the_clipped_contact(coefficient, speed, force_end):
+    # The force reaches zero inside the overlap (the force condition would release at
+    # force_end), then the sphere coasts under gravity: it leaves at 0.183 (first case)
+    # or the force catches it again and it settles (second case). LAMMPS does the same.
+    pred, out = run(
+        geometry="wall", coefficient=coefficient, style="tsuji", limit=True, gravity=9.81,
+        speed=speed,
+    )  # fmt: skip
+    assert pred.condition == "clipped"
+    force = impact(
+        "tsuji", stiffness=hertz_stiffness(modulus=E, poisson=NU, effective_radius=0.1),
+        damping=tsuji_alpha(coefficient), mass=MASS, speed=speed, force=MASS * 9.81,
+        condition="force",
+    )  # fmt: skip
+    assert force.restitution == pytest.approx(force_end, abs=1e-4)  # the force releases
+    assert out["sticks"] is pred.sticks
+    if pred.sticks:
+        assert coefficient == 0.7
+        assert math.isinf(out["contact_time"])
+        return
+    assert pred.restitution == pytest.approx(0.1828, abs=1e-4)
+    assert out["departure_speed"] / speed == pytest.approx(pred.restitution, rel=TOL)
+    assert out["restitution"] == pytest.approx(force.restitution, rel=TOL)  # force end
+    assert out["contact_time"] == pytest.approx(pred.contact_time, rel=TOL)
+
+
+def test_limit_damping_without_gravity_is_the_force_condition_field_by_field():
+    # without a pressing force the clipped coast keeps its speed; the contact time is
+    # the force end, as LAMMPS's reading reports it: every result stays what it was
+    k = hertz_stiffness(modulus=E, poisson=NU, effective_radius=0.1)
+    alpha = tsuji_alpha([[0.1], [0.5], [0.9]])
+    pred = predict_hertz(stiffness=k, alpha=alpha, mass=MASS, speed=[0.3, 1.0],
+                         limit_damping=True)  # fmt: skip
+    force = impact("tsuji", stiffness=k, damping=alpha, mass=MASS, speed=[0.3, 1.0],
+                   condition="force")  # fmt: skip
+    for name in ("restitution", "contact_time", "max_penetration", "peak_force"):
+        assert (getattr(pred, name) == getattr(force, name)).all(), name
+    clipped = impact("tsuji", stiffness=k, damping=alpha, mass=MASS, speed=[0.3, 1.0],
+                     condition="clipped")  # fmt: skip
+    assert (clipped.contact_time > force.contact_time).all()  # the coast the reading skips
+
+
+def test_a_re_engaged_clipped_tsuji_contact_sticks_as_the_reading_says():
+    # LAMMPS's reading calls a force that comes back inside the overlap a stick; the
+    # clipped contact agrees wherever the coast from the force zero does not leave
+    import numpy as np
+
+    from impactsym.contact.lawcoast import coast
+    from impactsym.contact.lawkernel import integrate, law_functions
+    from impactsym.contact.lawnumbers import law_impact
+
+    d, b = (a.ravel() for a in np.meshgrid(np.geomspace(0.05, 5, 20), np.geomspace(1e-3, 2, 20)))
+    q = np.full(d.shape, 1.5)
+    run = integrate("tsuji", d, b, q, condition="force")
+    released = np.isfinite(run.tau_c) & (run.e > 0)
+    d, b, q = d[released], b[released], q[released]
+    caught = ~coast(law_functions("tsuji"), run.z_end[released], -run.e[released], d, b, q).leaves
+    tau_c, e = law_impact("tsuji", d, b, q, condition="clipped")
+    assert caught.sum() >= 10
+    assert np.isinf(tau_c[caught]).all()
+    assert (e[caught] == 0).all()
+    assert np.isfinite(tau_c[~caught]).all()
+
+
+def test_damping_for_design_delivers_the_target_where_the_coast_matters():
+    # target 0.2 at 0.3 m/s under gravity: the force end would show about 0.41
+    k = hertz_stiffness(modulus=E, poisson=NU, effective_radius=RADIUS["wall"])
+    alpha = design_alpha(
+        restitution=0.2, stiffness=k, mass=MASS, speed=0.3, gravity=9.81, limit_damping=True
+    )
+    coefficient = hertz_coefficient_for(alpha, damping="tsuji")
+    pred, out = run(
+        geometry="wall", coefficient=coefficient, style="tsuji", limit=True, gravity=9.81,
+        speed=0.3,
+    )  # fmt: skip
+    assert pred.restitution == pytest.approx(0.2, abs=1e-9)
+    assert not out["sticks"]
+    assert out["restitution"] > 0.35  # the force end: far from the target
+    assert out["departure_speed"] / 0.3 == pytest.approx(0.2, rel=TOL)
 
 
 def test_a_predicted_stick_sticks_in_lammps():

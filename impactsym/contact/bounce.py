@@ -47,6 +47,7 @@ from impactsym.contact.lawbounce import law_sequence, law_sequences
 from impactsym.contact.lawnumbers import exponent_in_use
 from impactsym.contact.laws import check_law
 from impactsym.contact.loop import check_max_contacts, check_resolution, run_sequences
+from impactsym.contact.nonlinear import check_law_condition
 from impactsym.records import ArrayRecord
 from impactsym.validation import check_condition, finish, real_array
 
@@ -120,12 +121,16 @@ class BounceSequence(ArrayRecord):
         >>> np.round(z, 12).tolist(), z_e.tolist()  # sin(tau), then flying off at speed 1
         ([1.0, -0.85840734641], [1.0, 0.0])
 
-        Only for ``law="linear"`` (the closed forms): another law raises ``ValueError``.
+        Only for ``law="linear"`` under the position or force condition (the closed
+        forms): another law or the clipped condition (whose contacts coast) raises
+        ``ValueError``.
         """
-        if self.law != "linear":
+        if self.law != "linear" or self.condition == "clipped":
+            what = f"{self.law!r} law" if self.law != "linear" else "clipped condition"
             raise ValueError(
-                f"trajectory is available for the linear law only (this sequence is on the "
-                f"{self.law!r} law; its contacts are in start, end and the speeds)"
+                f"trajectory is available for the linear law only, position or force "
+                f"(this sequence is on the {what}; its contacts are in start, end and the "
+                f"speeds)"
             )
         t = real_array("tau", tau, lower=0.0)[0].ravel()
         i = np.maximum(np.searchsorted(self.start, t, side="right") - 1, 0)
@@ -196,8 +201,12 @@ def bounce_sequence(
     f : float
         Pressing force over the damper force at the first impact, ``>= 0`` (another law:
         its pressing number :math:`F_0 T/(m v_0)` at the first impact).
-    condition : {"position", "force"}
-        How each contact ends.
+    condition : {"position", "force", "clipped"}
+        How each contact ends. ``"clipped"`` (any law, the linear one included): the
+        engines' force :math:`\max(0, F)` on the geometric overlap; each contact ends at
+        zero overlap with nothing left deflected, so the next starts undeformed at its
+        arrival speed (:mod:`~impactsym.contact.lawbounce`; for the linear law, LAMMPS's
+        continuous ``limit_damping`` contact).
     max_contacts : int
         At most this many contacts are computed (``1 <= max_contacts <= 10**7``).
     law : {"linear", "hertz-linear", "hunt-crossley", "tsuji", "viscoelastic"}
@@ -239,7 +248,7 @@ def bounce_sequence(
     >>> hc.n_contacts, hc.sticks, np.round(hc.departure_speed[:3], 6).tolist()
     (6, True, [0.72487, 0.533231, 0.38585])
     """
-    check_condition(condition)
+    check_law_condition(condition)
     check_law(law)
     max_contacts = check_max_contacts(max_contacts)
     values = []
@@ -249,7 +258,7 @@ def bounce_sequence(
             raise TypeError(f"{name} must be a scalar (use bounce_map for arrays), got {value!r}")
         values.append(array.reshape(1))
     damping, force = float(values[0][0]), float(values[1][0])
-    if law != "linear":
+    if law != "linear" or condition == "clipped":
         return _law_bounce(law, damping, force, exponent, condition, max_contacts)
     what = f"bounce_sequence(D={damping!r}, f={force!r})"
     result = run_sequences(values[0], values[1], max_contacts, condition=condition, resolved=what)
@@ -289,8 +298,11 @@ def _law_bounce(
                 law, *(np.array([v]) for v in (damping, force, q)), condition=condition,
                 max_contacts=max_contacts, record=True, check=check,
             ).sequence(0)  # fmt: skip
-        else:
-            seq = law_sequence(law, damping, force, q, max_contacts=max_contacts, check=check)
+        else:  # position or clipped: every contact starts undeformed
+            seq = law_sequence(
+                law, damping, force, q, max_contacts=max_contacts, check=check,
+                condition=condition,
+            )  # fmt: skip
     except ValueError as exc:
         if str(exc).startswith(what):
             raise
@@ -366,7 +378,8 @@ def bounce_map(
     The same computation as :func:`bounce_sequence`, one contact after another for all
     points at once (points that rest drop out); with ``law`` another contact law
     (``D``, ``f`` its damping and pressing numbers at the first impact,
-    :func:`~impactsym.contact.lawbounce.law_sequences`; ``exponent`` a scalar).
+    :func:`~impactsym.contact.lawbounce.law_sequences`; ``exponent`` a scalar);
+    ``condition="clipped"`` on any law, the linear one included.
 
     Examples
     --------
@@ -378,8 +391,10 @@ def bounce_map(
     """
     max_contacts = check_max_contacts(max_contacts)
     check_law(law)
-    (damping, force), shape, _ = flat_inputs(condition=condition, D=D, f=f)
-    if law == "linear":
+    check_law_condition(condition)
+    basic = "position" if condition == "clipped" else condition  # checked: clipped too
+    (damping, force), shape, _ = flat_inputs(condition=basic, D=D, f=f)
+    if law == "linear" and condition != "clipped":
         result = run_sequences(damping, force, max_contacts, condition=condition, record=False)
     else:
         array, scalar = real_array("exponent", exponent, lower=1.0)

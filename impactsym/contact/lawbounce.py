@@ -1,4 +1,4 @@
-r"""The bounce sequence until rest on a nonlinear contact law (position and force conditions).
+r"""The bounce sequence until rest on a contact law (position, force and clipped conditions).
 
 **What.** A body pressed towards the contact by a constant force hits it at speed
 :math:`v_0`, leaves it, flies under the pressing force alone, hits again with its
@@ -45,6 +45,14 @@ from :math:`(z_e, z_b')`, in the first impact's units throughout
 (:func:`~impactsym.contact.lawcoast.recontact`; the integration of
 :mod:`~impactsym.contact.lawkernel` from that state). Hunt–Crossley's force vanishes only
 with the overlap under a pressing force, so its sequence is the position one.
+
+**Clipped condition** (the engines' :math:`\max(0, F)` on the geometric overlap; any
+law, the linear one included). The contact ends at zero overlap, and the clipped force is
+a function of the overlap and its rate alone: nothing is left deflected and no state
+carries over. So every contact starts undeformed at its arrival speed and is a first
+impact there, clipped (:func:`~impactsym.contact.lawnumbers.law_impact` with
+``condition="clipped"``): the position recursion above with the clipped single-contact
+result. A contact whose force comes back inside the overlap and never lets go sticks.
 """
 
 from __future__ import annotations
@@ -146,7 +154,8 @@ def law_sequences(
     all points (points that rest drop out). ``check(start, duration, contact)`` is called
     for every contact number on the points still bouncing.
 
-    Position condition: the recursion of the module docstring on arrays. Force condition
+    Position and clipped conditions: the recursion of the module docstring on arrays,
+    each contact a first impact under ``condition``. Force condition
     (not for ``"linear"``, whose section-2 sequence is :mod:`~impactsym.contact.loop`):
     everything in the first impact's units; contact ``n`` starts from the state
     :math:`(z_0, w_0)` where the body meets the relaxing element and ends at the force zero
@@ -183,7 +192,7 @@ def law_sequences(
         else:
             with np.errstate(all="ignore"):
                 d_n, f_n = d * u ** a_delta[active], f[active] * u ** a_f[active]
-            tau, e = law_impact(law, d_n, f_n, qq, condition="position")
+            tau, e = law_impact(law, d_n, f_n, qq, condition=condition)
             with np.errstate(over="ignore"):
                 duration = tau * u ** a_T[active]
             speed, zc = np.minimum(e * u, u), np.zeros(active.size)
@@ -215,11 +224,24 @@ def law_sequences(
 
 
 def law_sequence(
-    law: str, delta: float, f: float, q: float, *, max_contacts: int, check=None
+    law: str,
+    delta: float,
+    f: float,
+    q: float,
+    *,
+    condition: str,
+    max_contacts: int,
+    check=None,
 ) -> LawSequence:
-    """The bounce sequence of ``law`` (position condition) with damping number ``delta``,
-    pressing number ``f`` and exponent in use ``q`` of the first impact. ``check``, if
+    """The bounce sequence of ``law`` with damping number ``delta``, pressing number ``f``
+    and exponent in use ``q`` of the first impact, every contact starting undeformed:
+    ``condition`` ``"position"`` or ``"clipped"`` (module docstring). ``check``, if
     given, is called as ``check(start, duration, contact)`` for every contact."""
+    if condition not in ("position", "clipped"):
+        raise ValueError(
+            f"condition must be 'position' or 'clipped' here (the force condition's "
+            f"contacts start from the relaxing element: law_sequences), got {condition!r}"
+        )
     a_T, a_delta, a_f = (float(a.subs(p, q)) for a in speed_exponents(law))
     accel = 2.0 * delta * f if law == "linear" else f
     t, u = 0.0, 1.0
@@ -229,7 +251,7 @@ def law_sequence(
         with np.errstate(all="ignore"):
             d_n, f_n = delta * u**a_delta, f * u**a_f
         tau, e = law_impact(
-            law, np.array([d_n]), np.array([f_n]), np.array([q]), condition="position"
+            law, np.array([d_n]), np.array([f_n]), np.array([q]), condition=condition
         )
         with np.errstate(over="ignore"):
             duration = float(tau[0]) * u**a_T

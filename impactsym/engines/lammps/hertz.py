@@ -30,15 +30,20 @@ which is **exactly** the ``"tsuji"`` law of :mod:`impactsym.contact.laws` with
 ``stiffness = k``, ``damping = alpha``, ``exponent = 3/2``, ``mass = m_eff`` (``m`` on a
 wall or a frozen particle, :math:`m_i m_j/(m_i + m_j)` otherwise) and ``force = m g``
 for a particle pressed by gravity. Without ``limit_damping`` the tensile force is kept
-and contact lasts while the particles overlap: the **position** condition; with it the
-contact force ends where it first returns to zero: the **force** condition. So
-:func:`predict_hertz` is :func:`~impactsym.contact.nonlinear.impact`, and
+and contact lasts while the particles overlap: the **position** condition. With it LAMMPS
+sets the negative total force to zero on the geometric overlap: the **clipped** condition
+(``docs/physics.md``, *The clipped condition*): where the force would pull, the sphere
+coasts inside the overlap under gravity alone and either leaves at zero overlap or is
+caught again by the force. Without gravity the coast keeps its speed and the clipped
+restitution is the force condition's; with gravity the departure is slower, or never
+comes. So :func:`predict_hertz` is :func:`~impactsym.contact.nonlinear.impact`, and
 :func:`hertz_coefficient_for` turns :func:`~impactsym.contact.lawdesign.damping_for`'s
 ``alpha`` into the coefficient to write in ``pair_coeff``. SI units throughout.
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -181,27 +186,51 @@ def predict_hertz(
 ) -> NonlinearImpact:
     r"""The continuous LAMMPS Hertz–Tsuji impact: :func:`~impactsym.contact.impact` of the
     ``"tsuji"`` law (``exponent = 3/2``) with ``stiffness`` from :func:`hertz_stiffness`,
-    ``alpha`` from :func:`tsuji_alpha`, the effective ``mass``, the pressing force
-    ``mass * gravity``, and the force condition under ``limit_damping``, else the
-    position condition.
+    ``alpha`` from :func:`tsuji_alpha`, the effective ``mass`` and the pressing force
+    ``mass * gravity``; the position condition without ``limit_damping``, the
+    ``"clipped"`` condition with it.
+
+    Under ``limit_damping`` the fields are those of LAMMPS's reading
+    (:class:`~impactsym.engines.reading.StateReading`, which the drivers use):
+    ``restitution`` is the clipped one, the upward speed at zero overlap over ``speed``
+    (the reading's ``departure_speed`` over ``speed``); ``sticks`` is the clipped verdict
+    (the reading's: the force comes back while the overlap lasts); ``contact_time`` is
+    the end of the contact **force**, its first return to zero, as the reading ends the
+    contact (``inf`` where it sticks), not the clipped one's later zero overlap (the
+    coast, :math:`z_1/e` longer without gravity). Without gravity every field is the
+    force condition's, as before the clipped condition existed.
 
     >>> r = predict_hertz(stiffness=2.3e6, alpha=0.3407, mass=4.19, speed=1.0,
     ...                   limit_damping=False)
     >>> round(r.restitution, 4)
     0.6161
+
+    Under gravity the sphere coasts out of the overlap slower than the force released it
+    (at 0.3 m/s: 0.481 against 0.589), or is caught again and sticks (at 0.1 m/s with
+    ``damping tsuji 0.7``):
+
+    >>> kw = dict(stiffness=2316686.9, mass=4.18879, gravity=9.81, limit_damping=True)
+    >>> round(predict_hertz(alpha=tsuji_alpha(0.5), speed=0.3, **kw).restitution, 4)
+    0.4807
+    >>> predict_hertz(alpha=tsuji_alpha(0.7), speed=0.1, **kw).sticks
+    True
     """
-    condition = "force" if check_flag("limit_damping", limit_damping) else "position"
+    limit = check_flag("limit_damping", limit_damping)
     g, _ = real_array("gravity", gravity, lower=0.0)
-    return impact(
-        "tsuji",
-        stiffness=stiffness,
-        damping=alpha,
-        mass=mass,
-        speed=speed,
-        force=np.multiply(mass, g),
-        exponent=1.5,
-        condition=condition,
-    )
+    kwargs = {
+        "stiffness": stiffness,
+        "damping": alpha,
+        "mass": mass,
+        "speed": speed,
+        "force": np.multiply(mass, g),
+        "exponent": 1.5,
+    }
+    if not limit:
+        return impact("tsuji", condition="position", **kwargs)
+    clipped = impact("tsuji", condition="clipped", **kwargs)
+    released = impact("tsuji", condition="force", **kwargs)
+    t_c = np.where(clipped.sticks, np.inf, released.contact_time)
+    return replace(clipped, contact_time=finish(t_c, isinstance(clipped.contact_time, float)))
 
 
 def design_alpha(
@@ -214,15 +243,17 @@ def design_alpha(
     limit_damping: bool,
 ) -> float | np.ndarray:
     r"""The ``alpha`` at which the LAMMPS Hertz–Tsuji contact restitutes ``restitution``
-    (:func:`~impactsym.contact.damping_for` of the ``"tsuji"`` law under the condition of
-    ``limit_damping``); :func:`hertz_coefficient_for` gives the ``pair_coeff`` value.
+    (:func:`~impactsym.contact.damping_for` of the ``"tsuji"`` law, position condition
+    without ``limit_damping``, clipped with it: the restitution is the speed at which the
+    sphere leaves the overlap, :func:`predict_hertz`'s); :func:`hertz_coefficient_for`
+    gives the ``pair_coeff`` value.
 
     >>> a = design_alpha(restitution=0.5, stiffness=1e6, mass=1.0, speed=1.0,
     ...                  limit_damping=False)
     >>> round(hertz_coefficient_for(a), 10)  # the DEM formula is exact here
     0.5
     """
-    condition = "force" if check_flag("limit_damping", limit_damping) else "position"
+    condition = "clipped" if check_flag("limit_damping", limit_damping) else "position"
     g, _ = real_array("gravity", gravity, lower=0.0)
     return damping_for(
         "tsuji",
