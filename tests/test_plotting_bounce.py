@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from impactsym.contact.bounce import BounceMap, bounce_map, bounce_sequence
+from impactsym.contact.lawstick import law_stick_boundary
 from impactsym.plotting.bounce import plot_bounce_map, plot_bounce_sequence, plot_bounce_sequences
 from impactsym.results.files import save_figure
 
@@ -62,3 +63,16 @@ def test_a_full_resolution_map_is_a_small_pdf(tmp_path, quantity):
     pdf = save_figure(plot_bounce_map(result, quantity=quantity), tmp_path, "map")[1]
     assert pdf.stat().st_size < MEGABYTE
     assert b"/Subtype /Image" in pdf.read_bytes()
+
+
+def test_a_law_map_draws_the_laws_own_stick_boundary():
+    # the boundary line of a Tsuji map is law_stick_boundary over D, not the linear one
+    D, f = np.meshgrid(np.linspace(0.1, 1.0, 4), np.linspace(0.05, 0.6, 3))
+    for condition in ("clipped", "force"):
+        result = bounce_map(D, f, condition=condition, law="tsuji", max_contacts=30)
+        assert result.exponent == 1.5
+        ax = result.plot()
+        assert ax.get_title().endswith(f"{condition} condition")
+        x, y = ax.get_lines()[0].get_data()
+        expected = law_stick_boundary("tsuji", x, exponent=1.5, condition=condition)
+        np.testing.assert_allclose(y, expected, rtol=1e-12)

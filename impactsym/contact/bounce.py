@@ -343,6 +343,8 @@ class BounceMap(ArrayRecord):
         Whether the body came to rest within ``max_contacts``.
     condition
         The contact condition.
+    law, exponent
+        The contact law and its exponent (the one in use: 1 for the laws without one).
     """
 
     D: np.ndarray
@@ -352,15 +354,24 @@ class BounceMap(ArrayRecord):
     sticks: np.ndarray
     condition: str
     law: str = "linear"
+    exponent: float = 1.0
 
     def plot(self, *, quantity: str = "n_contacts", ax: Any = None) -> Any:
         """Map of ``quantity`` with the first contact's stick boundary (see
         :func:`impactsym.plotting.bounce.plot_bounce_map`)."""
         from impactsym.contact.api import stick_boundary
+        from impactsym.contact.lawstick import law_stick_boundary
         from impactsym.plotting.bounce import plot_bounce_map
 
-        f_line = np.geomspace(float(np.max(self.f)) * 1e-4, float(np.max(self.f)), 400)
-        line = stick_boundary(f_line, condition=self.condition), f_line
+        if self.law == "linear" and self.condition != "clipped":
+            f_line = np.geomspace(float(np.max(self.f)) * 1e-4, float(np.max(self.f)), 400)
+            line = stick_boundary(f_line, condition=self.condition), f_line
+        else:  # the law's boundary f*(D), D its damping number at the first impact
+            d_line = np.linspace(float(np.min(self.D)), float(np.max(self.D)), 200)
+            f_star = law_stick_boundary(
+                self.law, d_line, exponent=self.exponent, condition=self.condition
+            )
+            line = d_line, f_star
         return plot_bounce_map(self, quantity=quantity, boundary=line, ax=ax)
 
 
@@ -394,13 +405,15 @@ def bounce_map(
     check_law_condition(condition)
     basic = "position" if condition == "clipped" else condition  # checked: clipped too
     (damping, force), shape, _ = flat_inputs(condition=basic, D=D, f=f)
+    q_used = 1.0
     if law == "linear" and condition != "clipped":
         result = run_sequences(damping, force, max_contacts, condition=condition, record=False)
     else:
         array, scalar = real_array("exponent", exponent, lower=1.0)
         if not scalar:
             raise TypeError(f"exponent must be a scalar, got {exponent!r}")
-        q = np.full(damping.shape, float(exponent_in_use(law, array)))
+        q_used = float(exponent_in_use(law, array))
+        q = np.full(damping.shape, q_used)
         result = law_sequences(
             law, damping, force, q, condition=condition, max_contacts=max_contacts
         )
@@ -412,6 +425,7 @@ def bounce_map(
         sticks=result.sticks.reshape(shape),
         condition=condition,
         law=law,
+        exponent=q_used,
     )
 
 

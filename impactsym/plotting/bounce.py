@@ -130,7 +130,9 @@ def plot_bounce_map(
         raise ValueError(f"quantity must be one of {sorted(QUANTITIES)}, got {quantity!r}")
     if np.ndim(result.D) != 2:
         raise ValueError(f"result must be a bounce_map over 2-D grids, got shape {result.D.shape}")
-    condition = check_condition(result.condition)
+    condition = result.condition
+    if condition != "clipped":
+        condition = check_condition(condition)
     if ax is None:
         ax = plt.figure(figsize=(6, 5), layout="tight").add_subplot()
     values = np.asarray(getattr(result, quantity), dtype=float)
@@ -176,5 +178,5 @@ def plot_bounce_map(
         title_fontsize=8,
     )
     title = "Number of contacts until rest" if quantity == "n_contacts" else "Time to rest"
-    ax.set_title(f"{title}, {LABELS[condition]}")
+    ax.set_title(f"{title}, {LABELS.get(condition, 'clipped condition')}")
     return ax
