@@ -147,6 +147,50 @@ def test_every_measured_phase_is_the_models_prediction(grid, request):
     assert max(off.values()) > 0.05  # the point of the table: native recipes miss
 
 
+def test_pybullet_restitution_recipe_is_e_on_the_body_and_one_on_the_plane():
+    body, plane = recipes.pybullet_restitution(restitution=[0.3, 0.5])
+    np.testing.assert_array_equal(body, [0.3, 0.5])
+    np.testing.assert_array_equal(plane, [1.0, 1.0])
+    with pytest.raises(ValueError, match="restitution"):
+        recipes.pybullet_restitution(restitution=1.0)
+    case = sbs.cases(restitution=[0.5], contact_time=CONTACT_TIME, gravity=0.0,
+                     engines=("PyBullet",), recipes=("native-restitution",))[0]  # fmt: skip
+    assert (case.engine, case.recipe) == ("PyBullet", "native-restitution")
+    assert case.parameters == {"restitution": 0.5, "plane_restitution": 1.0}
+
+
+def test_pybullet_pairs_restitutions_as_their_product():
+    # in PyBullet: (e, 1) on (ball, plane) bounces as (sqrt e, sqrt e) and as (1, e), as
+    # the product says (a mean, minimum or maximum would not)
+    _installed("pybullet")
+    from impactsym.engines.pybullet.driver import pybullet_steps
+
+    kw = {"stiffness": None, "damping": None, "mass": 0.1, "speed": 1.0, "phase": PHASES[4:]}
+    pairs = ((0.5, 1.0), (math.sqrt(0.5), math.sqrt(0.5)), (1.0, 0.5), (0.75, 0.75))
+    runs = [pybullet_steps(restitution=r, **kw).restitution for r in pairs]
+    np.testing.assert_array_equal(runs[0], runs[1])
+    np.testing.assert_array_equal(runs[0], runs[2])
+    # (0.75, 0.75): the pair's 0.5625 (a mean would be 0.75), 0.0625 above e = 0.5
+    np.testing.assert_allclose(runs[3] - runs[0], 0.0625, atol=1e-6)
+
+
+def test_pybullet_restitution_recipe_is_the_closed_form_without_gravity():
+    # the rigid default contact: e(p) = max(0, r - (1 - p) - s/(v h)), mean (r - s/(v h))^2/2
+    from impactsym.engines.pybullet.stepping import DEFAULT_SLOP
+
+    case = sbs.cases(restitution=[0.3, 0.5, 0.9], contact_time=CONTACT_TIME, gravity=0.0,
+                     engines=("PyBullet",), recipes=("native-restitution",))[0]  # fmt: skip
+    bias = DEFAULT_SLOP / (1.0 * sbs.TIMESTEPS["PyBullet"])
+    r = case.targets[:, None]
+    per_phase = sbs.predict_cases([case], phases=PHASES)[0]
+    np.testing.assert_allclose(per_phase["restitution"],
+                               np.maximum(0.0, r - (1.0 - PHASES) - bias), atol=1e-12)  # fmt: skip
+    mean = sbs.predict_cases([case])[0]
+    np.testing.assert_allclose(mean["restitution"], 0.5 * (case.targets - bias) ** 2, rtol=1e-9)
+    assert mean["sticks"].all()  # every target sticks at some touch phase
+    assert mean["restitution"][1] < 0.2  # far below the wanted 0.5
+
+
 def test_lammps_coeff_restitution_is_the_recipes_eta():
     # LAMMPS's own coeff_restitution against the recipe's eta_n given as velocity damping
     _installed("lammps")
@@ -167,12 +211,14 @@ def test_lammps_coeff_restitution_is_the_recipes_eta():
 def test_predictions_per_phase_are_each_targets_own():
     # several targets at several phases: each row is the model at that target alone
     cases = sbs.cases(restitution=[0.3, 0.6, 0.8], contact_time=CONTACT_TIME, gravity=9.81,
-                      recipes=("native",))  # fmt: skip
+                      recipes=("native", "native-restitution"))  # fmt: skip
+    assert len(cases) == 4  # MuJoCo, Drake, PyBullet twice (no LAMMPS under gravity)
     together = sbs.predict_cases(cases, phases=PHASES[:3])
     for case, rows in zip(cases, together, strict=True):
         assert rows["restitution"].shape == (3, 3)
         alone = sbs.cases(restitution=case.targets[1:2], contact_time=CONTACT_TIME,
-                          gravity=9.81, engines=(case.engine,), recipes=("native",))  # fmt: skip
+                          gravity=9.81, engines=(case.engine,),
+                          recipes=(case.recipe,))  # fmt: skip
         one = sbs.predict_cases(alone, phases=PHASES[:3])[0]
         np.testing.assert_allclose(rows["restitution"][1], one["restitution"][0], rtol=1e-12)
         mean = sbs.predict_cases(alone)[0]

@@ -55,7 +55,11 @@ def test_without_engines_nothing_runs_and_every_point_is_predicted(tmp_path, mon
     out, rows, markdown = _run(tmp_path, monkeypatch, dict.fromkeys(sbs.ENGINES))
     for stem in ("engines_side_by_side_g0.png", "engines_side_by_side_g0.pdf"):
         assert (out / stem).stat().st_size > 1000
-    assert len(rows) == 2 * len(sbs.ENGINES) * len(results.TARGETS[0])
+    # two recipes per engine and PyBullet's own velocity restitution
+    assert len(rows) == (2 * len(sbs.ENGINES) + 1) * len(results.TARGETS[0])
+    rigid = [r for r in rows if r["recipe"] == "native-restitution"]
+    assert [r["engine"] for r in rigid] == ["PyBullet"]
+    assert rigid[0]["parameters"] == "restitution=0.5 plane_restitution=1"
     assert {r["engine"] for r in rows} == set(sbs.ENGINES)
     assert all(r["e_measured_mean"] == "" for r in rows)
     for r in rows:  # the designs' predicted phase mean is the target

@@ -25,7 +25,11 @@ gravity, no timestep). The engines' recipes:
   published Hunt–Crossley formula of :mod:`impactsym.contact.lawformulas` (Hunt–Crossley
   1975 ``3 (1 - e) / (2 v0)`` or Lankarani–Nikravesh ``3 (1 - e^2) / (4 v0)``);
 * PyBullet (:func:`pybullet_textbook`): ``changeDynamics(contactStiffness=k,
-  contactDamping=c)`` with the continuous ``k``, ``c`` above.
+  contactDamping=c)`` with the continuous ``k``, ``c`` above;
+* PyBullet (:func:`pybullet_restitution`): the rigid default contact with velocity
+  restitution, ``changeDynamics(body, -1, restitution=e)`` and the plane's
+  ``restitution = 1`` (Bullet combines a pair's restitutions as their product, so the
+  pair's is ``e``); no contact time can be asked for.
 
 These are the inputs only; what the engines deliver with them is predicted by the
 engine models and measured by :mod:`impactsym.engines.side_by_side`.
@@ -48,6 +52,7 @@ __all__ = [
     "lammps_coeff_restitution",
     "linear_textbook",
     "mujoco_textbook",
+    "pybullet_restitution",
     "pybullet_textbook",
 ]
 
@@ -144,3 +149,18 @@ def pybullet_textbook(*, restitution: Any, contact_time: Any, mass: Any) -> tupl
     6.93147
     """
     return linear_textbook(restitution=restitution, contact_time=contact_time, mass=mass)
+
+
+def pybullet_restitution(*, restitution: Any) -> tuple[Any, Any]:
+    """``(body, plane)``: the velocity ``restitution`` of ``changeDynamics`` for the body
+    (``e``) and the plane (``1``), rigid contact (no ``contactStiffness``).
+
+    Bullet's pair rule is the product (``btManifoldResult::calculateCombinedRestitution``),
+    so the contact's restitution is ``e``; what PyBullet delivers with it is
+    :func:`impactsym.engines.pybullet.predict_rigid`.
+
+    >>> pybullet_restitution(restitution=0.5)
+    (array(0.5), array(1.))
+    """
+    e = _inputs(restitution, 1.0, 1.0)[0]
+    return e, np.ones_like(e)

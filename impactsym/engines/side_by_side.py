@@ -5,6 +5,10 @@ For each wanted restitution ``e`` (with one contact time, mass and approach spee
 without gravity) and each engine of :data:`ENGINES`:
 
 * ``"native"``: the parameters users paste (:mod:`impactsym.engines.recipes`);
+* ``"native-restitution"`` (PyBullet only): PyBullet's own velocity ``restitution``
+  (:func:`impactsym.engines.recipes.pybullet_restitution`: the body's ``e``, the plane's
+  ``1``, rigid default contact), predicted by
+  :func:`impactsym.engines.pybullet.predict_rigid`; it has no contact time to ask for;
 * ``"impactsym"``: the engine model's inverse at the engine's step (phase mean equal to
   ``e``, contact time equal to the target): :func:`impactsym.engines.mujoco.solref_for`,
   :func:`impactsym.engines.lammps.hooke_for`,
@@ -28,6 +32,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -50,7 +55,7 @@ __all__ = [
 ]
 
 ENGINES = ("MuJoCo", "LAMMPS", "Drake", "PyBullet")
-RECIPES = ("native", "impactsym")
+RECIPES = ("native", "native-restitution", "impactsym")
 #: Each engine's default step (s); LAMMPS: ``contact_time / LAMMPS_STEPS_PER_CONTACT``.
 TIMESTEPS = {"MuJoCo": 0.002, "LAMMPS": None, "Drake": 1e-3, "PyBullet": 1 / 240}
 LAMMPS_STEPS_PER_CONTACT = 50
@@ -62,9 +67,10 @@ class Case:
 
     ``parameters`` maps the engine's own names (``solref`` timeconst/dampratio, ``kn``/
     ``eta_n`` with the ``coeff_restitution`` value ``e``, ``stiffness``/``dissipation``,
-    ``stiffness``/``damping``) to arrays; NaN where ``reasons`` holds why impactsym's
-    design cannot reach that target at the step. ``mass`` is the contact's effective mass,
-    ``timestep`` the engine's step, ``gravity`` the pressing acceleration.
+    ``stiffness``/``damping``, ``restitution``/``plane_restitution``) to arrays; NaN
+    where ``reasons`` holds why impactsym's design cannot reach that target at the step.
+    ``mass`` is the contact's effective mass, ``timestep`` the engine's step, ``gravity``
+    the pressing acceleration.
     """
 
     engine: str
@@ -117,7 +123,7 @@ def cases(
     engines: tuple[str, ...] = ENGINES,
     recipes: tuple[str, ...] = RECIPES,
 ) -> list[Case]:
-    """The native recipe and impactsym's design of each engine for every target.
+    """The native recipe(s) and impactsym's design of each engine for every target.
 
     ``restitution`` is a 1-D array of wanted ``e`` in ``(0, 1)``; ``contact_time`` (s),
     ``mass`` (kg), ``speed`` (m/s) and ``gravity`` (m/s^2) are single numbers. LAMMPS is
@@ -193,6 +199,9 @@ def cases(
         h = TIMESTEPS["PyBullet"]
         k, c = paste.pybullet_textbook(restitution=e, contact_time=t_c, mass=m)
         add("PyBullet", "native", {"stiffness": k, "damping": c}, m, h)
+        body, plane = paste.pybullet_restitution(restitution=e)
+        add("PyBullet", "native-restitution", {"restitution": body, "plane_restitution": plane},
+            m, h)  # fmt: skip
 
         def pb(x):
             d = pyb.contact_for(
@@ -206,9 +215,34 @@ def cases(
     return out
 
 
+def _rigid(case: Case, phase: Any) -> SimpleNamespace:
+    """:func:`impactsym.engines.pybullet.predict_rigid` for each reachable target of
+    ``case`` (the pair restitution, the product of the body's and the plane's, is one
+    engine setting per call, so one call per target), stacked like :func:`_model`."""
+    pair = (case.parameters["restitution"] * case.parameters["plane_restitution"])[case.reachable]
+    rows = [
+        pyb.predict_rigid(
+            restitution=float(r),
+            speed=case.speed,
+            gravity=case.gravity,
+            timestep=case.timestep,
+            phase=None if phase is None else phase[i],
+        )
+        for i, r in enumerate(pair)
+    ]
+    low, high = (np.array([row.restitution_range[j] for row in rows], float) for j in (0, 1))
+    return SimpleNamespace(
+        **{k: np.array([getattr(row, k) for row in rows]) for k in ("restitution",
+           "contact_time", "sticks")},
+        restitution_range=(low, high),
+    )  # fmt: skip
+
+
 def _model(case: Case, phase: Any):
     """The engine model's prediction for the reachable targets of ``case`` at ``phase``
     (``None``: phase mean and range; else an array broadcasting against the targets)."""
+    if case.recipe == "native-restitution":
+        return _rigid(case, phase)
     column = (slice(None),) if phase is None else (slice(None), None)  # targets down
     p = {k: v[case.reachable][column] for k, v in case.parameters.items()}
     common = {"speed": case.speed, "gravity": case.gravity}
@@ -280,9 +314,10 @@ def measure_cases(case_list: list[Case], *, phases: Any) -> list[dict[str, np.nd
     than ``velocity``, so ``e * mass`` passes ``e``; the design with ``velocity``),
     :func:`impactsym.engines.drake.driver.drake_phases` (``lagged``),
     :func:`impactsym.engines.pybullet.driver.pybullet_steps` (defaults, plane at
-    PyBullet's defaults). Returns per case ``restitution`` and ``contact_time`` of shape
-    ``(targets, phases)`` and ``sticks`` (any phase), NaN where the case has no
-    parameters. Needs the engines of the cases.
+    PyBullet's defaults; ``native-restitution``: the rigid sphere, ``stiffness=None``,
+    with both bodies' ``restitution``). Returns per case ``restitution`` and
+    ``contact_time`` of shape ``(targets, phases)`` and ``sticks`` (any phase), NaN where
+    the case has no parameters. Needs the engines of the cases.
     """
     at = real_array("phases", phases, lower=0.0)[0].ravel()
     out = []
@@ -333,6 +368,12 @@ def _run(case: Case, p: dict[str, float], at: np.ndarray):
         return r["restitution"], r["contact_time"], r["sticks"]
     from impactsym.engines.pybullet.driver import pybullet_steps
 
+    if case.recipe == "native-restitution":
+        r = pybullet_steps(
+            stiffness=None, damping=None, mass=case.mass, timestep=case.timestep, phase=at,
+            restitution=(p["restitution"], p["plane_restitution"]), **common,
+        )  # fmt: skip
+        return r.restitution, r.contact_time, r.sticks
     r = pybullet_steps(
         stiffness=p["stiffness"], damping=p["damping"], mass=case.mass,
         timestep=case.timestep, phase=at, **common,

