@@ -17,6 +17,7 @@ repository root).
 from __future__ import annotations
 
 import argparse
+import contextlib
 
 import numpy as np
 from timing import best_of
@@ -35,7 +36,7 @@ def _cases(n: int):
     e_pb = rng.uniform(0.2, 0.5, n)
     t_pb = rng.uniform(10.0, 40.0, n) * h_pb  # 10 to 40 PyBullet steps
     e_pg = rng.uniform(0.4, 0.45, n)  # under gravity: the band every phase leaves
-    t_pg = rng.uniform(10.0, 12.0, n) * h_pb
+    t_pg = rng.uniform(9.8, 10.2, n) * h_pb
     for g, e, t in ((0.0, e_pb, t_pb), (9.81, e_pg, t_pg)):
         for given in (t, None):
             what = "array" if given is not None else "default"
@@ -70,8 +71,13 @@ def main() -> None:
             continue
         first = {key: (val[:10] if isinstance(val, np.ndarray) else val)
                  for key, val in options.items()}  # fmt: skip
-        fn(speed=SPEED, mass=MASS, **first)  # warm-up: caches, imports
-        seconds, out = best_of(1, fn, speed=SPEED, mass=MASS, **options)
+        with contextlib.suppress(ValueError):  # warm-up: caches, imports
+            fn(speed=SPEED, mass=MASS, **first)
+        try:
+            seconds, out = best_of(1, fn, speed=SPEED, mass=MASS, **options)
+        except ValueError as refused:  # a target out of reach: say so, time the others
+            print(f"  {label:<66s} refused: {str(refused)[:160]}")
+            continue
         full = seconds * FULL / n
         miss = np.max(np.abs(out.restitution / options["restitution"] - 1.0))
         print(f"  {label:<66s} {seconds:8.3f} s   10^5: {full:9.2f} s = {full / TARGET:8.2f} x 2 s"
