@@ -60,46 +60,55 @@ def step_contact(
     steps = np.zeros(n, np.int64)
     x_max = np.zeros(n)
     peak = np.zeros(n)
-    ended = np.zeros(n, bool)  # the end state is reached (coasting out, or done)
-    live = np.arange(n)  # elements still stepped
+    live = np.arange(n)  # elements still stepped, gathered into the arrays below
     sap = approximation == "sap"
+    velocity = sap_velocity if sap else hunt_crossley_velocity
+    kl, dl, ml, gl, hl, vl = k, tau if sap else d, m, g, h, v
+    xl, ul = x, u
+    ended = np.zeros(n, bool)  # the end state is reached (coasting out, or done)
+    active = np.ones(n, bool)  # among the gathered: not yet finished
+    steps_l, x_max_l, peak_l = np.zeros(n, np.int64), np.zeros(n), np.zeros(n)
     for count in range(MAX_STEPS):
         if live.size == 0:
             break
-        xl, ul = x[live], u[live]
         contact = xl >= 0.0
-        args = (k[live], tau[live] if sap else d[live], m[live], g[live], h[live])
-        new, impulse = (sap_velocity if sap else hunt_crossley_velocity)(xl, ul, *args)
-        new = np.where(contact, new, ul + h[live] * g[live])
+        new, impulse = velocity(xl, ul, kl, dl, ml, gl, hl)
+        new = np.where(contact, new, ul + hl * gl)
         # an impulse below 1e-12 m v is zero: at the rebound bound u -> -1/d it decays
         # geometrically and only rounding would decide when it is exactly zero
-        impulse = np.where(contact & (impulse > _ZERO * m[live] * v[live]), impulse, 0.0)
-        was_ended = ended[live]
+        impulse = np.where(contact & (impulse > _ZERO * ml * vl), impulse, 0.0)
+        was_ended = ended
         # the end state: the first without contact or without impulse
-        end_now = ~was_ended & (~contact | (impulse <= 0.0))
+        end_now = active & ~was_ended & (~contact | (impulse <= 0.0))
         idx = live[end_now]
         e[idx] = -ul[end_now] / v[idx]
         t_c[idx] = t0[idx] + count * h[idx]
         by_position[idx] = ~contact[end_now]
-        ended[idx] = True
+        ended = was_ended | end_now
         # before the end: record, and catch a body turning back inwards in the overlap
-        going = ~was_ended & ~end_now
-        gi = live[going]
-        steps[gi] += 1
-        x_max[gi] = np.maximum(x_max[gi], xl[going])
-        peak[gi] = np.maximum(peak[gi], impulse[going] / h[gi])
+        going = active & ~was_ended & ~end_now
+        steps_l += going
+        x_max_l = np.where(going, np.maximum(x_max_l, xl), x_max_l)
+        peak_l = np.where(going, np.maximum(peak_l, impulse / hl), peak_l)
         turned = going & (ul < 0.0) & (new > 0.0)
         # after the end: the impulse coming back inside the overlap means sticking
-        back = was_ended & contact & (impulse > 0.0)
-        stuck = live[turned | back]
-        sticks[stuck] = True
-        gone = live[ended[live] & ~contact]
-        departure[gone] = -ul[~contact & ended[live]]
-        keep = ~(turned | back) & ~(ended[live] & ~contact)
-        live_new = live[keep]
-        x[live_new] = xl[keep] + h[live_new] * new[keep]
-        u[live_new] = new[keep]
-        live = live_new
+        back = active & was_ended & contact & (impulse > 0.0)
+        sticks[live[turned | back]] = True
+        left = active & ended & ~contact
+        departure[live[left]] = -ul[left]
+        active = active & ~(turned | back) & ~left
+        xl = np.where(active, xl + hl * new, xl)
+        ul = np.where(active, new, ul)
+        remaining = int(np.count_nonzero(active))
+        if 2 * remaining <= live.size:  # drop the finished ones
+            steps[live], x_max[live], peak[live] = steps_l, x_max_l, peak_l
+            keep = active
+            live = live[keep]
+            kl, dl, ml, gl, hl, vl, xl, ul = (a[keep] for a in (kl, dl, ml, gl, hl, vl, xl, ul))
+            ended, steps_l, x_max_l, peak_l = (a[keep] for a in (ended, steps_l, x_max_l, peak_l))
+            active = np.ones(live.size, bool)
+    steps[live], x_max[live], peak[live] = steps_l, x_max_l, peak_l
+    live = live[active]
     sticks[live] = True
     e[sticks] = 0.0
     t_c[sticks] = np.inf

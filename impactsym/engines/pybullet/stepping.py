@@ -140,64 +140,38 @@ def step_pattern(
     x = v * t + 0.5 * g * t * t
     w = v + g * t
     size = k.size
-    budget = step_budget(k, c, m, H)
-    started = np.zeros(size, bool)
-    ended = np.zeros(size, bool)
-    done = np.zeros(size, bool)
-    sticks = np.zeros(size, bool)
-    n_end = np.zeros(size)
-    n_first = np.zeros(size)
-    w_end = np.zeros(size)
-    x_end = np.zeros(size)
-    depart = np.zeros(size)
-    x_max = np.zeros(size)
-    f_max = np.zeros(size)
-    n_spec = np.zeros(size)
-    n_pos = np.zeros(size)
-    n_rest = np.zeros(size)
+    budget = np.minimum(step_budget(k, c, m, H), MAX_STEPS)
+    limit = int(budget.max()) if size else 0
+    # per-element state for every element; the loop steps a gathered copy of the live
+    # ones and drops the finished ones when they are half of it (elementwise: the same
+    # numbers as stepping everything)
+    state = {
+        "x": x, "w": w,
+        "started": np.zeros(size, bool), "ended": np.zeros(size, bool),
+        "done": np.zeros(size, bool), "sticks": np.zeros(size, bool),
+        **{key: np.zeros(size) for key in ("n_end", "n_first", "w_end", "x_end", "depart",
+                                           "x_max", "f_max", "n_spec", "n_pos", "n_rest")},
+    }  # fmt: skip
+    fixed = {"m": m, "g": g, "h": h, "erp": erp, "gain": gain, "budget": budget}
+    live = np.arange(size)
+    a = {key: val[live] for key, val in {**fixed, **state}.items()}
     n = -1
-    budget = np.minimum(budget, MAX_STEPS)
-    limit = int(budget.max())
-    while not done.all():
+    while live.size:
         n += 1
-        for _ in range(substeps):
-            w_star = w + g * h
-            d = slop - x
-            b = np.where(d > 0, w_star - d / h, w_star - erp * d / h)
-            if velocity_restitution:  # restitutionCurve: a wanted separation speed
-                rest = (np.abs(w_star) >= restitution_threshold) & (w_star > 0)
-                b = b + np.where(rest, velocity_restitution * w_star, 0.0)
-                n_rest += ~ended & rest
-            dv = np.where(-x <= processing_threshold, np.maximum(gain * b, 0.0), 0.0)
-            counting = ~ended & (dv > 0)
-            n_spec += counting & (d > 0)
-            n_pos += counting & (d <= 0)
-            w = w_star - dv
-            x = x + h * w
-        force = dv * m / h
-        live = ~done
-        on = force > 0
-        begin = live & ~started & on
-        started |= begin
-        n_first = np.where(begin, n, n_first)
-        contact = live & started & ~ended
-        x_max = np.where(contact, np.maximum(x_max, x), x_max)
-        f_max = np.where(contact, np.maximum(f_max, force), f_max)
-        stop = contact & ~on
-        ended |= stop
-        n_end = np.where(stop, n, n_end)
-        w_end = np.where(stop, w, w_end)
-        x_end = np.where(stop, x, x_end)
-        after = live & ended & ~stop
-        back = after & on & (x > 0)  # force back inside the overlap
-        sticks |= back
-        gone = (after & ~back & (x <= 0)) | (stop & (x <= 0))
-        depart = np.where(gone, -w, depart)
-        done |= back | gone
-        if n >= limit:
-            over = ~done & (n >= budget)
-            sticks |= over
-            done |= over
+        _advance(a, n, limit, substeps, slop, processing_threshold,
+                 velocity_restitution, restitution_threshold)  # fmt: skip
+        finished = int(np.count_nonzero(a["done"]))
+        if finished == live.size or 2 * finished >= live.size:
+            for key in state:
+                state[key][live] = a[key]
+            keep = ~a["done"]
+            live = live[keep]
+            a = {key: val[keep] for key, val in a.items()}
+    sticks, n_end, n_first, w_end, x_end = (
+        state[key] for key in ("sticks", "n_end", "n_first", "w_end", "x_end")
+    )
+    depart, x_max, f_max = state["depart"], state["x_max"], state["f_max"]
+    n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
     restitution = np.where(sticks, 0.0, -w_end / v)
     contact_time = np.where(sticks, np.inf, (p + n_end) * H)
     fields = {
@@ -217,3 +191,53 @@ def step_pattern(
     )
     record = StepContact(**{key: val.reshape(shape) for key, val in fields.items()})
     return record, pattern.reshape(shape)
+
+
+def _advance(
+    a, n, limit, substeps, slop, processing_threshold, velocity_restitution, restitution_threshold
+):
+    """State ``n`` of the live elements (the dict ``a`` of their arrays, updated in
+    place): the sub-steps of one ``stepSimulation`` call and the bookkeeping of the
+    module docstring; ``a["done"]`` marks the elements departed or stuck."""
+    m, g, h, erp, gain = a["m"], a["g"], a["h"], a["erp"], a["gain"]
+    x, w, ended = a["x"], a["w"], a["ended"]
+    for _ in range(substeps):
+        w_star = w + g * h
+        d = slop - x
+        b = np.where(d > 0, w_star - d / h, w_star - erp * d / h)
+        if velocity_restitution:  # restitutionCurve: a wanted separation speed
+            rest = (np.abs(w_star) >= restitution_threshold) & (w_star > 0)
+            b = b + np.where(rest, velocity_restitution * w_star, 0.0)
+            a["n_rest"] += ~ended & rest
+        dv = np.where(-x <= processing_threshold, np.maximum(gain * b, 0.0), 0.0)
+        counting = ~ended & (dv > 0)
+        a["n_spec"] += counting & (d > 0)
+        a["n_pos"] += counting & (d <= 0)
+        w = w_star - dv
+        x = x + h * w
+    a["x"], a["w"] = x, w
+    force = dv * m / h
+    live = ~a["done"]
+    on = force > 0
+    begin = live & ~a["started"] & on
+    a["started"] |= begin
+    a["n_first"] = np.where(begin, n, a["n_first"])
+    contact = live & a["started"] & ~ended
+    a["x_max"] = np.where(contact, np.maximum(a["x_max"], x), a["x_max"])
+    a["f_max"] = np.where(contact, np.maximum(a["f_max"], force), a["f_max"])
+    stop = contact & ~on
+    a["ended"] = ended = ended | stop
+    a["n_end"] = np.where(stop, n, a["n_end"])
+    a["w_end"] = np.where(stop, w, a["w_end"])
+    a["x_end"] = np.where(stop, x, a["x_end"])
+    after = live & ended & ~stop
+    back = after & on & (x > 0)  # force back inside the overlap
+    a["sticks"] |= back
+    gone = (after & ~back & (x <= 0)) | (stop & (x <= 0))
+    a["depart"] = np.where(gone, -w, a["depart"])
+    done = a["done"] | back | gone
+    if n >= limit:
+        over = ~done & (n >= a["budget"])
+        a["sticks"] |= over
+        done |= over
+    a["done"] = done

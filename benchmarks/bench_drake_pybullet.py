@@ -1,0 +1,88 @@
+"""Drake and PyBullet designs: 10^5 targets each, against the 2 s target.
+
+Prints, after one warm-up call per case, the seconds of ``pybullet.contact_for`` (default
+``timestep = 1/240``; gravity 0 and 9.81 m/s^2; ``contact_time`` given or left at its
+default of 10 steps) and ``drake.point_contact_for`` (continuous ``time_step = 0`` and the
+default ``time_step = 1e-3`` with ``"lagged"``; ``contact_time`` or ``max_penetration``;
+gravity 0 and 9.81 m/s^2) on ``N`` random targets (array ``restitution`` and
+``contact_time``/``max_penetration``; one speed 1 m/s and mass 0.1 kg), and the time
+scaled to 10^5 designs over the 2 s target, with the largest relative miss of the
+designs' restitution. ``--quick``: ``N = 10^3`` (the 10^5 column
+then extrapolates linearly); ``--count N`` sets it.
+
+Run: ``PYTHONPATH=. python benchmarks/bench_drake_pybullet.py [--quick]`` (from the
+repository root).
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+
+import numpy as np
+from timing import best_of
+
+from impactsym.engines import drake, pybullet
+
+TARGET = 2.0  # seconds for 10^5 designs
+FULL = 100_000
+SPEED, MASS = 1.0, 0.1
+
+
+def _cases(n: int):
+    """(label, function, options) per case; the targets lie where every design exists."""
+    rng = np.random.default_rng(20)
+    h_pb = 1 / 240
+    e_pb = rng.uniform(0.2, 0.5, n)
+    t_pb = rng.uniform(10.0, 40.0, n) * h_pb  # 10 to 40 PyBullet steps
+    e_pg = rng.uniform(0.4, 0.45, n)  # under gravity: the band every phase leaves
+    t_pg = rng.uniform(9.8, 10.2, n) * h_pb
+    for g, e, t in ((0.0, e_pb, t_pb), (9.81, e_pg, t_pg)):
+        for given in (t, None):
+            what = "array" if given is not None else "default"
+            yield (f"pybullet.contact_for, g={g}, contact_time={what}", pybullet.contact_for,
+                   {"restitution": e, "contact_time": given, "gravity": g})  # fmt: skip
+    e_dc = rng.uniform(0.35, 0.9, n)
+    t_dc = rng.uniform(1e-3, 2e-2, n)  # continuous: 1 to 20 ms
+    x_dc = rng.uniform(1e-4, 1e-3, n)
+    e_dl = rng.uniform(0.3, 0.6, n)
+    t_dl = rng.uniform(2e-2, 4e-2, n)  # at 1e-3 s: 20 to 40 steps
+    x_dl = rng.uniform(6e-3, 1.2e-2, n)
+    for g in (0.0, 9.81):
+        for step, e, t, x in ((0.0, e_dc, t_dc, x_dc), (1e-3, e_dl, t_dl, x_dl)):
+            mode = "continuous" if step == 0 else "lagged 1e-3"
+            base = {"restitution": e, "gravity": g, "time_step": step}
+            yield (f"drake.point_contact_for, {mode}, g={g}, contact_time", drake.point_contact_for,
+                   {**base, "contact_time": t})  # fmt: skip
+            yield (f"drake.point_contact_for, {mode}, g={g}, max_penetration",
+                   drake.point_contact_for, {**base, "max_penetration": x})  # fmt: skip
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="10^3 designs per case")
+    parser.add_argument("--count", type=int, default=None, help="designs per case")
+    parser.add_argument("--only", default="", help="run the cases whose label holds this")
+    args = parser.parse_args()
+    n = args.count or (1_000 if args.quick else FULL)
+    print(f"{n} designs per case (speed {SPEED} m/s, mass {MASS} kg); 10^5 column scaled")
+    for label, fn, options in _cases(n):
+        if args.only not in label:
+            continue
+        first = {key: (val[:10] if isinstance(val, np.ndarray) else val)
+                 for key, val in options.items()}  # fmt: skip
+        with contextlib.suppress(ValueError):  # warm-up: caches, imports
+            fn(speed=SPEED, mass=MASS, **first)
+        try:
+            seconds, out = best_of(1, fn, speed=SPEED, mass=MASS, **options)
+        except ValueError as refused:  # a target out of reach: say so, time the others
+            print(f"  {label:<66s} refused: {str(refused)[:160]}")
+            continue
+        full = seconds * FULL / n
+        miss = np.max(np.abs(out.restitution / options["restitution"] - 1.0))
+        print(f"  {label:<66s} {seconds:8.3f} s   10^5: {full:9.2f} s = {full / TARGET:8.2f} x 2 s"
+              f"   e miss {miss:.1e}")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,36 @@
+"""The live-element loop of PyBullet's step map against the loop that steps every element
+to the end (tests/references/pybullet_steps.py): the same numbers, bit for bit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from references.pybullet_steps import step_pattern as reference
+
+from impactsym.engines.pybullet.stepping import step_pattern
+
+RNG = np.random.default_rng(240)
+
+
+@pytest.mark.parametrize(
+    "settings",
+    [{}, {"substeps": 2}, {"processing_threshold": 0.0, "slop": 0.0},
+     {"velocity_restitution": 0.5}],
+)  # fmt: skip
+def test_live_loop_is_the_full_loop(settings):
+    # sticking, short and long contacts mixed, with and without gravity
+    n = 1500
+    k, c = 10 ** RNG.uniform(2, 5, n), RNG.uniform(0.0, 30.0, n)
+    m, v = RNG.uniform(0.05, 2.0, n), RNG.uniform(0.2, 3.0, n)
+    g = np.where(RNG.uniform(size=n) < 0.5, 0.0, 9.81)
+    p = RNG.uniform(0.0, 1.0, n)
+    new, key = step_pattern(k, c, m, v, g, 1 / 240, p, **settings)
+    old, key_old = reference(k, c, m, v, g, 1 / 240, p, **settings)
+    assert old.sticks.any()
+    assert not old.sticks.all()
+    for name in new.__dataclass_fields__:
+        np.testing.assert_array_equal(getattr(new, name), getattr(old, name), err_msg=name)
+    np.testing.assert_array_equal(key, key_old)
+    # shapes pass through
+    one, _ = step_pattern(k[:6].reshape(2, 3), 0.5, 0.1, 1.0, 0.0, 1 / 240, 0.3)
+    assert one.restitution.shape == (2, 3)
