@@ -99,7 +99,7 @@ def mujoco_textbook(*, restitution: Any) -> tuple[float, Any]:
 def lammps_coeff_restitution(
     *, restitution: Any, contact_time: Any, mass: Any
 ) -> tuple[Any, Any, Any]:
-    """``(kn, e, eta_n)``: the ``pair_coeff`` of ``hooke kn e ... damping
+    """``(kn, e, eta_n)``: the ``pair_coeff`` of ``hooke kn e`` with ``damping
     coeff_restitution`` (``kn = m omega0^2``, :func:`linear_textbook`) and the
     ``eta_n = 2 D sqrt(m kn)`` (N s/m) LAMMPS derives from ``e`` (``m`` the effective
     mass; ``pair granular`` source: ``sqrt(4 meff kn / (1 + (pi / ln e)^2))``).
