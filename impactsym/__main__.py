@@ -1,5 +1,5 @@
 """``python -m impactsym`` runs the command-line interface."""
 
-from impactsym.cli import main
+from impactsym.cli import run
 
-raise SystemExit(main())
+run()
