@@ -29,7 +29,11 @@ Why this numerics
   conditions), of
   :math:`z'` (maximum penetration) or of :math:`d\varphi/d\tau` (a force maximum) inside
   an accepted step is located by Illinois iteration on the length of one order-8 step
-  from the step's start, so the event is as accurate as the integration.
+  from the step's start, so the event is as accurate as the integration. The extrema
+  (maximum penetration, force maxima, and the force minimum that only closes the bracket
+  of a force zero) stop at a bracket of :data:`EXTREMUM_WIDTH` of the step: the value at
+  an extremum is off by half its curvature times the square of the time error
+  (:math:`10^{-18} h^2`), so iterating to the last bit would buy nothing.
 * **Sticking is decided by energy, never by a time limit.** The energy
   :math:`E = z'^2/2 + V(z) - b z` never increases. With a pressing force the body can
   never reach ``z = 0`` once :math:`E < 0` (position condition), and never reach a zero of
@@ -74,6 +78,10 @@ REST = 1e-12
 MAX_STEPS = 100_000
 #: Steps a trapped (sticking) body is followed before its creep is taken as settled.
 FOLLOW = 2_000
+#: Relative bracket (of the step) where an event that truncates the step is located.
+EVENT_WIDTH = 4e-16
+#: Relative bracket where an extremum is located: its value is off by the square of it.
+EXTREMUM_WIDTH = 1e-9
 
 _B = sp.Symbol("b", positive=True)
 
@@ -205,10 +213,12 @@ class _System:
         """``-rate``: positive while the force falls (the event of a force minimum)."""
         return -self.rate(y)
 
-    def locate(self, y0: np.ndarray, h: np.ndarray, event) -> tuple[np.ndarray, np.ndarray]:
+    def locate(
+        self, y0: np.ndarray, h: np.ndarray, event, *, width: float = EVENT_WIDTH
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Where ``event(system, y)`` (positive at ``y0``, not positive at the end of the
         step of length ``h``) crosses zero: Illinois iteration on the step length, each
-        element until its bracket is 4e-16 of its step (or it lands on the root)."""
+        element until its bracket is ``width`` of its step (or it lands on the root)."""
         lo, hi = np.zeros_like(h), h.copy()
         y_hi = self.step(y0, h)[0]
         g_lo, g_hi = (
@@ -238,7 +248,7 @@ class _System:
             gh = np.where(~right & (s_i == -1), 0.5 * gh, gh)
             lo[idx], hi[idx], g_lo[idx], g_hi[idx] = lo_i, hi_i, gl, gh
             side[idx] = np.where(right, 1, -1)
-            keep = ~(((hi_i - lo_i) <= 4e-16 * h[idx]) | (g_t == 0))
+            keep = ~(((hi_i - lo_i) <= width * h[idx]) | (g_t == 0))
             if not keep.any():
                 break
             if not keep.all():
@@ -380,7 +390,7 @@ def integrate(
             if dip.any():
                 c = np.flatnonzero(dip)
                 part = sub.sub(c)
-                hm, ym = part.locate(y0[:, c], hs[c], _System.falling_rate)
+                hm, ym = part.locate(y0[:, c], hs[c], _System.falling_rate, width=EXTREMUM_WIDTH)
                 low = ~(part.reduced(ym) > 0)
                 c, hm, ym = c[low], hm[low], ym[:, low]
                 hs[c], y1[:, c] = hm, ym
@@ -397,13 +407,13 @@ def integrate(
         first = ~found_max[acc] & (y0[1] > 0) & ~(y1[1] > 0)
         if first.any():
             c = np.flatnonzero(first)
-            _, ym = sub.sub(c).locate(y0[:, c], hs[c], _rate_of_overlap)
+            _, ym = sub.sub(c).locate(y0[:, c], hs[c], _rate_of_overlap, width=EXTREMUM_WIDTH)
             z_max[acc[c]], found_max[acc[c]] = ym[0], True
             peak[acc[c]] = np.maximum(peak[acc[c]], sub.sub(c).phi(ym))
         top = ~(sub.rate(y0) <= 0) & (sub.rate(y1) <= 0)
         if top.any():
             c = np.flatnonzero(top)
-            _, yp = sub.sub(c).locate(y0[:, c], hs[c], _System.rate)
+            _, yp = sub.sub(c).locate(y0[:, c], hs[c], _System.rate, width=EXTREMUM_WIDTH)
             peak[acc[c]] = np.maximum(peak[acc[c]], sub.sub(c).phi(yp))
         peak[acc] = np.maximum(peak[acc], sub.phi(y1))
         z_max[acc] = np.where(found_max[acc], z_max[acc], np.maximum(z_max[acc], y1[0]))
