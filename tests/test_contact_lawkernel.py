@@ -7,6 +7,11 @@ import numpy as np
 import pytest
 
 from impactsym.contact.api import contact_time, restitution
+from impactsym.contact.lawclosed import (
+    hunt_crossley_restitution,
+    linear_free_restitution,
+    tsuji_zeta,
+)
 from impactsym.contact.lawkernel import integrate
 
 
@@ -58,6 +63,19 @@ def test_maximum_penetration_and_peak_force_of_the_damped_linear_contact_to_1e_1
             assert run.z_max[i] == pytest.approx(float(z(t_max)), rel=1e-12)
             peak = z(t_peak) + 2 * d * w(t_peak)
             assert run.peak[i] == pytest.approx(float(peak), rel=1e-12)
+
+
+def test_exit_taken_early_where_the_force_left_is_negligible_keeps_the_closed_forms():
+    # the exit at z = 0 is taken once the force left on the way there changes z' by less
+    # than 1e-14 of it (Hunt-Crossley: at z ~ 1e-6, not 1e-14): the restitutions stay
+    # the closed forms (Lambert W; the Tsuji map onto the linear contact) to 1e-11
+    s = np.array([0.05, 0.3, 1.0, 2.5, 6.0])
+    hc = integrate("hunt-crossley", s, np.zeros_like(s), np.full(5, 1.5), condition="position")
+    np.testing.assert_allclose(hc.e, hunt_crossley_restitution(s), rtol=1e-11)
+    alpha = np.array([0.05, 0.3, 0.8, 1.5, 2.0])
+    ts = integrate("tsuji", alpha, np.zeros_like(alpha), np.full(5, 1.5), condition="position")
+    e = linear_free_restitution(tsuji_zeta(alpha, 1.5), condition="position")
+    np.testing.assert_allclose(ts.e, e, rtol=1e-11)
 
 
 def test_maximum_penetration_and_peak_of_the_undamped_linear_contact():
