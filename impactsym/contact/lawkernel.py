@@ -19,7 +19,11 @@ Why this numerics
   While the body moves out, a step may cover at most half the remaining time
   :math:`z/|z'|` to ``z = 0``, so steps shrink geometrically, no stage ever evaluates a
   negative overlap, and the exit is reached when :math:`z` is :math:`10^{-14}` of the
-  maximum penetration (the remaining flight :math:`z/|z'|` is added).
+  maximum penetration, or earlier where the force left cannot change :math:`z'` by
+  :math:`10^{-14}` of it: :math:`\varphi = R(z) + C(z) z'` with ``R`` and ``|C|``
+  non-decreasing in ``z``, so over the remaining flight :math:`z/|z'|`,
+  :math:`|\Delta z'| \le (b + R(z) + |C(z) z'|)\, z/|z'|` (Hunt–Crossley then exits
+  near :math:`z = 10^{-6}`, a fifth fewer steps; the remaining flight is added).
 * **Coasts in closed form (clipped condition).** Where the reduced force falls through
   zero the clipped contact's force :math:`\max(0, \varphi)` vanishes and the body flies,
   :math:`z'' = b`: the coast is solved exactly (:func:`~impactsym.contact.lawcoast.coast`:
@@ -29,7 +33,11 @@ Why this numerics
   conditions), of
   :math:`z'` (maximum penetration) or of :math:`d\varphi/d\tau` (a force maximum) inside
   an accepted step is located by Illinois iteration on the length of one order-8 step
-  from the step's start, so the event is as accurate as the integration.
+  from the step's start, so the event is as accurate as the integration. The extrema
+  (maximum penetration, force maxima, and the force minimum that only closes the bracket
+  of a force zero) stop at a bracket of :data:`EXTREMUM_WIDTH` of the step: the value at
+  an extremum is off by half its curvature times the square of the time error
+  (:math:`10^{-18} h^2`), so iterating to the last bit would buy nothing.
 * **Sticking is decided by energy, never by a time limit.** The energy
   :math:`E = z'^2/2 + V(z) - b z` never increases. With a pressing force the body can
   never reach ``z = 0`` once :math:`E < 0` (position condition), and never reach a zero of
@@ -66,7 +74,8 @@ from impactsym.numeric.codegen import lambdify
 
 #: Tolerances of the order-8 steps (relative, absolute); global error about 1e-12.
 RTOL, ATOL = 1e-13, 1e-14
-#: Exit reached when the overlap is this fraction of the maximum penetration.
+#: Exit reached when the overlap is this fraction of the maximum penetration, or the
+#: force left on the way to ``z = 0`` changes ``z'`` by less than this fraction of it.
 EXIT_FRACTION = 1e-14
 #: A trapped body is at rest when within this (relative) distance of its equilibrium.
 REST = 1e-12
@@ -74,6 +83,10 @@ REST = 1e-12
 MAX_STEPS = 100_000
 #: Steps a trapped (sticking) body is followed before its creep is taken as settled.
 FOLLOW = 2_000
+#: Relative bracket (of the step) where an event that truncates the step is located.
+EVENT_WIDTH = 4e-16
+#: Relative bracket where an extremum is located: its value is off by the square of it.
+EXTREMUM_WIDTH = 1e-9
 
 _B = sp.Symbol("b", positive=True)
 
@@ -205,10 +218,12 @@ class _System:
         """``-rate``: positive while the force falls (the event of a force minimum)."""
         return -self.rate(y)
 
-    def locate(self, y0: np.ndarray, h: np.ndarray, event) -> tuple[np.ndarray, np.ndarray]:
+    def locate(
+        self, y0: np.ndarray, h: np.ndarray, event, *, width: float = EVENT_WIDTH
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Where ``event(system, y)`` (positive at ``y0``, not positive at the end of the
         step of length ``h``) crosses zero: Illinois iteration on the step length, each
-        element until its bracket is 4e-16 of its step (or it lands on the root)."""
+        element until its bracket is ``width`` of its step (or it lands on the root)."""
         lo, hi = np.zeros_like(h), h.copy()
         y_hi = self.step(y0, h)[0]
         g_lo, g_hi = (
@@ -238,7 +253,7 @@ class _System:
             gh = np.where(~right & (s_i == -1), 0.5 * gh, gh)
             lo[idx], hi[idx], g_lo[idx], g_hi[idx] = lo_i, hi_i, gl, gh
             side[idx] = np.where(right, 1, -1)
-            keep = ~(((hi_i - lo_i) <= 4e-16 * h[idx]) | (g_t == 0))
+            keep = ~(((hi_i - lo_i) <= width * h[idx]) | (g_t == 0))
             if not keep.any():
                 break
             if not keep.all():
@@ -380,7 +395,7 @@ def integrate(
             if dip.any():
                 c = np.flatnonzero(dip)
                 part = sub.sub(c)
-                hm, ym = part.locate(y0[:, c], hs[c], _System.falling_rate)
+                hm, ym = part.locate(y0[:, c], hs[c], _System.falling_rate, width=EXTREMUM_WIDTH)
                 low = ~(part.reduced(ym) > 0)
                 c, hm, ym = c[low], hm[low], ym[:, low]
                 hs[c], y1[:, c] = hm, ym
@@ -397,13 +412,13 @@ def integrate(
         first = ~found_max[acc] & (y0[1] > 0) & ~(y1[1] > 0)
         if first.any():
             c = np.flatnonzero(first)
-            _, ym = sub.sub(c).locate(y0[:, c], hs[c], _rate_of_overlap)
+            _, ym = sub.sub(c).locate(y0[:, c], hs[c], _rate_of_overlap, width=EXTREMUM_WIDTH)
             z_max[acc[c]], found_max[acc[c]] = ym[0], True
             peak[acc[c]] = np.maximum(peak[acc[c]], sub.sub(c).phi(ym))
         top = ~(sub.rate(y0) <= 0) & (sub.rate(y1) <= 0)
         if top.any():
             c = np.flatnonzero(top)
-            _, yp = sub.sub(c).locate(y0[:, c], hs[c], _System.rate)
+            _, yp = sub.sub(c).locate(y0[:, c], hs[c], _System.rate, width=EXTREMUM_WIDTH)
             peak[acc[c]] = np.maximum(peak[acc[c]], sub.sub(c).phi(yp))
         peak[acc] = np.maximum(peak[acc], sub.phi(y1))
         z_max[acc] = np.where(found_max[acc], z_max[acc], np.maximum(z_max[acc], y1[0]))
@@ -420,7 +435,16 @@ def integrate(
         # a known end, or the exit at z = 0 (graded approach)
         at_end = np.isfinite(end[acc]) & (t1 >= end[acc])
         exit_ = ~ended & ~np.isfinite(end[acc]) & (y1[1] < 0)
-        exit_ &= y1[0] <= EXIT_FRACTION * np.maximum(z_max[acc], 1e-300)
+        near = y1[0] <= EXIT_FRACTION * np.maximum(z_max[acc], 1e-300)
+        # or the force left on the way to z = 0 changes z' by less than EXIT_FRACTION
+        ask = np.flatnonzero(exit_ & ~near & (y1[0] <= 1e-3 * z_max[acc]))
+        if ask.size:
+            ac, zz, ww = acc[ask], y1[0, ask], -y1[1, ask]
+            with np.errstate(all="ignore"):
+                push = b[ac] + fns.spring(zz, 0.0, delta[ac], q[ac])
+                push = push + np.abs(fns.damper(zz, 0.0, delta[ac], q[ac])) * ww
+                near[ask] = push * zz <= EXIT_FRACTION * ww * ww
+        exit_ &= near
         with np.errstate(divide="ignore"):
             tau_c[acc[exit_]] = t1[exit_] + y1[0, exit_] / -y1[1, exit_]
         e[acc[exit_]] = -y1[1, exit_]
