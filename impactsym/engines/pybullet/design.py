@@ -225,11 +225,12 @@ def _refuse(e, t, v, m, g, h, settings, i):
     why = (
         f"the contact lasts only {steps:.3g} timesteps"
         if steps < 3
-        else "the phase-mean restitution of PyBullet's map does not reach it at this step"
+        else "the phase-mean restitution of PyBullet's map does not reach it at this step "
+        "(or the body sticks)"
         + (
-            " (under gravity the phases stick, the weight holding the soft contact, above a "
-            "damping that falls as the contact lengthens; the damping this restitution "
-            "needs lies past it)"
+            ": under gravity the phases stick, the weight holding the soft contact, above a "
+            "damping that falls as the contact lengthens, and the damping this restitution "
+            "needs lies past it"
             if g > 0 and reaching is None
             else ""
         )
