@@ -159,6 +159,15 @@ def point_contact_for(
     k = k_start = m * (unit / target) ** 2
     damp = np.zeros_like(k)
     log_prev = q_prev = None
+    # the bracket in ln k once the size has been seen on both sides of the target: along
+    # the restitution's contour the size falls with k, continuous, with flat stretches
+    # (at a step the phase-mean contact time rests at (N + 1/2) h while every phase
+    # lasts N steps), where a secant stalls; inside a bracket Illinois steps take over
+    below = np.full_like(k, -np.inf)  # ln k whose size is above the target
+    above = np.full_like(k, np.inf)  # ln k whose size is below it
+    f_below, f_above = np.ones_like(k), -np.ones_like(k)
+    side = np.zeros(k.size, int)
+    f_last = np.full_like(k, np.inf)
     best, stalled = np.inf, 0
     for _ in range(_OUTER):
         if approx is None:
@@ -176,24 +185,55 @@ def point_contact_for(
                 "it); ask for a larger restitution, a smaller gravity or a larger speed"
             )
         ratio = q / target
-        if np.all(np.abs(ratio - 1.0) <= _TOL):
+        converged = np.abs(ratio - 1.0) <= _TOL
+        if np.all(converged):
             break
-        # secant in (log k, log q): the slope is -1/2 where the damping number is fixed
         log_k, log_q = np.log(k), np.log(q)
+        f = log_q - np.log(target)
+        up, down = f > 0, f < 0
+        below[up], f_below[up] = log_k[up], f[up]
+        above[down], f_above[down] = log_k[down], f[down]
+        f_above[up & (side == 1)] *= 0.5  # Illinois: the same end moved twice
+        f_below[down & (side == -1)] *= 0.5
+        side = np.where(up, 1, np.where(down, -1, side))
+        # secant in (log k, log q): the slope is -1/2 where the damping number is fixed
         slope = np.full_like(k, -0.5)
         if log_prev is not None:
             with np.errstate(all="ignore"):
                 secant = (log_q - q_prev) / (log_k - log_prev)
             slope = np.where(np.isfinite(secant), np.clip(secant, -2.0, -0.1), slope)
         log_prev, q_prev = log_k, log_q
-        k = np.exp(log_k + (np.log(target) - log_q) / slope)
+        trial = log_k - f / slope
+        bracketed = np.isfinite(below) & np.isfinite(above)
+        low, high = np.minimum(below, above), np.maximum(below, above)
+        with np.errstate(all="ignore"):
+            false_pos = (below * f_above - above * f_below) / (f_above - f_below)
+        inside = (false_pos > low) & (false_pos < high)
+        false_pos = np.where(inside, false_pos, 0.5 * (below + above))
+        # the secant while it stays inside and at least halves the miss, else Illinois
+        fast = (trial > low) & (trial < high) & (np.abs(f) <= 0.5 * f_last)
+        trial = np.where(bracketed & ~fast & ~converged, false_pos, trial)
+        f_last = np.abs(f)
+        k = np.exp(trial)
+        width = np.abs(above - below)
+        shut = bracketed & ~converged & (width <= 1e-14 * np.maximum(1.0, np.abs(below)))
+        if np.any(shut):  # the size jumps across the target: no k between
+            break
         miss = float(np.max(np.abs(ratio - 1.0)))
-        stalled = stalled + 1 if miss > 0.5 * best else 0
+        progress = np.all(bracketed | converged)  # Illinois always shrinks the bracket
+        stalled = 0 if progress or miss <= 0.5 * best else stalled + 1
         best = min(best, miss)
         if stalled >= 6 or np.any(k > 1e6 * k_start) or np.any(k < 1e-6 * k_start):
             break  # no progress: out of reach
     if not np.all(np.abs(ratio - 1.0) <= _TOL):
         bad = int(np.argmax(np.abs(ratio - 1.0)))
+        if np.isfinite(below[bad]) and np.isfinite(above[bad]):
+            raise ValueError(
+                f"{size_name} {float(target[bad])!r} is out of reach at time_step {h!r} with "
+                f"restitution {float(e[bad])!r}: along the restitution's contour the "
+                f"{size_name} jumps across it between k = {np.exp(below[bad]):.9g} and "
+                f"{np.exp(above[bad]):.9g} N/m; use a smaller time_step"
+            )
         raise ValueError(
             f"{size_name} {float(target[bad])!r} is out of reach at time_step {h!r} with "
             f"restitution {float(e[bad])!r}: the stiffness iteration does not settle "
