@@ -39,7 +39,13 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.mujoco.stepping import StepContact
-from impactsym.engines.pybullet.stepping import DEFAULT_SLOP, MAX_STEPS
+from impactsym.engines.pybullet.stepping import (
+    DEFAULT_SLOP,
+    MAX_STEPS,
+    new_reading,
+    read_state,
+    reading_fields,
+)
 
 __all__ = [
     "BREAKING_FACTOR",
@@ -163,8 +169,7 @@ def body_contact(
     else:
         budget = np.broadcast_to(np.asarray(budget, float), shape).ravel()
     budget = np.minimum(budget, MAX_STEPS)
-    started, ended, done, sticks = (np.zeros(size, bool) for _ in range(4))
-    n_first, n_end, w_end, x_end, x_max, f_max, depart = (np.zeros(size) for _ in range(7))
+    r, done = new_reading(size), np.zeros(size, bool)
     n = -1
     while not done.all():
         n += 1
@@ -189,39 +194,13 @@ def body_contact(
         lever = rotation @ body
         x = -(height + lever[:, 2])
         w = -(velocity[:, 2] + np.cross(omega, lever)[:, 2])
-        force = impulse / h
-        live = ~done
-        on = force > 0
-        begin = live & ~started & on
-        started |= begin
-        n_first = np.where(begin, n, n_first)
-        contact = live & started & ~ended
-        x_max = np.where(contact, np.maximum(x_max, x), x_max)
-        f_max = np.where(contact, np.maximum(f_max, force), f_max)
-        stop = contact & ~on
-        ended |= stop
-        n_end = np.where(stop, n, n_end)
-        w_end = np.where(stop, w, w_end)
-        x_end = np.where(stop, x, x_end)
-        after = live & ended & ~stop
-        back = after & on & (x > 0)
-        sticks |= back
-        gone = (after & ~back & (x <= 0)) | (stop & (x <= 0))
-        depart = np.where(gone, -w, depart)
+        back, gone = read_state(r, n, x, w, impulse / h, ~done)
+        started, n_first = r["started"], r["n_first"]
         done |= back | gone
         over = ~done & started & (n - n_first >= budget)
-        sticks |= over
+        r["sticks"] |= over
         done |= over
         if n > 2 and not started.all():
             raise RuntimeError("the body never touched: the touch phase lies outside [0, 1)")
-    fields = {
-        "restitution": np.where(sticks, 0.0, -w_end / v),
-        "contact_time": np.where(sticks, np.inf, (p + n_end) * h),
-        "sticks": sticks,
-        "released_by_position": ~sticks & (x_end <= 0),
-        "departure_speed": np.where(sticks, 0.0, depart),
-        "steps": np.where(sticks, np.inf, n_end - n_first),
-        "max_penetration": x_max,
-        "peak_accel": f_max / m_touch,
-    }
+    fields = reading_fields(r, v, p, h, m_touch)
     return StepContact(**{key: val.reshape(shape) for key, val in fields.items()})

@@ -52,7 +52,13 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.mujoco.stepping import StepContact
-from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD, DEFAULT_SLOP
+from impactsym.engines.pybullet.stepping import (
+    DEFAULT_RESTITUTION_THRESHOLD,
+    DEFAULT_SLOP,
+    new_reading,
+    read_state,
+    reading_fields,
+)
 
 __all__ = ["DEFAULT_CONTACT_ERP", "RIGID_BUDGET", "rigid_pattern", "rigid_step_pattern"]
 
@@ -96,8 +102,7 @@ def rigid_step_pattern(
     x = v * t + 0.5 * g * t * t
     w = v + g * t
     size = v.size
-    started, ended, done, sticks = (np.zeros(size, bool) for _ in range(4))
-    n_end, n_first, w_end, x_end, depart, x_max, a_max = (np.zeros(size) for _ in range(7))
+    r, done = new_reading(size), np.zeros(size, bool)
     n_spec, n_pos, n_rest = (np.zeros(size) for _ in range(3))
     n = -1
     while not done.all():
@@ -109,45 +114,19 @@ def rigid_step_pattern(
             rest = (w_star >= restitution_threshold) & (w_star > 0)
             b = b + np.where(rest, velocity_restitution * w_star, 0.0)
             dv = np.where(-x <= processing_threshold, np.maximum(b, 0.0), 0.0)
-            counting = ~ended & (dv > 0)
+            counting = ~r["ended"] & (dv > 0)
             n_spec += counting & (d > 0)
             n_pos += counting & (d <= 0)
             n_rest += counting & rest
             w = w_star - dv
             x = x + h * w
-        accel = dv / h
-        live = ~done
-        on = accel > 0
-        begin = live & ~started & on
-        started |= begin
-        n_first = np.where(begin, n, n_first)
-        contact = live & started & ~ended
-        x_max = np.where(contact, np.maximum(x_max, x), x_max)
-        a_max = np.where(contact, np.maximum(a_max, accel), a_max)
-        stop = contact & ~on & (w < 0)  # the body separates: the contact is over
-        ended |= stop
-        n_end = np.where(stop, n, n_end)
-        w_end = np.where(stop, w, w_end)
-        x_end = np.where(stop, x, x_end)
-        after = live & ended & ~stop
-        back = after & on & (x > 0)  # force back inside the overlap
-        sticks |= back
-        gone = (after & ~back & (x <= 0)) | (stop & (x <= 0))
-        depart = np.where(gone, -w, depart)
-        over = live & ~gone & ~back & (n - np.where(started, n_first, 0.0) >= RIGID_BUDGET)
-        sticks |= over
+        back, gone = read_state(r, n, x, w, dv / h, ~done, separating=w < 0)
+        started, n_first = r["started"], r["n_first"]
+        over = ~done & ~gone & ~back & (n - np.where(started, n_first, 0.0) >= RIGID_BUDGET)
+        r["sticks"] |= over
         done |= back | gone | over
-    restitution = np.where(sticks, 0.0, -w_end / v)
-    fields = {
-        "restitution": restitution,
-        "contact_time": np.where(sticks, np.inf, (p + n_end) * H),
-        "sticks": sticks,
-        "released_by_position": ~sticks & (x_end <= 0),
-        "departure_speed": np.where(sticks, 0.0, depart),
-        "steps": np.where(sticks, np.inf, n_end - n_first),
-        "max_penetration": x_max,
-        "peak_accel": a_max,
-    }
+    fields = reading_fields(r, v, p, H, 1.0)
+    sticks, n_end, n_first = r["sticks"], r["n_end"], r["n_first"]
     key = (((n_end * 1024.0 + n_first + 2.0) * 1024.0 + n_spec) * 1024.0 + n_pos) * 1024.0
     pattern = np.where(sticks, -1.0, key + n_rest)
     record = StepContact(**{name: val.reshape(shape) for name, val in fields.items()})

@@ -44,6 +44,9 @@ __all__ = [
     "DEFAULT_RESTITUTION_THRESHOLD",
     "DEFAULT_SLOP",
     "MAX_STEPS",
+    "new_reading",
+    "read_state",
+    "reading_fields",
     "step_budget",
     "step_contact",
     "step_pattern",
@@ -56,6 +59,74 @@ DEFAULT_SLOP = 1e-5
 MAX_STEPS = 50_000
 #: ``m_restitutionVelocityThreshold = 0.2f`` (a float literal stored in a double)
 DEFAULT_RESTITUTION_THRESHOLD = float(np.float32(0.2))
+
+
+#: the arrays :func:`read_state` keeps per element (flags first)
+READING = ("started", "ended", "sticks", "n_first", "n_end", "w_end", "x_end", "x_max",
+           "f_max", "depart")  # fmt: skip
+
+
+def new_reading(size: int) -> dict[str, np.ndarray]:
+    """The bookkeeping of :func:`read_state` for ``size`` elements before any state."""
+    return {key: np.zeros(size, bool if i < 3 else float) for i, key in enumerate(READING)}
+
+
+def read_state(
+    r: dict[str, np.ndarray],
+    n: int,
+    x: np.ndarray,
+    w: np.ndarray,
+    push: np.ndarray,
+    live: np.ndarray,
+    *,
+    separating: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Read state ``n`` into ``r`` (updated in place) by the definitions of the module
+    docstring: the contact begins at the first positive ``push`` (the state's force, or
+    its acceleration), ends at the first later zero one (``separating``: only where this
+    mask also holds), is back while it overlaps (``x > 0``: a stick) and is gone where
+    ``x <= 0`` after its end. ``live``: the elements not yet done. Returns the masks
+    ``(back, gone)``; the caller marks them done. One place for the PyBullet maps
+    (compliant, rigid and the rotating body)."""
+    on = push > 0
+    begin = live & ~r["started"] & on
+    r["started"] |= begin
+    r["n_first"] = np.where(begin, n, r["n_first"])
+    contact = live & r["started"] & ~r["ended"]
+    r["x_max"] = np.where(contact, np.maximum(r["x_max"], x), r["x_max"])
+    r["f_max"] = np.where(contact, np.maximum(r["f_max"], push), r["f_max"])
+    stop = contact & ~on
+    if separating is not None:
+        stop &= separating
+    r["ended"] = ended = r["ended"] | stop
+    r["n_end"] = np.where(stop, n, r["n_end"])
+    r["w_end"] = np.where(stop, w, r["w_end"])
+    r["x_end"] = np.where(stop, x, r["x_end"])
+    after = live & ended & ~stop
+    back = after & on & (x > 0)  # force back inside the overlap
+    r["sticks"] |= back
+    gone = (after & ~back & (x <= 0)) | (stop & (x <= 0))
+    r["depart"] = np.where(gone, -w, r["depart"])
+    return back, gone
+
+
+def reading_fields(
+    r: dict[str, np.ndarray], speed: np.ndarray, phase: np.ndarray, step: Any, scale: Any
+) -> dict[str, np.ndarray]:
+    """The :class:`StepContact` fields of a finished reading ``r``: ``step`` the time
+    between states, ``scale`` what turns the peak ``push`` into an acceleration (the
+    mass, or 1)."""
+    sticks, n_end = r["sticks"], r["n_end"]
+    return {
+        "restitution": np.where(sticks, 0.0, -r["w_end"] / speed),
+        "contact_time": np.where(sticks, np.inf, (phase + n_end) * step),
+        "sticks": sticks,
+        "released_by_position": ~sticks & (r["x_end"] <= 0),
+        "departure_speed": np.where(sticks, 0.0, r["depart"]),
+        "steps": np.where(sticks, np.inf, n_end - r["n_first"]),
+        "max_penetration": r["x_max"],
+        "peak_accel": r["f_max"] / scale,
+    }
 
 
 def step_budget(stiffness, damping, mass, timestep) -> np.ndarray:
@@ -146,11 +217,8 @@ def step_pattern(
     # ones and drops the finished ones when they are half of it (elementwise: the same
     # numbers as stepping everything)
     state = {
-        "x": x, "w": w,
-        "started": np.zeros(size, bool), "ended": np.zeros(size, bool),
-        "done": np.zeros(size, bool), "sticks": np.zeros(size, bool),
-        **{key: np.zeros(size) for key in ("n_end", "n_first", "w_end", "x_end", "depart",
-                                           "x_max", "f_max", "n_spec", "n_pos", "n_rest")},
+        "x": x, "w": w, "done": np.zeros(size, bool), **new_reading(size),
+        **{key: np.zeros(size) for key in ("n_spec", "n_pos", "n_rest")},
     }  # fmt: skip
     fixed = {"m": m, "g": g, "h": h, "erp": erp, "gain": gain, "budget": budget}
     live = np.arange(size)
@@ -167,23 +235,9 @@ def step_pattern(
             keep = ~a["done"]
             live = live[keep]
             a = {key: val[keep] for key, val in a.items()}
-    sticks, n_end, n_first, w_end, x_end = (
-        state[key] for key in ("sticks", "n_end", "n_first", "w_end", "x_end")
-    )
-    depart, x_max, f_max = state["depart"], state["x_max"], state["f_max"]
+    sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
-    restitution = np.where(sticks, 0.0, -w_end / v)
-    contact_time = np.where(sticks, np.inf, (p + n_end) * H)
-    fields = {
-        "restitution": restitution,
-        "contact_time": contact_time,
-        "sticks": sticks,
-        "released_by_position": ~sticks & (x_end <= 0),
-        "departure_speed": np.where(sticks, 0.0, depart),
-        "steps": np.where(sticks, np.inf, n_end - n_first),
-        "max_penetration": x_max,
-        "peak_accel": f_max / m,
-    }
+    fields = reading_fields(state, v, p, H, m)
     pattern = np.where(
         sticks,
         -1.0,
@@ -216,25 +270,7 @@ def _advance(
         w = w_star - dv
         x = x + h * w
     a["x"], a["w"] = x, w
-    force = dv * m / h
-    live = ~a["done"]
-    on = force > 0
-    begin = live & ~a["started"] & on
-    a["started"] |= begin
-    a["n_first"] = np.where(begin, n, a["n_first"])
-    contact = live & a["started"] & ~ended
-    a["x_max"] = np.where(contact, np.maximum(a["x_max"], x), a["x_max"])
-    a["f_max"] = np.where(contact, np.maximum(a["f_max"], force), a["f_max"])
-    stop = contact & ~on
-    a["ended"] = ended = ended | stop
-    a["n_end"] = np.where(stop, n, a["n_end"])
-    a["w_end"] = np.where(stop, w, a["w_end"])
-    a["x_end"] = np.where(stop, x, a["x_end"])
-    after = live & ended & ~stop
-    back = after & on & (x > 0)  # force back inside the overlap
-    a["sticks"] |= back
-    gone = (after & ~back & (x <= 0)) | (stop & (x <= 0))
-    a["depart"] = np.where(gone, -w, a["depart"])
+    back, gone = read_state(a, n, x, w, dv * m / h, ~a["done"])
     done = a["done"] | back | gone
     if n >= limit:
         over = ~done & (n >= a["budget"])
