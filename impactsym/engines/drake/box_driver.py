@@ -22,6 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from impactsym.engines.drake.driver import read_run
+
 __all__ = ["drake_box_continuous", "drake_box_phases", "lowest_corner"]
 
 
@@ -138,8 +140,10 @@ def drake_box_phases(
     from it; the contact ends at the first state without contact or with zero normal
     force (``restitution``: the corner's separation rate there over ``speed``,
     ``contact_time``: touch to it); the force coming back inside the overlap, or no end
-    within ``max_steps`` updates, is a stick. Returns a dict of arrays, one entry per
-    phase: ``restitution``, ``contact_time``, ``sticks``, ``steps``, ``max_penetration``.
+    within ``max_steps`` updates, is a stick (read by
+    :func:`~impactsym.engines.drake.driver.read_run`). Returns a dict of arrays, one entry
+    per phase: ``restitution``, ``contact_time``, ``sticks``, ``departure_speed``,
+    ``steps``, ``max_penetration``, ``peak_force``.
     """
     corner, lever, rotation = lowest_corner(half_extents, tilt)
     diagram, plant, body, context = _box_plant(
@@ -155,37 +159,24 @@ def drake_box_phases(
     pc = plant.GetMyMutableContextFromRoot(context)
     port = plant.get_contact_results_output_port()
     zero = 1e-12 * mass * speed / time_step
+
+    def state() -> tuple[bool, float, float, float]:
+        results = port.Eval(pc)
+        touching = results.num_point_pair_contacts() > 0
+        force = abs(results.point_pair_contact_info(0).contact_force()[2]) if touching else 0.0
+        depth, rate = _corner_state(plant, body, pc, corner)
+        return touching, force, -rate, depth
+
+    def advance() -> None:
+        context.SetDiscreteState(diagram.EvalUniquePeriodicDiscreteUpdate(context))
+
     runs = []
     for phase in np.atleast_1d(np.asarray(phases, float)):
         t = float(phase) * time_step
         _place(plant, body, pc, rotation, lever, speed * t + 0.5 * gravity * t * t,
                speed + gravity * t)  # fmt: skip
-        out = {"sticks": False, "max_penetration": 0.0, "steps": 0}
-        ended = False
-        for _ in range(max_steps):
-            results = port.Eval(pc)
-            touching = results.num_point_pair_contacts() > 0
-            force = abs(results.point_pair_contact_info(0).contact_force()[2]) if touching else 0.0
-            force = 0.0 if force <= zero else force
-            depth, rate = _corner_state(plant, body, pc, corner)
-            if ended and touching and force > 0:
-                out["sticks"] = True
-                break
-            if not ended and (not touching or force <= 0):
-                out.update(restitution=-rate / speed, contact_time=t)
-                ended = True
-            if ended and not touching:
-                break
-            if not ended:
-                out["max_penetration"] = max(out["max_penetration"], depth)
-                out["steps"] += 1
-            context.SetDiscreteState(diagram.EvalUniquePeriodicDiscreteUpdate(context))
-            t += time_step
-        else:
-            out["sticks"] = True
-        if out["sticks"]:
-            out.update(restitution=0.0, contact_time=math.inf)
-        runs.append(out)
+        runs.append(read_run(state, advance, speed=speed, start=t, time_step=time_step,
+                             zero=zero, max_steps=max_steps))  # fmt: skip
     return {key: np.array([run[key] for run in runs]) for key in runs[0]}
 
 

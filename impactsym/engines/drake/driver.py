@@ -123,42 +123,74 @@ def drake_phases(
     )
     pc = plant.GetMyMutableContextFromRoot(context)
     port = plant.get_contact_results_output_port()
+    zero = 1e-12 * mass * speed / time_step  # as in the model: rounding
+
+    def state() -> tuple[bool, float, float, float]:
+        results = port.Eval(pc)
+        touching = results.num_point_pair_contacts() > 0
+        force = -results.point_pair_contact_info(0).contact_force()[2] if touching else 0.0
+        rate = float(plant.GetVelocities(pc)[0])
+        return touching, force, rate, RADIUS - float(plant.GetPositions(pc)[0])
+
+    def advance() -> None:
+        context.SetDiscreteState(diagram.EvalUniquePeriodicDiscreteUpdate(context))
+
     runs = []
     for phase in phases:
         t = float(phase) * time_step
         plant.SetPositions(pc, [RADIUS - (speed * t + 0.5 * gravity * t * t)])
         plant.SetVelocities(pc, [-(speed + gravity * t)])
-        out = {"sticks": False, "max_penetration": 0.0, "peak_force": 0.0, "steps": 0}
-        ended = False
-        for _ in range(max_steps):
-            results = port.Eval(pc)
-            touching = results.num_point_pair_contacts() > 0
-            force = -results.point_pair_contact_info(0).contact_force()[2] if touching else 0.0
-            rate = float(plant.GetVelocities(pc)[0])
-            if force <= 1e-12 * mass * speed / time_step:  # as in the model: rounding
-                force = 0.0
-            if ended and touching and force > 0:
-                out.update(sticks=True)
-                break
-            if not ended and (not touching or force <= 0):
-                out.update(restitution=rate / speed, contact_time=t)
-                ended = True
-            if ended and not touching:
-                out["departure_speed"] = rate
-                break
-            if not ended:
-                pen = RADIUS - float(plant.GetPositions(pc)[0])
-                out["max_penetration"] = max(out["max_penetration"], pen)
-                out["peak_force"] = max(out["peak_force"], force)
-                out["steps"] += 1
-            context.SetDiscreteState(diagram.EvalUniquePeriodicDiscreteUpdate(context))
-            t += time_step
-        else:
-            out["sticks"] = True
-        if out["sticks"]:
-            out.update(restitution=0.0, contact_time=math.inf, departure_speed=0.0)
-        runs.append(out)
+        runs.append(read_run(state, advance, speed=speed, start=t, time_step=time_step,
+                             zero=zero, max_steps=max_steps))  # fmt: skip
     return {key: np.array([run[key] for run in runs]) for key in runs[0]}
+
+
+def read_run(
+    state: Any,
+    advance: Any,
+    *,
+    speed: float,
+    start: float,
+    time_step: float,
+    zero: float,
+    max_steps: int,
+) -> dict[str, Any]:
+    """One run read state by state with the definitions of :func:`drake_phases` (used
+    by it and by the box-corner driver).
+
+    ``state()`` gives the current state's ``(touching, force, rate, penetration)``: the
+    compressive normal force of its update, the separation rate along the normal and the
+    penetration; ``advance()`` carries the plant one update on; ``start`` is the first
+    state's time after touch. A force at or below ``zero`` counts as zero. Returns
+    ``restitution``, ``contact_time``, ``sticks``, ``departure_speed``, ``steps``,
+    ``max_penetration`` and ``peak_force``.
+    """
+    out = {"sticks": False, "max_penetration": 0.0, "peak_force": 0.0, "steps": 0}
+    ended, t = False, start
+    for _ in range(max_steps):
+        touching, force, rate, penetration = state()
+        if force <= zero:
+            force = 0.0
+        if ended and touching and force > 0:
+            out.update(sticks=True)
+            break
+        if not ended and (not touching or force <= 0):
+            out.update(restitution=rate / speed, contact_time=t)
+            ended = True
+        if ended and not touching:
+            out["departure_speed"] = rate
+            break
+        if not ended:
+            out["max_penetration"] = max(out["max_penetration"], penetration)
+            out["peak_force"] = max(out["peak_force"], force)
+            out["steps"] += 1
+        advance()
+        t += time_step
+    else:
+        out["sticks"] = True
+    if out["sticks"]:
+        out.update(restitution=0.0, contact_time=math.inf, departure_speed=0.0)
+    return out
 
 
 def drake_continuous(
