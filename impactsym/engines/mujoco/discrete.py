@@ -152,6 +152,7 @@ def phase_mean(
     *,
     integrator: str,
     bounds: bool = True,
+    resolve_sticking: bool = True,
 ) -> PhaseSummary:
     """:func:`phase_summary` with the bounds over the phases in ``(0, 1)`` only.
 
@@ -159,7 +160,10 @@ def phase_mean(
     needs. Flat-impedance Euler contacts take the closed form of
     :mod:`~impactsym.engines.mujoco.euler_phase`; the rest the general way, where
     ``bounds=False`` skips the search for extremes inside pieces (the ranges are then
-    only those of the samples: for a design that needs the mean alone).
+    only those of the samples: for a design that needs the mean alone), and
+    ``resolve_sticking=False`` leaves out elements the closed form proves to stick at
+    some phase (a design rejects them whatever their share): their contact time is
+    ``inf`` and the other fields ``nan``.
     """
     model = INTEGRATORS[check_integrator(integrator)]
     arrays = np.broadcast_arrays(
@@ -183,7 +187,11 @@ def phase_mean(
             fast.steps_min * dt, fast.steps_max * dt, fast.stick_fraction,
         )  # fmt: skip
         out[:, fast.ok] = np.stack(fields)[:, fast.ok]
-        todo = np.flatnonzero(~fast.ok)
+        done = fast.ok
+        if not resolve_sticking:
+            out[1, fast.sticks_at_some_phase] = np.inf
+            done = done | fast.sticks_at_some_phase
+        todo = np.flatnonzero(~done)
     if todo.size:
         out[:, todo] = _split_and_integrate(
             model, integrator, solimp, b[todo], k[todo], rho[todo], g[todo], v[todo], dt[todo],

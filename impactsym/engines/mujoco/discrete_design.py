@@ -151,6 +151,7 @@ class DiscreteTarget:
             h,
             integrator=self.integrator,
             bounds=False,
+            resolve_sticking=False,
         )
         return SimpleNamespace(
             restitution=p.restitution, contact_time=p.contact_time, sticks=np.isinf(p.contact_time)

@@ -25,7 +25,9 @@ Where this does not apply the element is flagged (``ok = False``) and
 :func:`~impactsym.engines.mujoco.discrete.phase_summary` takes it the general way: a
 body that sticks at some phase (the coast after a force zero re-engages, checked at
 three phases of every piece, or the contact does not end within ``_MAX_STEPS``), or more
-than ``_SLOTS`` steps that end the contact for some phase.
+than ``_MORE_SLOTS`` steps that end the contact for some phase (an element with more
+than ``_SLOTS`` is done again alone with ``_MORE_SLOTS``: the work per element grows
+with the slots of the worst one).
 
 Internal: used by :mod:`~impactsym.engines.mujoco.discrete`. Dimensionless throughout.
 """
@@ -40,6 +42,8 @@ from impactsym.engines.mujoco.stepmap import spectral_radius
 __all__ = ["FlatPhases", "flat_phases"]
 
 _SLOTS = 6  # steps that end the contact at some phase, kept per element
+_MORE_SLOTS = 24  # ... for the few elements that need more
+_ARGS = ("kappa", "beta", "dp", "G", "bdt", "dkdt2")
 _MAX_STEPS = 4096  # steps followed before an element is left to the general summary
 
 
@@ -49,30 +53,39 @@ class FlatPhases:
     ``restitution``, ``steps`` (mean of ``N + p``: the contact time in timesteps),
     ``restitution_min``/``_max`` and ``steps_min``/``_max`` over phases in ``(0, 1)``,
     ``stick_fraction`` (the phases that stay in contact for good count as restitution 0
-    and make the mean and largest contact time infinite), and ``ok`` (where ``False``
-    the other entries are meaningless).
+    and make the mean and largest contact time infinite), ``ok`` (where ``False`` the
+    other entries are meaningless) and ``sticks_at_some_phase`` (where ``True``, with
+    ``ok`` False: a phase was found at which the coast after a force zero is caught
+    again, so the body provably sticks at some phase; its share is not resolved here).
     """
 
-    def __init__(self, e, s, e_lo, e_hi, s_lo, s_hi, stick_fraction, ok):
+    def __init__(self, e, s, e_lo, e_hi, s_lo, s_hi, stick_fraction, ok, caught):
         self.restitution, self.steps, self.ok = e, s, ok
+        self.sticks_at_some_phase = caught
         self.stick_fraction = stick_fraction
         self.restitution_min, self.restitution_max = e_lo, e_hi
         self.steps_min, self.steps_max = s_lo, s_hi
 
+    def put(self, i: np.ndarray, other: FlatPhases) -> None:
+        """Replace the entries of elements ``i`` by those of ``other`` (in order)."""
+        for name, value in vars(other).items():
+            getattr(self, name)[i] = value
 
-def flat_phases(*, kappa, beta, dp, G, bdt, dkdt2) -> FlatPhases:
+
+def flat_phases(*, kappa, beta, dp, G, bdt, dkdt2, slots: int = _SLOTS) -> FlatPhases:
     """Mean and range over the touch phase of the flat-impedance Euler contact.
 
     Parameters (1-D arrays of one length): ``kappa = d' d kbar dt^2``, ``beta = d' b
     dt``, ``dp = d'``, ``G = g dt / speed``, and ``bdt = b dt``, ``dkdt2 = d kbar dt^2``
-    (the coast's force, :func:`~impactsym.engines.mujoco.euler.coast_flat`).
+    (the coast's force, :func:`~impactsym.engines.mujoco.euler.coast_flat`); ``slots``
+    the steps ending the contact at some phase that an element may have.
     """
     size = kappa.size
     x = np.stack([np.zeros(size), np.ones(size), 0.5 * G])  # coefficients of p^0, p^1, p^2
     y = np.stack([np.ones(size), G, np.zeros(size)])
     c_step, c_force = (1.0 - dp) * G, dp * G
-    slot_n = np.zeros((_SLOTS, size))
-    slot_x, slot_q, slot_y = (np.zeros((3, _SLOTS, size)) for _ in range(3))
+    slot_n = np.zeros((slots, size))
+    slot_x, slot_q, slot_y = (np.zeros((3, slots, size)) for _ in range(3))
     count = np.zeros(size, int)
     done = np.zeros(size, bool)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -99,7 +112,7 @@ def flat_phases(*, kappa, beta, dp, G, bdt, dkdt2) -> FlatPhases:
         j = np.flatnonzero(ends)
         if j.size:
             el, slot = live[j], count[live[j]]
-            keep = slot < _SLOTS
+            keep = slot < slots
             el, slot, jj = el[keep], slot[keep], j[keep]
             slot_n[slot, el] = n
             slot_x[:, slot, el] = x[:, jj]
@@ -113,14 +126,19 @@ def flat_phases(*, kappa, beta, dp, G, bdt, dkdt2) -> FlatPhases:
             never = ~full & _never_ends(x, y, *par[:2], *par[4:])
             rest[live[never]] = done[live[never]] = True
             full |= never
-        full |= count[live] > _SLOTS
+        full |= count[live] > slots
         if full.any():
             stay = ~full
             live = live[stay]
             x, y = x[:, stay], y[:, stay]
             par = [a[stay] for a in par]
-    ok = done & (count <= _SLOTS)
-    return _pieces(slot_n, slot_x, slot_q, slot_y, count, ok, rest, G, bdt, dkdt2)
+    ok = done & (count <= slots)
+    out = _pieces(slot_n, slot_x, slot_q, slot_y, count, ok, rest, G, bdt, dkdt2, slots)
+    more = np.flatnonzero(count > slots)
+    if more.size and slots < _MORE_SLOTS:  # the few that need more slots, alone
+        args = zip(_ARGS, (kappa, beta, dp, G, bdt, dkdt2), strict=True)
+        out.put(more, flat_phases(**{name: a[more] for name, a in args}, slots=_MORE_SLOTS))
+    return out
 
 
 def _never_ends(x, y, kappa, beta, x_star, lam1, lam2, G):
@@ -179,23 +197,30 @@ def _value(c, p):
     return c[0] + p * (c[1] + p * c[2])
 
 
-def _pieces(slot_n, slot_x, slot_q, slot_y, count, ok, rest, G, bdt, dkdt2) -> FlatPhases:
+def _pieces(slot_n, slot_x, slot_q, slot_y, count, ok, rest, G, bdt, dkdt2, slots) -> FlatPhases:
     """The pieces of constant end step, their integrals and extremes (module docstring)."""
     size = count.size
-    slots = int(min(count.max(initial=1), _SLOTS))  # the slots in use anywhere
+    slots = int(min(count.max(initial=1), slots))  # the slots in use anywhere
     slot_n = slot_n[:slots]
     slot_x, slot_q, slot_y = (a[:, :slots] for a in (slot_x, slot_q, slot_y))
     used = np.arange(slots)[:, None] < np.minimum(count, slots)[None, :]  # (S, size)
+    # the last slot of an element that does not rest ends every phase still in contact
+    # (the steps stop there because one condition holds at all phases): it cuts nothing
+    last = (np.arange(slots)[:, None] == count[None, :] - 1) & ~rest[None, :]
     cuts = [np.zeros((1, size)), np.ones((1, size))]
+    cutting = used & ~last
+    rows = slots if rest.any() else slots - 1  # the top slot cuts only where one rests
     for c in (slot_x, slot_q):
-        r = _roots(c)  # (2, S, size)
-        cuts.append(np.where(used[None], r, 1.0).reshape(-1, size))
+        r = _roots(c[:, :rows])  # (2, rows, size)
+        cuts.append(np.where(cutting[None, :rows], r, 1.0).reshape(-1, size))
     edges = np.sort(np.concatenate(cuts), axis=0)  # (P + 1, size)
     edges = edges[: int((edges < 1.0).sum(axis=0).max()) + 1]  # no empty pieces at 1
     p0, p1 = edges[:-1], edges[1:]
     mid = 0.5 * (p0 + p1)
     ends = used[:, None, :] & (
-        (_value(slot_x[:, :, None], mid[None]) <= 0) | (_value(slot_q[:, :, None], mid[None]) <= 0)
+        last[:, None, :]
+        | (_value(slot_x[:, :, None], mid[None]) <= 0)
+        | (_value(slot_q[:, :, None], mid[None]) <= 0)
     )  # (S, P, size): the contact ends at slot s for the phases of piece P
     first = np.argmax(ends, axis=0)  # (P, size)
     found = np.take_along_axis(ends, first[None], axis=0)[0]
@@ -226,21 +251,24 @@ def _pieces(slot_n, slot_x, slot_q, slot_y, count, ok, rest, G, bdt, dkdt2) -> F
     e_min = np.where(stick_fraction > 0, np.minimum(e_min, 0.0), e_min)
     e_max = np.where(stick_fraction > 0, np.maximum(e_max, 0.0), e_max)
     # the coast after a force zero must not re-engage (else: sticks, the general way)
+    caught = np.zeros(size, bool)
     gravity = np.flatnonzero(ok & (G > 0))
     if gravity.size:
-        cx = [slot_x[i][first, cols] for i in range(3)]
+        g_cols = first[:, gravity], gravity[None, :]
+        cx = [slot_x[i][g_cols] for i in range(3)]
+        cy = [slot_y[i][g_cols] for i in range(3)]
+        g0, g_width, g_real, Gg = p0[:, gravity], width[:, gravity], real[:, gravity], G[gravity]
         for frac in (1e-9, 0.5, 1.0 - 1e-9):
-            p = p0 + frac * width
+            p = g0 + frac * g_width
             X = cx[0] + p * (cx[1] + p * cx[2])
-            Y = -(a0 + p * (a1 + p * a2))
+            Y = cy[0] + p * (cy[1] + p * cy[2])
             # a body that is out at the next state (X + Y + G <= 0) cannot stick: only
             # the others need coast_flat's integer check
-            Xg, Yg = X[:, gravity], Y[:, gravity]
-            sel = real[:, gravity] & (Xg > 0) & (Xg + Yg + G[gravity] > 0)
-            pi, ei = np.nonzero(sel)
+            pi, ei = np.nonzero(g_real & (X > 0) & (X + Y + Gg > 0))
             if pi.size == 0:
                 continue
             el = gravity[ei]
-            sticks, _ = coast_flat(X[pi, el], Y[pi, el], G[el], bdt[el], dkdt2[el])
+            sticks, _ = coast_flat(X[pi, ei], Y[pi, ei], G[el], bdt[el], dkdt2[el])
             ok[el[sticks]] = False
-    return FlatPhases(e_mean, s_mean, e_min, e_max, s_min, s_max, stick_fraction, ok)
+            caught[el[sticks]] = True
+    return FlatPhases(e_mean, s_mean, e_min, e_max, s_min, s_max, stick_fraction, ok, caught)
