@@ -20,7 +20,7 @@ else:
     pytest.importorskip("mujoco")
 
 from impactsym.engines.drivers import mujoco_phases
-from impactsym.engines.mujoco import solref_for
+from impactsym.engines.mujoco import predict, solref_for
 from impactsym.engines.mujoco.discrete_design import stable
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
@@ -244,3 +244,24 @@ def test_many_contact_time_designs_of_one_contact_equal_the_target_by_target_one
     )  # fmt: skip
     np.testing.assert_allclose(ref[0], targets[pick], rtol=0, atol=2e-9)
     np.testing.assert_allclose(ref[1], t_c, rtol=2e-9)
+
+
+def test_the_design_prediction_equals_a_fresh_prediction():
+    """The design's prediction reuses the phase means the design evaluated at its final
+    solref: it equals ``predict`` called afresh on that solref (mean and range), for a
+    table of restitution designs under gravity and for contact-time designs."""
+    e = np.linspace(0.3, 0.85, 300)
+    for extra in ({"gravity": 9.81}, {"contact_time": 0.02}):
+        des = solref_for(restitution=e, speed=1.0, timestep=0.002, solimp=FLAT, **extra)
+        fresh = predict(
+            solref=des.solref, solimp=FLAT, speed=1.0, gravity=extra.get("gravity", 0.0),
+            timestep=0.002,
+        )  # fmt: skip
+        for name in ("restitution", "contact_time", "max_penetration", "departure_speed"):
+            got = getattr(des.prediction, name)
+            np.testing.assert_allclose(got, getattr(fresh, name), rtol=1e-12)
+        for name in ("restitution_range", "contact_time_range"):
+            np.testing.assert_allclose(
+                np.asarray(getattr(des.prediction, name)), np.asarray(getattr(fresh, name)),
+                rtol=1e-12,
+            )  # fmt: skip

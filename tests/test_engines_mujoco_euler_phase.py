@@ -5,7 +5,7 @@ body sticks at some phases, dense sampling of the per-phase model."""
 
 import numpy as np
 
-from impactsym.engines.mujoco import discrete
+from impactsym.engines.mujoco import discrete, euler_phase
 from impactsym.engines.mujoco.euler import euler_contact
 from impactsym.engines.mujoco.euler_phase import flat_phases
 from impactsym.engines.mujoco.model import (
@@ -105,3 +105,55 @@ def test_an_unstable_map_is_left_to_the_general_summary():
     c = coefficients((np.array([0.02]), np.array([0.01])), FLAT, 0.002)
     fast = _fast(c, np.zeros(1), np.ones(1), np.array([0.002]))
     assert not fast.ok[0]
+
+
+def test_many_ending_steps_are_done_in_closed_form_against_the_general_summary(monkeypatch):
+    """Near the stability limit and for soft, loaded contacts the contact ends at more
+    than six different steps over the phases: those elements are redone alone with more
+    slots (not left to the general summary), and agree with it (here some phases
+    stick: the stick fraction too)."""
+    dt, v, g = 0.002, 1.0, 9.81
+    dr = np.geomspace(0.07, 3.0, 600)  # a restitution design's table at 1 m/s, gravity
+    c = coefficients((np.full(dr.size, 0.02), dr), FLAT, dt)
+    ones = np.ones(dr.size)
+    d = float(impedance_at(np.zeros(()), FLAT))
+    dp = effective_impedance(d, 1.0)
+    args = {
+        "kappa": dp * d * c.stiffness * dt * dt, "beta": dp * c.damping * dt,
+        "dp": dp * ones, "G": g * dt / v * ones, "bdt": c.damping * dt,
+        "dkdt2": d * c.stiffness * dt * dt,
+    }  # fmt: skip
+    fast = flat_phases(**args)
+    with monkeypatch.context() as m:  # without the second pass
+        m.setattr(euler_phase, "_MORE_SLOTS", 6)
+        few = flat_phases(**args)
+    i = np.flatnonzero(fast.ok & ~few.ok)  # more than six slots needed
+    assert i.size >= 2
+    ref = discrete._split_and_integrate(
+        euler_contact, "euler", FLAT, c.damping[i], c.stiffness[i], ones[i], g * ones[i],
+        v * ones[i], dt * ones[i],
+    )  # fmt: skip
+    got = np.stack([fast.restitution[i], fast.restitution_min[i], fast.restitution_max[i],
+                    fast.stick_fraction[i]])  # fmt: skip
+    assert np.max(np.abs(got - ref[[0, 2, 3, 6]])) < 1e-11
+
+
+def test_a_proven_stick_skips_the_general_summary_only_when_asked():
+    """``resolve_sticking=False`` (a design's black box): an element the closed form
+    proves to stick at some phase comes back with an infinite mean contact time and no
+    mean, while the full summary (general way) confirms a stick fraction > 0."""
+    c, g, v, dt = _designs(4000, 6, sticky=True)
+    fast = _fast(c, g, v, dt)
+    caught = np.flatnonzero(fast.sticks_at_some_phase)
+    assert caught.size > 0
+    assert not fast.ok[caught].any()
+    i = caught[:3]
+    part = Coefficients(c.damping[i], c.stiffness[i])
+    quick = discrete.phase_mean(
+        part, FLAT, 1.0, g[i], v[i], dt[i], integrator="euler", resolve_sticking=False
+    )
+    full = discrete.phase_mean(part, FLAT, 1.0, g[i], v[i], dt[i], integrator="euler")
+    assert np.all(np.isinf(quick.contact_time))
+    assert np.all(np.isnan(quick.restitution))
+    assert np.all(full.stick_fraction > 0)
+    assert np.all(np.isinf(full.contact_time))

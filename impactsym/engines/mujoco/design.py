@@ -33,7 +33,7 @@ from impactsym.engines.mujoco.model import (
     is_flat,
     weight_ratio,
 )
-from impactsym.engines.mujoco.prediction import Prediction, predict
+from impactsym.engines.mujoco.prediction import Prediction, design_prediction, predict
 from impactsym.numeric.roots import bracketed_illinois, newton_system
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
@@ -468,17 +468,20 @@ def solref_for(
         solref = coefficients((tc, dr), simp, None).solref(simp, form="stiffness")
     if scalar:
         solref = (float(solref[0]), float(solref[1]))
-    extra = {} if timestep is None else {"integrator": integrator, "phase": None}
-    pred = predict(
-        solref=solref,
-        solimp=simp,
-        speed=speed if t_c is None or scalar else np.broadcast_to(v0, shape),
-        gravity=gravity if scalar else np.broadcast_to(g, shape),
-        mass=m,
-        timestep=timestep,  # None: the continuous check; else the discrete phase mean
-        inverse_weight=inverse_weight,
-        **extra,
-    )
+    args = {
+        "solref": solref,
+        "solimp": simp,
+        "speed": speed if t_c is None or scalar else np.broadcast_to(v0, shape),
+        "gravity": gravity if scalar else np.broadcast_to(g, shape),
+        "mass": m,
+        "timestep": timestep,
+        "inverse_weight": inverse_weight,
+    }
+    if timestep is None:  # the continuous check
+        pred = predict(**args)
+    else:  # the discrete phase mean, where the design has it at hand not evaluated again
+        known = target.known_at(tc.ravel(), dr.ravel())
+        pred = design_prediction(**args, integrator=integrator, known=known)
     _check_design(pred, e_f, t_f, shape)
     return Design(solref, simp, pred, timestep, None if timestep is None else integrator)
 

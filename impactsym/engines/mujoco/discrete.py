@@ -25,7 +25,7 @@ All quantities are SI: seconds, metres, m/s, m/s^2.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
@@ -117,12 +117,15 @@ def phase_summary(
     timestep: Any,
     *,
     integrator: str,
+    known: np.ndarray | None = None,
 ) -> PhaseSummary:
     """Mean over the touch phase and bounds over every phase (module docstring).
 
-    Arguments as in :func:`step_contact`, without ``phase``.
+    Arguments as in :func:`step_contact`, without ``phase``; ``known`` (or ``None``) is
+    :func:`phase_mean`'s result already at hand, ``(7, size)`` over the flattened
+    broadcast elements with ``nan`` columns where it is not (it must be exact there,
+    bounds included).
     """
-    inner = phase_mean(coeffs, solimp, rho, gravity, speed, timestep, integrator=integrator)
     model = INTEGRATORS[integrator]
     b, k, rho, g, v, dt = np.broadcast_arrays(
         *(
@@ -130,6 +133,18 @@ def phase_summary(
             for a in (coeffs.damping, coeffs.stiffness, rho, gravity, speed, timestep)
         )
     )
+    if known is None:
+        inner = phase_mean(Coefficients(b, k), solimp, rho, g, v, dt, integrator=integrator)
+    else:
+        out = np.array(known, float).reshape(7, -1)
+        todo = np.flatnonzero(np.isnan(out[0]))
+        if todo.size:
+            part = phase_mean(
+                Coefficients(*(a.ravel()[todo] for a in (b, k))),
+                solimp, *(a.ravel()[todo] for a in (rho, g, v, dt)), integrator=integrator,
+            )  # fmt: skip
+            out[:, todo] = np.stack([getattr(part, f.name) for f in fields(PhaseSummary)])
+        inner = PhaseSummary(*(f.reshape(b.shape) for f in out))
     zero = model(Coefficients(b, k), solimp, rho, g, v, dt, np.zeros(b.shape))  # phase 0
     return PhaseSummary(
         inner.restitution,

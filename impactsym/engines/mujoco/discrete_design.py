@@ -45,6 +45,7 @@ All quantities are SI: seconds, m/s, m/s^2, kilograms.
 
 from __future__ import annotations
 
+from dataclasses import fields
 from types import SimpleNamespace
 from typing import Any
 
@@ -56,6 +57,7 @@ from impactsym.engines.mujoco.model import (
     coefficients,
     d_max,
     effective_impedance,
+    is_flat,
     refsafe,
     weight_ratio,
 )
@@ -111,6 +113,8 @@ class DiscreteTarget:
         self.e, self.v, self.g, self.t_c = e, v, g, t_c
         self.solimp, self.mass, self.weight, self.rho = solimp, mass, weight, rho
         self.timestep, self.integrator, self.start = timestep, integrator, start
+        self._last = None  # the last phase mean of each element (_record)
+        self._parent = None  # (targets, indices there) of a part made by take()
         #: the continuous design of elements ``i`` (raises where it refuses them); set
         #: by the caller, used to skip the timestep search where no timestep can help
         self.continuous = None
@@ -124,16 +128,19 @@ class DiscreteTarget:
         def part(a):
             return None if a is None else np.broadcast_to(a, self.e.shape)[i]
 
-        return DiscreteTarget(
+        out = DiscreteTarget(
             self.e[i], self.v[i], self.g[i], part(self.t_c), self.solimp, self.mass,
             part(self.weight), part(self.rho), self.timestep, self.integrator,
             None if self.start is None else tuple(part(a) for a in self.start),
         )  # fmt: skip
+        out._parent = (self, np.arange(self.e.size)[i])  # its means are recorded here too
+        return out
 
     def at(self, timestep: float) -> DiscreteTarget:
         """The same targets at another timestep."""
         out = self.take(np.arange(self.e.size))
         out.timestep = timestep
+        out._parent = None  # its means are of another timestep
         return out
 
     def mean(self, tc, dr, idx):
@@ -153,9 +160,31 @@ class DiscreteTarget:
             bounds=False,
             resolve_sticking=False,
         )
+        if self.integrator != "rk4" and is_flat(self.solimp):  # its bounds are exact
+            self._record(tc, dr, idx, p)
         return SimpleNamespace(
             restitution=p.restitution, contact_time=p.contact_time, sticks=np.isinf(p.contact_time)
         )
+
+    def _record(self, tc, dr, idx, p) -> None:
+        """Keep the last phase mean of each element, with its ``solref`` (and in the
+        targets this one was taken from)."""
+        if self._last is None:
+            self._last = np.full((9, self.e.size), np.nan)
+        self._last[0, idx], self._last[1, idx] = tc, dr
+        self._last[2:, idx] = np.stack([np.ravel(getattr(p, f.name)) for f in fields(p)])
+        if self._parent is not None:
+            parent, where = self._parent
+            parent._record(tc, dr, where[idx], p)
+
+    def known_at(self, tc: np.ndarray, dr: np.ndarray) -> np.ndarray:
+        """The phase means evaluated at exactly ``solref = (tc, dr)`` (one per element)
+        by :meth:`mean` with exact bounds: ``(7, size)``, ``nan`` columns where none was
+        (the ``known`` of :func:`~impactsym.engines.mujoco.discrete.phase_summary`)."""
+        if self._last is None:
+            return np.full((7, self.e.size), np.nan)
+        same = (self._last[0] == tc) & (self._last[1] == dr) & ~np.isnan(self._last[2])
+        return np.where(same[None, :], self._last[2:], np.nan)
 
     def stability_dampratio(self, tc: np.ndarray) -> np.ndarray:
         """Smallest stable dampratio at timeconst ``tc`` (bisection in log; ``inf``: none).

@@ -189,22 +189,11 @@ def predict(
     >>> predict(solref=(0.02, 0.5), solimp=(0.9, 0.9, 0.001), speed=0.1, gravity=9.81).sticks
     True
     """
-    simp = check_solimp(solimp)
-    v0, s_scalar = real_array("speed", speed, lower=0.0, strict=True)
-    g, g_scalar = real_array("gravity", gravity, lower=0.0)
     if timestep is not None:
         timestep = check_timestep(timestep)
-    m = check_mass(mass)
-    rho = weight_ratio(m, inverse_weight)
-    coeffs = coefficients(solref, simp, timestep)
-    scalar = s_scalar and g_scalar and coeffs.damping.ndim == 0
-    rho = np.asarray(rho, float)
-    shape = broadcast(solref=coeffs.damping, speed=v0, gravity=g, inverse_weight=rho)
-    damp, stiff, rate, v0, g, rho = (
-        np.broadcast_to(a, shape)
-        for a in (coeffs.damping, coeffs.stiffness, coeffs.rate, v0, g, rho)
+    simp, coeffs, rho, g, v0, scalar, m = _arguments(
+        solref, solimp, speed, gravity, mass, timestep, inverse_weight
     )
-    coeffs = Coefficients(damp, stiff, rate)
     if timestep is not None:
         return _discrete(coeffs, simp, rho, g, v0, timestep, integrator, phase, scalar, m)
     if phase is not None:
@@ -231,8 +220,54 @@ def predict(
     return Prediction(*values, m, (e, e), (t, t), e * v0 if not scalar else e * float(v0))
 
 
-def _discrete(coeffs, simp, rho, g, v0, timestep, integrator, phase, scalar, m) -> Prediction:
-    """``predict`` at a timestep: exact at ``phase``, or the phase mean and range."""
+def design_prediction(
+    *,
+    solref: Any,
+    solimp: tuple[float, ...],
+    speed: Any,
+    gravity: Any,
+    mass: float | None,
+    timestep: float,
+    inverse_weight: Any,
+    integrator: str,
+    known: np.ndarray,
+) -> Prediction:
+    """:func:`predict` with ``phase=None`` at a ``timestep`` for a design whose phase
+    means are partly known already (internal: ``solref_for``).
+
+    ``known`` is ``(7, size)`` over the flattened broadcast elements: the fields of
+    :class:`~impactsym.engines.mujoco.discrete.PhaseSummary` without phase 0, exact, as
+    the design evaluated them at this very ``solref`` (``nan`` columns: not known).
+    """
+    simp, coeffs, rho, g, v0, scalar, m = _arguments(
+        solref, solimp, speed, gravity, mass, timestep, inverse_weight
+    )
+    return _discrete(coeffs, simp, rho, g, v0, timestep, integrator, None, scalar, m, known)
+
+
+def _arguments(solref, solimp, speed, gravity, mass, timestep, inverse_weight) -> tuple:
+    """The checked and broadcast arguments of :func:`predict` (``timestep`` checked)."""
+    simp = check_solimp(solimp)
+    v0, s_scalar = real_array("speed", speed, lower=0.0, strict=True)
+    g, g_scalar = real_array("gravity", gravity, lower=0.0)
+    m = check_mass(mass)
+    rho = weight_ratio(m, inverse_weight)
+    coeffs = coefficients(solref, simp, timestep)
+    scalar = s_scalar and g_scalar and coeffs.damping.ndim == 0
+    rho = np.asarray(rho, float)
+    shape = broadcast(solref=coeffs.damping, speed=v0, gravity=g, inverse_weight=rho)
+    damp, stiff, rate, v0, g, rho = (
+        np.broadcast_to(a, shape)
+        for a in (coeffs.damping, coeffs.stiffness, coeffs.rate, v0, g, rho)
+    )
+    return simp, Coefficients(damp, stiff, rate), rho, g, v0, scalar, m
+
+
+def _discrete(
+    coeffs, simp, rho, g, v0, timestep, integrator, phase, scalar, m, known=None
+) -> Prediction:
+    """``predict`` at a timestep: exact at ``phase``, or the phase mean and range
+    (``known``: as in :func:`design_prediction`)."""
     check_integrator(integrator)
     if integrator == "rk4":
         _warn_unstable_rk4(coeffs, simp, rho, timestep)
@@ -247,7 +282,9 @@ def _discrete(coeffs, simp, rho, g, v0, timestep, integrator, phase, scalar, m) 
         e, t = at.restitution, at.contact_time
         ranges = (e, e), (t, t)
     else:
-        summary = phase_summary(coeffs, simp, rho, g, v0, timestep, integrator=integrator)
+        summary = phase_summary(
+            coeffs, simp, rho, g, v0, timestep, integrator=integrator, known=known
+        )
         at = step_contact(coeffs, simp, rho, g, v0, timestep, 0.5, integrator=integrator)
         e, t = summary.restitution, summary.contact_time
         ranges = (
