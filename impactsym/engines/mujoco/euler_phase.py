@@ -217,13 +217,17 @@ def _pieces(slot_n, slot_x, slot_q, slot_y, count, ok, rest, G, bdt, dkdt2, slot
     edges = edges[: int((edges < 1.0).sum(axis=0).max()) + 1]  # no empty pieces at 1
     p0, p1 = edges[:-1], edges[1:]
     mid = 0.5 * (p0 + p1)
-    ends = used[:, None, :] & (
-        last[:, None, :]
-        | (_value(slot_x[:, :, None], mid[None]) <= 0)
-        | (_value(slot_q[:, :, None], mid[None]) <= 0)
-    )  # (S, P, size): the contact ends at slot s for the phases of piece P
-    first = np.argmax(ends, axis=0)  # (P, size)
-    found = np.take_along_axis(ends, first[None], axis=0)[0]
+    # the first slot at which the contact ends for the phases of each piece (the top
+    # slot, where nothing rests, is some element's last or unused: no values needed)
+    first = np.zeros(mid.shape, int)
+    found = np.zeros(mid.shape, bool)
+    for s in range(slots):
+        ends = last[s] if s == rows else last[s] | (_value(slot_x[:, s, None], mid) <= 0)
+        if s < rows:
+            ends = ends | (_value(slot_q[:, s, None], mid) <= 0)
+        ends = ends & used[s] & ~found
+        first[ends] = s
+        found |= ends
     width = p1 - p0
     real = width > 0
     stuck = real & ~found & rest[None, :]  # still in contact for good: sticks
