@@ -4,19 +4,33 @@ Prints, per law and condition, wall and CPU time (``time.process_time``: the mac
 shared) and the ratio to the target of the issue, all scaled to 10^5 elements:
   * without pressing force, (restitution, contact time) evaluations (target < 0.1 s): the
     closed forms and maps alone (Hunt-Crossley Lambert W restitution, Tsuji map onto the
-    linear contact) and the full ``impact`` (contact time by the order-8 integration);
+    linear contact) and the full ``impact`` on 10^5 elements, which reads the tables of
+    the unpressed impact (``nonlinear.free_table``; their one-off building cost is printed
+    first, per law and condition);
   * with pressing force, ``impact`` (target < 2 s);
   * 10^5 designs ``damping_for`` (target < 2 s), without and with pressing force, the
-    targets being restitutions measured by ``impact`` (the round-trip error is printed).
+    targets being restitutions measured by ``impact`` (the round-trip error is printed);
+    without pressing force on 10^5 (closed inverses, or the table's restitution inverted).
 
-Closed forms run on 10^5 elements. Paths that integrate run on ``--sample`` elements (designs
-on ``--designs``) and are scaled linearly to 10^5: indicative only, since the per-step
-overhead (a few hundred NumPy calls per step whatever the size) weighs on small samples
-and memory traffic on large ones (Hunt-Crossley at 2 x 10^4 elements took twice its
-scaled 2,000-element figure per element); ``--full`` runs everything on 10^5.
+Paths that integrate (pressed) run on ``--sample`` elements (designs on ``--designs``) and
+are scaled linearly to 10^5: indicative only, since the per-step overhead (a few hundred
+NumPy calls per step whatever the size) weighs on small samples and memory traffic on
+large ones; ``--full`` runs everything on 10^5.
 
-Where the time goes (cProfile and step counts, 500 elements; ``integrate`` of
-:mod:`impactsym.contact.lawkernel`):
+Figures (``--sample 500 --designs 20``, CPU per 10^5, shared 2-core machine):
+
+* unpressed ``impact``, before the tables: 16-98 s (160-780 x the target); now
+  0.05-0.07 s for Hertz-linear, Tsuji and viscoelastic, 0.09-0.10 s for Hunt-Crossley
+  (its Lambert-W restitution alone 0.03 s), 0.4-0.8 s for the linear law (the root
+  finding of ``api.physical_contact``, which its contact time and restitution are, bit
+  for bit); the tables cost 1-6 s CPU each to build, once per session;
+* unpressed designs of Hertz-linear and viscoelastic: 5,600-10,600 s before, 0.3-1.8 s
+  now (the position condition's bracket bisects where the upper end sticks);
+* pressed ``impact``: 20-100 s (still 20-50 x the target) and pressed designs
+  (hundreds to thousands x): every element integrates.
+
+Where the time of the integration goes (cProfile and step counts, 500 elements;
+``integrate`` of :mod:`impactsym.contact.lawkernel`):
 
 * per element 35-250 order-8 steps (Tsuji position the most). About half sit at touch,
   where the singular term (z - tau ~ tau^(9/4) for Tsuji) makes the error estimate
@@ -24,8 +38,8 @@ Where the time goes (cProfile and step counts, 500 elements; ``integrate`` of
   under the position condition the graded exit takes most of the rest;
 * one step costs about 2 us per element (13 law evaluations of 30-100 ns each and the
   stage combinations) plus a fixed cost per call of a few hundred NumPy calls, so on
-  10^5 elements an impact costs ~20 s whatever the overhead: the 0.1 s target (closed
-  forms/maps) holds for the closed forms and maps, never for an integration;
+  10^5 elements an integrated impact costs ~20 s whatever the overhead: hence the tables
+  without pressing force; with one, the target stays open;
 * at a few hundred elements the fixed cost dominates: 88 % of the step calls (Tsuji,
   force, pressed) were the Illinois iterations of event location (~10 per event, on the
   few elements meeting one). The extrema are now located to 1e-9 of the step (their
