@@ -185,3 +185,21 @@ def test_build_refuses_a_bad_interval():
         build(lambda u: u[None], 1.0, 0.0, min_width=1e-3)
     with pytest.raises(ValueError, match="min_width"):
         build(lambda u: u[None], 0.0, 1.0, min_width=0.0)
+
+
+def test_a_large_design_call_inverts_the_table_and_agrees_with_the_integrated_design():
+    from impactsym.contact import damping_for
+
+    rng = np.random.default_rng(8)
+    e = rng.uniform(0.1, 0.9, TABLE_MIN)
+    kw = {"stiffness": 1e4, "mass": 0.2, "speed": 0.5, "condition": "position"}
+    big = damping_for("viscoelastic", restitution=e, **kw)
+    small = damping_for("viscoelastic", restitution=e[:2], **kw)  # integrated
+    np.testing.assert_allclose(big[:2], small, rtol=1e-9)
+    back = impact("viscoelastic", damping=big, **kw).restitution  # the table again
+    np.testing.assert_allclose(back, e, atol=1e-12)
+
+
+def test_free_table_refuses_a_condition_it_does_not_hold():
+    with pytest.raises(ValueError, match="'position' or 'force'"):
+        free_table("tsuji", 1.5, "clipped")

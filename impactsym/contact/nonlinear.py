@@ -291,8 +291,10 @@ def tabulated(
         rows = tuple(4 if r == 0 else r for r in rows)
     exponents = (q[0],) if q.min() == q.max() else np.unique(q[mask])
     for exponent in exponents:
-        sel = np.flatnonzero(mask & (q == exponent))
         table = free_table(law, float(exponent), key)
+        if len(exponents) == 1 and mask.all():  # the common case: no copies
+            return table(np.arcsinh(delta / TABLE_SCALE), rows)
+        sel = np.flatnonzero(mask & (q == exponent))
         v, ok = table(np.arcsinh(delta[sel] / TABLE_SCALE), rows)
         values[:, sel[ok]], inside[sel[ok]] = v[:, ok], True
     return values, inside
@@ -317,9 +319,13 @@ def normalized_impact(law: str, delta, b, q, *, condition: str):
     free = b == 0
     # without pressing force a clipped coast keeps its speed: the force condition's e
     released = "force" if condition == "clipped" else condition
-    if law == "hunt-crossley" and free.any():
+    if free.all():  # no copies
+        free = slice(None)
+    elif not free.any():
+        return tau_c, e, z_max, peak
+    if law == "hunt-crossley":
         e[free] = hunt_crossley_restitution(delta[free])
-    if law == "tsuji" and free.any():
+    if law == "tsuji":
         e[free] = linear_free_restitution(tsuji_zeta(delta[free], q[free]), condition=released)
     return tau_c, e, z_max, peak
 
