@@ -20,13 +20,13 @@ large ones; ``--full`` runs everything on 10^5.
 Figures (``--sample 500 --designs 20``, CPU per 10^5, shared 2-core machine):
 
 * unpressed ``impact``, before the tables: 16-98 s (160-780 x the target); now
-  0.05-0.07 s for Hertz-linear, Tsuji and viscoelastic, 0.09-0.10 s for Hunt-Crossley
-  (its Lambert-W restitution alone 0.03 s), 0.4-0.8 s for the linear law (the root
-  finding of ``api.physical_contact``, which its contact time and restitution are, bit
-  for bit); the tables cost 1-6 s CPU each to build, once per session;
-* unpressed designs of Hertz-linear and viscoelastic: 5,600-10,600 s before, 0.3-1.8 s
+  0.03-0.06 s for Hertz-linear, Tsuji and viscoelastic, 0.08 s for Hunt-Crossley (its
+  Lambert-W restitution alone 0.03 s), 0.3-0.7 s for the linear law (the root finding of
+  ``api.physical_contact``, which its contact time and restitution are, bit for bit);
+  the tables cost 1-5 s CPU each to build, once per session;
+* unpressed designs of Hertz-linear and viscoelastic: 5,600-10,600 s before, 0.3-0.9 s
   now (the position condition's bracket bisects where the upper end sticks);
-* pressed ``impact``: 20-100 s (still 20-50 x the target) and pressed designs
+* pressed ``impact``: 30-90 s (still 15-45 x the target) and pressed designs
   (hundreds to thousands x): every element integrates.
 
 Where the time of the integration goes (cProfile and step counts, 500 elements;
