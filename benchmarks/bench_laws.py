@@ -4,19 +4,33 @@ Prints, per law and condition, wall and CPU time (``time.process_time``: the mac
 shared) and the ratio to the target of the issue, all scaled to 10^5 elements:
   * without pressing force, (restitution, contact time) evaluations (target < 0.1 s): the
     closed forms and maps alone (Hunt-Crossley Lambert W restitution, Tsuji map onto the
-    linear contact) and the full ``impact`` (contact time by the order-8 integration);
+    linear contact) and the full ``impact`` on 10^5 elements, which reads the tables of
+    the unpressed impact (``nonlinear.free_table``; their one-off building cost is printed
+    first, per law and condition);
   * with pressing force, ``impact`` (target < 2 s);
   * 10^5 designs ``damping_for`` (target < 2 s), without and with pressing force, the
-    targets being restitutions measured by ``impact`` (the round-trip error is printed).
+    targets being restitutions measured by ``impact`` (the round-trip error is printed);
+    without pressing force on 10^5 (closed inverses, or the table's restitution inverted).
 
-Closed forms run on 10^5 elements. Paths that integrate run on ``--sample`` elements (designs
-on ``--designs``) and are scaled linearly to 10^5: indicative only, since the per-step
-overhead (a few hundred NumPy calls per step whatever the size) weighs on small samples
-and memory traffic on large ones (Hunt-Crossley at 2 x 10^4 elements took twice its
-scaled 2,000-element figure per element); ``--full`` runs everything on 10^5.
+Paths that integrate (pressed) run on ``--sample`` elements (designs on ``--designs``) and
+are scaled linearly to 10^5: indicative only, since the per-step overhead (a few hundred
+NumPy calls per step whatever the size) weighs on small samples and memory traffic on
+large ones; ``--full`` runs everything on 10^5.
 
-Where the time goes (cProfile and step counts, 500 elements; ``integrate`` of
-:mod:`impactsym.contact.lawkernel`):
+Figures (``--sample 500 --designs 20``, CPU per 10^5, shared 2-core machine):
+
+* unpressed ``impact``, before the tables: 16-98 s (160-780 x the target); now
+  0.03-0.06 s for Hertz-linear, Tsuji and viscoelastic, 0.08 s for Hunt-Crossley (its
+  Lambert-W restitution alone 0.03 s), 0.3-0.7 s for the linear law (the root finding of
+  ``api.physical_contact``, which its contact time and restitution are, bit for bit);
+  the tables cost 1-5 s CPU each to build, once per session;
+* unpressed designs of Hertz-linear and viscoelastic: 5,600-10,600 s before, 0.3-0.9 s
+  now (the position condition's bracket bisects where the upper end sticks);
+* pressed ``impact``: 30-90 s (still 15-45 x the target) and pressed designs
+  (hundreds to thousands x): every element integrates.
+
+Where the time of the integration goes (cProfile and step counts, 500 elements;
+``integrate`` of :mod:`impactsym.contact.lawkernel`):
 
 * per element 35-250 order-8 steps (Tsuji position the most). About half sit at touch,
   where the singular term (z - tau ~ tau^(9/4) for Tsuji) makes the error estimate
@@ -24,8 +38,8 @@ Where the time goes (cProfile and step counts, 500 elements; ``integrate`` of
   under the position condition the graded exit takes most of the rest;
 * one step costs about 2 us per element (13 law evaluations of 30-100 ns each and the
   stage combinations) plus a fixed cost per call of a few hundred NumPy calls, so on
-  10^5 elements an impact costs ~20 s whatever the overhead: the 0.1 s target (closed
-  forms/maps) holds for the closed forms and maps, never for an integration;
+  10^5 elements an integrated impact costs ~20 s whatever the overhead: hence the tables
+  without pressing force; with one, the target stays open;
 * at a few hundred elements the fixed cost dominates: 88 % of the step calls (Tsuji,
   force, pressed) were the Illinois iterations of event location (~10 per event, on the
   few elements meeting one). The extrema are now located to 1e-9 of the step (their
@@ -52,7 +66,7 @@ from impactsym.contact.lawclosed import (
     tsuji_zeta,
 )
 from impactsym.contact.lawdesign import damping_for
-from impactsym.contact.nonlinear import impact
+from impactsym.contact.nonlinear import LAW_CONDITIONS, free_table, impact
 
 N = 10**5
 LAWS = ("linear", "hertz-linear", "hunt-crossley", "tsuji", "viscoelastic")
@@ -118,13 +132,27 @@ def main() -> None:
         )
         report(f"tsuji restitution (map), {condition}", N, wall, cpu, 0.1)
 
-    print("without pressing force, impact: restitution and contact time (target < 0.1 s):")
-    delta = rng.uniform(0.02, 1.5, sample)
+    print("tables of the unpressed impact, built once per law, exponent and condition:")
     for law in LAWS:
-        for condition in CONDITIONS:
-            wall, cpu, r = timed(impact_of, law, delta, 0.0, condition)
+        for key in ("position", "force"):
+            if law == "linear" and key == "force":
+                continue  # the linear law tables its extrema once for every condition
+            wall, cpu = time.perf_counter(), time.process_time()
+            table = free_table(law, 1.0 if law == "linear" else 1.5, key)
+            wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+            print(f"  {law}, {key}{' (and clipped)' if key == 'force' else ''}: "
+                  f"wall {wall:.1f} s, cpu {cpu:.1f} s, {table.pieces} pieces, "
+                  f"{np.count_nonzero(~table.covered)} left to the integration",
+                  flush=True)  # fmt: skip
+
+    print("without pressing force, impact: restitution and contact time (target < 0.1 s):")
+    free_delta = rng.uniform(0.02, 1.5, N)
+    for law in LAWS:
+        for condition in LAW_CONDITIONS:
+            wall, cpu, r = timed(impact_of, law, free_delta, 0.0, condition)
             note = f"; {np.mean(r.sticks):.0%} stick"
-            report(f"{law}, {condition}", sample, wall, cpu, 0.1, note)
+            report(f"{law}, {condition}", N, wall, cpu, 0.1, note)
+    delta = rng.uniform(0.02, 1.5, sample)
 
     print("with pressing force f in (0, 1), impact (target < 2 s):")
     f = rng.uniform(0.0, 1.0, sample)
@@ -142,9 +170,10 @@ def main() -> None:
         for law in LAWS:
             closed = force == 0.0 and law in ("linear", "hunt-crossley", "tsuji")
             n = N if closed else designs
+            n = N if force == 0.0 else n  # the others invert the table
             for condition in CONDITIONS:
                 d = rng.uniform(0.05, 1.0, n)
-                achieved = impact_of(law, d, force, condition).restitution if n < N else None
+                achieved = None if closed else impact_of(law, d, force, condition).restitution
                 if achieved is None:  # the closed forms: targets of the whole range
                     targets, keep = rng.uniform(0.05, 0.95, n), slice(None)
                 else:

@@ -45,6 +45,7 @@ FLOORS = [
         "impactsym.contact.lawclosed",
         "impactsym.contact.lawkernel",
         "impactsym.contact.lawcoast",
+        "impactsym.contact.lawtable",
         "impactsym.contact.rk853",
         "impactsym.rod.derivation",
         "impactsym.rod.kernel",

@@ -9,7 +9,11 @@ damping number (``docs/physics.md``, "Nonlinear contact laws"):
   inverse of the linear contact's restitution
   (:func:`~impactsym.contact.lawclosed.linear_damping_ratio`);
 * everywhere else a bracketed root of the exact restitution (the closed forms of the
-  linear contact, the Tsuji map, or the order-8 integration), which falls monotonically
+  linear contact, the Tsuji map, or the order-8 integration; without pressing force, in
+  a call of at least :data:`~impactsym.contact.nonlinear.TABLE_MIN` designs of one
+  exponent, the Hertz-linear and viscoelastic restitution of the table of
+  :func:`~impactsym.contact.nonlinear.free_table`, the one
+  :func:`~impactsym.contact.nonlinear.impact` then uses), which falls monotonically
   from 1 at zero damping: the bracket grows by factors of 4, then Illinois steps (bisection
   where the upper end sticks) shrink it to a relative width of :math:`10^{-13}`.
 
@@ -39,6 +43,8 @@ from impactsym.contact.nonlinear import (
     clipped_linear,
     normalize,
     normalized_impact,
+    table_mask,
+    tabulated,
 )
 from impactsym.validation import broadcast, finish, real_array
 
@@ -81,8 +87,23 @@ def design_number(law: str, target, b, q, *, condition: str) -> np.ndarray:
     if idx.size == 0:
         return result
     t, bb, qq = target[idx], b[idx], q[idx]
+    # unpressed designs of a large call invert the table of the unpressed impact
+    tabled = table_mask(bb, qq) if law in ("hertz-linear", "viscoelastic") else None
 
     def e_of(delta: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        if tabled is not None and tabled[rows].any():
+            out = np.empty(delta.shape)
+            use = tabled[rows]
+            (e,), inside = tabulated(law, delta[use], bb[rows][use], qq[rows][use],
+                                     condition=condition, mask=np.ones(use.sum(), bool),
+                                     rows=(1,))  # fmt: skip
+            out[use] = e
+            other = np.flatnonzero(~use)
+            other = np.concatenate((other, np.flatnonzero(use)[~inside]))
+            if other.size:
+                r = rows[other]
+                out[other] = restitution_of(law, delta[other], bb[r], qq[r], condition=condition)
+            return out
         if law == "tsuji":  # the map: restitution of the linear contact
             free = bb[rows] == 0
             out = np.empty(delta.shape)

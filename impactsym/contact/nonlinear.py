@@ -28,10 +28,11 @@ LAMMPS continuous ``limit_damping`` contact).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
-from impactsym.contact.api import physical_contact
+from impactsym.contact.api import contact_time, physical_contact, restitution
 from impactsym.contact.lawclosed import (
     hunt_crossley_restitution,
     linear_free_restitution,
@@ -39,6 +40,7 @@ from impactsym.contact.lawclosed import (
 )
 from impactsym.contact.lawkernel import integrate
 from impactsym.contact.laws import check_law
+from impactsym.contact.lawtable import ChebyshevTable, build
 from impactsym.records import ArrayRecord
 from impactsym.validation import CONDITIONS, broadcast, finish, real_array
 
@@ -152,24 +154,180 @@ def normalize(law: str, k, c, m, v0, F, p) -> tuple[np.ndarray, ...]:
     return T, L, delta, b, q
 
 
+def linear_ends(delta, b, *, condition: str) -> tuple[np.ndarray, np.ndarray]:
+    """Normalized contact time and restitution of the linear law (flat arrays, ``b = 2Df``)
+    by the closed forms of :func:`~impactsym.contact.api.contact_time` and
+    :func:`~impactsym.contact.api.restitution` (clipped: :func:`clipped_linear`)."""
+    released = "force" if condition == "clipped" else condition
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = np.where(b > 0, b / (2.0 * delta), 0.0)
+    tau_c = np.asarray(contact_time(delta, f, condition=released), dtype=float).reshape(b.shape)
+    e = np.asarray(restitution(delta, f, condition=released), dtype=float).reshape(b.shape)
+    if condition == "clipped":
+        tau_c, e = clipped_linear(tau_c, e, delta, b)
+    return tau_c, e
+
+
+def integrated_impact(law: str, delta, b, q, *, condition: str) -> tuple[np.ndarray, ...]:
+    """Contact time, restitution, maximum penetration and peak force (normalized) of flat
+    arrays by the order-8 integration, with the ends the closed forms know: the linear
+    law's contact time and restitution (:func:`linear_ends`; the integration then only
+    gives the extrema) and the sticking of an over-damped Tsuji contact (position
+    condition)."""
+    end = np.full(delta.shape, np.nan)
+    if law == "linear":
+        tau_c, e = linear_ends(delta, b, condition=condition)
+        end = np.where(np.isinf(tau_c), np.inf, np.nan) if condition == "clipped" else tau_c
+        run = integrate(law, delta, b, q, condition=condition, end_time=end)
+        return tau_c, e, run.z_max, run.peak
+    if law == "tsuji" and condition == "position":
+        end[(b == 0) & (tsuji_zeta(delta, q) >= 1.0)] = np.inf  # the linear contact creeps
+    result = integrate(law, delta, b, q, condition=condition, end_time=end)
+    return result.tau_c, result.e, result.z_max, result.peak
+
+
+def linear_free_extrema(delta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    r"""Maximum penetration and peak force of the unpressed linear law by the integration,
+    stopped at twice the time :math:`\tau_m` of the maximum penetration (``tan(w tau_m) =
+    w/D``, :math:`w = \sqrt{1 - D^2}`; ``tanh`` over-damped): both extrema lie before it
+    (the force is largest before ``z' = 0``, where it falls at rate :math:`-2Dz`, and
+    later oscillations are smaller), so the table never integrates the long creep near
+    ``D = 1``."""
+    with np.errstate(all="ignore"):
+        w = np.sqrt(np.abs(1.0 - delta * delta))
+        t_m = np.where(delta < 1.0, np.arctan2(w, delta) / w, np.arctanh(w / delta) / w)
+    t_m = np.where(np.isfinite(t_m) & (t_m > 0), t_m, 1.0)  # D = 1: t_m = 1
+    zero = np.zeros_like(delta)
+    run = integrate("linear", delta, zero, np.ones_like(delta), condition="position",
+                    end_time=2.0 * t_m)  # fmt: skip
+    return run.z_max, run.peak
+
+
+#: Unpressed elements of one law and exponent in one call from which the table of
+#: :func:`free_table` is used (fewer are integrated: a table costs a few seconds to
+#: build, once per law, exponent and condition). The choice depends on the call alone, so
+#: the same call gives the same numbers in any session.
+TABLE_MIN = 1000
+#: The tables' variable ``u``: :math:`\delta = ` ``TABLE_SCALE`` :math:`\sinh u` (linear
+#: near zero damping, logarithmic at large damping).
+TABLE_SCALE = 0.1
+#: Largest damping number of each law's table (larger ones are integrated).
+TABLE_TOP = {"linear": 10.0, "hertz-linear": 10.0, "hunt-crossley": 30.0,
+             "tsuji": 10.0, "viscoelastic": 10.0}  # fmt: skip
+#: Pieces where a tabled value exceeds this are integrated (near a sticking threshold,
+#: where the contact time diverges).
+TABLE_CAP = 100.0
+#: Narrowest piece of a table (in ``u``): around a kink, a gap this wide is integrated.
+TABLE_GAP = 1e-6
+
+
+@lru_cache(maxsize=64)
+def free_table(law: str, exponent: float, condition: str) -> ChebyshevTable:
+    r"""The unpressed impact of ``law`` at ``exponent`` as a piecewise Chebyshev table in
+    :math:`u = \operatorname{asinh}(\delta/0.1)` (:mod:`impactsym.contact.lawtable`),
+    built once from :func:`integrated_impact` on the Chebyshev points.
+
+    ``condition``: ``"position"``, rows (contact time, restitution, maximum penetration,
+    peak force); or ``"force"``, the same rows and a fifth, the contact time under the
+    ``"clipped"`` condition (without pressing force the clipped contact is the force
+    condition's, then a free coast at the same speed). Accurate to 1e-10 (relative) against
+    an independent integration (``tests/test_contact_lawtable.py``).
+    """
+    check_law(law)
+    if condition not in ("position", "force"):
+        raise ValueError(f"a table's condition is 'position' or 'force', got {condition!r}")
+
+    def exact(u: np.ndarray) -> np.ndarray:
+        delta = TABLE_SCALE * np.sinh(u)
+        b, q = np.zeros_like(u), np.full(u.shape, float(exponent))
+        if law == "linear":  # contact time and restitution are closed forms: not tabled
+            zero = np.zeros_like(u)
+            return np.stack((zero, zero, *linear_free_extrema(delta), zero))
+        if condition == "position":
+            return np.stack(integrated_impact(law, delta, b, q, condition=condition))
+        run = integrate(law, delta, b, q, condition="force")
+        with np.errstate(divide="ignore", invalid="ignore"):  # clipped: the free coast
+            coast = np.where(run.z_end > 0, run.z_end / run.e, 0.0)
+        return np.stack((run.tau_c, run.e, run.z_max, run.peak, run.tau_c + coast))
+
+    top = np.arcsinh(TABLE_TOP[law] / TABLE_SCALE)
+    return build(exact, 0.0, float(top), min_width=TABLE_GAP, cap=TABLE_CAP)
+
+
+def table_mask(b: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """The elements of flat arrays that the tables serve: unpressed, with an exponent that
+    at least :data:`TABLE_MIN` unpressed elements of the call share."""
+    free = b == 0
+    if np.count_nonzero(free) < TABLE_MIN:
+        return np.zeros(b.shape, dtype=bool)
+    if q.min() == q.max():
+        return free
+    values, inverse = np.unique(q, return_inverse=True)
+    counts = np.bincount(inverse[free], minlength=values.size)
+    return free & (counts[inverse] >= TABLE_MIN)
+
+
+def tabulated(
+    law: str,
+    delta,
+    b,
+    q,
+    *,
+    condition: str,
+    mask: np.ndarray | None = None,
+    rows: tuple[int, ...] = (0, 1, 2, 3),
+) -> tuple[np.ndarray, np.ndarray]:
+    """The table's ``rows`` of (contact time, restitution, maximum penetration, peak force)
+    of flat arrays, shape ``(len(rows), n)``, and where it was used: on the elements of
+    ``mask`` (default :func:`table_mask`) inside the table's cover (``nan`` elsewhere)."""
+    values = np.full((len(rows), delta.size), np.nan)
+    inside = np.zeros(delta.size, dtype=bool)
+    mask = table_mask(b, q) if mask is None else mask
+    if not mask.any():
+        return values, inside
+    # the linear law tables only its extrema, the same under every condition
+    key = "position" if condition == "position" or law == "linear" else "force"
+    if condition == "clipped":
+        rows = tuple(4 if r == 0 else r for r in rows)
+    exponents = (q[0],) if q.min() == q.max() else np.unique(q[mask])
+    for exponent in exponents:
+        table = free_table(law, float(exponent), key)
+        if len(exponents) == 1 and mask.all():  # the common case: no copies
+            return table(np.arcsinh(delta / TABLE_SCALE), rows)
+        sel = np.flatnonzero(mask & (q == exponent))
+        v, ok = table(np.arcsinh(delta[sel] / TABLE_SCALE), rows)
+        values[:, sel[ok]], inside[sel[ok]] = v[:, ok], True
+    return values, inside
+
+
 def normalized_impact(law: str, delta, b, q, *, condition: str):
     """Contact time, restitution, maximum penetration, peak force (all normalized) of
-    flat arrays, with the closed forms where they hold."""
-    end = np.full(delta.shape, np.nan)
+    flat arrays: unpressed elements from the table of :func:`free_table` where
+    :func:`tabulated` uses it, the rest by :func:`integrated_impact`; the closed-form
+    restitutions where they hold (Hunt–Crossley, Tsuji without pressing force)."""
+    # the closed-form restitutions (below) need no table row
+    rows = (0, 2, 3) if law in ("hunt-crossley", "tsuji") else (0, 1, 2, 3)
+    values = np.full((4, delta.size), np.nan)
+    values[list(rows)], inside = tabulated(law, delta, b, q, condition=condition, rows=rows)
+    rest = np.flatnonzero(~inside)
+    if rest.size:
+        exact = integrated_impact(law, delta[rest], b[rest], q[rest], condition=condition)
+        values[:, rest] = np.stack(exact)
+    tau_c, e, z_max, peak = values
+    if law == "linear":
+        tau_c, e = linear_ends(delta, b, condition=condition)
     free = b == 0
     # without pressing force a clipped coast keeps its speed: the force condition's e
     released = "force" if condition == "clipped" else condition
-    if law == "tsuji":
-        zeta = tsuji_zeta(delta, q)
-        if condition == "position":
-            end[free & (zeta >= 1.0)] = np.inf  # the linear contact creeps back: sticks
-    result = integrate(law, delta, b, q, condition=condition, end_time=end)
-    e = result.e.copy()
-    if law == "hunt-crossley" and free.any():
+    if free.all():  # no copies
+        free = slice(None)
+    elif not free.any():
+        return tau_c, e, z_max, peak
+    if law == "hunt-crossley":
         e[free] = hunt_crossley_restitution(delta[free])
-    if law == "tsuji" and free.any():
-        e[free] = linear_free_restitution(zeta[free], condition=released)
-    return result.tau_c, e, result.z_max, result.peak
+    if law == "tsuji":
+        e[free] = linear_free_restitution(tsuji_zeta(delta[free], q[free]), condition=released)
+    return tau_c, e, z_max, peak
 
 
 def impact(
@@ -268,9 +426,13 @@ def impact(
             tau_c, e = clipped_linear(tau_c, e, delta, b)
             with np.errstate(over="ignore"):
                 t_c = tau_c * T
-        end = np.where(np.isinf(tau_c), np.inf, np.nan) if condition == "clipped" else tau_c
-        run = integrate(law, delta, b, q, condition=condition, end_time=end)
-        z_max, peak = run.z_max, run.peak
+        (z_max, peak), inside = tabulated(law, delta, b, q, condition=condition, rows=(2, 3))
+        rest = np.flatnonzero(~inside)
+        if rest.size:
+            end = np.where(np.isinf(tau_c), np.inf, np.nan) if condition == "clipped" else tau_c
+            run = integrate(law, delta[rest], b[rest], q[rest], condition=condition,
+                            end_time=end[rest])  # fmt: skip
+            z_max[rest], peak[rest] = run.z_max, run.peak
         pressing = np.asarray(exact.f)
     else:
         tau_c, e, z_max, peak = normalized_impact(law, delta, b, q, condition=condition)
