@@ -25,6 +25,7 @@ All quantities are SI: seconds, metres, m/s, m/s^2.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
@@ -226,9 +227,11 @@ def _split_and_integrate(
     lo = np.where(after, lo + 1e-12, lo)
     n_pieces = lo.shape[1]
     i_all = np.repeat(np.arange(size), n_pieces)
+    at_edges = None
     if not after.any():  # the pieces share their ends: one run per edge
         i_e = np.repeat(np.arange(size), n_pieces + 1)
-        at = _end_step(run(i_e, edges.ravel()), edges.ravel(), dt[i_e]).reshape(size, -1)
+        at_edges = run(i_e, edges.ravel())
+        at = _end_step(at_edges, edges.ravel(), dt[i_e]).reshape(size, -1)
         key_lo, key_hi = at[:, :-1], at[:, 1:]
     else:
         at_lo, at_hi = run(i_all, lo.ravel()), run(i_all, hi.ravel())
@@ -294,7 +297,15 @@ def _split_and_integrate(
     ends.append(hi[ii, kk])
     owner.append(ii)
     p0, p1, own = np.concatenate(starts), np.concatenate(ends), np.concatenate(owner)
-    pieces = integrate_pieces(run, p0, p1, own, size, nodes=_NODES)
+    run_pieces = run
+    if at_edges is not None:  # the piece ends on the grid were run already: reused
+        edge = np.arange(size)[:, None] * (n_pieces + 1) + np.arange(n_pieces)[None, :]
+        end = (edge + 1).ravel()
+        end[jump.ravel()] = -1  # the jump's left side ends at a: not run yet
+        start = np.concatenate([edge.ravel(), np.full(ii.size, -1)])  # c: not run yet
+        end = np.concatenate([end, ii * (n_pieces + 1) + kk + 1])
+        run_pieces = _reuse_ends(run, at_edges, start, end, _NODES + 2)
+    pieces = integrate_pieces(run_pieces, p0, p1, own, size, nodes=_NODES)
     pts, res, e, t = pieces.pts, pieces.result, pieces.restitution, pieces.contact_time
     key = _end_step(res, pts.ravel(), dt[np.repeat(own, pts.shape[1])]).reshape(pts.shape)
     mixed = np.zeros(size, bool)
@@ -320,6 +331,29 @@ def _split_and_integrate(
             dt[redo], 4 * intervals, bounds,
         )  # fmt: skip
     return out
+
+
+def _reuse_ends(run, known, start, end, width):
+    """``run`` for the samples of the pieces (``width`` a piece: its start, the nodes, its
+    end), taking a piece's start and end from ``known`` (a record of the model at the
+    grid edges) where ``start``, ``end`` index it (``-1``: run them)."""
+
+    def run_pieces(i, p):
+        need = np.ones((start.size, width), bool)
+        need[:, 0], need[:, -1] = start < 0, end < 0
+        src = np.full((start.size, width), -1)
+        src[:, 0], src[:, -1] = start, end
+        need, src = need.ravel(), src.ravel()
+        res = run(i[need], p[need])
+        fields = []
+        for f in dataclasses.fields(res):
+            got, old = getattr(res, f.name), getattr(known, f.name)
+            out = np.empty(p.size, np.result_type(got, old))
+            out[need], out[~need] = got, old[src[~need]]
+            fields.append(out)
+        return type(res)(*fields)
+
+    return run_pieces
 
 
 def _lattice_search(run, dt, ii, a, c, left_key, known, a_s, c_s, value, rising):

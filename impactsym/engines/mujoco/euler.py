@@ -309,51 +309,62 @@ def _recurrence(state: dict, solimp, out: dict, todo: np.ndarray) -> None:
     x, y = s["X"].copy(), s["Y"].copy()
     x1, y1 = np.full(size, np.nan), np.full(size, np.nan)
     G, bdt, kdt2, rho, L = s["G"], s["bdt"], s["kdt2"], s["rho"], s["L"]
+    heavy, weightless = G > 0, G == 0
+    tol_f, tol_y = 1e-9 * G, 1e-12 * (1 + G)
     coast = np.zeros(size, bool)
     xm, fm = np.zeros(size), np.zeros(size)
     for step in range(_MAX_STEPS):
         if live.size == 0:
             break
         d = impedance_at(x * L, solimp)
-        dp = effective_impedance(d, rho)
-        F = dp * (G + bdt * y + d * kdt2 * x)
+        dr = d * rho
+        F = dr / (dr + 1.0 - d) * (G + bdt * y + d * kdt2 * x)  # effective_impedance
         gone = x <= 0
-        if step > 0:
-            # in contact: the end state; coasting: left (gone) or stuck (force back)
-            zero = ~gone & (F <= 0)
-            end = ~coast & (gone | zero)
+        stay = np.ones(live.size, bool)
+        coasting = coast.any()
+        # the end of the contact: gone or zero force (a state that does neither in
+        # contact, or neither leaves nor meets the force back coasting, stays)
+        ends = (gone | (F <= 0)) if step > 0 else np.zeros(live.size, bool)
+        if coasting:
+            end = ~coast & ends
             left = coast & gone
             back = coast & ~gone & (F > 0)
-            # without gravity the coast cannot end in contact: it leaves (F only falls)
-            free = end & zero & (G == 0)
-            stay = ~(end & gone) & ~left & ~back & ~free
-            if end.any():
-                i = live[end]
-                N[i], Y_end[i], by_pos[i] = step, y[end], gone[end]
-                dep[i] = np.where(gone[end] | free[end], -y[end], 0.0)
-                coast |= end & zero
+            stay &= ~left & ~back
             if left.any():
                 dep[live[left]] = -y[left]
             if back.any():
                 sticks[live[back]] = True
         else:
-            stay = np.ones(live.size, bool)
-        keep = stay & ~coast
-        np.maximum(xm, np.where(keep, x, xm), out=xm)
-        np.maximum(fm, np.where(keep, F, fm), out=fm)
-        accel = np.where(coast, 0.0, np.maximum(F, 0.0))
+            end = ends
+        if end.any():
+            zero = end & ~gone
+            # without gravity the coast cannot end in contact: it leaves (F only falls)
+            free = zero & weightless
+            i = live[end]
+            N[i], Y_end[i], by_pos[i] = step, y[end], gone[end]
+            dep[i] = np.where(gone[end] | free[end], -y[end], 0.0)
+            coast |= zero
+            stay &= ~(end & gone) & ~free
+            coasting = True
+        keep = (stay & ~coast) if coasting else stay
+        np.maximum(xm, x, out=xm, where=keep)
+        np.maximum(fm, F, out=fm, where=keep)
+        accel = np.where(coast, 0.0, np.maximum(F, 0.0)) if coasting else np.maximum(F, 0.0)
         y_new = y + G - accel
         x_new = x + y_new
         # rest in floats: the state repeats (a fixed point or a 2-cycle) with the force
-        # on, or leaves the float range (an unstable map): the contact never ends
-        repeat = ((x_new == x) & (y_new == y)) | ((x_new == x1) & (y_new == y1))
-        # ... or rests within rounding: the force carries the weight (F = G) to 1e-9
-        # and the body moves less than 1e-12 of a free step (floats may cycle there)
-        repeat |= (G > 0) & (np.abs(F - G) <= 1e-9 * G) & (np.abs(y_new) <= 1e-12 * (1 + G))
-        stuck = keep & (F > 0) & (repeat | ~np.isfinite(x_new))
-        if stuck.any():
-            sticks[live[stuck]] = True
-            stay &= ~stuck
+        # on, or leaves the float range (an unstable map): the contact never ends;
+        # or rests within rounding: the force carries the weight (F = G) to 1e-9 and
+        # the body moves less than 1e-12 of a free step (floats may cycle there).
+        # Each needs x_new == x, x_new == x1, |y_new| <= tol_y or a non-finite x_new.
+        maybe = (x_new == x) | (x_new == x1) | (np.abs(y_new) <= tol_y) | ~np.isfinite(x_new)
+        if maybe.any():
+            repeat = ((x_new == x) & (y_new == y)) | ((x_new == x1) & (y_new == y1))
+            repeat |= heavy & (np.abs(F - G) <= tol_f) & (np.abs(y_new) <= tol_y)
+            stuck = keep & (F > 0) & (repeat | ~np.isfinite(x_new))
+            if stuck.any():
+                sticks[live[stuck]] = True
+                stay &= ~stuck
         x1, y1, x, y = x, y, x_new, y_new
         if step % _PROOF_EVERY == _PROOF_EVERY - 1:
             stuck = stay & ~coast
@@ -365,8 +376,11 @@ def _recurrence(state: dict, solimp, out: dict, todo: np.ndarray) -> None:
             # the elements that finish: their maxima out, the rest compacted
             done = ~stay
             x_max[live[done]], f_max[live[done]] = xm[done], fm[done]
-            live, x, y, x1, y1, G, bdt, kdt2, rho, L, coast, xm, fm = (
-                a[stay] for a in (live, x, y, x1, y1, G, bdt, kdt2, rho, L, coast, xm, fm)
+            live, x, y, x1, y1, coast, xm, fm = (
+                a[stay] for a in (live, x, y, x1, y1, coast, xm, fm)
+            )
+            G, bdt, kdt2, rho, L, heavy, weightless, tol_f, tol_y = (
+                a[stay] for a in (G, bdt, kdt2, rho, L, heavy, weightless, tol_f, tol_y)
             )
     else:
         raise ValueError(
