@@ -310,13 +310,14 @@ def _recurrence(state: dict, solimp, out: dict, todo: np.ndarray) -> None:
     x1, y1 = np.full(size, np.nan), np.full(size, np.nan)
     G, bdt, kdt2, rho, L = s["G"], s["bdt"], s["kdt2"], s["rho"], s["L"]
     heavy, weightless = G > 0, G == 0
+    wide = impedance_at(np.asarray(solimp[2], float), solimp)  # d at and beyond the width
     tol_f, tol_y = 1e-9 * G, 1e-12 * (1 + G)
     coast = np.zeros(size, bool)
     xm, fm = np.zeros(size), np.zeros(size)
     for step in range(_MAX_STEPS):
         if live.size == 0:
             break
-        d = impedance_at(x * L, solimp)
+        d = _impedance(x * L, solimp, wide)
         dr = d * rho
         F = dr / (dr + 1.0 - d) * (G + bdt * y + d * kdt2 * x)  # effective_impedance
         gone = x <= 0
@@ -394,6 +395,18 @@ def _recurrence(state: dict, solimp, out: dict, todo: np.ndarray) -> None:
     out["F_max"][todo] = f_max
     out["dep"][todo] = dep
     out["sticks"][todo] = sticks
+
+
+def _impedance(depth: np.ndarray, solimp, wide: np.ndarray) -> np.ndarray:
+    """:func:`impedance_at`, with the value ``wide`` it takes at and beyond the width
+    (``depth / width`` clipped to exactly 1) set without evaluating the polynomials."""
+    inner = depth < solimp[2]
+    if inner.all():
+        return impedance_at(depth, solimp)
+    d = np.full(depth.shape, wide)
+    if inner.any():
+        d[inner] = impedance_at(depth[inner], solimp)
+    return d
 
 
 class _RestProof:
