@@ -67,6 +67,87 @@ def test_closed_form_and_recurrence_agree_with_a_plain_loop(solimp, gravity):
         assert float(got.contact_time) == pytest.approx(t, rel=1e-9)
 
 
+def _plain_states(solref, solimp, speed, gravity, dt, phase, steps):
+    """The states of :func:`_plain` (phase > 0) in SI: penetration and constraint
+    acceleration at states 0 .. steps after the first detecting one."""
+    from impactsym.engines.mujoco.model import impedance_at
+
+    simp = check_solimp(solimp)
+    c = coefficients(solref, simp, dt)
+    b, k = float(c.damping), float(c.stiffness)
+    t = phase * dt
+    x, u = speed * t + 0.5 * gravity * t * t, speed + gravity * t
+    out = []
+    for _ in range(steps + 1):
+        d = float(impedance_at(np.array(x), simp))
+        f = d * (gravity + b * u + d * k * x)
+        out.append((x, f))
+        u += dt * (gravity - max(f, 0.0))
+        x += dt * u
+    return out
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+def test_end_value_is_the_plain_loops_penetration_and_force_at_each_state(gravity):
+    """euler_end_value(m) = min(x_m / (v dt), f_m dt / v): positive before the end
+    step, <= 0 at it (the plain loop's end step)."""
+    from impactsym.engines.mujoco.euler import euler_end_value
+
+    rng = np.random.default_rng(18)
+    simp = check_solimp(DEFAULT)
+    for _ in range(10):
+        solref = (float(rng.uniform(0.005, 0.04)), float(rng.uniform(0.1, 0.8)))
+        speed = float(rng.uniform(0.8, 2.0))  # bouncing designs: the plain loop ends
+        dt = float(rng.choice([0.002, 0.0005]))
+        phase = float(rng.uniform(0.01, 0.99))
+        _, _, n = _plain(solref, DEFAULT, speed, gravity, dt, phase)
+        c = coefficients(solref, simp, dt)
+        m = np.arange(n + 1)
+        got = euler_end_value(c, simp, 1.0, gravity, speed, dt, phase, m)
+        want = [min(x / (speed * dt), f * dt / speed) for x, f in
+                _plain_states(solref, DEFAULT, speed, gravity, dt, phase, n)]  # fmt: skip
+        np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-12)
+        assert np.all(got[1:-1] > 0)
+        assert got[-1] <= 0
+
+
+def test_secant_jump_search_gives_the_sampled_search_bit_for_bit(monkeypatch):
+    """The Euler summary's jumps narrowed by the secant on the end value end in the
+    same cells as the 8-ary search that samples the end step everywhere."""
+    from impactsym.engines.mujoco import discrete
+    from impactsym.engines.mujoco.euler import euler_contact
+
+    rng = np.random.default_rng(5)
+    n = 120
+    simp = check_solimp(DEFAULT)
+    dt = 0.002
+    tc = np.exp(rng.uniform(np.log(0.004), np.log(0.05), n))
+    dr = np.exp(rng.uniform(np.log(0.05), np.log(3.0), n))
+    g = np.where(rng.random(n) < 0.7, 9.81, 0.0)
+    v = np.exp(rng.uniform(np.log(0.2), np.log(3.0), n))
+    rho = np.where(rng.random(n) < 0.7, 1.0, rng.uniform(0.5, 2.0, n))
+    # a design whose end value flips sign back and forth within rounding near a jump
+    tc[0], dr[0], v[0] = 0.039571645276609134, 0.7123429668691206, 1.5970966828491608
+    g[0], rho[0] = 9.81, 1.0885323324878693
+    c = coefficients((tc, dr), simp, dt)
+    args = (euler_contact, "euler", simp, c.damping, c.stiffness, rho, g, v, np.full(n, dt))
+    real, narrowed = discrete._secant_jump, []
+
+    def spy(*a):
+        out = real(*a)
+        narrowed.append(int(out[2].sum()))
+        return out
+
+    monkeypatch.setattr(discrete, "_secant_jump", spy)
+    got = discrete._split_and_integrate(*args)
+    assert sum(narrowed) > 20  # the secant did narrow jumps
+    monkeypatch.setattr(
+        discrete, "_secant_jump", lambda value, a, c, m, r, w: (a, c, np.zeros(a.size, bool))
+    )
+    ref = discrete._split_and_integrate(*args)
+    assert np.array_equal(got, ref, equal_nan=True)
+
+
 def test_phase_summary_mean_and_range_against_a_dense_scan():
     for solimp, solref, gravity, speed in (
         (FLAT, (0.02, 0.25), 0.0, 1.0),

@@ -13,7 +13,10 @@ grid points by an 8-ary search in the phase to ``2^-42``, and integrates each sm
 Gauss-Legendre (exact for the flat impedance, whose restitution is a quadratic in the
 phase on each piece); the range takes the piece ends (the one-sided limits at the jumps),
 the nodes and the vertex of the quadratic through each piece. An interval whose samples
-show two end steps (two jumps in it) is redone on a finer grid.
+show two end steps (two jumps in it) is redone on a finer grid. For a varying-impedance
+Euler contact a jump between two end steps is first narrowed by a bracketed secant on the
+continuous end value (:func:`~impactsym.engines.mujoco.euler.euler_end_value`), and the
+search samples only its lattice points near that bracket: the same cells, far fewer runs.
 
 Flat-impedance Euler contacts skip all that: their pieces and integrals are in closed
 form (:mod:`~impactsym.engines.mujoco.euler_phase`), the general way taking only the
@@ -30,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.mujoco.euler import euler_contact
+from impactsym.engines.mujoco.euler import euler_contact, euler_end_value
 from impactsym.engines.mujoco.euler_phase import flat_phases
 from impactsym.engines.mujoco.model import (
     Coefficients,
@@ -54,6 +57,8 @@ ENTRY_PHASES = {"rk4": rk4_entry_phases}
 
 _GRID = 8  # phase intervals searched for jumps of the end step
 _WAYS, _ROUNDS = 8, 14  # search per jump: 8 sub-intervals a round (8^-14 = 2^-42 < 1e-12)
+_MARGIN = 64.0  # lattice cells on each side of the secant bracket sampled all the same
+_SECANT = 12  # bracketed secant rounds per jump before bisection (Euler)
 _GOLDEN = 40  # golden-section steps for an extreme inside a piece
 _NODES = 5  # Gauss-Legendre nodes per piece
 
@@ -247,28 +252,67 @@ def _split_and_integrate(
     lo = np.where(after, lo + 1e-12, lo)
     n_pieces = lo.shape[1]
     i_all = np.repeat(np.arange(size), n_pieces)
-    at_lo, at_hi = run(i_all, lo.ravel()), run(i_all, hi.ravel())
-    key_lo = _end_step(at_lo, lo.ravel(), dt[i_all]).reshape(size, n_pieces)
-    key_hi = _end_step(at_hi, hi.ravel(), dt[i_all]).reshape(size, n_pieces)
+    at_edges = None
+    if not after.any():  # the pieces share their ends: one run per edge
+        i_e = np.repeat(np.arange(size), n_pieces + 1)
+        at_edges = run(i_e, edges.ravel())
+        at = _end_step(at_edges, edges.ravel(), dt[i_e]).reshape(size, -1)
+        key_lo, key_hi = at[:, :-1], at[:, 1:]
+    else:
+        at_lo, at_hi = run(i_all, lo.ravel()), run(i_all, hi.ravel())
+        key_lo = _end_step(at_lo, lo.ravel(), dt[i_all]).reshape(size, n_pieces)
+        key_hi = _end_step(at_hi, hi.ravel(), dt[i_all]).reshape(size, n_pieces)
     # the jump inside each interval whose ends differ
     jump = key_lo != key_hi
     ii, kk = np.nonzero(jump)
     a, c = lo[ii, kk].copy(), hi[ii, kk].copy()
     left_key = key_lo[ii, kk]
-    # 8-ary search: 7 phases per round in one model call, the first whose end step
-    # differs bounds the jump (14 rounds: 8^-14 = 2^-42 of a grid interval)
-    frac = np.arange(1, _WAYS) / _WAYS
-    for _ in range(_ROUNDS):
-        if ii.size == 0:
-            break
-        m = a[:, None] + (c - a)[:, None] * frac[None, :]
-        res = run(np.repeat(ii, _WAYS - 1), m.ravel())
-        key = _end_step(res, m.ravel(), np.repeat(dt[ii], _WAYS - 1)).reshape(m.shape)
-        differs = key != left_key[:, None]
-        j = np.where(differs.any(axis=1), np.argmax(differs, axis=1), _WAYS - 1)
-        pts = np.concatenate([a[:, None], m, c[:, None]], axis=1)
-        rows = np.arange(ii.size)
-        a, c = pts[rows, j], pts[rows, j + 1]
+    lo_j, hi_j = a.copy(), c.copy()
+    # Euler: a jump between two end steps is a root of the continuous end value of the
+    # earlier one (euler_end_value). A bracketed secant narrows it to the width of
+    # the search's last cell; the search then needs that value only at its lattice
+    # points inside the bracket (the others lie on a known side), and its cells are the
+    # same as when every point is sampled. Checked against the end step at the cell's
+    # start; the rest (stick verdicts, RK4, failed checks) sample the end step.
+    secant = np.zeros(ii.size, bool)
+    a_s, c_s = np.full(ii.size, np.nan), np.full(ii.size, np.nan)
+    value, m_end, rising = None, None, None
+    # (a varying impedance only: there the model runs the same recurrence, so the end
+    # step changes exactly where the value changes sign; at flat impedance it comes
+    # from the closed form, whose rounding differs)
+    if integrator in ("euler", "implicitfast") and not is_flat(solimp) and ii.size:
+        right_key = key_hi[ii, kk]
+        m_end = np.minimum(left_key, right_key)
+        rising = left_key < right_key
+
+        def value(j, p):
+            i = ii[j]
+            c_j = Coefficients(b[i], k[i])
+            return euler_end_value(c_j, solimp, rho[i], g[i], v[i], dt[i], p, m_end[j])
+
+        sec = np.flatnonzero((left_key >= 0) & (right_key >= 0))
+        if sec.size:
+            width = (c[sec] - a[sec]) * float(_WAYS) ** -_ROUNDS
+            a_s[sec], c_s[sec], secant[sec] = _secant_jump(
+                lambda j, p, m: value(sec[j], p), a[sec], c[sec], m_end[sec],
+                rising[sec], width,
+            )  # fmt: skip
+            # the value is exact to rounding only: near its root its sign (and the end
+            # step with it) may flip back and forth, so a margin around the bracket
+            # is sampled as well
+            a_s[sec] -= _MARGIN * width
+            c_s[sec] += _MARGIN * width
+    a, c = _lattice_search(run, dt, ii, a, c, left_key, secant, a_s, c_s, value, rising)
+    if secant.any():
+        check = np.flatnonzero(secant)
+        res = run(ii[check], a[check])
+        bad = check[_end_step(res, a[check], dt[ii[check]]) != left_key[check]]
+        if bad.size:
+            none = np.zeros(bad.size, bool)
+            a[bad], c[bad] = _lattice_search(
+                run, dt, ii[bad], lo_j[bad], hi_j[bad], left_key[bad], none, None, None,
+                None, None,
+            )  # fmt: skip
     # pieces: [lo, a], [c, hi] for jumping intervals, [lo, hi] otherwise
     starts = [lo.ravel()]
     ends = [np.where(jump, np.nan, hi).ravel()]
@@ -278,7 +322,15 @@ def _split_and_integrate(
     ends.append(hi[ii, kk])
     owner.append(ii)
     p0, p1, own = np.concatenate(starts), np.concatenate(ends), np.concatenate(owner)
-    pieces = integrate_pieces(run, p0, p1, own, size, nodes=_NODES)
+    run_pieces = run
+    if at_edges is not None:  # the piece ends on the grid were run already: reused
+        edge = np.arange(size)[:, None] * (n_pieces + 1) + np.arange(n_pieces)[None, :]
+        end = (edge + 1).ravel()
+        end[jump.ravel()] = -1  # the jump's left side ends at a: not run yet
+        start = np.concatenate([edge.ravel(), np.full(ii.size, -1)])  # c: not run yet
+        end = np.concatenate([end, ii * (n_pieces + 1) + kk + 1])
+        run_pieces = _reuse_ends(run, at_edges, start, end, _NODES + 2)
+    pieces = integrate_pieces(run_pieces, p0, p1, own, size, nodes=_NODES)
     pts, res, e, t = pieces.pts, pieces.result, pieces.restitution, pieces.contact_time
     key = _end_step(res, pts.ravel(), dt[np.repeat(own, pts.shape[1])]).reshape(pts.shape)
     mixed = np.zeros(size, bool)
@@ -304,6 +356,125 @@ def _split_and_integrate(
             dt[redo], 4 * intervals, bounds,
         )  # fmt: skip
     return out
+
+
+def _reuse_ends(run, known, start, end, width):
+    """``run`` for the samples of the pieces (``width`` a piece: its start, the nodes, its
+    end), taking a piece's start and end from ``known`` (a record of the model at the
+    grid edges) where ``start``, ``end`` index it (``-1``: run them)."""
+
+    def run_pieces(i, p):
+        need = np.ones((start.size, width), bool)
+        need[:, 0], need[:, -1] = start < 0, end < 0
+        src = np.full((start.size, width), -1)
+        src[:, 0], src[:, -1] = start, end
+        need, src = need.ravel(), src.ravel()
+        res = run(i[need], p[need])
+        fields = []
+        for f in fields(res):
+            got, old = getattr(res, f.name), getattr(known, f.name)
+            out = np.empty(p.size, np.result_type(got, old))
+            out[need], out[~need] = got, old[src[~need]]
+            fields.append(out)
+        return type(res)(*fields)
+
+    return run_pieces
+
+
+def _lattice_search(run, dt, ii, a, c, left_key, known, a_s, c_s, value, rising):
+    """The 8-ary search for the jump in ``[a, c]`` of elements ``ii`` (module docstring).
+
+    7 phases per round, the first whose end step differs from ``left_key`` bounds the
+    jump (14 rounds: ``8^-14 = 2^-42`` of a grid interval). Where ``known``, the jump
+    lies in ``(a_s, c_s)``: a phase at or below ``a_s`` is on its left, at or above
+    ``c_s`` on its right, and one inside is placed by the sign of ``value(j, p)``
+    (``<= 0`` on the left where ``rising``) instead of the model's end step.
+    """
+    a, c = a.copy(), c.copy()
+    frac = np.arange(1, _WAYS) / _WAYS
+    sample = np.flatnonzero(~known)
+    for _ in range(_ROUNDS):
+        if ii.size == 0:
+            break
+        m = a[:, None] + (c - a)[:, None] * frac[None, :]
+        differs = np.zeros(m.shape, bool)
+        if sample.size:
+            i_t, m_t = ii[sample], m[sample]
+            res = run(np.repeat(i_t, _WAYS - 1), m_t.ravel())
+            key = _end_step(res, m_t.ravel(), np.repeat(dt[i_t], _WAYS - 1)).reshape(m_t.shape)
+            differs[sample] = key != left_key[sample, None]
+        if known.any():
+            differs |= known[:, None] & (m >= c_s[:, None])
+            r, q = np.nonzero(known[:, None] & (m > a_s[:, None]) & (m < c_s[:, None]))
+            if r.size:
+                h = value(r, m[r, q])
+                differs[r, q] = (h <= 0) != rising[r]
+        j = np.where(differs.any(axis=1), np.argmax(differs, axis=1), _WAYS - 1)
+        pts = np.concatenate([a[:, None], m, c[:, None]], axis=1)
+        rows = np.arange(ii.size)
+        a, c = pts[rows, j], pts[rows, j + 1]
+    return a, c
+
+
+def _secant_jump(value, a, c, m, rising, width):
+    """Brackets ``[a, c]`` no wider than ``width`` of the root of ``value(i, p, m)``.
+
+    ``value <= 0`` (the end step is ``m``) holds at ``a`` where ``rising``, at ``c``
+    elsewhere. Illinois steps on ``s value`` (``s = +-1``: negative at ``a``), each with
+    a second point ``0.4 width`` from the secant point towards the far end of the
+    bracket, so that a secant point within that of the root closes the bracket at once;
+    at most ``_SECANT`` rounds, then bisection. Returns ``(a, c, ok)``; ``ok`` where
+    the bracket closed with the sign change kept (else ``a, c`` are returned unchanged).
+    """
+    a0, c0 = a.copy(), c.copy()
+    n = a.size
+    idx = np.arange(n)
+    sign = np.where(rising, 1.0, -1.0)
+
+    def on_a_side(h, j):
+        return (h <= 0) == rising[j]
+
+    both = value(np.concatenate([idx, idx]), np.concatenate([a, c]), np.concatenate([m, m]))
+    ok = on_a_side(both[:n], idx) & ~on_a_side(both[n:], idx)
+    fa, fc = sign * both[:n], sign * both[n:]
+    live = np.flatnonzero(ok & (c - a > width))
+    side = np.zeros(n)  # which end was kept last (-1: a, +1: c) for the Illinois halving
+    for r in range(_SECANT + 60):
+        if live.size == 0:
+            break
+        al, cl, fal, fcl, w = a[live], c[live], fa[live], fc[live], width[live]
+        x = 0.5 * (al + cl)
+        if r < _SECANT:
+            with np.errstate(all="ignore"):
+                sec = cl - fcl * (cl - al) / (fcl - fal)
+            x = np.where(np.isfinite(sec), sec, x)
+        x = np.clip(x, al + 0.05 * w, cl - 0.05 * w)
+        # the second point: towards the larger part of the bracket
+        toward_c = (cl - x) > (x - al)
+        x2 = np.where(toward_c, np.minimum(x + 0.4 * w, cl - 0.01 * w),
+                      np.maximum(x - 0.4 * w, al + 0.01 * w))  # fmt: skip
+        lo_pt, hi_pt = np.minimum(x, x2), np.maximum(x, x2)
+        f = value(np.concatenate([live, live]), np.concatenate([lo_pt, hi_pt]),
+                  np.concatenate([m[live], m[live]]))  # fmt: skip
+        h_lo, h_hi = f[: live.size], f[live.size :]
+        # the new bracket: [a, lo], [lo, hi] or [hi, c] by the sides
+        in_left = ~on_a_side(h_lo, live)
+        in_mid = ~in_left & ~on_a_side(h_hi, live)
+        s = sign[live]
+        new_a = np.where(in_left, al, np.where(in_mid, lo_pt, hi_pt))
+        new_c = np.where(in_left, lo_pt, np.where(in_mid, hi_pt, cl))
+        new_fa = np.where(in_left, fal, np.where(in_mid, s * h_lo, s * h_hi))
+        new_fc = np.where(in_left, s * h_lo, np.where(in_mid, s * h_hi, fcl))
+        # Illinois: an end kept twice in a row has its value halved
+        kept = np.where(in_left, -1.0, np.where(in_mid, 0.0, 1.0))
+        twice = (kept != 0) & (kept == side[live])
+        new_fa = np.where(twice & (kept == -1.0), 0.5 * new_fa, new_fa)
+        new_fc = np.where(twice & (kept == 1.0), 0.5 * new_fc, new_fc)
+        side[live] = kept
+        a[live], c[live], fa[live], fc[live] = new_a, new_c, new_fa, new_fc
+        live = live[(c[live] - a[live]) > width[live]]
+    ok &= (c - a) <= width
+    return np.where(ok, a, a0), np.where(ok, c, c0), ok
 
 
 def _interior_extreme(run, own, pts, e, sign):

@@ -46,7 +46,7 @@ from impactsym.engines.mujoco.model import (
 from impactsym.engines.mujoco.stepmap import Sequence, first_hit, sequence_max
 from impactsym.engines.mujoco.stepping import StepContact
 
-__all__ = ["coast_flat", "euler_contact"]
+__all__ = ["coast_flat", "euler_contact", "euler_end_value"]
 
 _MAX_STEPS = 2_000_000  # recurrence steps refused beyond this (a contact that never settles)
 _PROOF_EVERY = 32  # recurrence steps between attempts to prove rest
@@ -135,6 +135,54 @@ def euler_contact(
         out["F_max"] * v0 / dt,
     )
     return StepContact(*(np.reshape(a, shape) for a in fields))
+
+
+def euler_end_value(
+    coeffs: Coefficients,
+    solimp: tuple[float, ...],
+    rho: Any,
+    gravity: Any,
+    speed: Any,
+    timestep: Any,
+    phase: Any,
+    step: Any,
+) -> np.ndarray:
+    """``min(X_m, F_m)`` at the state ``m = step`` after the first detecting one (phase > 0).
+
+    The state ``m`` ends the contact iff this is ``<= 0`` (the body is gone or the force
+    is zero; :func:`euler_contact`), and it is continuous in the phase while the states
+    before ``m`` are in contact with a positive force, so a jump of the end step from or
+    to ``m`` is a root of it in the phase: the phase summary locates such jumps by a
+    bracketed secant on it rather than by sampling the end step. Same arithmetic as
+    :func:`euler_contact` (arrays broadcast; dimensionless: ``X`` in ``speed *
+    timestep``, ``F`` per step in ``speed``). Internal.
+    """
+    arrays = np.broadcast_arrays(
+        *(
+            np.asarray(a, float)
+            for a in (coeffs.damping, coeffs.stiffness, rho, gravity, speed, timestep, phase, step)
+        )
+    )
+    shape = arrays[0].shape
+    b, kbar, rho, g, v0, dt, p, m = (a.ravel() for a in arrays)
+    G = g * dt / v0
+    x, y = p + 0.5 * G * p * p, 1.0 + G * p
+    bdt, kdt2, L = b * dt, kbar * dt * dt, v0 * dt
+    out = np.full(x.size, np.nan)
+    live = np.arange(x.size)
+    for k in range(int(m.max(initial=0.0)) + 1):
+        d = impedance_at(x * L, solimp)
+        F = effective_impedance(d, rho) * (G + bdt * y + d * kdt2 * x)
+        at = m[live] == k
+        if at.any():
+            out[live[at]] = np.minimum(x[at], F[at])
+            more = ~at
+            live, x, y, F, G, bdt, kdt2, L, rho = (
+                a[more] for a in (live, x, y, F, G, bdt, kdt2, L, rho)
+            )
+        y = y + G - np.maximum(F, 0.0)
+        x = x + y
+    return out.reshape(shape)
 
 
 def _take(state: dict, i: np.ndarray) -> dict:
@@ -242,72 +290,99 @@ def _first_integer(root, holds):
 
 
 def _recurrence(state: dict, solimp, out: dict, todo: np.ndarray) -> None:
-    """The exact step-by-step recurrence on the elements ``todo`` (vectorized)."""
+    """The exact step-by-step recurrence on the elements ``todo`` (vectorized).
+
+    The loop works on compacted arrays of the elements still running (gathered again
+    only when some finish), so a step costs a few whole-array operations; the results
+    are scattered as elements finish.
+    """
     s = _take(state, todo)
-    X, Y, G, rho = s["X"].copy(), s["Y"].copy(), s["G"], s["rho"]
-    L = s["L"]
-    n = np.zeros(todo.size)
-    live = np.arange(todo.size)  # still in contact with a positive force
-    coast = np.zeros(todo.size, bool)
-    N = np.full(todo.size, np.inf)
-    Y_end, x_max, f_max = np.zeros(todo.size), np.zeros(todo.size), np.zeros(todo.size)
-    by_pos = np.zeros(todo.size, bool)
-    dep = np.zeros(todo.size)
-    sticks = np.zeros(todo.size, bool)
+    size = todo.size
+    N = np.full(size, np.inf)
+    Y_end, x_max, f_max = np.zeros(size), np.zeros(size), np.zeros(size)
+    by_pos = np.zeros(size, bool)
+    dep = np.zeros(size)
+    sticks = np.zeros(size, bool)
     proof = _RestProof(s, solimp)
-    X1, Y1 = np.full(todo.size, np.nan), np.full(todo.size, np.nan)  # the previous state
+    # the running elements: their index into s, state, previous state and constants
+    live = np.arange(size)
+    x, y = s["X"].copy(), s["Y"].copy()
+    x1, y1 = np.full(size, np.nan), np.full(size, np.nan)
+    G, bdt, kdt2, rho, L = s["G"], s["bdt"], s["kdt2"], s["rho"], s["L"]
+    heavy, weightless = G > 0, G == 0
+    wide = impedance_at(np.asarray(solimp[2], float), solimp)  # d at and beyond the width
+    tol_f, tol_y = 1e-9 * G, 1e-12 * (1 + G)
+    coast = np.zeros(size, bool)
+    xm, fm = np.zeros(size), np.zeros(size)
     for step in range(_MAX_STEPS):
         if live.size == 0:
             break
-        x, y = X[live], Y[live]
-        d = impedance_at(x * L[live], solimp)
-        dp = effective_impedance(d, rho[live])
-        F = dp * (G[live] + s["bdt"][live] * y + d * s["kdt2"][live] * x)
+        d = _impedance(x * L, solimp, wide)
+        dr = d * rho
+        F = dr / (dr + 1.0 - d) * (G + bdt * y + d * kdt2 * x)  # effective_impedance
         gone = x <= 0
-        zero = ~gone & (F <= 0)
-        c = coast[live]
-        if step > 0:
-            # in contact: the end state; coasting: left (gone) or stuck (force back)
-            end = ~c & (gone | zero)
-            i = live[end]
-            N[i], Y_end[i], by_pos[i] = n[i], y[end], gone[end]
-            dep[i] = np.where(gone[end], -y[end], 0.0)
-            coast[i[zero[end]]] = True
-            left = c & gone
-            dep[live[left]] = -y[left]
-            back = c & ~gone & (F > 0)
-            sticks[live[back]] = True
-            stay = ~(end & gone) & ~left & ~back
-            # without gravity the coast cannot end in contact: it leaves (F only falls)
-            free = end & zero & (G[live] == 0)
-            dep[live[free]] = -y[free]
-            stay &= ~free
+        stay = np.ones(live.size, bool)
+        coasting = coast.any()
+        # the end of the contact: gone or zero force (a state that does neither in
+        # contact, or neither leaves nor meets the force back coasting, stays)
+        ends = (gone | (F <= 0)) if step > 0 else np.zeros(live.size, bool)
+        if coasting:
+            end = ~coast & ends
+            left = coast & gone
+            back = coast & ~gone & (F > 0)
+            stay &= ~left & ~back
+            if left.any():
+                dep[live[left]] = -y[left]
+            if back.any():
+                sticks[live[back]] = True
         else:
-            stay = np.ones(live.size, bool)
-        keep = stay & ~coast[live]
-        x_max[live[keep]] = np.maximum(x_max[live[keep]], x[keep])
-        f_max[live[keep]] = np.maximum(f_max[live[keep]], F[keep])
-        accel = np.where(coast[live], 0.0, np.maximum(F, 0.0))
-        y_new = y + G[live] - accel
+            end = ends
+        if end.any():
+            zero = end & ~gone
+            # without gravity the coast cannot end in contact: it leaves (F only falls)
+            free = zero & weightless
+            i = live[end]
+            N[i], Y_end[i], by_pos[i] = step, y[end], gone[end]
+            dep[i] = np.where(gone[end] | free[end], -y[end], 0.0)
+            coast |= zero
+            stay &= ~(end & gone) & ~free
+            coasting = True
+        keep = (stay & ~coast) if coasting else stay
+        np.maximum(xm, x, out=xm, where=keep)
+        np.maximum(fm, F, out=fm, where=keep)
+        accel = np.where(coast, 0.0, np.maximum(F, 0.0)) if coasting else np.maximum(F, 0.0)
+        y_new = y + G - accel
         x_new = x + y_new
         # rest in floats: the state repeats (a fixed point or a 2-cycle) with the force
-        # on, or leaves the float range (an unstable map): the contact never ends
-        repeat = ((x_new == x) & (y_new == y)) | ((x_new == X1[live]) & (y_new == Y1[live]))
-        # ... or rests within rounding: the force carries the weight (F = G) to 1e-9
-        # and the body moves less than 1e-12 of a free step (floats may cycle there)
-        g_l = G[live]
-        repeat |= (g_l > 0) & (np.abs(F - g_l) <= 1e-9 * g_l) & (np.abs(y_new) <= 1e-12 * (1 + g_l))
-        stuck = stay & ~coast[live] & (F > 0) & (repeat | ~np.isfinite(x_new))
-        sticks[live[stuck]] = True
-        stay &= ~stuck
-        X1[live], Y1[live] = x, y
-        X[live], Y[live] = x_new, y_new
-        n[live] += 1.0
-        live = live[stay]
-        if step % _PROOF_EVERY == _PROOF_EVERY - 1 and live.size:
-            stuck = proof(X[live], Y[live], live) & ~coast[live]
-            sticks[live[stuck]] = True
-            live = live[~stuck]
+        # on, or leaves the float range (an unstable map): the contact never ends;
+        # or rests within rounding: the force carries the weight (F = G) to 1e-9 and
+        # the body moves less than 1e-12 of a free step (floats may cycle there).
+        # Each needs x_new == x, x_new == x1, |y_new| <= tol_y or a non-finite x_new.
+        maybe = (x_new == x) | (x_new == x1) | (np.abs(y_new) <= tol_y) | ~np.isfinite(x_new)
+        if maybe.any():
+            repeat = ((x_new == x) & (y_new == y)) | ((x_new == x1) & (y_new == y1))
+            repeat |= heavy & (np.abs(F - G) <= tol_f) & (np.abs(y_new) <= tol_y)
+            stuck = keep & (F > 0) & (repeat | ~np.isfinite(x_new))
+            if stuck.any():
+                sticks[live[stuck]] = True
+                stay &= ~stuck
+        x1, y1, x, y = x, y, x_new, y_new
+        if step % _PROOF_EVERY == _PROOF_EVERY - 1:
+            stuck = stay & ~coast
+            stuck[stuck] = proof(x[stuck], y[stuck], live[stuck])
+            if stuck.any():
+                sticks[live[stuck]] = True
+                stay &= ~stuck
+        if not stay.all():
+            # the elements that finish: their maxima out, the rest compacted
+            done = ~stay
+            x_max[live[done]], f_max[live[done]] = xm[done], fm[done]
+            live, x, y, x1, y1, coast, xm, fm = (
+                a[stay] for a in (live, x, y, x1, y1, coast, xm, fm)
+            )
+            G, bdt, kdt2, rho, L, heavy, weightless, tol_f, tol_y = (
+                a[stay] for a in (G, bdt, kdt2, rho, L, heavy, weightless, tol_f, tol_y)
+            )
     else:
         raise ValueError(
             f"the Euler recurrence did not settle within {_MAX_STEPS} steps (element "
@@ -320,6 +395,18 @@ def _recurrence(state: dict, solimp, out: dict, todo: np.ndarray) -> None:
     out["F_max"][todo] = f_max
     out["dep"][todo] = dep
     out["sticks"][todo] = sticks
+
+
+def _impedance(depth: np.ndarray, solimp, wide: np.ndarray) -> np.ndarray:
+    """:func:`impedance_at`, with the value ``wide`` it takes at and beyond the width
+    (``depth / width`` clipped to exactly 1) set without evaluating the polynomials."""
+    inner = depth < solimp[2]
+    if inner.all():
+        return impedance_at(depth, solimp)
+    d = np.full(depth.shape, wide)
+    if inner.any():
+        d[inner] = impedance_at(depth[inner], solimp)
+    return d
 
 
 class _RestProof:
