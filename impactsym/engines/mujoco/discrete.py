@@ -28,7 +28,8 @@ All quantities are SI: seconds, metres, m/s, m/s^2.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+import dataclasses
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -148,7 +149,8 @@ def phase_summary(
                 Coefficients(*(a.ravel()[todo] for a in (b, k))),
                 solimp, *(a.ravel()[todo] for a in (rho, g, v, dt)), integrator=integrator,
             )  # fmt: skip
-            out[:, todo] = np.stack([getattr(part, f.name) for f in fields(PhaseSummary)])
+            names = (f.name for f in dataclasses.fields(PhaseSummary))
+            out[:, todo] = np.stack([getattr(part, name) for name in names])
         inner = PhaseSummary(*(f.reshape(b.shape) for f in out))
     zero = model(Coefficients(b, k), solimp, rho, g, v, dt, np.zeros(b.shape))  # phase 0
     return PhaseSummary(
@@ -371,7 +373,7 @@ def _reuse_ends(run, known, start, end, width):
         need, src = need.ravel(), src.ravel()
         res = run(i[need], p[need])
         fields = []
-        for f in fields(res):
+        for f in dataclasses.fields(res):
             got, old = getattr(res, f.name), getattr(known, f.name)
             out = np.empty(p.size, np.result_type(got, old))
             out[need], out[~need] = got, old[src[~need]]
