@@ -5,9 +5,9 @@ Prints, measured in one run:
     (target: 1e5 targets in under 1 s), with and without gravity;
   * discrete designs at MuJoCo's default dt = 0.002 (Euler, phase mean; targets 1e5 in
     1 s flat with gravity, 2 s with a contact time, 3 s with the default solimp): the
-    flat ones measured on 1e5 targets (wall and CPU time), the default solimp on 128 and
-    256 (512 and 1024 without --quick) and extrapolated; and the per-phase agreement table of those
-    designs with MuJoCo (drivers.mujoco_phases over 64 touch phases);
+    flat ones measured on 1e5 targets (wall and CPU time), the default solimp on 1024 and
+    4096 (4096 and 16384 without --quick) and extrapolated; and the per-phase agreement
+    table of those designs with MuJoCo (drivers.mujoco_phases over 64 touch phases);
   * the engine-vs-prediction table: MuJoCo (flat and default solimp, gravity on/off,
     both solref forms, a multibody contact) and LAMMPS (with/without limit_damping),
     each with the textbook formula's achieved restitution beside it.
@@ -54,7 +54,8 @@ def discrete_throughput(n_default):
     contact share one tabulated phase mean, or one curve of contact-time designs), as
     wall time and as CPU time of this process (the figure that counts on a shared
     machine). The default solimp takes the general phase summary per design: measured
-    on ``n_default`` and twice as many targets (>= 128: the tabulated path), the
+    on ``n_default`` and four times as many targets (>= 128: the tabulated path; fewer
+    than 1024 drown the cost per target in the noise of a shared machine), the
     difference giving the cost per target, the rest the table's (1024 general phase
     means), and extrapolated to 1e5 targets. Targets from 0.3: e = 0.2 at 1 m/s under
     gravity sticks at some touch phase at dt = 0.002.
@@ -80,17 +81,17 @@ def discrete_throughput(n_default):
         )
     options = {"gravity": 9.81, "solimp": DEFAULT}
     cpu = []
-    for m in (n_default, 2 * n_default):
+    for m in (n_default, 4 * n_default):
         e = np.linspace(0.3, 0.9, m)
         start = time.process_time()
         mujoco.solref_for(restitution=e, speed=1.0, timestep=dt, **options)
         cpu.append(time.process_time() - start)
-    per = max(cpu[1] - cpu[0], 0.0) / n_default  # the cost of a target beyond the table
+    per = max(cpu[1] - cpu[0], 0.0) / (3 * n_default)  # the cost of a target beyond the table
     table = max(cpu[0] - per * n_default, 0.0)
     total = table + per * n
     print(
         f"solref_for at dt = {dt} (Euler), default solimp, gravity 9.81: {n_default} "
-        f"targets {cpu[0]:.3f} s CPU, {2 * n_default} targets {cpu[1]:.3f} s CPU: table "
+        f"targets {cpu[0]:.3f} s CPU, {4 * n_default} targets {cpu[1]:.3f} s CPU: table "
         f"~{table:.3g} s, {per * 1e3:.3g} ms per target, extrapolated {total:.3g} s CPU per "
         f"1e5 (target 3 s: ratio {total / 3.0:.3g})"
     )
@@ -201,7 +202,7 @@ def lammps_rows(targets):
 
 def main(quick=False):
     throughput(10_000 if quick else 100_000)
-    discrete_throughput(128 if quick else 512)
+    discrete_throughput(1024 if quick else 4096)
     print_discrete_rows(discrete_rows())
     targets = (0.1, 0.5, 0.9) if quick else (0.1, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95)
     rows = mujoco_rows(targets) + lammps_rows(targets)
