@@ -145,9 +145,6 @@ def point_contact_for(
     shape = broadcast(**{name: a for name, (a, _) in values.items()})
     e, v, m, g, target = (np.broadcast_to(a, shape).ravel() for a, _ in values.values())
 
-    def size_of(p: Prediction) -> np.ndarray:
-        return np.asarray(getattr(p, size_name), float).ravel()
-
     if h > 0 and size_name == "contact_time" and np.any(target < 2.0 * h):
         bad = np.flatnonzero(target < 2.0 * h)[0]
         raise ValueError(
@@ -169,14 +166,15 @@ def point_contact_for(
     side = np.zeros(k.size, int)
     f_last = np.full_like(k, np.inf)
     best, stalled = np.inf, 0
+    q = np.full_like(k, np.nan)
+    todo = np.arange(k.size)  # the designs whose stiffness moved: only these are evaluated
     for _ in range(_OUTER):
+        rows = (e[todo], k[todo], m[todo], v[todo], g[todo])
         if approx is None:
-            damp = _continuous_damping(e, k, m, v, g, damp)
-            p = predict(stiffness=k, dissipation=damp, mass=m, speed=v, gravity=g)
+            damp[todo] = _continuous_damping(*rows, damp[todo])
         else:
-            damp = _discrete_damping(e, k, m, v, g, h, approx, damp)
-            p = _predict(k, damp, m, v, g, h, approx)
-        q = size_of(p)
+            damp[todo] = _discrete_damping(*rows, h, approx, damp[todo])
+        q[todo] = _size(k[todo], damp[todo], m[todo], v[todo], g[todo], h, approx, size_name)
         if np.any(~np.isfinite(q)):
             bad = np.flatnonzero(~np.isfinite(q))[0]
             raise ValueError(
@@ -214,7 +212,9 @@ def point_contact_for(
         fast = (trial > low) & (trial < high) & (np.abs(f) <= 0.5 * f_last)
         trial = np.where(bracketed & ~fast & ~converged, false_pos, trial)
         f_last = np.abs(f)
-        k = np.exp(trial)
+        # a converged design keeps its stiffness (and its evaluation): compaction
+        k = np.where(converged, k, np.exp(trial))
+        todo = np.flatnonzero(~converged)
         width = np.abs(above - below)
         shut = bracketed & ~converged & (width <= 1e-14 * np.maximum(1.0, np.abs(below)))
         if np.any(shut):  # the size jumps across the target: no k between
@@ -246,9 +246,9 @@ def point_contact_for(
         return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
 
     sap = approx == "sap"
-    if scalar or len(shape) != 1:  # the prediction in the shape of the input
-        p = _predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),
-                     h, approx)  # fmt: skip
+    # the full prediction (with the ranges) once, in the shape of the input
+    p = _predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),
+                 h, approx)  # fmt: skip
     return PointContact(
         point_contact_stiffness=out(k),
         hunt_crossley_dissipation=out(np.zeros_like(k) if sap else damp),
@@ -267,6 +267,19 @@ def _predict(k, damp, m, v, g, h, approx) -> Prediction:
                        approximation=approx, relaxation_time=damp)  # fmt: skip
     return predict(stiffness=k, dissipation=damp, mass=m, speed=v, gravity=g, time_step=h,
                    approximation=approx)  # fmt: skip
+
+
+def _size(k, damp, m, v, g, h, approx, size_name) -> np.ndarray:
+    """The contact time or deepest overlap at ``(k, damp)`` (flat arrays): the continuous
+    prediction, or at a step the phase mean without the range search (``bounds=False``;
+    the sampled deepest overlap is the same)."""
+    if approx is None:
+        p = predict(stiffness=k, dissipation=damp, mass=m, speed=v, gravity=g)
+        return np.asarray(getattr(p, size_name), float).ravel()
+    sap = approx == "sap"
+    d, tau = (np.zeros_like(damp), damp) if sap else (damp, 0.0)
+    r = phase_summary(k, d, tau, m, g, v, h, approximation=approx, bounds=False)
+    return np.asarray(getattr(r, size_name), float).ravel()
 
 
 def _continuous_damping(e, k, m, v, g, start) -> np.ndarray:
