@@ -1,30 +1,34 @@
 r"""PyBullet's phase-mean contact for the designs: the pattern's break points in closed form.
 
-:func:`~impactsym.engines.pybullet.phases.phase_summary` finds where the branch pattern
+:func:`~impactsym.engines.pybullet.phases.phase_summary` found where the branch pattern
 of :func:`~impactsym.engines.pybullet.stepping.step_pattern` changes by bisection (42
-runs of the map per change) and integrates every grid interval. The designs need only
-the means, many times over, so :func:`phase_means` finds the same pieces from fewer
-runs. Where the pattern is constant the state of every (sub)step is an affine map of
-the free-flight state ``-1``, itself quadratic in the phase ``p`` (``x = v t + g t^2/2``,
-``w = v + g t``, ``t = (p - 1) h``), so every quantity whose sign picks a branch (the gap
-``d = s - x`` of the speculative branch, the bias ``b`` of the clipped impulse, the
-processing threshold ``x + threshold``, the restitution threshold) is a quadratic in
-``p``, and :func:`tracked_pattern` carries its first and second derivatives along the
-run: the first root ahead of a phase, over the (sub)steps up to the end state, is the
-next point where the pattern can change. ``b`` is followed across a change of the
-speculative branch it does not feel (where ``b <= 0`` at ``d = 0`` the impulse is zero
-on both sides, so ``b`` changes formula but the pattern not): its root counts on the
-side of ``d`` whose formula gives it.
+runs of the map per change, on 32 grid intervals); :func:`break_pieces` finds the same
+pieces from a few runs, and :func:`phase_means` gives the means alone, which the
+designs need many times over. Where the pattern is constant the state of every
+(sub)step is an affine map of the free-flight state ``-1``, itself quadratic in the
+phase ``p`` (``x = v t + g t^2/2``, ``w = v + g t``, ``t = (p - 1) h``), so every
+quantity whose sign picks a branch (the gap ``d = s - x`` of the speculative branch,
+the bias ``b`` of the clipped impulse, the processing threshold ``x + threshold``, the
+restitution threshold) is a quadratic in ``p``, and :func:`tracked_pattern` carries
+the first and second phase derivatives of the state along the run: the first root
+ahead of a phase, over the (sub)steps up to the end state, is the next point where the
+pattern can change. ``b`` is followed across a change of the speculative branch it does
+not feel (where ``b <= 0`` at ``d = 0`` the impulse is zero on both sides, so ``b``
+changes formula but the pattern not): its root counts on the side of ``d`` whose
+formula gives it.
 
-The result is checked, never trusted: the pattern just before a root (``1e-14`` of a
-phase) must be that of the piece, and a piece ends at a grid point only where the grid's
-pattern is the piece's; everything else (a change the roots do not see, such as a
-contact that starts sticking after its end state) goes to the bisection of
-:mod:`~impactsym.engines.pybullet.phases`. Adjacent pieces of one pattern are merged
-(the restitution is one quadratic there) and integrated by three-point Gauss–Legendre
-(exact for a quadratic) at the map's own runs. The means agree with
-:func:`~impactsym.engines.pybullet.phases.phase_summary` to rounding (``1e-14`` of a
-phase at each jump; tested). All arrays, SI.
+The roots are checked, never trusted: the pattern ``1e-12`` of a phase before a root
+must be that of the piece (the pattern ``1e-12`` after it starts the next piece, and
+both are the one-sided limits a range needs), and a piece ends at one of 8 grid points
+only where the grid's pattern is the piece's; everything else (a change the roots do
+not see, such as a contact that starts sticking after its end state) is bisected as
+before. Pieces meet at the roots; adjacent pieces of one pattern are merged (the
+restitution is one quadratic there) and integrated by three-point Gauss–Legendre
+(exact for a quadratic) at the map's own runs. The roots are found to ~1e-14 of a
+phase, so the means agree with the bisection's to ~1e-13 and the ranges to ~1e-12
+(tested). A processing threshold or velocity restitution adds roots whose changes the
+pattern may not show (then bisected, slower than the old search): the callers use this
+module with PyBullet's defaults for both. All arrays, SI.
 """
 
 from __future__ import annotations
