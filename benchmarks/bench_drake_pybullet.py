@@ -30,8 +30,8 @@ many brackets), the factor over the 2 s target after:
   20.3 and 27.6, g = 9.81 (1000-1400 x).
 
 What stays over the target is the exact phase mean itself: one evaluation for 10^5
-designs takes ~8 s (PyBullet) and ~130 s (Drake lagged), and a design takes 20-50 of
-them. A table per step ratio (the targets share speed and mass), inverted, cuts the
+designs takes ~25 s (PyBullet, ``phase_means``) and ~50 s (Drake lagged, without the
+range search), and a design takes 10-50 of them. A table per step ratio (the targets share speed and mass), inverted, cuts the
 evaluations to one or two per design; below 2 s needs more: designs read from a table
 whose error is bounded without a per-design evaluation, or a compiled step loop.
 """
