@@ -31,9 +31,10 @@ many brackets), the factor over the 2 s target after:
 
 What stays over the target is the exact phase mean itself: one evaluation for 10^5
 designs takes ~25 s (PyBullet, ``phase_means``) and ~50 s (Drake lagged, without the
-range search), and a design takes 10-50 of them. A table per step ratio (the targets share speed and mass), inverted, cuts the
-evaluations to one or two per design; below 2 s needs more: designs read from a table
-whose error is bounded without a per-design evaluation, or a compiled step loop.
+range search), and a design takes 10-50 of them. A table per step ratio (the targets
+share speed and mass), inverted, cuts the evaluations to one or two per design; below
+2 s needs more: designs read from a table whose error is bounded without a per-design
+evaluation, or a compiled step loop.
 """
 
 from __future__ import annotations
