@@ -27,7 +27,9 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.contact.lawdesign import damping_for, restitution_of
+from impactsym.contact.lawclosed import hunt_crossley_parameter
+from impactsym.contact.lawdesign import damping_for
+from impactsym.contact.nonlinear import normalized_impact
 from impactsym.engines.drake.phases import phase_summary
 from impactsym.engines.drake.prediction import (
     Prediction,
@@ -145,9 +147,6 @@ def point_contact_for(
     shape = broadcast(**{name: a for name, (a, _) in values.items()})
     e, v, m, g, target = (np.broadcast_to(a, shape).ravel() for a, _ in values.values())
 
-    def size_of(p: Prediction) -> np.ndarray:
-        return np.asarray(getattr(p, size_name), float).ravel()
-
     if h > 0 and size_name == "contact_time" and np.any(target < 2.0 * h):
         bad = np.flatnonzero(target < 2.0 * h)[0]
         raise ValueError(
@@ -158,6 +157,10 @@ def point_contact_for(
     unit = np.pi if size_name == "contact_time" else v
     k = k_start = m * (unit / target) ** 2
     damp = np.zeros_like(k)
+    if approx is None and np.all(g > 0):
+        # the first damping bracket around the root without gravity (d v = s(e), Lambert
+        # W): under gravity the root lies near it (at a step a cold bracket is as fast)
+        damp = hunt_crossley_parameter(e) / v
     log_prev = q_prev = None
     # the bracket in ln k once the size has been seen on both sides of the target: along
     # the restitution's contour the size falls with k, continuous, with flat stretches
@@ -169,14 +172,16 @@ def point_contact_for(
     side = np.zeros(k.size, int)
     f_last = np.full_like(k, np.inf)
     best, stalled = np.inf, 0
+    q = np.full_like(k, np.nan)
+    moved = np.full_like(k, np.inf)  # |change of ln k| since the last damping root
+    todo = np.arange(k.size)  # the designs whose stiffness moved: only these are evaluated
     for _ in range(_OUTER):
+        rows = (e[todo], k[todo], m[todo], v[todo], g[todo])
         if approx is None:
-            damp = _continuous_damping(e, k, m, v, g, damp)
-            p = predict(stiffness=k, dissipation=damp, mass=m, speed=v, gravity=g)
-        else:
-            damp = _discrete_damping(e, k, m, v, g, h, approx, damp)
-            p = _predict(k, damp, m, v, g, h, approx)
-        q = size_of(p)
+            damp[todo], q[todo] = _continuous_damping(*rows, damp[todo], size_name, moved[todo])
+        else:  # the size comes with the damping's root (the same evaluations)
+            damp[todo], q[todo] = _discrete_damping(*rows, h, approx, damp[todo], size_name,
+                                                    moved[todo])  # fmt: skip
         if np.any(~np.isfinite(q)):
             bad = np.flatnonzero(~np.isfinite(q))[0]
             raise ValueError(
@@ -214,7 +219,10 @@ def point_contact_for(
         fast = (trial > low) & (trial < high) & (np.abs(f) <= 0.5 * f_last)
         trial = np.where(bracketed & ~fast & ~converged, false_pos, trial)
         f_last = np.abs(f)
-        k = np.exp(trial)
+        # a converged design keeps its stiffness (and its evaluation): compaction
+        k = np.where(converged, k, np.exp(trial))
+        moved = np.abs(np.log(k) - log_k)
+        todo = np.flatnonzero(~converged)
         width = np.abs(above - below)
         shut = bracketed & ~converged & (width <= 1e-14 * np.maximum(1.0, np.abs(below)))
         if np.any(shut):  # the size jumps across the target: no k between
@@ -246,9 +254,9 @@ def point_contact_for(
         return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
 
     sap = approx == "sap"
-    if scalar or len(shape) != 1:  # the prediction in the shape of the input
-        p = _predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),
-                     h, approx)  # fmt: skip
+    # the full prediction (with the ranges) once, in the shape of the input
+    p = _predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),
+                 h, approx)  # fmt: skip
     return PointContact(
         point_contact_stiffness=out(k),
         hunt_crossley_dissipation=out(np.zeros_like(k) if sap else damp),
@@ -269,53 +277,123 @@ def _predict(k, damp, m, v, g, h, approx) -> Prediction:
                    approximation=approx)  # fmt: skip
 
 
-def _continuous_damping(e, k, m, v, g, start) -> np.ndarray:
-    """The Hunt–Crossley ``d`` whose restitution is ``e`` at stiffness ``k`` (flat arrays):
-    warm-started Illinois on the exact restitution, else
-    :func:`~impactsym.contact.lawdesign.damping_for`."""
+def _size(k, damp, m, v, g, size_name) -> np.ndarray:
+    """The contact time or deepest overlap of the continuous contact (flat arrays)."""
+    p = predict(stiffness=k, dissipation=damp, mass=m, speed=v, gravity=g)
+    return np.asarray(getattr(p, size_name), float).ravel()
+
+
+def _continuous_damping(e, k, m, v, g, start, size_name, moved):
+    """The Hunt–Crossley ``d`` whose restitution is ``e`` at stiffness ``k`` (flat arrays),
+    and the size there: warm-started Illinois on the exact restitution (the size from the
+    same integrations), else :func:`~impactsym.contact.lawdesign.damping_for`."""
+    scale = np.sqrt(m / k) * (1.0 if size_name == "contact_time" else v)  # T, or v T
 
     def e_of(p, rows):
         b = g[rows] * np.sqrt(m[rows] / k[rows]) / v[rows]  # the pressing number
         s = p * v[rows]
-        return restitution_of("hunt-crossley", s, b, np.ones(rows.size), condition="position")
+        tau, e_p, z_max, _ = normalized_impact("hunt-crossley", s, b, np.ones(rows.size),
+                                               condition="position")  # fmt: skip
+        return e_p, (tau if size_name == "contact_time" else z_max) * scale[rows]
 
     if np.all(start > 0) and np.all(g == 0):
-        return start  # without gravity s = d v does not depend on k: the last root holds
+        # without gravity s = d v does not depend on k: the last root holds
+        return start, _size(k, start, m, v, g, size_name)
+    root, q = np.full(e.size, np.nan), np.full(e.size, np.nan)
+    cold = np.ones(e.size, bool)
     if np.all(start > 0) and np.all(g > 0):
-        warm = _warm(e, start, (1.0 - 1e-12) / (e * v), e_of)
-        if warm is not None:
-            return warm
-    return np.asarray(damping_for("hunt-crossley", restitution=e, stiffness=k, mass=m, speed=v,
-                      force=m * g, exponent=1.0, condition="position"), float).ravel()  # fmt: skip
+        _warm_rows(e, start, (1.0 - 1e-12) / (e * v), e_of, moved, root, q, cold, cap=0.3)
+    if cold.any():
+        i = np.flatnonzero(cold)
+        root[i] = np.asarray(damping_for("hunt-crossley", restitution=e[i], stiffness=k[i],
+                             mass=m[i], speed=v[i], force=m[i] * g[i], exponent=1.0,
+                             condition="position"), float).ravel()  # fmt: skip
+        q[i] = _size(k[i], root[i], m[i], v[i], g[i], size_name)
+    return root, q
 
 
-def _warm(e, start, upper, e_of):
-    """The root in a narrow bracket around the last one, or ``None`` if it is not there."""
+def _warm_rows(e, start, upper, e_of, moved, root, q, cold, cap=2e-2):
+    """Warm starts in place: where the root lies in a bracket around the last one, as
+    narrow as the stiffness moved (the damping moves less; at most ``cap``), else 2 %,
+    else 30 % wide, ``root`` and ``q`` get it and ``cold`` is cleared (measured: a cap of
+    30 % saves the continuous solve under gravity a quarter of its integrations, 2 % is
+    best at a step)."""
+    upper = np.broadcast_to(upper, e.shape)
+    tried = np.zeros(e.size)
+    for width in (np.clip(2.0 * moved, 1e-9, cap), np.full(e.size, 2e-2), np.full(e.size, 0.3)):
+        i = np.flatnonzero(cold & (width > tried))  # a bracket not yet tried
+        if i.size == 0:
+            continue
+        tried[i] = width[i]
+
+        def e_of_i(p, r, i=i):
+            return e_of(p, i[r])
+
+        root[i], q[i], ok = _warm(e[i], start[i], upper[i], e_of_i, width[i])
+        cold[i[ok]] = False
+
+
+def _warm(e, start, upper, e_of, width=2e-2):
+    """The root in a narrow bracket around the last one (relative ``width``), its size,
+    and where the root was in the bracket (elsewhere the two are ``nan``)."""
     rows = np.arange(e.size)
-    lo, hi = start * (1.0 - 2e-2), np.minimum(start * (1.0 + 2e-2), upper)
-    e_lo, e_hi = e_of(lo, rows), e_of(hi, rows)
-    if np.all((e_lo > e) & (e_hi <= e)):
-        return _illinois(e, lo, hi, e_lo, e_hi, e_of)
-    return None
+    lo, hi = start * (1.0 - width), np.minimum(start * (1.0 + width), upper)
+    (e_lo, q_lo), (e_hi, q_hi) = e_of(lo, rows), e_of(hi, rows)
+    ok = (e_lo > e) & (e_hi <= e)
+    root, q = np.full(e.size, np.nan), np.full(e.size, np.nan)
+    if ok.any():
+        i = np.flatnonzero(ok)
+
+        def e_of_i(p, r):
+            return e_of(p, i[r])
+
+        root[i], q[i] = _illinois(e[i], lo[i], hi[i], e_lo[i], e_hi[i], q_lo[i], q_hi[i], e_of_i)
+    return root, q, ok
 
 
-def _discrete_damping(e, k, m, v, g, h, approx, start) -> np.ndarray:
-    """The damping (``d``, or ``tau`` for ``"sap"``) whose phase-mean restitution is ``e``
-    at stiffness ``k`` (flat arrays): Illinois inside a bracket, warm-started."""
+def _mean_of(k, m, v, g, h, approx, size_name):
+    """``e_of(p, rows)``: the phase-mean restitution and size of designs ``rows`` at the
+    damping ``p`` (``d``, or ``tau`` for ``"sap"``), without the range search."""
     sap = approx == "sap"
 
     def e_of(p, rows):
         d = np.zeros(rows.size) if sap else p
         tau = p if sap else 0.0
-        return phase_summary(k[rows], d, tau, m[rows], g[rows], v[rows], h,
-                             approximation=approx, bounds=False).restitution  # fmt: skip
+        r = phase_summary(k[rows], d, tau, m[rows], g[rows], v[rows], h,
+                          approximation=approx, bounds=False)  # fmt: skip
+        return r.restitution, getattr(r, size_name)
+
+    return e_of
+
+
+def _discrete_damping(e, k, m, v, g, h, approx, start, size_name, moved):
+    """The damping (``d``, or ``tau`` for ``"sap"``) whose phase-mean restitution is ``e``
+    at stiffness ``k`` (flat arrays): Illinois inside a bracket, warm-started where the
+    last root is near, and the phase-mean size (``size_name``) there, from the same
+    evaluations."""
+    sap = approx == "sap"
+    e_of = _mean_of(k, m, v, g, h, approx, size_name)
+
+    root, q = np.full(e.size, np.nan), np.full(e.size, np.nan)
+    cold = np.ones(e.size, bool)
+    if np.all(start > 0):  # warm start: a narrow bracket around the last root
+        _warm_rows(e, start, np.inf if sap else (1.0 - 1e-12) / (e * v), e_of, moved, root, q,
+                   cold)  # fmt: skip
+    if cold.any():
+        i = np.flatnonzero(cold)
+        args = (a[i] for a in (e, k, m, v, g))
+        root[i], q[i] = _discrete_cold(*args, h, approx, start[i], size_name)
+    return root, q
+
+
+def _discrete_cold(e, k, m, v, g, h, approx, start, size_name):
+    """:func:`_discrete_damping` from the widest bracket (``0`` to the rebound bound, or
+    a growing relaxation time for ``"sap"``), refusing what it cannot reach."""
+    sap = approx == "sap"
+    e_of = _mean_of(k, m, v, g, h, approx, size_name)
 
     rows = np.arange(e.size)
-    if np.all(start > 0):  # warm start: a narrow bracket around the last root
-        warm = _warm(e, start, np.inf if sap else (1.0 - 1e-12) / (e * v), e_of)
-        if warm is not None:
-            return warm
-    e0 = e_of(np.zeros(e.size), rows)
+    e0, q0 = e_of(np.zeros(e.size), rows)
     high = e0 <= e
     if high.any():
         bad = np.flatnonzero(high)[0]
@@ -326,13 +404,13 @@ def _discrete_damping(e, k, m, v, g, h, approx, start) -> np.ndarray:
         )
     if sap:
         hi = np.where(start > 0, 2.0 * start, 10.0 * h)
-        e_hi = e_of(hi, rows)
+        e_hi, q_hi = e_of(hi, rows)
         for _ in range(60):
             grow = e_hi > e
             if not grow.any():
                 break
             hi[grow] *= 4.0
-            e_hi[grow] = e_of(hi[grow], rows[grow])
+            e_hi[grow], q_hi[grow] = e_of(hi[grow], rows[grow])
         else:
             bad = np.flatnonzero(e_hi > e)[0]
             raise ValueError(
@@ -342,7 +420,7 @@ def _discrete_damping(e, k, m, v, g, h, approx, start) -> np.ndarray:
     else:
         # the rebound e v must stay below 1/d: the bracket ends just short of 1/(e v)
         hi = (1.0 - 1e-12) / (e * v)
-        e_hi = e_of(hi, rows)
+        e_hi, q_hi = e_of(hi, rows)
         bad = np.flatnonzero(e_hi > e)
         if bad.size:
             i = bad[0]
@@ -351,12 +429,13 @@ def _discrete_damping(e, k, m, v, g, h, approx, start) -> np.ndarray:
                 f"the rebound speed e v must stay below 1/d, and at d = 1/(e v) = {hi[i]:.6g} "
                 f"s/m the step still restitutes {e_hi[i]:.6g}; use a smaller time_step"
             )
-    return _illinois(e, np.zeros(e.size), hi, e0, e_hi, e_of)
+    return _illinois(e, np.zeros(e.size), hi, e0, e_hi, q0, q_hi, e_of)
 
 
-def _illinois(e, lo, hi, e_lo, e_hi, e_of) -> np.ndarray:
-    """The root of ``e_of(p) = e`` inside ``[lo, hi]`` (``e_of`` falling), Illinois steps."""
-    lo, hi = lo.copy(), hi.copy()
+def _illinois(e, lo, hi, e_lo, e_hi, q_lo, q_hi, e_of):
+    """The root of ``e_of(p)[0] = e`` inside ``[lo, hi]`` (falling), Illinois steps, and
+    ``e_of(p)[1]`` (the size) there."""
+    lo, hi, q_lo, q_hi = lo.copy(), hi.copy(), np.array(q_lo, float), np.array(q_hi, float)
     g_lo, g_hi = e_lo - e, e_hi - e
     side = np.zeros(e.size, int)
     active = np.ones(e.size, bool)
@@ -368,14 +447,16 @@ def _illinois(e, lo, hi, e_lo, e_hi, e_of) -> np.ndarray:
             trial = (lo[r] * g_hi[r] - hi[r] * g_lo[r]) / (g_hi[r] - g_lo[r])
         bad = ~np.isfinite(trial) | (trial <= lo[r]) | (trial >= hi[r])
         trial = np.where(bad, 0.5 * (lo[r] + hi[r]), trial)
-        g_t = e_of(trial, r) - e[r]
+        e_t, q_t = e_of(trial, r)
+        g_t = e_t - e[r]
         up = g_t > 0
         ru, rd = r[up], r[~up]
-        lo[ru], g_lo[ru] = trial[up], g_t[up]
-        hi[rd], g_hi[rd] = trial[~up], g_t[~up]
+        lo[ru], g_lo[ru], q_lo[ru] = trial[up], g_t[up], q_t[up]
+        hi[rd], g_hi[rd], q_hi[rd] = trial[~up], g_t[~up], q_t[~up]
         g_hi[ru] = np.where(side[ru] == 1, 0.5 * g_hi[ru], g_hi[ru])
         g_lo[rd] = np.where(side[rd] == -1, 0.5 * g_lo[rd], g_lo[rd])
         side[ru], side[rd] = 1, -1
         done = (np.abs(g_t) <= 1e-12) | (hi[r] - lo[r] <= 1e-13 * hi[r])
         active[r[done]] = False
-    return np.where(np.abs(g_lo) <= np.abs(g_hi), lo, hi)
+    nearer = np.abs(g_lo) <= np.abs(g_hi)
+    return np.where(nearer, lo, hi), np.where(nearer, q_lo, q_hi)

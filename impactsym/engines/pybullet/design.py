@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.pybullet.pair import split_pair
+from impactsym.engines.pybullet.phase_means import phase_means
 from impactsym.engines.pybullet.phases import phase_summary
 from impactsym.engines.pybullet.prediction import (
     PyBulletContact,
@@ -138,6 +139,13 @@ def contact_for(
 
 
 def _means(k, c, m, v, g, h, settings):
+    """The phase means: without the ranges and with the break points in closed form
+    (:func:`~impactsym.engines.pybullet.phase_means.phase_means`, the numbers of
+    ``phase_summary`` to rounding) where the contact processing threshold is left open
+    and the velocity restitution off (PyBullet's defaults; there the roots see every
+    change of the pattern), else the full summary."""
+    if np.isinf(settings["processing_threshold"]) and not settings["velocity_restitution"]:
+        return phase_means(k, c, m, v, g, h, **settings)
     r = phase_summary(k, c, m, v, g, h, **settings)
     return r.restitution, r.contact_time
 

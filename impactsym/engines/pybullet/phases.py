@@ -10,7 +10,13 @@ Gauss-Legendre (exact for a quadratic); the range takes the piece ends (the one-
 limits at the jumps) and the vertex of each piece's quadratic. Inside a grid interval
 (32 per sub-step) the changes are found one after another (the rest of the interval is
 searched again while its ends differ); a pattern that changes and changes back inside
-one interval would go unseen (tested against dense phase sampling). All arrays, SI.
+one interval would go unseen (tested against dense phase sampling). With PyBullet's
+defaults (no processing threshold, no velocity restitution) the pieces come from
+:func:`~impactsym.engines.pybullet.phase_means.break_pieces` instead: the changes at the
+roots of the branch quantities, in closed form, checked by the pattern either side
+(``1e-12`` of a phase off the root: the one-sided limits; the slivers between are added
+with them), bisection only where a root misses a change; the same means to ~1e-13,
+ranges to ~1e-12, 2-8 times faster. All arrays, SI.
 """
 
 from __future__ import annotations
@@ -22,6 +28,7 @@ import numpy as np
 
 from impactsym.engines.mujoco.discrete import PhaseSummary
 from impactsym.engines.phase_pieces import integrate_pieces, reduce_at, vertex
+from impactsym.engines.pybullet.phase_means import break_pieces
 from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD, step_pattern
 
 __all__ = ["phase_summary"]
@@ -78,6 +85,48 @@ def phase_summary(
             restitution_threshold=restitution_threshold,
         )
 
+    closed = pattern is None and np.isinf(processing_threshold) and not velocity_restitution
+    if closed:  # the compliant map with PyBullet's defaults: break points in closed form
+        p0, p1, s0, s1, own = break_pieces(
+            k, c, m, v, g, dt, substeps=substeps, slop=slop,
+            processing_threshold=processing_threshold,
+            velocity_restitution=velocity_restitution,
+            restitution_threshold=restitution_threshold,
+        )  # fmt: skip
+    else:
+        p0, p1, own = _bisected_pieces(run, size, substeps)
+        s0, s1 = p0, p1
+    pieces = integrate_pieces(lambda i, q: run(i, q)[0], s0, s1, own, size, nodes=_NODES)
+    pts, e, t = pieces.pts, pieces.restitution, pieces.contact_time
+    e_mean, t_mean, stick_frac = (
+        pieces.restitution_mean, pieces.contact_time_mean, pieces.stick_fraction
+    )  # fmt: skip
+    if closed:  # the slivers between a root and where its sides were sampled
+        gaps = np.stack([s0 - p0, p1 - s1], axis=1)
+        ends = (e[:, [0, -1]], t[:, [0, -1]], pieces.sticks[:, [0, -1]])
+        with np.errstate(invalid="ignore"):
+            t_end = np.where((gaps > 0) & np.isfinite(ends[1]), ends[1] * gaps, 0.0)
+        e_mean = e_mean + np.bincount(own, (ends[0] * gaps).sum(axis=1), minlength=size)
+        t_mean = t_mean + np.bincount(own, t_end.sum(axis=1), minlength=size)
+        stick_frac = stick_frac + np.bincount(own, (ends[2] * gaps).sum(axis=1), minlength=size)
+    top = vertex(pts[:, [0, 2, 4]], e[:, [0, 2, 4]], s0, s1)
+    e_lo = np.fmin(e.min(axis=1), top)
+    e_hi = np.fmax(e.max(axis=1), top)
+    fields = (
+        e_mean,
+        t_mean,
+        reduce_at(np.minimum, own, e_lo, size, np.inf),
+        reduce_at(np.maximum, own, e_hi, size, -np.inf),
+        reduce_at(np.minimum, own, t.min(axis=1), size, np.inf),
+        reduce_at(np.maximum, own, t.max(axis=1), size, -np.inf),
+        stick_frac,
+    )
+    return PhaseSummary(*(np.reshape(f, shape) for f in fields))
+
+
+def _bisected_pieces(run, size, substeps):
+    """The pieces of constant pattern by a grid and bisection (any ``pattern``): the
+    pattern on ``_GRID`` intervals per sub-step, each change located to ``2^-42``."""
     n_grid = _GRID * min(substeps, 16)  # sub-steps put pattern changes 1/substeps apart
     grid = np.linspace(0.0, 1.0, n_grid + 1)
     grid[-1] = np.nextafter(1.0, 0.0)
@@ -109,22 +158,4 @@ def phase_summary(
         starts.append(lo)  # left after _ROUNDS: integrated as one piece
         ends.append(hi)
         owner.append(own)
-    p0, p1, own = np.concatenate(starts), np.concatenate(ends), np.concatenate(owner)
-    pieces = integrate_pieces(lambda i, q: run(i, q)[0], p0, p1, own, size, nodes=_NODES)
-    pts, e, t = pieces.pts, pieces.restitution, pieces.contact_time
-    e_mean, t_mean, stick_frac = (
-        pieces.restitution_mean, pieces.contact_time_mean, pieces.stick_fraction
-    )  # fmt: skip
-    top = vertex(pts[:, [0, 2, 4]], e[:, [0, 2, 4]], p0, p1)
-    e_lo = np.fmin(e.min(axis=1), top)
-    e_hi = np.fmax(e.max(axis=1), top)
-    fields = (
-        e_mean,
-        t_mean,
-        reduce_at(np.minimum, own, e_lo, size, np.inf),
-        reduce_at(np.maximum, own, e_hi, size, -np.inf),
-        reduce_at(np.minimum, own, t.min(axis=1), size, np.inf),
-        reduce_at(np.maximum, own, t.max(axis=1), size, -np.inf),
-        stick_frac,
-    )
-    return PhaseSummary(*(np.reshape(f, shape) for f in fields))
+    return np.concatenate(starts), np.concatenate(ends), np.concatenate(owner)

@@ -1,0 +1,372 @@
+r"""PyBullet's phase-mean contact for the designs: the pattern's break points in closed form.
+
+:func:`~impactsym.engines.pybullet.phases.phase_summary` found where the branch pattern
+of :func:`~impactsym.engines.pybullet.stepping.step_pattern` changes by bisection (42
+runs of the map per change, on 32 grid intervals); :func:`break_pieces` finds the same
+pieces from a few runs, and :func:`phase_means` gives the means alone, which the
+designs need many times over. Where the pattern is constant the state of every
+(sub)step is an affine map of the free-flight state ``-1``, itself quadratic in the
+phase ``p`` (``x = v t + g t^2/2``, ``w = v + g t``, ``t = (p - 1) h``), so every
+quantity whose sign picks a branch (the gap ``d = s - x`` of the speculative branch,
+the bias ``b`` of the clipped impulse, the processing threshold ``x + threshold``, the
+restitution threshold) is a quadratic in ``p``, and :func:`tracked_pattern` carries
+the first and second phase derivatives of the state along the run: the first root
+ahead of a phase, over the (sub)steps up to the end state, is the next point where the
+pattern can change. ``b`` is followed across a change of the speculative branch it does
+not feel (where ``b <= 0`` at ``d = 0`` the impulse is zero on both sides, so ``b``
+changes formula but the pattern not): its root counts on the side of ``d`` whose
+formula gives it.
+
+The roots are checked, never trusted: the pattern ``1e-12`` of a phase before a root
+must be that of the piece (the pattern ``1e-12`` after it starts the next piece, and
+both are the one-sided limits a range needs), and a piece ends at one of 8 grid points
+only where the grid's pattern is the piece's; everything else (a change the roots do
+not see, such as a contact that starts sticking after its end state) is bisected as
+before. Pieces meet at the roots; adjacent pieces of one pattern are merged (the
+restitution is one quadratic there) and integrated by three-point Gauss–Legendre
+(exact for a quadratic) at the map's own runs. The roots are found to ~1e-14 of a
+phase, so the means agree with the bisection's to ~1e-13 and the ranges to ~1e-12
+(tested). A processing threshold or velocity restitution adds roots whose changes the
+pattern may not show (then bisected, slower than the old search): the callers use this
+module with PyBullet's defaults for both. All arrays, SI.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from impactsym.engines.pybullet.stepping import (
+    DEFAULT_RESTITUTION_THRESHOLD,
+    MAX_STEPS,
+    new_reading,
+    read_state,
+    step_budget,
+    step_pattern,
+)
+
+__all__ = ["break_pieces", "phase_means", "tracked_pattern"]
+
+_GRID = 8  # phase intervals: the check of the roots (a change the roots miss is bisected)
+_ROUNDS = 12  # pieces split off one grid interval before the rest counts as one piece
+_BISECT = 42  # bisection steps of the fallback (2^-42 of an interval)
+_GAP = 1e-12  # the patterns either side of a root are read this far (in phase) from it
+_NODES = 3  # Gauss-Legendre nodes per merged piece
+
+
+def _roots(q0, q1, q2):
+    """Both roots ``D > 0`` of ``q0 + q1 D + q2 D^2 / 2`` (``inf`` where there is none),
+    by the stable quadratic formula (``q2 = 0``: the linear root)."""
+    a = 0.5 * q2
+    with np.errstate(all="ignore"):
+        disc = q1 * q1 - 4.0 * a * q0
+        qq = -0.5 * (q1 + np.copysign(np.sqrt(disc), q1))
+        out = []
+        for r in (qq / a, q0 / qq):
+            out.append(np.where(np.isfinite(r) & (r > 0) & (disc >= 0), r, np.inf))
+    return out
+
+
+def _at(q0, q1, q2, D):
+    """The quadratic at ``D`` (``nan`` where ``D`` is ``inf``)."""
+    with np.errstate(all="ignore"):
+        return np.where(np.isfinite(D), q0 + q1 * D + 0.5 * q2 * D * D, np.nan)
+
+
+def tracked_pattern(
+    stiffness: Any,
+    damping: Any,
+    mass: Any,
+    speed: Any,
+    gravity: Any,
+    timestep: Any,
+    phase: Any,
+    *,
+    substeps: int,
+    slop: float,
+    processing_threshold: float,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The pattern of :func:`~impactsym.engines.pybullet.stepping.step_pattern` (the
+    same numbers) and the phase distance to the first root ahead (``inf``: none up to
+    the end of the phase range; module docstring). Flat arrays, broadcast together."""
+    arrays = np.broadcast_arrays(
+        *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
+    )
+    k, c, m, v, g, H, p = (a.ravel().copy() for a in arrays)
+    h = H / substeps
+    erp = h * k / (h * k + c)
+    cfm = 1.0 / (h * (h * k + c))
+    gain = 1.0 / (1.0 + m * cfm)
+    t = (p - 1.0) * H
+    x = v * t + 0.5 * g * t * t
+    w = v + g * t
+    size = k.size
+    budget = np.minimum(step_budget(k, c, m, H), MAX_STEPS)
+    limit = int(budget.max()) if size else 0
+    state = {
+        "x": x, "w": w, "x1": (v + g * t) * H, "x2": g * H * H, "w1": g * H,
+        "w2": np.zeros(size), "first": np.full(size, np.inf), "done": np.zeros(size, bool),
+        **new_reading(size), **{key: np.zeros(size) for key in ("n_spec", "n_pos", "n_rest")},
+    }  # fmt: skip
+    fixed = {"m": m, "g": g, "h": h, "erp": erp, "gain": gain, "budget": budget}
+    settings = (substeps, slop, processing_threshold, velocity_restitution, restitution_threshold)
+    live = np.arange(size)
+    a = {key: val[live] for key, val in {**fixed, **state}.items()}
+    n = -1
+    while live.size:
+        n += 1
+        _advance(a, n, limit, *settings)
+        finished = int(np.count_nonzero(a["done"]))
+        if 2 * finished >= live.size:
+            for key in state:
+                state[key][live] = a[key]
+            keep = ~a["done"]
+            live = live[keep]
+            a = {key: val[keep] for key, val in a.items()}
+    sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
+    n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
+    pattern = np.where(
+        sticks,
+        -1.0,
+        (((n_end * 1024.0 + n_first + 2.0) * 1024.0 + n_spec) * 1024.0 + n_pos) * 1024.0 + n_rest,
+    )
+    return pattern, state["first"]
+
+
+def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
+    """State ``n``: the map of :func:`~impactsym.engines.pybullet.stepping.step_pattern`
+    (the same operations), the derivatives of ``x`` and ``w`` in the phase, and the first
+    root of the branch quantities while the contact has not ended."""
+    m, g, h, erp, gain = a["m"], a["g"], a["h"], a["erp"], a["gain"]
+    x, w, ended = a["x"], a["w"], a["ended"]
+    x1, x2, w1, w2 = a["x1"], a["x2"], a["w1"], a["w2"]
+    watching = np.flatnonzero(~ended & ~a["done"])
+    first = a["first"].copy()
+    for _ in range(substeps):
+        w_star = w + g * h
+        d = slop - x
+        spec = d > 0
+        b_spec, b_pos = w_star - d / h, w_star - erp * d / h
+        b = np.where(spec, b_spec, b_pos)
+        s1, s2 = w1 + x1 / h, w2 + x2 / h  # derivatives of b_spec
+        p1, p2 = w1 + erp * x1 / h, w2 + erp * x2 / h  # of b_pos
+        if rest_coef:
+            rest = (np.abs(w_star) >= rest_threshold) & (w_star > 0)
+            add = np.where(rest, rest_coef * w_star, 0.0)
+            b = b + add
+            r0 = np.where(rest, rest_coef, 0.0)
+            b_spec, b_pos = b_spec + add, b_pos + add
+            s1, s2, p1, p2 = s1 + r0 * w1, s2 + r0 * w2, p1 + r0 * w1, p2 + r0 * w2
+            a["n_rest"] += ~ended & rest
+        within = -x <= threshold
+        dv = np.where(within, np.maximum(gain * b, 0.0), 0.0)
+        on = dv > 0
+        counting = ~ended & on
+        a["n_spec"] += counting & spec
+        a["n_pos"] += counting & ~spec
+        if watching.size:  # the roots ahead, for the contacts not yet ended
+            ahead = _ahead(
+                *(q[watching] for q in (x, x1, x2, w_star, w1, w2, d, within, b_spec, s1, s2,
+                                        b_pos, p1, p2)),
+                threshold, rest_coef, rest_threshold,
+            )  # fmt: skip
+            first[watching] = np.fmin(first[watching], ahead)
+        # the derivatives through the branch taken
+        gb = np.where(on, gain, 0.0)
+        b1, b2 = np.where(spec, s1, p1), np.where(spec, s2, p2)
+        w1, w2 = w1 - gb * b1, w2 - gb * b2
+        x1, x2 = x1 + h * w1, x2 + h * w2
+        w = w_star - dv
+        x = x + h * w
+    a["x"], a["w"], a["x1"], a["x2"], a["w1"], a["w2"], a["first"] = x, w, x1, x2, w1, w2, first
+    back, gone = read_state(a, n, x, w, dv * m / h, ~a["done"])
+    done = a["done"] | back | gone
+    if n >= limit:
+        over = ~done & (n >= a["budget"])
+        a["sticks"] |= over
+        done |= over
+    a["done"] = done
+
+
+def break_pieces(
+    stiffness: Any,
+    damping: Any,
+    mass: Any,
+    speed: Any,
+    gravity: Any,
+    timestep: Any,
+    *,
+    substeps: int,
+    slop: float,
+    processing_threshold: float,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
+) -> tuple[np.ndarray, ...]:
+    """The pieces of constant pattern (module docstring): ``(start, end, sampled_start,
+    sampled_end, owner)``, adjacent pieces of one pattern merged, sorted by owner and
+    start. A piece that meets another at a root starts (ends) there, and its pattern
+    was read ``_GAP`` inside, at ``sampled_start`` (``sampled_end``): there the map
+    gives the one-sided limits at the jump (elsewhere the sampled end is the end).
+    Arguments as in :func:`phase_means`, flattened (``owner`` indexes the flat arrays)."""
+    arrays = np.broadcast_arrays(
+        *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
+    )
+    flat = [a.ravel() for a in arrays]
+    size = flat[0].size
+    settings = {
+        "substeps": substeps, "slop": slop, "processing_threshold": processing_threshold,
+        "velocity_restitution": velocity_restitution,
+        "restitution_threshold": restitution_threshold,
+    }  # fmt: skip
+
+    def track(i, p):
+        return tracked_pattern(*(a[i] for a in flat), p, **settings)
+
+    def run(i, p):
+        return step_pattern(*(a[i] for a in flat), p, **settings)
+
+    grid = np.linspace(0.0, 1.0, _GRID + 1)
+    grid[-1] = np.nextafter(1.0, 0.0)
+    every = np.repeat(np.arange(size), _GRID + 1)
+    keys, ahead = (a.reshape(size, _GRID + 1) for a in track(every, np.tile(grid, size)))
+    lo, hi = np.tile(grid[:-1], size), np.tile(grid[1:], size)
+    k_lo, k_hi, r_lo = keys[:, :-1].ravel(), keys[:, 1:].ravel(), ahead[:, :-1].ravel()
+    own = np.repeat(np.arange(size), _GRID)
+    s_lo = lo.copy()  # where the pattern of the piece starting at lo was read
+    pieces = []  # (start, end, sampled start, sampled end, pattern, owner) of every piece
+    for _ in range(_ROUNDS):
+        cut = lo + r_lo
+        split = cut < hi
+        flat_piece = ~split & (k_lo == k_hi)
+        pieces.append(tuple(arr[flat_piece] for arr in (lo, hi, s_lo, hi, k_lo, own)))
+        rest = ~flat_piece
+        lo, hi, s_lo, k_lo, k_hi, own, cut, split = (
+            arr[rest] for arr in (lo, hi, s_lo, k_lo, k_hi, own, cut, split)
+        )  # fmt: skip
+        if own.size == 0:
+            break
+        a = np.where(split, np.maximum(cut - _GAP, lo), lo)
+        b = np.where(split, np.minimum(cut + _GAP, hi), hi)
+        # one run: the pattern just before each root, and the pattern and root after it
+        both_keys, both_ahead = track(np.concatenate([own, own]), np.concatenate([a, b]))
+        key_a, key_b, r_b = both_keys[: own.size], both_keys[own.size :], both_ahead[own.size :]
+        # the pieces meet at the root; the patterns either side are read _GAP away
+        end, r_b = np.where(split, cut, a), r_b + (b - np.where(split, cut, b))
+        bad = ~split | (key_a != k_lo)
+        if bad.any():  # a change the roots do not see: bisection
+            j = np.flatnonzero(bad)
+            end[j], b[j] = _bisect(run, own[j], lo[j], hi[j], k_lo[j])
+            key_b[j], r_b[j] = track(own[j], b[j])
+        pieces.append((lo, end, s_lo, np.where(bad, end, a), k_lo, own))
+        lo, s_lo, k_lo, r_lo = np.where(bad, b, cut), b, key_b, r_b
+    else:
+        pieces.append((lo, hi, s_lo, hi, k_lo, own))  # left after _ROUNDS: one piece
+    return _merge(*(np.concatenate(part) for part in zip(*pieces, strict=True)))
+
+
+def _ahead(
+    x,
+    x1,
+    x2,
+    w_star,
+    w1,
+    w2,
+    d,
+    within,
+    b_spec,
+    s1,
+    s2,
+    b_pos,
+    p1,
+    p2,
+    threshold,
+    rest_coef,
+    rest_threshold,
+):
+    """The first root ahead of the branch quantities of one sub-step (module docstring):
+    ``b`` on the side of ``d`` whose formula it is, ``d`` where the impulse is on at
+    ``d = 0`` (there ``b = w*``, plus the restitution term), the thresholds."""
+    q = [(b_spec, s1, s2), (b_pos, p1, p2), (d, -x1, -x2)]
+    if np.isfinite(threshold):
+        q.append((x + threshold, x1, x2))
+    if rest_coef:
+        q += [(w_star - rest_threshold, w1, w2), (w_star, w1, w2)]
+    q0, q1, q2 = (np.stack(part) for part in zip(*q, strict=True))
+    roots = np.stack(_roots(q0, q1, q2))  # (2, quantities, elements)
+    d_at = _at(d, -x1, -x2, roots[:, :2])
+    valid = np.ones(roots.shape, bool)
+    valid[:, 0] = within & (d_at[:, 0] > 0)
+    valid[:, 1] = within & (d_at[:, 1] <= 0)
+    valid[:, 2] = within & (_at(w_star, w1, w2, roots[:, 2]) > 0)
+    return np.where(valid, roots, np.inf).min(axis=(0, 1))
+
+
+def phase_means(
+    stiffness: Any,
+    damping: Any,
+    mass: Any,
+    speed: Any,
+    gravity: Any,
+    timestep: Any,
+    *,
+    substeps: int,
+    slop: float,
+    processing_threshold: float,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The phase-mean restitution and contact time (``inf`` where a piece sticks) of
+    :func:`~impactsym.engines.pybullet.phases.phase_summary`, without the ranges
+    (module docstring). Validated arrays in, broadcast together; arrays out."""
+    arrays = np.broadcast_arrays(
+        *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
+    )
+    shape = arrays[0].shape
+    flat = [a.ravel() for a in arrays]
+    size = flat[0].size
+    settings = {
+        "substeps": substeps, "slop": slop, "processing_threshold": processing_threshold,
+        "velocity_restitution": velocity_restitution,
+        "restitution_threshold": restitution_threshold,
+    }  # fmt: skip
+    p0, p1, _, _, own = break_pieces(*flat, **settings)
+    x, weights = np.polynomial.legendre.leggauss(_NODES)
+    half, centre = 0.5 * (p1 - p0), 0.5 * (p1 + p0)
+    pts = centre[:, None] + half[:, None] * x[None, :]
+    rows = np.repeat(own, _NODES)
+    res = step_pattern(*(a[rows] for a in flat), pts.ravel(), **settings)[0]
+    e = res.restitution.reshape(pts.shape)
+    t = res.contact_time.reshape(pts.shape)
+    stuck = res.sticks.reshape(pts.shape)
+    wts = half[:, None] * weights[None, :]
+    e_mean = np.bincount(own, (wts * e).sum(axis=1), minlength=size)
+    with np.errstate(invalid="ignore"):
+        t_piece = np.where(stuck.any(axis=1), np.inf, (wts * t).sum(axis=1))
+    t_mean = np.zeros(size)
+    np.add.at(t_mean, own, t_piece)
+    return e_mean.reshape(shape), t_mean.reshape(shape)
+
+
+def _merge(p0, p1, s0, s1, key, own):
+    """The pieces sorted by owner and start, adjacent ones of one pattern joined."""
+    order = np.lexsort((p0, own))
+    p0, p1, s0, s1, key, own = (a[order] for a in (p0, p1, s0, s1, key, own))
+    joins = np.zeros(p0.size, bool)
+    joins[1:] = (own[1:] == own[:-1]) & (key[1:] == key[:-1]) & (p0[1:] == p1[:-1])
+    starts = np.flatnonzero(~joins)
+    lasts = np.append(starts[1:], p0.size) - 1
+    return p0[starts], p1[lasts], s0[starts], s1[lasts], own[starts]
+
+
+def _bisect(run, own, lo, hi, k_lo):
+    """The phases ``a < b`` at ``2^-42`` of ``[lo, hi]`` with pattern ``k_lo`` at ``a``
+    and another at ``b`` (as in :mod:`~impactsym.engines.pybullet.phases`)."""
+    a, b = lo.copy(), hi.copy()
+    for _ in range(_BISECT):
+        mid = 0.5 * (a + b)
+        same = run(own, mid)[1] == k_lo
+        a, b = np.where(same, mid, a), np.where(same, b, mid)
+    return a, b

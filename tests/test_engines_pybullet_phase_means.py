@@ -1,0 +1,62 @@
+"""PyBullet's phase pieces from closed-form break points against the grid-and-bisection
+search (phase_summary with an explicit ``pattern``, which takes that path) and against
+the pattern itself read on either side of every root."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from impactsym.engines.pybullet.phase_means import phase_means, tracked_pattern
+from impactsym.engines.pybullet.phases import phase_summary
+from impactsym.engines.pybullet.stepping import step_pattern
+
+RNG = np.random.default_rng(2040)
+H = 1 / 240
+BASE = {"slop": 1e-5, "processing_threshold": np.inf}
+
+
+def _contacts(n, gravity):
+    t = RNG.uniform(3.0, 40.0, n) * H
+    zeta = RNG.uniform(0.0, 0.6, n)
+    m, v = RNG.uniform(0.05, 1.0, n), RNG.uniform(0.3, 2.0, n)
+    k = m * (np.pi / t) ** 2
+    return k, 2.0 * zeta * np.sqrt(k * m), m, v, np.full(n, gravity)
+
+
+@pytest.mark.parametrize(("gravity", "substeps"), [(0.0, 1), (9.81, 1), (9.81, 2)])
+def test_means_and_ranges_are_those_of_the_bisection(gravity, substeps):
+    k, c, m, v, g = _contacts(60, gravity)
+    settings = {**BASE, "substeps": substeps}
+    fast = phase_summary(k, c, m, v, g, H, **settings)
+    bisected = phase_summary(k, c, m, v, g, H, **settings, pattern=step_pattern)
+    e, t = phase_means(k, c, m, v, g, H, **settings)
+    if gravity:
+        assert np.isinf(bisected.contact_time).any()  # sticking phases are in the mix
+    np.testing.assert_array_equal(np.isinf(fast.contact_time), np.isinf(bisected.contact_time))
+    np.testing.assert_array_equal(np.isinf(t), np.isinf(bisected.contact_time))
+    for name in ("restitution", "contact_time", "stick_fraction"):
+        want = getattr(bisected, name)
+        np.testing.assert_allclose(getattr(fast, name), want, rtol=1e-11, atol=1e-13)
+    np.testing.assert_allclose(e, bisected.restitution, rtol=1e-11, atol=1e-13)
+    np.testing.assert_allclose(t, bisected.contact_time, rtol=1e-11)
+    for name in ("restitution_min", "restitution_max", "contact_time_min", "contact_time_max"):
+        want = getattr(bisected, name)
+        np.testing.assert_allclose(getattr(fast, name), want, rtol=1e-10, err_msg=name)
+
+
+def test_the_pattern_holds_up_to_the_root_and_changes_there():
+    k, c, m, v, g = _contacts(40, 0.0)
+    p = RNG.uniform(0.0, 0.9, k.size)
+    key, ahead = tracked_pattern(k, c, m, v, g, H, p, substeps=1, **BASE)
+    np.testing.assert_array_equal(key, step_pattern(k, c, m, v, g, H, p, substeps=1, **BASE)[1])
+    has = p + ahead < 1.0
+    assert has.sum() > 20
+    k, c, m, v, g, p, key, ahead = (a[has] for a in (k, c, m, v, g, p, key, ahead))
+    before = p[:, None] + ahead[:, None] * np.linspace(0.0, 1.0 - 1e-11, 30)[None, :]
+    rows = np.repeat(np.arange(k.size), 30)
+    args = (k[rows], c[rows], m[rows], v[rows], g[rows], H, before.ravel())
+    same = step_pattern(*args, substeps=1, **BASE)[1].reshape(before.shape)
+    np.testing.assert_array_equal(same, np.broadcast_to(key[:, None], before.shape))
+    after = step_pattern(k, c, m, v, g, H, p + ahead + 1e-11, substeps=1, **BASE)[1]
+    assert np.all(after != key)
