@@ -196,7 +196,9 @@ def damping_for(
     Returns
     -------
     float or ndarray
-        The damping parameter, broadcast over the inputs; ``0`` for ``e = 1``.
+        The damping parameter, broadcast over the inputs; ``0`` for ``e = 1``. Large
+        unpressed calls invert the tables of :func:`~impactsym.contact.nonlinear.impact`
+        (module docstring): the same target in a smaller call may differ at 1e-9.
 
     Raises
     ------

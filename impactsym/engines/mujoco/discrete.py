@@ -48,7 +48,14 @@ from impactsym.engines.mujoco.stepping import StepContact
 from impactsym.engines.phase_pieces import integrate_pieces, reduce_at, vertex
 from impactsym.records import ArrayRecord
 
-__all__ = ["INTEGRATORS", "PhaseSummary", "phase_mean", "phase_summary", "step_contact"]
+__all__ = [
+    "INTEGRATORS",
+    "PhaseSummary",
+    "bounds_without_search",
+    "phase_mean",
+    "phase_summary",
+    "step_contact",
+]
 
 
 #: the discrete contact model of each MuJoCo integrator (same signature)
@@ -62,6 +69,13 @@ _MARGIN = 64.0  # lattice cells on each side of the secant bracket sampled all t
 _SECANT = 12  # bracketed secant rounds per jump before bisection (Euler)
 _GOLDEN = 40  # golden-section steps for an extreme inside a piece
 _NODES = 5  # Gauss-Legendre nodes per piece
+
+
+def bounds_without_search(integrator: str, solimp: tuple[float, ...]) -> bool:
+    """Whether :func:`phase_mean`'s bounds are exact with ``bounds=False`` too: the
+    pieces are quadratics in the phase (Euler and ``implicitfast`` at flat impedance),
+    so the extremes come from their ends and vertices without a search. Internal."""
+    return integrator not in ENTRY_PHASES and is_flat(solimp)
 
 
 def check_integrator(integrator: object) -> str:
@@ -343,7 +357,7 @@ def _split_and_integrate(
     top = vertex(pts[:, [0, 3, -1]], e[:, [0, 3, -1]], p0, p1)
     e_lo = np.fmin(e.min(axis=1), top)
     e_hi = np.fmax(e.max(axis=1), top)
-    if bounds and (integrator in ENTRY_PHASES or not is_flat(solimp)):  # no quadratics
+    if bounds and not bounds_without_search(integrator, solimp):  # no quadratics
         e_lo = np.fmin(e_lo, _interior_extreme(run, own, pts, e, -1.0))
         e_hi = np.fmax(e_hi, _interior_extreme(run, own, pts, e, 1.0))
     e_min = reduce_at(np.minimum, own, e_lo, size, np.inf)

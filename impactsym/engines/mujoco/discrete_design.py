@@ -51,13 +51,12 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.mujoco.discrete import phase_mean
+from impactsym.engines.mujoco.discrete import bounds_without_search, phase_mean
 from impactsym.engines.mujoco.model import (
     DEFAULT_TIMECONST,
     coefficients,
     d_max,
     effective_impedance,
-    is_flat,
     refsafe,
     weight_ratio,
 )
@@ -160,7 +159,7 @@ class DiscreteTarget:
             bounds=False,
             resolve_sticking=False,
         )
-        if self.integrator != "rk4" and is_flat(self.solimp):  # its bounds are exact
+        if bounds_without_search(self.integrator, self.solimp):  # its bounds are exact
             self._record(tc, dr, idx, p)
         return SimpleNamespace(
             restitution=p.restitution, contact_time=p.contact_time, sticks=np.isinf(p.contact_time)

@@ -237,7 +237,8 @@ def design_prediction(
 
     ``known`` is ``(7, size)`` over the flattened broadcast elements: the fields of
     :class:`~impactsym.engines.mujoco.discrete.PhaseSummary` without phase 0, exact, as
-    the design evaluated them at this very ``solref`` (``nan`` columns: not known).
+    the design evaluated them at its ``(timeconst, dampratio)`` (``solref`` may be that
+    pair in the stiffness form: equal to rounding; ``nan`` columns: not known).
     """
     simp, coeffs, rho, g, v0, scalar, m = _arguments(
         solref, solimp, speed, gravity, mass, timestep, inverse_weight

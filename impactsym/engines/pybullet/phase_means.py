@@ -41,6 +41,7 @@ from impactsym.engines.pybullet.stepping import (
     DEFAULT_RESTITUTION_THRESHOLD,
     MAX_STEPS,
     new_reading,
+    pattern_code,
     read_state,
     step_budget,
     step_pattern,
@@ -105,7 +106,7 @@ def tracked_pattern(
     w = v + g * t
     size = k.size
     budget = np.minimum(step_budget(k, c, m, H), MAX_STEPS)
-    limit = int(budget.max()) if size else 0
+    limit = int(budget.min()) if size else 0  # each element against its own budget
     state = {
         "x": x, "w": w, "x1": (v + g * t) * H, "x2": g * H * H, "w1": g * H,
         "w2": np.zeros(size), "first": np.full(size, np.inf), "done": np.zeros(size, bool),
@@ -128,12 +129,7 @@ def tracked_pattern(
             a = {key: val[keep] for key, val in a.items()}
     sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
-    pattern = np.where(
-        sticks,
-        -1.0,
-        (((n_end * 1024.0 + n_first + 2.0) * 1024.0 + n_spec) * 1024.0 + n_pos) * 1024.0 + n_rest,
-    )
-    return pattern, state["first"]
+    return pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest), state["first"]
 
 
 def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):

@@ -56,6 +56,7 @@ from impactsym.engines.pybullet.stepping import (
     DEFAULT_RESTITUTION_THRESHOLD,
     DEFAULT_SLOP,
     new_reading,
+    pattern_code,
     read_state,
     reading_fields,
 )
@@ -127,8 +128,7 @@ def rigid_step_pattern(
         done |= back | gone | over
     fields = reading_fields(r, v, p, H, 1.0)
     sticks, n_end, n_first = r["sticks"], r["n_end"], r["n_first"]
-    key = (((n_end * 1024.0 + n_first + 2.0) * 1024.0 + n_spec) * 1024.0 + n_pos) * 1024.0
-    pattern = np.where(sticks, -1.0, key + n_rest)
+    pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
     record = StepContact(**{name: val.reshape(shape) for name, val in fields.items()})
     return record, pattern.reshape(shape)
 

@@ -45,6 +45,7 @@ __all__ = [
     "DEFAULT_SLOP",
     "MAX_STEPS",
     "new_reading",
+    "pattern_code",
     "read_state",
     "reading_fields",
     "step_budget",
@@ -212,7 +213,9 @@ def step_pattern(
     w = v + g * t
     size = k.size
     budget = np.minimum(step_budget(k, c, m, H), MAX_STEPS)
-    limit = int(budget.max()) if size else 0
+    # each element is checked against its own budget, from the smallest one on (so its
+    # verdict does not depend on the other elements of the call)
+    limit = int(budget.min()) if size else 0
     # per-element state for every element; the loop steps a gathered copy of the live
     # ones and drops the finished ones when they are half of it (elementwise: the same
     # numbers as stepping everything)
@@ -238,13 +241,21 @@ def step_pattern(
     sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
     fields = reading_fields(state, v, p, H, m)
-    pattern = np.where(
-        sticks,
-        -1.0,
-        (((n_end * 1024.0 + n_first + 2.0) * 1024.0 + n_spec) * 1024.0 + n_pos) * 1024.0 + n_rest,
-    )
+    pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
     record = StepContact(**{key: val.reshape(shape) for key, val in fields.items()})
     return record, pattern.reshape(shape)
+
+
+def pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest) -> np.ndarray:
+    """One float per element that is equal exactly where the branch counts are: ``-1``
+    where the body sticks, else the counts packed in base 1024 (``n_end`` below ``2^13``,
+    the others below 1024: exact in a float). Counts beyond that give ``nan``, which
+    equals nothing: the phase summaries then bisect there, slower but not wrong.
+    """
+    small = (n_first + 2.0, n_spec, n_pos, n_rest)
+    fits = (n_end < 2.0**13) & np.all([(a >= 0) & (a < 1024.0) for a in small], axis=0)
+    code = (((n_end * 1024.0 + small[0]) * 1024.0 + n_spec) * 1024.0 + n_pos) * 1024.0 + n_rest
+    return np.where(sticks, -1.0, np.where(fits, code, np.nan))
 
 
 def _advance(
