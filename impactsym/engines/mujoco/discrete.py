@@ -397,18 +397,18 @@ def _reuse_ends(run, known, start, end, width):
     return run_pieces
 
 
-def _lattice_search(run, dt, ii, a, c, left_key, known, a_s, c_s, value, rising):
+def _lattice_search(run, dt, ii, a, c, left_key, narrowed, a_s, c_s, value, rising):
     """The 8-ary search for the jump in ``[a, c]`` of elements ``ii`` (module docstring).
 
     7 phases per round, the first whose end step differs from ``left_key`` bounds the
-    jump (14 rounds: ``8^-14 = 2^-42`` of a grid interval). Where ``known``, the jump
+    jump (14 rounds: ``8^-14 = 2^-42`` of a grid interval). Where ``narrowed``, the jump
     lies in ``(a_s, c_s)``: a phase at or below ``a_s`` is on its left, at or above
     ``c_s`` on its right, and one inside is placed by the sign of ``value(j, p)``
     (``<= 0`` on the left where ``rising``) instead of the model's end step.
     """
     a, c = a.copy(), c.copy()
     frac = np.arange(1, _WAYS) / _WAYS
-    sample = np.flatnonzero(~known)
+    sample = np.flatnonzero(~narrowed)
     for _ in range(_ROUNDS):
         if ii.size == 0:
             break
@@ -419,9 +419,9 @@ def _lattice_search(run, dt, ii, a, c, left_key, known, a_s, c_s, value, rising)
             res = run(np.repeat(i_t, _WAYS - 1), m_t.ravel())
             key = _end_step(res, m_t.ravel(), np.repeat(dt[i_t], _WAYS - 1)).reshape(m_t.shape)
             differs[sample] = key != left_key[sample, None]
-        if known.any():
-            differs |= known[:, None] & (m >= c_s[:, None])
-            r, q = np.nonzero(known[:, None] & (m > a_s[:, None]) & (m < c_s[:, None]))
+        if narrowed.any():
+            differs |= narrowed[:, None] & (m >= c_s[:, None])
+            r, q = np.nonzero(narrowed[:, None] & (m > a_s[:, None]) & (m < c_s[:, None]))
             if r.size:
                 h = value(r, m[r, q])
                 differs[r, q] = (h <= 0) != rising[r]

@@ -400,7 +400,7 @@ def _recurrence(state: dict, solimp, out: dict, todo: np.ndarray) -> None:
 def _impedance(depth: np.ndarray, solimp, wide: np.ndarray) -> np.ndarray:
     """:func:`impedance_at`, with the value ``wide`` it takes at and beyond the width
     (``depth / width`` clipped to exactly 1) set without evaluating the polynomials."""
-    inner = depth < solimp[2]
+    inner = ~(depth >= solimp[2])  # nan stays with impedance_at (nan), as there
     if inner.all():
         return impedance_at(depth, solimp)
     d = np.full(depth.shape, wide)
