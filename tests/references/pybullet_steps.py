@@ -71,7 +71,6 @@ def step_pattern(
     n_rest = np.zeros(size)
     n = -1
     budget = np.minimum(budget, MAX_STEPS)
-    limit = int(budget.max())
     while not done.all():
         n += 1
         for _ in range(substeps):
@@ -108,10 +107,9 @@ def step_pattern(
         gone = (after & ~back & (x <= 0)) | (stop & (x <= 0))
         depart = np.where(gone, -w, depart)
         done |= back | gone
-        if n >= limit:
-            over = ~done & (n >= budget)
-            sticks |= over
-            done |= over
+        over = ~done & (n >= budget)  # each element's own budget
+        sticks |= over
+        done |= over
     restitution = np.where(sticks, 0.0, -w_end / v)
     contact_time = np.where(sticks, np.inf, (p + n_end) * H)
     fields = {
