@@ -39,11 +39,10 @@ import numpy as np
 
 from impactsym.engines.pybullet.stepping import (
     DEFAULT_RESTITUTION_THRESHOLD,
-    MAX_STEPS,
-    new_reading,
     pattern_code,
     read_state,
-    step_budget,
+    run_live,
+    start_state,
     step_pattern,
 )
 
@@ -97,36 +96,15 @@ def tracked_pattern(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
     )
     k, c, m, v, g, H, p = (a.ravel().copy() for a in arrays)
-    h = H / substeps
-    erp = h * k / (h * k + c)
-    cfm = 1.0 / (h * (h * k + c))
-    gain = 1.0 / (1.0 + m * cfm)
-    t = (p - 1.0) * H
-    x = v * t + 0.5 * g * t * t
-    w = v + g * t
+    fixed, state = start_state(k, c, m, v, g, H, p, substeps)
+    # the phase derivatives ride along: x = x0 + x1 dp + x2 dp^2 / 2, w likewise
     size = k.size
-    budget = np.minimum(step_budget(k, c, m, H), MAX_STEPS)
-    limit = int(budget.min()) if size else 0  # each element against its own budget
-    state = {
-        "x": x, "w": w, "x1": (v + g * t) * H, "x2": g * H * H, "w1": g * H,
-        "w2": np.zeros(size), "first": np.full(size, np.inf), "done": np.zeros(size, bool),
-        **new_reading(size), **{key: np.zeros(size) for key in ("n_spec", "n_pos", "n_rest")},
-    }  # fmt: skip
-    fixed = {"m": m, "g": g, "h": h, "erp": erp, "gain": gain, "budget": budget}
+    state.update({
+        "x1": state["w"] * H, "x2": g * H * H, "w1": g * H, "w2": np.zeros(size),
+        "first": np.full(size, np.inf),
+    })  # fmt: skip
     settings = (substeps, slop, processing_threshold, velocity_restitution, restitution_threshold)
-    live = np.arange(size)
-    a = {key: val[live] for key, val in {**fixed, **state}.items()}
-    n = -1
-    while live.size:
-        n += 1
-        _advance(a, n, limit, *settings)
-        finished = int(np.count_nonzero(a["done"]))
-        if 2 * finished >= live.size:
-            for key in state:
-                state[key][live] = a[key]
-            keep = ~a["done"]
-            live = live[keep]
-            a = {key: val[keep] for key, val in a.items()}
+    state = run_live(fixed, state, lambda a, n, limit: _advance(a, n, limit, *settings))
     sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
     return pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest), state["first"]

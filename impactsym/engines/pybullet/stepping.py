@@ -48,6 +48,8 @@ __all__ = [
     "pattern_code",
     "read_state",
     "reading_fields",
+    "run_live",
+    "start_state",
     "step_budget",
     "step_contact",
     "step_pattern",
@@ -204,46 +206,66 @@ def step_pattern(
     )
     shape = arrays[0].shape
     k, c, m, v, g, H, p = (a.ravel().copy() for a in arrays)
-    h = H / substeps
-    erp = h * k / (h * k + c)
-    cfm = 1.0 / (h * (h * k + c))
-    gain = 1.0 / (1.0 + m * cfm)  # lambda / m = gain * b
-    t = (p - 1.0) * H  # state -1: free flight
-    x = v * t + 0.5 * g * t * t
-    w = v + g * t
-    size = k.size
-    budget = np.minimum(step_budget(k, c, m, H), MAX_STEPS)
-    # each element is checked against its own budget, from the smallest one on (so its
-    # verdict does not depend on the other elements of the call)
-    limit = int(budget.min()) if size else 0
-    # per-element state for every element; the loop steps a gathered copy of the live
-    # ones and drops the finished ones when they are half of it (elementwise: the same
-    # numbers as stepping everything)
-    state = {
-        "x": x, "w": w, "done": np.zeros(size, bool), **new_reading(size),
-        **{key: np.zeros(size) for key in ("n_spec", "n_pos", "n_rest")},
-    }  # fmt: skip
-    fixed = {"m": m, "g": g, "h": h, "erp": erp, "gain": gain, "budget": budget}
-    live = np.arange(size)
-    a = {key: val[live] for key, val in {**fixed, **state}.items()}
-    n = -1
-    while live.size:
-        n += 1
-        _advance(a, n, limit, substeps, slop, processing_threshold,
-                 velocity_restitution, restitution_threshold)  # fmt: skip
-        finished = int(np.count_nonzero(a["done"]))
-        if finished == live.size or 2 * finished >= live.size:
-            for key in state:
-                state[key][live] = a[key]
-            keep = ~a["done"]
-            live = live[keep]
-            a = {key: val[keep] for key, val in a.items()}
+    fixed, state = start_state(k, c, m, v, g, H, p, substeps)
+    state = run_live(
+        fixed, state,
+        lambda a, n, limit: _advance(a, n, limit, substeps, slop, processing_threshold,
+                                     velocity_restitution, restitution_threshold),
+    )  # fmt: skip
     sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
     fields = reading_fields(state, v, p, H, m)
     pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
     record = StepContact(**{key: val.reshape(shape) for key, val in fields.items()})
     return record, pattern.reshape(shape)
+
+
+def start_state(k, c, m, v, g, H, p, substeps: int) -> tuple[dict, dict]:
+    """The fixed arrays of the step map (``m, g, h, erp, gain, budget``: ERP and the
+    impulse gain ``lambda / m = gain * b`` from ``k, c`` and the sub-step ``h``) and the
+    state of every element at state ``-1`` (free flight ``(p - 1) H`` after touch), with
+    the reading's fields and the branch counts zeroed. Flat arrays."""
+    h = H / substeps
+    erp = h * k / (h * k + c)
+    cfm = 1.0 / (h * (h * k + c))
+    gain = 1.0 / (1.0 + m * cfm)  # lambda / m = gain * b
+    t = (p - 1.0) * H  # state -1: free flight
+    size = k.size
+    budget = np.minimum(step_budget(k, c, m, H), MAX_STEPS)
+    fixed = {"m": m, "g": g, "h": h, "erp": erp, "gain": gain, "budget": budget}
+    state = {
+        "x": v * t + 0.5 * g * t * t, "w": v + g * t, "done": np.zeros(size, bool),
+        **new_reading(size), **{key: np.zeros(size) for key in ("n_spec", "n_pos", "n_rest")},
+    }  # fmt: skip
+    return fixed, state
+
+
+def run_live(fixed: dict, state: dict, advance) -> dict:
+    """Step every element of ``state`` until it is done and return ``state``.
+
+    ``advance(a, n, limit)`` makes state ``n`` of the live elements (the dict ``a`` of
+    their arrays, ``fixed`` and ``state`` gathered, updated in place) and marks the done
+    ones; ``limit`` is the smallest step budget, from which each element is checked
+    against its own (so no verdict depends on the other elements of the call). The loop
+    steps a gathered copy of the live elements and drops the finished ones when they are
+    half of it: elementwise the same numbers as stepping everything.
+    """
+    size = fixed["budget"].size
+    limit = int(fixed["budget"].min()) if size else 0
+    live = np.arange(size)
+    a = {key: val[live] for key, val in {**fixed, **state}.items()}
+    n = -1
+    while live.size:
+        n += 1
+        advance(a, n, limit)
+        finished = int(np.count_nonzero(a["done"]))
+        if 2 * finished >= live.size:
+            for key in state:
+                state[key][live] = a[key]
+            keep = ~a["done"]
+            live = live[keep]
+            a = {key: val[keep] for key, val in a.items()}
+    return state
 
 
 def pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest) -> np.ndarray:
