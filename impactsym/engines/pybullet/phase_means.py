@@ -39,8 +39,8 @@ import numpy as np
 
 from impactsym.engines.pybullet.stepping import (
     DEFAULT_RESTITUTION_THRESHOLD,
+    close_state,
     pattern_code,
-    read_state,
     run_live,
     start_state,
     step_pattern,
@@ -156,13 +156,7 @@ def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
         w = w_star - dv
         x = x + h * w
     a["x"], a["w"], a["x1"], a["x2"], a["w1"], a["w2"], a["first"] = x, w, x1, x2, w1, w2, first
-    back, gone = read_state(a, n, x, w, dv * m / h, ~a["done"])
-    done = a["done"] | back | gone
-    if n >= limit:
-        over = ~done & (n >= a["budget"])
-        a["sticks"] |= over
-        done |= over
-    a["done"] = done
+    close_state(a, n, limit, dv * m / h)
 
 
 def break_pieces(

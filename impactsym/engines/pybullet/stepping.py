@@ -44,6 +44,7 @@ __all__ = [
     "DEFAULT_RESTITUTION_THRESHOLD",
     "DEFAULT_SLOP",
     "MAX_STEPS",
+    "close_state",
     "new_reading",
     "pattern_code",
     "read_state",
@@ -268,6 +269,20 @@ def run_live(fixed: dict, state: dict, advance) -> dict:
     return state
 
 
+def close_state(a: dict, n: int, limit: int, force: np.ndarray) -> None:
+    """State ``n`` of the live elements ``a`` (after their sub-steps): read it
+    (:func:`read_state`, ``force`` the last sub-step's) and mark the elements done that
+    departed, stick by a force back inside the overlap, or outlast their own step
+    budget (a stick; checked from ``limit``, the smallest budget, on)."""
+    back, gone = read_state(a, n, a["x"], a["w"], force, ~a["done"])
+    done = a["done"] | back | gone
+    if n >= limit:
+        over = ~done & (n >= a["budget"])
+        a["sticks"] |= over
+        done |= over
+    a["done"] = done
+
+
 def pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest) -> np.ndarray:
     """One float per element that is equal exactly where the branch counts are: ``-1``
     where the body sticks, else the counts packed in base 1024 (``n_end`` below ``2^13``,
@@ -303,10 +318,4 @@ def _advance(
         w = w_star - dv
         x = x + h * w
     a["x"], a["w"] = x, w
-    back, gone = read_state(a, n, x, w, dv * m / h, ~a["done"])
-    done = a["done"] | back | gone
-    if n >= limit:
-        over = ~done & (n >= a["budget"])
-        a["sticks"] |= over
-        done |= over
-    a["done"] = done
+    close_state(a, n, limit, dv * m / h)
