@@ -142,12 +142,19 @@ class DiscreteTarget:
         out._parent = None  # its means are of another timestep
         return out
 
-    def mean(self, tc, dr, idx):
+    def mean(self, tc, dr, idx, *, bounds=False):
         """Phase mean at ``solref = (tc, dr)`` of elements ``idx``: ``restitution``,
-        ``contact_time`` and ``sticks`` (at some phase), as ``predict(phase=None)``."""
+        ``contact_time`` and ``sticks`` (at some phase), as ``predict(phase=None)``.
+
+        ``bounds=True`` where the design may end at ``(tc, dr)``: the general summary then
+        also searches the extremes inside its pieces, so that the bounds are exact and the
+        design's prediction reuses the whole summary (:meth:`known_at`). At flat impedance
+        (Euler, ``implicitfast``) they are exact without the search and always kept.
+        """
         weight = None if self.weight is None else np.broadcast_to(self.weight, self.e.shape)[idx]
         rho = weight_ratio(self.mass, weight)
         h = self.timestep
+        exact = bounds_without_search(self.integrator, self.solimp)
         p = phase_mean(
             coefficients((tc, dr), self.solimp, h),
             self.solimp,
@@ -156,10 +163,10 @@ class DiscreteTarget:
             self.v[idx],
             h,
             integrator=self.integrator,
-            bounds=False,
+            bounds=bounds and not exact,
             resolve_sticking=False,
         )
-        if bounds_without_search(self.integrator, self.solimp):  # its bounds are exact
+        if bounds or exact:  # its bounds are exact
             self._record(tc, dr, idx, p)
         return SimpleNamespace(
             restitution=p.restitution, contact_time=p.contact_time, sticks=np.isinf(p.contact_time)
@@ -297,8 +304,8 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
         i = int(np.flatnonzero(~np.isfinite(dr_min))[0])
         _raise(tg, i, "the step map is unstable for every dampratio up to 100", refuse)
 
-    def gap(dr, i):  # target minus phase mean; sticking counts as restitution 0
-        p = tg.mean(tc[i], dr, i)
+    def gap(dr, i, final=False):  # target minus phase mean; sticking counts as restitution 0
+        p = tg.mean(tc[i], dr, i, bounds=final)
         return tg.e[i] - np.where(np.asarray(p.sticks), 0.0, np.asarray(p.restitution))
 
     dr = np.full(n, np.nan)
@@ -323,7 +330,7 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
     if rows.size:
         dr[rows] = _grid_crossing(tg, gap, tc, dr_min, rows, refuse)
     rows = np.flatnonzero(~checked)
-    p = tg.mean(tc[rows], dr[rows], rows)
+    p = tg.mean(tc[rows], dr[rows], rows, bounds=True)
     e = np.asarray(p.restitution)
     miss = np.asarray(p.sticks) | ~(np.abs(e - tg.e[rows]) <= _DESIGN_TOL)
     if miss.any():

@@ -54,8 +54,10 @@ def table_crossings(
     """Dampratios of the targets whose contact has a table, the elements left, and a
     mask of those whose design was checked to ``_ACCEPT`` by an exact evaluation.
 
-    ``gap(dr, i)`` is target minus phase mean of elements ``i`` at dampratios ``dr``
-    (sticking counts as restitution 0); ``contact`` labels the elements that share one
+    ``gap(dr, i, final=False)`` is target minus phase mean of elements ``i`` at
+    dampratios ``dr`` (sticking counts as restitution 0; ``final=True`` marks the
+    evaluations at which a design may be accepted, so the caller may keep more there);
+    ``contact`` labels the elements that share one
     ``E(dampratio)`` (integers), ``target`` the restitutions, ``low`` the bottom of each
     element's scan (above the stability limit) and ``top`` the top of the scan.
     """
@@ -145,7 +147,7 @@ def _invert(gap, x, E, i, members, e):
         linear = x[i] + (x[i + 1] - x[i]) * (E[i] - ek) / (E[i] - E[i + 1])
     guess = np.where(falling, cubic, linear)
     guess = np.clip(np.where(np.isfinite(guess), guess, x[i]), x[i], x[i + 1])
-    f = gap(np.exp(guess), who)  # target minus mean: < 0 too bouncy, >= 0 enough
+    f = gap(np.exp(guess), who, True)  # target minus mean: < 0 too bouncy, >= 0 enough
     done = np.abs(f) <= _ACCEPT
     out[k[done]] = np.exp(guess[done])
     checked[k[done]] = True
