@@ -44,6 +44,7 @@ from impactsym.engines.pybullet.stepping import (
     run_live,
     start_state,
     step_pattern,
+    substep_impulse,
 )
 
 __all__ = ["break_pieces", "phase_means", "tracked_pattern"]
@@ -114,33 +115,20 @@ def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
     """State ``n``: the map of :func:`~impactsym.engines.pybullet.stepping.step_pattern`
     (the same operations), the derivatives of ``x`` and ``w`` in the phase, and the first
     root of the branch quantities while the contact has not ended."""
-    m, g, h, erp, gain = a["m"], a["g"], a["h"], a["erp"], a["gain"]
-    x, w, ended = a["x"], a["w"], a["ended"]
+    h, erp, gain = a["h"], a["erp"], a["gain"]
+    x, w = a["x"], a["w"]
     x1, x2, w1, w2 = a["x1"], a["x2"], a["w1"], a["w2"]
-    watching = np.flatnonzero(~ended & ~a["done"])
+    watching = np.flatnonzero(~a["ended"] & ~a["done"])
     first = a["first"].copy()
+    settings = (slop, threshold, rest_coef, rest_threshold)
     for _ in range(substeps):
-        w_star = w + g * h
-        d = slop - x
-        spec = d > 0
-        b_spec, b_pos = w_star - d / h, w_star - erp * d / h
-        b = np.where(spec, b_spec, b_pos)
+        w_star, d, spec, b_spec, b_pos, rest, within, dv = substep_impulse(a, x, w, *settings)
         s1, s2 = w1 + x1 / h, w2 + x2 / h  # derivatives of b_spec
         p1, p2 = w1 + erp * x1 / h, w2 + erp * x2 / h  # of b_pos
-        if rest_coef:
-            rest = (np.abs(w_star) >= rest_threshold) & (w_star > 0)
-            add = np.where(rest, rest_coef * w_star, 0.0)
-            b = b + add
+        if rest is not None:  # the restitution term's
             r0 = np.where(rest, rest_coef, 0.0)
-            b_spec, b_pos = b_spec + add, b_pos + add
             s1, s2, p1, p2 = s1 + r0 * w1, s2 + r0 * w2, p1 + r0 * w1, p2 + r0 * w2
-            a["n_rest"] += ~ended & rest
-        within = -x <= threshold
-        dv = np.where(within, np.maximum(gain * b, 0.0), 0.0)
         on = dv > 0
-        counting = ~ended & on
-        a["n_spec"] += counting & spec
-        a["n_pos"] += counting & ~spec
         if watching.size:  # the roots ahead, for the contacts not yet ended
             ahead = _ahead(
                 *(q[watching] for q in (x, x1, x2, w_star, w1, w2, d, within, b_spec, s1, s2,
@@ -156,7 +144,7 @@ def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
         w = w_star - dv
         x = x + h * w
     a["x"], a["w"], a["x1"], a["x2"], a["w1"], a["w2"], a["first"] = x, w, x1, x2, w1, w2, first
-    close_state(a, n, limit, dv * m / h)
+    close_state(a, n, limit, dv * a["m"] / h)
 
 
 def break_pieces(

@@ -54,6 +54,7 @@ __all__ = [
     "step_budget",
     "step_contact",
     "step_pattern",
+    "substep_impulse",
 ]
 
 #: PyBullet's default ``contactSlop`` (``m_linearSlop`` set by PhysicsServerCommandProcessor)
@@ -295,27 +296,54 @@ def pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest) -> np.ndarray:
     return np.where(sticks, -1.0, np.where(fits, code, np.nan))
 
 
+def substep_impulse(
+    a: dict,
+    x: np.ndarray,
+    w: np.ndarray,
+    slop: float,
+    processing_threshold: float,
+    velocity_restitution: float,
+    restitution_threshold: float,
+) -> tuple[np.ndarray, ...]:
+    """The impulse of one sub-step from the state ``x, w`` (module docstring's map), with
+    its branches counted in the live elements ``a`` (``n_spec``, ``n_pos``, ``n_rest``,
+    where the contact has not ended). Returns ``w_star, d, spec, b_spec, b_pos, rest,
+    within, dv``: the bias on both sides of the speculative branch ``spec = d > 0``
+    (``b_spec``, ``b_pos``, the restitution term included), the mask ``rest`` of the
+    velocity-restitution term (``None`` without it), the mask ``within`` of the contact
+    processing threshold and the velocity change ``dv = lambda / m``; the caller makes
+    ``w' = w_star - dv``, ``x' = x + h w'``. Shared by :func:`step_pattern` and the
+    phase-derivative tracker of :mod:`~impactsym.engines.pybullet.phase_means`."""
+    g, h, erp, gain, ended = a["g"], a["h"], a["erp"], a["gain"], a["ended"]
+    w_star = w + g * h
+    d = slop - x
+    spec = d > 0
+    b_spec, b_pos = w_star - d / h, w_star - erp * d / h
+    rest = None
+    if velocity_restitution:  # restitutionCurve: a wanted separation speed
+        rest = (np.abs(w_star) >= restitution_threshold) & (w_star > 0)
+        add = np.where(rest, velocity_restitution * w_star, 0.0)
+        b_spec, b_pos = b_spec + add, b_pos + add
+        a["n_rest"] += ~ended & rest
+    within = -x <= processing_threshold
+    dv = np.where(within, np.maximum(gain * np.where(spec, b_spec, b_pos), 0.0), 0.0)
+    counting = ~ended & (dv > 0)
+    a["n_spec"] += counting & spec
+    a["n_pos"] += counting & ~spec
+    return w_star, d, spec, b_spec, b_pos, rest, within, dv
+
+
 def _advance(
     a, n, limit, substeps, slop, processing_threshold, velocity_restitution, restitution_threshold
 ):
     """State ``n`` of the live elements (the dict ``a`` of their arrays, updated in
     place): the sub-steps of one ``stepSimulation`` call and the bookkeeping of the
     module docstring; ``a["done"]`` marks the elements departed or stuck."""
-    m, g, h, erp, gain = a["m"], a["g"], a["h"], a["erp"], a["gain"]
-    x, w, ended = a["x"], a["w"], a["ended"]
+    settings = (slop, processing_threshold, velocity_restitution, restitution_threshold)
+    x, w, h = a["x"], a["w"], a["h"]
     for _ in range(substeps):
-        w_star = w + g * h
-        d = slop - x
-        b = np.where(d > 0, w_star - d / h, w_star - erp * d / h)
-        if velocity_restitution:  # restitutionCurve: a wanted separation speed
-            rest = (np.abs(w_star) >= restitution_threshold) & (w_star > 0)
-            b = b + np.where(rest, velocity_restitution * w_star, 0.0)
-            a["n_rest"] += ~ended & rest
-        dv = np.where(-x <= processing_threshold, np.maximum(gain * b, 0.0), 0.0)
-        counting = ~ended & (dv > 0)
-        a["n_spec"] += counting & (d > 0)
-        a["n_pos"] += counting & (d <= 0)
+        w_star, *_, dv = substep_impulse(a, x, w, *settings)
         w = w_star - dv
         x = x + h * w
     a["x"], a["w"] = x, w
-    close_state(a, n, limit, dv * m / h)
+    close_state(a, n, limit, dv * a["m"] / h)
