@@ -35,7 +35,7 @@ def step_pattern(
 ) -> tuple[StepContact, np.ndarray]:
     """:func:`step_contact` and the *pattern* of each element (same shape).
 
-    The pattern is an integer key of the branches the sub-steps took (first and end
+    The pattern is a record of the counts of the branches the sub-steps took (first and end
     state, sub-steps with a speculative and with a positional impulse, sticking): where
     it is constant in the phase, the end state is a fixed affine map of the free-flight
     state ``-1``, quadratic in the phase, so the restitution is a quadratic there and
@@ -122,10 +122,10 @@ def step_pattern(
         "max_penetration": x_max,
         "peak_accel": f_max / m,
     }
-    pattern = np.where(
-        sticks,
-        -1.0,
-        (((n_end * 1024.0 + n_first + 2.0) * 1024.0 + n_spec) * 1024.0 + n_pos) * 1024.0 + n_rest,
-    )
+    # the pattern: every branch count, all -1 where the body sticks
+    counts = {"end": n_end, "first": n_first, "spec": n_spec, "pos": n_pos, "rest": n_rest}
+    pattern = np.empty(sticks.shape, [(name, np.int64) for name in counts])
+    for name, count in counts.items():
+        pattern[name] = np.where(sticks, -1, count)
     record = StepContact(**{key: val.reshape(shape) for key, val in fields.items()})
     return record, pattern.reshape(shape)

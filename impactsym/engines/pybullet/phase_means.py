@@ -50,7 +50,10 @@ from impactsym.engines.pybullet.stepping import (
 __all__ = ["break_pieces", "phase_means", "tracked_pattern"]
 
 _GRID = 8  # phase intervals: the check of the roots (a change the roots miss is bisected)
-_ROUNDS = 12  # pieces split off one grid interval before the rest counts as one piece
+#: pieces split off one grid interval before the rest counts as one piece (met where the
+#: pattern changes thousands of times over the phase: in the random contacts checked,
+#: only contacts that stick at some phases, whose mean contact time is infinite anyway)
+_ROUNDS = 12
 _BISECT = 42  # bisection steps of the fallback (2^-42 of an interval)
 _GAP = 1e-12  # the patterns either side of a root are read this far (in phase) from it
 _NODES = 3  # Gauss-Legendre nodes per merged piece

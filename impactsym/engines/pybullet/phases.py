@@ -35,7 +35,10 @@ __all__ = ["phase_summary"]
 
 _GRID = 32  # phase intervals searched for changes of the pattern
 _BISECT = 42  # bisection steps per change (2^-42 < 1e-12 of a phase)
-_ROUNDS = 6  # changes of the pattern found inside one grid interval
+#: changes of the pattern found inside one grid interval; the rest is one piece (met
+#: where the pattern changes thousands of times over the phase: in the random contacts
+#: checked, only contacts that stick at some phases, whose mean contact time is infinite)
+_ROUNDS = 6
 _NODES = 3  # Gauss-Legendre nodes per piece
 
 

@@ -44,6 +44,7 @@ __all__ = [
     "DEFAULT_RESTITUTION_THRESHOLD",
     "DEFAULT_SLOP",
     "MAX_STEPS",
+    "PATTERN",
     "close_state",
     "new_reading",
     "pattern_code",
@@ -197,8 +198,9 @@ def step_pattern(
 ) -> tuple[StepContact, np.ndarray]:
     """:func:`step_contact` and the *pattern* of each element (same shape).
 
-    The pattern is an integer key of the branches the sub-steps took (first and end
-    state, sub-steps with a speculative and with a positional impulse, sticking): where
+    The pattern is a record (:data:`PATTERN`) of the counts of the branches the
+    sub-steps took (first and end state, sub-steps with a speculative, a positional and a
+    restitution impulse; all ``-1`` where the body sticks): where
     it is constant in the phase, the end state is a fixed affine map of the free-flight
     state ``-1``, quadratic in the phase, so the restitution is a quadratic there and
     the contact time linear (:mod:`~impactsym.engines.pybullet.phases` integrates it).
@@ -284,16 +286,22 @@ def close_state(a: dict, n: int, limit: int, force: np.ndarray) -> None:
     a["done"] = done
 
 
+#: the record of a branch pattern: every count, compared field by field (exact at any size)
+PATTERN = np.dtype([(name, np.int64) for name in ("end", "first", "spec", "pos", "rest")])
+
+
 def pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest) -> np.ndarray:
-    """One float per element that is equal exactly where the branch counts are: ``-1``
-    where the body sticks, else the counts packed in base 1024 (``n_end`` below ``2^13``,
-    the others below 1024: exact in a float). Counts beyond that give ``nan``, which
-    equals nothing: the phase summaries then bisect there, slower but not wrong.
-    """
-    small = (n_first + 2.0, n_spec, n_pos, n_rest)
-    fits = (n_end < 2.0**13) & np.all([(a >= 0) & (a < 1024.0) for a in small], axis=0)
-    code = (((n_end * 1024.0 + small[0]) * 1024.0 + n_spec) * 1024.0 + n_pos) * 1024.0 + n_rest
-    return np.where(sticks, -1.0, np.where(fits, code, np.nan))
+    """One record of :data:`PATTERN` per element that is equal exactly where the branch
+    counts are (``==`` compares records field by field): every field ``-1`` where the
+    body sticks, else the counts. Exact however long the contact (an earlier float
+    packing of the counts overflowed past 1024 sub-steps of one kind, and the phase
+    summaries then integrated across end-step jumps)."""
+    counts = np.broadcast_arrays(n_end, n_first, n_spec, n_pos, n_rest)
+    code = np.empty(counts[0].shape, PATTERN)
+    stuck = np.asarray(sticks, bool)
+    for name, count in zip(PATTERN.names, counts, strict=True):
+        code[name] = np.where(stuck, -1, count)
+    return code
 
 
 def substep_impulse(
