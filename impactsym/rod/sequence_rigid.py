@@ -21,6 +21,8 @@ docs/physics.md#the-rod-impact-continued-past-separation.
 
 from __future__ import annotations
 
+import functools
+import itertools
 import math
 import operator
 from dataclasses import dataclass, field
@@ -32,7 +34,14 @@ from impactsym.numeric.exppoly import (
     exp_poly_positive,
     exp_poly_roots,
 )
-from impactsym.numeric.poly import exp_antiderivative, horner, polyval_rows, taylor_shift_list, trim
+from impactsym.numeric.poly import (
+    exp_antiderivative,
+    exp_antiderivative_at,
+    horner,
+    polyval_rows,
+    taylor_shift_list,
+    trim,
+)
 from impactsym.rod.sequence import RodImpactSequence, SequenceState
 
 __all__ = ["RigidStep"]
@@ -48,6 +57,7 @@ _GAUSS_BY_DEGREE = [
     (16, np.polynomial.legendre.leggauss(32)),
     (_MAX_COEFFICIENTS, np.polynomial.legendre.leggauss(48)),
 ]
+_twice = functools.partial(operator.mul, 2.0)
 _G_SAMPLES = 17  # samples per piece that floor the search for the largest g (33 cost more
 # in sampling than they save in searches)
 
@@ -112,13 +122,17 @@ class _Tables:
     def build(cls, pieces: _Pieces, s_end: float) -> _Tables:
         a = pieces.alpha
         n = len(pieces.start)
-        deg = max((len(q) for q in pieces.q), default=1)
-        width = max(deg, 1)
-        q = np.array([Q + [0.0] * (width - len(Q)) for Q in pieces.q]).reshape(n, width)
+        lengths = np.fromiter(map(len, pieces.q), dtype=np.intp, count=n)
+        width = max(int(lengths.max(initial=1)), 1)
+        # scattered from one flat array (a list of padded lists costs more to convert)
+        flat = np.fromiter(itertools.chain.from_iterable(pieces.q), dtype=float)
+        q = np.zeros((n, width))
+        rows = np.repeat(np.arange(n), lengths)
+        q[rows, np.arange(flat.size) - np.repeat(np.cumsum(lengths) - lengths, lengths)] = flat
         start = np.array(pieces.start)
         p = np.array(pieces.p)
         h = np.diff(np.r_[start, s_end])
-        degree = np.array([max(len(Q) - 1, 0) for Q in pieces.q])
+        degree = np.maximum(lengths - 1, 0)
         tab = cls(a, start, p, q, np.zeros(n), np.zeros(n), degree)
         i1, i2 = tab._partial(np.arange(n), h)
         tab.G1[1:] = np.cumsum(i1)[:-1]
@@ -223,11 +237,10 @@ def _g_max(tab: _Tables, s_end: float) -> float:
     # a piece equal to one searched before (a free vibration repeats every four time
     # units) is searched only beyond that one's end: best already holds the rest
     searched: dict[tuple, float] = {}
-    for i, s0_i, lo_i, hi_i, X, bound_i in zip(
+    for i, s0_i, lo_i, X, bound_i in zip(
         live[keep].tolist(),
         s0[keep],
         lo[keep],
-        hi[keep],
         xhi[keep].tolist(),
         bound[keep],
         strict=True,
@@ -239,7 +252,7 @@ def _g_max(tab: _Tables, s_end: float) -> float:
         if lo_i == s0_i:
             key = (tab.p[i], Q.tobytes())
             done = searched.get(key, -1.0)
-            if X <= done:
+            if done >= X:
                 continue  # searched on [0, done] already
             if done < 0.0 and _below_on_piece(best - tab.p[i], Q, X):
                 continue  # proven below the best value so far (cheaper than the search)
@@ -306,10 +319,10 @@ def _below_on_piece(margin: float, Q: np.ndarray, X: float) -> bool:
     return exp_poly_positive(A, B, X) or exp_poly_bernstein_positive(A, B, X)
 
 
-def _first_root(A: np.ndarray, B: list, X: float, *, rising_from_zero: bool = False):
+def _first_root(A: list, B: list, X: float, *, rising_from_zero: bool = False):
     """First certified zero with sign change of :math:`e^x A + B` in :math:`(0, X]`, or
     ``None``."""
-    root = exp_poly_roots(A, np.array(B), 0.0, X, first=True, rising_from_zero=rising_from_zero)
+    root = exp_poly_roots(A, B, 0.0, X, first=True, rising_from_zero=rising_from_zero)
     return float(root[0]) if root.size else None
 
 
@@ -361,7 +374,8 @@ class RigidStep:
         G0 = v + p_in + q0 - p_new
         if Q_in:  # G = G0 + Q_in - q0 - 2 int Q_in
             n = len(Q_in)
-            G = [G0] + [Q_in[k] - 2.0 * Q_in[k - 1] / k for k in range(1, n)]
+            G = [G0]  # (maps: the comprehension's operations, faster)
+            G += map(operator.sub, Q_in[1:], map(operator.truediv, map(_twice, Q_in), range(1, n)))
             G.append(-2.0 * Q_in[n - 1] / n)
             B = list(map(operator.add, G, Q_in))
             B.append(G[n])
@@ -384,7 +398,7 @@ class RigidStep:
         ):
             root = None
         else:
-            root = _first_root(np.array([f]), B, X)
+            root = _first_root([f], B, X)
         if root is not None:
             X, h = root, alpha * root
             t_next = t + h
@@ -392,9 +406,9 @@ class RigidStep:
         ex = math.exp(-X)
         Gd = list(map(operator.sub, G, Q_in))  # G - Q_in (G is one longer, or Q_in empty)
         Gd.extend(G[len(Gd) :])
-        state.v = p_new - p_in + ex * horner(Gd, X)
-        R = exp_antiderivative(Gd)
-        state.y += alpha * ((p_new - p_in) * X + R[0] - ex * horner(R, X))
+        gd_x, r_0, r_x = exp_antiderivative_at(Gd, X)
+        state.v = p_new - p_in + ex * gd_x
+        state.y += alpha * ((p_new - p_in) * X + r_0 - ex * r_x)
         state.u = state.y
         state.t = t_next
         return root is not None
@@ -434,7 +448,7 @@ class RigidStep:
         ):
             root = None  # the gap stays open (the cheap certificates)
         else:
-            root = _first_root(np.array(A), Bgap, X, rising_from_zero=opening)
+            root = _first_root(A, Bgap, X, rising_from_zero=opening)
         if root is not None:
             X, h = root, alpha * root
             t_next = t + h
