@@ -265,13 +265,19 @@ def exp_poly_bernstein_positive(
     coef, mag, tail = [], 0.0, 0.0
     power = 1.0  # X ** (k - lead)
     e_X = math.exp(X) if negative else 1.0
+    a0 = A[0] if m == 1 else 0.0  # (one coefficient, the rod's contact: written out)
     for top in range(lead, first + 1 + (_BERNSTEIN_EXTRA if negative else 0)):
         t = B[top] if top < nb else 0.0
         size = abs(t)
-        for i in range(min(top + 1, m)):
-            term = A[i] * _INVFACT_LIST[top - i]
+        if m == 1:
+            term = a0 * _INVFACT_LIST[top]
             t += term
             size += abs(term)
+        else:
+            for i in range(min(top + 1, m)):
+                term = A[i] * _INVFACT_LIST[top - i]
+                t += term
+                size += abs(term)
         coef.append(t * power)
         mag += size * power
         power *= X

@@ -297,14 +297,19 @@ def _gap_stays_open(C: list, Q_in: list, R: list, alpha: float, X: float) -> boo
     c0, c1, c2 = C
     if c2 > 0.0:
         return False
-    mag_q = mag_r = 0.0
+    two_alpha = 2.0 * alpha
+    lower = c0 + two_alpha * R[0] + min(0.0, (c1 + c2 * X) * X)  # gap(0) + min(...)
+    if lower <= 0.0:
+        return False  # (most closing gaps end here, before the sums)
+    mag_q = 0.0
     for q in reversed(Q_in):
         mag_q = mag_q * X + abs(q)
+    lower -= two_alpha * X * mag_q
+    if lower <= 0.0:
+        return False
+    mag_r = 0.0
     for r in reversed(R):
         mag_r = mag_r * X + abs(r)
-    two_alpha = 2.0 * alpha
-    gap0 = c0 + two_alpha * R[0]
-    lower = gap0 + min(0.0, (c1 + c2 * X) * X) - two_alpha * X * mag_q
     scale = abs(c0) + (abs(c1) - c2 * X) * X + two_alpha * mag_r
     return lower > 1e-10 * scale
 
@@ -356,12 +361,12 @@ class RigidStep:
         Q_in = self.pieces.q[j]
         if Q_in and delta > 0.0:
             decay = math.exp(-delta)
-            Q_in = [decay * c for c in taylor_shift_list(Q_in, delta)]
+            Q_in = list(map(decay.__mul__, taylor_shift_list(Q_in, delta)))
         return j, delta, self.pieces.p[j], Q_in
 
     def free(self, state: SequenceState, incoming: tuple, t_next: float) -> None:
         _, _, p_in, Q_in = incoming
-        self.pieces.append(state.t, t_next - state.t, -p_in, [-c for c in Q_in])
+        self.pieces.append(state.t, t_next - state.t, -p_in, list(map(operator.neg, Q_in)))
         state.t = t_next
 
     def contact(self, state: SequenceState, incoming: tuple, t_next: float) -> bool:
@@ -428,7 +433,7 @@ class RigidStep:
             R = exp_antiderivative(Q_in) if Q_in else [0.0]
         C = [u - y - 2 * alpha * R[0], -alpha * (2 * p_in + v), -0.5 * alpha * f]
         if Q_in:
-            A, Bgap = C, [2 * alpha * r for r in R]
+            A, Bgap = C, list(map((2 * alpha).__mul__, R))
             slope = C[0] + C[1] + 2 * alpha * (R[1] if len(R) > 1 else 0.0)
         else:
             A, Bgap = [], C
@@ -453,9 +458,9 @@ class RigidStep:
             X, h = root, alpha * root
             t_next = t + h
         count = len(self.pieces.q)
-        self.pieces.append(t, h, -p_in, [-c for c in Q_in])
+        self.pieces.append(t, h, -p_in, list(map(operator.neg, Q_in)))
         if len(self.pieces.q) > count and self.pieces.q[-1]:  # (trailing zeros add nothing)
-            self._antiderivatives[count] = [-r for r in R[: len(self.pieces.q[-1])]]
+            self._antiderivatives[count] = list(map(operator.neg, R[: len(self.pieces.q[-1])]))
         ex = math.exp(-X)
         state.u = u - 2 * alpha * (p_in * X + (R[0] - ex * horner(R, X) if Q_in else 0.0))
         state.y = y + (v * h + 0.5 * f / alpha * h * h)
