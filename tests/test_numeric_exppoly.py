@@ -239,3 +239,19 @@ def test_exp_poly_roots_a_crossing_on_a_node_is_still_a_root():
     # a tangency at a node followed by a crossing: only the crossing
     B = np.polynomial.polynomial.polyfromroots([0.5, 0.5, 0.8])
     assert exp_poly_roots(np.zeros(0), B, 0.0, 1.0) == pytest.approx([0.8], abs=1e-15)
+
+
+def test_exp_poly_roots_takes_lists_as_it_takes_arrays():
+    """Lists of floats (the event loop's form, trailing zeros stripped in Python) give
+    the same roots as arrays, also with trailing (negative) zeros, NumPy scalars in the
+    list, or an empty A."""
+    rng = np.random.default_rng(3)
+    cases = [([], [0.2, -1.0, 1.0, 0.0, -0.0]), ([1.0, 0.0], [-3.0]), ([0.0], [0.5, -1.0])]
+    for _ in range(40):
+        root = float(rng.uniform(0.1, 1.9))
+        cases.append(planted(rng, root))
+    for A, B in cases:
+        want = exp_poly_roots(np.array(A), np.array(B), 0.0, 2.0)
+        got = exp_poly_roots(list(A), list(B), 0.0, 2.0)
+        mixed = exp_poly_roots([np.float64(a) for a in A], [*B, 0.0], 0.0, 2.0)
+        assert got.tolist() == want.tolist() == mixed.tolist()

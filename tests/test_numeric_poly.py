@@ -15,6 +15,7 @@ from impactsym.numeric.poly import (
     antiderivative,
     derivative,
     exp_antiderivative,
+    exp_antiderivative_at,
     horner,
     pad,
     polyval_rows,
@@ -94,6 +95,26 @@ def test_exp_antiderivative_is_the_exact_sum_to_rounding():
             exact = mp.quad(lambda s, Q=Q: mp.exp(-s) * mp.polyval(Q[::-1].tolist(), s), [0, x])
             closed = R[0] - math.exp(-x) * horner(R, x)
             assert closed == pytest.approx(float(exact), rel=1e-12, abs=1e-12 * np.abs(R).max())
+
+
+def test_exp_antiderivative_at_is_horner_of_exp_antiderivative_bit_for_bit():
+    """The one-pass values Q(x), R(0), R(x) equal horner(Q, x), R[0], horner(R, x) of
+    the list exp_antiderivative(Q) exactly (what lets the rod's contact use them with
+    bit-identical results), from the empty list to 40 coefficients, and Q(x), R(x)
+    agree with exact rational sums."""
+    rng = np.random.default_rng(5)
+    assert exp_antiderivative_at([], 0.7) == (0.0, 0.0, 0.0)
+    for n in [1, 2, 3, 8, 15, 40]:
+        for _ in range(50):
+            Q = (rng.normal(size=n) * 10.0 ** rng.uniform(-6, 6, n)).tolist()
+            x = float(rng.choice([0.0, 2.0, rng.uniform(0.0, 2.0)]))
+            R = exp_antiderivative(Q)
+            assert exp_antiderivative_at(Q, x) == (horner(Q, x), R[0], horner(R, x))
+        value, _, r_x = exp_antiderivative_at(Q, x)
+        size = float(exact_value(np.abs(Q), abs(x)))
+        assert abs(value - float(exact_value(Q, x))) <= 4 * n * 2.3e-16 * size
+        r_size = float(exact_value(np.abs(R), abs(x)))
+        assert abs(r_x - float(exact_value(R, x))) <= 4 * n * 2.3e-16 * r_size
 
 
 def test_pad_and_trim():

@@ -230,3 +230,51 @@ def test_bernstein_certificate_proves_what_is_true_and_only_that():
         low = F.min()
         assert low > 0, (A, B, X, rising)
     assert proven > 50
+
+
+def test_quick_gap_bound_proves_only_open_gaps():
+    """The flight's first, quickest test (the gap C(x) + 2 alpha e^-x R(x), R - R' =
+    Q_in, bounded below through its slope): where it says open, the gap sampled in
+    40-digit arithmetic is positive and the general search finds no zero; it says open
+    for a striker far away, not where the gap touches zero at the piece's end, nor for
+    an opening gap (zero at x = 0); f = 0 (C linear) and a constant incoming wave
+    (Q_in = []) included."""
+    from impactsym.numeric.poly import exp_antiderivative, horner
+    from impactsym.rod.sequence_rigid import _gap_stays_open
+
+    def gap(C, R, alpha, x):
+        with mp.workdps(40):
+            x = mp.mpf(x)
+            c = sum(mp.mpf(ck) * x**k for k, ck in enumerate(C))
+            r = sum(mp.mpf(rk) * x**k for k, rk in enumerate(R))
+            return c + 2 * mp.mpf(alpha) * mp.exp(-x) * r
+
+    rng = np.random.default_rng(17)
+    proven = 0
+    for trial in range(300):
+        alpha = float(np.exp(rng.uniform(np.log(0.1), np.log(10.0))))
+        n = int(rng.integers(0, 14))
+        Q_in = (rng.normal(size=n) * 0.5 ** np.arange(n)).tolist()
+        R = exp_antiderivative(Q_in) if Q_in else [0.0]
+        X = float(rng.uniform(0.01, 2.0))
+        f = 0.0 if trial % 3 == 0 else float(rng.uniform(0.0, 1.0))
+        C = [0.0, float(rng.normal()) * alpha, -0.5 * alpha * f]
+        far = float(rng.choice([0.0, 1e-3, 0.1, 1.0, 10.0]))
+        C[0] = far - 2.0 * alpha * R[0]  # the gap at x = 0
+        if trial % 5 == 0:  # the gap closes exactly at X
+            C[0] -= float(gap(C, R, alpha, X))
+        if not _gap_stays_open(C, Q_in, R, alpha, X):
+            continue
+        proven += 1
+        assert trial % 5 != 0
+        assert far > 0.0
+        xs = np.linspace(0.0, X, 201)
+        assert min(gap(C, R, alpha, x) for x in xs) > 0, (C, Q_in, alpha, X)
+        B = [2.0 * alpha * r for r in R]
+        assert exp_poly_roots(C, B, 0.0, X).size == 0
+        assert horner(C, X) + 2.0 * alpha * math.exp(-X) * horner(R, X) > 0.0
+    assert proven > 60
+    # a striker far away over a long constant-wave flight: open; an opening gap: no proof
+    assert _gap_stays_open([5.0, -1.0, -0.25], [], [0.0], 1.0, 2.0)  # C(2) = 2
+    assert not _gap_stays_open([5.0, -1.0, -0.25], [], [0.0], 1.0, 3.0)  # C(3) < 0
+    assert not _gap_stays_open([0.0, 1.0, -0.25], [], [0.0], 1.0, 3.0)

@@ -265,13 +265,19 @@ def exp_poly_bernstein_positive(
     coef, mag, tail = [], 0.0, 0.0
     power = 1.0  # X ** (k - lead)
     e_X = math.exp(X) if negative else 1.0
+    a0 = A[0] if m == 1 else 0.0  # (one coefficient, the rod's contact: written out)
     for top in range(lead, first + 1 + (_BERNSTEIN_EXTRA if negative else 0)):
         t = B[top] if top < nb else 0.0
         size = abs(t)
-        for i in range(min(top + 1, m)):
-            term = A[i] * _INVFACT_LIST[top - i]
+        if m == 1:
+            term = a0 * _INVFACT_LIST[top]
             t += term
             size += abs(term)
+        else:
+            for i in range(min(top + 1, m)):
+                term = A[i] * _INVFACT_LIST[top - i]
+                t += term
+                size += abs(term)
         coef.append(t * power)
         mag += size * power
         power *= X
@@ -349,8 +355,8 @@ _MAX_CELLS = 100_000
 
 
 def exp_poly_roots(
-    A: np.ndarray,
-    B: np.ndarray,
+    A: np.ndarray | Sequence[float],
+    B: np.ndarray | Sequence[float],
     lo: float,
     hi: float,
     *,
@@ -363,7 +369,8 @@ def exp_poly_roots(
     Parameters
     ----------
     A, B
-        Polynomial coefficients, lowest order first (empty for a zero polynomial).
+        Polynomial coefficients, lowest order first (empty for a zero polynomial):
+        arrays or lists of floats.
     lo, hi
         The interval; ``lo`` itself is excluded (it may be a known zero).
     first
@@ -398,7 +405,7 @@ def exp_poly_roots(
     """
     if not (math.isfinite(lo) and math.isfinite(hi)):
         raise ValueError(f"exp_poly_roots: lo and hi must be finite, got [{lo!r}, {hi!r}]")
-    Al, Bl = trim(A).tolist(), trim(B).tolist()
+    Al, Bl = _trimmed_list(A), _trimmed_list(B)
     if hi <= lo or not (Al or Bl):
         return np.empty(0)
     if Al and max(abs(lo), abs(hi)) > 600.0:
@@ -475,7 +482,7 @@ def exp_poly_roots(
                 ]
                 slope_against = sum(terms)
             mono = abs(T1) > slope_against + slope_bound()
-        spread = sum([abs(t) * p for t, p in zip(T[1:], powers[1:], strict=False)])
+        spread = sum(map(operator.mul, map(abs, T[1:]), powers[1:]))
         flat = abs(T0) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
         if mono or flat or r <= min_width * max(1.0, abs(u)):
             Fu, Fv = _value_slope(Al, Bl, u)[0], _value_slope(Al, Bl, v)[0]
@@ -493,6 +500,17 @@ def exp_poly_roots(
         bracketed_newton_scalar(value_slope, a, b, g_lo=ga, g_hi=gb) for a, b, ga, gb in brackets
     ]
     return np.array(roots) if len(roots) == 1 else np.sort(np.array(roots))
+
+
+def _trimmed_list(c) -> list:
+    """``c`` as a list of floats without trailing zeros (a list of floats is stripped
+    in plain Python: the event loop's pieces are lists)."""
+    if type(c) is list and all(type(x) is float for x in c):
+        n = len(c)
+        while n and c[n - 1] == 0.0:
+            n -= 1
+        return c[:n]
+    return trim(c).tolist()
 
 
 def _sign(x: float) -> float:

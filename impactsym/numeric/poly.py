@@ -95,6 +95,27 @@ def exp_antiderivative(Q: list) -> list:
     return R
 
 
+def exp_antiderivative_at(Q: list, x: float) -> tuple[float, float, float]:
+    r""":math:`Q(x)`, :math:`R(0)` and :math:`R(x)` for ``R = exp_antiderivative(Q)``,
+    in one pass from the top: the same operations as :func:`horner` and
+    :func:`exp_antiderivative` (bit for bit), without the list of ``R`` (the rod
+    sequence's contact pieces need only these three numbers).
+
+    >>> exp_antiderivative_at([0.0, 0.0, 1.0], 1.0)  # R = x^2 + 2x + 2
+    (1.0, 2.0, 5.0)
+    """
+    if not Q:
+        return 0.0 * x, 0.0, 0.0 * x
+    k = len(Q) - 1
+    value = r = r_value = Q[k]  # (Horner's first step: 0 x + c = c)
+    for c in reversed(Q[:k]):
+        r = c + k * r  # R_k = Q_k + (k + 1) R_{k+1}
+        value = value * x + c
+        r_value = r_value * x + r
+        k -= 1
+    return value, r, r_value
+
+
 def taylor_shift_list(c: list, u: float) -> list:
     r"""Coefficients of :math:`c(x + u)` for a list of floats, in plain Python
     (repeated synthetic division, :math:`n(n - 1)/2` multiply-adds): the event loop's

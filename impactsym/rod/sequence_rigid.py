@@ -21,6 +21,8 @@ docs/physics.md#the-rod-impact-continued-past-separation.
 
 from __future__ import annotations
 
+import functools
+import itertools
 import math
 import operator
 from dataclasses import dataclass, field
@@ -32,7 +34,14 @@ from impactsym.numeric.exppoly import (
     exp_poly_positive,
     exp_poly_roots,
 )
-from impactsym.numeric.poly import exp_antiderivative, horner, polyval_rows, taylor_shift_list, trim
+from impactsym.numeric.poly import (
+    exp_antiderivative,
+    exp_antiderivative_at,
+    horner,
+    polyval_rows,
+    taylor_shift_list,
+    trim,
+)
 from impactsym.rod.sequence import RodImpactSequence, SequenceState
 
 __all__ = ["RigidStep"]
@@ -48,6 +57,7 @@ _GAUSS_BY_DEGREE = [
     (16, np.polynomial.legendre.leggauss(32)),
     (_MAX_COEFFICIENTS, np.polynomial.legendre.leggauss(48)),
 ]
+_twice = functools.partial(operator.mul, 2.0)
 _G_SAMPLES = 17  # samples per piece that floor the search for the largest g (33 cost more
 # in sampling than they save in searches)
 
@@ -112,13 +122,17 @@ class _Tables:
     def build(cls, pieces: _Pieces, s_end: float) -> _Tables:
         a = pieces.alpha
         n = len(pieces.start)
-        deg = max((len(q) for q in pieces.q), default=1)
-        width = max(deg, 1)
-        q = np.array([Q + [0.0] * (width - len(Q)) for Q in pieces.q]).reshape(n, width)
+        lengths = np.fromiter(map(len, pieces.q), dtype=np.intp, count=n)
+        width = max(int(lengths.max(initial=1)), 1)
+        # scattered from one flat array (a list of padded lists costs more to convert)
+        flat = np.fromiter(itertools.chain.from_iterable(pieces.q), dtype=float)
+        q = np.zeros((n, width))
+        rows = np.repeat(np.arange(n), lengths)
+        q[rows, np.arange(flat.size) - np.repeat(np.cumsum(lengths) - lengths, lengths)] = flat
         start = np.array(pieces.start)
         p = np.array(pieces.p)
         h = np.diff(np.r_[start, s_end])
-        degree = np.array([max(len(Q) - 1, 0) for Q in pieces.q])
+        degree = np.maximum(lengths - 1, 0)
         tab = cls(a, start, p, q, np.zeros(n), np.zeros(n), degree)
         i1, i2 = tab._partial(np.arange(n), h)
         tab.G1[1:] = np.cumsum(i1)[:-1]
@@ -220,11 +234,13 @@ def _g_max(tab: _Tables, s_end: float) -> float:
     keep = np.flatnonzero(~constant & (bound >= floor))
     # the most promising pieces first: the best value found early skips the others
     keep = keep[np.argsort(-sampled[keep].max(axis=1), kind="stable")]
-    for i, s0_i, lo_i, hi_i, X, bound_i in zip(
+    # a piece equal to one searched before (a free vibration repeats every four time
+    # units) is searched only beyond that one's end: best already holds the rest
+    searched: dict[tuple, float] = {}
+    for i, s0_i, lo_i, X, bound_i in zip(
         live[keep].tolist(),
         s0[keep],
         lo[keep],
-        hi[keep],
         xhi[keep].tolist(),
         bound[keep],
         strict=True,
@@ -232,18 +248,23 @@ def _g_max(tab: _Tables, s_end: float) -> float:
         if bound_i <= best:
             continue  # cannot beat the best value so far
         Q = trim(tab.q[i])
-        if lo_i == s0_i and _below_on_piece(best - tab.p[i], Q, X):
-            continue  # proven below the best value so far (cheaper than the search)
-        cand = [lo_i, hi_i]
+        xlo = (lo_i - s0_i) / a
+        if lo_i == s0_i:
+            key = (tab.p[i], Q.tobytes())
+            done = searched.get(key, -1.0)
+            if done >= X:
+                continue  # searched on [0, done] already
+            if done < 0.0 and _below_on_piece(best - tab.p[i], Q, X):
+                continue  # proven below the best value so far (cheaper than the search)
+            searched[key] = X
+            xlo = max(done, 0.0)
+        xc = [xlo, X]
         if Q.size > 1:
             crit = exp_poly_roots(
-                np.zeros(0),
-                np.append(Q[1:] * np.arange(1.0, Q.size), 0.0) - Q,
-                (lo_i - s0_i) / a,
-                X,
+                np.zeros(0), np.append(Q[1:] * np.arange(1.0, Q.size), 0.0) - Q, xlo, X
             )
-            cand += list(s0_i + a * crit)
-        xc = (np.array(cand) - s0_i) / a
+            xc += ((s0_i + a * crit - s0_i) / a).tolist()  # (as times, then back)
+        xc = np.array(xc)
         vals = tab.p[i] + np.exp(-xc) * horner(Q, xc)
         best = max(best, float(vals.max()))
     return best
@@ -260,6 +281,39 @@ def _ends_negative(A: list, B: list, X: float) -> bool:
     return value < 0.0
 
 
+def _gap_stays_open(C: list, Q_in: list, R: list, alpha: float, X: float) -> bool:
+    r"""Whether the flight gap :math:`C(x) + 2 \alpha e^{-x} R(x)` (``C`` quadratic,
+    :math:`R - R' = Q_{in}`) is proven positive on :math:`[0, X]` by the quickest
+    bound, before the certificates of :mod:`impactsym.numeric.exppoly` (it decides
+    about half of the flight pieces that stay open, the striker far from the rod end).
+
+    With gap' :math:`= C' - 2 \alpha e^{-x} Q_{in}` and :math:`|e^{-x} Q_{in}(x)| \le
+    \sum_k |q_k| X^k` on the piece, gap(x) :math:`\ge` gap(0) :math:`+ \min(0, C(X) -
+    C(0)) - 2 \alpha X \sum_k |q_k| X^k` (:math:`C` is concave: its smallest increment is
+    at an end). ``True`` when that bound exceeds :math:`10^{-10}` of the magnitudes that
+    round in the gap's evaluation: the search on the same function could then find no
+    sign change, so the sequence is the same, bit for bit.
+    """
+    c0, c1, c2 = C
+    if c2 > 0.0:
+        return False
+    two_alpha = 2.0 * alpha
+    lower = c0 + two_alpha * R[0] + min(0.0, (c1 + c2 * X) * X)  # gap(0) + min(...)
+    if lower <= 0.0:
+        return False  # (most closing gaps end here, before the sums)
+    mag_q = 0.0
+    for q in reversed(Q_in):
+        mag_q = mag_q * X + abs(q)
+    lower -= two_alpha * X * mag_q
+    if lower <= 0.0:
+        return False
+    mag_r = 0.0
+    for r in reversed(R):
+        mag_r = mag_r * X + abs(r)
+    scale = abs(c0) + (abs(c1) - c2 * X) * X + two_alpha * mag_r
+    return lower > 1e-10 * scale
+
+
 def _below_on_piece(margin: float, Q: np.ndarray, X: float) -> bool:
     """Whether :math:`e^{-x} Q(x)` is proven below ``margin`` on :math:`[0, X]`: the
     cheap certificates of :mod:`impactsym.numeric.exppoly` applied to
@@ -270,10 +324,10 @@ def _below_on_piece(margin: float, Q: np.ndarray, X: float) -> bool:
     return exp_poly_positive(A, B, X) or exp_poly_bernstein_positive(A, B, X)
 
 
-def _first_root(A: np.ndarray, B: list, X: float, *, rising_from_zero: bool = False):
+def _first_root(A: list, B: list, X: float, *, rising_from_zero: bool = False):
     """First certified zero with sign change of :math:`e^x A + B` in :math:`(0, X]`, or
     ``None``."""
-    root = exp_poly_roots(A, np.array(B), 0.0, X, first=True, rising_from_zero=rising_from_zero)
+    root = exp_poly_roots(A, B, 0.0, X, first=True, rising_from_zero=rising_from_zero)
     return float(root[0]) if root.size else None
 
 
@@ -307,12 +361,12 @@ class RigidStep:
         Q_in = self.pieces.q[j]
         if Q_in and delta > 0.0:
             decay = math.exp(-delta)
-            Q_in = [decay * c for c in taylor_shift_list(Q_in, delta)]
+            Q_in = list(map(decay.__mul__, taylor_shift_list(Q_in, delta)))
         return j, delta, self.pieces.p[j], Q_in
 
     def free(self, state: SequenceState, incoming: tuple, t_next: float) -> None:
         _, _, p_in, Q_in = incoming
-        self.pieces.append(state.t, t_next - state.t, -p_in, [-c for c in Q_in])
+        self.pieces.append(state.t, t_next - state.t, -p_in, list(map(operator.neg, Q_in)))
         state.t = t_next
 
     def contact(self, state: SequenceState, incoming: tuple, t_next: float) -> bool:
@@ -325,7 +379,8 @@ class RigidStep:
         G0 = v + p_in + q0 - p_new
         if Q_in:  # G = G0 + Q_in - q0 - 2 int Q_in
             n = len(Q_in)
-            G = [G0] + [Q_in[k] - 2.0 * Q_in[k - 1] / k for k in range(1, n)]
+            G = [G0]  # (maps: the comprehension's operations, faster)
+            G += map(operator.sub, Q_in[1:], map(operator.truediv, map(_twice, Q_in), range(1, n)))
             G.append(-2.0 * Q_in[n - 1] / n)
             B = list(map(operator.add, G, Q_in))
             B.append(G[n])
@@ -348,7 +403,7 @@ class RigidStep:
         ):
             root = None
         else:
-            root = _first_root(np.array([f]), B, X)
+            root = _first_root([f], B, X)
         if root is not None:
             X, h = root, alpha * root
             t_next = t + h
@@ -356,9 +411,9 @@ class RigidStep:
         ex = math.exp(-X)
         Gd = list(map(operator.sub, G, Q_in))  # G - Q_in (G is one longer, or Q_in empty)
         Gd.extend(G[len(Gd) :])
-        state.v = p_new - p_in + ex * horner(Gd, X)
-        R = exp_antiderivative(Gd)
-        state.y += alpha * ((p_new - p_in) * X + R[0] - ex * horner(R, X))
+        gd_x, r_0, r_x = exp_antiderivative_at(Gd, X)
+        state.v = p_new - p_in + ex * gd_x
+        state.y += alpha * ((p_new - p_in) * X + r_0 - ex * r_x)
         state.u = state.y
         state.t = t_next
         return root is not None
@@ -378,7 +433,7 @@ class RigidStep:
             R = exp_antiderivative(Q_in) if Q_in else [0.0]
         C = [u - y - 2 * alpha * R[0], -alpha * (2 * p_in + v), -0.5 * alpha * f]
         if Q_in:
-            A, Bgap = C, [2 * alpha * r for r in R]
+            A, Bgap = C, list(map((2 * alpha).__mul__, R))
             slope = C[0] + C[1] + 2 * alpha * (R[1] if len(R) > 1 else 0.0)
         else:
             A, Bgap = [], C
@@ -389,20 +444,23 @@ class RigidStep:
         lo_gap = C[0] + (2 * alpha * R[0] if Q_in else 0.0)
         if lo_gap < 0.0:  # u - y >= 0 in flight; clear a rounding-level overlap
             C[0] -= lo_gap
-        if exp_poly_positive(A, Bgap, X, rising_from_zero=opening) or (
+        if (
+            _gap_stays_open(C, Q_in, R, alpha, X)
+            or exp_poly_positive(A, Bgap, X, rising_from_zero=opening)
+        ) or (
             not _ends_negative(A, Bgap, X)
             and exp_poly_bernstein_positive(A, Bgap, X, rising_from_zero=opening)
         ):
             root = None  # the gap stays open (the cheap certificates)
         else:
-            root = _first_root(np.array(A), Bgap, X, rising_from_zero=opening)
+            root = _first_root(A, Bgap, X, rising_from_zero=opening)
         if root is not None:
             X, h = root, alpha * root
             t_next = t + h
         count = len(self.pieces.q)
-        self.pieces.append(t, h, -p_in, [-c for c in Q_in])
+        self.pieces.append(t, h, -p_in, list(map(operator.neg, Q_in)))
         if len(self.pieces.q) > count and self.pieces.q[-1]:  # (trailing zeros add nothing)
-            self._antiderivatives[count] = [-r for r in R[: len(self.pieces.q[-1])]]
+            self._antiderivatives[count] = list(map(operator.neg, R[: len(self.pieces.q[-1])]))
         ex = math.exp(-X)
         state.u = u - 2 * alpha * (p_in * X + (R[0] - ex * horner(R, X) if Q_in else 0.0))
         state.y = y + (v * h + 0.5 * f / alpha * h * h)
