@@ -182,6 +182,25 @@ def test_build_resolves_a_kink_and_leaves_a_gap_only_there():
                                rtol=1e-13)  # fmt: skip
 
 
+def test_build_covers_no_release_as_sticking_next_to_a_piece_end():
+    """A sticking threshold between a piece's end and its first Chebyshev node (0.501 in
+    [0.5, 1], first node 0.5021): every node of that piece sticks, yet the contacts just
+    above 0.5 release. The table must give their exact values or leave them out, never
+    ``inf`` (the piece's ends are checked, so it is halved towards the threshold)."""
+    threshold = 0.501
+
+    def contact_time(u):
+        return np.where(u >= threshold, np.inf, 1.0 + u)[None]
+
+    table = build(contact_time, 0.0, 1.0, min_width=1e-7)
+    u = np.linspace(0.5, 0.5009, 10)
+    values, inside = table(u)
+    np.testing.assert_allclose(values[0, inside], 1.0 + u[inside], rtol=1e-13)
+    assert inside[:5].all()  # covered up to near the threshold
+    above, covered = table(np.array([0.502, 0.75, 1.0]))
+    assert covered.all() and np.isinf(above).all()
+
+
 def test_build_refuses_a_bad_interval():
     with pytest.raises(ValueError, match="lo < hi"):
         build(lambda u: u[None], 1.0, 0.0, min_width=1e-3)

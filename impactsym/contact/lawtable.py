@@ -22,9 +22,10 @@ Why this numerics
   release scales with a fractional power of the damping), and converge on each side. A
   piece still unresolved at ``min_width`` is left out (not covered): the caller evaluates
   the exact function there. A quantity constant on all nodes (``inf``, the contact time
-  of a sticking body; ``0``, its restitution) is taken as that constant, so a piece whose
-  nodes all stick is sticking throughout (the callers use it where sticking is monotone
-  in the variable). A piece where a value exceeds ``cap`` is left out without halving
+  of a sticking body; ``0``, its restitution) is taken as that constant where the exact
+  values at both ends of the piece are that constant too (the nodes never sit at the
+  ends), so a piece whose nodes and ends all stick is sticking throughout (the callers
+  use it where sticking is monotone in the variable); a threshold inside it halves it. A piece where a value exceeds ``cap`` is left out without halving
   (near a divergence the exact values grow expensive).
 * **One exact call per level.** All nodes of all pieces of one bisection level go to the
   exact function in one call (vectorized), so the building cost is a few calls.
@@ -188,6 +189,14 @@ def build(
         values = np.asarray(fn(u), dtype=float)
         values = values.reshape(values.shape[0], len(pending), nodes)  # (k, P, n)
         constant = np.all(values == values[..., :1], axis=-1)
+        # the nodes never sit at a piece's ends: a quantity constant on them is that
+        # constant only where both ends give it too (a sticking threshold between an end
+        # and the first node would otherwise be covered as sticking)
+        check = np.flatnonzero(np.any(constant, axis=0))
+        if check.size:
+            ends = np.asarray(fn(pending[check].ravel()), dtype=float)
+            ends = ends.reshape(values.shape[0], check.size, 2)
+            constant[:, check] &= np.all(ends == values[:, check, :1], axis=-1)
         finite = np.all(np.isfinite(values), axis=-1)
         with np.errstate(invalid="ignore"):
             coeffs = np.einsum("kpi,ji->kpj", np.where(np.isfinite(values), values, 0.0),
