@@ -198,7 +198,8 @@ def test_build_covers_no_release_as_sticking_next_to_a_piece_end():
     np.testing.assert_allclose(values[0, inside], 1.0 + u[inside], rtol=1e-13)
     assert inside[:5].all()  # covered up to near the threshold
     above, covered = table(np.array([0.502, 0.75, 1.0]))
-    assert covered.all() and np.isinf(above).all()
+    assert covered.all()
+    assert np.isinf(above).all()
 
 
 def test_build_refuses_a_bad_interval():

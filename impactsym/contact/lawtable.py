@@ -15,18 +15,19 @@ Why this numerics
   (:math:`c_0` halved). For a function analytic around the piece the coefficients fall
   geometrically and the interpolation error is of the order of the first omitted ones.
 * **Adaptive pieces.** A piece is accepted when the last :data:`TAIL_TERMS` coefficients
-  of every quantity are below ``tail`` times its largest value on the piece plus ``floor``
-  (the absolute accuracy of the exact values, e.g. of a restitution near 0); otherwise it
-  is halved. So pieces shrink geometrically towards kinks and singularities (a sticking
-  threshold, where the contact time diverges; zero damping, where the force condition's
-  release scales with a fractional power of the damping), and converge on each side. A
-  piece still unresolved at ``min_width`` is left out (not covered): the caller evaluates
-  the exact function there. A quantity constant on all nodes (``inf``, the contact time
-  of a sticking body; ``0``, its restitution) is taken as that constant where the exact
-  values at both ends of the piece are that constant too (the nodes never sit at the
-  ends), so a piece whose nodes and ends all stick is sticking throughout (the callers
-  use it where sticking is monotone in the variable); a threshold inside it halves it. A piece where a value exceeds ``cap`` is left out without halving
-  (near a divergence the exact values grow expensive).
+  of every quantity are below ``tail`` times its largest value on the piece plus
+  ``floor`` (the absolute accuracy of the exact values, e.g. of a restitution near 0);
+  otherwise it is halved. So pieces shrink geometrically towards kinks and singularities
+  (a sticking threshold, where the contact time diverges; zero damping, where the force
+  condition's release scales with a fractional power of the damping), and converge on
+  each side. A piece still unresolved at ``min_width`` is left out (not covered): the
+  caller evaluates the exact function there. A quantity constant on all nodes (``inf``,
+  the contact time of a sticking body; ``0``, its restitution) is taken as that constant
+  where the exact values at both ends of the piece are that constant too (the nodes
+  never sit at the ends), so a piece whose nodes and ends all stick is sticking
+  throughout (the callers use it where sticking is monotone in the variable); a
+  threshold inside it halves it. A piece where a value exceeds ``cap`` is left out
+  without halving (near a divergence the exact values grow expensive).
 * **One exact call per level.** All nodes of all pieces of one bisection level go to the
   exact function in one call (vectorized), so the building cost is a few calls.
 * **Clenshaw on whole arrays.** Evaluation finds each element's piece by binary search
