@@ -145,11 +145,16 @@ def test_impact_uses_the_table_on_large_calls_and_agrees_with_the_integration():
     rng = np.random.default_rng(5)
     n = TABLE_MIN
     c = rng.uniform(0.05, 0.8, n)
+    looked_up = free_table.cache_info()
     big = impact("viscoelastic", stiffness=1e4, damping=c * 0.01, mass=0.2, speed=0.5,
                  condition="force")  # fmt: skip
+    asked = free_table.cache_info()
+    assert asked.hits + asked.misses > looked_up.hits + looked_up.misses  # the table served
     for i in (0, 500):  # one element alone is integrated
         alone = impact("viscoelastic", stiffness=1e4, damping=c[i] * 0.01, mass=0.2,
                        speed=0.5, condition="force")  # fmt: skip
+        after = free_table.cache_info()
+        assert after.hits + after.misses == asked.hits + asked.misses  # no table for one
         assert big.contact_time[i] == pytest.approx(alone.contact_time, rel=1e-10)
         assert big.restitution[i] == pytest.approx(alone.restitution, abs=1e-10)
         assert big.max_penetration[i] == pytest.approx(alone.max_penetration, rel=1e-10)
@@ -157,7 +162,7 @@ def test_impact_uses_the_table_on_large_calls_and_agrees_with_the_integration():
 
 
 def test_pressed_and_uncovered_elements_are_integrated():
-    n = TABLE_MIN
+    n = TABLE_MIN + 1  # TABLE_MIN unpressed elements: the table serves them
     delta = np.full(n, 0.3)
     b = np.zeros(n)
     b[0] = 0.2  # pressed
@@ -166,10 +171,12 @@ def test_pressed_and_uncovered_elements_are_integrated():
     tau, e, z_max, peak = normalized_impact("hertz-linear", delta, b, q, condition="force")
     exact = integrated_impact("hertz-linear", delta[:2], b[:2], q[:2], condition="force")
     third = integrated_impact("hertz-linear", delta[2:3], b[2:3], q[2:3], condition="force")
+    table, _ = free_table("hertz-linear", P, "force")(np.arcsinh(delta[2:3] / TABLE_SCALE))
     for got, ref, tabled in zip((tau, e, z_max, peak), exact, third, strict=True):
         assert got[0] == ref[0]  # integrated: bit for bit
         assert got[1] == ref[1]
-        assert got[2] == pytest.approx(tabled[0], rel=1e-10)  # tabled
+        assert got[2] == pytest.approx(tabled[0], rel=1e-10)  # tabled ...
+    np.testing.assert_array_equal([tau[2], e[2], z_max[2], peak[2]], table[:4, 0])  # ... here
 
 
 def test_build_resolves_a_kink_and_leaves_a_gap_only_there():
