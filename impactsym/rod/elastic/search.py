@@ -123,8 +123,10 @@ def pole_search(which, alpha, f, *, kappa, n_terms):
     ``n_terms`` terms built only when first asked)."""
 
     def evaluate(t, own):
-        value = time_function(which, t, alpha, f[own], kappa=kappa)
-        slope = time_function(which, t, alpha, f[own], kappa=kappa, derivative=True)
+        value = time_function(which, t, alpha, f[own], kappa=kappa, n_terms=n_terms)
+        slope = time_function(
+            which, t, alpha, f[own], kappa=kappa, derivative=True, n_terms=n_terms
+        )
         return value, slope, value
 
     def bound(ta, tb, own, _a, _b, _da, _db):
