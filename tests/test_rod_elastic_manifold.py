@@ -48,7 +48,8 @@ def test_the_cell_count_does_not_grow_with_the_stiffness():
     counts = [interval_mesh(1.0, kappa=k)[0].size for k in (1e3, 1e4, 1e5, 1e6)]
     assert max(counts) < 160, counts  # a uniform Taylor mesh: 2048 .. 2e6 cells
     assert interval_mesh(1.0, kappa=4.0) is None  # complex contact poles: no manifold
-    assert interval_mesh(1.0, kappa=100.0) is None  # layer too long: the Taylor table
+    assert interval_mesh(1.0, kappa=30.0) is None  # layer too long: the Taylor table
+    assert interval_mesh(0.1, kappa=100.0) is None  # roots 11.3 and 88.7: too near
 
 
 @pytest.mark.parametrize(("array", "offset"), [("N", 0), ("N", 1), ("V", 2), ("Y", 1)])

@@ -56,7 +56,7 @@ _SLOW_REACH = 1.0
 #: Largest slow cell (the later reflections raise the polynomials' degree).
 _WIDEST = 0.25
 #: Least ratio ``p_f / p_s`` of the contact poles for the slow manifold.
-_SEPARATION = 64.0
+_SEPARATION = 8.0
 
 
 def _power_of_two_below(x: float) -> float:
@@ -66,7 +66,7 @@ def _power_of_two_below(x: float) -> float:
 def interval_mesh(alpha: float, *, kappa: float) -> tuple[np.ndarray, np.ndarray] | None:
     """Internal: widths (powers of two) of the cells of one reflection interval and which
     of them are layer (Taylor) cells, or ``None`` where the slow manifold does not apply
-    (complex or near contact poles, ``p_f / p_s < 64``, or a layer longer than 1/4).
+    (complex or near contact poles, ``p_f / p_s < 8``, or a layer longer than 1).
 
     The layer is a multiple of 8 cells of width ``h``; from its end the slow cells are
     the widest power of two up to ``H`` that the position is a multiple of (a dyadic
@@ -80,7 +80,7 @@ def interval_mesh(alpha: float, *, kappa: float) -> tuple[np.ndarray, np.ndarray
     h = _power_of_two_below(_LAYER_REACH / fast)
     n_layer = 8 * math.ceil(_LAYER_DECAY / (8.0 * h * fast))
     wide = _power_of_two_below(min(_SLOW_REACH / slow, _WIDEST))
-    if n_layer * h > 0.25 or wide < 8.0 * h:
+    if n_layer * h > 1.0 or wide < 8.0 * h:
         return None
     widths = [h] * n_layer
     position = n_layer  # in units of h (exact integers)
