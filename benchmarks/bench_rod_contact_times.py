@@ -21,7 +21,8 @@ Run ``python benchmarks/bench_rod_contact_times.py [--n 100]``. In one run, on t
   tables (:mod:`impactsym.rod.elastic.cells`) and the pointwise search on the pole sums
   alone (:func:`pointwise_pole_contact_times`, copied below: no table;
   ``--kappa-only`` runs this part alone);
-* stiff springs: ``alpha``-``f`` maps at ``kappa = 1e2, 1e3, 1e4`` in ms per point
+* stiff springs: ``alpha``-``f`` maps at ``kappa = 1e2, 1e3, 1e4`` in ms per point, the
+  slow-manifold table (:mod:`impactsym.rod.elastic.manifold`) where it applies
   (``--stiff-only`` runs this part alone).
 
 Times are CPU seconds of this process (``time.process_time``), robust against a

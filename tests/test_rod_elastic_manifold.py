@@ -62,10 +62,10 @@ def test_a_planted_error_on_a_slow_cell_shows_in_the_bound(monkeypatch, array, o
     cell = int(np.flatnonzero(~layer)[0]) + 1
     original = manifold.cell_bounds
 
-    def spoiled(alpha, kappa, h, arrays, *rest):
+    def spoiled(alpha, h, arrays, *rest, kappa):
         Y, V, N = arrays
         {"N": N, "V": V, "Y": Y}[array][:, cell, offset] += 1e-8
-        return original(alpha, kappa, h, arrays, *rest)
+        return original(alpha, h, arrays, *rest, kappa=kappa)
 
     monkeypatch.setattr(manifold, "cell_bounds", spoiled)
     table = ManifoldTable(a, k, 2)

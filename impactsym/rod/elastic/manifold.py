@@ -264,7 +264,9 @@ class ManifoldTable(TaylorTable):
                 if not layer[-1]:
                     n0, n0_lo = _split_total([*N[rhs, at[-1]], *N_lo[rhs, at[-1]]])
                 state[rhs] = [(y0, y0_lo), (v0, v0_lo), (n0, n0_lo)]
-        bounds = cell_bounds(alpha, kappa, self.h, (Y, V, N), (Y_lo, V_lo, N_lo), (G_hi, G_lo), n)
+        bounds = cell_bounds(
+            alpha, self.h, (Y, V, N), (Y_lo, V_lo, N_lo), (G_hi, G_lo), n, kappa=kappa
+        )
         self.N_a, self.N_b = N
         self.Y_a, self.Y_b = Y
         self.err_y_a, self.err_y_b, self.err_n_a, self.err_n_b = bounds

@@ -159,7 +159,7 @@ class TaylorTable:
 
     def _bound(self, Y, V, N, lows, G_hi, G_lo, n):
         """The error bounds of the stored arrays (:func:`cell_bounds`); sets the tables."""
-        bounds = cell_bounds(self.alpha, self.kappa, self.h, (Y, V, N), lows, (G_hi, G_lo), n)
+        bounds = cell_bounds(self.alpha, self.h, (Y, V, N), lows, (G_hi, G_lo), n, kappa=self.kappa)
         self.N_a, self.N_b = N
         self.Y_a, self.Y_b = Y
         self.err_y_a, self.err_y_b, self.err_n_a, self.err_n_b = bounds
@@ -174,7 +174,7 @@ class TaylorTable:
         return TaylorView(self, self.N_a, self.N_b, self.err_n_a, self.err_n_b)
 
 
-def cell_bounds(alpha, kappa, h, arrays, lows, incoming, n):
+def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa):
     """Internal: proven bounds ``(err_y_a, err_y_b, err_n_a, err_n_b)`` per cell of stored
     polynomials of the delay equations, from their residuals, jumps and the energy bound
     (docs/physics.md#finite-contact-stiffness-three-methods), all measured on the arrays.
