@@ -218,7 +218,8 @@ class ManifoldTable(TaylorTable):
             [h / (k + 1) for k in range(D + 1)],
         )
         slow = {}
-        for width in {float(w) for w, fine in zip(widths, layer, strict=True) if not fine}:
+        width_list = widths.tolist()
+        for width in {w for w, fine in zip(width_list, layer, strict=True) if not fine}:
             slow[width] = (
                 _slow_operator(alpha, kappa, width),
                 (
@@ -236,18 +237,18 @@ class ManifoldTable(TaylorTable):
             for rhs, force in ((0, 0.0), (1, 1.0)):
                 (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
                 rows_v, rows_y, rows_n, lows = [], [], [], []
+                incoming = (G_hi[rhs, cells] + G_lo[rhs, cells]).tolist()
                 for i in range(n):
                     c = m * n + i
                     lows.append((v0_lo, y0_lo, n0_lo))
                     if layer[i]:
-                        G = (G_hi[rhs, c] + G_lo[rhs, c]).tolist()
-                        v, n_high, y = taylor_cell(y0, v0, n0, force, G, taylor_factors)
+                        v, n_high, y = taylor_cell(y0, v0, n0, force, incoming[i], taylor_factors)
                         rows_n.append(n_high)
                         n0, n0_lo = _split_total([*n_high, n0_lo])
                     else:  # N: all slow cells of the interval at once, below
-                        operator, factors = slow[float(widths[i])]
+                        operator, factors = slow[width_list[i]]
                         v, y = _slow_velocity(
-                            y0, (v0, v0_lo), force, G_hi[rhs, c], G_lo[rhs, c], widths[i],
+                            y0, (v0, v0_lo), force, G_hi[rhs, c], G_lo[rhs, c], width_list[i],
                             kappa, operator, factors,
                         )  # fmt: skip
                         rows_n.append([0.0] * (D + 1))

@@ -275,17 +275,15 @@ def taylor_cell(y0: float, v0: float, n0: float, force: float, G: list, factors:
     factors ``h/(alpha (k+1))``, ``h kappa/(k+1)`` (``DEGREE`` each) and ``h/(k+1)``
     (one more)."""
     c_v, c_n, c_y = factors
-    v, w, y = [v0], [n0], [y0]
+    v, w = [v0], [n0]
     vk, wk, fk = v0, n0, force
     # orders 1 .. D (c_v, c_n have D entries; c_y, G one more)
-    for cv, cn, cy, Gk in zip(c_v, c_n, c_y, G, strict=False):
-        vk, wk, yk = cv * (fk - wk), cn * ((vk - wk) + 2.0 * Gk), cy * vk
+    for cv, cn, Gk in zip(c_v, c_n, G, strict=False):
+        vk, wk = cv * (fk - wk), cn * ((vk - wk) + 2.0 * Gk)
         v.append(vk)
         w.append(wk)
-        y.append(yk)
         fk = 0.0
-    y.append(c_y[-1] * vk)
-    return v, w, y
+    return v, w, [y0] + [cy * x for cy, x in zip(c_y, v, strict=True)]
 
 
 def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray) -> np.ndarray:
