@@ -12,10 +12,11 @@ far apart, :math:`p_f \approx -\kappa`, :math:`p_s \approx -1/\alpha`. After eac
 reflection time :math:`2m` a fast transient (:math:`e^{p_f u}` times a polynomial) dies out
 within a layer of length :math:`64/|p_f|`; beyond it the solution lies on the slow manifold
 :math:`N = (1 + \kappa^{-1} d/dt)^{-1} (v + 2G)`. So every reflection interval is cut into
-the same cells: a multiple of 8 Taylor cells of width :math:`h` (:math:`h |p_f| \le 1`)
-across the layer, then cells whose widths at most double from cell to cell up to
+the same cells: Taylor cells across the layer, 8 of width :math:`h` (:math:`h |p_f| \le
+1`: the kink of the incoming wave) and then of width :math:`h`, or :math:`2h` where
+:math:`2h |p_f| \le 1.25`, then cells whose widths at most double from cell to cell up to
 :math:`H` (:math:`H |p_s| \le 1`, at most 1/4), all powers of two: the count no longer
-grows with :math:`\kappa` (72 to 160 cells per interval where a uniform mesh needs
+grows with :math:`\kappa` (84 to 160 cells per interval where a uniform mesh needs
 thousands).
 
 On a layer cell the polynomials are the Taylor recurrences of the Taylor table. On a
@@ -49,6 +50,8 @@ from impactsym.rod.elastic.taylor import (
 
 #: Largest ``h p_f`` on a layer (Taylor) cell.
 _LAYER_REACH = 1.0
+#: Largest ``h p_f`` on the layer's cells after its first 8.
+_GRADED_REACH = 1.25
 #: Least ``p_f`` times the layer's length (``e^{-64}`` of the transient is left).
 _LAYER_DECAY = 64.0
 #: Largest ``H p_s`` on a slow cell.
@@ -68,7 +71,8 @@ def interval_mesh(alpha: float, *, kappa: float) -> tuple[np.ndarray, np.ndarray
     of them are layer (Taylor) cells, or ``None`` where the slow manifold does not apply
     (complex or near contact poles, ``p_f / p_s < 8``, or a layer longer than 1).
 
-    The layer is a multiple of 8 cells of width ``h``; from its end the slow cells are
+    The layer is a multiple of 8 cells of width ``h`` (``h p_f <= 1``), or 8 of them and
+    then cells of ``2 h`` where ``2 h p_f <= 1.25``; from its end the slow cells are
     the widest power of two up to ``H`` that the position is a multiple of (a dyadic
     tiling: the widths at most double from cell to cell, up to ``H``)."""
     if not kappa * kappa - 4.0 * kappa / alpha > 0.0:
@@ -83,7 +87,11 @@ def interval_mesh(alpha: float, *, kappa: float) -> tuple[np.ndarray, np.ndarray
     if n_layer * h > 1.0 or wide < 8.0 * h:
         return None
     widths = [h] * n_layer
-    position = n_layer  # in units of h (exact integers)
+    if 2.0 * h * fast <= _GRADED_REACH:  # after 8 cells of h (the kink), cells of 2 h
+        n_double = 4 * math.ceil((_LAYER_DECAY / (h * fast) - 8.0) / 8.0)
+        widths = [h] * 8 + [2.0 * h] * n_double
+        n_layer = 8 + n_double
+    position = round(sum(widths) / h)  # in units of h (exact integers)
     top = round(wide / h)
     width = 1
     while position < round(2.0 / h):
@@ -211,14 +219,16 @@ class ManifoldTable(TaylorTable):
         V, N, N_lo = (np.zeros((2, total, D + 1)) for _ in range(3))
         Y_lo, V_lo = np.zeros((2, total)), np.zeros((2, total))
         G_hi, G_lo = np.zeros((2, total, D + 1)), np.zeros((2, total, D + 1))
-        h = float(widths[0])
-        taylor_factors = (
-            [h / (alpha * (k + 1)) for k in range(D)],
-            [h * kappa / (k + 1) for k in range(D)],
-            [h / (k + 1) for k in range(D + 1)],
-        )
-        slow = {}
         width_list = widths.tolist()
+        taylor = {
+            h: (
+                [h / (alpha * (k + 1)) for k in range(D)],
+                [h * kappa / (k + 1) for k in range(D)],
+                [h / (k + 1) for k in range(D + 1)],
+            )
+            for h in {w for w, fine in zip(width_list, layer, strict=True) if fine}
+        }
+        slow = {}
         for width in {w for w, fine in zip(width_list, layer, strict=True) if not fine}:
             slow[width] = (
                 _slow_operator(alpha, kappa, width),
@@ -242,7 +252,9 @@ class ManifoldTable(TaylorTable):
                     c = m * n + i
                     lows.append((v0_lo, y0_lo, n0_lo))
                     if layer[i]:
-                        v, n_high, y = taylor_cell(y0, v0, n0, force, incoming[i], taylor_factors)
+                        v, n_high, y = taylor_cell(
+                            y0, v0, n0, force, incoming[i], taylor[width_list[i]]
+                        )
                         rows_n.append(n_high)
                         n0, n0_lo = _split_total([*n_high, n0_lo])
                     else:  # N: all slow cells of the interval at once, below
