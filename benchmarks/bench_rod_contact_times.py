@@ -21,7 +21,8 @@ Run ``python benchmarks/bench_rod_contact_times.py [--n 100]``. In one run, on t
   tables (:mod:`impactsym.rod.elastic.cells`) and the pointwise search on the pole sums
   alone (:func:`pointwise_pole_contact_times`, copied below: no table;
   ``--kappa-only`` runs this part alone);
-* stiff springs: ``alpha``-``f`` maps at ``kappa = 1e2, 1e3, 1e4`` in ms per point
+* stiff springs: ``alpha``-``f`` maps at ``kappa = 1e2, 1e3, 1e4`` in ms per point, the
+  slow-manifold table (:mod:`impactsym.rod.elastic.manifold`) where it applies
   (``--stiff-only`` runs this part alone).
 
 Times are CPU seconds of this process (``time.process_time``), robust against a
@@ -314,6 +315,7 @@ def stiff_maps() -> None:
     is under 1 ms per point up to ``kappa = 1e4``."""
     from impactsym.rod.elastic import poles as pole_sums
     from impactsym.rod.elastic.cells import cell_table
+    from impactsym.rod.elastic.manifold import manifold_table
     from impactsym.rod.elastic.search import elastic_contact_times
     from impactsym.rod.elastic.taylor import taylor_table
 
@@ -321,7 +323,7 @@ def stiff_maps() -> None:
     A, F = np.meshgrid(np.geomspace(0.1, 10.0, 5), np.linspace(0.0, 2.0, 20))
     for k in (1e2, 1e3, 1e4):
         for which in ("N", "y"):
-            for cache in (cell_table, taylor_table):
+            for cache in (cell_table, taylor_table, manifold_table):
                 cache.cache_clear()
             pole_sums.clear_cache()
             start = time.process_time()

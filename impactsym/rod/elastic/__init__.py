@@ -9,6 +9,8 @@ One method per module (docs/physics.md#finite-contact-stiffness-three-methods):
   in mpmath (seconds; any stiffness);
 * :mod:`~impactsym.rod.elastic.taylor` -- a certified Taylor table of the delay equations in
   float64 (milliseconds; springs up to ``MAX_CELLS`` cells per interval);
+* :mod:`~impactsym.rod.elastic.manifold` -- the same equations and bound for stiff springs
+  on a mesh that does not grow with the stiffness (fast layers, then the slow manifold);
 * :mod:`~impactsym.rod.elastic.search` -- the certified contact-time search on a table,
   falling back on the pole sums where the table's bound is too large.
 
@@ -27,7 +29,7 @@ class CertifiedTable(Protocol):
     finite-kappa contact-time search (:mod:`impactsym.rod.elastic.search`) uses it.
 
     Implemented by :class:`impactsym.rod.elastic.cells.CellTable` and
-    :class:`impactsym.rod.elastic.taylor.TaylorView`.
+    :class:`impactsym.rod.elastic.taylor.TaylorView` (of a Taylor or a slow-manifold table).
 
     Attributes
     ----------

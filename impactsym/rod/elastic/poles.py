@@ -312,16 +312,22 @@ def time_function(
     *,
     kappa: float,
     derivative: bool = False,
+    n_terms: int = 0,
 ) -> np.ndarray:
     """Internal: finite-stiffness ``y`` or ``N`` (``which``), or its time derivative, at flat
     times ``0 <= t <= T_LIMIT_ELASTIC`` and forces ``f`` for one ``(alpha, kappa)``;
-    float64 where the rounding bound is below ``1e-12``, mpmath elsewhere."""
+    float64 where the rounding bound is below ``1e-12``, mpmath elsewhere.
+
+    The pole model has the terms arrived by ``max(t)``, or ``n_terms`` if more: a caller
+    evaluating many batches (the contact-time search) passes its own count so that every
+    batch shares one cached model and one symbolic series (terms not arrived add
+    nothing, so the values are the same)."""
     if t.size and not np.max(t) <= T_LIMIT_ELASTIC:
         raise ValueError(
             f"t must be <= {T_LIMIT_ELASTIC:g} for a finite kappa (the range where the "
             f"finite-stiffness functions are verified), got t = {float(np.max(t))!r}"
         )
-    n_terms = int(np.max(t) // 2) + 1
+    n_terms = max(int(np.max(t) // 2) + 1, n_terms)
     model = pole_model(which, alpha, kappa=kappa, n_terms=n_terms)
     u_terms = [t - 2.0 * k for k in range(n_terms)]
     value, error = model.evaluate(u_terms, f, derivative)

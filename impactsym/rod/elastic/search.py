@@ -16,6 +16,7 @@ import numpy as np
 from impactsym.numeric.isolation import first_sign_change
 from impactsym.rod.elastic import CertifiedTable
 from impactsym.rod.elastic.cells import cell_table
+from impactsym.rod.elastic.manifold import cells_per_interval_manifold, manifold_table
 from impactsym.rod.elastic.poles import check_which, pole_model, time_function
 from impactsym.rod.elastic.taylor import MAX_CELLS, cells_per_interval, fastest_rate, taylor_table
 from impactsym.rod.rigid_search import SCREEN_MIN_PAIRS, SCREEN_STRIDES, screen_interval
@@ -55,7 +56,11 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
         members = members[np.argsort(f[members], kind="stable")]  # screened in order of f
         ag, kg = float(ag), float(kg)
         check_stiffness(ag, kappa=kg)
-        if method == "taylor" and cells_per_interval(ag, kappa=kg) <= MAX_CELLS:
+        n_taylor = cells_per_interval(ag, kappa=kg)
+        n_manifold = cells_per_interval_manifold(ag, kappa=kg)
+        if method == "taylor" and n_manifold is not None and n_manifold < n_taylor:
+            table = manifold_table(ag, kappa=kg, n_intervals=n_terms).view(which)
+        elif method == "taylor" and n_taylor <= MAX_CELLS:
             table = taylor_table(ag, kappa=kg, n_intervals=n_terms).view(which)
         else:
             table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
@@ -123,8 +128,10 @@ def pole_search(which, alpha, f, *, kappa, n_terms):
     ``n_terms`` terms built only when first asked)."""
 
     def evaluate(t, own):
-        value = time_function(which, t, alpha, f[own], kappa=kappa)
-        slope = time_function(which, t, alpha, f[own], kappa=kappa, derivative=True)
+        value = time_function(which, t, alpha, f[own], kappa=kappa, n_terms=n_terms)
+        slope = time_function(
+            which, t, alpha, f[own], kappa=kappa, derivative=True, n_terms=n_terms
+        )
         return value, slope, value
 
     def bound(ta, tb, own, _a, _b, _da, _db):

@@ -141,16 +141,7 @@ class TaylorTable:
                 (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
                 rows = []
                 for G in G_all[rhs]:
-                    v, w, y = [v0], [n0], [y0]
-                    vk, wk, fk = v0, n0, force
-                    # orders 1 .. D (c_v, c_n have D entries; c_y, G one more)
-                    for cv, cn, cy, Gk in zip(c_v, c_n, c_y, G, strict=False):
-                        vk, wk, yk = cv * (fk - wk), cn * ((vk - wk) + 2.0 * Gk), cy * vk
-                        v.append(vk)
-                        w.append(wk)
-                        y.append(yk)
-                        fk = 0.0
-                    y.append(c_y[D] * vk)
+                    v, w, y = taylor_cell(y0, v0, n0, force, G, (c_v, c_n, c_y))
                     rows.append((v, w, y, v0_lo, n0_lo, y0_lo))
                     (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = (
                         _end(y, y0_lo),
@@ -167,67 +158,11 @@ class TaylorTable:
         self._bound(Y, V, N, (Y_lo, V_lo, N_lo), G_hi, G_lo, n)
 
     def _bound(self, Y, V, N, lows, G_hi, G_lo, n):
-        """Residuals, jumps and the energy bound
-        (docs/physics.md#finite-contact-stiffness-three-methods), all measured on the
-        stored arrays (``n`` cells per interval); sets the tables."""
-        alpha, kappa, h = self.alpha, self.kappa, self.h
-        Y_lo, V_lo, N_lo = lows
-        D = DEGREE
-        kp1 = np.arange(D + 1) + 1.0
-        pad = np.zeros_like(V[..., :1])
-        v_next = np.concatenate([V[..., 1:], pad], axis=-1)
-        n_next = np.concatenate([N[..., 1:], pad], axis=-1)
-        force = np.zeros_like(V)
-        force[1, :, 0] = 1.0
-        v_low, n_low = np.zeros_like(V), np.zeros_like(V)  # low parts as order-0 terms
-        v_low[..., 0], n_low[..., 0] = V_lo, N_lo
-        dG = _incoming_wave_defect(N, n_low, G_hi, G_lo, n)
-        # r0 = y' - v
-        p, e = two_prod(kp1 / h, Y[..., 1:])
-        r0, b0 = sum_with_bound([p, e, -V, -v_low], 1)
-        # r1 = alpha v' - f + N
-        x1, x2 = two_prod(kp1, v_next)
-        p, e = two_prod(alpha / h, x1)
-        rest = (alpha / h) * x2
-        r1, b1 = sum_with_bound([p, e, rest, -force, N, n_low], 2)
-        b1 += _U * np.abs(rest)
-        # r2 = N' - kappa (v - N + 2 G), G = G_hi + G_lo (+- dG)
-        terms = [*two_prod(kp1 / h, n_next)]
-        for factor, x in (
-            (-kappa, V),
-            (-kappa, v_low),
-            (kappa, N),
-            (kappa, n_low),
-            (-2.0 * kappa, G_hi),
-            (-2.0 * kappa, G_lo),
-        ):
-            terms += two_prod(factor, x)
-        r2, b2 = sum_with_bound(terms, 7)
-        b2 += 2.0 * kappa * dG
-        # integrals over a cell: h int_0^1 |sum r_k xi^k| <= h sum |r_k| / (k + 1)
-        mean = h / kp1
-        margin = 1.0 + 1e-9
-        i0 = (np.abs(r0) + b0) @ mean
-        i1 = (np.abs(r1) + b1) @ mean
-        i2 = (np.abs(r2) + b2) @ mean
-        # jumps at the cell starts (from the end of the cell before, or the initial state)
-        j_v = _jumps(V, V_lo, np.array([1.0, 0.0]))
-        j_n, j_y = _jumps(N, N_lo, np.zeros(2)), _jumps(Y, Y_lo, np.zeros(2))
-        sqa, sqk = math.sqrt(alpha), math.sqrt(kappa)
-        q = np.cumsum(i1 / sqa + i2 / sqk + sqa * j_v + j_n / sqk, axis=-1) * margin
-        sigma = np.cumsum(i0 + i2 / kappa + j_y + j_n / kappa, axis=-1) * margin
-        e_n = sqk * q
-        # two bounds of e_y, both valid: through y = u + N/kappa (tight unless the
-        # spring is very soft), and e_y = int e_v with |e_v| <= q / sqrt(alpha)
-        through_v = np.cumsum(h * q / sqa + i0 + j_y, axis=-1) * margin
-        e_y = np.minimum(q * (1.0 + 1.0 / sqk) + sigma, through_v)
-        # the tables hold the high parts: |low| and a Horner evaluation's rounding
-        horner_n = _EPS * (D + 4) * np.abs(N).sum(axis=-1) + np.abs(N_lo)
-        horner_y = _EPS * (D + 5) * np.abs(Y).sum(axis=-1) + np.abs(Y_lo)
+        """The error bounds of the stored arrays (:func:`cell_bounds`); sets the tables."""
+        bounds = cell_bounds(self.alpha, self.h, (Y, V, N), lows, (G_hi, G_lo), n, kappa=self.kappa)
         self.N_a, self.N_b = N
         self.Y_a, self.Y_b = Y
-        self.err_n_a, self.err_n_b = (e_n + horner_n) * margin
-        self.err_y_a, self.err_y_b = (e_y + horner_y) * margin
+        self.err_y_a, self.err_y_b, self.err_n_a, self.err_n_b = bounds
 
     def view(self, which: str) -> TaylorView:
         """One time function, ``"y"`` or ``"N"``, as a
@@ -239,10 +174,129 @@ class TaylorTable:
         return TaylorView(self, self.N_a, self.N_b, self.err_n_a, self.err_n_b)
 
 
+def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa):
+    """Internal: proven bounds ``(err_y_a, err_y_b, err_n_a, err_n_b)`` per cell of stored
+    polynomials of the delay equations, from their residuals, jumps and the energy bound
+    (docs/physics.md#finite-contact-stiffness-three-methods), all measured on the arrays.
+
+    ``arrays = (Y, V, N)`` (``[rhs, cell, order]`` in ``xi = (t - lo)/h``), ``lows = (Y_lo,
+    V_lo, N_lo)`` their low parts (``[rhs, cell]``: of the constant coefficients, or
+    ``[rhs, cell, order]``: of every coefficient), ``incoming = (G_hi, G_lo)``, ``n`` cells
+    per reflection interval (the same cells in every interval), ``h`` the cell width (a
+    power of two: then ``t - lo`` and the divisions by ``h`` are exact), one for all cells
+    or one per cell. Includes a Horner evaluation's rounding of the high parts.
+    """
+    Y, V, N = arrays
+    G_hi, G_lo = incoming
+    Y_lo, V_lo, N_lo = lows
+    D = DEGREE
+    kp1 = np.arange(D + 1) + 1.0
+    hc = h if np.ndim(h) == 0 else np.asarray(h)[:, None]
+    pad = np.zeros_like(V[..., :1])
+    v_next = np.concatenate([V[..., 1:], pad], axis=-1)
+    n_next = np.concatenate([N[..., 1:], pad], axis=-1)
+    force = np.zeros_like(V)
+    force[1, :, 0] = 1.0
+    v_low, n_low = (_full_low(low, V) for low in (V_lo, N_lo))
+    n_low_next = np.concatenate([n_low[..., 1:], pad], axis=-1)
+    dG = _incoming_wave_defect(N, n_low, G_hi, G_lo, n)
+    # r0 = y' - v
+    p, e = two_prod(kp1 / hc, Y[..., 1:])
+    r0, b0 = sum_with_bound([p, e, -V, -v_low], 1)
+    # r1 = alpha v' - f + N
+    x1, x2 = two_prod(kp1, v_next)
+    p, e = two_prod(alpha / hc, x1)
+    rest = (alpha / hc) * x2
+    r1, b1 = sum_with_bound([p, e, rest, -force, N, n_low], 2)
+    b1 += _U * np.abs(rest)
+    # r2 = N' - kappa (v - N + 2 G), G = G_hi + G_lo (+- dG)
+    terms = [*two_prod(kp1 / hc, n_next)]
+    if np.ndim(N_lo) == 3:  # low parts of every coefficient (the slow-manifold cells)
+        terms += two_prod(kp1 / hc, n_low_next)
+    for factor, x in (
+        (-kappa, V),
+        (-kappa, v_low),
+        (kappa, N),
+        (kappa, n_low),
+        (-2.0 * kappa, G_hi),
+        (-2.0 * kappa, G_lo),
+    ):
+        terms += two_prod(factor, x)
+    r2, b2 = sum_with_bound(terms, len(terms) // 2)
+    b2 += 2.0 * kappa * dG
+    # integrals over a cell: h int_0^1 |sum r_k xi^k| <= h sum |r_k| / (k + 1)
+    margin = 1.0 + 1e-9
+    i0, i1, i2 = (_cell_integral(np.abs(r) + b, h, kp1) for r, b in ((r0, b0), (r1, b1), (r2, b2)))
+    # jumps at the cell starts (from the end of the cell before, or the initial state)
+    j_v = _jumps(V, V_lo, np.array([1.0, 0.0]))
+    j_n, j_y = _jumps(N, N_lo, np.zeros(2)), _jumps(Y, Y_lo, np.zeros(2))
+    sqa, sqk = math.sqrt(alpha), math.sqrt(kappa)
+    q = np.cumsum(i1 / sqa + i2 / sqk + sqa * j_v + j_n / sqk, axis=-1) * margin
+    sigma = np.cumsum(i0 + i2 / kappa + j_y + j_n / kappa, axis=-1) * margin
+    e_n = sqk * q
+    # two bounds of e_y, both valid: through y = u + N/kappa (tight unless the
+    # spring is very soft), and e_y = int e_v with |e_v| <= q / sqrt(alpha)
+    through_v = np.cumsum(h * q / sqa + i0 + j_y, axis=-1) * margin
+    e_y = np.minimum(q * (1.0 + 1.0 / sqk) + sigma, through_v)
+    # the tables hold the high parts: |low| and a Horner evaluation's rounding
+    horner_n = _EPS * (D + 4) * np.abs(N).sum(axis=-1) + _abs_low(N_lo)
+    horner_y = _EPS * (D + 5) * np.abs(Y).sum(axis=-1) + _abs_low(Y_lo)
+    err_n_a, err_n_b = (e_n + horner_n) * margin
+    err_y_a, err_y_b = (e_y + horner_y) * margin
+    return err_y_a, err_y_b, err_n_a, err_n_b
+
+
+def _full_low(low: np.ndarray, like: np.ndarray) -> np.ndarray:
+    """Low parts as an array shaped ``like`` (constant-only low parts as order 0)."""
+    if low.ndim == like.ndim:
+        return low
+    full = np.zeros_like(like)
+    full[..., 0] = low
+    return full
+
+
+def _abs_low(low: np.ndarray) -> np.ndarray:
+    """Bound on the low parts' value on a cell (``|xi| <= 1``)."""
+    return np.abs(low) if low.ndim == 2 else np.abs(low).sum(axis=-1)
+
+
+def _cell_integral(r: np.ndarray, h, kp1: np.ndarray) -> np.ndarray:
+    """``h sum r_k / (k + 1)`` per cell (``h``: one width or one per cell)."""
+    if np.ndim(h) == 0:
+        return r @ (h / kp1)
+    return (r * (np.asarray(h)[:, None] / kp1)).sum(axis=-1)
+
+
+def taylor_cell(y0: float, v0: float, n0: float, force: float, G: list, factors: tuple):
+    r"""Internal: Taylor coefficients ``(v, N, y)`` (lists, lowest order first) on one cell
+    from its start ``y0, v0, n0`` and incoming wave ``G`` by the recurrences
+    :math:`(k+1) v_{k+1} = h (f\delta_{k0} - N_k)/\alpha`, :math:`(k+1) N_{k+1} = h\kappa
+    (v_k - N_k + 2G_k)`, :math:`(k+1) y_{k+1} = h v_k`; ``factors = (c_v, c_n, c_y)``, the
+    factors ``h/(alpha (k+1))``, ``h kappa/(k+1)`` (``DEGREE`` each) and ``h/(k+1)``
+    (one more)."""
+    c_v, c_n, c_y = factors
+    v, w = [v0], [n0]
+    vk, wk, fk = v0, n0, force
+    # orders 1 .. D (c_v, c_n have D entries; c_y, G one more)
+    for cv, cn, Gk in zip(c_v, c_n, G, strict=False):
+        vk, wk = cv * (fk - wk), cn * ((vk - wk) + 2.0 * Gk)
+        v.append(vk)
+        w.append(wk)
+        fk = 0.0
+    return v, w, [y0] + [cy * x for cy, x in zip(c_y, v, strict=True)]
+
+
 def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray) -> np.ndarray:
     """Bounds on ``|start of cell i - end of cell i - 1|`` (cell 0: ``- initial``) of the
     polynomials ``C`` (``[rhs, cell, order]``) with low constant parts ``C_lo``, from an
     exact-to-``u^2`` cascaded sum of all the coefficients involved."""
+    if C_lo.ndim == 3:  # low parts of every coefficient
+        terms = [C[:, 1:, 0], C_lo[:, 1:, 0]]
+        terms += [-C[:, :-1, k] for k in range(C.shape[-1])]
+        terms += [-C_lo[:, :-1, k] for k in range(C.shape[-1])]
+        later, bound = sum_with_bound(terms)
+        first, first_bound = sum_with_bound([C[:, :1, 0], C_lo[:, :1, 0], -initial[:, None]])
+        return np.concatenate([np.abs(first) + first_bound, np.abs(later) + bound], axis=1)
     terms = [C[:, 1:, 0], C_lo[:, 1:]]
     terms += [-C[:, :-1, k] for k in range(C.shape[-1])] + [-C_lo[:, :-1]]
     later, bound = sum_with_bound(terms)
@@ -282,8 +336,12 @@ class TaylorView:
         self.lo, self.hi, self.h = table.lo, table.hi, table.h
         self.A, self.B, self.err_a, self.err_b = A, B, err_a, err_b
         n = np.arange(A.shape[1])
-        d2 = n * (n - 1.0) / self.h**2 * (1.0 + 1e-12)
-        self.d2_a, self.d2_b = np.abs(A) @ d2, np.abs(B) @ d2
+        if np.ndim(self.h) == 0:
+            d2 = n * (n - 1.0) / self.h**2 * (1.0 + 1e-12)
+            self.d2_a, self.d2_b = np.abs(A) @ d2, np.abs(B) @ d2
+        else:  # a width per cell (the slow-manifold table)
+            scale = (1.0 + 1e-12) / self.h**2
+            self.d2_a, self.d2_b = (np.abs(C) @ (n * (n - 1.0)) * scale for C in (A, B))
 
     def cell(self, t: np.ndarray) -> np.ndarray:
         """Index of the cell holding ``t`` (the right one at a node)."""
@@ -292,14 +350,15 @@ class TaylorView:
     def evaluate(self, t: np.ndarray, f: np.ndarray, index: np.ndarray | None = None):
         """``g`` and ``dg/dt`` of the polynomial at ``t`` for ``f``."""
         i = self.cell(t) if index is None else index
-        x = (t - self.lo[i]) / self.h
+        h = self.h if np.ndim(self.h) == 0 else self.h[i]
+        x = (t - self.lo[i]) / h
         A, B = self.A[i], self.B[i]
         value = A[:, -1] + f * B[:, -1]
         slope = np.zeros_like(value)
         for k in range(A.shape[1] - 2, -1, -1):
             slope = slope * x + value
             value = value * x + (A[:, k] + f * B[:, k])
-        return value, slope / self.h
+        return value, slope / h
 
     def certified(self, index: np.ndarray, f: np.ndarray, tolerance: float) -> np.ndarray:
         """Whether the proven error of cells ``index`` is at most ``tolerance`` for ``f``."""

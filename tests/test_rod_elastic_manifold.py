@@ -1,0 +1,115 @@
+"""The slow-manifold table of stiff springs (:mod:`impactsym.rod.elastic.manifold`).
+
+* its values lie within their proven bounds of the pole sums evaluated in mpmath at 60
+  digits (:meth:`impactsym.rod.elastic.poles.PoleModel.evaluate_mp`: the inverted
+  Laplace series, nothing of the delay equations), across the fast layers after the
+  reflection times and on the wide cells, and those bounds certify the table;
+* a coefficient spoiled after the build shows in the bound;
+* contact times of ``f`` sweeps at ``kappa = 1e2, 1e3, 1e4`` (the Taylor table at
+  ``1e2``, this table above) equal the pointwise search on the pole sums alone
+  (:mod:`references.rod_pole_search`), at ``f = 0`` and on both sides of the forces
+  where the first sign change jumps (a tangency)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from references.rod_pole_search import pointwise_pole_contact_times
+
+from impactsym.rod.elastic import manifold
+from impactsym.rod.elastic.manifold import ManifoldTable, interval_mesh
+from impactsym.rod.elastic.poles import pole_model
+from impactsym.rod.elastic.search import TABLE_TOLERANCE, elastic_contact_times
+
+T_MAX = 8.0
+
+
+@pytest.mark.parametrize(("a", "k"), [(0.1, 1e3), (1.0, 1e3), (8.0, 1e4), (0.3, 1e4)])
+def test_values_lie_within_their_bounds_of_the_mpmath_pole_sums(a, k):
+    table = ManifoldTable(a, k, 4)
+    rng = np.random.default_rng(3)
+    # random times, and times in the fast layers just after the reflections
+    t = np.concatenate(
+        [rng.uniform(0.0, T_MAX, 12), 2.0 * np.arange(4) + rng.uniform(0.0, 30.0 / k, 4)]
+    )
+    f = rng.uniform(0.0, 2.0, t.size)
+    for which in ("N", "y"):
+        reference = pole_model(which, a, kappa=k, n_terms=4, dps=60)
+        view = table.view(which)
+        value, _ = view.evaluate(t, f)
+        exact = np.array([reference.evaluate_mp(x, y) for x, y in zip(t, f, strict=True)])
+        i = view.cell(t)
+        bound = view.err_a[i] + f * view.err_b[i]
+        assert np.all(np.abs(value - exact) <= bound), which
+        assert np.all(bound <= TABLE_TOLERANCE), which  # the table stands for the function
+
+
+def test_the_cell_count_does_not_grow_with_the_stiffness():
+    counts = [interval_mesh(1.0, kappa=k)[0].size for k in (1e3, 1e4, 1e5, 1e6)]
+    assert max(counts) < 160, counts  # a uniform Taylor mesh: 2048 .. 2e6 cells
+    assert interval_mesh(1.0, kappa=4.0) is None  # complex contact poles: no manifold
+    assert interval_mesh(1.0, kappa=30.0) is None  # layer too long: the Taylor table
+    assert interval_mesh(0.1, kappa=100.0) is None  # roots 11.3 and 88.7: too near
+
+
+@pytest.mark.parametrize(("array", "offset"), [("N", 0), ("N", 1), ("V", 2), ("Y", 1)])
+def test_a_planted_error_on_a_slow_cell_shows_in_the_bound(monkeypatch, array, offset):
+    """Spoil one stored coefficient of the first wide cell after the layer (offset 0: its
+    constant coefficient, a jump) by 1e-8: the bound must still contain the truth, and
+    the cells after it (where it matters) must no longer pass as certified."""
+    a, k, force = 1.0, 1e3, 0.5
+    _, layer = interval_mesh(a, kappa=k)
+    cell = int(np.flatnonzero(~layer)[0]) + 1
+    original = manifold.cell_bounds
+
+    def spoiled(alpha, h, arrays, *rest, kappa):
+        Y, V, N = arrays
+        {"N": N, "V": V, "Y": Y}[array][:, cell, offset] += 1e-8
+        return original(alpha, h, arrays, *rest, kappa=kappa)
+
+    monkeypatch.setattr(manifold, "cell_bounds", spoiled)
+    table = ManifoldTable(a, k, 2)
+    rng = np.random.default_rng(5)
+    for which in ("N", "y"):
+        reference = pole_model(which, a, kappa=k, n_terms=2, dps=60)
+        view = table.view(which)
+        t = np.concatenate([rng.uniform(0.0, 4.0, 12), view.lo[cell : cell + 3] + 1e-3])
+        f = np.full(t.size, force)
+        value, _ = view.evaluate(t, f)
+        exact = np.array([reference.evaluate_mp(x, force) for x in t])
+        bound = view.err_a[view.cell(t)] + force * view.err_b[view.cell(t)]
+        assert np.all(np.abs(value - exact) <= bound), (which, array)
+        if which == "y" or array != "Y":  # y does not feed back into N
+            after = view.err_a[view.lo >= view.hi[cell]]
+            assert np.min(after) > TABLE_TOLERANCE, (which, array)  # no longer certified
+
+
+def _tangency(which, a, k, lo, hi):
+    """A force in ``[lo, hi]`` where the contact time jumps (by more than 0.5), to 1e-7,
+    and the two sides' forces."""
+    search = elastic_contact_times
+
+    def time_at(x):
+        return search(which, np.array([a]), np.array([x]), kappa=np.array([k]), t_max=T_MAX)[0]
+
+    t_lo = time_at(lo)
+    while hi - lo > 1e-7:
+        mid = 0.5 * (lo + hi)
+        if abs(time_at(mid) - t_lo) < 0.5:
+            lo = mid
+        else:
+            hi = mid
+    return [lo, hi]
+
+
+@pytest.mark.parametrize("k", [1e2, 1e3, 1e4])
+@pytest.mark.parametrize(("which", "jump"), [("N", (0.1, 0.3)), ("y", (1.4, 1.8))])
+def test_f_sweep_equals_the_pointwise_pole_search(k, which, jump):
+    a = 0.3
+    f = np.array([0.0, 0.5, 1.2, 2.0, *_tangency(which, a, k, *jump)])
+    got = elastic_contact_times(which, np.full(f.size, a), f, kappa=np.full(f.size, k), t_max=T_MAX)
+    expected = pointwise_pole_contact_times(which, a, f, kappa=k, t_max=T_MAX)
+    assert np.array_equal(np.isinf(got), np.isinf(expected)), (got, expected)
+    finite = np.isfinite(got)
+    assert np.max(np.abs(got[finite] - expected[finite]), initial=0.0) < 1e-11
+    assert abs(got[-1] - got[-2]) > 0.5  # the two sides of the jump, both right
