@@ -34,6 +34,7 @@ overlaps (``x > 0``), or the contact outlasts the step budget, the body **sticks
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -135,7 +136,7 @@ def reading_fields(
     }
 
 
-def step_budget(stiffness, damping, mass, timestep) -> np.ndarray:
+def step_budget(stiffness: Any, damping: Any, mass: Any, timestep: Any) -> np.ndarray:
     """Calls after which a contact still on counts as sticking (ten undamped periods plus
     ten damping times ``c / k``, at least 200 calls)."""
     k, c, m, h = (np.asarray(a, float) for a in (stiffness, damping, mass, timestep))
@@ -224,7 +225,16 @@ def step_pattern(
     return record, pattern.reshape(shape)
 
 
-def start_state(k, c, m, v, g, H, p, substeps: int) -> tuple[dict, dict]:
+def start_state(
+    k: np.ndarray,
+    c: np.ndarray,
+    m: np.ndarray,
+    v: np.ndarray,
+    g: np.ndarray,
+    H: np.ndarray,
+    p: np.ndarray,
+    substeps: int,
+) -> tuple[dict, dict]:
     """The fixed arrays of the step map (``m, g, h, erp, gain, budget``: ERP and the
     impulse gain ``lambda / m = gain * b`` from ``k, c`` and the sub-step ``h``) and the
     state of every element at state ``-1`` (free flight ``(p - 1) H`` after touch), with
@@ -244,7 +254,7 @@ def start_state(k, c, m, v, g, H, p, substeps: int) -> tuple[dict, dict]:
     return fixed, state
 
 
-def run_live(fixed: dict, state: dict, advance) -> dict:
+def run_live(fixed: dict, state: dict, advance: Callable[[dict, int, int], None]) -> dict:
     """Step every element of ``state`` until it is done and return ``state``.
 
     ``advance(a, n, limit)`` makes state ``n`` of the live elements (the dict ``a`` of
@@ -290,7 +300,14 @@ def close_state(a: dict, n: int, limit: int, force: np.ndarray) -> None:
 PATTERN = np.dtype([(name, np.int64) for name in ("end", "first", "spec", "pos", "rest")])
 
 
-def pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest) -> np.ndarray:
+def pattern_code(
+    sticks: np.ndarray,
+    n_end: np.ndarray,
+    n_first: np.ndarray,
+    n_spec: np.ndarray,
+    n_pos: np.ndarray,
+    n_rest: np.ndarray,
+) -> np.ndarray:
     """One record of :data:`PATTERN` per element that is equal exactly where the branch
     counts are (``==`` compares records field by field): every field ``-1`` where the
     body sticks, else the counts. Exact however long the contact (an earlier float
