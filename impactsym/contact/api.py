@@ -71,10 +71,7 @@ def _release(
         damping,
         force,
         lambda d: unpressed_release(d, condition=condition),
-        lambda d, fr: (
-            first_release(d, fr, condition=condition),
-            _pressed_restitution(d, fr, condition=condition),
-        ),
+        lambda d, fr: _pressed_release(d, fr, condition=condition),
     )
     # 0 <= e <= 1 by the energy balance; rounding must not push it past 1
     return tau_c, np.clip(e, 0.0, 1.0)
@@ -152,26 +149,25 @@ def restitution(D: ArrayLike, f: ArrayLike, *, condition: str) -> ArrayLike:
         damping,
         force,
         lambda d: unpressed_release(d, condition=condition)[1:],
-        lambda d, fr: (_pressed_restitution(d, fr, condition=condition),),
+        lambda d, fr: _pressed_release(d, fr, condition=condition)[1:],
     )
     # 0 <= e <= 1 by the energy balance; rounding must not push it past 1
     return finish(np.clip(e, 0.0, 1.0).reshape(shape), scalar)
 
 
-def _pressed_restitution(damping: np.ndarray, force: np.ndarray, *, condition: str) -> np.ndarray:
-    """Restitution on flat arrays from the limits and the kernel's contact time."""
+def _pressed_release(
+    damping: np.ndarray, force: np.ndarray, *, condition: str
+) -> tuple[np.ndarray, np.ndarray]:
+    """Contact time and restitution on flat arrays from the kernel's contact time (one
+    root per element) and the limits."""
+    tau_c = first_release(damping, force, condition=condition)
     decided, _, e_limit = limits(damping, force, condition=condition)
     e = np.zeros(damping.shape)
     e[decided] = e_limit
-    near = ~decided
-    d, fr = damping[near], force[near]
-    tau_c = first_release(d, fr, condition=condition)
-    e_near = np.zeros(d.shape)
-    release = np.isfinite(tau_c)
+    release = ~decided & np.isfinite(tau_c)
     if release.any():
-        e_near[release] = -z_dot()(tau_c[release], d[release], fr[release])
-    e[near] = e_near
-    return e
+        e[release] = -z_dot()(tau_c[release], damping[release], force[release])
+    return tau_c, e
 
 
 def contact_surface(
