@@ -20,9 +20,11 @@ large ones; ``--full`` runs everything on 10^5.
 Figures (``--sample 500 --designs 20``, CPU per 10^5, shared 2-core machine):
 
 * unpressed ``impact``, before the tables: 16-98 s (160-780 x the target); now
-  0.03-0.06 s for Hertz-linear, Tsuji and viscoelastic, 0.08 s for Hunt-Crossley (its
-  Lambert-W restitution alone 0.03 s), 0.3-0.7 s for the linear law (the root finding of
-  ``api.physical_contact``, which its contact time and restitution are, bit for bit);
+  0.04-0.06 s for Hertz-linear, Tsuji and viscoelastic, 0.08 s for Hunt-Crossley (its
+  Lambert-W restitution alone 0.03 s), and 0.04-0.05 s for the linear law, whose
+  contact time and restitution are those of ``api.physical_contact``, bit for bit: the
+  closed forms of ``impactsym.contact.unpressed`` since f = 0 no longer goes through the
+  kernel's bracketed root (0.3-0.7 s before, of which 1-2 s per 10^5 was that root);
   the tables cost 1-5 s CPU each to build, once per session;
 * unpressed designs of Hertz-linear and viscoelastic: 5,600-10,600 s before, 0.3-0.9 s
   now (the position condition's bracket bisects where the upper end sticks);
