@@ -40,6 +40,7 @@ FLOORS = [
         "impactsym.contact.flight",
         "impactsym.contact.kernel",
         "impactsym.contact.unpressed",
+        "impactsym.contact.extrema",
         "impactsym.contact.laws",
         "impactsym.contact.lawmaps",
         "impactsym.contact.viscoseries",
