@@ -29,7 +29,12 @@ Figures (``--sample 500 --designs 20``, CPU per 10^5, shared 2-core machine):
 * unpressed designs of Hertz-linear and viscoelastic: 5,600-10,600 s before, 0.3-0.9 s
   now (the position condition's bracket bisects where the upper end sticks);
 * pressed ``impact``: 30-90 s (still 15-45 x the target) and pressed designs
-  (hundreds to thousands x): every element integrates.
+  (hundreds to thousands x): every element integrates; except the linear law, whose
+  maximum penetration and peak force are closed forms too (``impactsym.contact.extrema``;
+  position and force conditions): 56-66 s integrated before, 0.10-0.16 s now on 10^5,
+  and its designs at f = 0.05 1.9-3.1 s on 10^5 (the kernel's root at each bracket
+  step; the force condition still over the target). Measured on 500 elements and
+  scaled, the linear law's fixed cost per call read 1.6-2.9 s and 270-550 s.
 
 Where the time of the integration goes (cProfile and step counts, 500 elements;
 ``integrate`` of :mod:`impactsym.contact.lawkernel`):
