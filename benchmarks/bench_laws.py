@@ -24,7 +24,7 @@ Figures (``--sample 500 --designs 20``, CPU per 10^5, shared 2-core machine):
   Lambert-W restitution alone 0.03 s), and 0.04-0.05 s for the linear law, whose
   contact time and restitution are those of ``api.physical_contact``, bit for bit: the
   closed forms of ``impactsym.contact.unpressed`` since f = 0 no longer goes through the
-  kernel's bracketed root (0.3-0.7 s before, of which 1-2 s per 10^5 was that root);
+  kernel's bracketed root (0.3-0.7 s before, most of it that root, found twice);
   the tables cost 1-5 s CPU each to build, once per session;
 * unpressed designs of Hertz-linear and viscoelastic: 5,600-10,600 s before, 0.3-0.9 s
   now (the position condition's bracket bisects where the upper end sticks);

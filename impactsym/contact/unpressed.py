@@ -18,7 +18,7 @@ closed form: contact time and restitution of both conditions, on arrays.
   meet at :math:`D = 1` in :math:`\tau_c = 2`, :math:`e = e^{-2}`.
 
 **Why this numerics.** These replace the ridge-bracketed root of
-:mod:`impactsym.contact.kernel` wherever :math:`f = 0` (about 50 times faster, and exact
+:mod:`impactsym.contact.kernel` wherever :math:`f = 0` (10-20 times cheaper, and exact
 to a few ulp: checked against 40-digit references). Near :math:`D = 1` nothing cancels:
 :math:`1 - D` and :math:`D - 1` are exact in floating point for :math:`1/2 \le D \le 2`,
 so :math:`\omega`, :math:`\sigma` and the ``arccos``/``arcosh`` of the exactly given
