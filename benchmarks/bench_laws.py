@@ -20,14 +20,21 @@ large ones; ``--full`` runs everything on 10^5.
 Figures (``--sample 500 --designs 20``, CPU per 10^5, shared 2-core machine):
 
 * unpressed ``impact``, before the tables: 16-98 s (160-780 x the target); now
-  0.03-0.06 s for Hertz-linear, Tsuji and viscoelastic, 0.08 s for Hunt-Crossley (its
-  Lambert-W restitution alone 0.03 s), 0.3-0.7 s for the linear law (the root finding of
-  ``api.physical_contact``, which its contact time and restitution are, bit for bit);
+  0.04-0.06 s for Hertz-linear, Tsuji and viscoelastic, 0.08 s for Hunt-Crossley (its
+  Lambert-W restitution alone 0.03 s), and 0.04-0.05 s for the linear law, whose
+  contact time and restitution are those of ``api.physical_contact``, bit for bit: the
+  closed forms of ``impactsym.contact.unpressed`` since f = 0 no longer goes through the
+  kernel's bracketed root (0.3-0.7 s before, most of it that root, found twice);
   the tables cost 1-5 s CPU each to build, once per session;
 * unpressed designs of Hertz-linear and viscoelastic: 5,600-10,600 s before, 0.3-0.9 s
   now (the position condition's bracket bisects where the upper end sticks);
 * pressed ``impact``: 30-90 s (still 15-45 x the target) and pressed designs
-  (hundreds to thousands x): every element integrates.
+  (hundreds to thousands x): every element integrates; except the linear law, whose
+  maximum penetration and peak force are closed forms too (``impactsym.contact.extrema``;
+  position and force conditions): 56-66 s integrated before, 0.10-0.16 s now on 10^5,
+  and its designs at f = 0.05 1.9-3.1 s on 10^5 (the kernel's root at each bracket
+  step; the force condition still over the target). Measured on 500 elements and
+  scaled, the linear law's fixed cost per call read 1.6-2.9 s and 270-550 s.
 
 Where the time of the integration goes (cProfile and step counts, 500 elements;
 ``integrate`` of :mod:`impactsym.contact.lawkernel`):
@@ -156,11 +163,14 @@ def main() -> None:
 
     print("with pressing force f in (0, 1), impact (target < 2 s):")
     f = rng.uniform(0.0, 1.0, sample)
+    closed = np.random.default_rng(1)  # the linear law, closed forms: on 10^5 elements
+    closed_delta, closed_f = closed.uniform(0.02, 1.5, N), closed.uniform(0.0, 1.0, N)
     for law in LAWS:
         for condition in CONDITIONS:
-            wall, cpu, r = timed(impact_of, law, delta, f, condition)
+            args = (closed_delta, closed_f) if law == "linear" else (delta, f)
+            wall, cpu, r = timed(impact_of, law, *args, condition)
             note = f"; {np.mean(r.sticks):.0%} stick"
-            report(f"{law}, {condition}", sample, wall, cpu, 2.0, note)
+            report(f"{law}, {condition}", args[0].size, wall, cpu, 2.0, note)
 
     print("designs damping_for (target < 2 s), targets measured by impact:")
     e = rng.uniform(0.05, 0.95, N)
@@ -171,6 +181,7 @@ def main() -> None:
             closed = force == 0.0 and law in ("linear", "hunt-crossley", "tsuji")
             n = N if closed else designs
             n = N if force == 0.0 else n  # the others invert the table
+            n = N if law == "linear" else n  # the linear contact's closed forms and root
             for condition in CONDITIONS:
                 d = rng.uniform(0.05, 1.0, n)
                 achieved = None if closed else impact_of(law, d, force, condition).restitution

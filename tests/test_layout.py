@@ -39,6 +39,8 @@ FLOORS = [
         "impactsym.contact.derivation",
         "impactsym.contact.flight",
         "impactsym.contact.kernel",
+        "impactsym.contact.unpressed",
+        "impactsym.contact.extrema",
         "impactsym.contact.laws",
         "impactsym.contact.lawmaps",
         "impactsym.contact.viscoseries",

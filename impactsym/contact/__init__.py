@@ -5,6 +5,10 @@
   boundary (:class:`SpringDamperContact`);
 * :mod:`~impactsym.contact.kernel` -- internal: those closed forms lambdified and evaluated
   piecewise in ``D``, the ridge-bracketed contact-time root, the limits;
+* :mod:`~impactsym.contact.unpressed` -- the contact time and restitution without
+  pressing force in closed form, for both conditions;
+* :mod:`~impactsym.contact.extrema` -- the maximum penetration and peak force of the
+  linear contact in closed form, with or without pressing force;
 * :mod:`~impactsym.contact.api` -- the public functions on that kernel:
   :func:`contact_time`, :func:`restitution`, :func:`stick_boundary`,
   :func:`contact_surface`, and :func:`physical_contact` in physical units;

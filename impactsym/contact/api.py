@@ -5,11 +5,14 @@ The public face of the section-2 contact: validated, broadcasting functions for
 sign change of :math:`g = z` (position condition) or :math:`g = 2Dz' + z` (force
 condition) (`docs/physics.md, section 2 <../physics.html#2-spring-damper-contact-paper-2>`_).
 The numbers come from the closed forms of :mod:`impactsym.contact.derivation`, evaluated
-by :mod:`impactsym.contact.kernel` (ridge-bracketed Newton iteration, no time sampling).
+by :mod:`impactsym.contact.kernel` (ridge-bracketed Newton iteration, no time sampling);
+without pressing force (``f == 0``) the contact time and restitution are themselves
+closed forms (:mod:`impactsym.contact.unpressed`), taken element by element.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,11 +32,49 @@ from impactsym.contact.kernel import (
     ridge,
     z_dot,
 )
+from impactsym.contact.unpressed import unpressed_release
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, check_condition, finish, real_array
 
 ArrayLike = float | np.ndarray
+
+
+def _by_pressing(
+    damping: np.ndarray,
+    force: np.ndarray,
+    unpressed: Callable[[np.ndarray], tuple[np.ndarray, ...]],
+    pressed: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, ...]],
+) -> tuple[np.ndarray, ...]:
+    """Flat arrays ``unpressed(D)`` where ``f == 0`` (the closed forms of
+    :mod:`impactsym.contact.unpressed`), ``pressed(D, f)`` elsewhere (the kernel); both
+    return tuples of the same length."""
+    free = force == 0
+    if free.all():  # the common cases: no copies
+        return unpressed(damping)
+    if not free.any():
+        return pressed(damping, force)
+    parts = zip(unpressed(damping[free]), pressed(damping[~free], force[~free]), strict=True)
+    out = []
+    for a, b in parts:
+        o = np.empty(damping.shape)
+        o[free], o[~free] = a, b
+        out.append(o)
+    return tuple(out)
+
+
+def _release(
+    damping: np.ndarray, force: np.ndarray, *, condition: str
+) -> tuple[np.ndarray, np.ndarray]:
+    """Contact time and restitution (clipped to [0, 1]) on flat arrays."""
+    tau_c, e = _by_pressing(
+        damping,
+        force,
+        lambda d: unpressed_release(d, condition=condition),
+        lambda d, fr: _pressed_release(d, fr, condition=condition),
+    )
+    # 0 <= e <= 1 by the energy balance; rounding must not push it past 1
+    return tau_c, np.clip(e, 0.0, 1.0)
 
 
 def contact_time(D: ArrayLike, f: ArrayLike, *, condition: str) -> ArrayLike:
@@ -58,6 +99,14 @@ def contact_time(D: ArrayLike, f: ArrayLike, *, condition: str) -> ArrayLike:
         :math:`\tau_c = \omega_0 t_c`, broadcast over ``D`` and ``f``; ``inf`` where the
         body sticks.
 
+    Notes
+    -----
+    Where ``f == 0`` the contact time is the closed form of
+    :func:`impactsym.contact.unpressed.unpressed_release`: :math:`\pi/\sqrt{1 - D^2}`
+    (position, ``inf`` from :math:`D = 1` on) and :math:`2\arccos(D)/\sqrt{1 - D^2}`
+    (force, :math:`2\operatorname{arcosh}(D)/\sqrt{D^2 - 1}` over-damped); elsewhere the
+    kernel's bracketed root.
+
     Examples
     --------
     Without damping every contact lasts half a period. A critically damped body
@@ -73,13 +122,20 @@ def contact_time(D: ArrayLike, f: ArrayLike, *, condition: str) -> ArrayLike:
     inf
     """
     (damping, force), shape, scalar = flat_inputs(condition=condition, D=D, f=f)
-    return finish(first_release(damping, force, condition=condition).reshape(shape), scalar)
+    (tau_c,) = _by_pressing(
+        damping,
+        force,
+        lambda d: unpressed_release(d, condition=condition)[:1],
+        lambda d, fr: (first_release(d, fr, condition=condition),),
+    )
+    return finish(tau_c.reshape(shape), scalar)
 
 
 def restitution(D: ArrayLike, f: ArrayLike, *, condition: str) -> ArrayLike:
     r"""Coefficient of restitution :math:`e = -z'(\tau_c)`; ``0.0`` where the body sticks.
 
-    Parameters are those of :func:`contact_time`.
+    Parameters are those of :func:`contact_time`. Where ``f == 0``, :math:`e =
+    e^{-D\tau_c}` in closed form (:mod:`impactsym.contact.unpressed`).
 
     Examples
     --------
@@ -89,19 +145,29 @@ def restitution(D: ArrayLike, f: ArrayLike, *, condition: str) -> ArrayLike:
     0.135335283237
     """
     (damping, force), shape, scalar = flat_inputs(condition=condition, D=D, f=f)
+    (e,) = _by_pressing(
+        damping,
+        force,
+        lambda d: unpressed_release(d, condition=condition)[1:],
+        lambda d, fr: _pressed_release(d, fr, condition=condition)[1:],
+    )
+    # 0 <= e <= 1 by the energy balance; rounding must not push it past 1
+    return finish(np.clip(e, 0.0, 1.0).reshape(shape), scalar)
+
+
+def _pressed_release(
+    damping: np.ndarray, force: np.ndarray, *, condition: str
+) -> tuple[np.ndarray, np.ndarray]:
+    """Contact time and restitution on flat arrays from the kernel's contact time (one
+    root per element) and the limits."""
+    tau_c = first_release(damping, force, condition=condition)
     decided, _, e_limit = limits(damping, force, condition=condition)
     e = np.zeros(damping.shape)
     e[decided] = e_limit
-    near = ~decided
-    d, fr = damping[near], force[near]
-    tau_c = first_release(d, fr, condition=condition)
-    e_near = np.zeros(d.shape)
-    release = np.isfinite(tau_c)
+    release = ~decided & np.isfinite(tau_c)
     if release.any():
-        e_near[release] = -z_dot()(tau_c[release], d[release], fr[release])
-    e[near] = e_near
-    # 0 <= e <= 1 by the energy balance; rounding must not push it past 1
-    return finish(np.clip(e, 0.0, 1.0).reshape(shape), scalar)
+        e[release] = -z_dot()(tau_c[release], damping[release], force[release])
+    return tau_c, e
 
 
 def contact_surface(
@@ -333,8 +399,10 @@ def physical_contact(
     check_derived("f = F/(d v0)", "F, d, v0", f_[finite], np.isfinite)
     tau_c, e = np.empty(D_.shape), np.empty(D_.shape)
     try:
-        tau_c[finite] = contact_time(D_[finite], f_[finite], condition=condition)
-        e[finite] = restitution(D_[finite], f_[finite], condition=condition)
+        if finite.all():  # no copies
+            tau_c, e = _release(D_, f_, condition=condition)
+        else:
+            tau_c[finite], e[finite] = _release(D_[finite], f_[finite], condition=condition)
     except ValueError as exc:
         raise ValueError(f"physical_contact: the inputs m, k, d, v0, F give {exc}") from None
     tau_c[undamped_pressed] = 2.0 * np.pi - 2.0 * np.arctan2(1.0, static[undamped_pressed])

@@ -121,20 +121,27 @@ class Kernels:
     ) -> np.ndarray:
         """d/dtau of :meth:`scaled_g`."""
         rate = _decay_rate(damping)
-        static = _static_part(t, damping, force)
+        static = _static_part(t, damping, force, rate)
         return self.oscillation_dot(t, damping, force, *state) + rate * static
 
 
 def _decay_rate(damping: np.ndarray) -> np.ndarray:
     """Decay rate c of the slowest mode (``derivation.DECAY``): D for D <= 1, else 1/mu."""
-    mu_ = _aux("overdamped", np.maximum(damping, 1.0))[1]
-    return np.where(damping <= 1, damping, 1.0 / mu_)
+    over = damping > 1
+    if not over.any():  # the under-damped and critical rate is D itself
+        return damping
+    rate = damping.copy()
+    rate[over] = 1.0 / _aux("overdamped", damping[over])[1]
+    return rate
 
 
-def _static_part(t: np.ndarray, damping: np.ndarray, force: np.ndarray) -> np.ndarray:
+def _static_part(
+    t: np.ndarray, damping: np.ndarray, force: np.ndarray, rate: np.ndarray | None = None
+) -> np.ndarray:
     static = 2.0 * damping * force
+    rate = _decay_rate(damping) if rate is None else rate
     with np.errstate(over="ignore", invalid="ignore"):
-        grown = static * np.exp(_decay_rate(damping) * t)
+        grown = static * np.exp(rate * t)
     return np.where(static > 0, grown, 0.0)  # no 0 * inf
 
 

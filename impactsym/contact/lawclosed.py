@@ -31,6 +31,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import lambertw
 
+from impactsym.contact.unpressed import force_exponent, unpressed_release
 from impactsym.validation import check_condition
 
 #: Below this |x| the function rho is evaluated from its Taylor series.
@@ -149,14 +150,6 @@ def tsuji_zeta(alpha: np.ndarray, exponent: np.ndarray) -> np.ndarray:
     return np.asarray(alpha, dtype=float) / np.sqrt(2.0 * (np.asarray(exponent) + 1.0))
 
 
-def _force_h(D: np.ndarray) -> np.ndarray:
-    """:math:`h(D) = D \\arccos D / \\sqrt{1 - D^2}` (arcosh above 1, 1 at D = 1)."""
-    with np.errstate(all="ignore"):
-        under = D * np.arccos(np.minimum(D, 1.0)) / np.sqrt((1.0 - D) * (1.0 + D))
-        over = D * np.arccosh(np.maximum(D, 1.0)) / np.sqrt((D - 1.0) * (D + 1.0))
-    return np.where(D < 1.0, under, np.where(D > 1.0, over, 1.0))
-
-
 def linear_damping_ratio(e: np.ndarray, *, condition: str) -> np.ndarray:
     r"""The damping ratio ``D`` at which the linear contact without pressing force
     restitutes ``e`` (``0 < e <= 1``; ``D = 0`` at ``e = 1``), under ``condition``.
@@ -176,7 +169,7 @@ def linear_damping_ratio(e: np.ndarray, *, condition: str) -> np.ndarray:
         return L / np.sqrt(np.pi**2 + L * L)
     L = 0.5 * L.ravel()  # h(D) = -ln(e)/2
     lo, hi = np.zeros(L.size), np.maximum(2.0, np.exp(L))  # e(2) < 0.05; e(1/sqrt(e)) < e
-    g_lo, g_hi = -L, _force_h(hi) - L
+    g_lo, g_hi = -L, force_exponent(hi)[1] - L
     D = np.zeros(L.size)
     side = np.zeros(L.size, dtype=int)
     idx = np.flatnonzero(L > 0)  # the elements still iterating
@@ -186,7 +179,7 @@ def linear_damping_ratio(e: np.ndarray, *, condition: str) -> np.ndarray:
             trial = (lo_i * gh - hi_i * gl) / (gh - gl)
         bad = ~np.isfinite(trial) | (trial <= lo_i) | (trial >= hi_i)
         trial = np.where(bad, 0.5 * (lo_i + hi_i), trial)
-        g = _force_h(trial) - L[idx]
+        g = force_exponent(trial)[1] - L[idx]
         above = g > 0
         hi_i, gh = np.where(above, trial, hi_i), np.where(above, g, gh)
         lo_i, gl = np.where(above, lo_i, trial), np.where(above, gl, g)
@@ -205,16 +198,10 @@ def linear_free_restitution(D: np.ndarray, *, condition: str) -> np.ndarray:
     r"""Restitution of the linear contact without pressing force at damping ratio ``D``:
     :math:`\exp(-\pi D/\sqrt{1 - D^2})` under the position condition (0 from ``D = 1``
     on: the body creeps back and sticks), :math:`\exp(-2 h(D))` under the force condition
-    (:func:`linear_damping_ratio` inverts both).
+    (:func:`linear_damping_ratio` inverts both), by
+    :func:`impactsym.contact.unpressed.unpressed_release`.
 
     >>> float(linear_free_restitution(np.array(1.0), condition="force"))  # exp(-2)
     0.1353352832366127
     """
-    check_condition(condition)
-    D = np.asarray(D, dtype=float)
-    with np.errstate(all="ignore"):
-        if condition == "position":
-            e = np.where(D < 1.0, np.exp(-np.pi * D / np.sqrt((1.0 - D) * (1.0 + D))), 0.0)
-        else:
-            e = np.where(np.isinf(D), 0.0, np.exp(-2.0 * _force_h(D)))
-    return e
+    return unpressed_release(D, condition=condition)[1]

@@ -10,12 +10,12 @@ re-contact one bracketed Newton solve of the flight equation (:func:`recontact`)
 that rest drop out.
 
 **Why this numerics.** A contact from the undeformed state :math:`(0, v)` is the first
-impact with :math:`f/v` scaled by ``v``, so it goes through the same kernel and limits as
-:func:`~impactsym.contact.api.contact_time`. The departure speed is capped by the energy
-balance, so rounding cannot create energy where the dissipation is below it. The
-per-contact rows grow with the contacts that occur (a doubling buffer), never with
-``max_contacts``; maps do not record them at all. Measured figures and the refusals:
-physics.md, section 2, *Numerics of the sequences*.
+impact with :math:`f/v` scaled by ``v``, so it goes through the same closed forms
+(:math:`f = 0`), kernel and limits as :func:`~impactsym.contact.api.contact_time`. The
+departure speed is capped by the energy balance, so rounding cannot create energy where
+the dissipation is below it. The per-contact rows grow with the contacts that occur (a
+doubling buffer), never with ``max_contacts``; maps do not record them at all. Measured
+figures and the refusals: physics.md, section 2, *Numerics of the sequences*.
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ import numpy as np
 
 from impactsym.contact import flight as _flight
 from impactsym.contact.kernel import first_release, limits, z_dot
+from impactsym.contact.unpressed import unpressed_release
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_newton
 
@@ -139,8 +140,9 @@ def _released_speed(
     where the body sticks.
 
     A contact from the undeformed state :math:`(0, v)` is the first impact with
-    :math:`f/v`, scaled by ``v`` (the section-2 kernel with its limits, as
-    :func:`~impactsym.contact.api.contact_time`); one from a deflected element uses the
+    :math:`f/v`, scaled by ``v`` (as :func:`~impactsym.contact.api.contact_time`: the
+    closed forms of :mod:`impactsym.contact.unpressed` where :math:`f = 0`, else the
+    section-2 kernel with its limits); one from a deflected element uses the
     restart forms. The departure speed is capped by the energy balance
     :math:`E = v^2/2 + z^2/2 - 2Df z` (non-increasing in contact): :math:`u \le v` under
     the position condition, :math:`(1/2 + 2D^2)u^2 - 4D^2 f u \le E` under the force
@@ -152,11 +154,19 @@ def _released_speed(
     if fresh.any():  # the first impact at f/v, in units of v
         d, v = damping[fresh], arrival[fresh]
         f_v = force[fresh] / v
-        # as contact_time and restitution: the limits decide where the closed forms fail
-        decided, tau_limit, e_limit = limits(d, f_v, condition=condition)
         tau, u = np.empty(d.shape), np.zeros(d.shape)
+        # as contact_time and restitution: without pressing force the closed forms, else
+        # the kernel, with the limits deciding where its closed forms fail
+        free = f_v == 0
+        if free.any():
+            tau[free], e_free = unpressed_release(d[free], condition=condition)
+            u[free] = e_free * v[free]
+        pressed = np.flatnonzero(~free)
+        hit, tau_limit, e_limit = limits(d[pressed], f_v[pressed], condition=condition)
+        decided = np.zeros(d.shape, dtype=bool)
+        decided[pressed[hit]] = True
         tau[decided], u[decided] = tau_limit, e_limit * v[decided]
-        near = ~decided
+        near = ~(free | decided)
         tau[near] = first_release(d[near], f_v[near], condition=condition)
         out = near & np.isfinite(tau)
         u[out] = -z_dot()(tau[out], d[out], f_v[out]) * v[out]

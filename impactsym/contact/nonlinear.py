@@ -7,7 +7,9 @@ force ``F`` (``docs/physics.md``, "Nonlinear contact laws"). The laws are those 
 ``alpha`` and ``A``. The numbers come from
 
 * the exact linear contact (:func:`~impactsym.contact.api.physical_contact`) for the
-  contact time and restitution of ``"linear"``, unchanged;
+  contact time and restitution of ``"linear"``, unchanged, and the closed forms of
+  :mod:`impactsym.contact.extrema` for its maximum penetration and peak force (position
+  and force conditions; the clipped one integrates them);
 * the closed forms of :mod:`impactsym.contact.lawclosed` without pressing force: the
   Hunt–Crossley restitution (Lambert W) and the Tsuji map onto the linear contact with
   :math:`\zeta = \alpha/\sqrt{2(p+1)}` (restitution and sticking);
@@ -33,6 +35,7 @@ from functools import lru_cache
 import numpy as np
 
 from impactsym.contact.api import contact_time, physical_contact, restitution
+from impactsym.contact.extrema import linear_extrema
 from impactsym.contact.lawclosed import (
     hunt_crossley_restitution,
     linear_free_restitution,
@@ -171,13 +174,16 @@ def linear_ends(delta, b, *, condition: str) -> tuple[np.ndarray, np.ndarray]:
 def integrated_impact(law: str, delta, b, q, *, condition: str) -> tuple[np.ndarray, ...]:
     """Contact time, restitution, maximum penetration and peak force (normalized) of flat
     arrays by the order-8 integration, with the ends the closed forms know: the linear
-    law's contact time and restitution (:func:`linear_ends`; the integration then only
-    gives the extrema) and the sticking of an over-damped Tsuji contact (position
+    law's contact time and restitution (:func:`linear_ends`), and its extrema
+    (:func:`~impactsym.contact.extrema.linear_extrema`; integrated under the clipped
+    condition only), and the sticking of an over-damped Tsuji contact (position
     condition)."""
     end = np.full(delta.shape, np.nan)
     if law == "linear":
         tau_c, e = linear_ends(delta, b, condition=condition)
-        end = np.where(np.isinf(tau_c), np.inf, np.nan) if condition == "clipped" else tau_c
+        if condition != "clipped":  # the extrema in closed form too
+            return tau_c, e, *linear_extrema(delta, b, tau_c)
+        end = np.where(np.isinf(tau_c), np.inf, np.nan)
         run = integrate(law, delta, b, q, condition=condition, end_time=end)
         return tau_c, e, run.z_max, run.peak
     if law == "tsuji" and condition == "position":
@@ -436,8 +442,10 @@ def impact(
                 t_c = tau_c * T
         (z_max, peak), inside = tabulated(law, delta, b, q, condition=condition, rows=(2, 3))
         rest = np.flatnonzero(~inside)
-        if rest.size:
-            end = np.where(np.isinf(tau_c), np.inf, np.nan) if condition == "clipped" else tau_c
+        if rest.size and condition != "clipped":  # the extrema in closed form
+            z_max[rest], peak[rest] = linear_extrema(delta[rest], b[rest], tau_c[rest])
+        elif rest.size:
+            end = np.where(np.isinf(tau_c), np.inf, np.nan)
             run = integrate(law, delta[rest], b[rest], q[rest], condition=condition,
                             end_time=end[rest])  # fmt: skip
             z_max[rest], peak[rest] = run.z_max, run.peak
