@@ -256,3 +256,14 @@ def test_free_table_refuses_a_bad_exponent_by_name(exponent):
 def test_free_table_refuses_a_string_exponent():
     with pytest.raises(TypeError, match="exponent"):
         free_table("hertz-linear", "1.5", "position")
+
+
+@pytest.mark.parametrize("exponent", [np.array(1.5), [1.5], np.array([1.5])])
+def test_free_table_refuses_an_array_exponent_by_name(exponent):
+    """Checked before the cache looks it up (an unhashable key was a raw TypeError)."""
+    with pytest.raises(TypeError, match="exponent must be a real number"):
+        free_table("hertz-linear", exponent, "position")
+
+
+def test_free_table_takes_numpy_integers_as_the_same_table():
+    assert free_table("linear", np.int64(2), "position") is free_table("linear", 2.0, "position")

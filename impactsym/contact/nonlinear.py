@@ -227,7 +227,6 @@ TABLE_CAP = 100.0
 TABLE_GAP = 1e-6
 
 
-@lru_cache(maxsize=64)
 def free_table(law: str, exponent: float, condition: str) -> ChebyshevTable:
     r"""The unpressed impact of ``law`` at ``exponent`` as a piecewise Chebyshev table in
     :math:`u = \operatorname{asinh}(\delta/0.1)` (:mod:`impactsym.contact.lawtable`),
@@ -238,15 +237,24 @@ def free_table(law: str, exponent: float, condition: str) -> ChebyshevTable:
     ``"clipped"`` condition (without pressing force the clipped contact is the force
     condition's, then a free coast at the same speed). Accurate to 1e-10 (relative) against
     an independent integration (``tests/test_contact_lawtable.py``). Kept per process
-    (``functools.lru_cache``, the last 64 tables; ``free_table.cache_clear()`` frees them).
+    (``functools.lru_cache`` on the checked arguments, the last 64 tables;
+    ``free_table.cache_clear()`` frees them, ``free_table.cache_info()`` counts them).
     """
     check_law(law)
-    if isinstance(exponent, bool) or not isinstance(exponent, (int, float, np.floating)):
+    if isinstance(exponent, (bool, np.bool_)) or not isinstance(
+        exponent, (int, float, np.integer, np.floating)
+    ):
         raise TypeError(f"exponent must be a real number, got {exponent!r}")
     if not (np.isfinite(exponent) and exponent >= 1.0):
         raise ValueError(f"exponent must be finite and >= 1, got {exponent!r}")
     if condition not in ("position", "force"):
         raise ValueError(f"a table's condition is 'position' or 'force', got {condition!r}")
+    return _built_table(law, float(exponent), condition)
+
+
+@lru_cache(maxsize=64)
+def _built_table(law: str, exponent: float, condition: str) -> ChebyshevTable:
+    """:func:`free_table` of checked arguments (the cache keys on them)."""
 
     def exact(u: np.ndarray) -> np.ndarray:
         delta = TABLE_SCALE * np.sinh(u)
@@ -263,6 +271,10 @@ def free_table(law: str, exponent: float, condition: str) -> ChebyshevTable:
 
     top = np.arcsinh(TABLE_TOP[law] / TABLE_SCALE)
     return build(exact, 0.0, float(top), min_width=TABLE_GAP, cap=TABLE_CAP)
+
+
+free_table.cache_clear = _built_table.cache_clear  # type: ignore[attr-defined]
+free_table.cache_info = _built_table.cache_info  # type: ignore[attr-defined]
 
 
 def table_mask(b: np.ndarray, q: np.ndarray) -> np.ndarray:
