@@ -157,7 +157,9 @@ def normalize(law: str, k, c, m, v0, F, p) -> tuple[np.ndarray, ...]:
     return T, L, delta, b, q
 
 
-def linear_ends(delta, b, *, condition: str) -> tuple[np.ndarray, np.ndarray]:
+def linear_ends(
+    delta: np.ndarray, b: np.ndarray, *, condition: str
+) -> tuple[np.ndarray, np.ndarray]:
     """Normalized contact time and restitution of the linear law (flat arrays, ``b = 2Df``)
     by the closed forms of :func:`~impactsym.contact.api.contact_time` and
     :func:`~impactsym.contact.api.restitution` (clipped: :func:`clipped_linear`)."""
@@ -171,7 +173,9 @@ def linear_ends(delta, b, *, condition: str) -> tuple[np.ndarray, np.ndarray]:
     return tau_c, e
 
 
-def integrated_impact(law: str, delta, b, q, *, condition: str) -> tuple[np.ndarray, ...]:
+def integrated_impact(
+    law: str, delta: np.ndarray, b: np.ndarray, q: np.ndarray, *, condition: str
+) -> tuple[np.ndarray, ...]:
     """Contact time, restitution, maximum penetration and peak force (normalized) of flat
     arrays by the order-8 integration, with the ends the closed forms know: the linear
     law's contact time and restitution (:func:`linear_ends`), and its extrema
@@ -292,9 +296,9 @@ def table_mask(b: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 def tabulated(
     law: str,
-    delta,
-    b,
-    q,
+    delta: np.ndarray,
+    b: np.ndarray,
+    q: np.ndarray,
     *,
     condition: str,
     mask: np.ndarray | None = None,
@@ -323,7 +327,9 @@ def tabulated(
     return values, inside
 
 
-def normalized_impact(law: str, delta, b, q, *, condition: str):
+def normalized_impact(
+    law: str, delta: np.ndarray, b: np.ndarray, q: np.ndarray, *, condition: str
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Contact time, restitution, maximum penetration, peak force (all normalized) of
     flat arrays: unpressed elements from the table of :func:`free_table` where
     :func:`tabulated` uses it, the rest by :func:`integrated_impact`; the closed-form
