@@ -5,10 +5,11 @@
   Laplace series, nothing of the delay equations), across the fast layers after the
   reflection times and on the wide cells, and those bounds certify the table;
 * a coefficient spoiled after the build shows in the bound;
-* contact times of ``f`` sweeps at ``kappa = 1e2, 1e3, 1e4`` (the Taylor table at
-  ``1e2``, this table above) equal the pointwise search on the pole sums alone
-  (:mod:`references.rod_pole_search`), at ``f = 0`` and on both sides of the forces
-  where the first sign change jumps (a tangency)."""
+* the search takes this table only where its bound certifies every cell at the largest
+  force (near its separation limit it does not, and the Taylor table serves);
+* contact times of ``f`` sweeps at ``kappa = 1e2, 1e3, 1e4`` equal the pointwise search
+  on the pole sums alone (:mod:`references.rod_pole_search`), at ``f = 0`` and on both
+  sides of the forces where the first sign change jumps (a tangency)."""
 
 from __future__ import annotations
 
@@ -113,3 +114,19 @@ def test_f_sweep_equals_the_pointwise_pole_search(k, which, jump):
     finite = np.isfinite(got)
     assert np.max(np.abs(got[finite] - expected[finite]), initial=0.0) < 1e-11
     assert abs(got[-1] - got[-2]) > 0.5  # the two sides of the jump, both right
+
+
+def test_the_search_takes_the_table_only_where_its_bound_certifies_every_cell():
+    """alpha = 0.10125, kappa = 100 is just past the table's separation limit: its bound
+    misses 1e-12 on a fifth of the N cells at f = 2, whose pole sums would cost tens of
+    seconds; the Taylor table serves instead, with the cell table's contact time."""
+    from impactsym.rod.elastic import search
+
+    assert search._certified_manifold(0.3, 100.0, "N", 11, np.array([0.0, 2.0])) is not None
+    assert search._certified_manifold(0.10125, 100.0, "N", 11, np.array([0.0, 2.0])) is None
+    f = np.array([0.0, 1.0, 2.0])
+    alpha, kappa = np.full(3, 0.10125), np.full(3, 100.0)
+    got = elastic_contact_times("N", alpha, f, kappa=kappa, t_max=20.0)
+    ref = elastic_contact_times("N", alpha, f, kappa=kappa, t_max=20.0, method="cells")
+    np.testing.assert_array_equal(np.isinf(got), np.isinf(ref))
+    np.testing.assert_allclose(got[np.isfinite(got)], ref[np.isfinite(ref)], rtol=0, atol=1e-10)

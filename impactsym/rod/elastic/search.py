@@ -2,8 +2,10 @@
 
 Per :math:`(\\alpha, \\kappa)` one certified table :math:`g = A + f B + \\epsilon`
 (:class:`impactsym.rod.elastic.CertifiedTable`), built once and shared by every
-:math:`f`: the float64 Taylor table (:mod:`impactsym.rod.elastic.taylor`) where the spring
-allows, else the mpmath cell table (:mod:`impactsym.rod.elastic.cells`). Where a cell's
+:math:`f`: the float64 slow-manifold table (:mod:`impactsym.rod.elastic.manifold`) for
+stiff springs where its bound certifies every cell, else the float64 Taylor table
+(:mod:`impactsym.rod.elastic.taylor`) where the spring allows, else the mpmath cell table
+(:mod:`impactsym.rod.elastic.cells`). Where a cell's
 proven error exceeds ``TABLE_TOLERANCE`` the pole sums (:mod:`impactsym.rod.elastic.poles`)
 stand in, with their own bounds. Internal: used by :mod:`impactsym.rod.contact_times`; see
 docs/physics.md#finite-contact-stiffness-three-methods.
@@ -35,9 +37,12 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
     Pairs are grouped by ``(alpha, kappa)``; ``g`` starts at ``g(0) = 0`` with
     ``g'(0) > 0`` (``N' = kappa``, ``y' = 1``). Per group one
     :class:`impactsym.rod.elastic.CertifiedTable`: with ``method="taylor"`` (the default)
-    the Taylor table of :mod:`impactsym.rod.elastic.taylor` where the spring needs at
-    most its ``MAX_CELLS`` cells per reflection interval, else (and always with
-    ``method="cells"``) the cell table of :mod:`impactsym.rod.elastic.cells`. On a cell
+    the slow-manifold table of :mod:`impactsym.rod.elastic.manifold` where it applies,
+    needs fewer cells than the Taylor mesh (and at most ``MAX_CELLS``) and its bound
+    certifies every cell at the group's largest ``f``; else the Taylor table of
+    :mod:`impactsym.rod.elastic.taylor` where the spring needs at most its ``MAX_CELLS``
+    cells per reflection interval; else (and always with ``method="cells"``) the cell
+    table of :mod:`impactsym.rod.elastic.cells`. On a cell
     whose proven error is at most ``TABLE_TOLERANCE`` the polynomial is the function
     searched, with its second-derivative bound; elsewhere the pole sums
     (:func:`pole_search`). The cell edges (they include the reflection times ``2k``) are
@@ -56,16 +61,30 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
         members = members[np.argsort(f[members], kind="stable")]  # screened in order of f
         ag, kg = float(ag), float(kg)
         check_stiffness(ag, kappa=kg)
+        table = None
         n_taylor = cells_per_interval(ag, kappa=kg)
         n_manifold = cells_per_interval_manifold(ag, kappa=kg)
-        if method == "taylor" and n_manifold is not None and n_manifold < n_taylor:
-            table = manifold_table(ag, kappa=kg, n_intervals=n_terms).view(which)
-        elif method == "taylor" and n_taylor <= MAX_CELLS:
+        fewer = n_manifold is not None and n_manifold < n_taylor and n_manifold <= MAX_CELLS
+        if method == "taylor" and fewer:
+            table = _certified_manifold(ag, kg, which, n_terms, f[members])
+        if table is None and method == "taylor" and n_taylor <= MAX_CELLS:
             table = taylor_table(ag, kappa=kg, n_intervals=n_terms).view(which)
-        else:
+        elif table is None:
             table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
         result[members] = _table_contact_times(table, which, ag, kg, f[members], t_max)
     return result
+
+
+def _certified_manifold(alpha, kappa, which, n_terms, forces):
+    """The slow-manifold table's view of ``which`` where its bound certifies every cell to
+    ``TABLE_TOLERANCE`` at the largest of ``forces`` (so at every one of them), else
+    ``None``: near its separation limit, at very stiff springs with light strikers, many
+    cells miss it, and the pole sums standing in for them cost far more than the Taylor
+    or the cell table."""
+    view = manifold_table(alpha, kappa=kappa, n_intervals=n_terms).view(which)
+    cells = np.arange(view.lo.size)
+    worst = np.full(cells.size, float(np.max(np.abs(forces))))
+    return view if bool(view.certified(cells, worst, TABLE_TOLERANCE).all()) else None
 
 
 def check_stiffness(alpha: float, *, kappa: float) -> None:
