@@ -145,7 +145,7 @@ def main() -> None:
             if law == "linear" and key == "force":
                 continue  # the linear law tables its extrema once for every condition
             wall, cpu = time.perf_counter(), time.process_time()
-            table = free_table(law, 1.0 if law == "linear" else 1.5, key)
+            table = free_table(law, 1.0 if law == "linear" else 1.5, condition=key)
             wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
             print(f"  {law}, {key}{' (and clipped)' if key == 'force' else ''}: "
                   f"wall {wall:.1f} s, cpu {cpu:.1f} s, {table.pieces} pieces, "

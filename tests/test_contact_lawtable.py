@@ -116,7 +116,9 @@ def test_tables_agree_with_an_independent_integration_to_1e_10(law, condition):
     q = np.ones_like(delta) if law == "linear" else np.full(delta.shape, P)
     key = "position" if condition == "position" or law == "linear" else "force"
     rows = (4, 1, 2, 3) if condition == "clipped" else (0, 1, 2, 3)
-    values, inside = free_table(law, float(q[0]), key)(np.arcsinh(delta / TABLE_SCALE), rows)
+    values, inside = free_table(law, float(q[0]), condition=key)(
+        np.arcsinh(delta / TABLE_SCALE), rows
+    )
     assert inside.all()
     for i, d in enumerate(delta):
         t_c, e, z_max, peak = reference(law, float(d), condition)
@@ -131,7 +133,9 @@ def test_tables_agree_with_an_independent_integration_to_1e_10(law, condition):
                                             ("tsuji", 3.0)])  # fmt: skip
 def test_sticking_pieces_stick_and_keep_their_extrema(law, delta):
     q = 1.0 if law == "linear" else P
-    values, inside = free_table(law, q, "position")(np.arcsinh(np.array([delta]) / TABLE_SCALE))
+    values, inside = free_table(law, q, condition="position")(
+        np.arcsinh(np.array([delta]) / TABLE_SCALE)
+    )
     exact = integrated_impact(law, np.array([delta]), np.zeros(1), np.array([q]),
                               condition="position")  # fmt: skip
     assert inside.all()
@@ -171,7 +175,9 @@ def test_pressed_and_uncovered_elements_are_integrated():
     tau, e, z_max, peak = normalized_impact("hertz-linear", delta, b, q, condition="force")
     exact = integrated_impact("hertz-linear", delta[:2], b[:2], q[:2], condition="force")
     third = integrated_impact("hertz-linear", delta[2:3], b[2:3], q[2:3], condition="force")
-    table, _ = free_table("hertz-linear", P, "force")(np.arcsinh(delta[2:3] / TABLE_SCALE))
+    table, _ = free_table("hertz-linear", P, condition="force")(
+        np.arcsinh(delta[2:3] / TABLE_SCALE)
+    )
     for got, ref, tabled in zip((tau, e, z_max, peak), exact, third, strict=True):
         assert got[0] == ref[0]  # integrated: bit for bit
         assert got[1] == ref[1]
@@ -231,7 +237,7 @@ def test_a_large_design_call_inverts_the_table_and_agrees_with_the_integrated_de
 
 def test_free_table_refuses_a_condition_it_does_not_hold():
     with pytest.raises(ValueError, match="'position' or 'force'"):
-        free_table("tsuji", 1.5, "clipped")
+        free_table("tsuji", 1.5, condition="clipped")
 
 
 @pytest.mark.parametrize("condition", ["force", "clipped"])
@@ -250,20 +256,22 @@ def test_the_integration_finds_a_force_zero_just_above_the_exit(law, condition):
 @pytest.mark.parametrize("exponent", [float("nan"), 0.5, -1.0, float("inf")])
 def test_free_table_refuses_a_bad_exponent_by_name(exponent):
     with pytest.raises(ValueError, match="exponent"):
-        free_table("hertz-linear", exponent, "position")
+        free_table("hertz-linear", exponent, condition="position")
 
 
 def test_free_table_refuses_a_string_exponent():
     with pytest.raises(TypeError, match="exponent"):
-        free_table("hertz-linear", "1.5", "position")
+        free_table("hertz-linear", "1.5", condition="position")
 
 
 @pytest.mark.parametrize("exponent", [np.array(1.5), [1.5], np.array([1.5])])
 def test_free_table_refuses_an_array_exponent_by_name(exponent):
     """Checked before the cache looks it up (an unhashable key was a raw TypeError)."""
     with pytest.raises(TypeError, match="exponent must be a real number"):
-        free_table("hertz-linear", exponent, "position")
+        free_table("hertz-linear", exponent, condition="position")
 
 
 def test_free_table_takes_numpy_integers_as_the_same_table():
-    assert free_table("linear", np.int64(2), "position") is free_table("linear", 2.0, "position")
+    assert free_table("linear", np.int64(2), condition="position") is free_table(
+        "linear", 2.0, condition="position"
+    )

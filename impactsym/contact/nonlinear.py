@@ -231,7 +231,7 @@ TABLE_CAP = 100.0
 TABLE_GAP = 1e-6
 
 
-def free_table(law: str, exponent: float, condition: str) -> ChebyshevTable:
+def free_table(law: str, exponent: float, *, condition: str) -> ChebyshevTable:
     r"""The unpressed impact of ``law`` at ``exponent`` as a piecewise Chebyshev table in
     :math:`u = \operatorname{asinh}(\delta/0.1)` (:mod:`impactsym.contact.lawtable`),
     built once from :func:`integrated_impact` on the Chebyshev points.
@@ -318,7 +318,7 @@ def tabulated(
         rows = tuple(4 if r == 0 else r for r in rows)
     exponents = (q[0],) if q.min() == q.max() else np.unique(q[mask])
     for exponent in exponents:
-        table = free_table(law, float(exponent), key)
+        table = free_table(law, float(exponent), condition=key)
         if len(exponents) == 1 and mask.all():  # the common case: no copies
             return table(np.arcsinh(delta / TABLE_SCALE), rows)
         sel = np.flatnonzero(mask & (q == exponent))
