@@ -12,7 +12,6 @@ closed forms (:mod:`impactsym.contact.unpressed`), taken element by element.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,13 +23,14 @@ from impactsym.contact.kernel import (
     F_FAR,
     F_LARGE,
     boundary_value,
+    by_pressing,
     check_derived,
+    first_impact,
     first_release,
     flat_inputs,
     kernels,
     limits,
     ridge,
-    z_dot,
 )
 from impactsym.contact.unpressed import unpressed_release
 from impactsym.numeric.roots import bracketed_newton
@@ -40,39 +40,11 @@ from impactsym.validation import broadcast, check_condition, finish, real_array
 ArrayLike = float | np.ndarray
 
 
-def _by_pressing(
-    damping: np.ndarray,
-    force: np.ndarray,
-    unpressed: Callable[[np.ndarray], tuple[np.ndarray, ...]],
-    pressed: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, ...]],
-) -> tuple[np.ndarray, ...]:
-    """Flat arrays ``unpressed(D)`` where ``f == 0`` (the closed forms of
-    :mod:`impactsym.contact.unpressed`), ``pressed(D, f)`` elsewhere (the kernel); both
-    return tuples of the same length."""
-    free = force == 0
-    if free.all():  # the common cases: no copies
-        return unpressed(damping)
-    if not free.any():
-        return pressed(damping, force)
-    parts = zip(unpressed(damping[free]), pressed(damping[~free], force[~free]), strict=True)
-    out = []
-    for a, b in parts:
-        o = np.empty(damping.shape)
-        o[free], o[~free] = a, b
-        out.append(o)
-    return tuple(out)
-
-
 def _release(
     damping: np.ndarray, force: np.ndarray, *, condition: str
 ) -> tuple[np.ndarray, np.ndarray]:
     """Contact time and restitution (clipped to [0, 1]) on flat arrays."""
-    tau_c, e = _by_pressing(
-        damping,
-        force,
-        lambda d: unpressed_release(d, condition=condition),
-        lambda d, fr: _pressed_release(d, fr, condition=condition),
-    )
+    tau_c, e = first_impact(damping, force, condition=condition)
     # 0 <= e <= 1 by the energy balance; rounding must not push it past 1
     return tau_c, np.clip(e, 0.0, 1.0)
 
@@ -122,7 +94,7 @@ def contact_time(D: ArrayLike, f: ArrayLike, *, condition: str) -> ArrayLike:
     inf
     """
     (damping, force), shape, scalar = flat_inputs(condition=condition, D=D, f=f)
-    (tau_c,) = _by_pressing(
+    (tau_c,) = by_pressing(
         damping,
         force,
         lambda d: unpressed_release(d, condition=condition)[:1],
@@ -145,29 +117,8 @@ def restitution(D: ArrayLike, f: ArrayLike, *, condition: str) -> ArrayLike:
     0.135335283237
     """
     (damping, force), shape, scalar = flat_inputs(condition=condition, D=D, f=f)
-    (e,) = _by_pressing(
-        damping,
-        force,
-        lambda d: unpressed_release(d, condition=condition)[1:],
-        lambda d, fr: _pressed_release(d, fr, condition=condition)[1:],
-    )
-    # 0 <= e <= 1 by the energy balance; rounding must not push it past 1
-    return finish(np.clip(e, 0.0, 1.0).reshape(shape), scalar)
-
-
-def _pressed_release(
-    damping: np.ndarray, force: np.ndarray, *, condition: str
-) -> tuple[np.ndarray, np.ndarray]:
-    """Contact time and restitution on flat arrays from the kernel's contact time (one
-    root per element) and the limits."""
-    tau_c = first_release(damping, force, condition=condition)
-    decided, _, e_limit = limits(damping, force, condition=condition)
-    e = np.zeros(damping.shape)
-    e[decided] = e_limit
-    release = ~decided & np.isfinite(tau_c)
-    if release.any():
-        e[release] = -z_dot()(tau_c[release], damping[release], force[release])
-    return tau_c, e
+    e = _release(damping, force, condition=condition)[1]
+    return finish(e.reshape(shape), scalar)
 
 
 def contact_surface(

@@ -24,11 +24,13 @@ closed forms lose double precision (far over-damped ``D``, a huge static penetra
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
 
 import numpy as np
 
+from impactsym.contact.unpressed import unpressed_release
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.validation import broadcast, check_condition, real_array
 
@@ -415,3 +417,53 @@ def flat_inputs(
     shape = broadcast(**{name: a for name, (a, _) in zip(arrays, checked, strict=True)})
     flat = [np.broadcast_to(a, shape).ravel() for a, _ in checked]
     return flat, shape, all(s for _, s in checked)
+
+
+def by_pressing(
+    damping: np.ndarray,
+    force: np.ndarray,
+    unpressed: Callable[[np.ndarray], tuple[np.ndarray, ...]],
+    pressed: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, ...]],
+) -> tuple[np.ndarray, ...]:
+    """Internal: flat arrays ``unpressed(D)`` where ``f == 0`` (the closed forms of
+    :mod:`impactsym.contact.unpressed`), ``pressed(D, f)`` elsewhere (the kernel); both
+    return tuples of the same length."""
+    free = force == 0
+    if free.all():  # the common cases: no copies
+        return unpressed(damping)
+    if not free.any():
+        return pressed(damping, force)
+    parts = zip(unpressed(damping[free]), pressed(damping[~free], force[~free]), strict=True)
+    out = []
+    for a, b in parts:
+        o = np.empty(damping.shape)
+        o[free], o[~free] = a, b
+        out.append(o)
+    return tuple(out)
+
+
+def first_impact(
+    damping: np.ndarray, force: np.ndarray, *, condition: str
+) -> tuple[np.ndarray, np.ndarray]:
+    """Internal: contact time and restitution (not clipped; ``0`` where the body sticks) of
+    the first impact on flat arrays: the closed forms where ``f == 0``, else the kernel's
+    contact time (one root per element), its :func:`limits` and ``-z'`` there."""
+    return by_pressing(
+        damping,
+        force,
+        lambda d: unpressed_release(d, condition=condition),
+        lambda d, fr: _pressed_impact(d, fr, condition=condition),
+    )
+
+
+def _pressed_impact(
+    damping: np.ndarray, force: np.ndarray, *, condition: str
+) -> tuple[np.ndarray, np.ndarray]:
+    tau_c = first_release(damping, force, condition=condition)
+    decided, _, e_limit = limits(damping, force, condition=condition)
+    e = np.zeros(damping.shape)
+    e[decided] = e_limit
+    release = ~decided & np.isfinite(tau_c)
+    if release.any():
+        e[release] = -z_dot()(tau_c[release], damping[release], force[release])
+    return tau_c, e

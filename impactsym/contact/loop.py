@@ -28,8 +28,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.contact import flight as _flight
-from impactsym.contact.kernel import first_release, limits, z_dot
-from impactsym.contact.unpressed import unpressed_release
+from impactsym.contact.kernel import first_impact, first_release, z_dot
 from impactsym.numeric.codegen import lambdify
 from impactsym.numeric.roots import bracketed_newton
 
@@ -154,23 +153,10 @@ def _released_speed(
     if fresh.any():  # the first impact at f/v, in units of v
         d, v = damping[fresh], arrival[fresh]
         f_v = force[fresh] / v
-        tau, u = np.empty(d.shape), np.zeros(d.shape)
         # as contact_time and restitution: without pressing force the closed forms, else
         # the kernel, with the limits deciding where its closed forms fail
-        free = f_v == 0
-        if free.any():
-            tau[free], e_free = unpressed_release(d[free], condition=condition)
-            u[free] = e_free * v[free]
-        pressed = np.flatnonzero(~free)
-        hit, tau_limit, e_limit = limits(d[pressed], f_v[pressed], condition=condition)
-        decided = np.zeros(d.shape, dtype=bool)
-        decided[pressed[hit]] = True
-        tau[decided], u[decided] = tau_limit, e_limit * v[decided]
-        near = ~(free | decided)
-        tau[near] = first_release(d[near], f_v[near], condition=condition)
-        out = near & np.isfinite(tau)
-        u[out] = -z_dot()(tau[out], d[out], f_v[out]) * v[out]
-        tau_c[fresh], speed[fresh] = tau, u
+        tau, e = first_impact(d, f_v, condition=condition)
+        tau_c[fresh], speed[fresh] = tau, e * v
     if not fresh.all():  # the relaxing element met the body: a restart from (z0, v0)
         rest = ~fresh
         d, fr = damping[rest], force[rest]
