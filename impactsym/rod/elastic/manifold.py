@@ -39,12 +39,11 @@ from functools import lru_cache
 
 import numpy as np
 
-from impactsym.numeric.eft import two_sum
 from impactsym.rod.elastic.taylor import (
     DEGREE,
     TaylorTable,
-    cell_bounds,
     fastest_rate,
+    next_incoming,
     taylor_cell,
 )
 
@@ -242,8 +241,9 @@ class ManifoldTable(TaylorTable):
             cells = slice(m * n, (m + 1) * n)
             if m:  # G_m = N_(m-1) - G_(m-1), nearly exactly (measured in the bound)
                 before = slice((m - 1) * n, m * n)
-                s, e = two_sum(N[:, before], -G_hi[:, before])
-                G_hi[:, cells], G_lo[:, cells] = two_sum(s, e - G_lo[:, before] + N_lo[:, before])
+                G_hi[:, cells], G_lo[:, cells] = next_incoming(
+                    N[:, before], N_lo[:, before], G_hi[:, before], G_lo[:, before]
+                )
             for rhs, force in ((0, 0.0), (1, 1.0)):
                 (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
                 rows_v, rows_y, rows_n, lows = [], [], [], []
@@ -277,12 +277,7 @@ class ManifoldTable(TaylorTable):
                 if not layer[-1]:
                     n0, n0_lo = _split_total([*N[rhs, at[-1]], *N_lo[rhs, at[-1]]])
                 state[rhs] = [(y0, y0_lo), (v0, v0_lo), (n0, n0_lo)]
-        bounds = cell_bounds(
-            alpha, self.h, (Y, V, N), (Y_lo, V_lo, N_lo), (G_hi, G_lo), n, kappa=kappa
-        )
-        self.N_a, self.N_b = N
-        self.Y_a, self.Y_b = Y
-        self.err_y_a, self.err_y_b, self.err_n_a, self.err_n_b = bounds
+        self._bound(Y, V, N, (Y_lo, V_lo, N_lo), G_hi, G_lo, n)  # per-cell widths h
 
 
 @lru_cache(maxsize=64)

@@ -132,10 +132,9 @@ class TaylorTable:
             cells = slice(m * n, (m + 1) * n)
             if m:  # G_m = N_(m-1) - G_(m-1), nearly exactly
                 before = slice((m - 1) * n, m * n)
-                s, e = two_sum(N[:, before], -G_hi[:, before])
-                t = e - G_lo[:, before]
-                t[..., 0] += N_lo[:, before]
-                G_hi[:, cells], G_lo[:, cells] = two_sum(s, t)
+                G_hi[:, cells], G_lo[:, cells] = next_incoming(
+                    N[:, before], N_lo[:, before], G_hi[:, before], G_lo[:, before]
+                )
             G_all = (G_hi[:, cells] + G_lo[:, cells]).tolist()
             for rhs, force in ((0, 0.0), (1, 1.0)):
                 (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
@@ -244,6 +243,22 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa):
     err_n_a, err_n_b = (e_n + horner_n) * margin
     err_y_a, err_y_b = (e_y + horner_y) * margin
     return err_y_a, err_y_b, err_n_a, err_n_b
+
+
+def next_incoming(
+    N: np.ndarray, N_lo: np.ndarray, G_hi: np.ndarray, G_lo: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Internal: the incoming wave of the next reflection interval, ``G_m = N_(m-1) -
+    G_(m-1)`` on the cell coefficients, in double-double from ``N + N_lo`` and ``G_hi +
+    G_lo`` of the interval before (``N_lo``: the constant coefficients' low parts, or
+    every coefficient's, shaped like ``N``)."""
+    s, e = two_sum(N, -G_hi)
+    t = e - G_lo
+    if N_lo.ndim == N.ndim:
+        t = t + N_lo
+    else:
+        t[..., 0] += N_lo
+    return two_sum(s, t)
 
 
 def _full_low(low: np.ndarray, like: np.ndarray) -> np.ndarray:
