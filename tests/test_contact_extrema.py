@@ -129,3 +129,15 @@ def test_the_linear_law_takes_the_closed_form_extrema():
         # length unit v0/omega0 = 1, force unit m omega0 v0 = 4
         np.testing.assert_allclose(r.max_penetration, z_max, rtol=1e-15)
         np.testing.assert_allclose(r.peak_force, 4.0 * peak, rtol=1e-15)
+
+
+@pytest.mark.parametrize(
+    ("D", "error"), [(np.array([-0.5]), ValueError), (np.array([np.nan]), ValueError),
+                     ("0.5", TypeError)],
+)  # fmt: skip
+def test_a_bad_damping_ratio_is_refused_by_name(D, error):
+    one = np.ones(1)
+    with pytest.raises(error, match="D"):
+        first_zero(D, one, one, upward=True)
+    with pytest.raises(error, match="D"):
+        linear_extrema(D, np.zeros(1), np.full(1, np.pi))

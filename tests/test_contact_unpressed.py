@@ -135,3 +135,22 @@ def test_the_linear_law_reads_the_same_closed_forms():
         tau_c, e = unpressed_release(damping / 2.0, condition=condition)
         assert np.array_equal(r.contact_time, tau_c)
         assert np.array_equal(r.restitution, e)
+
+
+@pytest.mark.parametrize(
+    ("D", "error", "message"),
+    [
+        (-1.0, ValueError, "D must be >= 0"),
+        (np.nan, ValueError, "D"),
+        (np.array([0.5, -1e-300]), ValueError, "D must be >= 0"),
+        ("0.5", TypeError, "D must be a real number"),
+    ],
+)
+@pytest.mark.parametrize("function", ["unpressed_release", "force_exponent"])
+def test_a_bad_damping_ratio_is_refused_by_name(function, D, error, message):
+    call = {
+        "unpressed_release": lambda: unpressed_release(D, condition="position"),
+        "force_exponent": lambda: force_exponent(D),
+    }[function]
+    with pytest.raises(error, match=message):
+        call()

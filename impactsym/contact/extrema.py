@@ -37,6 +37,7 @@ from __future__ import annotations
 import numpy as np
 
 from impactsym.contact.kernel import homogeneous
+from impactsym.validation import real_array
 
 
 def first_zero(D: np.ndarray, y0: np.ndarray, y1: np.ndarray, *, upward: bool) -> np.ndarray:
@@ -54,6 +55,7 @@ def first_zero(D: np.ndarray, y0: np.ndarray, y1: np.ndarray, *, upward: bool) -
     >>> float(first_zero(np.array([0.0]), np.array([1.0]), np.array([0.0]), upward=False)[0])
     1.5707963267948966
     """
+    D = real_array("D", D, lower=0.0)[0]
     tau = np.full(D.shape, np.inf)
     under, over, critical = D < 1.0, D > 1.0, D == 1.0
     if under.any():
@@ -94,7 +96,8 @@ def linear_extrema(
     >>> float(z_max[0]), float(peak[0])  # z = sin(tau)
     (1.0, 1.0)
     """
-    D, b, tau_c = (np.asarray(a, dtype=float) for a in (D, b, tau_c))
+    D = real_array("D", D, lower=0.0)[0]
+    b, tau_c = (np.asarray(a, dtype=float) for a in (b, tau_c))
     one = np.ones(D.shape)
     basis = homogeneous()
     # z' = u: u(0) = 1, u'(0) = b - 2D

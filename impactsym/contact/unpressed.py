@@ -32,13 +32,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from impactsym.validation import check_condition
+from impactsym.validation import check_condition, real_array
 
 
 def unpressed_release(D: np.ndarray, *, condition: str) -> tuple[np.ndarray, np.ndarray]:
     r"""Contact time :math:`\tau_c` and restitution :math:`e` of the unpressed
     spring-damper contact at damping ratio ``D`` (any shape, ``D >= 0``; ``inf``
-    allowed: :math:`\tau_c = 0`, :math:`e = 0` under the force condition).
+    allowed: :math:`\tau_c = 0`, :math:`e = 0` under the force condition; a negative,
+    NaN or non-numeric ``D`` raises, naming it).
 
     .. math::
         \text{position: } \tau_c = \frac{\pi}{\sqrt{1 - D^2}},\ e = e^{-D\tau_c}
@@ -58,13 +59,13 @@ def unpressed_release(D: np.ndarray, *, condition: str) -> tuple[np.ndarray, np.
     (array(inf), array(0.))
     """
     check_condition(condition)
-    D = np.asarray(D, dtype=float)
+    D = real_array("D", D, lower=0.0, allow_inf=True)[0]
     if condition == "position":
         with np.errstate(all="ignore"):  # the branch is kept only where it is valid
             w = np.sqrt((1.0 - D) * (1.0 + D))
             under = D < 1.0
             return np.where(under, np.pi / w, np.inf), np.where(under, np.exp(-np.pi * D / w), 0.0)
-    tau_c, h = force_exponent(D)
+    tau_c, h = _force_exponent(D)
     return tau_c, np.asarray(np.exp(-2.0 * h))
 
 
@@ -80,8 +81,13 @@ def force_exponent(D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     >>> [float(v) for v in force_exponent(np.array(1.0))]
     [2.0, 1.0]
     """
-    shape = np.shape(D)
-    D = np.asarray(D, dtype=float).reshape(-1)
+    return _force_exponent(real_array("D", D, lower=0.0, allow_inf=True)[0])
+
+
+def _force_exponent(D: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`force_exponent` of a checked float array."""
+    shape = D.shape
+    D = D.reshape(-1)
     under = D < 1.0
     if under.all():  # the common case: no masks
         tau_c, h = _force_under(D)
