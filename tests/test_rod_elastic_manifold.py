@@ -130,3 +130,20 @@ def test_the_search_takes_the_table_only_where_its_bound_certifies_every_cell():
     ref = elastic_contact_times("N", alpha, f, kappa=kappa, t_max=20.0, method="cells")
     np.testing.assert_array_equal(np.isinf(got), np.isinf(ref))
     np.testing.assert_allclose(got[np.isfinite(got)], ref[np.isfinite(ref)], rtol=0, atol=1e-10)
+
+
+@pytest.mark.parametrize(
+    ("args", "error", "match"),
+    [
+        ((-1.0, 1e3, 3), ValueError, "alpha must be > 0"),
+        ((1.0, -5.0, 3), ValueError, "kappa must be > 0"),
+        ((float("nan"), 1e3, 3), ValueError, "alpha"),
+        (("1.0", 1e3, 3), TypeError, "alpha"),
+        ((1.0, 1e3, 0), ValueError, "n_intervals must be >= 1"),
+        ((1.0, 1e3, 2.5), TypeError, "n_intervals must be an integer"),
+    ],
+)
+def test_bad_table_input_is_refused_with_its_name(args, error, match):
+    """As the Taylor table (the same check): before the mesh is even asked for."""
+    with pytest.raises(error, match=match):
+        ManifoldTable(*args)

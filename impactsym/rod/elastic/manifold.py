@@ -42,6 +42,7 @@ import numpy as np
 from impactsym.rod.elastic.taylor import (
     DEGREE,
     TaylorTable,
+    check_table_arguments,
     fastest_rate,
     next_incoming,
     taylor_cell,
@@ -194,7 +195,7 @@ class ManifoldTable(TaylorTable):
     on the cells of :func:`interval_mesh` (``h`` per cell)."""
 
     def __init__(self, alpha: float, kappa: float, n_intervals: int) -> None:
-        self.alpha, self.kappa = float(alpha), float(kappa)
+        self.alpha, self.kappa = check_table_arguments(alpha, kappa, n_intervals)
         mesh = interval_mesh(self.alpha, kappa=self.kappa)
         if mesh is None:
             raise ValueError(

@@ -68,6 +68,24 @@ def cells_per_interval(alpha: float, *, kappa: float) -> int:
     return n
 
 
+def check_table_arguments(alpha: object, kappa: object, n_intervals: object) -> tuple[float, float]:
+    """Internal: ``(alpha, kappa)`` as floats, or raise naming the argument: both real
+    scalars ``> 0`` (``kappa`` finite), ``n_intervals`` an integer ``>= 1``."""
+    checked = {
+        name: real_array(name, value, lower=0.0, strict=True)
+        for name, value in (("alpha", alpha), ("kappa", kappa))
+    }
+    for name, (_, scalar) in checked.items():
+        if not scalar:
+            raise TypeError(f"{name} must be a real number, got an array")
+    if isinstance(n_intervals, bool) or not isinstance(n_intervals, numbers.Integral):
+        raise TypeError(f"n_intervals must be an integer, got {n_intervals!r}")
+    if n_intervals < 1:
+        raise ValueError(f"n_intervals must be >= 1, got {n_intervals!r}")
+    alpha_f, kappa_f = (float(value) for value, _ in checked.values())
+    return alpha_f, kappa_f
+
+
 class TaylorTable:
     """``y`` and ``N`` for one ``(alpha, kappa)`` on ``[0, 2 n_intervals]``.
 
@@ -79,18 +97,7 @@ class TaylorTable:
     """
 
     def __init__(self, alpha: float, kappa: float, n_intervals: int) -> None:
-        checked = {
-            name: real_array(name, value, lower=0.0, strict=True)
-            for name, value in (("alpha", alpha), ("kappa", kappa))
-        }
-        for name, (_, scalar) in checked.items():
-            if not scalar:
-                raise TypeError(f"{name} must be a real number, got an array")
-        if isinstance(n_intervals, bool) or not isinstance(n_intervals, numbers.Integral):
-            raise TypeError(f"n_intervals must be an integer, got {n_intervals!r}")
-        if n_intervals < 1:
-            raise ValueError(f"n_intervals must be >= 1, got {n_intervals!r}")
-        self.alpha, self.kappa = (float(value) for value, _ in checked.values())
+        self.alpha, self.kappa = check_table_arguments(alpha, kappa, n_intervals)
         n = cells_per_interval(self.alpha, kappa=self.kappa)
         if n > MAX_CELLS:
             raise ValueError(
