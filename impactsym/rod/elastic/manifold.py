@@ -195,7 +195,7 @@ class ManifoldTable(TaylorTable):
     on the cells of :func:`interval_mesh` (``h`` per cell)."""
 
     def __init__(self, alpha: float, kappa: float, n_intervals: int) -> None:
-        self.alpha, self.kappa = check_table_arguments(alpha, kappa, n_intervals)
+        self.alpha, self.kappa = check_table_arguments(alpha, kappa=kappa, n_intervals=n_intervals)
         mesh = interval_mesh(self.alpha, kappa=self.kappa)
         if mesh is None:
             raise ValueError(

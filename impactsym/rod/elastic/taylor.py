@@ -68,7 +68,9 @@ def cells_per_interval(alpha: float, *, kappa: float) -> int:
     return n
 
 
-def check_table_arguments(alpha: object, kappa: object, n_intervals: object) -> tuple[float, float]:
+def check_table_arguments(
+    alpha: object, *, kappa: object, n_intervals: object
+) -> tuple[float, float]:
     """Internal: ``(alpha, kappa)`` as floats, or raise naming the argument: both real
     scalars ``> 0`` (``kappa`` finite), ``n_intervals`` an integer ``>= 1``."""
     checked = {
@@ -97,7 +99,7 @@ class TaylorTable:
     """
 
     def __init__(self, alpha: float, kappa: float, n_intervals: int) -> None:
-        self.alpha, self.kappa = check_table_arguments(alpha, kappa, n_intervals)
+        self.alpha, self.kappa = check_table_arguments(alpha, kappa=kappa, n_intervals=n_intervals)
         n = cells_per_interval(self.alpha, kappa=self.kappa)
         if n > MAX_CELLS:
             raise ValueError(
