@@ -4,6 +4,7 @@
   digits (:meth:`impactsym.rod.elastic.poles.PoleModel.evaluate_mp`: the inverted
   Laplace series, nothing of the delay equations), across the fast layers after the
   reflection times and on the wide cells, and those bounds certify the table;
+* so do its values on the graded layer's wider cells (after ``p_f u = 16`` and 32);
 * a coefficient spoiled after the build shows in the bound;
 * the search takes this table only where its bound certifies every cell at the largest
   force (near its separation limit it does not, and the Taylor table serves);
@@ -51,6 +52,47 @@ def test_the_cell_count_does_not_grow_with_the_stiffness():
     assert interval_mesh(1.0, kappa=4.0) is None  # complex contact poles: no manifold
     assert interval_mesh(1.0, kappa=30.0) is None  # layer too long: the Taylor table
     assert interval_mesh(0.1, kappa=100.0) is None  # roots 11.3 and 88.7: too near
+
+
+@pytest.mark.parametrize(("a", "k"), [(0.3, 1e3), (3.0, 1e4)])
+def test_the_graded_layer_lies_within_its_bounds_of_the_mpmath_pole_sums(a, k):
+    """The layer's later cells are wider (``h p_f`` up to 2.5 from ``p_f u = 16``, up to 5
+    from 32): values there, after every reflection, within their bounds of the pole sums
+    at 60 digits, and those bounds certify the table."""
+    table = ManifoldTable(a, k, 4)
+    fast = taylor.fastest_rate(a, kappa=k)
+    rng = np.random.default_rng(11)
+    t = (2.0 * np.arange(4)[:, None] + rng.uniform(16.0, 64.0, (4, 3)) / fast).ravel()
+    f = rng.uniform(0.0, 2.0, t.size)
+    for which in ("N", "y"):
+        reference = pole_model(which, a, kappa=k, n_terms=4, dps=60)
+        view = table.view(which)
+        i = view.cell(t)
+        assert np.max(view.h[i] * fast) > 2.5  # the widest layer cells are among them
+        value, _ = view.evaluate(t, f)
+        exact = np.array([reference.evaluate_mp(x, y) for x, y in zip(t, f, strict=True)])
+        bound = view.err_a[i] + f * view.err_b[i]
+        assert np.all(np.abs(value - exact) <= bound), which
+        assert np.all(bound <= TABLE_TOLERANCE), which
+
+
+@pytest.mark.parametrize("k", [1e3, 1e4, 1e5])
+def test_the_layer_widens_as_its_transient_decays(k):
+    """8 cells of ``h p_f <= 1`` after every reflection (the kink of the incoming wave),
+    then never narrower, ``h p_f`` at most 1.25 before ``p_f u = 16``, 2.5 before 32 and
+    5 after, at least 64 / p_f long: half the layer cells of a mesh of ``h`` and ``2 h``."""
+    widths, layer = interval_mesh(1.0, kappa=k)
+    fast = taylor.fastest_rate(1.0, kappa=k)
+    reach = widths[layer] * fast
+    start = np.concatenate([[0.0], np.cumsum(widths[layer])[:-1]]) * fast
+    assert np.all(reach[:8] <= 1.0)
+    assert np.all(np.diff(reach) >= 0.0)
+    assert np.all(reach[start < 16.0] <= 1.25)
+    assert np.all(reach[start < 32.0] <= 2.5)
+    assert np.max(reach) <= 5.0
+    assert (start[-1] + reach[-1]) >= 64.0
+    assert layer.sum() <= 44, layer.sum()
+    assert widths.size <= 80, widths.size
 
 
 @pytest.mark.parametrize(("array", "offset"), [("N", 0), ("N", 1), ("V", 2), ("Y", 1)])

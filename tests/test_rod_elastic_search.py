@@ -126,3 +126,20 @@ def test_screened_f_sweep_equals_the_search_pair_by_pair(a, k):
             for x in f
         ]
         assert np.array_equal(swept, alone), which
+
+
+def test_the_slow_manifold_table_reaches_an_even_horizon():
+    """At ``t_max = 18`` the slow-manifold table stops at 18 (9 intervals, none beyond the
+    horizon): a contact ending at 16.07, in its last interval, as the pointwise search on
+    the pole sums finds it; and the table of the call is the one of 9 intervals."""
+    from impactsym.rod.elastic.manifold import manifold_table
+
+    a, k, f = 0.316, 1e3, np.array([1.5])
+    manifold_table.cache_clear()
+    got = elastic_contact_times("N", np.array([a]), f, kappa=np.array([k]), t_max=18.0)
+    built = manifold_table(a, kappa=k, n_intervals=9)
+    assert manifold_table.cache_info().hits == 1
+    assert built.hi[-1] == 18.0
+    expected = pointwise_pole_contact_times("N", a, f, kappa=k, t_max=18.0)
+    assert 16.0 < got[0] < 18.0
+    assert abs(got[0] - expected[0]) < 1e-11

@@ -13,6 +13,8 @@ docs/physics.md#finite-contact-stiffness-three-methods.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from impactsym.numeric.isolation import first_sign_change
@@ -53,6 +55,9 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
         raise ValueError(f"method must be 'taylor' or 'cells', got {method!r}")
     result = np.full(alpha.size, np.inf)
     n_terms = int(t_max // 2) + 1
+    # the slow-manifold table stops at the first reflection time >= t_max: its cells and
+    # bounds on [0, 2 n] do not depend on later intervals (the bound accumulates forward)
+    n_searched = max(1, math.ceil(t_max / 2.0))
     keys = np.stack([alpha, kappa], axis=1)
     groups, inverse = np.unique(keys, axis=0, return_inverse=True)
     inverse = inverse.ravel()
@@ -66,7 +71,7 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
         n_manifold = cells_per_interval_manifold(ag, kappa=kg)
         fewer = n_manifold is not None and n_manifold < n_taylor and n_manifold <= MAX_CELLS
         if method == "taylor" and fewer:
-            table = _certified_manifold(ag, kg, which, n_terms, f[members])
+            table = _certified_manifold(ag, kg, which, n_searched, f[members])
         if table is None and method == "taylor" and n_taylor <= MAX_CELLS:
             table = taylor_table(ag, kappa=kg, n_intervals=n_terms).view(which)
         elif table is None:
