@@ -24,6 +24,7 @@ from impactsym.rod import (
     contact_force,
     contact_time,
     displacement,
+    impact_sequence,
 )
 from impactsym.rod.elastic.search import elastic_contact_times
 
@@ -143,3 +144,26 @@ def test_the_slow_manifold_table_reaches_an_even_horizon():
     expected = pointwise_pole_contact_times("N", a, f, kappa=k, t_max=18.0)
     assert 16.0 < got[0] < 18.0
     assert abs(got[0] - expected[0]) < 1e-11
+
+
+@pytest.mark.parametrize(
+    ("a", "k"), [(0.005, 500.0), (0.01, 500.0), (0.02, 500.0), (0.005, 1e3), (0.01, 1e3)]
+)
+def test_a_force_decaying_to_zero_is_no_end_of_contact(a, k):
+    """Until the reflection returns (t < 2) an unpressed striker on its spring sees the
+    rod end as a unit dashpot: ``N'' + kappa N' + (kappa / alpha) N = 0``, ``N(0) = 0``,
+    ``N'(0) = kappa``. Under-damped (``zeta = sqrt(kappa alpha) / 2 < 1``) the force
+    crosses zero at ``pi / omega_d``; over-damped it decays to zero without crossing
+    (to 1e-19 by t = 0.3), and a table that rounds it below zero must not end the
+    contact there: it ends after the reflection (a light striker's contact time was
+    reported as 0.31 here)."""
+    zeta = math.sqrt(k * a) / 2.0
+    t_c = contact_time(a, 0.0, condition="force", kappa=k)
+    if zeta < 1.0:
+        omega_d = math.sqrt(k / a) * math.sqrt(1.0 - zeta * zeta)
+        assert t_c == pytest.approx(math.pi / omega_d, rel=1e-12)
+    else:
+        assert 2.0 < t_c < 2.1  # the reflected wave pulls the rod end away
+        # the continued impact's own exact pieces (sequence_elastic) end it there too
+        first = impact_sequence(a, 0.0, kappa=k, t_max=3.0).contacts[0]
+        assert t_c == pytest.approx(first[1], rel=1e-10)

@@ -60,8 +60,12 @@ def contact_time(
     (:mod:`impactsym.rod.rigid_search`, :mod:`impactsym.rod.elastic.search`); the first
     sign change is polished to full precision. A tangential touch is no end of contact;
     only a dip shallower than ``1e-12`` (``2e-12`` with a finite :math:`\kappa`) may be
-    passed over. Pairs of equal :math:`\alpha` share the proofs (:math:`g` is affine in
-    :math:`f`), so a grid is cheaper per pair. See `docs/physics.md#rod-contact-times`.
+    passed over. With a finite :math:`\kappa` a sign change counts where :math:`g` is
+    proven negative (below ``-2e-12``, twice the tables' error bound), and the contact
+    ends at the zero just before: a force decaying to zero without crossing it (an
+    over-damped light striker) is not ended where a table rounds it below zero. Pairs
+    of equal :math:`\alpha` share the proofs (:math:`g` is affine in :math:`f`), so a
+    grid is cheaper per pair. See `docs/physics.md#rod-contact-times`.
 
     Parameters
     ----------

@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from impactsym.numeric.isolation import first_sign_change
+from impactsym.numeric.roots import bracketed_newton
 from impactsym.rod.elastic import CertifiedTable
 from impactsym.rod.elastic.cells import cell_table
 from impactsym.rod.elastic.manifold import cells_per_interval_manifold, manifold_table
@@ -30,6 +31,9 @@ _FASTEST_POLE = 1e8
 #: Largest proven error of a table's cell polynomials (units of ``y`` resp. ``N``) for
 #: them to stand for the function.
 TABLE_TOLERANCE = 1e-12
+#: Depth below zero at which a sign change is proven (twice the tables' error bound): the
+#: contact ends at the zero just before ``g`` reaches ``-DEPTH``.
+DEPTH = 2.0 * TABLE_TOLERANCE
 
 
 def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
@@ -123,7 +127,7 @@ def _table_contact_times(table: CertifiedTable, which, ag, kg, fm, t_max):
         def search(pos, base=base, active=active):
             pairs = active[pos]
             return first_sign_change(
-                lambda t, own: evaluate(t, pairs[own]),
+                lambda t, own: _deeper(evaluate(t, pairs[own])),
                 lambda ta, tb, own, *ends: bound(ta, tb, pairs[own], *ends),
                 np.tile(base, pos.size),
                 np.repeat(np.arange(pos.size), base.size),
@@ -138,9 +142,57 @@ def _table_contact_times(table: CertifiedTable, which, ag, kg, fm, t_max):
         rows = np.zeros(active.size, dtype=np.int64)
         roots = screen_interval(search, rows, SCREEN_STRIDES if crowded else (1,))
         hit = np.isfinite(roots)
-        result[active[hit]] = roots[hit]
+        result[active[hit]] = _zero_before(evaluate, roots[hit], active[hit], start)
         active = active[~hit]
     return result
+
+
+def _deeper(values: tuple) -> tuple:
+    """``(g + DEPTH, g', aux)``: the search looks for ``g <= -DEPTH``, a sign change the
+    tables' error bound (``TABLE_TOLERANCE``) proves; a touch of zero within it (a
+    decaying force of ``1e-19`` that a table rounds below zero) is no end of contact."""
+    g, dg, aux = values
+    return g + DEPTH, dg, aux
+
+
+def _zero_before(evaluate, reached, pairs, start):
+    """The zero of ``g`` just before each point ``reached`` where ``g = -DEPTH``: a left end
+    with ``g > 0`` at ``4^k 1e-10`` before it (``k`` up, the interval's ``start`` at
+    most, where ``g > 0`` or ``g(0) = 0``), then the safeguarded Newton iteration on
+    ``g`` (a crossing: ``DEPTH / |g'|`` before ``reached``)."""
+    left = reached.copy()
+    open_ = np.ones(reached.size, bool)
+    for k in range(20):
+        if not open_.any():
+            break
+        i = np.flatnonzero(open_)
+        trial = np.maximum(reached[i] - 1e-10 * 4.0**k * (1.0 + reached[i]), start)
+        g = evaluate(trial, pairs[i])[0]
+        left[i] = trial
+        open_[i] = ~((g > 0) | (trial <= start))
+    left[open_] = start
+
+    def g_and_slope(t, own):
+        value, slope, _ = evaluate(t, pairs[own])
+        return value, slope
+
+    own = np.arange(reached.size)
+    g_left = g_and_slope(left, own)[0]
+    g_hi = g_and_slope(reached, own)[0]
+    ok = (g_left >= 0) & (g_hi <= 0) & (left < reached)
+    out = reached.copy()
+    if ok.any():
+        k = np.flatnonzero(ok)
+        out[k] = bracketed_newton(
+            lambda t, j: g_and_slope(t, k[j.astype(np.int64)]),
+            None,
+            left[k],
+            reached[k],
+            (np.arange(k.size, dtype=float),),
+            g_lo=g_left[k],
+            g_hi=g_hi[k],
+        )
+    return out
 
 
 def pole_search(which, alpha, f, *, kappa, n_terms):
