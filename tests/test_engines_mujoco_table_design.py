@@ -108,7 +108,7 @@ def test_default_solimp_designs_read_off_the_table_match_predict(monkeypatch):
     targets = np.linspace(0.3, 0.9, 3000)
     d = mujoco.solref_for(restitution=targets, speed=1.0, gravity=9.81, timestep=0.002)
     assert sum(read) > 1500
-    pick = np.arange(0, 3000, 97)
+    pick = np.arange(0, 3000, 29)
     p = mujoco.predict(
         solref=(d.solref[0][pick], d.solref[1][pick]), speed=1.0, gravity=9.81, timestep=0.002
     )

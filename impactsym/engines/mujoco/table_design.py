@@ -30,12 +30,15 @@ then **read off**: its dampratio is the root of the table's cubic, its summary t
 cubic of each field (:func:`_interpolated`), and no evaluation is spent on it; where
 the stencil is not smooth, its interval is split in ``_SPLIT`` and tried again
 (:func:`_split_intervals`), and only then evaluated as above. A smooth stretch
-interpolates to ``3/128`` of its fourth difference; a kink of a field inside the
-stencil (where an end step appears, where a bound changes piece, or the summary's own
-quadrature error, about ``1e-9`` for a varying impedance, changes course) makes one of
-the two fourth differences at least twice the error, so a design read off hits its
-target to about ``1e-9``, as one evaluated does. The table then costs most of the
-work: with ``10^5`` targets about ``10^4`` summaries instead of ``10^5``.
+interpolates to ``3/128`` of its fourth difference; one kink of a field inside the
+stencil (where an end step appears, where a bound changes piece) makes one of the two
+fourth differences at least 2.6 times the error. The summary's own quadrature error
+(about ``1e-9`` for a varying impedance: Gauss-Legendre across the kinks where a state
+crosses the impedance's mid and width) ripples along the table at about twice its
+spacing, which the fourth differences partly alias: measured errors reach 0.9 of them,
+hence ``_SMOOTH = 1e-9``, and a design read off hits its target to about ``1e-9``, as
+one evaluated does. The table then costs most of the work: with ``10^5`` targets about
+``10^4`` summaries instead of ``10^5``.
 
 This pays where a contact has at least ``_MIN_GROUP`` targets (a table costs
 ``_TABLE`` evaluations, a target of the scan about 40). `docs/physics.md#touch-phase`.
@@ -51,13 +54,13 @@ from impactsym.numeric.roots import bracketed_illinois
 
 __all__ = ["table_crossings"]
 
-_TABLE = 256  # dampratios per table
+_TABLE = 1024  # dampratios per table
 _MIN_GROUP = 128  # targets per contact from which a table pays
 _ACCEPT = 1e-9  # |phase mean - target| accepted from the interpolated crossing
 _RTOL = 1e-11  # the Illinois refinement's relative width in the dampratio (e to ~1e-11)
-_REFINE = 128  # the table between the brackets in use is refined up to this factor
+_REFINE = 32  # the table between the brackets in use is refined up to this factor
 _NEAR = 1.1  # the table's part below this multiple of its bottom is evaluated on demand
-_SMOOTH = 2e-9  # largest fourth difference of a stretch of the table read off directly
+_SMOOTH = 1e-9  # largest fourth difference of a stretch of the table read off directly
 _NEWTON = 8  # Newton steps for the root of the table's cubic
 _SPLIT = 4  # intervals of the refined table not smooth enough are split in this many
 
