@@ -4,10 +4,9 @@ Prints, measured in one run:
   * designs per second of vectorized ``mujoco.solref_for`` at flat impedance
     (target: 1e5 targets in under 1 s), with and without gravity;
   * discrete designs at MuJoCo's default dt = 0.002 (Euler, phase mean; targets 1e5 in
-    1 s flat with gravity, 2 s with a contact time, 3 s with the default solimp): the
-    flat ones measured on 1e5 targets (wall and CPU time), the default solimp on 1024 and
-    4096 (4096 and 16384 without --quick) and extrapolated; and the per-phase agreement
-    table of those designs with MuJoCo (drivers.mujoco_phases over 64 touch phases);
+    1 s flat with gravity, 2 s with a contact time, 3 s with the default solimp), each
+    measured on 1e5 targets (wall and CPU time); and the per-phase agreement table of
+    those designs with MuJoCo (drivers.mujoco_phases over 64 touch phases);
   * the engine-vs-prediction table: MuJoCo (flat and default solimp, gravity on/off,
     both solref forms, a multibody contact) and LAMMPS (with/without limit_damping),
     each with the textbook formula's achieved restitution beside it.
@@ -46,19 +45,15 @@ def throughput(n):
         print(f"solref_for, {n} targets, gravity {gravity}: {t:.3f} s ({n / t:,.0f} designs/s)")
 
 
-def discrete_throughput(n_default):
+def discrete_throughput():
     """Discrete designs at dt = 0.002 (Euler): figures and ratios to the 1e5 targets.
 
-    After one warm-up call (SymPy's lambdified kernels). The flat cases are measured on
-    1e5 targets directly (their cost is not linear in the count: many targets of one
-    contact share one tabulated phase mean, or one curve of contact-time designs), as
-    wall time and as CPU time of this process (the figure that counts on a shared
-    machine). The default solimp takes the general phase summary per design: measured
-    on ``n_default`` and four times as many targets (>= 128: the tabulated path; fewer
-    than 1024 drown the cost per target in the noise of a shared machine), the
-    difference giving the cost per target, the rest the table's (1024 general phase
-    means), and extrapolated to 1e5 targets. Targets from 0.3: e = 0.2 at 1 m/s under
-    gravity sticks at some touch phase at dt = 0.002.
+    After one warm-up call (SymPy's lambdified kernels), each case measured on 1e5
+    targets directly (their cost is not linear in the count: many targets of one contact
+    share one tabulated phase mean, or one curve of contact-time designs), as wall time
+    and as CPU time of this process (the figure that counts on a shared machine).
+    Targets from 0.3: e = 0.2 at 1 m/s under gravity sticks at some touch phase at
+    dt = 0.002.
     """
     dt, n = 0.002, 100_000
     for options in ({"gravity": 9.81, "solimp": FLAT}, {"contact_time": 0.02, "solimp": FLAT}):
@@ -66,6 +61,7 @@ def discrete_throughput(n_default):
     cases = (
         ("flat, gravity 9.81", 1.0, {"gravity": 9.81, "solimp": FLAT}),
         ("flat, contact_time 0.02 s", 2.0, {"contact_time": 0.02, "solimp": FLAT}),
+        ("default solimp, gravity 9.81", 3.0, {"gravity": 9.81, "solimp": DEFAULT}),
     )
     for name, target, options in cases:
         e = np.linspace(0.3, 0.9, n)
@@ -79,22 +75,6 @@ def discrete_throughput(n_default):
             f"solref_for at dt = {dt} (Euler), {n} targets, {name}: {t:.3f} s wall, "
             f"{cpu:.3f} s CPU (target {target:g} s: ratio {cpu / target:.3g} in CPU)"
         )
-    options = {"gravity": 9.81, "solimp": DEFAULT}
-    cpu = []
-    for m in (n_default, 4 * n_default):
-        e = np.linspace(0.3, 0.9, m)
-        start = time.process_time()
-        mujoco.solref_for(restitution=e, speed=1.0, timestep=dt, **options)
-        cpu.append(time.process_time() - start)
-    per = max(cpu[1] - cpu[0], 0.0) / (3 * n_default)  # the cost of a target beyond the table
-    table = max(cpu[0] - per * n_default, 0.0)
-    total = table + per * n
-    print(
-        f"solref_for at dt = {dt} (Euler), default solimp, gravity 9.81: {n_default} "
-        f"targets {cpu[0]:.3f} s CPU, {4 * n_default} targets {cpu[1]:.3f} s CPU: table "
-        f"~{table:.3g} s, {per * 1e3:.3g} ms per target, extrapolated {total:.3g} s CPU per "
-        f"1e5 (target 3 s: ratio {total / 3.0:.3g})"
-    )
 
 
 def discrete_rows():
@@ -202,7 +182,7 @@ def lammps_rows(targets):
 
 def main(quick=False):
     throughput(10_000 if quick else 100_000)
-    discrete_throughput(1024 if quick else 4096)
+    discrete_throughput()
     print_discrete_rows(discrete_rows())
     targets = (0.1, 0.5, 0.9) if quick else (0.1, 0.2, 0.35, 0.5, 0.65, 0.8, 0.95)
     rows = mujoco_rows(targets) + lammps_rows(targets)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from impactsym.engines.mujoco import predict
-from impactsym.engines.mujoco.discrete import phase_summary, step_contact
+from impactsym.engines.mujoco.discrete import phase_mean, phase_summary, step_contact
 from impactsym.engines.mujoco.model import check_solimp, coefficients
 
 FLAT = (0.9, 0.9, 0.001, 0.5, 2.0)
@@ -315,3 +315,22 @@ def test_the_sympy_step_map_is_the_engines_and_implicitfast_is_the_same_map():
         m_safe = np.array(step(hf * (1 - 1e-3), gravity, bb, imp, kk, imp)[0], float)
         assert np.abs(np.linalg.eigvals(m_flip)).max() > 1.0
         assert np.abs(np.linalg.eigvals(m_safe)).max() < 1.0
+
+
+def test_a_design_leaves_out_contacts_stuck_at_a_grid_phase():
+    """``resolve_sticking=False`` on the general summary (default solimp): a contact that
+    sticks at some phase (the full summary says so: infinite contact time, a stick
+    fraction) is left out with ``inf`` and ``nan``; the others are the full summary."""
+    D = (0.9, 0.95, 0.001, 0.5, 2.0)
+    dr = np.array([0.25, 0.35, 1.0, 2.0])  # the last two stick under gravity at 1 m/s
+    c = coefficients((0.02, dr), D, 0.002)
+    args = (c, D, np.ones(4), 9.81, 1.0, 0.002)
+    full = phase_mean(*args, integrator="euler", bounds=False)
+    lean = phase_mean(*args, integrator="euler", bounds=False, resolve_sticking=False)
+    stuck = np.isinf(full.contact_time)
+    assert stuck.tolist() == [False, False, True, True]
+    assert np.all(full.stick_fraction[stuck] > 0)
+    assert np.all(np.isinf(lean.contact_time[stuck]))
+    assert np.all(np.isnan(lean.restitution[stuck]))
+    for name in ("restitution", "contact_time", "restitution_min", "restitution_max"):
+        np.testing.assert_array_equal(getattr(lean, name)[~stuck], getattr(full, name)[~stuck])

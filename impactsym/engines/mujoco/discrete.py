@@ -198,8 +198,9 @@ def phase_mean(
     ``bounds=False`` skips the search for extremes inside pieces (the ranges are then
     only those of the samples: for a design that needs the mean alone), and
     ``resolve_sticking=False`` leaves out elements the closed form proves to stick at
-    some phase (a design rejects them whatever their share): their contact time is
-    ``inf`` and the other fields ``nan``.
+    some phase, or the general way finds sticking at a phase of its grid (a design
+    rejects them whatever their share): their contact time is ``inf`` and the other
+    fields ``nan``.
     """
     model = INTEGRATORS[check_integrator(integrator)]
     arrays = np.broadcast_arrays(
@@ -231,19 +232,33 @@ def phase_mean(
     if todo.size:
         out[:, todo] = _split_and_integrate(
             model, integrator, solimp, b[todo], k[todo], rho[todo], g[todo], v[todo], dt[todo],
-            bounds=bounds,
+            bounds=bounds, skip_stuck=not resolve_sticking,
         )  # fmt: skip
     return PhaseSummary(*(np.reshape(f, shape) for f in out))
 
 
 def _split_and_integrate(
-    model, integrator, solimp, b, k, rho, g, v, dt, intervals: int = _GRID, bounds: bool = True
+    model,
+    integrator,
+    solimp,
+    b,
+    k,
+    rho,
+    g,
+    v,
+    dt,
+    intervals: int = _GRID,
+    bounds: bool = True,
+    skip_stuck: bool = False,
 ) -> np.ndarray:
     """The phase statistics the general way (module docstring): ``(7, size)``, phase 0 out.
 
     A grid interval can hold two jumps of the end step (the search finds one); a piece
     whose samples do not all share one end step shows it, and its element is done again
-    on a grid four times finer (up to ``_GRID * 4**3`` intervals).
+    on a grid four times finer (up to ``_GRID * 4**3`` intervals). ``skip_stuck``: an
+    element that sticks at a grid phase is left there (contact time ``inf``, the rest
+    ``nan``; a design rejects it whatever its share, and its other phases, the long
+    runs of a body coming to rest, cost the most).
     """
     size = b.size
 
@@ -278,6 +293,17 @@ def _split_and_integrate(
         at_lo, at_hi = run(i_all, lo.ravel()), run(i_all, hi.ravel())
         key_lo = _end_step(at_lo, lo.ravel(), dt[i_all]).reshape(size, n_pieces)
         key_hi = _end_step(at_hi, hi.ravel(), dt[i_all]).reshape(size, n_pieces)
+    stuck = ((key_lo < 0) | (key_hi < 0)).any(axis=1) if skip_stuck else None
+    if stuck is not None and stuck.any():
+        out = np.full((7, size), np.nan)
+        out[1, stuck] = np.inf
+        keep = np.flatnonzero(~stuck)
+        if keep.size:
+            out[:, keep] = _split_and_integrate(
+                model, integrator, solimp, b[keep], k[keep], rho[keep], g[keep], v[keep],
+                dt[keep], intervals, bounds, skip_stuck,
+            )  # fmt: skip
+        return out
     # the jump inside each interval whose ends differ
     jump = key_lo != key_hi
     ii, kk = np.nonzero(jump)
@@ -369,7 +395,7 @@ def _split_and_integrate(
     if redo.size and intervals < _GRID * 4**3:
         out[:, redo] = _split_and_integrate(
             model, integrator, solimp, b[redo], k[redo], rho[redo], g[redo], v[redo],
-            dt[redo], 4 * intervals, bounds,
+            dt[redo], 4 * intervals, bounds, skip_stuck,
         )  # fmt: skip
     return out
 

@@ -18,7 +18,9 @@ that timestep and integrator (``phase=None``), used as a vectorized black box
   crossing nearest the continuous design is taken: the same crossing wherever the mean
   falls monotonically, for a fraction of the evaluations. Many targets of one contact
   (speed, gravity, weight) share one phase mean: it is tabulated and inverted first
-  (:mod:`~impactsym.engines.mujoco.table_design`; hits the target to ``1e-9``).
+  (:mod:`~impactsym.engines.mujoco.table_design`; hits the target to ``1e-9``; where
+  the summary is the costly general one, most designs and their summaries are read off
+  a table of it).
 * With a contact time: a Newton iteration on ``(log timeconst, log dampratio)`` with a
   forward-difference Jacobian (:func:`impactsym.numeric.roots.newton_system`), started
   at the continuous design (close: the discrete mean differs by the step's error).
@@ -51,7 +53,7 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.mujoco.discrete import bounds_without_search, phase_mean
+from impactsym.engines.mujoco.discrete import PhaseSummary, bounds_without_search, phase_mean
 from impactsym.engines.mujoco.model import (
     DEFAULT_TIMECONST,
     coefficients,
@@ -112,7 +114,7 @@ class DiscreteTarget:
         self.e, self.v, self.g, self.t_c = e, v, g, t_c
         self.solimp, self.mass, self.weight, self.rho = solimp, mass, weight, rho
         self.timestep, self.integrator, self.start = timestep, integrator, start
-        self._last = None  # the last phase mean of each element (_record)
+        self._last = None  # the last phase mean of each element (record)
         self._parent = None  # (targets, indices there) of a part made by take()
         #: the continuous design of elements ``i`` (raises where it refuses them); set
         #: by the caller, used to skip the timestep search where no timestep can help
@@ -142,6 +144,15 @@ class DiscreteTarget:
         out._parent = None  # its means are of another timestep
         return out
 
+    def summary(self, tc, dr, idx) -> np.ndarray:
+        """The phase summary at ``solref = (tc, dr)`` of elements ``idx`` with exact
+        bounds, ``(7, size)`` (the fields of
+        :class:`~impactsym.engines.mujoco.discrete.PhaseSummary`; sticking at some phase:
+        an infinite contact time, the rest ``nan``): a table of designs reads its
+        designs' summaries off it (:mod:`~impactsym.engines.mujoco.table_design`)."""
+        p = self._phase_mean(tc, dr, idx, bounds=True)
+        return np.stack([np.ravel(getattr(p, f.name)) for f in fields(p)])
+
     def mean(self, tc, dr, idx, *, bounds=False):
         """Phase mean at ``solref = (tc, dr)`` of elements ``idx``: ``restitution``,
         ``contact_time`` and ``sticks`` (at some phase), as ``predict(phase=None)``.
@@ -151,11 +162,19 @@ class DiscreteTarget:
         design's prediction reuses the whole summary (:meth:`known_at`). At flat impedance
         (Euler, ``implicitfast``) they are exact without the search and always kept.
         """
+        exact = bounds_without_search(self.integrator, self.solimp)
+        p = self._phase_mean(tc, dr, idx, bounds=bounds and not exact)
+        if bounds or exact:  # its bounds are exact
+            self.record(tc, dr, idx, p)
+        return SimpleNamespace(
+            restitution=p.restitution, contact_time=p.contact_time, sticks=np.isinf(p.contact_time)
+        )
+
+    def _phase_mean(self, tc, dr, idx, *, bounds):
         weight = None if self.weight is None else np.broadcast_to(self.weight, self.e.shape)[idx]
         rho = weight_ratio(self.mass, weight)
         h = self.timestep
-        exact = bounds_without_search(self.integrator, self.solimp)
-        p = phase_mean(
+        return phase_mean(
             coefficients((tc, dr), self.solimp, h),
             self.solimp,
             rho,
@@ -163,16 +182,11 @@ class DiscreteTarget:
             self.v[idx],
             h,
             integrator=self.integrator,
-            bounds=bounds and not exact,
+            bounds=bounds,
             resolve_sticking=False,
         )
-        if bounds or exact:  # its bounds are exact
-            self._record(tc, dr, idx, p)
-        return SimpleNamespace(
-            restitution=p.restitution, contact_time=p.contact_time, sticks=np.isinf(p.contact_time)
-        )
 
-    def _record(self, tc, dr, idx, p) -> None:
+    def record(self, tc: Any, dr: Any, idx: np.ndarray, p: Any) -> None:
         """Keep the last phase mean of each element, with its ``solref`` (and in the
         targets this one was taken from)."""
         if self._last is None:
@@ -181,7 +195,7 @@ class DiscreteTarget:
         self._last[2:, idx] = np.stack([np.ravel(getattr(p, f.name)) for f in fields(p)])
         if self._parent is not None:
             parent, where = self._parent
-            parent._record(tc, dr, where[idx], p)
+            parent.record(tc, dr, where[idx], p)
 
     def known_at(self, tc: np.ndarray, dr: np.ndarray) -> np.ndarray:
         """The phase means evaluated at exactly ``solref = (tc, dr)`` (one per element)
@@ -311,14 +325,22 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
     dr = np.full(n, np.nan)
     rows = np.arange(n)
     low = np.maximum(dr_min * (1.0 + 1e-3), 1e-3)  # the bottom of the scan
-    checked = np.zeros(n, bool)  # hit to 1e-9 by one exact evaluation of the table's guess
+    checked = np.zeros(n, bool)  # hit to 1e-9: the table's guess evaluated, or read off
     if n >= _TABLE_FROM:  # many targets of one contact: the tabulated mean
         same = np.stack([tg.g, tg.v, np.broadcast_to(tg.rho, (n,))])
         if np.all(same == same[:, :1]):  # one contact (the common case): no sort
             contact = np.zeros(n, int)
         else:
             contact = np.unique(same, axis=1, return_inverse=True)[1]
-        dr[:], rows, checked = table_crossings(gap, contact.ravel(), tg.e, low, _DR_TOP)
+        # the general summary is costly: designs are read off a table of it where smooth
+        costly = not bounds_without_search(tg.integrator, tg.solimp)
+        dr[:], rows, checked, known = table_crossings(
+            gap, contact.ravel(), tg.e, low, _DR_TOP,
+            (lambda d, i: tg.summary(tc[i], d, i)) if costly else None,
+        )  # fmt: skip
+        read = np.flatnonzero(np.isfinite(known[0]))  # designs read off the table
+        if read.size:
+            tg.record(tc[read], dr[read], read, PhaseSummary(*known[:, read]))
     if tg.guess is not None and rows.size:  # a local bracket around the continuous design
         try:
             guess = np.full(n, np.nan)

@@ -22,6 +22,24 @@ known, to ``_RTOL`` in the dampratio (the phase mean then hits the target to abo
 bracket (unreachable, or still too bouncy at the top of the scan) is left to the
 caller's scan, which refuses it with the reason.
 
+Where the phase summary is costly (a varying impedance: the general summary, about 60
+model runs), the caller passes it, and the refined table holds the whole summary (its
+bounds included). A target whose stencil on it is smooth -- the fourth differences of
+every field on both five-point stencils around its interval below ``_SMOOTH`` -- is
+then **read off**: its dampratio is the root of the table's cubic, its summary the
+cubic of each field (:func:`_interpolated`), and no evaluation is spent on it; where
+the stencil is not smooth, its interval is split in ``_SPLIT`` and tried again
+(:func:`_split_intervals`), and only then evaluated as above. A smooth stretch
+interpolates to ``3/128`` of its fourth difference; one kink of a field inside the
+stencil (where an end step appears, where a bound changes piece) makes one of the two
+fourth differences at least 2.6 times the error. The summary's own quadrature error
+(about ``1e-9`` for a varying impedance: Gauss-Legendre across the kinks where a state
+crosses the impedance's mid and width) ripples along the table at about twice its
+spacing, which the fourth differences partly alias: measured errors reach 0.9 of them,
+hence ``_SMOOTH = 1e-9``, and a design read off hits its target to about ``1e-9``, as
+one evaluated does. The table then costs most of the work: with ``10^5`` targets about
+``10^4`` summaries instead of ``10^5``.
+
 This pays where a contact has at least ``_MIN_GROUP`` targets (a table costs
 ``_TABLE`` evaluations, a target of the scan about 40). `docs/physics.md#touch-phase`.
 """
@@ -40,8 +58,11 @@ _TABLE = 1024  # dampratios per table
 _MIN_GROUP = 128  # targets per contact from which a table pays
 _ACCEPT = 1e-9  # |phase mean - target| accepted from the interpolated crossing
 _RTOL = 1e-11  # the Illinois refinement's relative width in the dampratio (e to ~1e-11)
-_REFINE = 16  # the table between the brackets in use is refined up to this factor
+_REFINE = 32  # the table between the brackets in use is refined up to this factor
 _NEAR = 1.1  # the table's part below this multiple of its bottom is evaluated on demand
+_SMOOTH = 1e-9  # largest fourth difference of a stretch of the table read off directly
+_NEWTON = 8  # Newton steps for the root of the table's cubic
+_SPLIT = 4  # intervals of the refined table not smooth enough are split in this many
 
 
 def table_crossings(
@@ -50,9 +71,12 @@ def table_crossings(
     target: np.ndarray,
     low: np.ndarray,
     top: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Dampratios of the targets whose contact has a table, the elements left, and a
-    mask of those whose design was checked to ``_ACCEPT`` by an exact evaluation.
+    summary: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Dampratios of the targets whose contact has a table, the elements left, a mask of
+    those whose design was checked to ``_ACCEPT`` by an exact evaluation or read off a
+    smooth table (:func:`_interpolated`), and the phase summaries ``(7, n)`` of the
+    latter (``nan`` columns elsewhere).
 
     ``gap(dr, i, final=False)`` is target minus phase mean of elements ``i`` at
     dampratios ``dr`` (sticking counts as restitution 0; ``final=True`` marks the
@@ -60,10 +84,16 @@ def table_crossings(
     ``contact`` labels the elements that share one
     ``E(dampratio)`` (integers), ``target`` the restitutions, ``low`` the bottom of each
     element's scan (above the stability limit) and ``top`` the top of the scan.
+    ``summary(dr, i)``, if given, is the exact phase summary of elements ``i`` at ``dr``
+    with its bounds, ``(7, size)`` (the fields of
+    :class:`~impactsym.engines.mujoco.discrete.PhaseSummary`; sticking at some phase: an
+    infinite contact time): the table is then built from it, and the targets on a
+    smooth stretch of the refined table are designed without another evaluation.
     """
     n = target.size
     dr = np.full(n, np.nan)
     checked = np.zeros(n, bool)
+    known = np.full((7, n), np.nan)
     labels, first, counts = np.unique(contact, return_index=True, return_counts=True)
     for label, i0, count in zip(labels, first, counts, strict=True):
         if count < _MIN_GROUP:
@@ -77,21 +107,54 @@ def table_crossings(
         # the limit ring long and take the general summary, and they matter only to
         # targets not crossed above them (the largest crossing is sought)
         m = int(np.searchsorted(x, x[0] + np.log(_NEAR)))
+        table = _Table(gap, summary, i0, target[i0])
         E = np.full(_TABLE, np.nan)
-        E[m:] = target[i0] - gap(grid[m:], np.full(_TABLE - m, i0))
+        E[m:] = table.mean(grid[m:])
         i = _crossing(E[m:], e) + m
         if np.any(i <= m):  # some target is crossed near the bottom, or not at all
-            E[:m] = target[i0] - gap(grid[:m], np.full(m, i0))
+            E[:m] = table.mean(grid[:m])
             i = _crossing(E, e)
-        fine = _refine(gap, grid, x, E, i, i0, target[i0], members.size)
+        fine = _refine(table, x, E, i, members.size)
         if fine is not None:  # the crossing on the finer table, where it is the same one
-            xf, Ef, a, r = fine
+            xf, Ef, Sf, a, r = fine
             jf = _crossing(Ef, e)
             same = (i >= a) & (jf >= (i - a) * r) & (jf < (i - a + 1) * r)
-            dr[members], checked[members] = _invert(gap, xf, Ef, np.where(same, jf, -1), members, e)
+            jf = np.where(same, jf, -1)
+            got = np.zeros(e.size, bool)
+            if summary is not None:  # a smooth stretch of the table: read off it
+                got, d_i, s_i = _interpolated(xf, Ef, Sf, jf, e)
+                dr[members[got]], known[:, members[got]] = d_i, s_i
+                # the rest: their intervals split, and read off where smooth then
+                rest = np.flatnonzero(~got & (jf >= 0))
+                more, d_i, s_i = _split_intervals(table, xf, Ef, Sf, jf[rest], e[rest])
+                dr[members[rest[more]]], known[:, members[rest[more]]] = d_i, s_i
+                got[rest[more]] = True
+                checked[members[got]] = True
+            part = same & ~got
+            dr[members[part]], checked[members[part]] = _invert(
+                gap, xf, Ef, jf[part], members[part], e[part]
+            )
             members, e, i = members[~same], e[~same], i[~same]
         dr[members], checked[members] = _invert(gap, x, E, i, members, e)
-    return dr, np.flatnonzero(np.isnan(dr)), checked
+    return dr, np.flatnonzero(np.isnan(dr)), checked, known
+
+
+class _Table:
+    """The phase mean of one element at dampratios (sticking at some phase counts as
+    restitution 0), and with ``summary`` the whole summary."""
+
+    def __init__(self, gap, summary, i0, e0):
+        self.gap, self.summary, self.i0, self.e0 = gap, summary, i0, e0
+
+    def mean(self, dr: np.ndarray) -> np.ndarray:
+        return self.e0 - self.gap(dr, np.full(dr.size, self.i0))
+
+    def both(self, dr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(E, S)``: the mean and the summary ``(7, size)`` (``nan`` without one)."""
+        if self.summary is None:
+            return self.mean(dr), np.full((7, dr.size), np.nan)
+        S = self.summary(dr, np.full(dr.size, self.i0))
+        return np.where(np.isinf(S[1]), 0.0, S[0]), S
 
 
 def _crossing(E, e):
@@ -101,10 +164,11 @@ def _crossing(E, e):
     return np.searchsorted(-suffix, -e, side="left") - 1
 
 
-def _refine(gap, grid, x, E, i, i0, e0, members):
+def _refine(table, x, E, i, members):
     """The table between the lowest and the highest bracket in use, each of its intervals
-    split in ``r`` (up to ``_REFINE``, ``members / 4`` evaluations at most): ``(x, E, a,
-    r)`` with ``a`` the coarse index of its first point, or ``None`` (not worth it)."""
+    split in ``r`` (up to ``_REFINE``, ``members / 4`` evaluations at most): ``(x, E, S,
+    a, r)`` with ``a`` the coarse index of its first point and ``S`` the summaries (the
+    coarse points in it evaluated again where the table has a summary), or ``None``."""
     used = i[(i >= 0) & (i < x.size - 1)]
     if used.size == 0:
         return None
@@ -114,10 +178,114 @@ def _refine(gap, grid, x, E, i, i0, e0, members):
         return None
     frac = np.arange(1, r) / r
     inner = x[a:b, None] + (x[a + 1 : b + 1] - x[a:b])[:, None] * frac[None, :]
-    E_in = e0 - gap(np.exp(inner.ravel()), np.full(inner.size, i0)).reshape(inner.shape)
     xf = np.concatenate([np.concatenate([x[a:b, None], inner], axis=1).ravel(), x[b : b + 1]])
-    Ef = np.concatenate([np.concatenate([E[a:b, None], E_in], axis=1).ravel(), E[b : b + 1]])
-    return xf, Ef, a, r
+    Ef, Sf = np.full(xf.size, np.nan), np.full((7, xf.size), np.nan)
+    on_grid = np.arange(xf.size) % r == 0  # the coarse points a .. b
+    Ef[on_grid] = E[a : b + 1]
+    todo = ~on_grid if table.summary is None else np.ones(xf.size, bool)
+    Ef[todo], Sf[:, todo] = table.both(np.exp(xf[todo]))
+    return xf, Ef, Sf, a, r
+
+
+def _interpolated(x, E, S, j, e):
+    """The targets ``e`` read off the refined table ``(x, E, S)`` where it is smooth.
+
+    ``j`` is each target's bracket on it (``-1``: none). A target qualifies where the six
+    table points ``j - 2 .. j + 3`` exist, none sticks at any phase, ``E`` falls strictly
+    on ``j - 1 .. j + 2`` and the fourth differences of every field on both five-point
+    stencils are below ``_SMOOTH`` (absolute in the restitutions, relative in the
+    contact times): the design is the root of the cubic through ``j - 1 .. j + 2``
+    (Newton, kept inside the bracket) and its summary the cubic of each field there.
+    The error of that cubic is ``3/128`` of a smooth fourth difference; a kink or a jump
+    of a field inside the stencil (where an end step appears, or a bound changes piece)
+    makes one of the two fourth differences of its own size, so the stretch is refused
+    and the target evaluated. Returns ``(got, dampratio, summary)``, the last two for
+    the targets ``got`` only.
+    """
+    ok = (j >= 2) & (j + 3 < x.size)
+    k = np.flatnonzero(ok)
+    st = j[k, None] + np.arange(-2, 4)[None, :]
+    F = S[:, st]  # (7, targets, 6)
+    times = np.abs(F[[1, 4, 5]]).min(axis=2)
+    d4 = np.maximum(
+        np.abs(F[..., 0] - 4 * F[..., 1] + 6 * F[..., 2] - 4 * F[..., 3] + F[..., 4]),
+        np.abs(F[..., 1] - 4 * F[..., 2] + 6 * F[..., 3] - 4 * F[..., 4] + F[..., 5]),
+    )
+    with np.errstate(invalid="ignore"):
+        smooth = np.all(d4[[0, 2, 3]] <= _SMOOTH, axis=0)
+        smooth &= np.all(d4[[1, 4, 5]] <= _SMOOTH * times, axis=0)
+    smooth &= np.all(np.isfinite(F[:6]), axis=(0, 2)) & np.all(F[6] == 0.0, axis=1)
+    Es = E[st[:, 1:5]]
+    smooth &= np.all(np.diff(Es, axis=1) < 0, axis=1)
+    k, st, F, Es = k[smooth], st[smooth], F[:, smooth], Es[smooth]
+    target = e[k]
+    # the cubic through the nodes s = -1, 0, 1, 2 (s = 0, 1: the bracket), root in [0, 1]
+    lo, hi = np.zeros(k.size), np.ones(k.size)
+    s = (Es[:, 1] - target) / (Es[:, 1] - Es[:, 2])
+    for _ in range(_NEWTON):
+        w, dw = _cubic_weights(s)
+        val = np.sum(w * Es, axis=1) - target
+        slope = np.sum(dw * Es, axis=1)
+        lo, hi = np.where(val > 0, s, lo), np.where(val > 0, hi, s)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = s - val / slope
+        s = np.where((step >= lo) & (step <= hi), step, 0.5 * (lo + hi))
+    w, _ = _cubic_weights(s)
+    fields = np.sum(w[None] * F[:, :, 1:5], axis=2)
+    hit = np.abs(fields[0] - target) <= 1e-12  # the root converged
+    xs = x[st[:, 2]] + s * (x[st[:, 3]] - x[st[:, 2]])
+    got = np.zeros(e.size, bool)
+    got[k[hit]] = True
+    return got, np.exp(xs[hit]), fields[:, hit]
+
+
+def _split_intervals(table, x, E, S, j, e):
+    """:func:`_interpolated` for targets the refined table could not serve, on their
+    intervals ``j`` split in ``_SPLIT`` (the stencils around them evaluated: a kink of
+    a field shrinks with the spacing faster than the reach of the stencil across it,
+    and the table's quadrature noise, of the size of the summary's own error, with it).
+    Returns ``(got, dampratio, summary)`` like :func:`_interpolated`."""
+    q = _SPLIT
+    if j.size == 0:
+        return np.zeros(0, bool), np.zeros(0), np.zeros((7, 0))
+    # sub-points k / q of a table spacing from each interval's start, k = -2 .. 2 q - 1
+    # (the stencils of its q sub-intervals), keyed on the sub-lattice of the whole table
+    keys = np.unique(q * j[:, None] + np.arange(-2, 2 * q)[None, :])
+    keys = keys[(keys >= 0) & (keys <= q * (x.size - 1))]
+    h = (x[-1] - x[0]) / (x.size - 1)
+    xs = x[0] + keys * (h / q)
+    on_table = keys % q == 0
+    xs[on_table] = x[keys[on_table] // q]
+    Es, Ss = np.full(keys.size, np.nan), np.full((7, keys.size), np.nan)
+    Es[on_table], Ss[:, on_table] = E[keys[on_table] // q], S[:, keys[on_table] // q]
+    Es[~on_table], Ss[:, ~on_table] = table.both(np.exp(xs[~on_table]))
+    # dense over the keys (gaps nan: a stencil reaching one is refused)
+    lo = keys[0]
+    size = keys[-1] - lo + 1
+    xd = x[0] + (lo + np.arange(size)) * (h / q)
+    Ed, Sd = np.full(size, np.nan), np.full((7, size), np.nan)
+    xd[keys - lo], Ed[keys - lo], Sd[:, keys - lo] = xs, Es, Ss
+    # each target's sub-interval: the last sub-point of its interval above it
+    first = q * j - lo
+    above = np.stack([Ed[first + k] > e for k in range(1, q)], axis=1)
+    sub = first + above.sum(axis=1)
+    return _interpolated(xd, Ed, Sd, sub, e)
+
+
+def _cubic_weights(s):
+    """Lagrange weights (and their derivatives) of the nodes ``-1, 0, 1, 2`` at ``s``."""
+    a, b, c, d = s + 1.0, s, s - 1.0, s - 2.0
+    w = np.stack([-b * c * d / 6.0, a * c * d / 2.0, -a * b * d / 2.0, a * b * c / 6.0], axis=1)
+    dw = np.stack(
+        [
+            -(c * d + b * d + b * c) / 6.0,
+            (c * d + a * d + a * c) / 2.0,
+            -(b * d + a * d + a * b) / 2.0,
+            (b * c + a * c + a * b) / 6.0,
+        ],
+        axis=1,
+    )
+    return w, dw
 
 
 def _invert(gap, x, E, i, members, e):
