@@ -22,8 +22,8 @@ import numpy as np
 from impactsym.engines.mujoco.continuous import varying_phase
 from impactsym.engines.mujoco.discrete import check_integrator
 from impactsym.engines.mujoco.discrete_design import DiscreteTarget, design_discrete
+from impactsym.engines.mujoco.flat_brackets import unreachable as _unreachable
 from impactsym.engines.mujoco.flat_design import design_flat_both, design_flat_dampratio
-from impactsym.engines.mujoco.flat_design import unreachable as _unreachable
 from impactsym.engines.mujoco.model import (
     DEFAULT_SOLIMP,
     DEFAULT_TIMECONST,
