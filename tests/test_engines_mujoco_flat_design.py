@@ -166,3 +166,22 @@ def test_gravity_free_dampratio_is_the_closed_form_inverse():
     one = np.ones(1)
     dr = design_flat_dampratio(e_t, one, 0.0 * one, np.full(1, 0.02), FLAT, one)
     assert dr[0] == pytest.approx(0.5, rel=1e-14)
+
+
+@pytest.mark.parametrize("contact_time", [None, 0.02])
+def test_many_targets_of_one_contact_start_from_a_table(contact_time):
+    # enough targets of one contact for the tabulated starts (1024 per restitution table,
+    # 128 per table of designs): the same designs as one at a time, and the targets in
+    # SciPy's integration
+    n = 2048 if contact_time is None else 256
+    targets = np.linspace(0.2, 0.95, n)
+    extra = {} if contact_time is None else {"contact_time": contact_time}
+    design = solref_for(restitution=targets, speed=1.0, gravity=9.81, solimp=FLAT, **extra)
+    pick = np.array([0, 1, n // 3, n // 2 + 1, n - 2, n - 1])
+    for i in pick:
+        one = solref_for(restitution=targets[i], speed=1.0, gravity=9.81, solimp=FLAT, **extra)
+        for k in range(2):
+            assert design.solref[k][i] == pytest.approx(one.solref[k], rel=1e-9)
+    sub = type(design)(tuple(np.asarray(a)[pick] for a in design.solref), FLAT, None)
+    t_c = None if contact_time is None else np.full(pick.size, contact_time)
+    _check(sub, targets[pick], np.ones(pick.size), np.full(pick.size, 9.81), t_c)

@@ -31,9 +31,9 @@ For a flat ``solimp`` the contact is the loaded oscillator of
   per iteration, steps bounded, halved back where the contact sticks.
 * **many targets of one contact** (equal speed, gravity, ``rho`` and timeconst or
   contact time: a vector of targets): the starts come from a table of the one curve
-  they share (48 kernel points, or 24 designs with their Jacobians), inverted by cubic
-  Hermite interpolation (:func:`_tabulated`, :func:`_tabulated_both`); then two or three
-  kernel evaluations settle each design, where the brackets took 22 (restitution) and
+  they share (256 kernel points, or 32 designs with their Jacobians), inverted by cubic
+  Hermite interpolation (:func:`_tabulated`, :func:`_tabulated_both`); then one (two or
+  three) kernel evaluations settle each design, where the brackets took 22 (restitution) and
   about 1000 (with a contact time).
 
 A secant root is accepted where its residual is below ``1e-11`` (relative), or below
@@ -73,7 +73,8 @@ _FD = 1e-5  # relative step of the central differences on the closed form
 #: the bounds of Broyden's ``(log tc, log dr)``: the fallback's brackets widened by 1
 _Y_LO = np.log([TC_RANGE[0], DR_RANGE[0]]) - 1.0
 _Y_HI = np.log([TC_RANGE[1], DR_RANGE[1]]) + 1.0
-_TABLE = 48  # points of a restitution table (:func:`_tabulated`)
+_TABLE = 256  # points of a restitution table (:func:`_tabulated`)
+_TABLE_BOTH = 32  # designs of a table of designs (:func:`_tabulated_both`)
 
 
 def _scales(simp, rho):
@@ -172,11 +173,11 @@ def design_flat_dampratio(e_t, v0, g, tc, simp, rho, *, index: Any = None) -> np
     index = np.arange(e_t.size) if index is None else np.asarray(index)
     rho = np.broadcast_to(np.asarray(rho, float), e_t.shape)
     a, scale, soft = _scales(simp, rho)
-    D, inside = _free_damping_ratio(e_t, a)
-    dr = D / a
-    free = g == 0
-    good = free & inside
-    loaded = np.flatnonzero(~free)
+    dr, good = np.full(e_t.size, np.nan), np.zeros(e_t.size, bool)
+    free, loaded = np.flatnonzero(g == 0), np.flatnonzero(g != 0)
+    if free.size:
+        D, good[free] = _free_damping_ratio(e_t[free], a[free])
+        dr[free] = D / a[free]
     if loaded.size:
         j = loaded
 
@@ -184,18 +185,18 @@ def design_flat_dampratio(e_t, v0, g, tc, simp, rho, *, index: Any = None) -> np
             k = j[k]
             return flat_restitution(tc[k], np.exp(x), simp, rho[k], g[k], v0[k], extremes=False)
 
-        x0 = np.log(D[j] / a[j])
-        x0, slope, use = _tabulated(e_t[j], x0, (g[j] * tc[j] / v0[j], rho[j]), e_of)
+        x0, slope, use = _tabulated(e_t[j], a[j], (g[j] * tc[j] / v0[j], rho[j]), e_of)
         m = np.flatnonzero(~use)
         if m.size:  # the first-order gravity model: gamma = g tc D / (a K v0)
             k = j[m]
+            D = _free_damping_ratio(e_t[k], a[k])[0]
             b2 = 2.0 * soft[k] * g[k] * tc[k] / (a[k] * scale[k] * v0[k])
-            D1 = _first_order(e_t[k], D[k], np.zeros(k.size), b2)
+            D1 = _first_order(e_t[k], D, np.zeros(k.size), b2)
             _, _, _, dh = _unpressed(D1)
             q = 1.0 - b2 * D1 * D1
             slope[m] = e_t[k] * (-2.0 * dh - 2.0 * b2 * D1 * D1 / q)  # the model's de/dx
             x0[m] = np.log(D1 / a[k])
-        x, ok = _secant(e_t, v0, g, tc, simp, rho, j, x0, slope)
+        x, ok = _secant(e_t, v0, g, tc, simp, rho, j, x0, slope, use)
         dr[loaded] = np.exp(x)
         good[loaded] = ok
     rest = np.flatnonzero(~good)
@@ -205,26 +206,34 @@ def design_flat_dampratio(e_t, v0, g, tc, simp, rho, *, index: Any = None) -> np
     return dr
 
 
-def _tabulated(e_t, x0, key, e_of):
+def _tabulated(e_t, a, key, e_of):
     """Starts ``x = log dr`` and slopes ``de/dx`` from a table, where many targets share
     one restitution curve: ``e`` depends on ``dr`` through ``D = a dr`` and
     ``gamma = g tc dr / (K v0)``, so elements with equal ``g tc / v0`` and ``rho`` (the
     ``key``) have one curve ``e(x)``. It is tabulated once per curve (``_TABLE`` points
-    from 1 below to 0.05 above the starts ``x0``: gravity lowers the restitution) with
-    one kernel evaluation and inverted by cubic Hermite interpolation of ``x(e)``
-    (slopes by central differences); elsewhere, and where the table is not monotone,
-    the starts stay (``use`` False, slope NaN). Skipped where there are fewer than four
-    targets per table point.
+    from 1 below to 0.05 above the gravity-0 designs of its extreme targets: gravity
+    lowers the restitution) with one kernel call (three points per node) and inverted by
+    cubic Hermite interpolation of ``x(e)``; the slopes at the nodes by central
+    differences (error ~1e-10), so that the starts are good to about ``step^4 / 384``,
+    ~1e-10, and the interpolated slopes to ~1e-5, which lets the first secant step
+    settle (:func:`_secant`). Elsewhere, and where the table is not monotone, the starts
+    are NaN (``use`` False). Skipped where there are fewer than four targets per table
+    point.
     """
-    m = _TABLE
-    first, group, lo, hi = _groups(key, x0, m)
+    m, none = _TABLE, np.full(e_t.size, np.nan)
+    first, group, e_lo, e_hi = _groups(key, e_t, m)
     if first is None:
-        return x0, np.full(e_t.size, np.nan), np.zeros(e_t.size, bool)
-    n_groups, lo, hi = first.size, lo - 1.0, hi + 0.05
+        return none, none, np.zeros(e_t.size, bool)
+    # the gravity-0 designs of the extreme targets span the curve's (gravity lowers e)
+    ends = _free_damping_ratio(np.concatenate([e_hi, e_lo]), np.tile(a[first], 2))[0]
+    ends = np.log(ends / np.tile(a[first], 2))
+    n_groups, lo, hi = first.size, ends[: first.size] - 1.0, ends[first.size :] + 0.05
     step = (hi - lo) / (m - 1)
     grid = lo[:, None] + step[:, None] * np.arange(m)
-    table = e_of(grid.ravel(), np.repeat(first, m)).restitution.reshape(n_groups, m)
-    de = np.gradient(table, axis=1) / step[:, None]
+    near = grid.ravel() + _FD * np.array([[0.0], [1.0], [-1.0]])  # central differences
+    e3 = e_of(near.ravel(), np.tile(np.repeat(first, m), 3)).restitution.reshape(3, -1)
+    table = e3[0].reshape(n_groups, m)
+    de = ((e3[1] - e3[2]) / (2 * _FD)).reshape(n_groups, m)
     # e falls along each row: search -e, rows stacked 4 apart
     flat = (4.0 * np.arange(n_groups)[:, None] - table).ravel()
     i = np.searchsorted(flat, 4.0 * group - e_t, side="right") - 1
@@ -242,7 +251,7 @@ def _tabulated(e_t, x0, key, e_of):
         x = h00 * xg + h10 * h / s0 + h01 * (xg + dx) + h11 * h / s1
         s = s0 + t * (s1 - s0)
     use &= np.isfinite(x) & np.isfinite(s)
-    return np.where(use, x, x0), np.where(use, s, np.nan), use
+    return np.where(use, x, np.nan), np.where(use, s, np.nan), use
 
 
 def _groups(key, values, m):
@@ -266,14 +275,16 @@ def _hermite(t):
     return 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2
 
 
-def _secant(e_t, v0, g, tc, simp, rho, idx, x, slope):
+def _secant(e_t, v0, g, tc, simp, rho, idx, x, slope, tabled):
     """Secant steps in ``x = log dr`` for the elements ``idx`` (module notes); returns the
     roots and where they were accepted."""
     # the fallback's bracket widened by 1: bisection stays finite (a root out there is
     # not accepted: the fallback refuses it)
     lo, hi = np.full(x.size, np.log(DR_RANGE[0]) - 1), np.full(x.size, np.log(DR_RANGE[1]) + 1)
     x_prev, f_prev = np.full(x.size, np.nan), np.full(x.size, np.nan)
-    root, last = np.full(x.size, np.nan), np.full(x.size, np.nan)
+    # a start from a table has its slope to ~1e-5 (:func:`_tabulated`): as if after a
+    # secant step of that size, so that its first step may settle (:func:`_settled`)
+    root, last = np.full(x.size, np.nan), np.where(tabled, 1e-5, np.nan)
     active = np.arange(x.size)
     for _ in range(_MAX_ITER):
         if active.size == 0:
@@ -379,13 +390,13 @@ def _tabulated_both(e_t, key, a, scale, soft, simp):
     """Starts ``y = (log tc, log dr)`` from a table, where many targets share one contact:
     elements with equal speed, gravity, contact time and ``rho`` (the ``key``) differ in
     the target alone, so their designs lie on one curve ``y(e)``. It is solved at
-    ``_TABLE // 2`` targets spanning theirs (:func:`_broyden`, on few elements) and
+    ``_TABLE_BOTH`` targets spanning theirs (:func:`_broyden`, on few elements) and
     interpolated by cubic Hermite polynomials (slopes by differences), the Jacobian of
     the residual at the nodes (forward differences) linearly. Returns the starts, their
     Jacobians and where they hold (not where a table design failed, nor where there are
     fewer than four targets per table point).
     """
-    m = _TABLE // 2
+    m = _TABLE_BOTH
     first, group, lo, hi = _groups(key, e_t, m)
     if first is None:
         return np.zeros((e_t.size, 2)), np.zeros((e_t.size, 2, 2)), np.zeros(e_t.size, bool)
