@@ -1,9 +1,9 @@
 r"""Design MuJoCo's ``solref`` for a wanted restitution (and contact time); the multibody bridge.
 
 :func:`solref_for` inverts :func:`~impactsym.engines.mujoco.prediction.predict`: for a
-flat ``solimp`` the closed-form release is monotone in the dampratio (and the contact
-time in the timeconst), so each unknown is bracketed and found by the Illinois method
-of :mod:`impactsym.numeric.roots`; for a varying ``solimp`` the flat design at
+flat ``solimp`` by :mod:`~impactsym.engines.mujoco.flat_design` (closed form without
+gravity; secant or Broyden steps from it under gravity, the bracketed Illinois method
+where they do not settle); for a varying ``solimp`` the flat design at
 ``d_max`` starts :func:`impactsym.numeric.roots.newton_system` on the Runge-Kutta
 prediction (smooth, expensive, no bracket in two unknowns). Every design is checked
 by ``predict`` itself (`docs/physics.md#simulation-engines`).
@@ -19,9 +19,11 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.mujoco.continuous import flat_phase, varying_phase
+from impactsym.engines.mujoco.continuous import varying_phase
 from impactsym.engines.mujoco.discrete import check_integrator
 from impactsym.engines.mujoco.discrete_design import DiscreteTarget, design_discrete
+from impactsym.engines.mujoco.flat_brackets import unreachable as _unreachable
+from impactsym.engines.mujoco.flat_design import design_flat_both, design_flat_dampratio
 from impactsym.engines.mujoco.model import (
     DEFAULT_SOLIMP,
     DEFAULT_TIMECONST,
@@ -29,12 +31,11 @@ from impactsym.engines.mujoco.model import (
     check_solimp,
     check_timestep,
     coefficients,
-    impedance_at,
     is_flat,
     weight_ratio,
 )
 from impactsym.engines.mujoco.prediction import Prediction, design_prediction, predict
-from impactsym.numeric.roots import bracketed_illinois, newton_system
+from impactsym.numeric.roots import newton_system
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
 
@@ -106,198 +107,6 @@ class Design(ArrayRecord):
         ref = " ".join(f"{float(v):.10g}" for v in self.solref)
         imp = " ".join(f"{v:g}" for v in self.solimp)
         return f'solref="{ref}" solimp="{imp}"'
-
-
-def _unreachable(what: str, mask: np.ndarray, targets: np.ndarray, hint: str) -> None:
-    if mask.any():
-        index = np.flatnonzero(mask)[0]
-        raise ValueError(
-            f"restitution = {float(targets.flat[index])!r} (element {index}) cannot be "
-            f"reached: {what}; {hint}"
-        )
-
-
-def _flat_restitution(tc, dr, simp, rho, g, v0, *, extremes=True):
-    """The contact phase at ``solref = (tc, dr)`` for a flat ``simp`` (closed form)."""
-    d = float(impedance_at(np.zeros(()), simp))
-    return flat_phase(coefficients((tc, dr), simp, None), d, rho, g, v0, extremes=extremes)
-
-
-def _design_flat_dampratio(e_t, v0, g, tc, simp, rho):
-    """Dampratio with timeconst ``tc`` giving restitution ``e_t`` (flat impedance)."""
-    n = e_t.size
-    # the last dampratio tried and its restitution, per element: the gap check below
-    # reads the restitution at the root the solver last evaluated instead of redoing it
-    last_dr, last_e = np.full(n, np.nan), np.full(n, np.nan)
-
-    def e_of(dr, idx):
-        e = _flat_restitution(
-            tc[idx], dr, simp, rho[idx], g[idx], v0[idx], extremes=False
-        ).restitution
-        last_dr[idx], last_e[idx] = dr, e
-        return e
-
-    def e_at(dr):
-        known = last_dr == dr
-        if known.all():
-            return last_e.copy()
-        out = last_e.copy()
-        out[~known] = e_of(dr[~known], np.flatnonzero(~known))
-        return out
-
-    # e falls with the dampratio, continuously or by a jump where the release switches
-    # from the force to the penetration (then refused below); one bracket suffices
-    idx = np.arange(n)
-    # the ends as the solver (in log dampratio) sees them, so their restitutions serve it
-    lo, hi = np.exp(np.log(np.full(n, 1e-3))), np.exp(np.log(np.full(n, 1e2)))
-    e_lo = e_of(lo, idx)
-    _unreachable(
-        "the body sticks or rebounds too slowly for every dampratio in [1e-3, 100]",
-        e_lo <= e_t,
-        e_t,
-        "a higher speed, less gravity or a shorter timeconst (contact_time=...) reaches it",
-    )
-    e_hi = e_of(hi, idx)
-    hi = np.where(e_hi <= e_t, hi, np.nan)
-    _unreachable(
-        "even dampratio = 100 rebounds faster",
-        np.isnan(hi),
-        e_t,
-        "a lower speed or more gravity reaches it",
-    )
-    dr = bracketed_illinois(
-        lambda x, i: e_t[i] - e_of(x, i),
-        lo,
-        hi,
-        log=True,
-        rtol=1e-10,
-        f_lo=e_t - e_lo,
-        f_hi=e_t - e_hi,
-    )
-
-    def stuck(x):
-        return np.isinf(_flat_restitution(tc, x, simp, rho, g, v0, extremes=False).contact_time)
-
-    _check_gap(lambda x: e_at(x) if x is dr else e_of(x, idx), e_t, dr, "dampratio", stuck)
-    return dr
-
-
-def _check_gap(e_of, e_t, at, name, stuck):
-    """Refuse a target the solver could not reach: the body starts to stick there, or the
-    restitution jumps where the release switches from force to position.
-
-    ``stuck(x)`` says where the design at ``x`` sticks (for a wanted contact time: where
-    no timeconst gives it without sticking).
-    """
-    achieved = e_of(at)
-    miss = np.abs(achieved - e_t) > 1e-6 * np.maximum(e_t, 1e-3)
-    if not miss.any():
-        return
-    i = np.flatnonzero(miss)[0]
-    below, above = e_of(at * (1 - 1e-7))[i], e_of(at * (1 + 1e-7))[i]
-    start = f"restitution = {float(e_t[i])!r} (element {i}) cannot be reached: "
-    hint = "a higher speed, less gravity or another contact_time"
-    if any(stuck(at * (1 + step))[i] for step in (1e-7, 1e-5, 1e-3)):
-        raise ValueError(
-            f"{start}the body starts to stick at {name} = {float(at[i]):.6g}, where the "
-            f"restitution is still {max(below, above):.4g}; with more damping it sticks, "
-            f"so smaller targets are out of reach here; {hint} reaches them"
-        )
-    raise ValueError(
-        f"{start}at {name} = {float(at[i]):.6g} the restitution jumps from {below:.4g} to "
-        f"{above:.4g} (the force no longer vanishes before the penetration does), so "
-        f"targets in between are out of reach here; {hint} moves the jump"
-    )
-
-
-def _design_flat_both(e_t, v0, g, t_c, simp, rho):
-    """``(timeconst, dampratio)`` for restitution ``e_t`` and contact time ``t_c`` (flat).
-
-    Without gravity the restitution depends on the dampratio alone and the contact time
-    is proportional to the timeconst (both coefficients scale with ``1/timeconst``): the
-    dampratio of the restitution at timeconst 1, then the timeconst scaled to ``t_c``.
-    With gravity, nested brackets (:func:`_design_flat_both_loaded`).
-    """
-    free = np.flatnonzero(g == 0)
-    loaded = np.flatnonzero(g != 0)
-    tc, dr = np.empty(e_t.size), np.empty(e_t.size)
-    if free.size:
-        one = np.ones(free.size)
-        dr[free] = _design_flat_dampratio(e_t[free], v0[free], g[free], one, simp, rho[free])
-        t1 = _flat_restitution(one, dr[free], simp, rho[free], g[free], v0[free], extremes=False)
-        tc[free] = t_c[free] / t1.contact_time
-    if loaded.size:
-        part = (a[loaded] for a in (e_t, v0, g, t_c, np.broadcast_to(rho, e_t.shape)))
-        tc[loaded], dr[loaded] = _design_flat_both_loaded(*part, simp)
-    return tc, dr
-
-
-def _design_flat_both_loaded(e_t, v0, g, t_c, rho, simp):
-    """``(timeconst, dampratio)`` for ``e_t`` and ``t_c`` under gravity (flat).
-
-    Nested brackets: for a dampratio the contact time grows with the timeconst (inner
-    Illinois solve); the restitution at that timeconst falls with the dampratio (outer
-    solve, bracketed on a grid because no timeconst may exist at some dampratios).
-    """
-
-    def inner(dr, idx):
-        # timeconst that gives the contact time t_c at this dampratio
-        lo = np.full(idx.size, 1e-6)
-        hi = np.full(idx.size, 1e3)
-
-        def t_of(tc, j):
-            k = idx[j]
-            t = _flat_restitution(tc, dr[j], simp, rho[k], g[k], v0[k], extremes=False)
-            t = t.contact_time
-            return np.arctan(np.log(np.where(np.isfinite(t), t, 1e300) / t_c[idx[j]]))
-
-        j_all = np.arange(idx.size)
-        ok = (t_of(lo, j_all) < 0) & (t_of(hi, j_all) > 0)
-        tc = np.full(idx.size, np.nan)
-        if ok.any():
-            sel = np.flatnonzero(ok)
-            tc[sel] = bracketed_illinois(
-                lambda x, j: t_of(x, sel[j]), lo[sel], hi[sel], log=True, rtol=1e-11
-            )
-            miss = np.abs(t_of(tc[sel], sel)) > 1e-8  # a jump (stick), not a root
-            tc[sel[miss]] = np.nan
-        return tc
-
-    def residual(dr, idx):
-        tc = inner(dr, idx)
-        out = np.full(idx.size, -1.0)  # no timeconst gives t_c: treat as too much damping
-        good = np.isfinite(tc)
-        if good.any():
-            j = idx[good]
-            e = _flat_restitution(tc[good], dr[good], simp, rho[j], g[j], v0[j], extremes=False)
-            e = e.restitution
-            out[good] = e - e_t[j]
-        return out
-
-    n = e_t.size
-    idx = np.arange(n)
-    grid = np.geomspace(1e-3, 1e2, 21)
-    vals = np.stack([residual(np.full(n, q), idx) for q in grid])
-    below = vals <= 0
-    has = below.any(axis=0)
-    first = np.argmax(below, axis=0)
-    _unreachable(
-        "no (timeconst, dampratio) gives both this restitution and this contact time",
-        ~has | (first == 0),
-        e_t,
-        "a longer contact_time or a higher speed reaches it",
-    )
-    dr = bracketed_illinois(
-        lambda x, i: -residual(x, i), grid[first - 1], grid[first], log=True, rtol=1e-12
-    )
-    _check_gap(
-        lambda x: residual(x, idx) + e_t,
-        e_t,
-        dr,
-        "dampratio",
-        lambda x: ~np.isfinite(inner(x, idx)),
-    )
-    return inner(dr, idx), dr
 
 
 def _design_varying(e_t, v0, g, t_c, tc0, dr0, simp, rho):
@@ -376,8 +185,8 @@ def solref_for(
     restitution (and contact time) at that timestep and ``integrator`` hits the target
     (:mod:`~impactsym.engines.mujoco.discrete_design`), and the design carries the
     range over touch phases. The result is checked by
-    :func:`~impactsym.engines.mujoco.prediction.predict`, whose model it inverts (bracketed
-    on a grid of dampratios, then the Illinois method; for a varying impedance
+    :func:`~impactsym.engines.mujoco.prediction.predict`, whose model it inverts (flat
+    impedance: :mod:`~impactsym.engines.mujoco.flat_design`; for a varying impedance
     :func:`impactsym.numeric.roots.newton_system` from the flat design;
     `docs/physics.md#simulation-engines`).
 
@@ -452,7 +261,7 @@ def solref_for(
             e_f, v_f, g_f, t_f, simp, m, w_f, rho_f, timestep, integrator, start
         )
         tc_d = max(DEFAULT_TIMECONST, 2.0 * timestep)  # the restitution design's
-        target.guess = lambda i: _design_flat_dampratio(
+        target.guess = lambda i: design_flat_dampratio(
             e_f[i], v_f[i], g_f[i], np.full(i.size, tc_d), _flat(simp), rho_f[i]
         )
         target.continuous = lambda i: _continuous(
@@ -492,9 +301,9 @@ def _continuous(e_f, v_f, g_f, t_f, simp, rho_f):
     flat_imp = _flat(simp)
     if t_f is None:
         tc = np.full(e_f.shape, DEFAULT_TIMECONST)
-        dr = _design_flat_dampratio(e_f, v_f, g_f, tc, flat_imp, rho_f)
+        dr = design_flat_dampratio(e_f, v_f, g_f, tc, flat_imp, rho_f)
     else:
-        tc, dr = _design_flat_both(e_f, v_f, g_f, t_f, flat_imp, rho_f)
+        tc, dr = design_flat_both(e_f, v_f, g_f, t_f, flat_imp, rho_f)
     if not is_flat(simp):
         tc, dr = _design_varying(e_f, v_f, g_f, t_f, tc, dr, simp, rho_f)
     return tc, dr
