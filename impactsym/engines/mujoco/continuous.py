@@ -14,12 +14,13 @@ longer detected); the engine's own state shows both (`docs/physics.md#simulation
 * Flat impedance (``solimp[0] == solimp[1]``): the equation is linear and
   :func:`impactsym.contact.release.linear_release` gives the first release in closed
   form (:func:`flat_phase`).
-* Varying impedance (MuJoCo's default ``solimp = (0.9, 0.95, 0.001, 0.5, 2)``): the
-  equation is integrated with the classical Runge-Kutta method, vectorized over the
-  contacts, the release located on the cubic Hermite interpolant of the step (Illinois
-  steps), and a contact is declared sticking as soon as a closed-form bound proves that
-  it never releases (:class:`RestProof`), instead of after a fixed horizon
-  (:func:`varying_phase`).
+* Varying impedance (MuJoCo's default ``solimp = (0.9, 0.95, 0.001, 0.5, 2)``): inside
+  the impedance width the equation is integrated with the classical Runge-Kutta method,
+  vectorized over the contacts, a step that crosses the width or the midpoint (where
+  ``d''`` jumps) redone to end on it, the release located on the cubic Hermite
+  interpolant of the step (Illinois steps); beyond the width the equation is linear and
+  :func:`~impactsym.engines.mujoco.beyond_width.passage` carries the state in closed form
+  to the release, back to the width, or proves that it sticks (:func:`varying_phase`).
 
 Internal: :func:`~impactsym.engines.mujoco.prediction.predict` and
 :mod:`~impactsym.engines.mujoco.design` read it.
