@@ -4,7 +4,8 @@ Coefficients are stored lowest order first, along the last axis of an array (or 
 plain list of floats, where the rod sequence's event loop keeps them: at degree < ~20
 Python's arithmetic beats NumPy's cost per call). Used by
 :mod:`impactsym.numeric.exppoly` and the rod impact sequence
-(:mod:`impactsym.rod.sequence_rigid`, :mod:`impactsym.rod.sequence_elastic`); see
+(:mod:`impactsym.rod.sequence_rigid`, :mod:`impactsym.rod.sequence_elastic`), and for
+its Hermite basis by the MuJoCo contact's integration and flat design; see
 docs/physics.md#the-rod-impact-continued-past-separation.
 
 Internal: none of these names is part of the public interface of the package.
@@ -39,6 +40,17 @@ def horner(c, x):
     for ck in reversed(c):
         out = out * x + ck
     return out
+
+
+def hermite_basis(t):
+    """The cubic Hermite basis ``(h00, h10, h01, h11)`` at ``t`` in ``[0, 1]``: the cubic
+    with values ``y0, y1`` and slopes ``m0, m1`` (per unit of ``t``) at the ends is
+    ``h00 y0 + h10 m0 + h01 y1 + h11 m1``.
+
+    >>> [float(b) for b in hermite_basis(0.5)]
+    [0.5, 0.125, 0.5, -0.125]
+    """
+    return 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2
 
 
 def polyval_rows(C: np.ndarray, x) -> np.ndarray:

@@ -44,6 +44,7 @@ from impactsym.engines.mujoco.model import (
     impedance_at,
     oscillator,
 )
+from impactsym.numeric.poly import hermite_basis
 from impactsym.records import ArrayRecord
 
 __all__ = ["ContactPhase", "flat_phase", "varying_phase"]
@@ -102,8 +103,7 @@ class _Step:
 
     def at(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Cubic Hermite ``(x, v)`` at fraction ``s`` (``x`` from ``v``, ``v`` from ``a``)."""
-        h00, h10 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s
-        h01, h11 = -2 * s**3 + 3 * s**2, s**3 - s**2
+        h00, h10, h01, h11 = hermite_basis(s)
         h = self.h
         x = h00 * self.x0 + h10 * h * self.v0 + h01 * self.x1 + h11 * h * self.v1
         v = h00 * self.v0 + h10 * h * self.a0 + h01 * self.v1 + h11 * h * self.a1

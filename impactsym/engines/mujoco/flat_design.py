@@ -63,6 +63,7 @@ from impactsym.engines.mujoco.flat_brackets import (
     nested_both,
 )
 from impactsym.engines.mujoco.model import d_max, effective_impedance, impedance_at
+from impactsym.numeric.poly import hermite_basis
 from impactsym.numeric.roots import bracketed_newton
 
 __all__ = ["design_flat_both", "design_flat_dampratio"]
@@ -245,7 +246,7 @@ def _tabulated(e_t, a, key, e_of):
     use &= (e1 < e0) & (s0 < 0) & (s1 < 0) & (flat[i + 1] > flat[i])
     h = np.where(use, e1 - e0, 1.0)
     t = np.where(use, (e_t - e0) / h, 0.0)
-    h00, h10, h01, h11 = _hermite(t)
+    h00, h10, h01, h11 = hermite_basis(t)
     xg, dx = grid.ravel()[i], step[group]
     with np.errstate(divide="ignore", invalid="ignore"):
         x = h00 * xg + h10 * h / s0 + h01 * (xg + dx) + h11 * h / s1
@@ -268,11 +269,6 @@ def _groups(key, values, m):
     np.minimum.at(lo, group, values)
     np.maximum.at(hi, group, values)
     return first, group, lo, hi
-
-
-def _hermite(t):
-    """The cubic Hermite basis ``h00, h10, h01, h11`` at ``t`` in ``[0, 1]``."""
-    return 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2
 
 
 def _secant(e_t, v0, g, tc, simp, rho, idx, x, slope, tabled):
@@ -422,7 +418,7 @@ def _tabulated_both(e_t, key, a, scale, soft, simp):
     i = np.clip(((e_t - lo[group]) / step[group]).astype(int), 0, m - 2)
     h = step[group]
     t = ((e_t - lo[group]) / h - i)[:, None]
-    h00, h10, h01, h11 = _hermite(t)
+    h00, h10, h01, h11 = hermite_basis(t)
     y0n, y1n = y_n[group, i], y_n[group, i + 1]
     d0, d1 = dy[group, i], dy[group, i + 1]
     y = h00 * y0n + h10 * h[:, None] * d0 + h01 * y1n + h11 * h[:, None] * d1
