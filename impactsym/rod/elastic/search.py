@@ -160,25 +160,25 @@ def _zero_before(evaluate, reached, pairs, start):
     with ``g > 0`` at ``4^k 1e-10`` before it (``k`` up, the interval's ``start`` at
     most, where ``g > 0`` or ``g(0) = 0``), then the safeguarded Newton iteration on
     ``g`` (a crossing: ``DEPTH / |g'|`` before ``reached``)."""
-    left = reached.copy()
+    left, g_left = reached.copy(), np.full(reached.size, np.nan)
     open_ = np.ones(reached.size, bool)
     for k in range(20):
         if not open_.any():
             break
         i = np.flatnonzero(open_)
         trial = np.maximum(reached[i] - 1e-10 * 4.0**k * (1.0 + reached[i]), start)
-        g = evaluate(trial, pairs[i])[0]
-        left[i] = trial
-        open_[i] = ~((g > 0) | (trial <= start))
-    left[open_] = start
+        left[i], g_left[i] = trial, evaluate(trial, pairs[i])[0]
+        open_[i] = ~((g_left[i] > 0) | (trial <= start))
+    if open_.any():
+        i = np.flatnonzero(open_)
+        left[i] = start
+        g_left[i] = evaluate(left[i], pairs[i])[0]
 
     def g_and_slope(t, own):
         value, slope, _ = evaluate(t, pairs[own])
         return value, slope
 
-    own = np.arange(reached.size)
-    g_left = g_and_slope(left, own)[0]
-    g_hi = g_and_slope(reached, own)[0]
+    g_hi = evaluate(reached, pairs)[0]
     ok = (g_left >= 0) & (g_hi <= 0) & (left < reached)
     out = reached.copy()
     if ok.any():
