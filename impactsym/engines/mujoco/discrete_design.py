@@ -53,7 +53,7 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.mujoco.discrete import PhaseSummary, bounds_without_search, phase_mean
+from impactsym.engines.mujoco.discrete import bounds_without_search, phase_mean
 from impactsym.engines.mujoco.model import (
     DEFAULT_TIMECONST,
     coefficients,
@@ -150,8 +150,7 @@ class DiscreteTarget:
         :class:`~impactsym.engines.mujoco.discrete.PhaseSummary`; sticking at some phase:
         an infinite contact time, the rest ``nan``): a table of designs reads its
         designs' summaries off it (:mod:`~impactsym.engines.mujoco.table_design`)."""
-        p = self._phase_mean(tc, dr, idx, bounds=True)
-        return np.stack([np.ravel(getattr(p, f.name)) for f in fields(p)])
+        return _stacked(self._phase_mean(tc, dr, idx, bounds=True))
 
     def mean(self, tc, dr, idx, *, bounds=False):
         """Phase mean at ``solref = (tc, dr)`` of elements ``idx``: ``restitution``,
@@ -165,7 +164,7 @@ class DiscreteTarget:
         exact = bounds_without_search(self.integrator, self.solimp)
         p = self._phase_mean(tc, dr, idx, bounds=bounds and not exact)
         if bounds or exact:  # its bounds are exact
-            self.record(tc, dr, idx, p)
+            self.record(tc, dr, idx, _stacked(p))
         return SimpleNamespace(
             restitution=p.restitution, contact_time=p.contact_time, sticks=np.isinf(p.contact_time)
         )
@@ -186,16 +185,17 @@ class DiscreteTarget:
             resolve_sticking=False,
         )
 
-    def record(self, tc: Any, dr: Any, idx: np.ndarray, p: Any) -> None:
-        """Keep the last phase mean of each element, with its ``solref`` (and in the
-        targets this one was taken from)."""
+    def record(self, tc: Any, dr: Any, idx: np.ndarray, summary: np.ndarray) -> None:
+        """Keep the last phase summary ``(7, size)`` of elements ``idx`` (the fields of
+        :class:`~impactsym.engines.mujoco.discrete.PhaseSummary`), with its ``solref``
+        (and in the targets this one was taken from)."""
         if self._last is None:
             self._last = np.full((9, self.e.size), np.nan)
         self._last[0, idx], self._last[1, idx] = tc, dr
-        self._last[2:, idx] = np.stack([np.ravel(getattr(p, f.name)) for f in fields(p)])
+        self._last[2:, idx] = summary
         if self._parent is not None:
             parent, where = self._parent
-            parent.record(tc, dr, where[idx], p)
+            parent.record(tc, dr, where[idx], summary)
 
     def known_at(self, tc: np.ndarray, dr: np.ndarray) -> np.ndarray:
         """The phase means evaluated at exactly ``solref = (tc, dr)`` (one per element)
@@ -247,6 +247,11 @@ class DiscreteTarget:
             good = ok(mid)
             lo, hi = np.where(good, lo, mid), np.where(good, mid, hi)
         return np.where(every, 0.0, np.where(top, hi, np.inf))[back.ravel()]
+
+
+def _stacked(p: Any) -> np.ndarray:
+    """A phase summary's fields as one ``(7, size)`` array."""
+    return np.stack([np.ravel(getattr(p, f.name)) for f in fields(p)])
 
 
 def _refuse(tg: DiscreteTarget, i: int, why: str, solve) -> None:
@@ -340,7 +345,7 @@ def _restitution_design(tg: DiscreteTarget, tc: np.ndarray, refuse: bool = True)
         )  # fmt: skip
         read = np.flatnonzero(np.isfinite(known[0]))  # designs read off the table
         if read.size:
-            tg.record(tc[read], dr[read], read, PhaseSummary(*known[:, read]))
+            tg.record(tc[read], dr[read], read, known[:, read])
     if tg.guess is not None and rows.size:  # a local bracket around the continuous design
         try:
             guess = np.full(n, np.nan)
