@@ -55,8 +55,8 @@ def hermite_basis(t):
 
 def cubic_lagrange_weights(s):
     """Lagrange weights of the nodes ``-1, 0, 1, 2`` at ``s`` (an array) and their
-    derivatives, each ``(size, 4)``: the cubic through ``y_-1 .. y_2`` is
-    ``sum(w * y, axis=1)``.
+    derivatives, each ``(size, 4)``: the cubic through the values ``y`` there (columns)
+    is ``sum(w * y, axis=1)``.
 
     >>> w, dw = cubic_lagrange_weights(np.array([0.5]))
     >>> w.tolist()
