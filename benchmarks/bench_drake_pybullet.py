@@ -25,7 +25,11 @@ many brackets), the factor over the 2 s target after:
   band holds pockets no design reaches, e.g. e = 0.4431 at 10 steps); 48 reachable
   targets (e 0.30..0.45, 9.8..10.2 steps): 1.7 -> 0.9 s.
 * Drake continuous, g = 0: 0.015 (0.76 x: under the target).
-* Drake continuous, g = 9.81: 11.0 -> 5.1 (contact_time, 254 x), 5.7 (max_penetration).
+* Drake continuous, g = 9.81: 11.0 -> 5.1 (contact_time, 254 x), 5.7 (max_penetration);
+  from 128 targets per call the designs are read off one Chebyshev table in (s, b)
+  (``drake.pressed_table``): ``--count 100000`` 0.6-0.8 s (contact_time), 0.3-0.75 s
+  (max_penetration), 0.3-0.4 x the target (at 10^3 the table's fixed cost, ~0.05 s, makes
+  the scaled column 4 x).
 * Drake lagged 1e-3: 284 -> 18.9 (contact_time, 943 x), 23.6 (max_penetration), g = 0;
   20.3 and 27.6, g = 9.81 (1000-1400 x).
 
