@@ -22,8 +22,12 @@ All designs are solved together on whole arrays. A call with at least
 gravity (``g > 0``) reads their designs off one Chebyshev table of the normalized impact
 in the damping and pressing numbers instead
 (:mod:`~impactsym.engines.drake.pressed_table`: the same numbers to about ``1e-14``,
-without an exact evaluation per design); the targets the table does not serve, and
-every smaller call, take the iteration above.
+without an exact evaluation per design). A call with at least
+:data:`~impactsym.engines.drake.step_table.MIN_TARGETS` discrete ``"tamsi"``,
+``"similar"`` or ``"lagged"`` targets starts those sharing ``g / v`` from a table of
+the phase means and finishes them by Broyden steps on the exact phase means
+(:mod:`~impactsym.engines.drake.step_table`: about five phase means per design). The
+targets a table does not serve, and every smaller call, take the iteration above.
 """
 
 from __future__ import annotations
@@ -44,6 +48,8 @@ from impactsym.engines.drake.prediction import (
     predict,
 )
 from impactsym.engines.drake.pressed_table import MIN_TARGETS, pressed_designs
+from impactsym.engines.drake.step_table import MIN_TARGETS as STEPPED_MIN
+from impactsym.engines.drake.step_table import stepped_designs
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, finish, real_array
 
@@ -168,12 +174,17 @@ def point_contact_for(
             *(a[pressed] for a in (e, v, m, g, target)), size_name
         )
         read[pressed[ok]] = True
+        k_read, d_read = k_read[ok], d_read[ok]
         values_read = [a[ok] for a in values_read]
+    elif approx not in (None, "sap") and e.size >= STEPPED_MIN:
+        # many discrete targets: started from a table of the phase means, a few exact steps
+        ok, k_read, d_read = stepped_designs(e, v, m, g, target, h, approx, size_name)
+        read, k_read, d_read = ok, k_read[ok], d_read[ok]
     if not read.any():
         k, damp = _iterate(e, v, m, g, target, h, approx, size_name)
     else:  # the table's designs, and the exact iteration for the others
         k, damp = np.empty(e.size), np.empty(e.size)
-        k[read], damp[read] = k_read[ok], d_read[ok]
+        k[read], damp[read] = k_read, d_read
         rest = np.flatnonzero(~read)
         if rest.size:
             rows = (a[rest] for a in (e, v, m, g, target))
@@ -183,7 +194,7 @@ def point_contact_for(
         return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
 
     sap = approx == "sap"
-    if read.any():  # the table's values where it designed, the exact prediction elsewhere
+    if values_read is not None and read.any():  # the table's values, the exact elsewhere
         p = _merged(shape, read, values_read, (k, damp, m, v, g))
     else:  # the full prediction (with the ranges) once, in the shape of the input
         p = _predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),

@@ -1,0 +1,101 @@
+"""Discrete Drake designs started from a table of the phase means, finished by Broyden
+steps on the exact phase means.
+
+Checked by what did not make them: a fresh exact ``predict`` at each design (the phase
+mean with its range), and the nested exact iteration of ``point_contact_for`` on the same
+targets in calls too small for a table.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from impactsym.engines import drake
+from impactsym.engines.drake import design
+from impactsym.engines.drake.step_table import MIN_TARGETS, stepped_designs
+
+H = 1e-3
+RNG = np.random.default_rng(2025)
+
+
+def _targets(n):
+    """The benchmark's ranges: e 0.3..0.6, 20..40 steps of contact, 6..12 mm deep."""
+    return RNG.uniform(0.3, 0.6, n), RNG.uniform(2e-2, 4e-2, n), RNG.uniform(6e-3, 1.2e-2, n)
+
+
+@pytest.mark.parametrize(("gravity", "size_name"),
+                         [(0.0, "contact_time"), (9.81, "max_penetration")])  # fmt: skip
+def test_table_started_designs_meet_their_targets_by_a_fresh_prediction(
+    gravity, size_name, monkeypatch
+):
+    e, t, x = _targets(MIN_TARGETS)
+    size = t if size_name == "contact_time" else x
+    seen = []
+
+    def spy(*args):
+        seen.append(stepped_designs(*args))
+        return seen[-1]
+
+    monkeypatch.setattr(design, "stepped_designs", spy)
+    c = drake.point_contact_for(restitution=e, speed=1.0, mass=0.1, gravity=gravity,
+                                time_step=H, **{size_name: size})  # fmt: skip
+    p = drake.predict(stiffness=c.point_contact_stiffness, dissipation=c.hunt_crossley_dissipation,
+                      mass=0.1, speed=1.0, gravity=gravity, time_step=H)  # fmt: skip
+    np.testing.assert_allclose(p.restitution, e, rtol=1e-11)
+    np.testing.assert_allclose(getattr(p, size_name), size, rtol=1e-9)
+    np.testing.assert_array_equal(c.restitution, p.restitution)  # the prediction itself
+    assert not np.any(p.sticks)
+    assert seen[0][0].mean() > 0.9  # most from the table, the rest by the iteration
+
+
+def test_table_started_designs_are_those_of_the_exact_iteration():
+    e, t, _ = _targets(MIN_TARGETS)
+    c = drake.point_contact_for(restitution=e, contact_time=t, speed=1.0, mass=0.1,
+                                time_step=H)  # fmt: skip
+    part = slice(0, 48)  # a call too small for a table: the nested iteration
+    x = drake.point_contact_for(restitution=e[part], contact_time=t[part], speed=1.0,
+                                mass=0.1, time_step=H)  # fmt: skip
+    # both meet the targets to 1e-10 in the size; where the contact time is flat in the
+    # stiffness (next to a plateau) the stiffness is the less determined
+    np.testing.assert_allclose(c.point_contact_stiffness[part], x.point_contact_stiffness,
+                               rtol=1e-6)  # fmt: skip
+    np.testing.assert_allclose(c.hunt_crossley_dissipation[part], x.hunt_crossley_dissipation,
+                               rtol=1e-6)  # fmt: skip
+
+
+def test_the_table_serves_calls_from_min_targets_on(monkeypatch):
+    def refuse(*args):
+        raise AssertionError("a table below the call's threshold")
+
+    monkeypatch.setattr(design, "stepped_designs", refuse)
+    monkeypatch.setattr(design, "STEPPED_MIN", 4)
+    e, t, _ = _targets(4)
+    c = drake.point_contact_for(restitution=e[:3], contact_time=t[:3], speed=1.0, mass=0.1,
+                                time_step=H)  # fmt: skip
+    assert np.all(c.point_contact_stiffness > 0)
+    with pytest.raises(AssertionError, match="threshold"):
+        drake.point_contact_for(restitution=e, contact_time=t, speed=1.0, mass=0.1, time_step=H)
+    with pytest.raises(AssertionError, match="threshold"):  # the rule is the same at any size
+        drake.point_contact_for(restitution=e, contact_time=t, speed=1.0, mass=0.1,
+                                time_step=H, approximation="tamsi")  # fmt: skip
+    # sap damps by its relaxation time: never from this table
+    drake.point_contact_for(restitution=0.5, contact_time=0.03, speed=1.0, mass=0.1,
+                            time_step=H, approximation="sap")  # fmt: skip
+
+
+def test_a_small_group_of_a_table_call_is_iterated():
+    # the targets sharing g / v are one table's; a group under MIN_TARGETS is iterated
+    e, t, _ = _targets(MIN_TARGETS + 6)
+    g = np.zeros(e.size)
+    g[-6:] = 9.81
+    one = np.ones(e.size)
+    c = drake.point_contact_for(restitution=e, contact_time=t, speed=1.0, mass=0.1, gravity=g,
+                                time_step=H)  # fmt: skip
+    ok = stepped_designs(e[-6:], one[-6:], 0.1 * one[-6:], g[-6:], t[-6:], H, "lagged",
+                         "contact_time")[0]  # fmt: skip
+    assert not ok.any()
+    p = drake.predict(stiffness=c.point_contact_stiffness, dissipation=c.hunt_crossley_dissipation,
+                      mass=0.1, speed=1.0, gravity=g, time_step=H)  # fmt: skip
+    np.testing.assert_allclose(p.restitution, e, rtol=1e-11)
+    np.testing.assert_allclose(p.contact_time, t, rtol=1e-9)
