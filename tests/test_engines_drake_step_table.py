@@ -99,3 +99,14 @@ def test_a_small_group_of_a_table_call_is_iterated():
                       mass=0.1, speed=1.0, gravity=g, time_step=H)  # fmt: skip
     np.testing.assert_allclose(p.restitution, e, rtol=1e-11)
     np.testing.assert_allclose(p.contact_time, t, rtol=1e-9)
+
+
+def test_an_out_of_reach_target_of_a_table_call_is_refused_as_alone():
+    e, t, _ = _targets(MIN_TARGETS)
+    e[7] = 0.999  # above what the undamped step restitutes at 30 steps
+    with pytest.raises(ValueError, match="without dissipation the step itself") as alone:
+        drake.point_contact_for(restitution=e[7], contact_time=t[7], speed=1.0, mass=0.1,
+                                time_step=H)  # fmt: skip
+    with pytest.raises(ValueError, match="out of reach") as many:
+        drake.point_contact_for(restitution=e, contact_time=t, speed=1.0, mass=0.1, time_step=H)
+    assert str(many.value) == str(alone.value)
