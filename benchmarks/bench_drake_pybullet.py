@@ -31,11 +31,18 @@ many brackets), the factor over the 2 s target after:
   (max_penetration), 0.3-0.4 x the target (at 10^3 the table's fixed cost, ~0.05 s, makes
   the scaled column 4 x).
 * Drake lagged 1e-3: 284 -> 18.9 (contact_time, 943 x), 23.6 (max_penetration), g = 0;
-  20.3 and 27.6, g = 9.81 (1000-1400 x).
+  20.3 and 27.6, g = 9.81 (1000-1400 x). From 256 targets sharing g/v per call the
+  designs start from a table of the phase means in (s, w = h sqrt(k/m)) and finish by
+  Broyden steps on the exact phase means (``drake.step_table``, ~5.5 phase means per
+  design instead of ~20); CPU seconds per 10^3 (one thread, load ~5), before -> after:
+  8.1 -> 2.7 and 10.2 -> 2.4 (g = 0), 11.2 -> 1.9 and 12.6 -> 2.5 (g = 9.81), still
+  ~100-130 x the target.
 
 What stays over the target is the exact phase mean itself: one evaluation for 10^5
-designs takes ~25 s (PyBullet, ``phase_means``) and ~50 s (Drake lagged, without the
-range search), and a design takes 10-50 of them. A table per step ratio (the targets
+designs takes ~25 s (PyBullet, ``phase_means``) and ~16 s (Drake lagged, without the
+range search; half of it the Gauss nodes of the eight phase intervals, a third the
+location of the end-step changes), and a design takes 10-50 of them (Drake lagged from a
+table: ~5.5, plus the final prediction with its range). A table per step ratio (the targets
 share speed and mass), inverted, cuts the evaluations to one or two per design; below
 2 s needs more: designs read from a table whose error is bounded without a per-design
 evaluation, or a compiled step loop.
