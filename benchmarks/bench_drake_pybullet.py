@@ -39,7 +39,7 @@ many brackets), the factor over the 2 s target after:
   ~100-130 x the target.
 
 What stays over the target is the exact phase mean itself: one evaluation for 10^5
-designs takes ~25 s (PyBullet, ``phase_means``) and ~16 s (Drake lagged, without the
+designs takes ~25 s (PyBullet, ``phase_means``) and 20-50 s (Drake lagged, without the
 range search; half of it the Gauss nodes of the eight phase intervals, a third the
 location of the end-step changes), and a design takes 10-50 of them (Drake lagged from a
 table: ~5.5, plus the final prediction with its range). A table per step ratio (the targets
