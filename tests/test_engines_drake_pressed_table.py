@@ -127,3 +127,18 @@ def test_targets_near_sticking_split_the_table_or_are_iterated():
     np.testing.assert_allclose(p.restitution, e, rtol=1e-9)
     np.testing.assert_allclose(p.contact_time, t, rtol=1e-9)
     np.testing.assert_allclose(c.restitution[ok], p.restitution[ok], rtol=1e-12)
+
+
+def test_read_designs_deliver_in_drake():
+    pytest.importorskip("pydrake")
+    from impactsym.engines.drake.driver import drake_continuous
+
+    e = np.linspace(0.4, 0.8, MIN_TARGETS)
+    t = np.linspace(2e-3, 1.5e-2, MIN_TARGETS)
+    c = drake.point_contact_for(restitution=e, contact_time=t, speed=1.0, mass=0.1, gravity=9.81)
+    for j in (0, MIN_TARGETS // 2, MIN_TARGETS - 1):
+        run = drake_continuous(stiffness=c.point_contact_stiffness[j],
+                               dissipation=c.hunt_crossley_dissipation[j], mass=0.1, speed=1.0,
+                               gravity=9.81)  # fmt: skip
+        assert abs(run["restitution"] / e[j] - 1.0) < 5e-3
+        assert abs(run["contact_time"] / t[j] - 1.0) < 5e-3

@@ -110,3 +110,22 @@ def test_an_out_of_reach_target_of_a_table_call_is_refused_as_alone():
     with pytest.raises(ValueError, match="out of reach") as many:
         drake.point_contact_for(restitution=e, contact_time=t, speed=1.0, mass=0.1, time_step=H)
     assert str(many.value) == str(alone.value)
+
+
+def test_table_started_designs_deliver_in_drake():
+    pytest.importorskip("pydrake")
+    from impactsym.engines.drake.driver import drake_phases
+
+    e, t, _ = _targets(MIN_TARGETS)
+    c = drake.point_contact_for(restitution=e, contact_time=t, speed=1.0, mass=0.1, gravity=9.81,
+                                time_step=H)  # fmt: skip
+    phases = (np.arange(32) + 0.5) / 32
+    for j in (0, 1):
+        k, d = c.point_contact_stiffness[j], c.hunt_crossley_dissipation[j]
+        run = drake_phases(stiffness=k, dissipation=d, mass=0.1, speed=1.0, gravity=9.81,
+                           time_step=H, phases=phases)  # fmt: skip
+        p = drake.predict(stiffness=k, dissipation=d, mass=0.1, speed=1.0, gravity=9.81,
+                          time_step=H, phase=phases)  # fmt: skip
+        np.testing.assert_allclose(p.restitution, run["restitution"], atol=1e-8)
+        np.testing.assert_allclose(p.contact_time, run["contact_time"], rtol=1e-12, atol=1e-12)
+        assert abs(run["restitution"].mean() / e[j] - 1.0) < 5e-3  # the 32-phase mean
