@@ -142,3 +142,27 @@ def test_read_designs_deliver_in_drake():
                                gravity=9.81)  # fmt: skip
         assert abs(run["restitution"] / e[j] - 1.0) < 5e-3
         assert abs(run["contact_time"] / t[j] - 1.0) < 5e-3
+
+
+def test_a_call_whose_leftovers_are_refused_is_designed_as_without_a_table(monkeypatch):
+    # the iteration's stopping rules act on its whole batch: where it refuses the targets
+    # a table left, the call is designed by it as a whole, as before (bit for bit)
+    e, t, _, m, v, g = _targets(MIN_TARGETS + 8)
+    g[:8] = 0.0  # left to the iteration
+    args = {"restitution": e, "contact_time": t, "speed": v, "mass": m, "gravity": g}
+    iterate, sizes = design._iterate, []
+
+    def refuse_small_batches(*rows):
+        sizes.append(rows[0].size)
+        if rows[0].size < e.size:
+            raise ValueError("refused in a small batch")
+        return iterate(*rows)
+
+    monkeypatch.setattr(design, "_iterate", refuse_small_batches)
+    c = drake.point_contact_for(**args)
+    assert sizes == [8, e.size]
+    monkeypatch.setattr(design, "MIN_TARGETS", 10**9)  # no table: the call as before
+    before = drake.point_contact_for(**args)
+    for name in ("point_contact_stiffness", "hunt_crossley_dissipation", "restitution",
+                 "contact_time", "max_penetration"):  # fmt: skip
+        assert np.array_equal(getattr(c, name), getattr(before, name))

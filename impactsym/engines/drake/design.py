@@ -27,7 +27,11 @@ without an exact evaluation per design). A call with at least
 ``"similar"`` or ``"lagged"`` targets starts those sharing ``g / v`` from a table of
 the phase means and finishes them by Broyden steps on the exact phase means
 (:mod:`~impactsym.engines.drake.step_table`: about five phase means per design). The
-targets a table does not serve, and every smaller call, take the iteration above.
+targets a table does not serve, and every smaller call, take the iteration above. Its
+stopping rules act on its whole batch, and the targets a table leaves are the hardest
+(next to a plateau's edge): where it refuses them in their small batch, the call is
+designed by it as a whole, exactly as without a table, so a table never refuses what
+the iteration designs.
 """
 
 from __future__ import annotations
@@ -186,9 +190,16 @@ def point_contact_for(
         k, damp = np.empty(e.size), np.empty(e.size)
         k[read], damp[read] = k_read, d_read
         rest = np.flatnonzero(~read)
-        if rest.size:
-            rows = (a[rest] for a in (e, v, m, g, target))
-            k[rest], damp[rest] = _iterate(*rows, h, approx, size_name)
+        try:
+            if rest.size:
+                rows = (a[rest] for a in (e, v, m, g, target))
+                k[rest], damp[rest] = _iterate(*rows, h, approx, size_name)
+        except ValueError:
+            # the targets left lie where the iteration is hardest (next to a plateau's
+            # edge) and its stopping rules act on the whole batch: the call is designed
+            # as without a table, which designs or refuses it as before
+            read, values_read = np.zeros(e.size, bool), None
+            k, damp = _iterate(e, v, m, g, target, h, approx, size_name)
 
     def out(a):
         return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
