@@ -302,7 +302,11 @@ def _iterate(e, v, m, g, target, h, approx, size_name):
             break
         miss = float(np.max(np.abs(ratio - 1.0)))
         progress = np.all(bracketed | converged)  # Illinois always shrinks the bracket
-        stalled = 0 if progress or miss <= 0.5 * best else stalled + 1
+        # a design still walking along a plateau of the size (unbracketed, its miss
+        # unchanged, its stiffness moving) makes progress too, however slowly: stopping it
+        # refused targets that a larger batch (one that kept the loop going) designed
+        walking = np.any(~bracketed & ~converged & (moved > 1e-12))
+        stalled = 0 if progress or walking or miss <= 0.5 * best else stalled + 1
         best = min(best, miss)
         if stalled >= 6 or np.any(k > 1e6 * k_start) or np.any(k < 1e-6 * k_start):
             break  # no progress: out of reach
