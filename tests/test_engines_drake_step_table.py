@@ -129,3 +129,18 @@ def test_table_started_designs_deliver_in_drake():
         np.testing.assert_allclose(p.restitution, run["restitution"], atol=1e-8)
         np.testing.assert_allclose(p.contact_time, run["contact_time"], rtol=1e-12, atol=1e-12)
         assert abs(run["restitution"].mean() / e[j] - 1.0) < 5e-3  # the 32-phase mean
+
+
+def test_targets_next_to_a_plateaus_edge_are_solved_along_the_contour():
+    # within 3e-3 steps of N + 1/2, where the phase-mean contact time rests on a plateau
+    # on one side: Broyden's steps stall there, the walk along the contour does not
+    rng = np.random.default_rng(7)
+    n = MIN_TARGETS
+    e = rng.uniform(0.3, 0.6, n)
+    q = rng.integers(20, 40, n) + 0.5 + rng.choice([-1, 1], n) * rng.uniform(1e-4, 3e-3, n)
+    one = np.ones(n)
+    ok, k, d = stepped_designs(e, one, 0.1 * one, 0 * one, q * H, H, "lagged", "contact_time")
+    assert ok.mean() > 0.9
+    p = drake.predict(stiffness=k[ok], dissipation=d[ok], mass=0.1, speed=1.0, time_step=H)
+    np.testing.assert_allclose(p.restitution, e[ok], rtol=1e-11)
+    np.testing.assert_allclose(p.contact_time, q[ok] * H, rtol=1e-9)

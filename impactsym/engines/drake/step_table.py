@@ -34,14 +34,21 @@ and the exact phase means finish it:
   zero slope would send the next step out of the box, the slope of the table's cell
   leads back to the plateau's edge. A design is done when its phase-mean
   restitution is within ``1e-12`` of the target and its size within ``1e-10`` relative
-  (the tolerances of the caller's own iteration). A design that leaves the box, sticks, or
-  is not done by then is left to the caller's iteration.
+  (the tolerances of the caller's own iteration).
+* **Next to a plateau's edge** (a design Broyden's steps leave) the designs are solved
+  along the contour ``E = e`` (:func:`_edge`): each step moves ``w`` and corrects ``s``
+  by Newton's step on ``E``; ``w`` first walks off the plateau, the step doubling, until
+  ``Q - q`` changes sign, then Illinois steps narrow that bracket, at most
+  :data:`EDGE_STEPS` phase means. A design that leaves the box, sticks, or is not done
+  by then (e.g. where ``Q`` jumps: an interval of phases with another end step,
+  narrower than the phase grid of :func:`~impactsym.engines.drake.phases.phase_summary`,
+  reaching a grid phase) is left to the caller's iteration.
 
 The steps converge about a hundredfold each (the table's Jacobian is good to about a
 percent: the kinks), so a design takes about five and a half phase means instead of the
 twenty-odd of the nested iteration; a few targets in a thousand, within a few
 hundredths of a step of a plateau's edge (the contact time in steps near ``N + 1/2``),
-are left to the iteration (measured on the benchmark's targets). The tables cost
+take the contour search, and fewer still are left to the iteration. The tables cost
 ``16 * 16 + NODES_S * NODES_W`` phase means per group. The caller
 (:func:`~impactsym.engines.drake.design.point_contact_for`) uses it for the groups of at
 least :data:`MIN_TARGETS` targets (equal ``g / v``) of one call, a rule of the call alone:
@@ -58,6 +65,7 @@ from impactsym.engines.drake.phases import phase_summary
 
 __all__ = [
     "COARSE",
+    "EDGE_STEPS",
     "MARGIN",
     "MIN_TARGETS",
     "NODES_S",
@@ -77,8 +85,10 @@ WIDE = 1.6
 NODES_S, NODES_W = 32, 48
 #: The box widened by this fraction of its width on each side.
 MARGIN = 0.25
-#: Exact phase means per design at most.
+#: Exact phase means per design at most (Broyden's steps).
 STEPS = 16
+#: Exact phase means at most along the contour for the designs next to a plateau's edge.
+EDGE_STEPS = 80
 _E_TOL, _Q_TOL = 1e-12, 1e-10  # a design is done within these (as the iteration's)
 
 
@@ -138,6 +148,10 @@ def _group(e, v, m, g, target, h, approx, size_name):
         box = tuple(_widened(x[found], c) for x, c in zip((s, w), cell, strict=True))
     mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
     s, w, done = _broyden(mean_rows, s, w, jac, e, q, *box)
+    rest = np.flatnonzero(~done & np.isfinite(s) & np.isfinite(w))
+    if rest.size:  # next to a plateau's edge: a bracket in w along the contour
+        s[rest], w[rest], done[rest] = _edge(mean_rows, rest, s[rest], w[rest], jac[rest],
+                                             e[rest], q[rest], box[1])  # fmt: skip
     ok[done] = True
     k_out[done] = m[done] * (w[done] / h) ** 2
     d_out[done] = s[done] / v[done]
@@ -258,3 +272,62 @@ def _broyden(mean, s, w, jac, e, q, s_box, w_box):
         x[live[inside]] = new[inside]
         live, x_prev, f_prev = live[inside], x_prev[inside], f_prev[inside]
     return x[:, 0], x[:, 1], done
+
+
+def _edge(mean, rows, s, w, jac, e, q, w_box):
+    """The designs ``rows`` that Broyden's steps left, solved along the contour
+    ``E = e``: each step moves ``w`` and corrects ``s`` by Newton's step on ``E``; ``w``
+    first walks, the step doubling, until ``Q - q`` changes sign (off a plateau of
+    ``Q``, which stalls the secant), then Illinois steps in that bracket (module
+    docstring). Returns ``(s, w, done)``."""
+    n = rows.size
+    done = np.zeros(n, bool)
+    e_s, e_w = jac[:, 0, 0], jac[:, 0, 1]
+    e_t, q_t = mean(s, w, rows)
+    f_e, f_q = e_t - e, q_t - q
+    a_w, a_f = w.copy(), f_q.copy()  # the end walked from, and the far end once seen
+    b_w, b_f = np.full(n, np.nan), np.full(n, np.nan)
+    side = np.zeros(n, int)
+    step = 1e-6 * w
+    live = np.flatnonzero(np.isfinite(f_e) & np.isfinite(f_q))
+    for _ in range(EDGE_STEPS):
+        if live.size == 0:
+            break
+        bracketed = np.isfinite(b_w[live])
+        with np.errstate(all="ignore"):
+            falsi = (a_w[live] * b_f[live] - b_w[live] * a_f[live]) / (b_f[live] - a_f[live])
+        lo, hi = np.fmin(a_w[live], b_w[live]), np.fmax(a_w[live], b_w[live])
+        falsi = np.where((falsi > lo) & (falsi < hi), falsi, 0.5 * (lo + hi))
+        walk = a_w[live] + np.sign(a_f[live]) * step[live]  # Q falls with w
+        w_new = np.where(bracketed, falsi, walk)
+        s_new = s[live] - (f_e[live] + e_w[live] * (w_new - w[live])) / e_s[live]
+        inside = np.isfinite(s_new) & (w_new > w_box[0]) & (w_new < w_box[1])
+        live, w_new, s_new, bracketed = (a[inside] for a in (live, w_new, s_new, bracketed))
+        e_t, q_t = mean(s_new, w_new, rows[live])
+        s[live], w[live], f_e[live], f_q[live] = s_new, w_new, e_t - e[live], q_t - q[live]
+        fq = f_q[live]
+        hit = (np.abs(f_e[live]) <= _E_TOL) & (np.abs(fq) <= _Q_TOL * q[live])
+        done[live[hit]] = True
+        same = np.sign(fq) == np.sign(a_f[live])
+        # walking: on the same side the walk goes on, twice as far; across, the bracket
+        walked = ~bracketed & same
+        a_w[live[walked]], a_f[live[walked]] = w_new[walked], fq[walked]
+        step[live[walked]] *= 2.0
+        crossed = ~bracketed & ~same
+        i = live[crossed]
+        b_w[i], b_f[i], a_w[i], a_f[i] = a_w[i], a_f[i], w_new[crossed], fq[crossed]
+        # in the bracket: the end on the trial's side moves (Illinois: the other end's
+        # value halves where the same end moved last time too)
+        for moved, end_w, end_f, other_f, mark in (
+            (bracketed & same, a_w, a_f, b_f, 1),
+            (bracketed & ~same, b_w, b_f, a_f, -1),
+        ):
+            i = live[moved]
+            other_f[i] = np.where(side[i] == mark, 0.5 * other_f[i], other_f[i])
+            end_w[i], end_f[i], side[i] = w_new[moved], fq[moved], mark
+        # a bracket shut without the size meeting its target: the size jumps there
+        # (an interval of phases with another end step, narrower than the grid of
+        # phase_summary, enters it), the iteration decides
+        shut = np.abs(b_w[live] - a_w[live]) <= 1e-15 * a_w[live]
+        live = live[~hit & ~shut & np.isfinite(fq) & np.isfinite(f_e[live])]
+    return s, w, done
