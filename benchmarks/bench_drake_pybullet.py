@@ -37,8 +37,9 @@ many brackets), the factor over the 2 s target after:
   along the restitution's contour (``drake.step_table``, ~5.5 phase means per design
   instead of ~20). CPU seconds per 10^3 (one thread, load 4-8), before -> after:
   8.1 -> 1.9 and 10.2 -> 2.1 (g = 0), 11.2 -> 1.7 and 12.6 -> 2.2 (g = 9.81), still
-  85-105 x the target; at 10^4 targets (g = 0, contact_time) 11.7 s, where the iteration
-  alone refused the array (a target 7e-5 steps from a plateau's edge).
+  85-105 x the target. At 10^4 targets 12.0, 14.4 (g = 0) and 13.5, 14.2 (g = 9.81):
+  120-145 s per 10^5, 60-72 x; there the iteration alone refused the array (g = 0,
+  contact_time: a target 7e-5 steps from a plateau's edge).
 
 What stays over the target is the exact phase mean itself: one evaluation for 10^5
 designs takes ~25 s (PyBullet, ``phase_means``) and 20-50 s (Drake lagged, without the
