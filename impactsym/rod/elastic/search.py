@@ -59,7 +59,7 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
         raise ValueError(f"method must be 'taylor' or 'cells', got {method!r}")
     result = np.full(alpha.size, np.inf)
     n_terms = int(t_max // 2) + 1
-    # the slow-manifold table stops at the first reflection time >= t_max: its cells and
+    # the float64 tables stop at the first reflection time >= t_max: their cells and
     # bounds on [0, 2 n] do not depend on later intervals (the bound accumulates forward)
     n_searched = max(1, math.ceil(t_max / 2.0))
     keys = np.stack([alpha, kappa], axis=1)
@@ -79,7 +79,7 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
             times = _table_contact_times(source, which, ag, kg, f[members], t_max)
         if times is None:
             if method == "taylor" and n_taylor <= MAX_CELLS:
-                table = taylor_table(ag, kappa=kg, n_intervals=n_terms).view(which)
+                table = taylor_table(ag, kappa=kg, n_intervals=n_searched).view(which)
             else:
                 table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
             times = _table_contact_times(
