@@ -232,3 +232,31 @@ def test_the_search_builds_only_the_intervals_its_contacts_need():
     assert table.built == int(np.max(got) // 2) + 2 < 10
     expected = pointwise_pole_contact_times("N", a, f, kappa=k, t_max=20.0)
     assert np.max(np.abs(got - expected)) < 1e-11
+
+
+def test_threads_sharing_the_cached_tables_find_what_one_thread_finds():
+    """The cached tables are built lazily and shared: eight threads searching different
+    forces at once extend the same tables to different depths, and find, bit for bit,
+    what one thread finds alone (every interval is the same however it was built)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from impactsym.rod.elastic.manifold import manifold_table
+
+    alpha = np.repeat([0.3, 1.0, 10.0], 8)
+    f = np.tile(np.linspace(0.0, 2.0, 8), 3)
+    kappa = np.full(alpha.size, 1e3)
+    manifold_table.cache_clear()
+    alone = {w: elastic_contact_times(w, alpha, f, kappa=kappa, t_max=20.0) for w in "Ny"}
+    manifold_table.cache_clear()
+    jobs = [(w, np.arange(i, alpha.size, 4)) for w in "Ny" for i in range(4)]
+    with ThreadPoolExecutor(8) as pool:
+        found = list(
+            pool.map(
+                lambda job: elastic_contact_times(
+                    job[0], alpha[job[1]], f[job[1]], kappa=kappa[job[1]], t_max=20.0
+                ),
+                jobs,
+            )
+        )
+    for (which, points), times in zip(jobs, found, strict=True):
+        assert np.array_equal(times, alone[which][points]), which

@@ -38,6 +38,7 @@ does not enter the proof. See docs/physics.md#finite-contact-stiffness-three-met
 from __future__ import annotations
 
 import math
+import threading
 from functools import lru_cache
 from types import SimpleNamespace
 
@@ -247,6 +248,7 @@ class ManifoldTable(TaylorTable):
         }
         self._errors = np.zeros((4, total))
         self._carry = None
+        self._lock = threading.Lock()
         # (y, v, N) at the next cell start, as (high, low) pairs
         self._state = [[(0.0, 0.0), (1.0, 0.0), (0.0, 0.0)], [(0.0, 0.0)] * 3]
         self._factors = self._cell_factors()
@@ -255,8 +257,12 @@ class ManifoldTable(TaylorTable):
             self.extend(n_intervals)
 
     def extend(self, n_intervals: int) -> None:
-        """Build and bound the intervals up to ``n_intervals`` (at most the table's)."""
-        end = min(n_intervals, self.n_intervals)
+        """Build and bound the intervals up to ``n_intervals`` (at most the table's); one
+        thread at a time (a cached table is shared), the intervals built never change."""
+        with self._lock:
+            self._extend(min(n_intervals, self.n_intervals))
+
+    def _extend(self, end: int) -> None:
         if end <= self.built:
             return
         begin = self.built
