@@ -140,10 +140,11 @@ def _slow_operator(alpha: float, kappa: float, width: float):
     inverse of the matrix of ``alpha v' + N = f`` in ``v_1 .. v_D`` (``v_0`` given)."""
     D = DEGREE
     eps = 1.0 / (width * kappa)
-    S = np.eye(D + 1)
-    for j in range(D + 1):
-        for i in range(j + 1, D + 1):
-            S[j, i] = S[j, i - 1] * (-eps * i)
+    # S[j, i] = prod_{l = j+1 .. i} (-eps l): running products along each row (above
+    # the diagonal; ones on and below it multiply exactly), the same products in order
+    order = np.arange(D + 1)
+    factors = np.where(order[None, :] > order[:, None], -eps * order[None, :], 1.0)
+    S = np.triu(np.cumprod(factors, axis=1))
     M = S[:D, 1:].copy()
     M[np.arange(D), np.arange(D)] += alpha * np.arange(1, D + 1) / width
     return S, np.linalg.inv(M)
