@@ -217,6 +217,38 @@ def test_a_table_built_interval_by_interval_is_the_table_built_at_once(a, k, ste
             assert np.array_equal(part.d2_b, full.d2_b[i])
 
 
+def test_an_interrupted_extension_leaves_the_table_as_it_was(monkeypatch):
+    """A build interrupted inside an interval (Ctrl-C, MemoryError) leaves the table as
+    before it: the next extension builds the same coefficients and bounds as a table
+    never interrupted (the state carried between intervals is restored)."""
+    whole = ManifoldTable(1.0, 1e3, 6)
+    table = ManifoldTable(1.0, 1e3, 6, lazy=True)
+    table.extend(2)
+    build = ManifoldTable._build_interval
+
+    def interrupted(self, m):
+        if m == 3:
+            raise KeyboardInterrupt
+        build(self, m)
+
+    monkeypatch.setattr(ManifoldTable, "_build_interval", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        table.extend(5)
+    assert table.built == 2
+    monkeypatch.setattr(ManifoldTable, "_build_interval", build)
+    table.extend(6)
+    for name in ("N_a", "N_b", "Y_a", "Y_b", "err_n_a", "err_n_b", "err_y_a", "err_y_b"):
+        assert np.array_equal(getattr(table, name), getattr(whole, name)), name
+
+
+def test_a_view_of_a_lazy_table_without_a_count_is_the_whole_table():
+    table = ManifoldTable(1.0, 1e3, 4, lazy=True)
+    table.extend(1)
+    view, full = table.view("N"), ManifoldTable(1.0, 1e3, 4).view("N")
+    assert np.array_equal(view.lo, full.lo)
+    assert np.array_equal(view.err_a, full.err_a)
+
+
 def test_the_search_builds_only_the_intervals_its_contacts_need():
     """Heavy strikers pressed lightly leave the rod by t = 12: the search builds the
     table of (10, 1e3) through the interval after the last contact's end, not to t = 20,

@@ -18,11 +18,14 @@ design is a smooth function of the restitution except where the contact changes 
 9.81, default ``solimp``) the median start is off by ``5e-10`` in ``log dampratio`` and
 the worst by ``2e-7``. Most targets are then converged at the first evaluation, the
 others take one or two Newton steps; every design is still accepted by its own
-evaluation at ``|residual| < 1e-9``, as from the flat start. A stencil whose node
+evaluation at ``|residual| < 1e-9``, as from the flat start (a design left above
+``1e-6`` after 12 Newton steps is refused). A stencil whose node
 designs are not smooth (a fourth difference above ``_SMOOTH`` in the logarithms: a jump
 between branches of solutions) is not interpolated; its targets start from the flat
-design. A group whose nodes are not all designed (a node target no ``solref`` reaches)
-starts from the flat design too, so an unreachable target is refused as before.
+design. A group whose nodes are not all designed (a node target no ``solref`` reaches,
+in a gap of the restitution between reachable targets) starts from the flat design
+too, so a call designs and refuses what it would without the table, and names the
+same target.
 """
 
 from __future__ import annotations
@@ -107,6 +110,8 @@ def _solve(e_t, v0, g, t_c, tc0, simp, rho, u0):
 
 
 def _unreachable_left(r, e_t) -> None:
+    """Refuse the designs Newton left above ``1e-6`` after its 12 iterations (the others
+    are at ``_TOL``, or between: a slow convergence near a kink, accepted as before)."""
     unreachable(
         "the varying-impedance design did not converge",
         ~np.all(np.abs(r) < 1e-6, axis=0),
@@ -139,15 +144,16 @@ def _table_start(e_t, v0, g, t_c, tc0, simp, rho, flat_start, members):
     """The starts ``(k, members)`` of a group read off its table of node designs (``nan``
     columns: start from the flat design), or ``None`` where a node was not designed."""
     e = e_t[members]
-    lo, hi = float(e.min()), float(e.max())
-    m = _nodes(members.size) if hi > lo else 1
-    e_n = np.linspace(lo, hi, m)
+    e_n = np.linspace(e.min(), e.max(), _nodes(members.size))
+    if not np.all(np.diff(e_n) > 0):  # the targets span a few ulps at most: one node
+        e_n = e_n[:1]
+    m = e_n.size
     i0 = members[:1].repeat(m)  # the group's contact, m times
     t_n = None if t_c is None else t_c[i0]
-    tc, dr = flat_start(e_n, v0[i0], g[i0], t_n, rho[i0])
     both = t_c is not None
-    u0 = np.stack([np.log(tc), np.log(dr)]) if both else np.log(dr)[None]
-    try:
+    try:  # a node no design reaches (between reachable targets): no table
+        tc, dr = flat_start(e_n, v0[i0], g[i0], t_n, rho[i0])
+        u0 = np.stack([np.log(tc), np.log(dr)]) if both else np.log(dr)[None]
         u_n, r = _solve(e_n, v0[i0], g[i0], t_n, tc0, simp, rho[i0], u0)
     except ValueError:
         return None
@@ -189,10 +195,10 @@ def _no_slope(r0, e_t, t_c, tc0, u0) -> None:
     tc = np.exp(u0[0, i]) if t_c is not None else tc0
     start = f"({float(tc):.6g}, {float(np.exp(u0[-1, i])):.6g})"
     why = (
-        f"at the flat design's solref = {start}, its start, the body sticks under the "
+        f"at the design's start solref = {start} the body sticks under the "
         f"varying impedance, so restitution and contact time do not change with solref"
         if stuck.any()
-        else f"near the flat design's solref = {start} the restitution or contact time "
+        else f"near the design's start solref = {start} the restitution or contact time "
         f"does not change with solref (singular Newton system)"
     )
     raise ValueError(

@@ -267,8 +267,13 @@ class ManifoldTable(TaylorTable):
         if end <= self.built:
             return
         begin = self.built
-        for m in range(begin, end):
-            self._build_interval(m)
+        saved = [list(rows) for rows in self._state]
+        try:
+            for m in range(begin, end):
+                self._build_interval(m)
+        except BaseException:  # (e.g. KeyboardInterrupt) the next extend starts over
+            self._state = saved
+            raise
         n, a = self.cells_per_interval, self._arrays
         upto = slice(0, end * n)
         arrays = tuple(a[name][:, upto] for name in ("Y", "V", "N"))
@@ -284,8 +289,9 @@ class ManifoldTable(TaylorTable):
 
     def view(self, which: str, *, n_intervals: int | None = None) -> TaylorView:
         """:meth:`TaylorTable.view` over the first ``n_intervals`` reflection intervals
-        (default: all built), built first as far as that."""
+        (default: all of them), built first as far as that."""
         if n_intervals is None:
+            self.extend(self.n_intervals)
             return super().view(which)
         self.extend(n_intervals)
         upto = slice(0, min(n_intervals, self.n_intervals) * self.cells_per_interval)
