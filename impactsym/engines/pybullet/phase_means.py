@@ -47,7 +47,12 @@ from impactsym.engines.pybullet.stepping import (
     substep_impulse,
 )
 
-__all__ = ["break_pieces", "phase_means", "tracked_pattern"]
+__all__ = ["CHUNK", "break_pieces", "phase_means", "tracked_pattern"]
+
+#: elements per pass of :func:`phase_means` and of the phase summary: every element's
+#: numbers are its own, but a pass over 10^5 elements at once runs out of the cache
+#: (measured 7.9 s against 3.9 s in passes of 5000-20000)
+CHUNK = 8192
 
 _GRID = 8  # phase intervals: the check of the roots (a change the roots miss is bisected)
 #: pieces split off one grid interval before the rest counts as one piece (met where the
@@ -279,7 +284,8 @@ def phase_means(
 ) -> tuple[np.ndarray, np.ndarray]:
     """The phase-mean restitution and contact time (``inf`` where a piece sticks) of
     :func:`~impactsym.engines.pybullet.phases.phase_summary`, without the ranges
-    (module docstring). Validated arrays in, broadcast together; arrays out."""
+    (module docstring). Validated arrays in, broadcast together; arrays out, computed
+    in passes of :data:`CHUNK` elements."""
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
     )
@@ -291,6 +297,10 @@ def phase_means(
         "velocity_restitution": velocity_restitution,
         "restitution_threshold": restitution_threshold,
     }  # fmt: skip
+    if size > CHUNK:  # in passes of CHUNK elements: the same numbers, element by element
+        parts = [phase_means(*(a[i : i + CHUNK] for a in flat), **settings)
+                 for i in range(0, size, CHUNK)]  # fmt: skip
+        return tuple(np.concatenate(part).reshape(shape) for part in zip(*parts, strict=True))
     p0, p1, _, _, own = break_pieces(*flat, **settings)
     x, weights = np.polynomial.legendre.leggauss(_NODES)
     half, centre = 0.5 * (p1 - p0), 0.5 * (p1 + p0)
