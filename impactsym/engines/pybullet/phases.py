@@ -21,8 +21,8 @@ ranges to ~1e-12, 2-8 times faster. All arrays, SI.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 import dataclasses
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
