@@ -10,8 +10,9 @@ settings per call) share one map
 
 from the pair's stiffness and damping ratio to the phase-mean restitution and the log of the
 phase-mean contact time. :func:`table_designs` tabulates ``F`` once on a grid, in two
-passes: a coarse grid over the box around the continuous textbook designs, inverted for
-every target, then a finer grid over the box those coarse designs span (padded by two
+passes: a coarse grid over the box around the continuous textbook designs (grown by half
+its width towards targets whose nearest table point lies on its edge; under gravity the
+designs lie far below the textbook damping), inverted for every target, then a finer grid over the box those coarse designs span (padded by two
 coarse cells). Each target is inverted on the fine table by Newton's method on the
 tensor-product cubic through the 4 x 4 table points around it (local: a cell whose stencil
 holds a sticking point gives no start), started from the table point nearest in ``F``.
@@ -22,16 +23,23 @@ finite-difference Newton step of the textbook path), the Jacobian being the tabl
 start, updated by Broyden's rank-one rule after each step. A design is accepted only where
 an exact evaluation meets both targets to ``rtol`` (the same test as the textbook path), so
 a design from the table hits its targets exactly as well as one from the textbook start.
-Where the phase mean kinks (a change of the step pattern: its second derivative jumps for
-the restitution, its first for the contact time, every ~1 step of contact time) the table's
-Jacobian is off by a few per cent and the steps converge linearly instead of quadratically;
-Broyden's update restores fast convergence. Targets without a start, and those not accepted
+The phase means kink along curves about one step of contact time apart: where the phase
+at which the contact ends one step earlier passes the touch phase 0 (there the first step's
+speculative impulse switches on, so the restitution per phase kinks), the second
+derivative of the mean restitution jumps and the first of the mean contact time. In the
+cells a kink crosses the table's start and Jacobian are off (``1e-4`` in ``ln t`` and a few
+per cent), the steps converge linearly, and Broyden's update corrects the Jacobian step by
+step; elsewhere a start is good to ``1e-7`` and one step meets the targets. Targets without a start, and those not accepted
 after ``_STEPS`` evaluations, come back as ``nan``: the caller designs them from the
 textbook start as before.
 
-Cost: a table of about ``_COARSE + min(max(n / 4, _COARSE), _FINE)`` evaluations for
-``n`` targets, then 2-3 evaluations per design where the finite-difference Newton from the
-textbook start spends about 14 (measured: `benchmarks/bench_drake_pybullet.py`).
+Cost: tables of ``_COARSE^2`` (one per growth of the coarse box) and
+``min(max(n / 8, _COARSE^2), _FINE)`` evaluations for ``n`` targets, then 2-3 evaluations
+per design where the finite-difference Newton from the textbook start spends about 14.
+Measured on 10^5 random targets (restitution 0.2-0.5, 10-40 steps of 1/240 s): 3.05
+evaluations per design, the table's 0.13 included; a finer table does not pay (the
+interpolation error in the cells a kink crosses only halves with the spacing), nor
+one-sided stencils in those cells (3.03).
 """
 
 from __future__ import annotations
@@ -110,46 +118,31 @@ class _Table:
                              indexing="ij")  # fmt: skip
         E, L = evaluate(uu.ravel(), zz.ravel())
         self.values = np.stack([E, L]).reshape(2, *shape)
-        self.padded = np.pad(self.values, ((0, 0), (2, 2), (2, 2)), constant_values=np.nan)
         self.points = np.stack([uu.ravel(), zz.ravel()])
 
-    def at(self, x: np.ndarray, *, eno: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    def at(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The interpolant ``(2, n)`` and its Jacobian ``(2, 2, n)`` at ``x`` (``(2, n)``):
-        per output, the tensor-product cubic through 4 x 4 table points around each cell
-        (Lagrange), the stencil in each direction the one of the three around the cell
-        (shifted by -1, 0, +1) with the smallest third differences (``eno``; the
-        centred one without): the phase means kink along curves (module docstring), and
-        a stencil on one side of a kink interpolates the smooth side to the error of a
-        smooth function. ``nan`` outside the grid or where the stencil holds a
-        non-finite value."""
+        the tensor-product cubic through the 4 x 4 points around each cell (Lagrange
+        nodes ``-1, 0, 1, 2`` in grid units, shifted inwards at the edges); ``nan``
+        outside the grid or where the stencil holds a non-finite value."""
         s = (x - self.lo[:, None]) / self.step[:, None]
         top = self.shape[:, None] - 1
         with np.errstate(invalid="ignore"):
             inside = np.all((s >= 0) & (s <= top), axis=0)
-        cell = np.clip(np.floor(np.where(inside, s, 0.0)), 0, top - 1).astype(int)
-        # the 6 x 6 points around each cell (nan beyond the grid), per output
-        idx = cell[:, :, None] + np.arange(-2, 4)[None, None, :]  # (2, n, 6)
-        block = self.padded[:, idx[0][:, :, None] + 2, idx[1][:, None, :] + 2]  # (2, n, 6, 6)
-        start = np.ones((2, 2, s.shape[1]), int)  # (output, direction, n): offsets 0..2
-        if eno:
-            start = np.stack([_smoothest(block, 2), _smoothest(block, 3)], axis=1)
-        val = np.empty((2, s.shape[1]))
-        jac = np.empty((2, 2, s.shape[1]))
-        ok = inside.copy()
-        rows = np.arange(s.shape[1])
-        for f in range(2):
-            su, sz = start[f]
-            # the 4 x 4 stencil of output f: offsets su.., sz.. in the 6 x 6 block
-            iu = su[:, None] + np.arange(4)[None, :]
-            iz = sz[:, None] + np.arange(4)[None, :]
-            sub = block[f][rows[:, None, None], iu[:, :, None], iz[:, None, :]]  # (n, 4, 4)
-            wu, du = _lagrange(s[0] - (cell[0] - 2 + su) - 1)
-            wz, dz = _lagrange(s[1] - (cell[1] - 2 + sz) - 1)
-            val[f] = np.einsum("nij,ni,nj->n", sub, wu, wz)
-            jac[f, 0] = np.einsum("nij,ni,nj->n", sub, du, wz) / self.step[0]
-            jac[f, 1] = np.einsum("nij,ni,nj->n", sub, wu, dz) / self.step[1]
-            ok &= np.all(np.isfinite(sub), axis=(1, 2))
-        return np.where(ok, val, np.nan), np.where(ok, jac, np.nan)
+        base = np.clip(np.floor(np.where(inside, s, 0.0)) - 1, 0, top - 3).astype(int)
+        frac = s - base - 1  # in [-1, 2]: the cell's stencil, shifted at the edges
+        wu, du = _lagrange(frac[0])
+        wz, dz = _lagrange(frac[1])
+        iu = base[0][:, None] + np.arange(4)[None, :]  # (n, 4)
+        iz = base[1][:, None] + np.arange(4)[None, :]
+        block = self.values[:, iu[:, :, None], iz[:, None, :]]  # (2, n, 4, 4)
+        val = np.einsum("fnij,ni,nj->fn", block, wu, wz)
+        jac = np.stack([
+            np.einsum("fnij,ni,nj->fn", block, du, wz) / self.step[0],
+            np.einsum("fnij,ni,nj->fn", block, wu, dz) / self.step[1],
+        ], axis=1)  # fmt: skip
+        bad = ~inside | ~np.all(np.isfinite(block), axis=(0, 2, 3))
+        return np.where(bad, np.nan, val), np.where(bad, np.nan, jac)
 
     def invert(self, target: np.ndarray) -> np.ndarray:
         """``x`` with interpolant ``== target`` (Newton from the table point nearest in
@@ -165,22 +158,14 @@ class _Table:
         tree = cKDTree((flat[:, ok] / scale).T)
         _, nearest = tree.query((target / scale).T)
         nearest = np.flatnonzero(ok)[nearest]
-        x0 = self.points[:, nearest]
-        x = self._solve(x0, target, eno=False)
-        again = np.flatnonzero(np.isnan(x[0]))  # the one-sided stencils jump between
-        x[:, again] = self._solve(x0[:, again], target[:, again], eno=False)  # cells
-        return x, np.stack(np.unravel_index(nearest, self.shape))
-
-    def _solve(self, x, target, *, eno):
-        """Newton on the interpolant from ``x``, kept in the box; ``nan`` columns where
-        it does not meet ``target`` to ``1e-12``."""
+        x = self.points[:, nearest]
         for _ in range(_SPLINE_NEWTON):
-            val, jac = self.at(x, eno=eno)
+            val, jac = self.at(x)
             x = np.clip(x + _newton_step(jac, target - val), self.lo[:, None], self.hi[:, None])
-        val, _ = self.at(x, eno=eno)
+        val, _ = self.at(x)
         with np.errstate(invalid="ignore"):
             good = np.all(np.abs(val - target) <= 1e-12 * np.maximum(1.0, np.abs(target)), axis=0)
-        return np.where(good, x, np.nan)
+        return np.where(good, x, np.nan), np.stack(np.unravel_index(nearest, self.shape))
 
 
 def _refine(evaluate, table, x, target, rtol):
@@ -219,17 +204,6 @@ def _newton_step(jac, rhs):
         d0 = (jac[1, 1] * rhs[0] - jac[0, 1] * rhs[1]) / det
         d1 = (-jac[1, 0] * rhs[0] + jac[0, 0] * rhs[1]) / det
     return np.clip(np.stack([d0, d1]), -_MAX_STEP, _MAX_STEP)
-
-
-def _smoothest(block, axis):
-    """Per output, the offset (0, 1, 2) along ``axis`` (2: u, 3: z) of the 4 points of
-    the 6 x 6 ``block`` ``(2, n, 6, 6)`` whose third differences (the largest over the 4
-    middle lines across) are smallest; non-finite points count as infinite."""
-    lines = np.moveaxis(block, axis, -1)[:, :, 1:5, :]  # (2, n, 4 across, 6 along)
-    d3 = np.abs(lines[..., 3:] - 3 * lines[..., 2:5] + 3 * lines[..., 1:4] - lines[..., :3])
-    d3 = np.where(np.isfinite(d3), d3, np.inf).max(axis=2)  # (2, n, 3 offsets)
-    centred = d3[..., 1] <= d3.min(axis=-1)  # ties keep the centred stencil
-    return np.where(centred, 1, np.argmin(d3, axis=-1))
 
 
 def _lagrange(s):
