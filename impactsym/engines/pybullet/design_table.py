@@ -8,30 +8,31 @@ settings per call) share one map
     F(u, z) = \bigl(\bar e,\ \ln \bar t_c\bigr), \qquad u = \ln k, \quad z = \ln \zeta,
     \quad \zeta = c / (2 \sqrt{k m}),
 
-from the pair's stiffness and damping ratio to the phase-mean restitution and the log of the
-phase-mean contact time. :func:`table_designs` tabulates ``F`` once on a grid, in two
+from the pair's stiffness and damping ratio to the phase-mean restitution and the log of
+the phase-mean contact time. :func:`table_designs` tabulates ``F`` once on a grid, in two
 passes: a coarse grid over the box around the continuous textbook designs (grown by half
 its width towards targets whose nearest table point lies on its edge; under gravity the
-designs lie far below the textbook damping), inverted for every target, then a finer grid over the box those coarse designs span (padded by two
-coarse cells). Each target is inverted on the fine table by Newton's method on the
-tensor-product cubic through the 4 x 4 table points around it (local: a cell whose stencil
-holds a sticking point gives no start), started from the table point nearest in ``F``.
+designs lie far below the textbook damping), inverted for every target, then a finer grid
+over the box those coarse designs span (padded by two coarse cells). Each target is
+inverted on the fine table by Newton's method on the tensor-product cubic through the 4 x
+4 table points around it (local: a cell whose stencil holds a sticking point gives no
+start), started from the table point nearest in ``F``.
 
 The table never decides a design. From its start each design takes quasi-Newton steps on
 the **exact** phase means (one evaluation per step, against three for the
-finite-difference Newton step of the textbook path), the Jacobian being the table's at the
-start, updated by Broyden's rank-one rule after each step. A design is accepted only where
-an exact evaluation meets both targets to ``rtol`` (the same test as the textbook path), so
-a design from the table hits its targets exactly as well as one from the textbook start.
-The phase means kink along curves about one step of contact time apart: where the phase
-at which the contact ends one step earlier passes the touch phase 0 (there the first step's
+finite-difference Newton step of the textbook path), the Jacobian being the table's at the start,
+updated by Broyden's rank-one rule after each step. A design is accepted only where an
+exact evaluation meets both targets to ``rtol`` (the same test as the textbook path), so a
+design from the table hits its targets exactly as well as one from the textbook start. The
+phase means kink along curves about one step of contact time apart: where the phase at
+which the contact ends one step earlier passes the touch phase 0 (there the first step's
 speculative impulse switches on, so the restitution per phase kinks), the second
 derivative of the mean restitution jumps and the first of the mean contact time. In the
-cells a kink crosses the table's start and Jacobian are off (``1e-4`` in ``ln t`` and a few
-per cent), the steps converge linearly, and Broyden's update corrects the Jacobian step by
-step; elsewhere a start is good to ``1e-7`` and one step meets the targets. Targets without a start, and those not accepted
-after ``_STEPS`` evaluations, come back as ``nan``: the caller designs them from the
-textbook start as before.
+cells a kink crosses the table's start and Jacobian are off (``1e-4`` in ``ln t`` and a
+few per cent), the steps converge linearly, and Broyden's update corrects the Jacobian
+step by step; elsewhere a start is good to ``1e-7`` and one step meets the targets.
+Targets without a start, and those not accepted after ``_STEPS`` evaluations, come back as
+``nan``: the caller designs them from the textbook start as before.
 
 Cost: tables of ``_COARSE^2`` (one per growth of the coarse box) and
 ``min(max(n / 8, _COARSE^2), _FINE)`` evaluations for ``n`` targets, then 2-3 evaluations
