@@ -77,6 +77,16 @@ def table_designs(
     the ``(2, n)`` targets ``(e, ln t)``, ``start`` the ``(2, n)`` textbook designs
     (which place the coarse table). A design is accepted where ``|e_mean - e| < rtol e``
     and ``|ln t_mean - ln t| < rtol`` at an exact evaluation.
+
+    A map with a known inverse (``e = exp(-zeta)``, ``ln t = -u/2 + z/10``); the second
+    design lies beyond the first coarse box, which grows towards it:
+
+    >>> def f(u, z):
+    ...     return np.exp(-np.exp(z)), -0.5 * u + 0.1 * z
+    >>> target = np.array([[0.4, 0.3], [-3.0, -2.5]])
+    >>> x = table_designs(f, target, np.array([[5.5, 5.0], [-0.5, -0.2]]), rtol=1e-12)
+    >>> [round(float(zeta), 9) for zeta in np.exp(x[1])]  # zeta = -ln e
+    [0.916290732, 1.203972804]
     """
     n = target.shape[1]
     lo = np.array([start[0].min() - _PAD_U[0], start[1].min() - _PAD_Z[0]])
