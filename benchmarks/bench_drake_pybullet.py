@@ -24,13 +24,14 @@ many brackets), the factor over the 2 s target after:
 * PyBullet under gravity: these 10^3-target arrays were refused (Newton from the
   textbook start missed designs that exist, e.g. e = 0.4431 at 10 steps).
 * PyBullet from a table (from ``TABLE_GROUP`` = 256 targets of one contact; a table
-  costs a fixed ~2000 evaluations, so time ``--count 100000``, not ``--quick``),
-  ``--count 10000`` at load ~7, seconds per 10^4 and exact evaluations per design,
-  before -> after: contact_time array 11.1 -> 4.3 (14.4 -> 3.65), default 5.75 -> 1.38
-  (16.2 -> 2.19); under gravity refused after 6.1 and 6.7 -> designed in 1.40 and 1.44
-  (2.24; every target). ``--count 100000`` (load 6-8): 35.9, 18.8, 20.2, 21.7 s (18, 9,
-  10, 11 x the target); the exact phase means in passes of 8192 designs (10^5 at once
-  ran out of the cache, 2 x slower).
+  costs a fixed ~2000 evaluations, so time ``--count 100000``, not ``--quick``), with the
+  phase means in passes of 8192 designs (10^5 at once ran out of the cache) and their
+  roots ahead found without stacking (1.9 x): ``--count 10000`` at load ~5, seconds
+  per 10^4 and exact evaluations per design, before -> after: contact_time array
+  10.9 -> 2.5 (14.4 -> 3.65), default 5.9 -> 0.90 (16.2 -> 2.19); under gravity refused
+  after 6.2 and 6.3 s -> designed in 1.08 and 1.12 (2.24; every target).
+  ``--count 100000`` (load 4.5-5.5): 28.1, 8.7, 10.5, 12.8 s, i.e. 14, 4.3, 5.2 and 6.4 x
+  the target.
 * Drake continuous, g = 0: 0.015 (0.76 x: under the target).
 * Drake continuous, g = 9.81: 11.0 -> 5.1 (contact_time, 254 x), 5.7 (max_penetration).
 * Drake lagged 1e-3: 284 -> 18.9 (contact_time, 943 x), 23.6 (max_penetration), g = 0;
