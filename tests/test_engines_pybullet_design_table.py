@@ -114,3 +114,14 @@ def test_an_unreachable_target_in_a_large_call_is_refused_by_name():
     e[100], t[100] = 0.31, 2 * H  # two steps: no PyBullet contact at this step
     with pytest.raises(ValueError, match=r"restitution = 0\.31 with contact_time"):
         pyb.contact_for(restitution=e, contact_time=t, **BASE)
+
+
+@pytest.mark.parametrize("setting", [{"processing_threshold": 0.0}, {"substeps": 2}])
+def test_table_designs_under_other_engine_settings_hit_a_fresh_prediction(setting):
+    rng = np.random.default_rng(13)
+    e = rng.uniform(0.25, 0.45, TABLE_GROUP)
+    t = rng.uniform(12.0, 20.0, TABLE_GROUP) * H
+    d = pyb.contact_for(restitution=e, contact_time=t, **BASE, **setting)
+    p = pyb.predict(stiffness=d.stiffness, damping=d.damping, **BASE, **setting)
+    assert np.max(np.abs(p.restitution / e - 1.0)) < 1.1e-9
+    assert np.max(np.abs(p.contact_time / t - 1.0)) < 1.1e-9
