@@ -33,13 +33,27 @@ many brackets), the factor over the 2 s target after:
   ``--count 100000`` (load 4.5-5.5): 28.1, 8.7, 10.5, 12.8 s, i.e. 14, 4.3, 5.2 and 6.4 x
   the target.
 * Drake continuous, g = 0: 0.015 (0.76 x: under the target).
-* Drake continuous, g = 9.81: 11.0 -> 5.1 (contact_time, 254 x), 5.7 (max_penetration).
+* Drake continuous, g = 9.81: 11.0 -> 5.1 (contact_time, 254 x), 5.7 (max_penetration);
+  from 128 targets per call the designs are read off one Chebyshev table in (s, b)
+  (``drake.pressed_table``). CPU seconds (one BLAS thread, load 4-8), ``--count 100000``:
+  about 160 -> 0.77 (contact_time) and 0.42 (max_penetration): 0.4 and 0.2 x the target
+  (at 10^3 the table's fixed cost, ~0.05 s, makes the scaled column 2.5 x).
 * Drake lagged 1e-3: 284 -> 18.9 (contact_time, 943 x), 23.6 (max_penetration), g = 0;
-  20.3 and 27.6, g = 9.81 (1000-1400 x).
+  20.3 and 27.6, g = 9.81 (1000-1400 x). From 256 targets sharing g/v per call the
+  designs start from a table of the phase means in (s, w = h sqrt(k/m)) and finish by
+  Broyden steps on the exact phase means, the few next to a plateau's edge by a walk
+  along the restitution's contour (``drake.step_table``, ~5.5 phase means per design
+  instead of ~20). CPU seconds per 10^3 (one thread, load 4-8), before -> after:
+  8.1 -> 1.9 and 10.2 -> 2.1 (g = 0), 11.2 -> 1.7 and 12.6 -> 2.2 (g = 9.81), still
+  85-105 x the target. At 10^4 targets 12.0, 14.4 (g = 0) and 13.5, 14.2 (g = 9.81):
+  120-145 s per 10^5, 60-72 x; there the iteration alone refused the array (g = 0,
+  contact_time: a target 7e-5 steps from a plateau's edge).
 
 What stays over the target is the exact phase mean itself: one evaluation for 10^5
-designs takes ~25 s (PyBullet, ``phase_means``) and ~50 s (Drake lagged, without the
-range search), and a design takes 10-50 of them. A table per step ratio (the targets
+designs takes ~25 s (PyBullet, ``phase_means``) and 20-50 s (Drake lagged, without the
+range search; half of it the Gauss nodes of the eight phase intervals, a third the
+location of the end-step changes), and a design takes 10-50 of them (Drake lagged from a
+table: ~5.5, plus the final prediction with its range). A table per step ratio (the targets
 share speed and mass), inverted, cuts the evaluations to one or two per design; below
 2 s needs more: designs read from a table whose error is bounded without a per-design
 evaluation, or a compiled step loop.

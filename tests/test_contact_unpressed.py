@@ -63,7 +63,11 @@ def test_critical_damping_is_met_from_both_sides_without_cancellation():
         t_ref, e_ref = reference(float(d), "force", float(t))
         assert abs(t - float(t_ref)) <= 1e-15 * 2.0, d
         assert abs(ei - float(e_ref)) <= 1e-15 * ei, d
-    assert np.all(np.diff(tau_c) < 0)  # monotone through D = 1
+    # monotone through D = 1: strictly where the offsets are above rounding; within a few
+    # ulps of D = 1 the slope -2/3 moves tau_c by one ulp of 2 or none, depending on the
+    # CPU's last bits (both within the 1e-15 of the 40-digit reference above)
+    assert np.all(np.diff(tau_c) <= 0)
+    assert np.all(np.diff(tau_c[[0, 1, 7, 8]]) < 0)
     assert np.all(np.diff(e) <= 0)
 
 

@@ -73,3 +73,20 @@ def test_drake_runs_the_plateau_design_as_predicted():
     assert not run["sticks"].any()
     np.testing.assert_allclose(p.restitution, run["restitution"], atol=1e-8)
     np.testing.assert_allclose(p.contact_time, run["contact_time"], rtol=1e-12, atol=1e-12)
+
+
+def test_a_target_on_a_plateaus_edge_is_designed_alone():
+    # 0.0016 steps below the plateau at 31.5 steps: the stiffness walks along the plateau
+    # (the contact time unchanged, its miss too) to its edge; the loop stopped that walk
+    # as "no progress" after six steps and refused the target alone, while a larger
+    # batch, whose other designs kept the loop going, designed it
+    e, t, v, m = 0.303201533189986, 0.03149856052315963, 2.1604250881865146, 0.11884446679764636
+    c = drake.point_contact_for(restitution=e, contact_time=t, speed=v, mass=m, time_step=H)
+    p = drake.predict(stiffness=c.point_contact_stiffness, dissipation=c.hunt_crossley_dissipation,
+                      speed=v, mass=m, time_step=H)  # fmt: skip
+    assert abs(p.restitution / e - 1.0) < 1e-9
+    assert abs(p.contact_time / t - 1.0) < 1e-9
+    # the plateau is there: a slightly softer contact lasts 31.5 steps at every phase
+    k, d = c.point_contact_stiffness, c.hunt_crossley_dissipation
+    soft = drake.predict(stiffness=0.995 * k, dissipation=d, speed=v, mass=m, time_step=H)
+    assert soft.contact_time == pytest.approx(31.5 * H, rel=1e-12)

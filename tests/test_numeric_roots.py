@@ -186,3 +186,30 @@ def test_newton_system_solves_many_two_by_two_systems_against_scipy():
     # the step bound: one iteration moves no component by more than max_step
     once, _ = newton_system(residual, u0, max_iter=1, max_step=0.25)
     assert np.all(np.abs(once - u0) <= 0.25)
+
+
+def test_newton_system_shrink_iterates_only_unconverged_systems():
+    from impactsym.numeric.roots import newton_system
+
+    # u^3 = a per column; the first column starts at its root
+    a = np.array([8.0, 2.0, 27.0, 0.5])
+    u0 = np.array([[2.0, 1.0, 2.0, 1.0]])
+    calls = []
+
+    def residual(u, idx):
+        calls.append(idx.copy())
+        return u**3 - a[idx]
+
+    u, r = newton_system(residual, u0, shrink=True, max_iter=40, tol=1e-13)
+    np.testing.assert_allclose(u[0], np.cbrt(a), rtol=1e-13)
+    assert np.all(np.abs(r) < 1e-13)
+    assert calls[0].tolist() == [0, 1, 2, 3]  # the start, all columns
+    assert all(0 not in idx for idx in calls[1:])  # converged at the start: no step
+    assert u[0, 0] == 2.0
+    # each column stops at its own convergence: the same roots as the unshrunk
+    # iteration on that column alone, and fewer evaluations than all columns together
+    for i in range(1, 4):
+        column = u0[:, i : i + 1]
+        alone, _ = newton_system(lambda w, i=i: w**3 - a[i], column, max_iter=40, tol=1e-13)
+        assert abs(alone[0, 0] - u[0, i]) <= 1e-13 * u[0, i]
+    assert sum(idx.size for idx in calls) < 4 * len(calls)

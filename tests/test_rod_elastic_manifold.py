@@ -105,10 +105,10 @@ def test_a_planted_error_on_a_slow_cell_shows_in_the_bound(monkeypatch, array, o
     cell = int(np.flatnonzero(~layer)[0]) + 1
     original = taylor.cell_bounds  # the bound both tables call (TaylorTable._bound)
 
-    def spoiled(alpha, h, arrays, *rest, kappa):
+    def spoiled(alpha, h, arrays, *rest, kappa, **options):
         Y, V, N = arrays
         {"N": N, "V": V, "Y": Y}[array][:, cell, offset] += 1e-8
-        return original(alpha, h, arrays, *rest, kappa=kappa)
+        return original(alpha, h, arrays, *rest, kappa=kappa, **options)
 
     monkeypatch.setattr(taylor, "cell_bounds", spoiled)
     table = ManifoldTable(a, k, 2)
@@ -164,8 +164,9 @@ def test_the_search_takes_the_table_only_where_its_bound_certifies_every_cell():
     seconds; the Taylor table serves instead, with the cell table's contact time."""
     from impactsym.rod.elastic import search
 
-    assert search._certified_manifold(0.3, 100.0, "N", 11, np.array([0.0, 2.0])) is not None
-    assert search._certified_manifold(0.10125, 100.0, "N", 11, np.array([0.0, 2.0])) is None
+    forces = np.array([0.0, 2.0])
+    assert search._certified_manifold(0.3, 100.0, "N", 11, forces)(11) is not None
+    assert search._certified_manifold(0.10125, 100.0, "N", 11, forces)(11) is None
     f = np.array([0.0, 1.0, 2.0])
     alpha, kappa = np.full(3, 0.10125), np.full(3, 100.0)
     got = elastic_contact_times("N", alpha, f, kappa=kappa, t_max=20.0)
@@ -189,3 +190,73 @@ def test_bad_table_input_is_refused_with_its_name(args, error, match):
     """As the Taylor table (the same check): before the mesh is even asked for."""
     with pytest.raises(error, match=match):
         ManifoldTable(*args)
+
+
+@pytest.mark.parametrize(("a", "k"), [(0.1, 1e3), (1.0, 1e4), (10.0, 100.0), (0.3, 3e3)])
+@pytest.mark.parametrize("steps", [[1, 2, 3, 10], [4, 10], list(range(1, 11))])
+def test_a_table_built_interval_by_interval_is_the_table_built_at_once(a, k, steps):
+    """The search builds the table as far as its contacts last (``lazy=True``, then
+    :meth:`ManifoldTable.extend`): the coefficients and the bounds of every interval
+    built, in whatever steps, are those of the table built at once, to the last bit (the
+    bound's running sums carried over, not started again)."""
+    whole = ManifoldTable(a, k, 10)
+    table = ManifoldTable(a, k, 10, lazy=True)
+    assert table.built == 0
+    assert table.lo.size == 0
+    names = ("lo", "hi", "h", "N_a", "N_b", "Y_a", "Y_b")
+    names += ("err_n_a", "err_n_b", "err_y_a", "err_y_b")
+    for step in steps:
+        table.extend(step)
+        cells = step * table.cells_per_interval
+        for name in names:
+            assert np.array_equal(getattr(table, name), getattr(whole, name)[:cells]), name
+        for which in ("N", "y"):  # a view over fewer intervals: those cells alone
+            part, full = table.view(which, n_intervals=step - 1 or 1), whole.view(which)
+            i = np.arange(part.lo.size)
+            assert np.array_equal(part.err_a, full.err_a[i])
+            assert np.array_equal(part.d2_b, full.d2_b[i])
+
+
+def test_the_search_builds_only_the_intervals_its_contacts_need():
+    """Heavy strikers pressed lightly leave the rod by t = 12: the search builds the
+    table of (10, 1e3) through the interval after the last contact's end, not to t = 20,
+    and finds what the pointwise search on the pole sums alone finds."""
+    from impactsym.rod.elastic.manifold import manifold_table
+
+    a, k = 10.0, 1e3
+    f = np.array([0.0, 0.3, 0.6])
+    manifold_table.cache_clear()
+    got = elastic_contact_times("N", np.full(f.size, a), f, kappa=np.full(f.size, k), t_max=20.0)
+    table = manifold_table(a, kappa=k, n_intervals=10)
+    assert np.all(got < 12.0)
+    assert table.built == int(np.max(got) // 2) + 2 < 10
+    expected = pointwise_pole_contact_times("N", a, f, kappa=k, t_max=20.0)
+    assert np.max(np.abs(got - expected)) < 1e-11
+
+
+def test_threads_sharing_the_cached_tables_find_what_one_thread_finds():
+    """The cached tables are built lazily and shared: eight threads searching different
+    forces at once extend the same tables to different depths, and find, bit for bit,
+    what one thread finds alone (every interval is the same however it was built)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from impactsym.rod.elastic.manifold import manifold_table
+
+    alpha = np.repeat([0.3, 1.0, 10.0], 8)
+    f = np.tile(np.linspace(0.0, 2.0, 8), 3)
+    kappa = np.full(alpha.size, 1e3)
+    manifold_table.cache_clear()
+    alone = {w: elastic_contact_times(w, alpha, f, kappa=kappa, t_max=20.0) for w in "Ny"}
+    manifold_table.cache_clear()
+    jobs = [(w, np.arange(i, alpha.size, 4)) for w in "Ny" for i in range(4)]
+    with ThreadPoolExecutor(8) as pool:
+        found = list(
+            pool.map(
+                lambda job: elastic_contact_times(
+                    job[0], alpha[job[1]], f[job[1]], kappa=kappa[job[1]], t_max=20.0
+                ),
+                jobs,
+            )
+        )
+    for (which, points), times in zip(jobs, found, strict=True):
+        assert np.array_equal(times, alone[which][points]), which

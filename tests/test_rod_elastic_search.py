@@ -146,6 +146,23 @@ def test_the_slow_manifold_table_reaches_an_even_horizon():
     assert abs(got[0] - expected[0]) < 1e-11
 
 
+def test_the_taylor_table_reaches_an_even_horizon():
+    """As the slow-manifold table: at ``t_max = 18`` the Taylor table of (0.5, 30) stops
+    at 18 (9 intervals), and contacts ending at 17.3, in its last interval, are where
+    the pointwise search on the pole sums finds them."""
+    from impactsym.rod.elastic.taylor import taylor_table
+
+    a, k, f = 0.5, 30.0, np.array([1.7, 2.0])
+    taylor_table.cache_clear()
+    got = elastic_contact_times("N", np.full(2, a), f, kappa=np.full(2, k), t_max=18.0)
+    built = taylor_table(a, kappa=k, n_intervals=9)
+    assert taylor_table.cache_info().hits == 1
+    assert built.hi[-1] == 18.0
+    expected = pointwise_pole_contact_times("N", a, f, kappa=k, t_max=18.0)
+    assert np.all((got > 17.0) & (got < 18.0))
+    assert np.max(np.abs(got - expected)) < 1e-11
+
+
 @pytest.mark.parametrize(
     ("a", "k"), [(0.005, 500.0), (0.01, 500.0), (0.02, 500.0), (0.005, 1e3), (0.01, 1e3)]
 )

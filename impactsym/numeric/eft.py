@@ -40,11 +40,14 @@ def _split(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def two_prod(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(p, e)`` with ``p = fl(a b)`` and ``p + e = a b`` exactly (no under/overflow)."""
-    a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    # each factor split in its own shape (a scalar or a row once, not per element of
+    # the broadcast), then broadcast by the arithmetic: the same values elementwise
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     p = a * b
     ah, al = _split(a)
     bh, bl = _split(b)
-    return p, ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    return p, e
 
 
 def _gamma(n: int) -> float:

@@ -53,6 +53,31 @@ def hermite_basis(t):
     return 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t, -2 * t**3 + 3 * t**2, t**3 - t**2
 
 
+def cubic_lagrange_weights(s):
+    """Lagrange weights of the nodes ``-1, 0, 1, 2`` at ``s`` (an array) and their
+    derivatives, each ``(size, 4)``: the cubic through the values ``y`` there (columns)
+    is ``sum(w * y, axis=1)``.
+
+    >>> w, dw = cubic_lagrange_weights(np.array([0.5]))
+    >>> w.tolist()
+    [[-0.0625, 0.5625, 0.5625, -0.0625]]
+    >>> (24 * dw).tolist()
+    [[1.0, -27.0, 27.0, -1.0]]
+    """
+    a, b, c, d = s + 1.0, s, s - 1.0, s - 2.0
+    w = np.stack([-b * c * d / 6.0, a * c * d / 2.0, -a * b * d / 2.0, a * b * c / 6.0], axis=1)
+    dw = np.stack(
+        [
+            -(c * d + b * d + b * c) / 6.0,
+            (c * d + a * d + a * c) / 2.0,
+            -(b * d + a * d + a * b) / 2.0,
+            (b * c + a * c + a * b) / 6.0,
+        ],
+        axis=1,
+    )
+    return w, dw
+
+
 def polyval_rows(C: np.ndarray, x) -> np.ndarray:
     """Row-wise Horner: ``sum_k C[..., k] x**k``, the leading axes of ``C`` broadcast
     against ``x`` (real or complex, in the type of ``C`` and ``x``).

@@ -259,6 +259,7 @@ def newton_system(
     max_step: float = 0.5,
     tol: float = 1e-9,
     max_iter: int = 12,
+    shrink: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Solve ``residual(u) = 0`` for ``n`` independent systems of ``k`` unknowns each.
 
@@ -275,22 +276,50 @@ def newton_system(
     ``|r| < tol``; ``r = residual(u)``. Whether ``r`` is small enough is the caller's
     decision (no exception here): a system that did not converge shows in ``r``.
 
+    ``shrink=True`` stops each system at its own convergence: ``residual(u, idx)`` is
+    then called with the columns ``idx`` (indices into all systems) still at some
+    ``|r| >= tol`` only, and a start already below ``tol`` takes no step. Meant for
+    many systems with good starts, most of which converge at once: the others no
+    longer make every system pay for their iterations.
+
     >>> u, r = newton_system(lambda u: u**2 - np.array([[2.0, 9.0]]), np.ones((1, 2)))
     >>> bool(np.abs(u - [[np.sqrt(2.0), 3.0]]).max() < 1e-9)
     True
     """
+    if shrink:
+        return _newton_shrinking(residual, u0, eps, max_step, tol, max_iter)
     u = np.asarray(u0, dtype=float)
     r = residual(u)
     for _ in range(max_iter):
-        J = np.empty((u.shape[0], u.shape[0], u.shape[1]))
-        for j in range(u.shape[0]):
-            du = np.zeros_like(u)
-            du[j] = eps
-            J[:, j] = (residual(u + du) - r) / eps
-        step = np.linalg.solve(np.moveaxis(J, -1, 0), np.moveaxis(r, -1, 0)[..., None])[..., 0]
-        step = np.clip(np.moveaxis(step, 0, -1), -max_step, max_step)
-        u = u - step
+        u = _newton_step(residual, u, r, eps, max_step)
         r = residual(u)
         if np.all(np.abs(r) < tol):
             break
+    return u, r
+
+
+def _newton_step(residual, u, r, eps, max_step, *index):
+    """One Newton step of :func:`newton_system` from ``u`` with residual ``r``
+    (forward-difference Jacobians; ``index``: the columns, passed on to ``residual``)."""
+    J = np.empty((u.shape[0], u.shape[0], u.shape[1]))
+    for j in range(u.shape[0]):
+        du = np.zeros_like(u)
+        du[j] = eps
+        J[:, j] = (residual(u + du, *index) - r) / eps
+    step = np.linalg.solve(np.moveaxis(J, -1, 0), np.moveaxis(r, -1, 0)[..., None])[..., 0]
+    return u - np.clip(np.moveaxis(step, 0, -1), -max_step, max_step)
+
+
+def _newton_shrinking(residual, u0, eps, max_step, tol, max_iter):
+    """:func:`newton_system` with ``shrink=True``: only unconverged columns iterate."""
+    u = np.array(u0, dtype=float)
+    active = np.arange(u.shape[1])
+    r = np.asarray(residual(u, active), dtype=float)
+    active = active[~np.all(np.abs(r) < tol, axis=0)]
+    for _ in range(max_iter):
+        if active.size == 0:
+            break
+        u[:, active] = _newton_step(residual, u[:, active], r[:, active], eps, max_step, active)
+        r[:, active] = residual(u[:, active], active)
+        active = active[~np.all(np.abs(r[:, active]) < tol, axis=0)]
     return u, r

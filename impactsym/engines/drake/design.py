@@ -17,7 +17,21 @@ restitution:
   factor ``(1 + d x')`` of the law vanishes. For ``"sap"`` the damping is the
   relaxation time (``hunt_crossley_dissipation`` is ignored there and returned as 0).
 
-All designs are solved together on whole arrays.
+All designs are solved together on whole arrays. A call with at least
+:data:`~impactsym.engines.drake.pressed_table.MIN_TARGETS` continuous targets under
+gravity (``g > 0``) reads their designs off one Chebyshev table of the normalized impact
+in the damping and pressing numbers instead
+(:mod:`~impactsym.engines.drake.pressed_table`: the same numbers to about ``1e-14``,
+without an exact evaluation per design). A call with at least
+:data:`~impactsym.engines.drake.step_table.MIN_TARGETS` discrete ``"tamsi"``,
+``"similar"`` or ``"lagged"`` targets starts those sharing ``g / v`` from a table of
+the phase means and finishes them by Broyden steps on the exact phase means
+(:mod:`~impactsym.engines.drake.step_table`: about five phase means per design). The
+targets a table does not serve, and every smaller call, take the iteration above. Its
+stopping rules act on its whole batch, and the targets a table leaves are the hardest
+(next to a plateau's edge): where it refuses them in their small batch, the call is
+designed by it as a whole, exactly as without a table, so a table never refuses what
+the iteration designs.
 """
 
 from __future__ import annotations
@@ -37,6 +51,9 @@ from impactsym.engines.drake.prediction import (
     check_time_step,
     predict,
 )
+from impactsym.engines.drake.pressed_table import MIN_TARGETS, pressed_designs
+from impactsym.engines.drake.step_table import MIN_TARGETS as STEPPED_MIN
+from impactsym.engines.drake.step_table import stepped_designs
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, finish, real_array
 
@@ -153,6 +170,62 @@ def point_contact_for(
             f"contact_time {float(target[bad])!r} is out of reach at time_step {h!r}: a contact "
             f"lasts at least two steps; use time_step <= {target[bad] / 20.0:.3g}"
         )
+    read, values_read = np.zeros(e.size, bool), None
+    if approx is None and np.count_nonzero(g > 0) >= MIN_TARGETS:
+        # many continuous targets under gravity: their designs read off one table
+        pressed = np.flatnonzero(g > 0)
+        ok, k_read, d_read, *values_read = pressed_designs(
+            *(a[pressed] for a in (e, v, m, g, target)), size_name
+        )
+        read[pressed[ok]] = True
+        k_read, d_read = k_read[ok], d_read[ok]
+        values_read = [a[ok] for a in values_read]
+    elif approx not in (None, "sap") and e.size >= STEPPED_MIN:
+        # many discrete targets: started from a table of the phase means, a few exact steps
+        ok, k_read, d_read = stepped_designs(e, v, m, g, target, h, approx, size_name)
+        read, k_read, d_read = ok, k_read[ok], d_read[ok]
+    if not read.any():
+        k, damp = _iterate(e, v, m, g, target, h, approx, size_name)
+    else:  # the table's designs, and the exact iteration for the others
+        k, damp = np.empty(e.size), np.empty(e.size)
+        k[read], damp[read] = k_read, d_read
+        rest = np.flatnonzero(~read)
+        try:
+            if rest.size:
+                rows = (a[rest] for a in (e, v, m, g, target))
+                k[rest], damp[rest] = _iterate(*rows, h, approx, size_name)
+        except ValueError:
+            # the targets left lie where the iteration is hardest (next to a plateau's
+            # edge) and its stopping rules act on the whole batch: the call is designed
+            # as without a table, which designs or refuses it as before
+            read, values_read = np.zeros(e.size, bool), None
+            k, damp = _iterate(e, v, m, g, target, h, approx, size_name)
+
+    def out(a):
+        return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
+
+    sap = approx == "sap"
+    if values_read is not None and read.any():  # the table's values, the exact elsewhere
+        p = _merged(shape, read, values_read, (k, damp, m, v, g))
+    else:  # the full prediction (with the ranges) once, in the shape of the input
+        p = _predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),
+                     h, approx)  # fmt: skip
+    return PointContact(
+        point_contact_stiffness=out(k),
+        hunt_crossley_dissipation=out(np.zeros_like(k) if sap else damp),
+        relaxation_time=out(damp) if sap else None,
+        restitution=p.restitution,
+        contact_time=p.contact_time,
+        max_penetration=p.max_penetration,
+        sticks=p.sticks,
+        prediction=p,
+    )
+
+
+def _iterate(e, v, m, g, target, h, approx, size_name):
+    """The stiffness and damping of each target (flat arrays) by the exact iteration: the
+    fixed point in the stiffness, a damping root at each (module docstring); raises
+    where a target is out of reach."""
     # the undamped-law scale: t_c ~ pi sqrt(m/k), x_max ~ v sqrt(m/k)
     unit = np.pi if size_name == "contact_time" else v
     k = k_start = m * (unit / target) ** 2
@@ -229,7 +302,11 @@ def point_contact_for(
             break
         miss = float(np.max(np.abs(ratio - 1.0)))
         progress = np.all(bracketed | converged)  # Illinois always shrinks the bracket
-        stalled = 0 if progress or miss <= 0.5 * best else stalled + 1
+        # a design still walking along a plateau of the size (unbracketed, its miss
+        # unchanged, its stiffness moving) makes progress too, however slowly: stopping it
+        # refused targets that a larger batch (one that kept the loop going) designed
+        walking = np.any(~bracketed & ~converged & (moved > 1e-12))
+        stalled = 0 if progress or walking or miss <= 0.5 * best else stalled + 1
         best = min(best, miss)
         if stalled >= 6 or np.any(k > 1e6 * k_start) or np.any(k < 1e-6 * k_start):
             break  # no progress: out of reach
@@ -249,24 +326,24 @@ def point_contact_for(
             "v_out < 1/d the contact time stops following the stiffness); use a smaller "
             "time_step or a larger restitution"
         )
+    return k, damp
 
-    def out(a):
-        return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
 
-    sap = approx == "sap"
-    # the full prediction (with the ranges) once, in the shape of the input
-    p = _predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),
-                 h, approx)  # fmt: skip
-    return PointContact(
-        point_contact_stiffness=out(k),
-        hunt_crossley_dissipation=out(np.zeros_like(k) if sap else damp),
-        relaxation_time=out(damp) if sap else None,
-        restitution=p.restitution,
-        contact_time=p.contact_time,
-        max_penetration=p.max_penetration,
-        sticks=p.sticks,
-        prediction=p,
-    )
+def _merged(shape, read, values, rows) -> Prediction:
+    """The continuous prediction: ``values`` (restitution, contact time, deepest overlap)
+    read off the table where ``read``, :func:`predict` elsewhere (flat ``rows``)."""
+    e, t_c, pen = (np.empty(read.size) for _ in range(3))
+    e[read], t_c[read], pen[read] = values
+    rest = np.flatnonzero(~read)
+    if rest.size:
+        p = _predict(*(a[rest] for a in rows), 0.0, None)
+        e[rest], t_c[rest], pen[rest] = p.restitution, p.contact_time, p.max_penetration
+    stuck = np.isinf(t_c)
+    e, t_c, pen = (a.reshape(shape) for a in (e, t_c, pen))
+    return Prediction(time_step=0.0, approximation=None, phase=None, restitution=e,
+                      contact_time=t_c, sticks=stuck.reshape(shape), max_penetration=pen,
+                      restitution_range=(e, e), contact_time_range=(t_c, t_c),
+                      stick_fraction=stuck.astype(float).reshape(shape))  # fmt: skip
 
 
 def _predict(k, damp, m, v, g, h, approx) -> Prediction:

@@ -3,10 +3,11 @@ r"""Design MuJoCo's ``solref`` for a wanted restitution (and contact time); the 
 :func:`solref_for` inverts :func:`~impactsym.engines.mujoco.prediction.predict`: for a
 flat ``solimp`` by :mod:`~impactsym.engines.mujoco.flat_design` (closed form without
 gravity; secant or Broyden steps from it under gravity, the bracketed Illinois method
-where they do not settle); for a varying ``solimp`` the flat design at
-``d_max`` starts :func:`impactsym.numeric.roots.newton_system` on the Runge-Kutta
-prediction (smooth, expensive, no bracket in two unknowns). Every design is checked
-by ``predict`` itself (`docs/physics.md#simulation-engines`).
+where they do not settle); for a varying ``solimp`` Newton on the Runge-Kutta
+prediction (smooth, expensive, no bracket in two unknowns), started from the flat
+design at ``d_max`` or, for many targets of one contact, from a table of their designs
+(:mod:`~impactsym.engines.mujoco.varying_design`). Every design is checked by
+``predict`` itself (`docs/physics.md#simulation-engines`).
 
 All physical quantities are SI: seconds, metres, m/s, m/s^2, kilograms.
 """
@@ -19,10 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.mujoco.continuous import varying_phase
 from impactsym.engines.mujoco.discrete import check_integrator
 from impactsym.engines.mujoco.discrete_design import DiscreteTarget, design_discrete
-from impactsym.engines.mujoco.flat_brackets import unreachable as _unreachable
 from impactsym.engines.mujoco.flat_design import design_flat_both, design_flat_dampratio
 from impactsym.engines.mujoco.model import (
     DEFAULT_SOLIMP,
@@ -35,7 +34,7 @@ from impactsym.engines.mujoco.model import (
     weight_ratio,
 )
 from impactsym.engines.mujoco.prediction import Prediction, design_prediction, predict
-from impactsym.numeric.roots import newton_system
+from impactsym.engines.mujoco.varying_design import design_varying
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
 
@@ -109,60 +108,6 @@ class Design(ArrayRecord):
         return f'solref="{ref}" solimp="{imp}"'
 
 
-def _design_varying(e_t, v0, g, t_c, tc0, dr0, simp, rho):
-    """Newton in ``log`` of the unknowns from the flat design (varying solimp)."""
-    both = t_c is not None
-    u0 = np.stack([np.log(tc0), np.log(dr0)]) if both else np.log(dr0)[None]
-
-    def resid(u):
-        tc = np.exp(u[0]) if both else tc0
-        dr = np.exp(u[-1])
-        phase = varying_phase(coefficients((tc, dr), simp, None), simp, rho, g, v0)
-        r = [phase.restitution - e_t]
-        if both:
-            t = phase.contact_time
-            r.append(np.log(np.where(np.isfinite(t), t, 1e300) / t_c))
-        return np.stack(r)
-
-    try:
-        u, r = newton_system(resid, u0, eps=1e-6, max_step=0.5, tol=1e-9, max_iter=12)
-    except np.linalg.LinAlgError:  # a residual flat in some unknown: no Newton step
-        _no_slope(resid(u0), e_t, t_c, tc0, dr0)
-        raise  # pragma: no cover - _no_slope always raises
-    _unreachable(
-        "the varying-impedance design did not converge",
-        ~np.all(np.abs(r) < 1e-6, axis=0),
-        e_t,
-        "try flat impedance (solimp[0] == solimp[1]) or a nearby target",
-    )
-    tc = np.exp(u[0]) if both else tc0
-    return tc, np.exp(u[-1])
-
-
-def _no_slope(r0, e_t, t_c, tc0, dr0) -> None:
-    """Refuse a varying-impedance design whose Newton Jacobian is singular, saying why."""
-    stuck = (r0[0] == -e_t) | (~np.isfinite(r0[-1]) if t_c is not None else False)
-    if t_c is not None:
-        stuck |= r0[-1] >= np.log(1e300 / t_c) - 1.0  # contact time inf: sticks
-    i = int(np.flatnonzero(stuck)[0]) if stuck.any() else 0
-    wanted = f"restitution = {float(e_t[i])!r}" + (
-        "" if t_c is None else f" with contact_time = {float(t_c[i])!r} s"
-    )
-    start = f"({float(np.ravel(tc0)[i]):.6g}, {float(np.ravel(dr0)[i]):.6g})"
-    why = (
-        f"at the flat design's solref = {start}, its start, the body sticks under the "
-        f"varying impedance, so restitution and contact time do not change with solref"
-        if stuck.any()
-        else f"near the flat design's solref = {start} the restitution or contact time "
-        f"does not change with solref (singular Newton system)"
-    )
-    raise ValueError(
-        f"{wanted} (element {i}): the varying-impedance design cannot proceed: {why}; "
-        f"a higher speed, less gravity, another contact_time or a flat solimp "
-        f"(solimp[0] == solimp[1]) avoids this"
-    )
-
-
 def solref_for(
     *,
     restitution: Any,
@@ -187,7 +132,7 @@ def solref_for(
     range over touch phases. The result is checked by
     :func:`~impactsym.engines.mujoco.prediction.predict`, whose model it inverts (flat
     impedance: :mod:`~impactsym.engines.mujoco.flat_design`; for a varying impedance
-    :func:`impactsym.numeric.roots.newton_system` from the flat design;
+    :mod:`~impactsym.engines.mujoco.varying_design`;
     `docs/physics.md#simulation-engines`).
 
     Parameters
@@ -297,16 +242,22 @@ def solref_for(
 
 def _continuous(e_f, v_f, g_f, t_f, simp, rho_f):
     """The continuous design ``(timeconst, dampratio)``, flat arrays (module docstring)."""
-    # flat design first (exact for flat solimp, a start for a varying one)
-    flat_imp = _flat(simp)
-    if t_f is None:
-        tc = np.full(e_f.shape, DEFAULT_TIMECONST)
-        dr = design_flat_dampratio(e_f, v_f, g_f, tc, flat_imp, rho_f)
-    else:
-        tc, dr = design_flat_both(e_f, v_f, g_f, t_f, flat_imp, rho_f)
-    if not is_flat(simp):
-        tc, dr = _design_varying(e_f, v_f, g_f, t_f, tc, dr, simp, rho_f)
-    return tc, dr
+    if is_flat(simp):
+        return _flat_design(e_f, v_f, g_f, t_f, simp, rho_f)
+    flat_imp = _flat(simp)  # the flat design at d_max starts the varying one
+
+    def flat_start(e, v, g, t, rho):
+        return _flat_design(e, v, g, t, flat_imp, rho)
+
+    return design_varying(e_f, v_f, g_f, t_f, DEFAULT_TIMECONST, simp, rho_f, flat_start)
+
+
+def _flat_design(e, v, g, t_c, simp, rho):
+    """The flat-impedance design: the dampratio at the default timeconst, or both."""
+    if t_c is None:
+        tc = np.full(e.shape, DEFAULT_TIMECONST)
+        return tc, design_flat_dampratio(e, v, g, tc, simp, rho)
+    return design_flat_both(e, v, g, t_c, simp, rho)
 
 
 def _flat(simp: tuple[float, ...]) -> tuple[float, ...]:

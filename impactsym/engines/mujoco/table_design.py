@@ -50,6 +50,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from impactsym.numeric.poly import cubic_lagrange_weights
 from impactsym.numeric.roots import bracketed_illinois
 
 __all__ = ["table_crossings"]
@@ -223,14 +224,14 @@ def _interpolated(x, E, S, j, e):
     lo, hi = np.zeros(k.size), np.ones(k.size)
     s = (Es[:, 1] - target) / (Es[:, 1] - Es[:, 2])
     for _ in range(_NEWTON):
-        w, dw = _cubic_weights(s)
+        w, dw = cubic_lagrange_weights(s)
         val = np.sum(w * Es, axis=1) - target
         slope = np.sum(dw * Es, axis=1)
         lo, hi = np.where(val > 0, s, lo), np.where(val > 0, hi, s)
         with np.errstate(divide="ignore", invalid="ignore"):
             step = s - val / slope
         s = np.where((step >= lo) & (step <= hi), step, 0.5 * (lo + hi))
-    w, _ = _cubic_weights(s)
+    w, _ = cubic_lagrange_weights(s)
     fields = np.sum(w[None] * F[:, :, 1:5], axis=2)
     hit = np.abs(fields[0] - target) <= 1e-12  # the root converged
     xs = x[st[:, 2]] + s * (x[st[:, 3]] - x[st[:, 2]])
@@ -270,22 +271,6 @@ def _split_intervals(table, x, E, S, j, e):
     above = np.stack([Ed[first + k] > e for k in range(1, q)], axis=1)
     sub = first + above.sum(axis=1)
     return _interpolated(xd, Ed, Sd, sub, e)
-
-
-def _cubic_weights(s):
-    """Lagrange weights (and their derivatives) of the nodes ``-1, 0, 1, 2`` at ``s``."""
-    a, b, c, d = s + 1.0, s, s - 1.0, s - 2.0
-    w = np.stack([-b * c * d / 6.0, a * c * d / 2.0, -a * b * d / 2.0, a * b * c / 6.0], axis=1)
-    dw = np.stack(
-        [
-            -(c * d + b * d + b * c) / 6.0,
-            (c * d + a * d + a * c) / 2.0,
-            -(b * d + a * d + a * b) / 2.0,
-            (b * c + a * c + a * b) / 6.0,
-        ],
-        axis=1,
-    )
-    return w, dw
 
 
 def _invert(gap, x, E, i, members, e):

@@ -38,13 +38,17 @@ does not enter the proof. See docs/physics.md#finite-contact-stiffness-three-met
 from __future__ import annotations
 
 import math
+import threading
 from functools import lru_cache
+from types import SimpleNamespace
 
 import numpy as np
 
+from impactsym.rod.elastic import taylor
 from impactsym.rod.elastic.taylor import (
     DEGREE,
     TaylorTable,
+    TaylorView,
     check_table_arguments,
     fastest_rate,
     next_incoming,
@@ -136,10 +140,11 @@ def _slow_operator(alpha: float, kappa: float, width: float):
     inverse of the matrix of ``alpha v' + N = f`` in ``v_1 .. v_D`` (``v_0`` given)."""
     D = DEGREE
     eps = 1.0 / (width * kappa)
-    S = np.eye(D + 1)
-    for j in range(D + 1):
-        for i in range(j + 1, D + 1):
-            S[j, i] = S[j, i - 1] * (-eps * i)
+    # S[j, i] = prod_{l = j+1 .. i} (-eps l): running products along each row (above
+    # the diagonal; ones on and below it multiply exactly), the same products in order
+    order = np.arange(D + 1)
+    factors = np.where(order[None, :] > order[:, None], -eps * order[None, :], 1.0)
+    S = np.triu(np.cumprod(factors, axis=1))
     M = S[:D, 1:].copy()
     M[np.arange(D), np.arange(D)] += alpha * np.arange(1, D + 1) / width
     return S, np.linalg.inv(M)
@@ -211,9 +216,15 @@ def _split_total(values: list) -> tuple[float, float]:
 class ManifoldTable(TaylorTable):
     """``y`` and ``N`` for one ``(alpha, kappa)`` of a stiff spring on ``[0, 2 n_intervals]``:
     the attributes and :meth:`view` of :class:`impactsym.rod.elastic.taylor.TaylorTable`,
-    on the cells of :func:`interval_mesh` (``h`` per cell)."""
+    on the cells of :func:`interval_mesh` (``h`` per cell).
 
-    def __init__(self, alpha: float, kappa: float, n_intervals: int) -> None:
+    Built interval by interval: with ``lazy=True`` none at first, then as far as
+    :meth:`extend` asks (the attributes and views hold the intervals built); the cells,
+    coefficients and bounds of an interval do not depend on later ones (the bound
+    accumulates forward), so they are the same, to the last bit, however far the table
+    is built and in how many steps."""
+
+    def __init__(self, alpha: float, kappa: float, n_intervals: int, *, lazy: bool = False):
         self.alpha, self.kappa = check_table_arguments(alpha, kappa=kappa, n_intervals=n_intervals)
         mesh = interval_mesh(self.alpha, kappa=self.kappa)
         if mesh is None:
@@ -225,30 +236,91 @@ class ManifoldTable(TaylorTable):
         n = widths.size
         starts = np.concatenate([[0.0], np.cumsum(widths)[:-1]])
         self.cells_per_interval = n
-        self.h = np.tile(widths, n_intervals)
-        self.lo = (2.0 * np.arange(n_intervals)[:, None] + starts).ravel()
-        self.hi = self.lo + self.h
-        self._build_manifold(widths, layer, n_intervals)
+        self.n_intervals, self.built = n_intervals, 0
+        self._widths, self._layer = widths, layer
+        self._h = np.tile(widths, n_intervals)
+        self._lo = (2.0 * np.arange(n_intervals)[:, None] + starts).ravel()
+        D, total = DEGREE, n * n_intervals
+        self._arrays = {
+            "Y": np.zeros((2, total, D + 2)),
+            **{name: np.zeros((2, total, D + 1)) for name in ("V", "N", "N_lo", "G_hi", "G_lo")},
+            "Y_lo": np.zeros((2, total)),
+            "V_lo": np.zeros((2, total)),
+        }
+        self._errors = np.zeros((4, total))
+        self._carry = None
+        self._lock = threading.Lock()
+        # (y, v, N) at the next cell start, as (high, low) pairs
+        self._state = [[(0.0, 0.0), (1.0, 0.0), (0.0, 0.0)], [(0.0, 0.0)] * 3]
+        self._factors = self._cell_factors()
+        self._expose()
+        if not lazy:
+            self.extend(n_intervals)
 
-    def _build_manifold(self, widths, layer, n_intervals):
+    def extend(self, n_intervals: int) -> None:
+        """Build and bound the intervals up to ``n_intervals`` (at most the table's); one
+        thread at a time (a cached table is shared), the intervals built never change."""
+        with self._lock:
+            self._extend(min(n_intervals, self.n_intervals))
+
+    def _extend(self, end: int) -> None:
+        if end <= self.built:
+            return
+        begin = self.built
+        for m in range(begin, end):
+            self._build_interval(m)
+        n, a = self.cells_per_interval, self._arrays
+        upto = slice(0, end * n)
+        arrays = tuple(a[name][:, upto] for name in ("Y", "V", "N"))
+        lows = tuple(a[name][:, upto] for name in ("Y_lo", "V_lo", "N_lo"))
+        incoming = (a["G_hi"][:, upto], a["G_lo"][:, upto])
+        bounds, self._carry = taylor.cell_bounds(
+            self.alpha, self._h[upto], arrays, lows, incoming, n,
+            kappa=self.kappa, start=begin, carry=self._carry,
+        )  # fmt: skip
+        self._errors[:, begin * n : end * n] = bounds
+        self.built = end
+        self._expose()
+
+    def view(self, which: str, *, n_intervals: int | None = None) -> TaylorView:
+        """:meth:`TaylorTable.view` over the first ``n_intervals`` reflection intervals
+        (default: all built), built first as far as that."""
+        if n_intervals is None:
+            return super().view(which)
+        self.extend(n_intervals)
+        upto = slice(0, min(n_intervals, self.n_intervals) * self.cells_per_interval)
+        if which not in ("y", "N"):
+            raise ValueError(f"which must be 'y' or 'N', got {which!r}")
+        prefix = SimpleNamespace(lo=self.lo[upto], hi=self.hi[upto], h=self.h[upto])
+        arrays = (self.Y_a, self.Y_b, self.err_y_a, self.err_y_b)
+        if which == "N":
+            arrays = (self.N_a, self.N_b, self.err_n_a, self.err_n_b)
+        return TaylorView(prefix, *(x[upto] for x in arrays))
+
+    def _expose(self) -> None:
+        """The attributes of :class:`TaylorTable` over the intervals built."""
+        upto = slice(0, self.built * self.cells_per_interval)
+        self.h, self.lo = self._h[upto], self._lo[upto]
+        self.hi = self.lo + self.h
+        self.N_a, self.N_b = self._arrays["N"][:, upto]
+        self.Y_a, self.Y_b = self._arrays["Y"][:, upto]
+        self.err_y_a, self.err_y_b, self.err_n_a, self.err_n_b = self._errors[:, upto]
+
+    def _cell_factors(self):
+        """The Taylor factors of the layer cells and the slow operators of the wide cells,
+        per width."""
         alpha, kappa, D = self.alpha, self.kappa, DEGREE
-        n = widths.size
-        total = n * n_intervals
-        Y = np.zeros((2, total, D + 2))
-        V, N, N_lo = (np.zeros((2, total, D + 1)) for _ in range(3))
-        Y_lo, V_lo = np.zeros((2, total)), np.zeros((2, total))
-        G_hi, G_lo = np.zeros((2, total, D + 1)), np.zeros((2, total, D + 1))
-        width_list = widths.tolist()
-        taylor = {
+        width_list = self._widths.tolist()
+        taylor_factors = {
             h: (
                 [h / (alpha * (k + 1)) for k in range(D)],
                 [h * kappa / (k + 1) for k in range(D)],
                 [h / (k + 1) for k in range(D + 1)],
             )
-            for h in {w for w, fine in zip(width_list, layer, strict=True) if fine}
+            for h in {w for w, fine in zip(width_list, self._layer, strict=True) if fine}
         }
         slow = {}
-        for width in {w for w, fine in zip(width_list, layer, strict=True) if not fine}:
+        for width in {w for w, fine in zip(width_list, self._layer, strict=True) if not fine}:
             slow[width] = (
                 _slow_operator(alpha, kappa, width),
                 (
@@ -256,55 +328,66 @@ class ManifoldTable(TaylorTable):
                     [width / (k + 1) for k in range(D + 1)],
                 ),
             )
-        state = [[(0.0, 0.0), (1.0, 0.0), (0.0, 0.0)], [(0.0, 0.0)] * 3]
-        for m in range(n_intervals):
-            cells = slice(m * n, (m + 1) * n)
-            if m:  # G_m = N_(m-1) - G_(m-1), nearly exactly (measured in the bound)
-                before = slice((m - 1) * n, m * n)
-                G_hi[:, cells], G_lo[:, cells] = next_incoming(
-                    N[:, before], N_lo[:, before], G_hi[:, before], G_lo[:, before]
-                )
-            for rhs, force in ((0, 0.0), (1, 1.0)):
-                (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
-                rows_v, rows_y, rows_n, lows = [], [], [], []
-                incoming = (G_hi[rhs, cells] + G_lo[rhs, cells]).tolist()
-                for i in range(n):
-                    c = m * n + i
-                    lows.append((v0_lo, y0_lo, n0_lo))
-                    if layer[i]:
-                        v, n_high, y = taylor_cell(
-                            y0, v0, n0, force, incoming[i], taylor[width_list[i]]
-                        )
-                        rows_n.append(n_high)
-                        n0, n0_lo = _split_total([*n_high, n0_lo])
-                    else:  # N: all slow cells of the interval at once, below
-                        operator, factors = slow[width_list[i]]
-                        v, y = _slow_velocity(
-                            y0, (v0, v0_lo), force, G_hi[rhs, c], G_lo[rhs, c], width_list[i],
-                            kappa, operator, factors,
-                        )  # fmt: skip
-                        rows_n.append([0.0] * (D + 1))
-                    rows_v.append(v)
-                    rows_y.append(y)
-                    y0, y0_lo = _split_total([*y, y0_lo])
-                    v0, v0_lo = _split_total([*v, v0_lo])
-                V[rhs, cells], Y[rhs, cells], N[rhs, cells] = rows_v, rows_y, rows_n
-                V_lo[rhs, cells], Y_lo[rhs, cells], N_lo[rhs, cells, 0] = np.array(lows).T
-                state[rhs] = [(y0, y0_lo), (v0, v0_lo), (n0, n0_lo)]
-            # N on the slow cells of both right-hand sides at once (elementwise)
-            at = m * n + np.flatnonzero(~layer)
-            flat = [X[:, at].reshape(2 * at.size, D + 1) for X in (V, G_hi, G_lo)]
-            high, low = _manifold_forces(
-                flat[0], V_lo[:, at].ravel(), *flat[1:], np.tile(widths[~layer], 2), kappa
+        return taylor_factors, slow
+
+    def _build_interval(self, m: int) -> None:
+        """The coefficients of reflection interval ``m`` (the ones before built)."""
+        kappa, D = self.kappa, DEGREE
+        widths, layer = self._widths, self._layer
+        width_list = widths.tolist()
+        taylor_factors, slow = self._factors
+        n = widths.size
+        a = self._arrays
+        Y, V, N, N_lo, Y_lo, V_lo = (a[k] for k in ("Y", "V", "N", "N_lo", "Y_lo", "V_lo"))
+        G_hi, G_lo = a["G_hi"], a["G_lo"]
+        state = self._state
+        cells = slice(m * n, (m + 1) * n)
+        if m:  # G_m = N_(m-1) - G_(m-1), nearly exactly (measured in the bound)
+            before = slice((m - 1) * n, m * n)
+            G_hi[:, cells], G_lo[:, cells] = next_incoming(
+                N[:, before], N_lo[:, before], G_hi[:, before], G_lo[:, before]
             )
-            N[:, at], N_lo[:, at] = (x.reshape(2, at.size, D + 1) for x in (high, low))
-            if not layer[-1]:
-                for rhs in (0, 1):
-                    state[rhs][2] = _split_total([*N[rhs, at[-1]], *N_lo[rhs, at[-1]]])
-        self._bound(Y, V, N, (Y_lo, V_lo, N_lo), G_hi, G_lo, n)  # per-cell widths h
+        for rhs, force in ((0, 0.0), (1, 1.0)):
+            (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
+            rows_v, rows_y, rows_n, lows = [], [], [], []
+            incoming = (G_hi[rhs, cells] + G_lo[rhs, cells]).tolist()
+            for i in range(n):
+                c = m * n + i
+                lows.append((v0_lo, y0_lo, n0_lo))
+                if layer[i]:
+                    v, n_high, y = taylor_cell(
+                        y0, v0, n0, force, incoming[i], taylor_factors[width_list[i]]
+                    )
+                    rows_n.append(n_high)
+                    n0, n0_lo = _split_total([*n_high, n0_lo])
+                else:  # N: all slow cells of the interval at once, below
+                    operator, factors = slow[width_list[i]]
+                    v, y = _slow_velocity(
+                        y0, (v0, v0_lo), force, G_hi[rhs, c], G_lo[rhs, c], width_list[i],
+                        kappa, operator, factors,
+                    )  # fmt: skip
+                    rows_n.append([0.0] * (D + 1))
+                rows_v.append(v)
+                rows_y.append(y)
+                y0, y0_lo = _split_total([*y, y0_lo])
+                v0, v0_lo = _split_total([*v, v0_lo])
+            V[rhs, cells], Y[rhs, cells], N[rhs, cells] = rows_v, rows_y, rows_n
+            V_lo[rhs, cells], Y_lo[rhs, cells], N_lo[rhs, cells, 0] = np.array(lows).T
+            state[rhs] = [(y0, y0_lo), (v0, v0_lo), (n0, n0_lo)]
+        # N on the slow cells of both right-hand sides at once (elementwise)
+        at = m * n + np.flatnonzero(~layer)
+        flat = [X[:, at].reshape(2 * at.size, D + 1) for X in (V, G_hi, G_lo)]
+        high, low = _manifold_forces(
+            flat[0], V_lo[:, at].ravel(), *flat[1:], np.tile(widths[~layer], 2), kappa
+        )
+        N[:, at], N_lo[:, at] = (x.reshape(2, at.size, D + 1) for x in (high, low))
+        if not layer[-1]:
+            for rhs in (0, 1):
+                state[rhs][2] = _split_total([*N[rhs, at[-1]], *N_lo[rhs, at[-1]]])
 
 
 @lru_cache(maxsize=64)
 def manifold_table(alpha: float, *, kappa: float, n_intervals: int) -> ManifoldTable:
-    """Internal: the cached :class:`ManifoldTable` of ``(alpha, kappa)`` over ``n_intervals``."""
-    return ManifoldTable(alpha, kappa, n_intervals)
+    """Internal: the cached :class:`ManifoldTable` of ``(alpha, kappa)`` over ``n_intervals``,
+    built lazily: :meth:`ManifoldTable.extend` builds the intervals a search needs."""
+    return ManifoldTable(alpha, kappa, n_intervals, lazy=True)

@@ -59,7 +59,7 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
         raise ValueError(f"method must be 'taylor' or 'cells', got {method!r}")
     result = np.full(alpha.size, np.inf)
     n_terms = int(t_max // 2) + 1
-    # the slow-manifold table stops at the first reflection time >= t_max: its cells and
+    # the float64 tables stop at the first reflection time >= t_max: their cells and
     # bounds on [0, 2 n] do not depend on later intervals (the bound accumulates forward)
     n_searched = max(1, math.ceil(t_max / 2.0))
     keys = np.stack([alpha, kappa], axis=1)
@@ -70,30 +70,49 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
         members = members[np.argsort(f[members], kind="stable")]  # screened in order of f
         ag, kg = float(ag), float(kg)
         check_stiffness(ag, kappa=kg)
-        table = None
+        times = None
         n_taylor = cells_per_interval(ag, kappa=kg)
         n_manifold = cells_per_interval_manifold(ag, kappa=kg)
         fewer = n_manifold is not None and n_manifold < n_taylor and n_manifold <= MAX_CELLS
         if method == "taylor" and fewer:
-            table = _certified_manifold(ag, kg, which, n_searched, f[members])
-        if table is None and method == "taylor" and n_taylor <= MAX_CELLS:
-            table = taylor_table(ag, kappa=kg, n_intervals=n_terms).view(which)
-        elif table is None:
-            table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
-        result[members] = _table_contact_times(table, which, ag, kg, f[members], t_max)
+            source = _certified_manifold(ag, kg, which, n_searched, f[members])
+            times = _table_contact_times(source, which, ag, kg, f[members], t_max)
+        if times is None:
+            if method == "taylor" and n_taylor <= MAX_CELLS:
+                table = taylor_table(ag, kappa=kg, n_intervals=n_searched).view(which)
+            else:
+                table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
+            times = _table_contact_times(
+                lambda _, table=table: table, which, ag, kg, f[members], t_max
+            )
+        result[members] = times
     return result
 
 
 def _certified_manifold(alpha, kappa, which, n_terms, forces):
-    """The slow-manifold table's view of ``which`` where its bound certifies every cell to
-    ``TABLE_TOLERANCE`` at the largest of ``forces`` (so at every one of them), else
-    ``None``: near its separation limit, at very stiff springs with light strikers, many
-    cells miss it, and the pole sums standing in for them cost far more than the Taylor
-    or the cell table."""
-    view = manifold_table(alpha, kappa=kappa, n_intervals=n_terms).view(which)
-    cells = np.arange(view.lo.size)
-    worst = np.full(cells.size, float(np.max(np.abs(forces))))
-    return view if bool(view.certified(cells, worst, TABLE_TOLERANCE).all()) else None
+    """The slow-manifold table of ``which`` as the search asks for it: ``through(m)``, its
+    view over at least the first ``m`` reflection intervals (built as far as that, no
+    further: the contacts that end early never pay for the later ones), or ``None`` once
+    a cell built misses ``TABLE_TOLERANCE`` at the largest of ``forces`` (so at every one
+    of them). Near its separation limit, at very stiff springs with light strikers, many
+    cells miss it, and the pole sums standing in for them would cost far more than the
+    Taylor or the cell table, which then serve instead."""
+    table = manifold_table(alpha, kappa=kappa, n_intervals=n_terms)
+    worst = float(np.max(np.abs(forces)))
+    views = {0: None}  # intervals -> view, cells certified for these forces
+
+    def through(m):
+        m = min(m, n_terms)
+        known = max(views)
+        if m > known:
+            view = table.view(which, n_intervals=m)  # exactly these: the same check always
+            cells = np.arange(0 if views[known] is None else views[known].lo.size, view.lo.size)
+            if not bool(view.certified(cells, np.full(cells.size, worst), TABLE_TOLERANCE).all()):
+                return None
+            views[m] = view
+        return views[max(views)]
+
+    return through
 
 
 def check_stiffness(alpha: float, *, kappa: float) -> None:
@@ -110,21 +129,30 @@ def check_stiffness(alpha: float, *, kappa: float) -> None:
         )
 
 
-def _table_contact_times(table: CertifiedTable, which, ag, kg, fm, t_max):
-    """Contact times of the forces ``fm`` (sorted) of one ``(alpha, kappa)`` on ``table``,
-    interval by interval, so that later cells are repaired and searched only for the
-    ``f`` still in contact."""
+def _table_contact_times(through, which, ag, kg, fm, t_max):
+    """Contact times of the forces ``fm`` (sorted) of one ``(alpha, kappa)`` on the table
+    ``through(m)`` (a :class:`impactsym.rod.elastic.CertifiedTable` over at least the first
+    ``m`` reflection intervals), interval by interval, so that later cells are built,
+    repaired and searched only for the ``f`` still in contact; ``None`` where ``through``
+    gives none (a table not certified)."""
     n_terms = int(t_max // 2) + 1
-    evaluate, bound = _table_search(table, which, ag, kg, fm, n_terms)
     result = np.full(fm.size, np.inf)
     active = np.arange(fm.size)
+    table = None
     for m in range(n_terms):
         start, end = 2.0 * m, min(2.0 * m + 2.0, t_max)
         if start >= t_max or active.size == 0:
             break
+        # this interval and the next (its end is the next one's first cell's start)
+        current = through(m + 2)
+        if current is None:
+            return None
+        if current is not table:
+            table = current
+            evaluate, bound = _table_search(table, which, ag, kg, fm, n_terms)
         base = np.append(table.lo[(table.lo >= start) & (table.lo < end)], end)
 
-        def search(pos, base=base, active=active):
+        def search(pos, base=base, active=active, evaluate=evaluate, bound=bound):
             pairs = active[pos]
             return first_sign_change(
                 lambda t, own: _deeper(evaluate(t, pairs[own])),

@@ -167,7 +167,9 @@ class TaylorTable:
 
     def _bound(self, Y, V, N, lows, G_hi, G_lo, n):
         """The error bounds of the stored arrays (:func:`cell_bounds`); sets the tables."""
-        bounds = cell_bounds(self.alpha, self.h, (Y, V, N), lows, (G_hi, G_lo), n, kappa=self.kappa)
+        bounds, _ = cell_bounds(
+            self.alpha, self.h, (Y, V, N), lows, (G_hi, G_lo), n, kappa=self.kappa
+        )
         self.N_a, self.N_b = N
         self.Y_a, self.Y_b = Y
         self.err_y_a, self.err_y_b, self.err_n_a, self.err_n_b = bounds
@@ -182,10 +184,11 @@ class TaylorTable:
         return TaylorView(self, self.N_a, self.N_b, self.err_n_a, self.err_n_b)
 
 
-def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa):
+def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=None):
     """Internal: proven bounds ``(err_y_a, err_y_b, err_n_a, err_n_b)`` per cell of stored
     polynomials of the delay equations, from their residuals, jumps and the energy bound
-    (docs/physics.md#finite-contact-stiffness-three-methods), all measured on the arrays.
+    (docs/physics.md#finite-contact-stiffness-three-methods), all measured on the arrays,
+    and the ``carry`` that continues them on later intervals.
 
     ``arrays = (Y, V, N)`` (``[rhs, cell, order]`` in ``xi = (t - lo)/h``), ``lows = (Y_lo,
     V_lo, N_lo)`` their low parts (``[rhs, cell]``: of the constant coefficients, or
@@ -193,11 +196,32 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa):
     per reflection interval (the same cells in every interval), ``h`` the cell width (a
     power of two: then ``t - lo`` and the divisions by ``h`` are exact), one for all cells
     or one per cell. Includes a Horner evaluation's rounding of the high parts.
+
+    A table built interval by interval is bounded the same way: with ``start`` (the first
+    reflection interval to bound) and the ``carry`` of the call that bounded the ones
+    before, the bounds of the cells from interval ``start`` on are those of one call on
+    all of them, to the last bit (the sums run on, in the same order); the cells before
+    are read for the jump into the first new cell and the incoming wave's defect.
     """
     Y, V, N = arrays
     G_hi, G_lo = incoming
     Y_lo, V_lo, N_lo = lows
     D = DEGREE
+    first = start * n  # the first cell bounded
+    if (start > 0) != (carry is not None):
+        raise ValueError("cell_bounds: a carry goes with start > 0, and only then")
+    n_low_all = _full_low(N_lo, N)
+    dG_raw = _incoming_wave_defect(N, n_low_all, G_hi, G_lo, n, start, carry)
+    dG = dG_raw * (1.0 + 1e-9)  # (0 on interval 0: G = 0 there)
+    # the cell before the ones bounded (its end: the first jump), then those
+    ends = [
+        (C[:, first - 1 : first], C_lo[:, first - 1 : first]) if first else None
+        for C, C_lo in ((V, V_lo), (N, N_lo), (Y, Y_lo))
+    ]
+    Y, V, N, G_hi, G_lo = (x[:, first:] for x in (Y, V, N, G_hi, G_lo))
+    Y_lo, V_lo, N_lo = (x[:, first:] for x in (Y_lo, V_lo, N_lo))
+    if np.ndim(h):
+        h = np.asarray(h)[first:]
     kp1 = np.arange(D + 1) + 1.0
     hc = h if np.ndim(h) == 0 else np.asarray(h)[:, None]
     pad = np.zeros_like(V[..., :1])
@@ -207,7 +231,6 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa):
     force[1, :, 0] = 1.0
     v_low, n_low = (_full_low(low, V) for low in (V_lo, N_lo))
     n_low_next = np.concatenate([n_low[..., 1:], pad], axis=-1)
-    dG = _incoming_wave_defect(N, n_low, G_hi, G_lo, n)
     # r0 = y' - v
     p, e = two_prod(kp1 / hc, Y[..., 1:])
     r0, b0 = sum_with_bound([p, e, -V, -v_low], 1)
@@ -236,22 +259,42 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa):
     margin = 1.0 + 1e-9
     i0, i1, i2 = (_cell_integral(np.abs(r) + b, h, kp1) for r, b in ((r0, b0), (r1, b1), (r2, b2)))
     # jumps at the cell starts (from the end of the cell before, or the initial state)
-    j_v = _jumps(V, V_lo, np.array([1.0, 0.0]))
-    j_n, j_y = _jumps(N, N_lo, np.zeros(2)), _jumps(Y, Y_lo, np.zeros(2))
+    j_v, j_n, j_y = (
+        _jumps(C, C_lo, initial, before)
+        for C, C_lo, initial, before in zip(
+            (V, N, Y),
+            (V_lo, N_lo, Y_lo),
+            (np.array([1.0, 0.0]), np.zeros(2), np.zeros(2)),
+            ends,
+            strict=True,
+        )
+    )
     sqa, sqk = math.sqrt(alpha), math.sqrt(kappa)
-    q = np.cumsum(i1 / sqa + i2 / sqk + sqa * j_v + j_n / sqk, axis=-1) * margin
-    sigma = np.cumsum(i0 + i2 / kappa + j_y + j_n / kappa, axis=-1) * margin
+    old = (None, None, None) if carry is None else carry[1:]
+    q_sum = _running_sum(i1 / sqa + i2 / sqk + sqa * j_v + j_n / sqk, old[0])
+    sigma_sum = _running_sum(i0 + i2 / kappa + j_y + j_n / kappa, old[1])
+    q, sigma = q_sum * margin, sigma_sum * margin
     e_n = sqk * q
     # two bounds of e_y, both valid: through y = u + N/kappa (tight unless the
     # spring is very soft), and e_y = int e_v with |e_v| <= q / sqrt(alpha)
-    through_v = np.cumsum(h * q / sqa + i0 + j_y, axis=-1) * margin
+    v_sum = _running_sum(h * q / sqa + i0 + j_y, old[2])
+    through_v = v_sum * margin
     e_y = np.minimum(q * (1.0 + 1.0 / sqk) + sigma, through_v)
     # the tables hold the high parts: |low| and a Horner evaluation's rounding
     horner_n = _EPS * (D + 4) * np.abs(N).sum(axis=-1) + _abs_low(N_lo)
     horner_y = _EPS * (D + 5) * np.abs(Y).sum(axis=-1) + _abs_low(Y_lo)
     err_n_a, err_n_b = (e_n + horner_n) * margin
     err_y_a, err_y_b = (e_y + horner_y) * margin
-    return err_y_a, err_y_b, err_n_a, err_n_b
+    carry = (dG_raw[:, -n:], q_sum[:, -1:], sigma_sum[:, -1:], v_sum[:, -1:])
+    return (err_y_a, err_y_b, err_n_a, err_n_b), carry
+
+
+def _running_sum(x: np.ndarray, before: np.ndarray | None) -> np.ndarray:
+    """``cumsum`` along the cells, continuing the running sum ``before`` (``[rhs, 1]``) of
+    the cells before: the same additions in the same order as one ``cumsum``."""
+    if before is None:
+        return np.cumsum(x, axis=-1)
+    return np.cumsum(np.concatenate([before, x], axis=-1), axis=-1)[..., 1:]
 
 
 def next_incoming(
@@ -310,10 +353,15 @@ def taylor_cell(y0: float, v0: float, n0: float, force: float, G: list, factors:
     return v, w, [y0] + [cy * x for cy, x in zip(c_y, v, strict=True)]
 
 
-def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray) -> np.ndarray:
-    """Bounds on ``|start of cell i - end of cell i - 1|`` (cell 0: ``- initial``) of the
-    polynomials ``C`` (``[rhs, cell, order]``) with low constant parts ``C_lo``, from an
-    exact-to-``u^2`` cascaded sum of all the coefficients involved."""
+def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray, before=None) -> np.ndarray:
+    """Bounds on ``|start of cell i - end of cell i - 1|`` (cell 0: ``- initial``, or the
+    end of the cell ``before = (C, C_lo)`` of the cells before) of the polynomials ``C``
+    (``[rhs, cell, order]``) with low constant parts ``C_lo``, from an exact-to-``u^2``
+    cascaded sum of all the coefficients involved."""
+    if before is not None:  # the same sums, from the cell before on; its own jump dropped
+        C = np.concatenate([before[0], C], axis=1)
+        C_lo = np.concatenate([before[1], C_lo], axis=1)
+        return _jumps(C, C_lo, initial)[:, 1:]
     if C_lo.ndim == 3:  # low parts of every coefficient
         terms = [C[:, 1:, 0], C_lo[:, 1:, 0]]
         terms += [-C[:, :-1, k] for k in range(C.shape[-1])]
@@ -328,18 +376,21 @@ def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray) -> np.ndarray:
     return np.concatenate([np.abs(first) + first_bound, np.abs(later) + bound], axis=1)
 
 
-def _incoming_wave_defect(N, n_low, G_hi, G_lo, n):
+def _incoming_wave_defect(N, n_low, G_hi, G_lo, n, start=0, carry=None):
     """Bounds on ``|G - (G_hi + G_lo)|`` per coefficient, ``G`` the exact alternating sum
     ``G_m = N_(m-1) - G_(m-1)`` of the stored ``N + n_low`` (``n_low``: the low constant
     parts as order-0 coefficients; ``n`` cells per interval; ``G = 0`` on the first
-    interval): the defect of each step, summed with a bound, accumulates."""
-    dG = np.zeros_like(G_hi)
-    for start in range(n, N.shape[1], n):
-        now, before = slice(start, start + n), slice(start - n, start)
+    interval): the defect of each step, summed with a bound, accumulates. For the
+    intervals from ``start`` on (``carry[0]``: the sum on interval ``start - 1``), before
+    the margin."""
+    dG = np.zeros_like(G_hi[:, start * n :])
+    for m in range(max(start, 1), N.shape[1] // n):
+        now, before = slice(m * n, (m + 1) * n), slice((m - 1) * n, m * n)
         terms = [N[:, before], n_low[:, before], -G_hi[:, before], -G_lo[:, before]]
         step, bound = sum_with_bound([*terms, -G_hi[:, now], -G_lo[:, now]])
-        dG[:, now] = dG[:, before] + np.abs(step) + bound
-    dG[:, n:] *= 1.0 + 1e-9
+        k = m - start
+        previous = carry[0] if k == 0 else dG[:, (k - 1) * n : k * n]
+        dG[:, k * n : (k + 1) * n] = previous + np.abs(step) + bound
     return dG
 
 
@@ -360,12 +411,16 @@ class TaylorView:
         self.lo, self.hi, self.h = table.lo, table.hi, table.h
         self.A, self.B, self.err_a, self.err_b = A, B, err_a, err_b
         n = np.arange(A.shape[1])
+        self._orders = n[1:].astype(float)
+        # row by row (not a matrix product, whose rounding may depend on the number of
+        # rows): a view of the first intervals has the bounds of the whole table's view
         if np.ndim(self.h) == 0:
             d2 = n * (n - 1.0) / self.h**2 * (1.0 + 1e-12)
-            self.d2_a, self.d2_b = np.abs(A) @ d2, np.abs(B) @ d2
+            self.d2_a, self.d2_b = ((np.abs(C) * d2).sum(axis=-1) for C in (A, B))
         else:  # a width per cell (the slow-manifold table)
             scale = (1.0 + 1e-12) / self.h**2
-            self.d2_a, self.d2_b = (np.abs(C) @ (n * (n - 1.0)) * scale for C in (A, B))
+            d2 = n * (n - 1.0)
+            self.d2_a, self.d2_b = ((np.abs(C) * d2).sum(axis=-1) * scale for C in (A, B))
 
     def cell(self, t: np.ndarray) -> np.ndarray:
         """Index of the cell holding ``t`` (the right one at a node)."""
@@ -376,12 +431,17 @@ class TaylorView:
         i = self.cell(t) if index is None else index
         h = self.h if np.ndim(self.h) == 0 else self.h[i]
         x = (t - self.lo[i]) / h
-        A, B = self.A[i], self.B[i]
-        value = A[:, -1] + f * B[:, -1]
-        slope = np.zeros_like(value)
-        for k in range(A.shape[1] - 2, -1, -1):
-            slope = slope * x + value
-            value = value * x + (A[:, k] + f * B[:, k])
+        # sum_k c_k x^k with the powers by a running product, all points and orders at
+        # once (not order by order as Horner's rule would): the rounding, at most
+        # (2 DEGREE + 2) u sum |c_k| with |x| <= 1, stays within the Horner allowance
+        # of the cells' error bounds, (DEGREE + 4) eps = (2 DEGREE + 8) u
+        C = self.A[i] + np.asarray(f, dtype=float)[..., None] * self.B[i]
+        powers = np.empty_like(C)
+        powers[:, 0] = 1.0
+        powers[:, 1:] = x[:, None]
+        np.cumprod(powers, axis=1, out=powers)
+        value = np.einsum("ij,ij->i", C, powers)
+        slope = np.einsum("ij,ij->i", C[:, 1:] * self._orders, powers[:, :-1])
         return value, slope / h
 
     def certified(self, index: np.ndarray, f: np.ndarray, tolerance: float) -> np.ndarray:

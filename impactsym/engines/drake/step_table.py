@@ -1,0 +1,333 @@
+r"""Many discrete designs of one contact: a table of the phase means, then a few exact
+steps per design: :func:`stepped_designs`.
+
+At a step ``h`` the ``"tamsi"``/``"similar"``/``"lagged"`` update of
+:mod:`impactsym.engines.drake.update`, in the units :math:`T = \sqrt{m/k}` and
+:math:`L = v T`, depends on the damping number :math:`s = d v`, the step
+:math:`w = h / T` and the pressing number :math:`b = g T / v = (g / v)\, h / w`
+(``docs/physics.md``, "Drake point contact"). So the targets of one call that share
+``g / v`` share two functions of ``(s, w)``: the phase-mean restitution ``E`` and the
+phase-mean size ``Q`` (the contact time in steps, :math:`t_c / h`, or the largest
+overlap in units of :math:`v h`), and a target ``(e, q)`` asks for
+:math:`E(s, w) = e`, :math:`Q(s, w) = q`, then :math:`k = m (w / h)^2`, :math:`d = s / v`.
+
+These functions are continuous but only piecewise smooth: the mean has a kink wherever
+an end step enters or leaves the phase interval (about every step of contact time), and
+the contact time rests on plateaus where every phase lasts the same number of steps. So
+the table does not give the designs themselves; it gives each a start and a Jacobian,
+and the exact phase means finish it:
+
+* **The tables** hold ``E`` and ``Q`` on equally spaced nodes, from one exact call of
+  :func:`~impactsym.engines.drake.phases.phase_summary` (means only) each: a coarse one
+  (:data:`COARSE` nodes) on a wide box, the continuous designs without gravity
+  (Lambert W and the free contact time or overlap) :data:`WIDE` times either way, then a
+  fine one (:data:`NODES_S` by :data:`NODES_W`) on the box of the starts the coarse one
+  gives, widened by one coarse cell and :data:`MARGIN` of its width on each side.
+* **The start**: on each column of the table (one ``w``) the restitution falls with the
+  damping, so the contour ``E = e`` crosses it once (linear interpolation), and along the
+  contour ``Q`` falls with ``w``; the first sign change of ``Q - q`` along it (linear
+  interpolation again) is the start, the table's cell there gives the Jacobian.
+* **The steps**: Broyden's method on the exact phase means (one
+  :func:`~impactsym.engines.drake.phases.phase_summary` per step for all designs at
+  once), at most :data:`STEPS` evaluations. Where a step leaves the contact time
+  unchanged (it landed on a plateau) the Jacobian's row of the size is not updated: a
+  zero slope would send the next step out of the box, the slope of the table's cell
+  leads back to the plateau's edge. A design is done when its phase-mean
+  restitution is within ``1e-12`` of the target and its size within ``1e-10`` relative
+  (the tolerances of the caller's own iteration).
+* **Next to a plateau's edge** (a design Broyden's steps leave) the designs are solved
+  along the contour ``E = e`` (:func:`_edge`): each step moves ``w`` and corrects ``s``
+  by Newton's step on ``E``; ``w`` first walks off the plateau, the step doubling, until
+  ``Q - q`` changes sign, then Illinois steps narrow that bracket, at most
+  :data:`EDGE_STEPS` phase means. A design that leaves the box, sticks, or is not done
+  by then (e.g. where ``Q`` jumps: an interval of phases with another end step,
+  narrower than the phase grid of :func:`~impactsym.engines.drake.phases.phase_summary`,
+  reaching a grid phase) is left to the caller's iteration.
+
+The steps converge about a hundredfold each (the table's Jacobian is good to about a
+percent: the kinks), so a design takes about five and a half phase means instead of the
+twenty-odd of the nested iteration; a few targets in a thousand, within a few
+hundredths of a step of a plateau's edge (the contact time in steps near ``N + 1/2``),
+take the contour search, and fewer still are left to the iteration. The tables cost
+``16 * 16 + NODES_S * NODES_W`` phase means per group. The caller
+(:func:`~impactsym.engines.drake.design.point_contact_for`) uses it for the groups of at
+least :data:`MIN_TARGETS` targets (equal ``g / v``) of one call, a rule of the call alone:
+smaller calls are designed by the iteration, as before.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from impactsym.contact.lawclosed import hunt_crossley_parameter
+from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
+from impactsym.engines.drake.phases import phase_summary
+
+__all__ = [
+    "COARSE",
+    "EDGE_STEPS",
+    "MARGIN",
+    "MIN_TARGETS",
+    "NODES_S",
+    "NODES_W",
+    "STEPS",
+    "WIDE",
+    "stepped_designs",
+]
+
+#: Targets sharing ``g / v`` per call from which a table starts their designs.
+MIN_TARGETS = 256
+#: Nodes of the coarse table (in the damping number and in the step) on the wide box.
+COARSE = (16, 16)
+#: The wide box: the continuous designs without gravity, this factor either way.
+WIDE = 1.6
+#: Nodes of the fine table on the box of the starts the coarse one gives.
+NODES_S, NODES_W = 32, 48
+#: The box widened by this fraction of its width on each side.
+MARGIN = 0.25
+#: Exact phase means per design at most (Broyden's steps).
+STEPS = 16
+#: Exact phase means at most along the contour for the designs next to a plateau's edge.
+EDGE_STEPS = 80
+_E_TOL, _Q_TOL = 1e-12, 1e-10  # a design is done within these (as the iteration's)
+
+
+def stepped_designs(
+    e: np.ndarray, v: np.ndarray, m: np.ndarray, g: np.ndarray, target: np.ndarray,
+    h: float, approx: str, size_name: str,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """``(ok, k, d)`` of the discrete designs (flat arrays; module docstring), ``ok``
+    marking the targets designed here.
+
+    >>> e, t = np.linspace(0.35, 0.55, 256), np.linspace(0.022, 0.038, 256)
+    >>> one = np.ones(256)
+    >>> ok, k, d = stepped_designs(e, one, 0.1 * one, 0 * one, t, 1e-3, "lagged",
+    ...                            "contact_time")
+    >>> bool(ok.mean() > 0.9)
+    True
+    """
+    n = e.size
+    ok, k, d = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
+    ratio = g / v
+    _, inverse, counts = np.unique(ratio, return_inverse=True, return_counts=True)
+    for label, count in enumerate(counts):
+        if count < MIN_TARGETS:
+            continue
+        rows = np.flatnonzero(inverse == label)
+        done, k_r, d_r = _group(*(a[rows] for a in (e, v, m, g, target)), h, approx,
+                                size_name)  # fmt: skip
+        ok[rows], k[rows], d[rows] = done, k_r, d_r
+    return ok, k, d
+
+
+def _group(e, v, m, g, target, h, approx, size_name):
+    """:func:`stepped_designs` for targets sharing ``g / v``."""
+    n = e.size
+    ok, k_out, d_out = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
+    unit = np.full(n, h) if size_name == "contact_time" else v * h  # Q = size / unit
+    q = target / unit
+    # the continuous designs without gravity, and a wide box around them
+    s0 = hunt_crossley_parameter(e)
+    _, tau0, z0 = hunt_crossley_free(np.minimum(s0, S_MAX))
+    w0 = (tau0 if size_name == "contact_time" else z0) / q
+    box = ((s0.min() / WIDE, s0.max() * WIDE), (w0.min() / WIDE, w0.max() * WIDE))
+    # one member's mass, speed and gravity: the means depend on (s, w, g/v) alone
+    mean = _means(m[0], v[0], g[0], h, approx, size_name, unit[0])
+    for nodes in (COARSE, (NODES_S, NODES_W)):
+        s_nodes, w_nodes = (
+            np.linspace(*side, count) for side, count in zip(box, nodes, strict=True)
+        )
+        S, W = np.meshgrid(s_nodes, w_nodes, indexing="ij")
+        E, Q = (a.reshape(S.shape) for a in mean(S.ravel(), W.ravel()))
+        s, w, jac = _start(s_nodes, w_nodes, E, Q, e, q)
+        found = np.isfinite(s)
+        if not found.any():
+            return ok, k_out, d_out
+        # the next box: the starts found, widened by a cell and a margin
+        cell = (s_nodes[1] - s_nodes[0], w_nodes[1] - w_nodes[0])
+        box = tuple(_widened(x[found], c) for x, c in zip((s, w), cell, strict=True))
+    mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
+    s, w, done = _broyden(mean_rows, s, w, jac, e, q, *box)
+    rest = np.flatnonzero(~done & np.isfinite(s) & np.isfinite(w))
+    if rest.size:  # next to a plateau's edge: a bracket in w along the contour
+        s[rest], w[rest], done[rest] = _edge(mean_rows, rest, s[rest], w[rest], jac[rest],
+                                             e[rest], q[rest], box[1])  # fmt: skip
+    ok[done] = True
+    k_out[done] = m[done] * (w[done] / h) ** 2
+    d_out[done] = s[done] / v[done]
+    return ok, k_out, d_out
+
+
+def _widened(x, cell):
+    """``[lo, hi]`` around ``x``, one ``cell`` and :data:`MARGIN` of the width wider on
+    each side (and positive)."""
+    lo, hi = x.min(), x.max()
+    pad = cell + MARGIN * (hi - lo)
+    return (max(lo - pad, 0.5 * lo), hi + pad)
+
+
+def _means(m, v, g, h, approx, size_name, unit):
+    """``mean(s, w)``: the phase means ``(E, Q)`` of one contact (mass, speed, gravity)."""
+
+    def mean(s, w):
+        r = phase_summary(m * (w / h) ** 2, s / v, 0.0, m, g, v, h, approximation=approx,
+                          bounds=False)  # fmt: skip
+        return r.restitution, getattr(r, size_name) / unit
+
+    return mean
+
+
+def _means_rows(m, v, g, h, approx, size_name, unit):
+    """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows``."""
+
+    def mean(s, w, rows):
+        mr = m[rows]
+        r = phase_summary(mr * (w / h) ** 2, s / v[rows], 0.0, mr, g[rows], v[rows], h,
+                          approximation=approx, bounds=False)  # fmt: skip
+        return r.restitution, getattr(r, size_name) / unit[rows]
+
+    return mean
+
+
+def _start(s_nodes, w_nodes, E, Q, e, q):
+    """Starts ``(s, w)`` and Jacobians ``(n, 2, 2)`` of ``(E, Q)`` from the table
+    (``nan`` starts where it does not hold the target)."""
+    n, nw = e.size, w_nodes.size
+    # the contour E = e on each column: the restitution falls with the damping
+    s_c, q_c = np.full((nw, n), np.nan), np.full((nw, n), np.nan)
+    for j in range(nw):
+        col = np.where(np.isfinite(E[:, j]), E[:, j], -np.inf)
+        # the first crossing: on the running minimum, col[i - 1] > e >= col[i]
+        i = np.searchsorted(-np.minimum.accumulate(col), -e)
+        inside = (i > 0) & (i < col.size)
+        i = np.clip(i, 1, col.size - 1)
+        t = (col[i - 1] - e) / (col[i - 1] - col[i])
+        s_c[j] = np.where(inside, s_nodes[i - 1] + t * (s_nodes[i] - s_nodes[i - 1]), np.nan)
+        q_c[j] = np.where(inside, Q[i - 1, j] + t * (Q[i, j] - Q[i - 1, j]), np.nan)
+    # along the contour Q falls with w: the first column where it is below the target
+    below = q_c <= q
+    j = np.argmax(below, axis=0)
+    cols = np.arange(n)
+    found = below[j, cols] & (j > 0)
+    j = np.clip(j, 1, nw - 1)
+    found &= np.isfinite(q_c[j - 1, cols]) & np.isfinite(q_c[j, cols])
+    with np.errstate(all="ignore"):
+        t = (q_c[j - 1, cols] - q) / (q_c[j - 1, cols] - q_c[j, cols])
+    t = np.where(np.isfinite(t), t, 0.5)
+    w = w_nodes[j - 1] + t * (w_nodes[j] - w_nodes[j - 1])
+    s = s_c[j - 1, cols] + t * (s_c[j, cols] - s_c[j - 1, cols])
+    # the Jacobian from the table's cell at the start
+    i = np.clip(np.searchsorted(s_nodes, s) - 1, 0, s_nodes.size - 2)
+    jw = j - 1
+    ds, dw = s_nodes[1] - s_nodes[0], w_nodes[1] - w_nodes[0]
+    jac = np.empty((n, 2, 2))
+    with np.errstate(invalid="ignore"):  # a sticking node: inf, the start is not there
+        for f, F in enumerate((E, Q)):
+            jac[:, f, 0] = 0.5 * (F[i + 1, jw] - F[i, jw] + F[i + 1, jw + 1] - F[i, jw + 1]) / ds
+            jac[:, f, 1] = 0.5 * (F[i, jw + 1] - F[i, jw] + F[i + 1, jw + 1] - F[i + 1, jw]) / dw
+    s, w = np.where(found, s, np.nan), np.where(found, w, np.nan)
+    return s, w, jac
+
+
+def _broyden(mean, s, w, jac, e, q, s_box, w_box):
+    """Broyden's method on ``(E, Q)(s, w) = (e, q)`` with the exact phase means (module
+    docstring): the designs and where they are done."""
+    n = e.size
+    done = np.zeros(n, bool)
+    live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
+    x = np.stack([s, w], axis=1)
+    f_prev = x_prev = None
+    for _ in range(STEPS):
+        if live.size == 0:
+            break
+        e_t, q_t = mean(x[live, 0], x[live, 1], live)
+        f = np.stack([e_t - e[live], q_t - q[live]], axis=1)
+        hit = (np.abs(f[:, 0]) <= _E_TOL) & (np.abs(f[:, 1]) <= _Q_TOL * q[live])
+        done[live[hit]] = True
+        finite = np.all(np.isfinite(f), axis=1)
+        if f_prev is not None:  # Broyden's update of the Jacobian along the last step
+            dx, df = x[live] - x_prev, f - f_prev
+            num = df - np.einsum("nij,nj->ni", jac[live], dx)
+            norm = np.einsum("ni,ni->n", dx, dx)
+            with np.errstate(all="ignore"):
+                upd = num[:, :, None] * dx[:, None, :] / norm[:, None, None]
+            # on a plateau (Q unchanged) the slope of Q is kept: it holds off the plateau
+            upd[np.abs(df[:, 1]) <= 1e-13 * q[live], 1, :] = 0.0
+            good = np.isfinite(upd).all(axis=(1, 2)) & (norm > 0)
+            jac[live[good]] += upd[good]
+        keep = ~hit & finite
+        live, f = live[keep], f[keep]
+        x_prev, f_prev = x[live].copy(), f
+        a, b, c, dd = jac[live, 0, 0], jac[live, 0, 1], jac[live, 1, 0], jac[live, 1, 1]
+        det = a * dd - b * c
+        with np.errstate(all="ignore"):
+            step_s = (dd * f[:, 0] - b * f[:, 1]) / det
+            step_w = (a * f[:, 1] - c * f[:, 0]) / det
+        new = x[live] - np.stack([step_s, step_w], axis=1)
+        inside = (
+            np.isfinite(new).all(axis=1)
+            & (new[:, 0] > s_box[0]) & (new[:, 0] < s_box[1])
+            & (new[:, 1] > w_box[0]) & (new[:, 1] < w_box[1])
+        )  # fmt: skip
+        x[live[inside]] = new[inside]
+        live, x_prev, f_prev = live[inside], x_prev[inside], f_prev[inside]
+    return x[:, 0], x[:, 1], done
+
+
+def _edge(mean, rows, s, w, jac, e, q, w_box):
+    """The designs ``rows`` that Broyden's steps left, solved along the contour
+    ``E = e``: each step moves ``w`` and corrects ``s`` by Newton's step on ``E``; ``w``
+    first walks, the step doubling, until ``Q - q`` changes sign (off a plateau of
+    ``Q``, which stalls the secant), then Illinois steps in that bracket (module
+    docstring). Returns ``(s, w, done)``."""
+    n = rows.size
+    done = np.zeros(n, bool)
+    e_s, e_w = jac[:, 0, 0], jac[:, 0, 1]
+    e_t, q_t = mean(s, w, rows)
+    f_e, f_q = e_t - e, q_t - q
+    a_w, a_f = w.copy(), f_q.copy()  # the end walked from, and the far end once seen
+    b_w, b_f = np.full(n, np.nan), np.full(n, np.nan)
+    side = np.zeros(n, int)
+    step = 1e-6 * w
+    live = np.flatnonzero(np.isfinite(f_e) & np.isfinite(f_q))
+    for _ in range(EDGE_STEPS):
+        if live.size == 0:
+            break
+        bracketed = np.isfinite(b_w[live])
+        with np.errstate(all="ignore"):
+            falsi = (a_w[live] * b_f[live] - b_w[live] * a_f[live]) / (b_f[live] - a_f[live])
+        lo, hi = np.fmin(a_w[live], b_w[live]), np.fmax(a_w[live], b_w[live])
+        falsi = np.where((falsi > lo) & (falsi < hi), falsi, 0.5 * (lo + hi))
+        walk = a_w[live] + np.sign(a_f[live]) * step[live]  # Q falls with w
+        w_new = np.where(bracketed, falsi, walk)
+        s_new = s[live] - (f_e[live] + e_w[live] * (w_new - w[live])) / e_s[live]
+        inside = np.isfinite(s_new) & (w_new > w_box[0]) & (w_new < w_box[1])
+        live, w_new, s_new, bracketed = (a[inside] for a in (live, w_new, s_new, bracketed))
+        e_t, q_t = mean(s_new, w_new, rows[live])
+        s[live], w[live], f_e[live], f_q[live] = s_new, w_new, e_t - e[live], q_t - q[live]
+        fq = f_q[live]
+        hit = (np.abs(f_e[live]) <= _E_TOL) & (np.abs(fq) <= _Q_TOL * q[live])
+        done[live[hit]] = True
+        same = np.sign(fq) == np.sign(a_f[live])
+        # walking: on the same side the walk goes on, twice as far; across, the bracket
+        walked = ~bracketed & same
+        a_w[live[walked]], a_f[live[walked]] = w_new[walked], fq[walked]
+        step[live[walked]] *= 2.0
+        crossed = ~bracketed & ~same
+        i = live[crossed]
+        b_w[i], b_f[i], a_w[i], a_f[i] = a_w[i], a_f[i], w_new[crossed], fq[crossed]
+        # in the bracket: the end on the trial's side moves (Illinois: the other end's
+        # value halves where the same end moved last time too)
+        for moved, end_w, end_f, other_f, mark in (
+            (bracketed & same, a_w, a_f, b_f, 1),
+            (bracketed & ~same, b_w, b_f, a_f, -1),
+        ):
+            i = live[moved]
+            other_f[i] = np.where(side[i] == mark, 0.5 * other_f[i], other_f[i])
+            end_w[i], end_f[i], side[i] = w_new[moved], fq[moved], mark
+        # a bracket shut without the size meeting its target: the size jumps there
+        # (an interval of phases with another end step, narrower than the grid of
+        # phase_summary, enters it), the iteration decides
+        shut = np.abs(b_w[live] - a_w[live]) <= 1e-15 * a_w[live]
+        live = live[~hit & ~shut & np.isfinite(fq) & np.isfinite(f_e[live])]
+    return s, w, done
