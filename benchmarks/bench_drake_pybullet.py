@@ -49,14 +49,15 @@ many brackets), the factor over the 2 s target after:
   120-145 s per 10^5, 60-72 x; there the iteration alone refused the array (g = 0,
   contact_time: a target 7e-5 steps from a plateau's edge).
 
-What stays over the target is the exact phase mean itself: one evaluation for 10^5
-designs takes ~25 s (PyBullet, ``phase_means``) and 20-50 s (Drake lagged, without the
-range search; half of it the Gauss nodes of the eight phase intervals, a third the
-location of the end-step changes), and a design takes 10-50 of them (Drake lagged from a
-table: ~5.5, plus the final prediction with its range). A table per step ratio (the targets
-share speed and mass), inverted, cuts the evaluations to one or two per design; below
-2 s needs more: designs read from a table whose error is bounded without a per-design
-evaluation, or a compiled step loop.
+What stays over the target is the exact phase mean itself: one evaluation for 10^5 designs
+takes ~4 s (PyBullet, ``phase_means``, in passes of 8192; ~25 s before) and 20-50 s (Drake
+lagged, without the range search; half of it the Gauss nodes of the eight phase intervals,
+a third the location of the end-step changes), and a design takes 10-50 of them (Drake
+lagged from a table: ~5.5, PyBullet from a table: 2-3.7, plus the final prediction with
+its range, ~1.3 more). A table per step ratio (the targets share speed and mass),
+inverted, cuts the evaluations to one or two per design; below 2 s needs more: designs
+read from a table whose error is bounded without a per-design evaluation, or a compiled
+step loop.
 """
 
 from __future__ import annotations

@@ -50,6 +50,8 @@ from collections.abc import Callable
 import numpy as np
 from scipy.spatial import cKDTree
 
+from impactsym.numeric.poly import cubic_lagrange_weights
+
 __all__ = ["table_designs"]
 
 _COARSE = 24  # points per side of the coarse table
@@ -142,8 +144,8 @@ class _Table:
             inside = np.all((s >= 0) & (s <= top), axis=0)
         base = np.clip(np.floor(np.where(inside, s, 0.0)) - 1, 0, top - 3).astype(int)
         frac = s - base - 1  # in [-1, 2]: the cell's stencil, shifted at the edges
-        wu, du = _lagrange(frac[0])
-        wz, dz = _lagrange(frac[1])
+        wu, du = cubic_lagrange_weights(frac[0])
+        wz, dz = cubic_lagrange_weights(frac[1])
         iu = base[0][:, None] + np.arange(4)[None, :]  # (n, 4)
         iz = base[1][:, None] + np.arange(4)[None, :]
         block = self.values[:, iu[:, :, None], iz[:, None, :]]  # (2, n, 4, 4)
@@ -215,15 +217,3 @@ def _newton_step(jac, rhs):
         d0 = (jac[1, 1] * rhs[0] - jac[0, 1] * rhs[1]) / det
         d1 = (-jac[1, 0] * rhs[0] + jac[0, 0] * rhs[1]) / det
     return np.clip(np.stack([d0, d1]), -_MAX_STEP, _MAX_STEP)
-
-
-def _lagrange(s):
-    """Weights ``(n, 4)`` of the cubic through the nodes ``-1, 0, 1, 2`` at ``s`` and
-    their derivatives."""
-    a, b, c, d = s + 1.0, s, s - 1.0, s - 2.0
-    w = np.stack([-b * c * d / 6.0, a * c * d / 2.0, -a * b * d / 2.0, a * b * c / 6.0], axis=1)
-    dw = np.stack([
-        -(c * d + b * d + b * c) / 6.0, (c * d + a * d + a * c) / 2.0,
-        -(b * d + a * d + a * b) / 2.0, (b * c + a * c + a * b) / 6.0,
-    ], axis=1)  # fmt: skip
-    return w, dw
