@@ -21,9 +21,17 @@ many brackets), the factor over the 2 s target after:
 
 * PyBullet, g = 0: contact_time array 15.3 -> 2.7 (137 x); default contact_time -> 1.1
   (56 x).
-* PyBullet under gravity: these 10^3-target arrays are refused, before and after (the
-  band holds pockets no design reaches, e.g. e = 0.4431 at 10 steps); 48 reachable
-  targets (e 0.30..0.45, 9.8..10.2 steps): 1.7 -> 0.9 s.
+* PyBullet under gravity: these 10^3-target arrays were refused (Newton from the
+  textbook start missed designs that exist, e.g. e = 0.4431 at 10 steps).
+* PyBullet from a table (from ``TABLE_GROUP`` = 256 targets of one contact; a table
+  costs a fixed ~2000 evaluations, so time ``--count 100000``, not ``--quick``), with the
+  phase means in passes of 8192 designs (10^5 at once ran out of the cache) and their
+  roots ahead found without stacking (1.9 x): ``--count 10000`` at load ~5, seconds
+  per 10^4 and exact evaluations per design, before -> after: contact_time array
+  10.9 -> 2.5 (14.4 -> 3.65), default 5.9 -> 0.90 (16.2 -> 2.19); under gravity refused
+  after 6.2 and 6.3 s -> designed in 1.08 and 1.12 (2.24; every target).
+  ``--count 100000`` (load 4.5-5.5): 28.1, 8.7, 10.5, 12.8 s, i.e. 14, 4.3, 5.2 and 6.4 x
+  the target.
 * Drake continuous, g = 0: 0.015 (0.76 x: under the target).
 * Drake continuous, g = 9.81: 11.0 -> 5.1 (contact_time, 254 x), 5.7 (max_penetration);
   from 128 targets per call the designs are read off one Chebyshev table in (s, b)
@@ -41,14 +49,15 @@ many brackets), the factor over the 2 s target after:
   120-145 s per 10^5, 60-72 x; there the iteration alone refused the array (g = 0,
   contact_time: a target 7e-5 steps from a plateau's edge).
 
-What stays over the target is the exact phase mean itself: one evaluation for 10^5
-designs takes ~25 s (PyBullet, ``phase_means``) and 20-50 s (Drake lagged, without the
-range search; half of it the Gauss nodes of the eight phase intervals, a third the
-location of the end-step changes), and a design takes 10-50 of them (Drake lagged from a
-table: ~5.5, plus the final prediction with its range). A table per step ratio (the targets
-share speed and mass), inverted, cuts the evaluations to one or two per design; below
-2 s needs more: designs read from a table whose error is bounded without a per-design
-evaluation, or a compiled step loop.
+What stays over the target is the exact phase mean itself: one evaluation for 10^5 designs
+takes ~4 s (PyBullet, ``phase_means``, in passes of 8192; ~25 s before) and 20-50 s (Drake
+lagged, without the range search; half of it the Gauss nodes of the eight phase intervals,
+a third the location of the end-step changes), and a design takes 10-50 of them (Drake
+lagged from a table: ~5.5, PyBullet from a table: 2-3.7, plus the final prediction with
+its range, ~1.3 more). A table per step ratio (the targets share speed and mass),
+inverted, cuts the evaluations to one or two per design; below 2 s needs more: designs
+read from a table whose error is bounded without a per-design evaluation, or a compiled
+step loop.
 """
 
 from __future__ import annotations
@@ -67,10 +76,10 @@ SPEED, MASS = 1.0, 0.1
 
 
 def _cases(n: int):
-    """(label, function, options) per case. The targets lie where the designs exist,
-    except PyBullet's under gravity: its band holds pockets that no design reaches (e.g.
-    e = 0.4431 at 10 steps, refused when asked alone), so at 10^3 targets and more that
-    case is reported as refused."""
+    """(label, function, options) per case. The targets lie where the designs exist
+    (PyBullet under gravity included: Newton from the textbook start misses some, e.g.
+    e = 0.4431 at 10 steps, which the table's starts reach; a target refused is reported
+    as such)."""
     rng = np.random.default_rng(20)
     h_pb = 1 / 240
     e_pb = rng.uniform(0.2, 0.5, n)

@@ -89,3 +89,25 @@ def test_long_contacts_have_the_dense_phase_mean():
     bisected = phase_summary(8.0, 0.4, 1.0, 1.0, g, 1e-3, **settings, pattern=step_pattern)
     np.testing.assert_allclose(bisected.restitution, e, rtol=0, atol=1e-12)
     np.testing.assert_allclose(bisected.contact_time, t, rtol=0, atol=1e-12)
+
+
+def test_passes_of_chunk_elements_give_every_element_its_own_numbers(monkeypatch):
+    import impactsym.engines.pybullet.phase_means as means_module
+    import impactsym.engines.pybullet.phases as phases_module
+
+    rng = np.random.default_rng(3)
+    n, h, m = 40, 1 / 240, 0.1
+    k = m * (np.pi / (rng.uniform(4.0, 40.0, n) * h)) ** 2
+    c = 2.0 * rng.uniform(0.02, 0.6, n) * np.sqrt(k * m)
+    g = rng.choice([0.0, 9.81], n)
+    opts = {"substeps": 1, "slop": 1e-5, "processing_threshold": np.inf}
+    whole = phase_means(k, c, m, 1.0, g, h, **opts)
+    summary = phase_summary(k, c, m, 1.0, g, h, **opts)
+    monkeypatch.setattr(means_module, "CHUNK", 7)
+    monkeypatch.setattr(phases_module, "CHUNK", 7)
+    passes = phase_means(k.reshape(4, 10), c.reshape(4, 10), m, 1.0, g.reshape(4, 10), h, **opts)
+    in_passes = phase_summary(k, c, m, 1.0, g, h, **opts)
+    for a, b in zip(whole, passes, strict=True):
+        np.testing.assert_array_equal(a, b.ravel())
+    for name in ("restitution", "contact_time", "restitution_min", "contact_time_max"):
+        np.testing.assert_array_equal(getattr(summary, name), getattr(in_passes, name))

@@ -5,7 +5,9 @@
   contacts, slop, the non-negative impulse, sub-steps) per touch phase;
 * :mod:`~impactsym.engines.pybullet.phases`: mean and range over touch phases;
 * :mod:`~impactsym.engines.pybullet.prediction`: :func:`predict`;
-* :mod:`~impactsym.engines.pybullet.design`: :func:`contact_for`;
+* :mod:`~impactsym.engines.pybullet.design`: :func:`contact_for`, many targets of one
+  contact started from a table of the phase means
+  (:mod:`~impactsym.engines.pybullet.design_table`);
 * :mod:`~impactsym.engines.pybullet.pair`: the pair rules (:func:`combine_pair`,
   :func:`split_pair`);
 * :mod:`~impactsym.engines.pybullet.rigid`, :mod:`~impactsym.engines.pybullet.rigid_prediction`:

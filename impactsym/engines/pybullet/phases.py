@@ -21,6 +21,7 @@ ranges to ~1e-12, 2-8 times faster. All arrays, SI.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from typing import Any
 
@@ -28,7 +29,7 @@ import numpy as np
 
 from impactsym.engines.mujoco.discrete import PhaseSummary
 from impactsym.engines.phase_pieces import integrate_pieces, reduce_at, vertex
-from impactsym.engines.pybullet.phase_means import break_pieces
+from impactsym.engines.pybullet.phase_means import CHUNK, break_pieces
 from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD, step_pattern
 
 __all__ = ["phase_summary"]
@@ -63,6 +64,7 @@ def phase_summary(
     ``phase`` (validated arrays, broadcast together). ``pattern`` replaces
     :func:`~impactsym.engines.pybullet.stepping.step_pattern` (same arguments and
     result; the rigid contact of :mod:`~impactsym.engines.pybullet.rigid` passes its own).
+    Computed in passes of :data:`~impactsym.engines.pybullet.phase_means.CHUNK` elements.
     """
     step = step_pattern if pattern is None else pattern
     arrays = np.broadcast_arrays(
@@ -71,6 +73,18 @@ def phase_summary(
     shape = arrays[0].shape
     k, c, m, v, g, dt = (a.ravel() for a in arrays)
     size = k.size
+    if size > CHUNK:  # in passes of CHUNK elements: the same numbers, element by element
+        options = {
+            "substeps": substeps, "slop": slop, "processing_threshold": processing_threshold,
+            "velocity_restitution": velocity_restitution,
+            "restitution_threshold": restitution_threshold, "pattern": pattern,
+        }  # fmt: skip
+        parts = [phase_summary(*(a[i : i + CHUNK] for a in (k, c, m, v, g, dt)), **options)
+                 for i in range(0, size, CHUNK)]  # fmt: skip
+        return PhaseSummary(*(
+            np.concatenate([getattr(part, f.name) for part in parts]).reshape(shape)
+            for f in dataclasses.fields(PhaseSummary)
+        ))  # fmt: skip
 
     def run(i, p):
         return step(

@@ -267,7 +267,7 @@ def run_live(fixed: dict, state: dict, advance: Callable[[dict, int, int], None]
     size = fixed["budget"].size
     limit = int(fixed["budget"].min()) if size else 0
     live = np.arange(size)
-    a = {key: val[live] for key, val in {**fixed, **state}.items()}
+    a = {key: val.copy() for key, val in {**fixed, **state}.items()}  # live: every element
     n = -1
     while live.size:
         n += 1

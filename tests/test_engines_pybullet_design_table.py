@@ -1,0 +1,127 @@
+"""pybullet.contact_for from a table of the phase means (many targets of one contact).
+
+A call with ``TABLE_GROUP`` or more targets of one contact starts each design from the
+inverse of a tabulated phase mean and refines it on the exact phase means; the table
+never decides a design. The designs are checked against a fresh ``predict`` (the exact
+phase summary of the returned body values, not the evaluations the design accepted),
+against the textbook path's designs of the same targets, and one design that Newton from
+the textbook start misses is run in PyBullet itself, phase by phase.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from impactsym.engines import pybullet as pyb
+from impactsym.engines.pybullet.design import TABLE_GROUP
+
+H = 1 / 240
+BASE = {"speed": 1.0, "mass": 0.1}
+
+
+def _miss(d, e, t, gravity=0.0):
+    """Largest relative miss of a fresh prediction of the designs ``d``."""
+    p = pyb.predict(stiffness=d.stiffness, damping=d.damping, gravity=gravity, **BASE)
+    assert not np.any(p.sticks)
+    return np.max(np.abs(p.restitution / e - 1.0)), np.max(np.abs(p.contact_time / t - 1.0))
+
+
+@pytest.mark.parametrize("steps", [(10.0, 40.0), None])
+def test_random_targets_from_the_table_hit_a_fresh_prediction(steps):
+    rng = np.random.default_rng(7)
+    n = TABLE_GROUP + 44
+    e = rng.uniform(0.2, 0.5, n)
+    t = None if steps is None else rng.uniform(*steps, n) * H
+    d = pyb.contact_for(restitution=e, contact_time=t, **BASE)
+    miss_e, miss_t = _miss(d, e, 10 * H if t is None else t)
+    # accepted at 1e-9 in e and ln t (as the textbook path); predict agrees to ~1e-13
+    assert miss_e < 1.1e-9
+    assert miss_t < 1.1e-9
+
+
+def test_table_designs_are_the_textbook_paths_designs():
+    rng = np.random.default_rng(8)
+    e = rng.uniform(0.2, 0.5, TABLE_GROUP)
+    t = rng.uniform(10.0, 30.0, TABLE_GROUP) * H
+    table = pyb.contact_for(restitution=e, contact_time=t, **BASE)
+    # the first 20 alone: below TABLE_GROUP, Newton from the textbook start
+    alone = pyb.contact_for(restitution=e[:20], contact_time=t[:20], **BASE)
+    # both hit the targets to 1e-9; the map's Jacobian is of order one, so the designs
+    # agree to a few 1e-9
+    np.testing.assert_allclose(table.stiffness[:20], alone.stiffness, rtol=2e-8)
+    np.testing.assert_allclose(table.damping[:20], alone.damping, rtol=2e-8)
+
+
+def test_small_calls_do_not_depend_on_their_neighbours():
+    rng = np.random.default_rng(9)
+    n = TABLE_GROUP - 1  # the largest call without a table
+    e = rng.uniform(0.2, 0.5, n)
+    t = rng.uniform(10.0, 40.0, n) * H
+    d = pyb.contact_for(restitution=e, contact_time=t, **BASE)
+    for i in (0, 77, n - 1):
+        one = pyb.contact_for(restitution=e[i], contact_time=t[i], **BASE)
+        assert one.stiffness == d.stiffness[i]
+        assert one.damping == d.damping[i]
+
+
+def test_a_table_serves_only_the_contact_it_was_built_for():
+    rng = np.random.default_rng(10)
+    e = rng.uniform(0.25, 0.45, TABLE_GROUP + 3)
+    speed = np.full(e.size, 1.0)
+    speed[-3:] = 2.0  # three targets of another contact: the textbook path
+    d = pyb.contact_for(restitution=e, speed=speed, mass=0.1)
+    p = pyb.predict(stiffness=d.stiffness, damping=d.damping, speed=speed, mass=0.1)
+    assert np.max(np.abs(p.restitution / e - 1.0)) < 1.1e-9
+    assert np.max(np.abs(p.contact_time / (10 * H) - 1.0)) < 1.1e-9
+    alone = pyb.contact_for(restitution=e[-3:], speed=2.0, mass=0.1)
+    np.testing.assert_array_equal(d.stiffness[-3:], alone.stiffness)
+
+
+def test_gravity_targets_the_textbook_start_misses_are_designed():
+    rng = np.random.default_rng(11)
+    n = TABLE_GROUP
+    e = rng.uniform(0.4, 0.45, n)
+    t = rng.uniform(9.8, 10.2, n) * H
+    d = pyb.contact_for(restitution=e, contact_time=t, gravity=9.81, **BASE)
+    miss_e, miss_t = _miss(d, e, t, gravity=9.81)
+    assert miss_e < 1.1e-9
+    assert miss_t < 1.1e-9
+
+
+def test_pybullet_runs_a_design_the_textbook_start_missed_as_predicted():
+    pytest.importorskip("pybullet")
+    from impactsym.engines.pybullet.driver import pybullet_steps
+
+    # e = 0.4431 at 10 steps under gravity: Newton from the textbook start breaks off
+    # (the phases stick at its damping); the table's start finds the pair
+    g = {"gravity": 9.81, **BASE}
+    d = pyb.contact_for(restitution=0.4431, contact_time=10 * H, **g)
+    assert abs(d.restitution / 0.4431 - 1.0) < 1e-9
+    assert abs(d.contact_time / (10 * H) - 1.0) < 1e-9
+    phases = np.array([0.0, 0.25, 0.5, 0.75, 0.999])
+    engine = pybullet_steps(stiffness=d.stiffness, damping=d.damping, phase=phases, **g)
+    model = pyb.predict(stiffness=d.stiffness, damping=d.damping, phase=phases, **g)
+    assert not engine.sticks.any()
+    np.testing.assert_allclose(engine.restitution, model.restitution, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(engine.contact_time, model.contact_time, rtol=1e-12)
+
+
+def test_an_unreachable_target_in_a_large_call_is_refused_by_name():
+    rng = np.random.default_rng(12)
+    e = rng.uniform(0.25, 0.45, TABLE_GROUP)
+    t = np.full(e.size, 20 * H)
+    e[100], t[100] = 0.31, 2 * H  # two steps: no PyBullet contact at this step
+    with pytest.raises(ValueError, match=r"restitution = 0\.31 with contact_time"):
+        pyb.contact_for(restitution=e, contact_time=t, **BASE)
+
+
+@pytest.mark.parametrize("setting", [{"processing_threshold": 0.0}, {"substeps": 2}])
+def test_table_designs_under_other_engine_settings_hit_a_fresh_prediction(setting):
+    rng = np.random.default_rng(13)
+    e = rng.uniform(0.25, 0.45, TABLE_GROUP)
+    t = rng.uniform(12.0, 20.0, TABLE_GROUP) * H
+    d = pyb.contact_for(restitution=e, contact_time=t, **BASE, **setting)
+    p = pyb.predict(stiffness=d.stiffness, damping=d.damping, **BASE, **setting)
+    assert np.max(np.abs(p.restitution / e - 1.0)) < 1.1e-9
+    assert np.max(np.abs(p.contact_time / t - 1.0)) < 1.1e-9
