@@ -57,14 +57,14 @@ BOUNDARY_NODES = 28
 #: Relative width of the bracket of each boundary node.
 BOUNDARY_RTOL = 1e-12
 #: Smallest f* sought (below: the boundary piece is left out, its elements integrated).
-BOUNDARY_FLOOR = 1e-8
+BOUNDARY_FLOOR = 1e-6
 #: The variable ``u`` of the tables: :math:`\delta = ` ``SCALE`` :math:`\sinh u`.
 SCALE = 0.1
 #: Narrowest piece of the boundary table, and patches of the ends table (u, sigma).
-MIN_WIDTH_U, MIN_WIDTH_SIGMA = 1e-4, 1e-3
+MIN_WIDTH_U, MIN_WIDTH_SIGMA = 1e-3, 1e-3
 #: Narrowest patches of the extrema table (u, f): a kink of the peak force (where the
 #: force at touch stops being the largest) leaves a band this wide to the integration.
-EXTREMA_WIDTH = (0.02, 0.01)
+EXTREMA_WIDTH = (0.05, 0.025)
 #: Most patches of one table (the build stops halving there; the rest is left out).
 MAX_PATCHES = 600
 #: Acceptance of a patch of the ends table: relative tail and absolute floor (near the
