@@ -4,8 +4,8 @@ against an independent integration, and the two-variable Chebyshev machinery
 
 The reference integrates the normalized equation ``z'' = f - phi(z, z')``, ``z(0) = 0``,
 ``z'(0) = 1`` with SciPy's ``solve_ivp`` (DOP853, ``rtol = 1e-13``), each law written out
-here by hand: position condition, the terminal event ``z = 0``; force condition, the zero
-of a function with the sign of the force. Maximum penetration is the first event
+by hand (``tests/references/contact_laws.py``): position condition, the terminal event
+``z = 0``; force condition, the zero of a function with the sign of the force. Maximum penetration is the first event
 ``z' = 0``, the peak force the dense output maximized. A body that does not leave within
 the run sticks; the energy ``z'^2/2 + V(z) - f z`` is then checked below the least energy
 from which it could leave (0 for the position condition). At random pressed elements —
@@ -26,30 +26,9 @@ from impactsym.contact import damping_for, impact
 from impactsym.contact import lawpressed as lp
 from impactsym.contact.lawpatch import build
 from impactsym.contact.nonlinear import PRESSED_MIN, integrated_impact, pressed_table
+from tests.references.contact_laws import P, phi, sign
 
-P = 1.5
 LAWS = ("hertz-linear", "hunt-crossley", "tsuji", "viscoelastic")
-
-
-def phi(law: str, z, w, d: float):
-    z = np.maximum(z, 0.0)
-    return {
-        "hertz-linear": lambda: z**P + 2 * d * w,
-        "hunt-crossley": lambda: z**P * (1 + d * w),
-        "tsuji": lambda: z**P + d * z ** ((P - 1) / 2) * w,
-        "viscoelastic": lambda: z**1.5 + d * np.sqrt(z) * w,
-    }[law]()
-
-
-def sign(law: str, z: float, w: float, d: float) -> float:
-    """A function with the sign of the force for z > 0, smooth at z = 0."""
-    z = max(z, 0.0)
-    return {
-        "hertz-linear": z**P + 2 * d * w,
-        "hunt-crossley": 1 + d * w,
-        "tsuji": d * w + z ** ((P + 1) / 2),
-        "viscoelastic": z + d * w,
-    }[law]
 
 
 def reference(law: str, d: float, f: float, condition: str):
