@@ -5,12 +5,13 @@ against an independent integration, and the two-variable Chebyshev machinery
 The reference integrates the normalized equation ``z'' = f - phi(z, z')``, ``z(0) = 0``,
 ``z'(0) = 1`` with SciPy's ``solve_ivp`` (DOP853, ``rtol = 1e-13``), each law written out
 by hand (``tests/references/contact_laws.py``): position condition, the terminal event
-``z = 0``; force condition, the zero of a function with the sign of the force. Maximum penetration is the first event
-``z' = 0``, the peak force the dense output maximized. A body that does not leave within
-the run sticks; the energy ``z'^2/2 + V(z) - f z`` is then checked below the least energy
-from which it could leave (0 for the position condition). At random pressed elements —
-across the table, near its stick boundary on both sides, near ``f = 0`` and near the top
-of its range — the tables agree with it to 1e-10 (relative; restitution absolute).
+``z = 0``; force condition, the zero of a function with the sign of the force. Maximum
+penetration is the first event ``z' = 0``, the peak force the dense output maximized. A
+body that does not leave within the run sticks; under the position condition its energy
+``z'^2/2 + V(z) - f z`` is then checked below 0, from where it can never reach ``z = 0``.
+At random pressed elements (across the table, near its stick boundary on both sides, near
+``f = 0`` and near the top of its range) the tables agree with it to 1e-10 (relative;
+restitution absolute).
 """
 
 from __future__ import annotations

@@ -3,11 +3,12 @@ independent integration, and the piecewise Chebyshev machinery on known function
 
 The reference integrates the normalized equation ``z'' = -phi(z, z')``, ``z(0) = 0``,
 ``z'(0) = 1`` with SciPy's ``solve_ivp`` (DOP853, ``rtol = 1e-13``) and terminal events,
-each law written out by hand (``tests/references/contact_laws.py``): position
-condition, the event ``z = 0``; force condition, the zero of the force's sign function;
-clipped, the force condition's end then a free coast at the same speed to ``z = 0``. Maximum penetration is the event
-``z' = 0``, the peak force the dense output maximized. At random damping numbers between
-the Chebyshev nodes the tables agree with it to 1e-10 (relative; restitution absolute).
+each law written out by hand (``tests/references/contact_laws.py``): position condition, the
+event ``z = 0``; force condition, the zero of the force's sign function; clipped, the force
+condition's end then a free coast at the same speed to ``z = 0``. Maximum penetration is the
+event ``z' = 0``, the peak force the dense output maximized. At random damping numbers
+between the Chebyshev nodes the tables agree with it to 1e-10 (relative; restitution
+absolute).
 """
 
 from __future__ import annotations
