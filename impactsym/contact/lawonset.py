@@ -75,7 +75,7 @@ def stick_onset(
                 i = rows[int(np.argmax(limit))]
                 where = f"releases at f = {F_MAX:g}" if up else f"sticks at f = {floor:g}"
                 raise ValueError(
-                    f"{label}: with damping number {delta[i]!r} the body still {where}; "
+                    f"{label}: with damping number {float(delta[i])!r} the body still {where}; "
                     "its stick boundary lies beyond the scan"
                 )
             steps = 10.0 ** (np.arange(1, SCAN + 1) if up else -np.arange(1, SCAN + 1))
