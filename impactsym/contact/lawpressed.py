@@ -30,7 +30,10 @@ position condition and jumps to 0 under the force condition). In
 :math:`\sigma = -\ln(1 - f/F)` every power :math:`(1 - f/F)^a = e^{-a\sigma}` and
 :math:`\ln(1 - f/F) = -\sigma` is smooth, so a branch point at the boundary becomes a
 function analytic in a strip around the real :math:`\sigma` axis, and patches of fixed
-width converge up to :math:`\sigma = 13.8`: no refinement towards the boundary. The
+width converge up to the table's edge :math:`\sigma = \ln 10^4 = 9.2`: no refinement
+towards the boundary. The edge is not closer because the exact values themselves lose
+accuracy there (:math:`10^{-11}` at :math:`\sigma = 9`, :math:`10^{-10}` at 13, where
+``e`` is about :math:`10^{-3}`). The
 boundary table's own error :math:`\epsilon = F/f^* - 1` (about :math:`10^{-10}`) moves
 the branch point to :math:`\sigma = \ln(1/\epsilon) \pm i\pi`, far from the table. The
 ends table breaks where the boundary table does (``roots``), so ``F`` is one polynomial
