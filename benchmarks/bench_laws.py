@@ -33,9 +33,10 @@ Figures (CPU per 10^5; shared 2-core machine at a load of about 8):
   0.18-0.21 s for Hunt-Crossley, Tsuji and viscoelastic, 0.56-0.69 s for Hertz-linear
   (its extrema table leaves out bands along two kinks, a few per cent of these
   elements, which are integrated); the linear law's closed forms 0.04-0.05 s. Building
-  the tables, once per law, exponent and condition: the boundary 2.8-8.3 s (about 165
-  sticking verdicts per node), the ends 0.8-1.6 s, the extrema 0.6-1.2 s, Hertz-linear's
-  21-32 s (the kinks: the force at touch being the largest, the over-damped creep);
+  the tables, once per law, exponent and condition: the boundary 1.9-7.1 s (about 165
+  sticking verdicts per node; 2.8-8.3 s before it started from 4 pieces), the ends
+  0.8-1.8 s, the extrema 0.6-1.2 s, Hertz-linear's 21-32 s (the kinks: the force at
+  touch being the largest, the over-damped creep);
 * pressed designs at f = 0.05: integrated, 1,700-12,000 s (850-6,000 x the target); from
   the ends table 1.1-1.7 s (the Illinois bracket evaluates the table some 30 times); the
   linear law's 0.6-0.9 s (its closed forms and root).
