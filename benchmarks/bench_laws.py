@@ -7,34 +7,39 @@ shared) and the ratio to the target of the issue, all scaled to 10^5 elements:
     linear contact) and the full ``impact`` on 10^5 elements, which reads the tables of
     the unpressed impact (``nonlinear.free_table``; their one-off building cost is printed
     first, per law and condition);
-  * with pressing force, ``impact`` (target < 2 s);
+  * with pressing force, ``impact`` on 10^5 elements (target < 2 s), which reads the
+    tables of the pressed impact (``nonlinear.pressed_table``: stick boundary, contact
+    time and restitution, extrema; their one-off building cost is printed first, per law
+    and condition, with the number of pieces or patches and how many the build left out);
   * 10^5 designs ``damping_for`` (target < 2 s), without and with pressing force, the
     targets being restitutions measured by ``impact`` (the round-trip error is printed);
-    without pressing force on 10^5 (closed inverses, or the table's restitution inverted).
+    the closed inverses, or the restitution of a table inverted. Where some targets are
+    unreachable (sticking), fewer are designed and the time is scaled to 10^5.
 
-Paths that integrate (pressed) run on ``--sample`` elements (designs on ``--designs``) and
-are scaled linearly to 10^5: indicative only, since the per-step overhead (a few hundred
-NumPy calls per step whatever the size) weighs on small samples and memory traffic on
-large ones; ``--full`` runs everything on 10^5.
+Every path runs on 10^5 elements (``--sample``, ``--designs``, ``--full`` are accepted
+and ignored: nothing left integrates 10^5 elements).
 
-Figures (``--sample 500 --designs 20``, CPU per 10^5, shared 2-core machine):
+Figures (CPU per 10^5; shared 2-core machine at a load of about 8):
 
 * unpressed ``impact``, before the tables: 16-98 s (160-780 x the target); now
-  0.04-0.06 s for Hertz-linear, Tsuji and viscoelastic, 0.08 s for Hunt-Crossley (its
-  Lambert-W restitution alone 0.03 s), and 0.04-0.05 s for the linear law, whose
-  contact time and restitution are those of ``api.physical_contact``, bit for bit: the
-  closed forms of ``impactsym.contact.unpressed`` since f = 0 no longer goes through the
-  kernel's bracketed root (0.3-0.7 s before, most of it that root, found twice);
-  the tables cost 1-5 s CPU each to build, once per session;
-* unpressed designs of Hertz-linear and viscoelastic: 5,600-10,600 s before, 0.3-0.9 s
-  now (the position condition's bracket bisects where the upper end sticks);
-* pressed ``impact``: 30-90 s (still 15-45 x the target) and pressed designs
-  (hundreds to thousands x): every element integrates; except the linear law, whose
-  maximum penetration and peak force are closed forms too (``impactsym.contact.extrema``;
-  position and force conditions): 56-66 s integrated before, 0.10-0.16 s now on 10^5,
-  and its designs at f = 0.05 1.9-3.1 s on 10^5 (the kernel's root at each bracket
-  step; the force condition still over the target). Measured on 500 elements and
-  scaled, the linear law's fixed cost per call read 1.6-2.9 s and 270-550 s.
+  0.01-0.03 s (Hunt-Crossley's Lambert-W restitution included), the linear law's
+  contact time and restitution those of ``api.physical_contact``, bit for bit (the closed
+  forms of ``impactsym.contact.unpressed``); the tables cost 0.3-1.8 s CPU each to build,
+  once per session;
+* unpressed designs of Hertz-linear and viscoelastic: 5,600-10,600 s before the tables,
+  0.07-0.5 s now (the position condition's bracket bisects where the upper end sticks);
+* pressed ``impact`` (f uniform in (0, 1), damping numbers in (0.02, 1.5)): integrated,
+  12.5-33 s (measured on 500 elements and scaled; 6-17 x the target); from the tables
+  0.18-0.21 s for Hunt-Crossley, Tsuji and viscoelastic, 0.56-0.69 s for Hertz-linear
+  (its extrema table leaves out bands along two kinks, a few per cent of these
+  elements, which are integrated); the linear law's closed forms 0.04-0.05 s. Building
+  the tables, once per law, exponent and condition: the boundary 1.9-7.1 s (about 165
+  sticking verdicts per node; 2.8-8.3 s before it started from 4 pieces), the ends
+  0.8-1.8 s, the extrema 0.6-1.2 s, Hertz-linear's 21-32 s (the kinks: the force at
+  touch being the largest, the over-damped creep);
+* pressed designs at f = 0.05: integrated, 1,700-12,000 s (850-6,000 x the target); from
+  the ends table 1.1-1.7 s (the Illinois bracket evaluates the table some 30 times); the
+  linear law's 0.6-0.9 s (its closed forms and root).
 
 Where the time of the integration goes (cProfile and step counts, 500 elements;
 ``integrate`` of :mod:`impactsym.contact.lawkernel`):
@@ -45,8 +50,8 @@ Where the time of the integration goes (cProfile and step counts, 500 elements;
   under the position condition the graded exit takes most of the rest;
 * one step costs about 2 us per element (13 law evaluations of 30-100 ns each and the
   stage combinations) plus a fixed cost per call of a few hundred NumPy calls, so on
-  10^5 elements an integrated impact costs ~20 s whatever the overhead: hence the tables
-  without pressing force; with one, the target stays open;
+  10^5 elements an integrated impact costs ~20 s whatever the overhead: hence the tables,
+  without and with pressing force;
 * at a few hundred elements the fixed cost dominates: 88 % of the step calls (Tsuji,
   force, pressed) were the Illinois iterations of event location (~10 per event, on the
   few elements meeting one). The extrema are now located to 1e-9 of the step (their
@@ -56,7 +61,7 @@ Where the time of the integration goes (cProfile and step counts, 500 elements;
   (-7 %; Hunt-Crossley 144 -> 113), CPU 10.0 -> 9.2 s (the machine was shared; the
   counts are exact).
 
-Run: python benchmarks/bench_laws.py [--sample 2000] [--designs 200] [--full]
+Run: python benchmarks/bench_laws.py
 """
 
 from __future__ import annotations
@@ -73,7 +78,14 @@ from impactsym.contact.lawclosed import (
     tsuji_zeta,
 )
 from impactsym.contact.lawdesign import damping_for
-from impactsym.contact.nonlinear import LAW_CONDITIONS, free_table, impact
+from impactsym.contact.nonlinear import (
+    LAW_CONDITIONS,
+    PRESSED_LAWS,
+    PRESSED_PARTS,
+    free_table,
+    impact,
+    pressed_table,
+)
 
 N = 10**5
 LAWS = ("linear", "hertz-linear", "hunt-crossley", "tsuji", "viscoelastic")
@@ -117,11 +129,11 @@ def impact_of(law, delta, force, condition):
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sample", type=int, default=2000, help="elements of integrating paths")
-    parser.add_argument("--designs", type=int, default=200, help="designs that integrate")
-    parser.add_argument("--full", action="store_true", help="every path on 10^5 elements")
-    args = parser.parse_args()
-    sample, designs = (N, N) if args.full else (args.sample, args.designs)
+    # every path now runs on 10^5 elements: the options of older command lines are accepted
+    parser.add_argument("--sample", type=int, default=N, help="ignored (every path on 10^5)")
+    parser.add_argument("--designs", type=int, default=N, help="ignored (every path on 10^5)")
+    parser.add_argument("--full", action="store_true", help="ignored (every path on 10^5)")
+    parser.parse_args()
     rng = np.random.default_rng(0)
     for law in LAWS:  # build the lambdified kernels once
         for condition in CONDITIONS:
@@ -152,6 +164,18 @@ def main() -> None:
                   f"{np.count_nonzero(~table.covered)} left to the integration",
                   flush=True)  # fmt: skip
 
+    print("tables of the pressed impact, built once per law, exponent and condition:")
+    for law in PRESSED_LAWS:
+        for key in CONDITIONS:
+            parts = []
+            for part in PRESSED_PARTS:
+                cpu = time.process_time()
+                table = pressed_table(law, 1.5, condition=key, part=part)
+                cpu = time.process_time() - cpu
+                size = table.pieces if part == "boundary" else table.patches
+                parts.append(f"{part} {cpu:.1f} s ({size}, {np.count_nonzero(~table.covered)} out)")
+            print(f"  {law}, {key}: cpu " + ", ".join(parts), flush=True)
+
     print("without pressing force, impact: restitution and contact time (target < 0.1 s):")
     free_delta = rng.uniform(0.02, 1.5, N)
     for law in LAWS:
@@ -159,15 +183,13 @@ def main() -> None:
             wall, cpu, r = timed(impact_of, law, free_delta, 0.0, condition)
             note = f"; {np.mean(r.sticks):.0%} stick"
             report(f"{law}, {condition}", N, wall, cpu, 0.1, note)
-    delta = rng.uniform(0.02, 1.5, sample)
 
     print("with pressing force f in (0, 1), impact (target < 2 s):")
-    f = rng.uniform(0.0, 1.0, sample)
-    closed = np.random.default_rng(1)  # the linear law, closed forms: on 10^5 elements
+    closed = np.random.default_rng(1)  # closed forms or tables: on 10^5 elements
     closed_delta, closed_f = closed.uniform(0.02, 1.5, N), closed.uniform(0.0, 1.0, N)
     for law in LAWS:
         for condition in CONDITIONS:
-            args = (closed_delta, closed_f) if law == "linear" else (delta, f)
+            args = (closed_delta, closed_f)  # closed forms or tables: on 10^5
             wall, cpu, r = timed(impact_of, law, *args, condition)
             note = f"; {np.mean(r.sticks):.0%} stick"
             report(f"{law}, {condition}", args[0].size, wall, cpu, 2.0, note)
@@ -179,9 +201,7 @@ def main() -> None:
     for force in (0.0, 0.05):
         for law in LAWS:
             closed = force == 0.0 and law in ("linear", "hunt-crossley", "tsuji")
-            n = N if closed else designs
-            n = N if force == 0.0 else n  # the others invert the table
-            n = N if law == "linear" else n  # the linear contact's closed forms and root
+            n = N  # closed forms, the linear contact's root, or the tables inverted
             for condition in CONDITIONS:
                 d = rng.uniform(0.05, 1.0, n)
                 achieved = None if closed else impact_of(law, d, force, condition).restitution

@@ -3,11 +3,12 @@ independent integration, and the piecewise Chebyshev machinery on known function
 
 The reference integrates the normalized equation ``z'' = -phi(z, z')``, ``z(0) = 0``,
 ``z'(0) = 1`` with SciPy's ``solve_ivp`` (DOP853, ``rtol = 1e-13``) and terminal events,
-each law written out here by hand: position condition, the event ``z = 0``; force
-condition, the zero of the force's sign function; clipped, the force condition's end
-then a free coast at the same speed to ``z = 0``. Maximum penetration is the event
-``z' = 0``, the peak force the dense output maximized. At random damping numbers between
-the Chebyshev nodes the tables agree with it to 1e-10 (relative; restitution absolute).
+each law written out by hand (``tests/references/contact_laws.py``): position condition, the
+event ``z = 0``; force condition, the zero of the force's sign function; clipped, the force
+condition's end then a free coast at the same speed to ``z = 0``. Maximum penetration is the
+event ``z' = 0``, the peak force the dense output maximized. At random damping numbers
+between the Chebyshev nodes the tables agree with it to 1e-10 (relative; restitution
+absolute).
 """
 
 from __future__ import annotations
@@ -28,31 +29,7 @@ from impactsym.contact.nonlinear import (
     integrated_impact,
     normalized_impact,
 )
-
-P = 1.5
-
-
-def phi(law: str, z, w, d: float):
-    z = np.maximum(z, 0.0)
-    return {
-        "linear": lambda: z + 2 * d * w,
-        "hertz-linear": lambda: z**P + 2 * d * w,
-        "hunt-crossley": lambda: z**P * (1 + d * w),
-        "tsuji": lambda: z**P + d * z ** ((P - 1) / 2) * w,
-        "viscoelastic": lambda: z**1.5 + d * np.sqrt(z) * w,
-    }[law]()
-
-
-def sign(law: str, z: float, w: float, d: float) -> float:
-    """A function with the sign of the force for z > 0, smooth at z = 0."""
-    z = max(z, 0.0)
-    return {
-        "linear": z + 2 * d * w,
-        "hertz-linear": z**P + 2 * d * w,
-        "hunt-crossley": 1 + d * w,
-        "tsuji": d * w + z ** ((P + 1) / 2),
-        "viscoelastic": z + d * w,
-    }[law]
+from tests.references.contact_laws import P, phi, sign
 
 
 def reference(law: str, d: float, condition: str) -> tuple[float, float, float, float]:

@@ -13,7 +13,10 @@ damping number (``docs/physics.md``, "Nonlinear contact laws"):
   a call of at least :data:`~impactsym.contact.nonlinear.TABLE_MIN` designs of one
   exponent, the Hertz-linear and viscoelastic restitution of the table of
   :func:`~impactsym.contact.nonlinear.free_table`, the one
-  :func:`~impactsym.contact.nonlinear.impact` then uses), which falls monotonically
+  :func:`~impactsym.contact.nonlinear.impact` then uses; with a pressing force, in a
+  call of at least :data:`~impactsym.contact.nonlinear.PRESSED_MIN` pressed designs of
+  one exponent, the restitution of :func:`~impactsym.contact.nonlinear.pressed_table`),
+  which falls monotonically
   from 1 at zero damping: the bracket grows by factors of 4, then Illinois steps (bisection
   where the upper end sticks) shrink it to a relative width of :math:`10^{-13}`.
 
@@ -43,6 +46,8 @@ from impactsym.contact.nonlinear import (
     clipped_linear,
     normalize,
     normalized_impact,
+    pressed_mask,
+    pressed_tabulated,
     table_mask,
     tabulated,
 )
@@ -87,36 +92,33 @@ def design_number(law: str, target, b, q, *, condition: str) -> np.ndarray:
     if idx.size == 0:
         return result
     t, bb, qq = target[idx], b[idx], q[idx]
-    # unpressed designs of a large call invert the table of the unpressed impact
-    tabled = table_mask(bb, qq) if law in ("hertz-linear", "viscoelastic") else None
+    # unpressed designs of a large call invert the table of the unpressed impact, pressed
+    # ones those of the pressed impact (decided once for the call)
+    free = table_mask(bb, qq) if law in ("hertz-linear", "viscoelastic") else None
+    pressed = pressed_mask(law, bb, qq, condition=condition)
 
     def e_of(delta: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        if tabled is not None and tabled[rows].any():
-            out = np.empty(delta.shape)
-            use = tabled[rows]
-            (e,), inside = tabulated(law, delta[use], bb[rows][use], qq[rows][use],
-                                     condition=condition, mask=np.ones(use.sum(), bool),
-                                     rows=(1,))  # fmt: skip
-            out[use] = e
-            other = np.flatnonzero(~use)
-            other = np.concatenate((other, np.flatnonzero(use)[~inside]))
-            if other.size:
-                r = rows[other]
-                out[other] = restitution_of(law, delta[other], bb[r], qq[r], condition=condition)
-            return out
-        if law == "tsuji":  # the map: restitution of the linear contact
-            free = bb[rows] == 0
-            out = np.empty(delta.shape)
-            zeta = tsuji_zeta(delta[free], qq[rows][free])
+        out = np.full(delta.shape, np.nan)
+        done = np.zeros(delta.shape, dtype=bool)
+        for mask, table in ((free, tabulated), (pressed, pressed_tabulated)):
+            use = np.zeros(delta.shape, dtype=bool) if mask is None else mask[rows]
+            if use.any():
+                r = rows[use]
+                (e,), inside = table(law, delta[use], bb[r], qq[r], condition=condition,
+                                     mask=np.ones(r.size, dtype=bool), rows=(1,))  # fmt: skip
+                at = np.flatnonzero(use)[inside]
+                out[at], done[at] = e[inside], True
+        if law == "tsuji":  # unpressed, the map: restitution of the linear contact
+            free_map = ~done & (bb[rows] == 0)
+            zeta = tsuji_zeta(delta[free_map], qq[rows][free_map])
             released = "force" if condition == "clipped" else condition
-            out[free] = linear_restitution(zeta, 0.0, condition=released)
-            if (~free).any():
-                pressed = rows[~free]
-                out[~free] = restitution_of(
-                    law, delta[~free], bb[pressed], qq[pressed], condition=condition
-                )
-            return out
-        return restitution_of(law, delta, bb[rows], qq[rows], condition=condition)
+            out[free_map] = linear_restitution(zeta, 0.0, condition=released)
+            done |= free_map
+        other = np.flatnonzero(~done)
+        if other.size:
+            r = rows[other]
+            out[other] = restitution_of(law, delta[other], bb[r], qq[r], condition=condition)
+        return out
 
     lo, hi = np.zeros(idx.size), np.ones(idx.size)
     e_lo, e_hi = np.ones(idx.size), e_of(hi, np.arange(idx.size))
@@ -197,8 +199,9 @@ def damping_for(
     -------
     float or ndarray
         The damping parameter, broadcast over the inputs; ``0`` for ``e = 1``. Large
-        unpressed calls invert the tables of :func:`~impactsym.contact.nonlinear.impact`
-        (module docstring): the same target in a smaller call may differ at 1e-9.
+        unpressed or pressed calls invert the tables of
+        :func:`~impactsym.contact.nonlinear.impact` (module docstring): the same target
+        in a smaller call may differ at 1e-9.
 
     Raises
     ------

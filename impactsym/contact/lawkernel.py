@@ -329,6 +329,7 @@ def integrate(
     condition: str,
     end_time: np.ndarray | None = None,
     start: tuple[np.ndarray, np.ndarray] | None = None,
+    settle: bool = True,
 ) -> Normalized:
     r"""Integrate one impact per element of the flat arrays ``delta``, ``b``, ``q``.
 
@@ -340,6 +341,8 @@ def integrate(
     force), ``inf`` where the body is known to stick. ``start``: the state ``(z, z')`` at
     the start of the contact (default ``(0, 1)``, a first impact; a force-condition
     re-contact starts from a deflected element), with a compressive force there.
+    ``settle=False`` stops a trapped body at the verdict (its maximum penetration and
+    peak force are then those met so far): for callers that ask only whether it sticks.
     """
     n = delta.size
     fns = law_functions(name)
@@ -481,6 +484,8 @@ def integrate(
             rest[c] = top_force <= np.maximum(peak[acc[c]], b_acc[c])
         followed[acc] += trapped
         rest |= followed[acc] > FOLLOW  # a stiff creep towards rest: see the docs
+        if not settle:
+            rest[:] = True
         rest &= trapped
         done |= rest
         y[:, acc], t[acc] = y1, t1

@@ -141,6 +141,7 @@ def build(
     tail: float = TAIL,
     floor: float = FLOOR,
     cap: float = np.inf,
+    start: int = 1,
 ) -> ChebyshevTable:
     r"""Tabulate ``fn`` on ``[lo, hi]`` by adaptive bisection (module docstring).
 
@@ -160,6 +161,9 @@ def build(
         A piece where a quantity exceeds ``cap`` in size on a node is left uncovered and
         not halved (near a divergence, e.g. of a contact time, the exact values cost too
         much and the interpolant would not converge).
+    start : int
+        Equal pieces to start from: for a function known to need several, the coarser
+        levels are not evaluated.
 
     Returns
     -------
@@ -181,7 +185,8 @@ def build(
         raise ValueError(f"min_width must be positive, got {min_width!r}")
     x = chebyshev_points(nodes)
     transform = chebyshev_transform(nodes)
-    pending = np.array([[lo, hi]])
+    cuts = np.linspace(lo, hi, int(start) + 1)
+    pending = np.stack((cuts[:-1], cuts[1:]), axis=1)
     done: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # (pieces, coeffs, covered)
     count = 0
     while pending.size:

@@ -14,7 +14,9 @@ force ``F`` (``docs/physics.md``, "Nonlinear contact laws"). The laws are those 
   Hunt–Crossley restitution (Lambert W) and the Tsuji map onto the linear contact with
   :math:`\zeta = \alpha/\sqrt{2(p+1)}` (restitution and sticking);
 * the order-8 integration of :mod:`impactsym.contact.lawkernel` for everything else
-  (contact times, maximum penetration, peak force, and any law with a pressing force).
+  (contact times, maximum penetration, peak force, and any law with a pressing force);
+  in large calls read from tables built once from it: :func:`free_table` without
+  pressing force, :func:`pressed_table` with one (:mod:`impactsym.contact.lawpressed`).
 
 Three contact conditions (:data:`LAW_CONDITIONS`): ``"position"`` (contact while the
 overlap ``d > 0``), ``"force"`` (while the force is compressive; the element's own
@@ -29,11 +31,11 @@ LAMMPS continuous ``limit_damping`` contact).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
+from impactsym.contact import lawpressed
 from impactsym.contact.api import contact_time, physical_contact, restitution
 from impactsym.contact.extrema import linear_extrema
 from impactsym.contact.lawclosed import (
@@ -42,9 +44,10 @@ from impactsym.contact.lawclosed import (
     tsuji_zeta,
 )
 from impactsym.contact.lawkernel import integrate
+from impactsym.contact.lawpatch import PatchTable
+from impactsym.contact.lawrecord import NonlinearImpact
 from impactsym.contact.laws import check_law
 from impactsym.contact.lawtable import ChebyshevTable, build
-from impactsym.records import ArrayRecord
 from impactsym.validation import CONDITIONS, broadcast, finish, real_array
 
 ArrayLike = float | np.ndarray
@@ -91,46 +94,6 @@ def clipped_linear(tau_f, e_f, D, b) -> tuple[np.ndarray, np.ndarray]:
         root = np.sqrt(np.maximum(disc, 0.0))
         s = np.where(z1 > 0, 2.0 * z1 / (e_f + root), 0.0)
     return np.where(sticks, np.inf, tau_f + s), np.where(sticks, 0.0, root)
-
-
-@dataclass(frozen=True, eq=False)
-class NonlinearImpact(ArrayRecord):
-    r"""One impact on a contact law, in physical units, with its normalized numbers.
-
-    Attributes
-    ----------
-    law, condition
-        The contact law and the contact condition used.
-    damping_number, pressing_number
-        The law's damping number (``D``, ``s``, ``alpha`` or ``beta``) and pressing
-        number ``f`` (``docs/physics.md``, "Nonlinear contact laws").
-    time_scale, length_scale
-        :math:`T = (m/(k v_0^{p-1}))^{1/(p+1)}` and :math:`L = v_0 T`.
-    contact_time
-        From touch to the end of contact (``inf``: the body sticks).
-    restitution
-        Speed at the end of contact over ``v0`` (``0.0`` when sticking).
-    max_penetration, peak_force
-        Largest overlap and largest compressive contact force (without the pressing
-        force); for a sticking body, over the whole motion towards rest.
-    """
-
-    law: str
-    condition: str
-    damping_number: ArrayLike
-    pressing_number: ArrayLike
-    time_scale: ArrayLike
-    length_scale: ArrayLike
-    contact_time: ArrayLike
-    restitution: ArrayLike
-    max_penetration: ArrayLike
-    peak_force: ArrayLike
-
-    @property
-    def sticks(self) -> bool | np.ndarray:
-        """Whether the body sticks (never releases)."""
-        stuck = np.isinf(self.contact_time)
-        return bool(stuck) if np.ndim(stuck) == 0 else stuck
 
 
 def normalize(law: str, k, c, m, v0, F, p) -> tuple[np.ndarray, ...]:
@@ -245,15 +208,21 @@ def free_table(law: str, exponent: float, *, condition: str) -> ChebyshevTable:
     ``free_table.cache_clear()`` frees them, ``free_table.cache_info()`` counts them).
     """
     check_law(law)
+    exponent = _checked_exponent(exponent)
+    if condition not in ("position", "force"):
+        raise ValueError(f"a table's condition is 'position' or 'force', got {condition!r}")
+    return _built_table(law, exponent, condition)
+
+
+def _checked_exponent(exponent: object) -> float:
+    """``exponent`` as a float if it is a real number >= 1, else raise naming it."""
     if isinstance(exponent, (bool, np.bool_)) or not isinstance(
         exponent, (int, float, np.integer, np.floating)
     ):
         raise TypeError(f"exponent must be a real number, got {exponent!r}")
     if not (np.isfinite(exponent) and exponent >= 1.0):
         raise ValueError(f"exponent must be finite and >= 1, got {exponent!r}")
-    if condition not in ("position", "force"):
-        raise ValueError(f"a table's condition is 'position' or 'force', got {condition!r}")
-    return _built_table(law, float(exponent), condition)
+    return float(exponent)
 
 
 @lru_cache(maxsize=64)
@@ -284,14 +253,23 @@ free_table.cache_info = _built_table.cache_info  # type: ignore[attr-defined]
 def table_mask(b: np.ndarray, q: np.ndarray) -> np.ndarray:
     """The elements of flat arrays that the tables serve: unpressed, with an exponent that
     at least :data:`TABLE_MIN` unpressed elements of the call share."""
-    free = b == 0
-    if np.count_nonzero(free) < TABLE_MIN:
-        return np.zeros(b.shape, dtype=bool)
+    return shared_exponent(b == 0, q, TABLE_MIN)
+
+
+def shared_exponent(candidates: np.ndarray, q: np.ndarray, minimum: int) -> np.ndarray:
+    """The ``candidates`` (a mask) whose exponent at least ``minimum`` candidates share.
+
+    >>> shared_exponent(np.array([True, True, True, False]), np.array([1.5, 1.5, 2.0, 2.0]),
+    ...                 2).tolist()
+    [True, True, False, False]
+    """
+    if np.count_nonzero(candidates) < minimum:
+        return np.zeros(q.shape, dtype=bool)
     if q.min() == q.max():
-        return free
+        return candidates
     values, inverse = np.unique(q, return_inverse=True)
-    counts = np.bincount(inverse[free], minlength=values.size)
-    return free & (counts[inverse] >= TABLE_MIN)
+    counts = np.bincount(inverse[candidates], minlength=values.size)
+    return candidates & (counts[inverse] >= minimum)
 
 
 def tabulated(
@@ -327,17 +305,139 @@ def tabulated(
     return values, inside
 
 
+#: Pressed elements of one law and exponent in one call from which the tables of
+#: :func:`pressed_table` are used (by :func:`impact` and
+#: :func:`~impactsym.contact.lawdesign.damping_for`; fewer are integrated).
+PRESSED_MIN = 1000
+#: The laws and conditions with tables of the pressed impact (the linear law has closed
+#: forms; the clipped condition is integrated).
+PRESSED_LAWS = ("hertz-linear", "hunt-crossley", "tsuji", "viscoelastic")
+PRESSED_CONDITIONS = ("position", "force")
+#: The parts of the tables of the pressed impact (:mod:`impactsym.contact.lawpressed`).
+PRESSED_PARTS = ("boundary", "ends", "extrema")
+
+
+def pressed_table(
+    law: str, exponent: float, *, condition: str, part: str
+) -> ChebyshevTable | PatchTable:
+    r"""One part of the tables of the pressed impact of ``law`` at ``exponent``
+    (:mod:`impactsym.contact.lawpressed`), built once from :func:`integrated_impact`:
+
+    * ``"boundary"``: :math:`\ln f^*` in :math:`u = \operatorname{asinh}(\delta/0.1)`
+      (the sticking verdict of :func:`~impactsym.contact.lawkernel.integrate`);
+    * ``"ends"``: contact time and restitution where the body releases, in ``u`` and
+      :math:`\sigma = -\ln(1 - f/f^*)`;
+    * ``"extrema"``: maximum penetration and peak force in ``(u, f)``.
+
+    ``law`` one of :data:`PRESSED_LAWS`, ``condition`` ``"position"`` or ``"force"``.
+    Accurate to 1e-10 (relative; restitution absolute) against an independent integration
+    (``tests/test_contact_lawpressed.py``). Kept per process like :func:`free_table`
+    (``pressed_table.cache_clear()``, ``pressed_table.cache_info()``).
+    """
+    if law not in PRESSED_LAWS:
+        raise ValueError(f"pressed tables exist for the laws {PRESSED_LAWS}, got {law!r}")
+    if condition not in PRESSED_CONDITIONS:
+        raise ValueError(f"a pressed table's condition is 'position' or 'force', got {condition!r}")
+    if part not in PRESSED_PARTS:
+        raise ValueError(f"part must be one of {PRESSED_PARTS}, got {part!r}")
+    return _pressed_part(law, _checked_exponent(exponent), condition, part)
+
+
+@lru_cache(maxsize=64)
+def _pressed_part(law: str, exponent: float, condition: str, part: str):
+    """:func:`pressed_table` of checked arguments (the cache keys on them)."""
+
+    def exact(delta: np.ndarray, b: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, ...]:
+        return integrated_impact(law, delta, b, q, condition=condition)
+
+    if part == "boundary":
+
+        def sticks(delta: np.ndarray, f: np.ndarray, q: np.ndarray) -> np.ndarray:
+            return integrate(law, delta, f, q, condition=condition, settle=False).sticks
+
+        label = f"pressed_table({law!r}, {exponent!r}), {condition} condition"
+        return lawpressed.build_boundary(sticks, exponent, label=label)
+    if part == "ends":
+        boundary = _pressed_part(law, exponent, condition, "boundary")
+        return lawpressed.build_ends(exact, boundary, exponent)
+    return lawpressed.build_extrema(exact, exponent)
+
+
+pressed_table.cache_clear = _pressed_part.cache_clear  # type: ignore[attr-defined]
+pressed_table.cache_info = _pressed_part.cache_info  # type: ignore[attr-defined]
+
+
+def pressed_mask(law: str, b: np.ndarray, q: np.ndarray, *, condition: str) -> np.ndarray:
+    """The elements of flat arrays that the tables of :func:`pressed_table` serve: pressed,
+    of a law and condition that has them, with an exponent that at least
+    :data:`PRESSED_MIN` pressed elements of the call share."""
+    if law not in PRESSED_LAWS or condition not in PRESSED_CONDITIONS:
+        return np.zeros(b.shape, dtype=bool)
+    return shared_exponent(b > 0, q, PRESSED_MIN)
+
+
+def pressed_tabulated(
+    law: str,
+    delta: np.ndarray,
+    b: np.ndarray,
+    q: np.ndarray,
+    *,
+    condition: str,
+    rows: tuple[int, ...] = (0, 1, 2, 3),
+    mask: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The rows ``rows`` of (contact time, restitution, maximum penetration, peak force) of
+    flat arrays from the tables of :func:`pressed_table`, shape ``(len(rows), n)``, and
+    where they were used: on the elements of ``mask`` (default :func:`pressed_mask`)
+    inside the tables' cover (``nan`` elsewhere). Only the parts that ``rows`` need are
+    built."""
+    values = np.full((4, delta.size), np.nan)
+    inside = np.zeros(delta.size, dtype=bool)
+    mask = pressed_mask(law, b, q, condition=condition) if mask is None else mask
+    if not mask.any():
+        return values[list(rows)], inside
+    ends, extrema = bool({0, 1} & set(rows)), bool({2, 3} & set(rows))
+    for exponent in np.unique(q[mask]):
+        sel = np.flatnonzero(mask & (q == exponent))
+        x = float(exponent)
+        v, ok = lawpressed.pressed_values(
+            delta[sel],
+            b[sel],
+            boundary=pressed_table(law, x, condition=condition, part="boundary"),
+            ends=pressed_table(law, x, condition=condition, part="ends") if ends else None,
+            extrema=pressed_table(law, x, condition=condition, part="extrema") if extrema else None,
+        )
+        values[:, sel[ok]], inside[sel[ok]] = v[:, ok], True
+    return values[list(rows)], inside
+
+
 def normalized_impact(
-    law: str, delta: np.ndarray, b: np.ndarray, q: np.ndarray, *, condition: str
+    law: str,
+    delta: np.ndarray,
+    b: np.ndarray,
+    q: np.ndarray,
+    *,
+    condition: str,
+    pressed_tables: bool = False,
+    rows: tuple[int, ...] = (0, 1, 2, 3),
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Contact time, restitution, maximum penetration, peak force (all normalized) of
     flat arrays: unpressed elements from the table of :func:`free_table` where
-    :func:`tabulated` uses it, the rest by :func:`integrated_impact`; the closed-form
-    restitutions where they hold (Hunt–Crossley, Tsuji without pressing force)."""
+    :func:`tabulated` uses it, with ``pressed_tables`` pressed ones from the tables of
+    :func:`pressed_table` where :func:`pressed_tabulated` uses them (the rows ``rows``
+    only: the others are ``nan`` there), the rest by :func:`integrated_impact`; the
+    closed-form restitutions where they hold (Hunt–Crossley, Tsuji without pressing
+    force)."""
     # the closed-form restitutions (below) need no table row
-    rows = (0, 2, 3) if law in ("hunt-crossley", "tsuji") else (0, 1, 2, 3)
+    free_rows = (0, 2, 3) if law in ("hunt-crossley", "tsuji") else (0, 1, 2, 3)
     values = np.full((4, delta.size), np.nan)
-    values[list(rows)], inside = tabulated(law, delta, b, q, condition=condition, rows=rows)
+    values[list(free_rows)], inside = tabulated(
+        law, delta, b, q, condition=condition, rows=free_rows
+    )
+    if pressed_tables:
+        got, tabled = pressed_tabulated(law, delta, b, q, condition=condition, rows=rows)
+        values[np.ix_(list(rows), np.flatnonzero(tabled))] = got[:, tabled]
+        inside |= tabled
     rest = np.flatnonzero(~inside)
     if rest.size:
         exact = integrated_impact(law, delta[rest], b[rest], q[rest], condition=condition)
@@ -403,8 +503,11 @@ def impact(
     NonlinearImpact
         ``contact_time = inf`` and ``restitution = 0`` where the body sticks. A call
         with at least :data:`TABLE_MIN` unpressed elements of one exponent reads them
-        from :func:`free_table` (agrees with the integration to 1e-10): the same inputs
-        in a smaller call may differ at that level.
+        from :func:`free_table`, one with at least :data:`PRESSED_MIN` pressed elements
+        of one exponent (laws other than ``"linear"``, position and force conditions)
+        reads those from :func:`pressed_table` (both agree with the integration to
+        1e-10; elements next to the stick boundary or outside the tables' range are
+        integrated): the same inputs in a smaller call may differ at that level.
 
     Examples
     --------
@@ -469,7 +572,9 @@ def impact(
             z_max[rest], peak[rest] = run.z_max, run.peak
         pressing = np.asarray(exact.f)
     else:
-        tau_c, e, z_max, peak = normalized_impact(law, delta, b, q, condition=condition)
+        tau_c, e, z_max, peak = normalized_impact(
+            law, delta, b, q, condition=condition, pressed_tables=True
+        )
         with np.errstate(over="ignore"):
             t_c = tau_c * T
         pressing = b
