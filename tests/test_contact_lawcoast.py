@@ -15,30 +15,7 @@ from scipy.integrate import solve_ivp
 
 from impactsym.contact.lawcoast import coast, element, escape_energy, recontact
 from impactsym.contact.lawkernel import integrate, law_functions
-
-P = 1.5
-
-
-def phi(law, z, w, d):
-    z = max(z, 0.0)
-    return {
-        "linear": z + 2 * d * w,
-        "hertz-linear": z**P + 2 * d * w,
-        "hunt-crossley": z**P * (1 + d * w),
-        "tsuji": z**P + d * z ** ((P - 1) / 2) * w,
-        "viscoelastic": z**1.5 + d * np.sqrt(z) * w,
-    }[law]
-
-
-def reduced(law, z, w, d):
-    z = max(z, 0.0)
-    return {
-        "linear": z + 2 * d * w,
-        "hertz-linear": z**P + 2 * d * w,
-        "hunt-crossley": 1 + d * w,
-        "tsuji": d * w + z ** ((P + 1) / 2),
-        "viscoelastic": z + d * w,
-    }[law]
+from tests.references.contact_laws import P, phi, sign
 
 
 def clipped_reference(law, d, b, t_end=300.0):
@@ -50,7 +27,7 @@ def clipped_reference(law, d, b, t_end=300.0):
             return y[0] if s > t + 1e-12 else 1.0
 
         def zero(s, y):
-            return reduced(law, y[0], y[1], d)
+            return sign(law, y[0], y[1], d)
 
         out.terminal, out.direction = True, -1
         zero.terminal, zero.direction = True, (-1 if mode == "contact" else 1)
@@ -132,7 +109,7 @@ def test_coast_events_are_the_piecewise_system_s():
     for i in range(2):
 
         def back(s, y, i=i):
-            return reduced("tsuji", y[0], y[1], d[i]) if s > 1e-12 else -1.0
+            return sign("tsuji", y[0], y[1], d[i]) if s > 1e-12 else -1.0
 
         def out(s, y):
             return y[0]

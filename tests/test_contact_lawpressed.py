@@ -20,14 +20,12 @@ import zlib
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
-from scipy.optimize import minimize_scalar
 
 from impactsym.contact import damping_for, impact
 from impactsym.contact import lawpressed as lp
 from impactsym.contact.lawpatch import build
 from impactsym.contact.nonlinear import PRESSED_MIN, integrated_impact, pressed_table
-from tests.references.contact_laws import P, phi, sign
+from tests.references.contact_laws import P, impact_ivp, peak_force
 
 LAWS = ("hertz-linear", "hunt-crossley", "tsuji", "viscoelastic")
 
@@ -35,36 +33,11 @@ LAWS = ("hertz-linear", "hunt-crossley", "tsuji", "viscoelastic")
 def reference(law: str, d: float, f: float, condition: str):
     """(contact time, restitution, maximum penetration, peak force), normalized; contact
     time ``inf`` where the body has not left by the end of the run."""
-
-    def rhs(t, y):
-        return [y[1], f - phi(law, y[0], y[1], d)]
-
-    def out(t, y):
-        return y[0] if t > 1e-9 else 1.0
-
-    def released(t, y):
-        return sign(law, y[0], y[1], d) if t > 1e-9 else 1.0
-
-    def top(t, y):
-        return y[1]
-
-    out.terminal = released.terminal = True
-    out.direction = released.direction = top.direction = -1
-    events = [out, top] + ([released] if condition == "force" else [])
-    sol = solve_ivp(rhs, (0.0, 400.0), [0.0, 1.0], method="DOP853", rtol=1e-13, atol=1e-16,
-                    events=events, dense_output=True)  # fmt: skip
+    sol = impact_ivp(law, d, f, condition, 400.0)
     sticks = sol.status == 0
     t_c, e = (np.inf, 0.0) if sticks else (sol.t[-1], -sol.y[1, -1])
     z_max = sol.y_events[1][0][0] if len(sol.t_events[1]) else float(np.max(sol.y[0]))
-    grid = np.linspace(0.0, sol.t[-1], 40001)
-    force = phi(law, *sol.sol(grid), d)
-    i = int(np.argmax(force))
-    peak = force[i]
-    if 0 < i < grid.size - 1:
-        best = minimize_scalar(lambda t: -float(phi(law, *sol.sol(t), d)),
-                               bounds=(grid[i - 1], grid[i + 1]), method="bounded",
-                               options={"xatol": 1e-14})  # fmt: skip
-        peak = max(peak, -best.fun)
+    peak = peak_force(law, sol, d, 40001)
     energy = None
     if sticks:  # the state at the end of the run: trapped for good?
         z, w = sol.y[:, -1]

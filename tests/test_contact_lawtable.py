@@ -17,8 +17,6 @@ import zlib
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
-from scipy.optimize import minimize_scalar
 
 from impactsym.contact import impact
 from impactsym.contact.lawtable import build
@@ -29,44 +27,19 @@ from impactsym.contact.nonlinear import (
     integrated_impact,
     normalized_impact,
 )
-from tests.references.contact_laws import P, phi, sign
+from tests.references.contact_laws import P, impact_ivp, peak_force
 
 
 def reference(law: str, d: float, condition: str) -> tuple[float, float, float, float]:
     """(contact time, restitution, maximum penetration, peak force), normalized."""
-
-    def rhs(t, y):
-        return [y[1], -phi(law, y[0], y[1], d)]
-
-    def out(t, y):
-        return y[0] if t > 1e-9 else 1.0
-
-    def released(t, y):
-        return sign(law, y[0], y[1], d) if t > 1e-9 else 1.0
-
-    def top(t, y):
-        return y[1]
-
-    out.terminal = released.terminal = True
-    out.direction = released.direction = top.direction = -1
-    events = [out, top] + ([released] if condition != "position" else [])
-    sol = solve_ivp(rhs, (0.0, 200.0), [0.0, 1.0], method="DOP853", rtol=1e-13, atol=1e-16,
-                    events=events, dense_output=True)  # fmt: skip
+    sol = impact_ivp(law, d, 0.0, condition, 200.0)
     assert sol.status == 1, (law, d, condition)
     t_c, e = sol.t[-1], -sol.y[1, -1]
     z_end = sol.y[0, -1]
     if condition == "clipped" and len(sol.t_events[2]):
         t_c += z_end / e  # the free coast at speed e to z = 0
     z_max = sol.y_events[1][0][0]
-    grid = np.linspace(0.0, sol.t[-1], 20001)
-    force = phi(law, *sol.sol(grid), d)
-    i = int(np.argmax(force))
-    peak = force[i]
-    if 0 < i < grid.size - 1:
-        best = minimize_scalar(lambda t: -float(phi(law, *sol.sol(t), d)),
-                               bounds=(grid[i - 1], grid[i + 1]), method="bounded",
-                               options={"xatol": 1e-14})  # fmt: skip
-        peak = max(peak, -best.fun)
+    peak = peak_force(law, sol, d, 20001)
     return t_c, e, z_max, peak
 
 
