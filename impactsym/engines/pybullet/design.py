@@ -115,7 +115,11 @@ def contact_for(
     in the call, Newton starts from a table of the phase means (module docstring): the
     same acceptance (both targets to ``1e-9``), 4-7 times fewer exact evaluations per
     design. Smaller
-    calls give the same numbers as before, element by element.
+    calls give the same numbers as before, element by element. Under gravity, a target
+    Newton misses from the textbook start gets a table of its own before it is refused
+    (contacts of at most 50 steps; longer ones would cost minutes per refusal), so a
+    target designed alone is designed in any call; a big call may also design a target
+    of a longer contact that a call of its own refuses (its table then finds it).
 
     >>> d = contact_for(restitution=0.5, speed=1.0, mass=0.1, contact_time=0.05)
     >>> round(d.restitution, 9), round(d.contact_time, 9)
@@ -185,7 +189,9 @@ def _designs(e, t, v, m, g, h, settings):
     (:func:`~impactsym.engines.pybullet.design_table.table_designs`), the others by
     :func:`_solve` from the textbook start, and those that misses under gravity with
     contacts of at most ``_RESCUE_STEPS`` steps from a table of their own contact (Newton
-    from the textbook start can miss a design that exists)."""
+    from the textbook start can miss a design that exists), and those a shared table
+    missed from a table of their own target, so that a target designed alone is designed
+    in any call."""
     _, label, counts = np.unique(
         np.stack([v, m, g]), axis=1, return_inverse=True, return_counts=True
     )
@@ -199,7 +205,22 @@ def _designs(e, t, v, m, g, h, settings):
         k[left], c[left] = _solve(*(a[left] for a in (e, t, v, m, g)), h, settings)
     # a second chance under gravity for short contacts (bounded cost: see module docstring)
     short = (g > 0) & (t <= _RESCUE_STEPS * h)
-    _from_tables(e, t, v, m, g, h, settings, k, c, ~big & np.isnan(k) & short)
+    rescue = ~big & np.isnan(k) & short
+    _from_tables(e, t, v, m, g, h, settings, k, c, rescue)
+    # a table's box and grid depend on the targets it serves: one a shared table missed
+    # gets a table of its own, as in a call of its own, in order; the first still missed
+    # ends the retries (the call is refused there, naming it)
+    _, label, counts = np.unique(
+        np.stack([v, m, g])[:, rescue], axis=1, return_inverse=True, return_counts=True
+    )
+    alone = np.zeros(e.size, bool)
+    alone[np.flatnonzero(rescue)[counts[label.ravel()] == 1]] = True
+    for i in np.flatnonzero(np.isnan(k) & short & ~alone):
+        one = np.zeros(e.size, bool)
+        one[i] = True
+        _from_tables(e, t, v, m, g, h, settings, k, c, one)
+        if np.isnan(k[i]):
+            break
     return k, c
 
 

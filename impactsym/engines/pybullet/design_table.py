@@ -157,7 +157,7 @@ class _Table:
         bad = ~inside | ~np.all(np.isfinite(block), axis=(0, 2, 3))
         return np.where(bad, np.nan, val), np.where(bad, np.nan, jac)
 
-    def invert(self, target: np.ndarray) -> np.ndarray:
+    def invert(self, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``x`` with interpolant ``== target`` (Newton from the table point nearest in
         ``F``, scaled by the table's spread; ``nan`` columns where it does not converge
         to ``1e-12`` in ``F`` inside the grid) and the grid indices ``(2, n)`` of those
