@@ -201,9 +201,10 @@ def _start(s_nodes, w_nodes, E, Q, e, q):
         i = np.searchsorted(-np.minimum.accumulate(col), -e)
         inside = (i > 0) & (i < col.size)
         i = np.clip(i, 1, col.size - 1)
-        t = (col[i - 1] - e) / (col[i - 1] - col[i])
-        s_c[j] = np.where(inside, s_nodes[i - 1] + t * (s_nodes[i] - s_nodes[i - 1]), np.nan)
-        q_c[j] = np.where(inside, Q[i - 1, j] + t * (Q[i, j] - Q[i - 1, j]), np.nan)
+        with np.errstate(all="ignore"):  # (outside the crossing: masked just below)
+            t = (col[i - 1] - e) / (col[i - 1] - col[i])
+            s_c[j] = np.where(inside, s_nodes[i - 1] + t * (s_nodes[i] - s_nodes[i - 1]), np.nan)
+            q_c[j] = np.where(inside, Q[i - 1, j] + t * (Q[i, j] - Q[i - 1, j]), np.nan)
     # along the contour Q falls with w: the first column where it is below the target
     below = q_c <= q
     j = np.argmax(below, axis=0)
@@ -259,8 +260,8 @@ def _broyden(mean, s, w, jac, e, q, s_box, w_box):
         live, f = live[keep], f[keep]
         x_prev, f_prev = x[live].copy(), f
         a, b, c, dd = jac[live, 0, 0], jac[live, 0, 1], jac[live, 1, 0], jac[live, 1, 1]
-        det = a * dd - b * c
-        with np.errstate(all="ignore"):
+        with np.errstate(all="ignore"):  # (a step that is not finite is refused below)
+            det = a * dd - b * c
             step_s = (dd * f[:, 0] - b * f[:, 1]) / det
             step_w = (a * f[:, 1] - c * f[:, 0]) / det
         new = x[live] - np.stack([step_s, step_w], axis=1)
