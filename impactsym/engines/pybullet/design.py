@@ -334,6 +334,7 @@ def _refuse(e, t, v, m, g, h, settings, i):
             if np.isfinite(k[0]):
                 shorter = float(t[i] * frac)
                 break
+    where = f"element {i}, " if e.size > 1 else ""  # (a call of one: no index to name)
     e, t, v, m, g = (float(a[i]) for a in (e, t, v, m, g))
     steps = t / h
     why = (
@@ -358,6 +359,6 @@ def _refuse(e, t, v, m, g, h, settings, i):
         hint += f"; contact_time = {shorter:.6g} s reaches it at this timestep"
     raise ValueError(
         f"no PyBullet contact gives restitution = {e!r} with contact_time = {t!r} s "
-        f"(speed {v!r} m/s, mass {m!r} kg, gravity {g!r}) at timestep = {h!r} s: "
+        f"({where}speed {v!r} m/s, mass {m!r} kg, gravity {g!r}) at timestep = {h!r} s: "
         f"{why}{hint}"
     )
