@@ -78,6 +78,27 @@ def cubic_lagrange_weights(s):
     return w, dw
 
 
+def cubic_lagrange(x: np.ndarray, y: np.ndarray, at: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Cubic Lagrange interpolation of ``y`` (rows over the increasing nodes ``x``, at
+    least four) at ``at``, through the four nodes around each point (clamped at the
+    ends): ``(values, first)``, ``first`` the index of each stencil's first node.
+
+    >>> x = np.array([0.0, 1.0, 2.0, 4.0, 5.0])
+    >>> values, first = cubic_lagrange(x, x[None] ** 3, np.array([1.5, 4.5]))
+    >>> values.round(12).tolist(), first.tolist()
+    ([[3.375, 91.125]], [0, 1])
+    """
+    j = np.clip(np.searchsorted(x, at) - 2, 0, x.size - 4)
+    out = np.zeros((y.shape[0], at.size))
+    for a in range(4):
+        w = np.ones(at.size)
+        for b in range(4):
+            if b != a:
+                w = w * (at - x[j + b]) / (x[j + a] - x[j + b])
+        out += w * y[:, j + a]
+    return out, j
+
+
 def polyval_rows(C: np.ndarray, x) -> np.ndarray:
     """Row-wise Horner: ``sum_k C[..., k] x**k``, the leading axes of ``C`` broadcast
     against ``x`` (real or complex, in the type of ``C`` and ``x``).

@@ -132,7 +132,11 @@ def _group(e, v, m, g, target, h, approx, size_name):
     w0 = (tau0 if size_name == "contact_time" else z0) / q
     box = ((s0.min() / WIDE, s0.max() * WIDE), (w0.min() / WIDE, w0.max() * WIDE))
     # one member's mass, speed and gravity: the means depend on (s, w, g/v) alone
-    mean = _means(m[0], v[0], g[0], h, approx, size_name, unit[0])
+    mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
+
+    def mean(s, w):
+        return mean_rows(s, w, np.zeros(s.size, int))
+
     for nodes in (COARSE, (NODES_S, NODES_W)):
         s_nodes, w_nodes = (
             np.linspace(*side, count) for side, count in zip(box, nodes, strict=True)
@@ -146,7 +150,6 @@ def _group(e, v, m, g, target, h, approx, size_name):
         # the next box: the starts found, widened by a cell and a margin
         cell = (s_nodes[1] - s_nodes[0], w_nodes[1] - w_nodes[0])
         box = tuple(_widened(x[found], c) for x, c in zip((s, w), cell, strict=True))
-    mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
     s, w, done = _broyden(mean_rows, s, w, jac, e, q, *box)
     rest = np.flatnonzero(~done & np.isfinite(s) & np.isfinite(w))
     if rest.size:  # next to a plateau's edge: a bracket in w along the contour
@@ -164,17 +167,6 @@ def _widened(x, cell):
     lo, hi = x.min(), x.max()
     pad = cell + MARGIN * (hi - lo)
     return (max(lo - pad, 0.5 * lo), hi + pad)
-
-
-def _means(m, v, g, h, approx, size_name, unit):
-    """``mean(s, w)``: the phase means ``(E, Q)`` of one contact (mass, speed, gravity)."""
-
-    def mean(s, w):
-        r = phase_summary(m * (w / h) ** 2, s / v, 0.0, m, g, v, h, approximation=approx,
-                          bounds=False)  # fmt: skip
-        return r.restitution, getattr(r, size_name) / unit
-
-    return mean
 
 
 def _means_rows(m, v, g, h, approx, size_name, unit):

@@ -63,6 +63,7 @@ from impactsym.engines.mujoco.model import (
     weight_ratio,
 )
 from impactsym.engines.mujoco.table_design import table_crossings
+from impactsym.numeric.poly import cubic_lagrange
 from impactsym.numeric.roots import bracketed_illinois, newton_system
 
 __all__ = ["DiscreteTarget", "design_discrete", "stable"]
@@ -538,26 +539,12 @@ def _curve_newton(tg: DiscreteTarget, u0: np.ndarray) -> tuple:
     u, r = np.empty_like(u0), np.empty_like(u0)
     u[:, nodes], r[:, nodes] = u_n, r_n
     rest = np.setdiff1d(np.arange(n), nodes)
-    u[:, rest] = _lagrange4(tg.e[nodes], u_n, tg.e[rest])
+    u[:, rest] = cubic_lagrange(tg.e[nodes], u_n, tg.e[rest])[0]
     r[:, rest] = _residual(tg.take(rest))(u[:, rest])
     again = rest[~np.all(np.abs(r[:, rest]) < _NEWTON_TOL, axis=0)]
     if again.size:
         u[:, again], r[:, again] = _newton(tg.take(again), u[:, again])
     return u, r
-
-
-def _lagrange4(x: np.ndarray, y: np.ndarray, at: np.ndarray) -> np.ndarray:
-    """Cubic Lagrange interpolation of ``y`` (rows over increasing ``x``) at ``at``,
-    through the four nodes around each point (clamped at the ends)."""
-    j = np.clip(np.searchsorted(x, at) - 2, 0, x.size - 4)
-    out = np.zeros((y.shape[0], at.size))
-    for a in range(4):
-        w = np.ones(at.size)
-        for b in range(4):
-            if b != a:
-                w = w * (at - x[j + b]) / (x[j + a] - x[j + b])
-        out += w * y[:, j + a]
-    return out
 
 
 def _raise(tg: DiscreteTarget, i: int, why: str, refuse: bool) -> None:

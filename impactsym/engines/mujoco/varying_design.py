@@ -37,7 +37,7 @@ import numpy as np
 from impactsym.engines.mujoco.continuous import varying_phase
 from impactsym.engines.mujoco.flat_brackets import unreachable
 from impactsym.engines.mujoco.model import coefficients
-from impactsym.numeric.poly import cubic_lagrange_weights
+from impactsym.numeric.poly import cubic_lagrange
 from impactsym.numeric.roots import newton_system
 
 __all__ = ["design_varying"]
@@ -167,16 +167,11 @@ def _table_start(e_t, v0, g, t_c, tc0, simp, rho, flat_start, members):
 def _interpolate(e_n, u_n, e):
     """The cubic through the four node designs around each target (``nan`` where a
     five-point stencil around them has a fourth difference above ``_SMOOTH``)."""
-    m = e_n.size
-    s = (e - e_n[0]) / (e_n[1] - e_n[0])
-    j = np.clip(np.floor(s).astype(int), 1, m - 3)
-    w, _ = cubic_lagrange_weights(s - j)
-    stencil = j[:, None] + np.arange(-1, 3)[None, :]
-    out = np.sum(w[None] * u_n[:, stencil], axis=2)
+    out, first = cubic_lagrange(e_n, u_n, e)
     d4 = np.abs(u_n[:, :-4] - 4 * u_n[:, 1:-3] + 6 * u_n[:, 2:-2] - 4 * u_n[:, 3:-1] + u_n[:, 4:])
     d4 = np.max(d4, axis=0)  # per window k .. k + 4
     rough = np.zeros(e.size, bool)
-    for k in (j - 2, j - 1):  # the windows holding the nodes j - 1 .. j + 2
+    for k in (first - 1, first):  # the windows holding the nodes first .. first + 3
         ok = (k >= 0) & (k < d4.size)
         rough[ok] |= d4[k[ok]] > _SMOOTH
     out[:, rough] = np.nan
