@@ -8,6 +8,8 @@ too small for a table.
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -130,7 +132,8 @@ def test_targets_near_sticking_split_the_table_or_are_iterated():
 
 
 def test_read_designs_deliver_in_drake():
-    pytest.importorskip("pydrake")
+    if os.environ.get("CI") != "true":  # CI installs the engine: there it must run
+        pytest.importorskip("pydrake")
     from impactsym.engines.drake.driver import drake_continuous
 
     e = np.linspace(0.4, 0.8, MIN_TARGETS)

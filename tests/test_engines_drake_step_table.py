@@ -8,6 +8,8 @@ targets in calls too small for a table.
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -113,7 +115,8 @@ def test_an_out_of_reach_target_of_a_table_call_is_refused_as_alone():
 
 
 def test_table_started_designs_deliver_in_drake():
-    pytest.importorskip("pydrake")
+    if os.environ.get("CI") != "true":  # CI installs the engine: there it must run
+        pytest.importorskip("pydrake")
     from impactsym.engines.drake.driver import drake_phases
 
     e, t, _ = _targets(MIN_TARGETS)

@@ -10,6 +10,8 @@ the textbook start misses is run in PyBullet itself, phase by phase.
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -90,7 +92,8 @@ def test_gravity_targets_the_textbook_start_misses_are_designed():
 
 
 def test_pybullet_runs_a_design_the_textbook_start_missed_as_predicted():
-    pytest.importorskip("pybullet")
+    if os.environ.get("CI") != "true":  # CI installs the engine: there it must run
+        pytest.importorskip("pybullet")
     from impactsym.engines.pybullet.driver import pybullet_steps
 
     # e = 0.4431 at 10 steps under gravity: Newton from the textbook start breaks off
