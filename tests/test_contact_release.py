@@ -200,3 +200,48 @@ def test_over_damped_forms_join_without_a_step():
         assert rel.peak_force[1] == pytest.approx(rel.peak_force[0], rel=1e-13)
         margin = release_margin(D, np.full(2, load), np.full(2, offset))
         assert margin[1] == pytest.approx(margin[0], rel=1e-12, abs=1e-15)
+
+
+def test_first_crossing_of_any_level_from_any_state_matches_mpmath():
+    # the general crossing (engines' passages start anywhere, levels of both signs): the
+    # first tau with level + h(tau) <= 0, against mpmath's root of the closed form
+    # (e^{-D t}(h0 cos + (h1 + D h0) sin / mu), cosh/sinh above D = 1) bracketed by a
+    # dense scan of its own
+    from impactsym.contact.release import first_crossing, homogeneous_modes
+
+    rng = np.random.default_rng(17)
+    n = 60
+    D = np.concatenate([rng.uniform(0.0, 5.0, n - 4), [1.0, 2.0, 0.3, 3.0]])
+    h0, h1 = rng.normal(0, 1, D.size), rng.normal(0, 1, D.size)
+    level = rng.normal(0, 1, D.size)
+    level = np.where(level + h0 > 0, level, -h0 + np.abs(level))  # starts above
+    level[-2:] = [-0.2, -0.4]  # negative levels: the over-damped tail at D = 3
+    h0[-2:], h1[-2:] = [0.5, 0.9], [-0.1, 0.3]
+    tau = first_crossing(D, level, h0, h1, homogeneous_modes(D, h0, h1),
+                         exclude_start=np.zeros(D.size, bool))  # fmt: skip
+    mp.mp.dps = 30
+    for i in range(D.size):
+        d, a, b, lv = (mp.mpf(float(x[i])) for x in (D, h0, h1, level))
+        mu = mp.sqrt(abs(1 - d * d))
+
+        def g(t, d=d, a=a, b=b, lv=lv, mu=mu):
+            if d < 1:
+                s = mp.sin(mu * t) / mu
+                c = mp.cos(mu * t)
+            elif d == 1:
+                s, c = t, mp.mpf(1)
+            else:
+                s, c = mp.sinh(mu * t) / mu, mp.cosh(mu * t)
+            return lv + mp.exp(-d * t) * (a * c + (b + d * a) * s)
+
+        grid = [mp.mpf(k) / 50 for k in range(1, 50 * 60)]
+        prev, found = mp.mpf(0), None
+        for t in grid:
+            if g(t) <= 0:
+                found = mp.findroot(g, (prev, t), solver="anderson")
+                break
+            prev = t
+        if found is None:
+            assert tau[i] == np.inf or tau[i] > 60.0, i
+        else:
+            assert tau[i] == pytest.approx(float(found), rel=1e-11), i

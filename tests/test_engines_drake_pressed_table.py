@@ -131,6 +131,29 @@ def test_targets_near_sticking_split_the_table_or_are_iterated():
     np.testing.assert_allclose(c.restitution[ok], p.restitution[ok], rtol=1e-12)
 
 
+def test_a_box_with_a_sticking_corner_costs_its_corners_not_a_table(monkeypatch):
+    # e <= 0.02 under gravity: heavy damping, and the box's far corner (largest damping
+    # and pressing numbers) sticks; each box is refused after its four corner impacts
+    # (it cost 512 exact impacts, 7 s, before) and the targets are left to the iteration
+    from impactsym.engines.drake import pressed_table
+
+    evaluated = []
+    exact = pressed_table.normalized_impact
+
+    def counting(law, s, b, *args, **kwargs):
+        evaluated.append(np.size(s))
+        return exact(law, s, b, *args, **kwargs)
+
+    monkeypatch.setattr(pressed_table, "normalized_impact", counting)
+    n = 2 * MIN_TARGETS
+    e, t = np.linspace(0.005, 0.02, n), np.linspace(0.02, 0.04, n)[::-1]
+    one = np.ones(n)
+    ok = pressed_designs(e, one, 0.1 * one, 9.81 * one, t, "contact_time")[0]
+    assert not ok.any()
+    assert evaluated
+    assert set(evaluated) == {4}
+
+
 def test_read_designs_deliver_in_drake():
     if os.environ.get("CI") != "true":  # CI installs the engine: there it must run
         pytest.importorskip("pydrake")

@@ -43,13 +43,22 @@ from impactsym.numeric.roots import bracketed_newton
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, real_array
 
-__all__ = ["LinearRelease", "linear_release", "release_margin"]
+__all__ = [
+    "LinearRelease",
+    "derivative_modes",
+    "first_crossing",
+    "homogeneous_at",
+    "homogeneous_extrema",
+    "homogeneous_modes",
+    "linear_release",
+    "release_margin",
+]
 
 _SERIES = 1e-3  # below this |mu| tau the arctanh quotient is taken from its series
 
 
 #: Damping ratio above which the over-damped ``h`` is evaluated as two decaying modes
-#: with exact amplitudes (:func:`_modes`): the kernel's cosh/sinh form cancels there.
+#: with exact amplitudes (:func:`homogeneous_modes`): the kernel's cosh/sinh form cancels there.
 _D_MODES = 2.0
 
 
@@ -62,7 +71,9 @@ def _rates(D: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return 1.0 / fast, fast, 2.0 * mu
 
 
-def _modes(D: np.ndarray, h0: np.ndarray, h1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def homogeneous_modes(
+    D: np.ndarray, h0: np.ndarray, h1: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Mode numerators ``(a_s, a_f) = (h1 + r_f h0, -(h1 + r_s h0))`` of
     ``h = (a_s e^{-r_s tau} + a_f e^{-r_f tau}) / w``, from the initial values.
 
@@ -87,12 +98,12 @@ def _force_modes(D: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 _Modes = tuple[np.ndarray, np.ndarray]
 
 
-def _homogeneous(
+def homogeneous_at(
     tau: np.ndarray, D: np.ndarray, h0: np.ndarray, h1: np.ndarray, modes: _Modes
 ) -> tuple[np.ndarray, np.ndarray]:
     """``h`` and ``h'`` with ``h(0) = h0``, ``h'(0) = h1`` (the section-2 kernel's closed
     forms, :class:`impactsym.contact.kernel.Homogeneous`), broadcast to one shape; above
-    ``_D_MODES`` as two decaying modes with the numerators ``modes`` (:func:`_modes`)."""
+    ``_D_MODES`` as two decaying modes with the numerators ``modes`` (:func:`homogeneous_modes`)."""
     a_s, a_f = modes
     shape = np.broadcast_shapes(*(np.shape(x) for x in (tau, D, h0, h1, a_s, a_f)))
     t, d, a, b, ms, mf = (
@@ -125,7 +136,7 @@ def _mode_time(D: np.ndarray, modes: _Modes, extremum: bool) -> np.ndarray:
         return np.where(q > 0.0, q / w, np.inf)
 
 
-def _extrema(
+def homogeneous_extrema(
     D: np.ndarray, h0: np.ndarray, h1: np.ndarray, modes: _Modes
 ) -> tuple[np.ndarray, np.ndarray]:
     """First two positive roots of ``h'`` (``inf`` where there are fewer)."""
@@ -159,7 +170,7 @@ def _extreme_values(D, level, h0, h1, modes, skip=None, extrema=None):
     Where ``skip`` is True the values are not evaluated and reported as ``inf``;
     ``extrema`` are the extrema when the caller has them.
     """
-    t1, t2 = _extrema(D, h0, h1, modes) if extrema is None else extrema
+    t1, t2 = homogeneous_extrema(D, h0, h1, modes) if extrema is None else extrema
     if skip is not None and skip.any():
         g1, g2 = np.full(np.shape(t1), np.inf), np.full(np.shape(t2), np.inf)
         k = ~skip
@@ -171,8 +182,8 @@ def _extreme_values(D, level, h0, h1, modes, skip=None, extrema=None):
 
 
 def _values_at(t1, t2, D, level, h0, h1, modes):
-    g1 = level + _homogeneous(np.where(np.isfinite(t1), t1, 0.0), D, h0, h1, modes)[0]
-    g2 = level + _homogeneous(np.where(np.isfinite(t2), t2, 0.0), D, h0, h1, modes)[0]
+    g1 = level + homogeneous_at(np.where(np.isfinite(t1), t1, 0.0), D, h0, h1, modes)[0]
+    g2 = level + homogeneous_at(np.where(np.isfinite(t2), t2, 0.0), D, h0, h1, modes)[0]
     return np.where(np.isfinite(t1), g1, np.inf), np.where(np.isfinite(t2), g2, np.inf)
 
 
@@ -212,12 +223,39 @@ def release_margin(D, load, offset):
     a3 = -2.0 * D * a2 - 1.0
     _, _, f1, f2 = _extreme_values(D, c + delta, -a2, -a3, _force_modes(D, c))
     one = np.ones_like(D)
-    _, _, _, p2 = _extreme_values(D, c, -c, one, _modes(D, -c, one))
+    _, _, _, p2 = _extreme_values(D, c, -c, one, homogeneous_modes(D, -c, one))
     return np.minimum.reduce([f1, f2, p2, c + delta, c])
 
 
-def _first_crossing(D, level, h0, h1, modes, exclude_start, before=None):
-    """First ``tau > 0`` with ``level + h(tau) <= 0`` (``level >= 0``, ``level + h0 >= 0``).
+def derivative_modes(D: np.ndarray, modes: _Modes) -> _Modes:
+    """Internal: the mode numerators of ``h'`` from those of ``h`` (:func:`homogeneous_modes`;
+    exact: each mode is multiplied by its rate, ``-r_s`` and ``-r_f``)."""
+    slow, fast, _ = _rates(D)
+    return -slow * modes[0], -fast * modes[1]
+
+
+def first_crossing(
+    D: np.ndarray,
+    level: np.ndarray,
+    h0: np.ndarray,
+    h1: np.ndarray,
+    modes: _Modes,
+    *,
+    exclude_start: np.ndarray,
+    before: np.ndarray | None = None,
+    rtol: float = 1e-13,
+) -> np.ndarray:
+    """Internal: first ``tau > 0`` with ``level + h(tau) <= 0``, ``inf`` where never.
+
+    ``h`` is the homogeneous solution from ``(h0, h1)`` with the mode numerators
+    ``modes`` (:func:`homogeneous_modes`), and the threshold starts on or above zero,
+    ``level + h0 >= 0`` (up to rounding). ``exclude_start``: the start lies on the
+    threshold and is not a crossing (the crossing comes after the first extremum).
+    Why this numerics (module docstring): a crossing of ``level >= 0`` comes before the
+    second extremum of ``h`` or never; for ``level < 0`` an under-damped ``h`` crosses
+    by its second extremum too, an over-damped one (at most one extremum, then decaying
+    to zero) after its extremum or the start, bracketed by doubling. The bracket is
+    polished by :func:`impactsym.numeric.roots.bracketed_newton` to ``rtol``.
 
     With ``before``, a crossing proven to come after it is not solved for and reported
     as ``inf`` (``level + h`` falls monotonically across its bracket, so it comes after
@@ -230,7 +268,7 @@ def _first_crossing(D, level, h0, h1, modes, exclude_start, before=None):
     if zero.any():
         dz = D[zero]
         unused = (dz, dz)  # modes of that integral: replaced above _D_MODES just below
-        z1, _ = _extrema(dz, -h1[zero] - 2.0 * dz * h0[zero], h0[zero], unused)
+        z1, _ = homogeneous_extrema(dz, -h1[zero] - 2.0 * dz * h0[zero], h0[zero], unused)
         over = dz > _D_MODES  # above _D_MODES: the zero of the two modes directly
         if over.any():
             sub = tuple(m[zero] for m in modes)
@@ -240,7 +278,7 @@ def _first_crossing(D, level, h0, h1, modes, exclude_start, before=None):
             return tau
     # a crossing that must wait for the first extremum comes after ``before`` when that
     # extremum does: its threshold values are not needed
-    extrema = _extrema(D, h0, h1, modes)
+    extrema = homogeneous_extrema(D, h0, h1, modes)
     skip = None if before is None else exclude_start & (extrema[0] > before)
     t1, t2, g1, g2 = _extreme_values(D, level, h0, h1, modes, skip, extrema)
     first = np.isfinite(t1) & (g1 <= 0) & ~exclude_start
@@ -250,19 +288,28 @@ def _first_crossing(D, level, h0, h1, modes, exclude_start, before=None):
     # the threshold at the bracket ends is known: level + h0 at 0, g1 and g2 at t1, t2
     g_lo = np.where(first, level + h0, g1)
     g_hi = np.where(first, g1, g2)
-    found = (first | second) & ~zero
+    # below a negative level an over-damped h (no second extremum) crosses on its way to 0
+    tail = ~first & ~second & ~zero & (level < 0.0) & ~np.isfinite(t2)
+    if tail.any():
+        k = np.flatnonzero(tail)
+        past = np.isfinite(t1[k])
+        lo[k] = np.where(past, t1[k], 0.0)
+        g_lo[k] = np.where(past, g1[k], level[k] + h0[k])
+        sub = tuple(m[k] for m in modes)
+        hi[k], g_hi[k] = _tail_bracket(D[k], level[k], h0[k], h1[k], sub, lo[k])
+    found = (first | second | tail) & ~zero
     if before is not None:
         late = np.array(found & (lo > before))  # an array also when 0-d (item assignment)
         k = found & ~late & (hi > before)
         if k.any():
             sub = tuple(m[k] for m in modes)
-            late[k] = level[k] + _homogeneous(before[k], D[k], h0[k], h1[k], sub)[0] > 0
+            late[k] = level[k] + homogeneous_at(before[k], D[k], h0[k], h1[k], sub)[0] > 0
         found &= ~late
     if found.any():
         params = [a[found] for a in (D, level, h0, h1, *modes)]
 
         def g_dg(t, d, lv, a, b, ms, mf):
-            h, dh = _homogeneous(t, d, a, b, (ms, mf))
+            h, dh = homogeneous_at(t, d, a, b, (ms, mf))
             return lv + h, dh
 
         tau[found] = bracketed_newton(
@@ -271,11 +318,25 @@ def _first_crossing(D, level, h0, h1, modes, exclude_start, before=None):
             lo[found],
             hi[found],
             params,
-            rtol=1e-13,
-            g_lo=g_lo[found],
-            g_hi=g_hi[found],
+            rtol=rtol,
+            g_lo=np.maximum(g_lo[found], 0.0),  # the bracket's signs, rounding aside
+            g_hi=np.minimum(g_hi[found], 0.0),
         )
     return tau
+
+
+def _tail_bracket(D, level, h0, h1, modes, lo):
+    """A time after ``lo`` at which ``level + h < 0`` (``level < 0``) and the value there,
+    by doubling (``h`` decays to zero)."""
+    hi = np.maximum(2.0 * lo, 1.0)
+    g = level + homogeneous_at(hi, D, h0, h1, modes)[0]
+    for _ in range(2100):  # 2^2100 > any float time: h has long underflowed by then
+        more = g > 0.0
+        if not more.any():
+            break
+        hi = np.where(more, 2.0 * hi, hi)
+        g = np.where(more, level + homogeneous_at(hi, D, h0, h1, modes)[0], g)
+    return hi, np.minimum(g, 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -363,9 +424,9 @@ def linear_release(
     a2 = c - 2.0 * D
     a3 = -2.0 * D * a2 - 1.0
     one = np.ones_like(D)
-    force_modes, position_modes = _force_modes(D, c), _modes(D, -c, one)
+    force_modes, position_modes = _force_modes(D, c), homogeneous_modes(D, -c, one)
     tau_f = (
-        _first_crossing(D, c + delta, -a2, -a3, force_modes, np.zeros(D.shape, bool))
+        first_crossing(D, c + delta, -a2, -a3, force_modes, exclude_start=np.zeros(D.shape, bool))
         if force
         else np.full(D.shape, np.inf)
     )
@@ -374,28 +435,30 @@ def linear_release(
     needed = position and not (force and not c.any() and not delta.any() and (D > 0).all())
     # (solved only where it may come before the force release: the first one counts)
     tau_p = (
-        _first_crossing(D, c, -c, one, position_modes, np.ones(D.shape, bool), before=tau_f)
+        first_crossing(
+            D, c, -c, one, position_modes, exclude_start=np.ones(D.shape, bool), before=tau_f
+        )
         if needed
         else np.full(D.shape, np.inf)
     )
     tau_c = np.minimum(tau_f, tau_p)
     finite = np.isfinite(tau_c)
-    rate = _homogeneous(np.where(finite, tau_c, 0.0), D, -c, one, position_modes)[1]
+    rate = homogeneous_at(np.where(finite, tau_c, 0.0), D, -c, one, position_modes)[1]
     e = np.where(finite, -rate, 0.0)
     if not extremes:
         nan = np.full(D.shape, np.nan)
         return LinearRelease(tau_c, e, finite & (tau_p <= tau_f), nan, nan)
     # largest penetration: at z' = 0 (first extremum of h), else the static value c
-    t_z, _ = _extrema(D, -c, one, position_modes)
+    t_z, _ = homogeneous_extrema(D, -c, one, position_modes)
     reach = np.isfinite(t_z) & (t_z < tau_c)
-    z_at = c + _homogeneous(np.where(reach, t_z, 0.0), D, -c, one, position_modes)[0]
+    z_at = c + homogeneous_at(np.where(reach, t_z, 0.0), D, -c, one, position_modes)[0]
     z_max = np.where(reach, z_at, np.where(finite, 0.0, c))
     z_max = np.where(finite, z_max, np.maximum(z_max, c))
     # largest force: at the first minimum of z'' if it comes before release
     lam_modes = (-force_modes[0], -force_modes[1])
-    t_l, _ = _extrema(D, a2, a3, lam_modes)
+    t_l, _ = homogeneous_extrema(D, a2, a3, lam_modes)
     reach_l = np.isfinite(t_l) & (t_l < tau_c)
-    lam_at = c + delta - _homogeneous(np.where(reach_l, t_l, 0.0), D, a2, a3, lam_modes)[0]
+    lam_at = c + delta - homogeneous_at(np.where(reach_l, t_l, 0.0), D, a2, a3, lam_modes)[0]
     lam0 = 2.0 * D + delta
     force_max = np.maximum(lam0, np.where(reach_l, lam_at, lam0))
     force_max = np.where(finite, force_max, np.maximum(force_max, c + delta))

@@ -25,11 +25,11 @@ of ``H'``) ``H'' = -H``, so every minimum of ``H`` is negative and the minima of
 rise towards ``L`` (their ``|H|`` decays). Hence for ``L >= 0`` a first crossing lies
 before the second extremum or never exists; for ``L < 0`` it lies before the first
 minimum, which for an over-damped ``H`` may be at infinity (then a bracket is found by
-doubling). The extrema are closed forms (``tan``/``tanh`` of the damped frequency, or a
-logarithm of the two decay modes above ``D = 2``, where the ``cosh``/``sinh`` form
-cancels), and :func:`impactsym.numeric.roots.bracketed_newton` polishes each bracket to
-``rtol = 1e-14``. The largest penetration and force of the passage are read at the same
-extrema.
+doubling). That is the section-2 oscillator's first crossing, solved once for every
+caller by :func:`impactsym.contact.release.first_crossing` (closed-form extrema, the
+kernel's closed forms, the two decay modes above ``D = 2``), here to ``rtol = 1e-14``, in
+units of the passage's own length (its products stay in range at any scale). The largest
+penetration and force of the passage are read at the same extrema.
 
 Internal: :func:`~impactsym.engines.mujoco.continuous.varying_phase` calls it. Units: SI
 (or the caller's time unit), lengths in metres.
@@ -41,163 +41,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from impactsym.numeric.roots import bracketed_newton
+from impactsym.contact.release import (
+    derivative_modes,
+    first_crossing,
+    homogeneous_at,
+    homogeneous_extrema,
+    homogeneous_modes,
+)
 
 __all__ = ["Passage", "passage"]
-
-_D_MODES = 2.0  # above this damping ratio h is evaluated as two decaying modes
-
-
-def _spread(D: np.ndarray) -> np.ndarray:
-    """``mu = sqrt(|1 - D^2|)`` without cancellation (``D >= 0``)."""
-    return np.sqrt(np.abs(1.0 - D)) * np.sqrt(1.0 + D)
-
-
-def _rates(D: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Decay rates ``r_s = 1/(D + mu)``, ``r_f = D + mu`` of the over-damped modes and
-    ``r_f - r_s = 2 mu`` (placeholders where ``D < 1``)."""
-    real = D >= 1.0
-    mu = np.where(real, _spread(D), 1.0)
-    fast = np.where(real, D + mu, 2.0)
-    return 1.0 / fast, fast, 2.0 * mu
-
-
-def _as_modes(D, h0, h1):
-    """Above ``_D_MODES``: the amplitudes ``(A_s, A_f)`` of ``h = A_s e^{-r_s tau} +
-    A_f e^{-r_f tau}`` with ``h(0) = h0``, ``h'(0) = h1``; elsewhere ``(h0, h1)`` unchanged."""
-    slow, fast, w = _rates(D)
-    over = D > _D_MODES
-    w = np.where(over, w, 1.0)
-    return (
-        np.where(over, (h1 + fast * h0) / w, h0),
-        np.where(over, -(h1 + slow * h0) / w, h1),
-    )
-
-
-def _derivative(D, p, q):
-    """The representation of ``h'`` from that of ``h`` (see :func:`_as_modes`)."""
-    slow, fast, _ = _rates(D)
-    over = D > _D_MODES
-    return np.where(over, -slow * p, q), np.where(over, -fast * q, -2.0 * D * q - p)
-
-
-def _value(tau, D, p, q):
-    """``h(tau)`` and ``h'(tau)`` from the representation ``(p, q)`` of :func:`_as_modes`.
-
-    Up to ``_D_MODES``: ``h = h0 C + (h1 + D h0) S``, ``h' = h1 C - (h0 + D h1) S`` with
-    ``C = e^{-D tau} cos(mu tau)``, ``S = e^{-D tau} sin(mu tau) / mu`` (``cosh``,
-    ``sinh`` above ``D = 1``, written with ``e^{-r_s tau}`` and ``expm1`` so that neither
-    overflows nor cancels); above it the two modes.
-    """
-    mu = _spread(D)
-    slow, fast, w = _rates(D)
-    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        under = D < 1.0
-        decay = np.exp(-np.where(under, D, slow) * tau)
-        ang = np.where(under, mu, 0.0) * tau
-        em = -np.expm1(-np.where(under, 0.0, w) * tau)  # 1 - e^{-2 mu tau}
-        c = decay * np.where(under, np.cos(ang), 1.0 - 0.5 * em)
-        s_over = np.where(mu > 0.0, em / np.where(mu > 0.0, w, 1.0), tau)
-        s = decay * np.where(under, np.sin(ang) / np.where(under, mu, 1.0), s_over)
-        h = c * p + s * (q + D * p)
-        dh = c * q - s * (p + D * q)
-        over = D > _D_MODES
-        if over.any():
-            es, ef = np.exp(-slow * tau), np.exp(-fast * tau)
-            h = np.where(over, p * es + q * ef, h)
-            dh = np.where(over, -slow * p * es - fast * q * ef, dh)
-    return h, dh
-
-
-def _zeros(D, p, q):
-    """First two positive zeros of the homogeneous solution ``(p, q)`` (``inf``: none).
-
-    Under-damped: ``e^{D tau} h = R cos(mu tau - theta)``, zeros ``pi / mu`` apart; over-
-    damped at most one, where ``tanh(mu tau) / mu = -h0 / (h1 + D h0)``, or above
-    ``_D_MODES`` where ``e^{2 mu tau} = -A_f / A_s``.
-    """
-    mu = _spread(D)
-    _, _, w = _rates(D)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        b = q + D * p
-        phi = np.mod(np.arctan2(b, mu * p) + 0.5 * np.pi, np.pi)
-        phi = np.where(phi > 0.0, phi, np.pi)
-        under = D < 1.0
-        t1_under = phi / np.where(under, mu, 1.0)
-        ratio = -p / b
-        arg = mu * ratio
-        t1_over = np.where(mu > 0.0, np.arctanh(np.minimum(arg, 1.0)) / mu, ratio)
-        t1_over = np.where((ratio > 0.0) & (arg < 1.0), t1_over, np.inf)
-        t1_modes = np.log(-q / p) / w
-        t1_modes = np.where(np.isfinite(t1_modes) & (t1_modes > 0.0), t1_modes, np.inf)
-    t1 = np.where(under, t1_under, np.where(D > _D_MODES, t1_modes, t1_over))
-    t2 = np.where(under, t1_under + np.pi / np.where(under, mu, 1.0), np.inf)
-    return t1, t2
-
-
-def _g_dg(tau, D, level, p, q):
-    h, dh = _value(tau, D, p, q)
-    return level + h, dh
-
-
-def _first_crossing(D, level, p, q, extrema, g0):
-    """First ``tau >= 0`` where ``level + h(tau) <= 0`` (``inf``: never; module notes).
-
-    ``extrema`` are the first two zeros of ``h'``, ``g0`` the threshold at the start
-    (from the state itself: the modes' sum need not round to it). A start on the
-    threshold counts as a crossing only where ``h`` does not rise there.
-    """
-    # in units of the threshold's own size (its products stay in range at any scale)
-    unit = np.maximum.reduce([np.abs(level), np.abs(g0), np.abs(p), np.abs(q)])
-    unit = np.where((unit > 0) & np.isfinite(unit), unit, 1.0)
-    level, p, q, g0 = level / unit, p / unit, q / unit, g0 / unit
-    dh0 = _value(np.zeros_like(D), D, p, q)[1]
-    t1, t2 = extrema
-    g1 = level + _value(np.where(np.isfinite(t1), t1, 0.0), D, p, q)[0]
-    g2 = level + _value(np.where(np.isfinite(t2), t2, 0.0), D, p, q)[0]
-    start = (g0 < 0.0) | ((g0 == 0.0) & (dh0 <= 0.0))
-    first = ~start & np.isfinite(t1) & (g1 <= 0.0)
-    second = ~start & ~first & np.isfinite(t2) & (g2 <= 0.0)
-    # over-damped with a negative level: after its one extremum (or from the start) h
-    # decays monotonically to zero, so the threshold crosses on the way to the level
-    tail = ~start & ~first & ~second & (level < 0.0) & ~np.isfinite(t2)
-    lo = np.where(second, t1, 0.0)
-    hi = np.where(first, t1, np.where(second, t2, 1.0))
-    g_lo = np.where(second, g1, g0)
-    g_hi = np.where(first, g1, g2)
-    if tail.any():
-        k = np.flatnonzero(tail)
-        lo[k] = np.where(np.isfinite(t1[k]), t1[k], 0.0)
-        g_lo[k] = np.where(np.isfinite(t1[k]), g1[k], g0[k])
-        hi[k], g_hi[k] = _tail_bracket(D[k], level[k], p[k], q[k], lo[k])
-    tau = np.where(start, 0.0, np.inf)
-    found = first | second | tail
-    if found.any():
-        k = np.flatnonzero(found)
-        tau[k] = bracketed_newton(
-            _g_dg,
-            None,
-            lo[k],
-            hi[k],
-            [D[k], level[k], p[k], q[k]],
-            rtol=1e-14,
-            g_lo=np.maximum(g_lo[k], 0.0),
-            g_hi=np.minimum(g_hi[k], 0.0),
-        )
-    return tau
-
-
-def _tail_bracket(D, level, p, q, lo):
-    """A time after ``lo`` at which ``level + h < 0`` (``level < 0``), by doubling."""
-    hi = np.maximum(2.0 * lo, 1.0)
-    g = level + _value(hi, D, p, q)[0]
-    for _ in range(2100):  # 2^2100 > any float time: h has long underflowed by then
-        more = g > 0.0
-        if not more.any():
-            break
-        hi = np.where(more, 2.0 * hi, hi)
-        g = np.where(more, level + _value(hi, D, p, q)[0], g)
-    return hi, np.minimum(g, 0.0)
 
 
 @dataclass(frozen=True)
@@ -226,6 +78,20 @@ class Passage:
     peak_accel: np.ndarray
 
 
+def _crossing(D, level, h0, h1, modes, g0, dg0):
+    """First ``tau >= 0`` where ``level + h <= 0``; ``g0``, ``dg0``: the threshold and its
+    rate at the start, from the state itself (the modes' sum need not round to them). A
+    start on the threshold counts as a crossing only where the threshold does not rise."""
+    start = (g0 < 0.0) | ((g0 == 0.0) & (dg0 <= 0.0))
+    tau = np.where(start, 0.0, np.inf)
+    k = np.flatnonzero(~start)
+    if k.size:
+        sub = tuple(m[k] for m in modes)
+        tau[k] = first_crossing(D[k], level[k], h0[k], h1[k], sub,
+                                exclude_start=g0[k] == 0.0, rtol=1e-14)  # fmt: skip
+    return tau
+
+
 def passage(*, omega, D, gravity, dp, x0, v0, width) -> Passage:
     """The passage beyond ``width`` from the state ``(x0, v0)`` (module docstring).
 
@@ -241,33 +107,42 @@ def passage(*, omega, D, gravity, dp, x0, v0, width) -> Passage:
     width
         The penetration at which the impedance starts to vary.
     """
+    omega, D, gravity, dp, x0, v0, width = (
+        np.asarray(a, dtype=float) for a in (omega, D, gravity, dp, x0, v0, width)
+    )
     inv2 = 1.0 / (omega * omega)
     x_s = (1.0 - dp) * gravity * inv2
-    p, q = _as_modes(D, x0 - x_s, v0 / omega)
-    ext_x = _zeros(D, *_derivative(D, p, q))
-    tau_p = _first_crossing(D, x_s - width, p, q, ext_x, x0 - width)
-    # the force threshold g / omega^2 - h'' (the homogeneous part -h'')
-    fp, fq = _derivative(D, *_derivative(D, p, q))
-    fp, fq = -fp, -fq
     level_f = gravity * inv2
-    ext_f = _zeros(D, *_derivative(D, fp, fq))
-    f0 = dp * gravity * inv2 + 2.0 * D * v0 / omega + x0  # d' f / (m omega^2) at the start
-    tau_f = _first_crossing(D, level_f, fp, fq, ext_f, f0)
+    f_start = dp * gravity * inv2 + 2.0 * D * v0 / omega + x0  # d' f / (m omega^2)
+    # in units of the passage's own length (its products stay in range at any scale)
+    unit = np.maximum.reduce([np.abs(a) for a in (x0, x_s, width, v0 / omega, level_f)])
+    unit = np.where((unit > 0) & np.isfinite(unit), unit, 1.0)
+    h0, h1 = (x0 - x_s) / unit, v0 / (omega * unit)
+    modes = homogeneous_modes(D, h0, h1)
+    # the force threshold g / omega^2 - h'': its homogeneous part is -h''
+    f0, f1 = h0 + 2.0 * D * h1, 2.0 * D * (-2.0 * D * h1 - h0) + h1
+    fm = derivative_modes(D, derivative_modes(D, modes))
+    f_modes = (-fm[0], -fm[1])
+    tau_p = _crossing(D, (x_s - width) / unit, h0, h1, modes, (x0 - width) / unit, h1)
+    tau_f = _crossing(D, level_f / unit, f0, f1, f_modes, f_start / unit, f1)
     released = np.isfinite(tau_f) & (tau_f <= tau_p)
     tau = np.minimum(tau_f, tau_p)
     end = np.isfinite(tau)
-    h, dh = _value(np.where(end, tau, 0.0), D, p, q)
-    position = np.where(end, x_s + h, x_s)
-    velocity = np.where(end, omega * dh, 0.0)
+    h, dh = homogeneous_at(np.where(end, tau, 0.0), D, h0, h1, modes)
+    position = np.where(end, x_s + unit * h, x_s)
+    velocity = np.where(end, omega * unit * dh, 0.0)
+    # the largest penetration and force: at the extrema inside the passage, or its ends
     x_max = np.maximum(x0, position)
-    f_max = np.maximum(f0, np.where(end, 0.0, level_f))
-    for t_x, t_f in zip(ext_x, ext_f, strict=True):
+    f_max = np.maximum(f_start, np.where(end, 0.0, level_f))
+    at = np.where(end, tau, 0.0)
+    f_end = level_f + unit * homogeneous_at(at, D, f0, f1, f_modes)[0]
+    f_max = np.where(end, np.maximum(f_max, f_end), f_max)
+    extrema = (homogeneous_extrema(D, h0, h1, modes), homogeneous_extrema(D, f0, f1, f_modes))
+    for t_x, t_f in zip(*extrema, strict=True):
         inside = np.isfinite(t_x) & (t_x < tau)
-        x_at = x_s + _value(np.where(inside, t_x, 0.0), D, p, q)[0]
+        x_at = x_s + unit * homogeneous_at(np.where(inside, t_x, 0.0), D, h0, h1, modes)[0]
         x_max = np.where(inside, np.maximum(x_max, x_at), x_max)
         inside = np.isfinite(t_f) & (t_f < tau)
-        f_at = level_f + _value(np.where(inside, t_f, 0.0), D, fp, fq)[0]
+        f_at = level_f + unit * homogeneous_at(np.where(inside, t_f, 0.0), D, f0, f1, f_modes)[0]
         f_max = np.where(inside, np.maximum(f_max, f_at), f_max)
-    f_end = level_f + _value(np.where(end, tau, 0.0), D, fp, fq)[0]
-    f_max = np.where(end, np.maximum(f_max, f_end), f_max)
     return Passage(tau / omega, released, position, velocity, x_max, f_max * omega * omega)
