@@ -48,7 +48,7 @@ def test_means_and_ranges_are_those_of_the_bisection(gravity, substeps):
 def test_the_pattern_holds_up_to_the_root_and_changes_there():
     k, c, m, v, g = _contacts(40, 0.0)
     p = RNG.uniform(0.0, 0.9, k.size)
-    key, ahead = tracked_pattern(k, c, m, v, g, H, p, substeps=1, **BASE)
+    key, ahead, _ = tracked_pattern(k, c, m, v, g, H, p, substeps=1, **BASE)
     np.testing.assert_array_equal(key, step_pattern(k, c, m, v, g, H, p, substeps=1, **BASE)[1])
     has = p + ahead < 1.0
     assert has.sum() > 20

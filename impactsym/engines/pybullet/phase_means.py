@@ -33,10 +33,13 @@ module with PyBullet's defaults for both. All arrays, SI.
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
 
+from impactsym.engines.mujoco.discrete import PhaseSummary
+from impactsym.engines.phase_pieces import reduce_at
 from impactsym.engines.pybullet.stepping import (
     DEFAULT_RESTITUTION_THRESHOLD,
     close_state,
@@ -47,7 +50,7 @@ from impactsym.engines.pybullet.stepping import (
     substep_impulse,
 )
 
-__all__ = ["CHUNK", "break_pieces", "phase_means", "tracked_pattern"]
+__all__ = ["CHUNK", "break_pieces", "phase_means", "root_summary", "tracked_pattern"]
 
 #: elements per pass of :func:`phase_means` and of the phase summary: every element's
 #: numbers are its own, but a pass over 10^5 elements at once runs out of the cache
@@ -61,7 +64,6 @@ _GRID = 8  # phase intervals: the check of the roots (a change the roots miss is
 _ROUNDS = 12
 _BISECT = 42  # bisection steps of the fallback (2^-42 of an interval)
 _GAP = 1e-12  # the patterns either side of a root are read this far (in phase) from it
-_NODES = 3  # Gauss-Legendre nodes per merged piece
 
 
 def _roots(q0, q1, q2):
@@ -99,8 +101,11 @@ def tracked_pattern(
     restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The pattern of :func:`~impactsym.engines.pybullet.stepping.step_pattern` (the
-    same numbers) and the phase distance to the first root ahead (``inf``: none up to
-    the end of the phase range; module docstring). Flat arrays, broadcast together."""
+    same numbers), the phase distance to the first root ahead (``inf``: none up to
+    the end of the phase range; module docstring) and ``(3, n)``: the end state's speed
+    ``w`` and its first and second derivatives in the phase (where the contact ended;
+    while the pattern holds, ``w`` is that quadratic in the phase). Flat arrays,
+    broadcast together."""
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
     )
@@ -110,13 +115,14 @@ def tracked_pattern(
     size = k.size
     state.update({
         "x1": state["w"] * H, "x2": g * H * H, "w1": g * H, "w2": np.zeros(size),
-        "first": np.full(size, np.inf),
+        "first": np.full(size, np.inf), "w1_end": np.zeros(size), "w2_end": np.zeros(size),
     })  # fmt: skip
     settings = (substeps, slop, processing_threshold, velocity_restitution, restitution_threshold)
     state = run_live(fixed, state, lambda a, n, limit: _advance(a, n, limit, *settings))
     sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
-    return pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest), state["first"]
+    pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
+    return pattern, state["first"], np.stack([state["w_end"], state["w1_end"], state["w2_end"]])
 
 
 def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
@@ -151,7 +157,12 @@ def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
         w = w_star - dv
         x = x + h * w
     a["x"], a["w"], a["x1"], a["x2"], a["w1"], a["w2"], a["first"] = x, w, x1, x2, w1, w2, first
+    ended = a["ended"]
     close_state(a, n, limit, dv * a["m"] / h)
+    stop = a["ended"] & ~ended  # the end state: its speed's phase derivatives
+    if stop.any():
+        a["w1_end"] = np.where(stop, w1, a["w1_end"])
+        a["w2_end"] = np.where(stop, w2, a["w2_end"])
 
 
 def break_pieces(
@@ -169,11 +180,14 @@ def break_pieces(
     restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> tuple[np.ndarray, ...]:
     """The pieces of constant pattern (module docstring): ``(start, end, sampled_start,
-    sampled_end, owner)``, adjacent pieces of one pattern merged, sorted by owner and
-    start. A piece that meets another at a root starts (ends) there, and its pattern
-    was read ``_GAP`` inside, at ``sampled_start`` (``sampled_end``): there the map
-    gives the one-sided limits at the jump (elsewhere the sampled end is the end).
-    Arguments as in :func:`phase_means`, flattened (``owner`` indexes the flat arrays)."""
+    sampled_end, owner, pattern, end_speed)``, adjacent pieces of one pattern merged,
+    sorted by owner and start. A piece that meets another at a root starts (ends) there,
+    and its pattern was read ``_GAP`` inside, at ``sampled_start`` (``sampled_end``):
+    there the map gives the one-sided limits at the jump (elsewhere the sampled end is
+    the end). ``end_speed`` (``(3, pieces)``) is the end state's speed at
+    ``sampled_start`` and its two phase derivatives (:func:`tracked_pattern`): the
+    quadratic the end speed follows over the piece. Arguments as in
+    :func:`phase_means`, flattened (``owner`` indexes the flat arrays)."""
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
     )
@@ -194,40 +208,50 @@ def break_pieces(
     grid = np.linspace(0.0, 1.0, _GRID + 1)
     grid[-1] = np.nextafter(1.0, 0.0)
     every = np.repeat(np.arange(size), _GRID + 1)
-    keys, ahead = (a.reshape(size, _GRID + 1) for a in track(every, np.tile(grid, size)))
+    keys, ahead, speed = track(every, np.tile(grid, size))
+    keys, ahead = keys.reshape(size, _GRID + 1), ahead.reshape(size, _GRID + 1)
+    speed = speed.reshape(3, size, _GRID + 1)[:, :, :-1].reshape(3, -1)
     lo, hi = np.tile(grid[:-1], size), np.tile(grid[1:], size)
     k_lo, k_hi, r_lo = keys[:, :-1].ravel(), keys[:, 1:].ravel(), ahead[:, :-1].ravel()
     own = np.repeat(np.arange(size), _GRID)
     s_lo = lo.copy()  # where the pattern of the piece starting at lo was read
-    pieces = []  # (start, end, sampled start, sampled end, pattern, owner) of every piece
+    # (start, end, sampled start, sampled end, pattern, owner, end speed at the sampled
+    # start and its phase derivatives) of every piece
+    pieces = []
     for _ in range(_ROUNDS):
         cut = lo + r_lo
         split = cut < hi
         flat_piece = ~split & (k_lo == k_hi)
-        pieces.append(tuple(arr[flat_piece] for arr in (lo, hi, s_lo, hi, k_lo, own)))
+        pieces.append((*(arr[flat_piece] for arr in (lo, hi, s_lo, hi, k_lo, own)),
+                       speed[:, flat_piece]))  # fmt: skip
         rest = ~flat_piece
         lo, hi, s_lo, k_lo, k_hi, own, cut, split = (
             arr[rest] for arr in (lo, hi, s_lo, k_lo, k_hi, own, cut, split)
         )  # fmt: skip
+        speed = speed[:, rest]
         if own.size == 0:
             break
         a = np.where(split, np.maximum(cut - _GAP, lo), lo)
         b = np.where(split, np.minimum(cut + _GAP, hi), hi)
         # one run: the pattern just before each root, and the pattern and root after it
-        both_keys, both_ahead = track(np.concatenate([own, own]), np.concatenate([a, b]))
+        both_keys, both_ahead, both_speed = track(
+            np.concatenate([own, own]), np.concatenate([a, b])
+        )
         key_a, key_b, r_b = both_keys[: own.size], both_keys[own.size :], both_ahead[own.size :]
+        speed_b = both_speed[:, own.size :]
         # the pieces meet at the root; the patterns either side are read _GAP away
         end, r_b = np.where(split, cut, a), r_b + (b - np.where(split, cut, b))
         bad = ~split | (key_a != k_lo)
         if bad.any():  # a change the roots do not see: bisection
             j = np.flatnonzero(bad)
             end[j], b[j] = _bisect(run, own[j], lo[j], hi[j], k_lo[j])
-            key_b[j], r_b[j] = track(own[j], b[j])
-        pieces.append((lo, end, s_lo, np.where(bad, end, a), k_lo, own))
-        lo, s_lo, k_lo, r_lo = np.where(bad, b, cut), b, key_b, r_b
+            key_b[j], r_b[j], speed_b[:, j] = track(own[j], b[j])
+        pieces.append((lo, end, s_lo, np.where(bad, end, a), k_lo, own, speed))
+        lo, s_lo, k_lo, r_lo, speed = np.where(bad, b, cut), b, key_b, r_b, speed_b
     else:
-        pieces.append((lo, hi, s_lo, hi, k_lo, own))  # left after _ROUNDS: one piece
-    return _merge(*(np.concatenate(part) for part in zip(*pieces, strict=True)))
+        pieces.append((lo, hi, s_lo, hi, k_lo, own, speed))  # left after _ROUNDS: one piece
+    parts = [np.concatenate(part, axis=-1) for part in zip(*pieces, strict=True)]
+    return _merge(*parts)
 
 
 def _ahead(
@@ -286,9 +310,43 @@ def phase_means(
     restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The phase-mean restitution and contact time (``inf`` where a piece sticks) of
-    :func:`~impactsym.engines.pybullet.phases.phase_summary`, without the ranges
-    (module docstring). Validated arrays in, broadcast together; arrays out, computed
-    in passes of :data:`CHUNK` elements."""
+    :func:`root_summary`. Validated arrays in, broadcast together."""
+    summary = root_summary(
+        stiffness, damping, mass, speed, gravity, timestep, substeps=substeps, slop=slop,
+        processing_threshold=processing_threshold, velocity_restitution=velocity_restitution,
+        restitution_threshold=restitution_threshold,
+    )  # fmt: skip
+    return summary.restitution, summary.contact_time
+
+
+def root_summary(
+    stiffness: Any,
+    damping: Any,
+    mass: Any,
+    speed: Any,
+    gravity: Any,
+    timestep: Any,
+    *,
+    substeps: int,
+    slop: float,
+    processing_threshold: float,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
+) -> PhaseSummary:
+    """The phase summary (means, ranges, stick fraction) from the pieces of
+    :func:`break_pieces`, each integrated in closed form.
+
+    On a piece the end speed is the quadratic ``w(p) = w0 + w1 u + w2 u^2 / 2``,
+    ``u = p - s`` about the phase ``s`` where the piece's pattern was read (its three
+    coefficients tracked along that run, :func:`tracked_pattern`), the restitution
+    ``-w / v`` and the contact time ``(p + n) h`` (``n`` the end state): the mean is the
+    exact integral of each over ``[start, end]``, the range the values at the sampled ends
+    (the one-sided limits at the jumps) and at the quadratic's vertex where it lies
+    between them. Where the piece sticks: restitution 0, contact time ``inf``. The
+    same numbers as Gauss-Legendre on runs of the map at the nodes (which re-ran the
+    map three or five times per piece) to rounding. Validated arrays in, broadcast
+    together; arrays out, in passes of :data:`CHUNK` elements.
+    """
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
     )
@@ -301,36 +359,57 @@ def phase_means(
         "restitution_threshold": restitution_threshold,
     }  # fmt: skip
     if size > CHUNK:  # in passes of CHUNK elements: the same numbers, element by element
-        parts = [phase_means(*(a[i : i + CHUNK] for a in flat), **settings)
+        parts = [root_summary(*(a[i : i + CHUNK] for a in flat), **settings)
                  for i in range(0, size, CHUNK)]  # fmt: skip
-        return tuple(np.concatenate(part).reshape(shape) for part in zip(*parts, strict=True))
-    p0, p1, _, _, own = break_pieces(*flat, **settings)
-    x, weights = np.polynomial.legendre.leggauss(_NODES)
-    half, centre = 0.5 * (p1 - p0), 0.5 * (p1 + p0)
-    pts = centre[:, None] + half[:, None] * x[None, :]
-    rows = np.repeat(own, _NODES)
-    res = step_pattern(*(a[rows] for a in flat), pts.ravel(), **settings)[0]
-    e = res.restitution.reshape(pts.shape)
-    t = res.contact_time.reshape(pts.shape)
-    stuck = res.sticks.reshape(pts.shape)
-    wts = half[:, None] * weights[None, :]
-    e_mean = np.bincount(own, (wts * e).sum(axis=1), minlength=size)
-    with np.errstate(invalid="ignore"):
-        t_piece = np.where(stuck.any(axis=1), np.inf, (wts * t).sum(axis=1))
-    t_mean = np.zeros(size)
-    np.add.at(t_mean, own, t_piece)
-    return e_mean.reshape(shape), t_mean.reshape(shape)
+        return PhaseSummary(*(
+            np.concatenate([getattr(part, f.name) for part in parts]).reshape(shape)
+            for f in dataclasses.fields(PhaseSummary)
+        ))  # fmt: skip
+    p0, p1, s0, s1, own, key, (w0, w1, w2) = break_pieces(*flat, **settings)
+    v, h = flat[3][own], flat[5][own]
+    stuck = key["end"] < 0
+    length = p1 - p0
+    u0, u1, top = p0 - s0, p1 - s0, s1 - s0
+    with np.errstate(all="ignore"):
+        # the exact mean of the quadratic over [p0, p1], times the length
+        w_int = length * (w0 + w1 * (0.5 * (u0 + u1)) + w2 * ((u0 * u0 + u0 * u1 + u1 * u1) / 6.0))
+        u_vertex = -w1 / w2
+        inside = (u_vertex > 0.0) & (u_vertex < top)
+        e_vertex = -(w0 + u_vertex * (w1 + 0.5 * w2 * u_vertex)) / v
+        e_first = -w0 / v
+        e_last = -(w0 + top * (w1 + 0.5 * w2 * top)) / v
+    e_lo, e_hi = np.minimum(e_first, e_last), np.maximum(e_first, e_last)
+    e_lo = np.where(inside, np.minimum(e_lo, e_vertex), e_lo)
+    e_hi = np.where(inside, np.maximum(e_hi, e_vertex), e_hi)
+    n_end = key["end"].astype(float)
+    e_piece = np.where(stuck, 0.0, -w_int / v)
+    t_piece = np.where(stuck, np.inf, h * length * (0.5 * (p0 + p1) + n_end))
+    e_lo, e_hi = np.where(stuck, 0.0, e_lo), np.where(stuck, 0.0, e_hi)
+    t_lo = np.where(stuck, np.inf, h * (s0 + n_end))
+    t_hi = np.where(stuck, np.inf, h * (s1 + n_end))
+    fields = (
+        np.bincount(own, e_piece, minlength=size),
+        np.bincount(own, t_piece, minlength=size),
+        reduce_at(np.minimum, own, e_lo, size, np.inf),
+        reduce_at(np.maximum, own, e_hi, size, -np.inf),
+        reduce_at(np.minimum, own, t_lo, size, np.inf),
+        reduce_at(np.maximum, own, t_hi, size, -np.inf),
+        np.bincount(own, np.where(stuck, length, 0.0), minlength=size),
+    )
+    return PhaseSummary(*(np.reshape(f, shape) for f in fields))
 
 
-def _merge(p0, p1, s0, s1, key, own):
-    """The pieces sorted by owner and start, adjacent ones of one pattern joined."""
+def _merge(p0, p1, s0, s1, key, own, speed):
+    """The pieces sorted by owner and start, adjacent ones of one pattern joined (the
+    pattern and the end speed's quadratic are those of the first)."""
     order = np.lexsort((p0, own))
     p0, p1, s0, s1, key, own = (a[order] for a in (p0, p1, s0, s1, key, own))
+    speed = speed[:, order]
     joins = np.zeros(p0.size, bool)
     joins[1:] = (own[1:] == own[:-1]) & (key[1:] == key[:-1]) & (p0[1:] == p1[:-1])
     starts = np.flatnonzero(~joins)
     lasts = np.append(starts[1:], p0.size) - 1
-    return p0[starts], p1[lasts], s0[starts], s1[lasts], own[starts]
+    return p0[starts], p1[lasts], s0[starts], s1[lasts], own[starts], key[starts], speed[:, starts]
 
 
 def _bisect(run, own, lo, hi, k_lo):

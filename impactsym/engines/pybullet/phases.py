@@ -29,7 +29,7 @@ import numpy as np
 
 from impactsym.engines.mujoco.discrete import PhaseSummary
 from impactsym.engines.phase_pieces import integrate_pieces, reduce_at, vertex
-from impactsym.engines.pybullet.phase_means import CHUNK, break_pieces
+from impactsym.engines.pybullet.phase_means import CHUNK, root_summary
 from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD, step_pattern
 
 __all__ = ["phase_summary"]
@@ -66,6 +66,12 @@ def phase_summary(
     result; the rigid contact of :mod:`~impactsym.engines.pybullet.rigid` passes its own).
     Computed in passes of :data:`~impactsym.engines.pybullet.phase_means.CHUNK` elements.
     """
+    closed = pattern is None and np.isinf(processing_threshold) and not velocity_restitution
+    if closed:  # the compliant map with PyBullet's defaults: break points in closed form
+        return root_summary(
+            stiffness, damping, mass, speed, gravity, timestep, substeps=substeps, slop=slop,
+            processing_threshold=processing_threshold, restitution_threshold=restitution_threshold,
+        )  # fmt: skip
     step = step_pattern if pattern is None else pattern
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
@@ -102,31 +108,13 @@ def phase_summary(
             restitution_threshold=restitution_threshold,
         )
 
-    closed = pattern is None and np.isinf(processing_threshold) and not velocity_restitution
-    if closed:  # the compliant map with PyBullet's defaults: break points in closed form
-        p0, p1, s0, s1, own = break_pieces(
-            k, c, m, v, g, dt, substeps=substeps, slop=slop,
-            processing_threshold=processing_threshold,
-            velocity_restitution=velocity_restitution,
-            restitution_threshold=restitution_threshold,
-        )  # fmt: skip
-    else:
-        p0, p1, own = _bisected_pieces(run, size, substeps)
-        s0, s1 = p0, p1
-    pieces = integrate_pieces(lambda i, q: run(i, q)[0], s0, s1, own, size, nodes=_NODES)
+    p0, p1, own = _bisected_pieces(run, size, substeps)
+    pieces = integrate_pieces(lambda i, q: run(i, q)[0], p0, p1, own, size, nodes=_NODES)
     pts, e, t = pieces.pts, pieces.restitution, pieces.contact_time
     e_mean, t_mean, stick_frac = (
         pieces.restitution_mean, pieces.contact_time_mean, pieces.stick_fraction
     )  # fmt: skip
-    if closed:  # the slivers between a root and where its sides were sampled
-        gaps = np.stack([s0 - p0, p1 - s1], axis=1)
-        ends = (e[:, [0, -1]], t[:, [0, -1]], pieces.sticks[:, [0, -1]])
-        with np.errstate(invalid="ignore"):
-            t_end = np.where((gaps > 0) & np.isfinite(ends[1]), ends[1] * gaps, 0.0)
-        e_mean = e_mean + np.bincount(own, (ends[0] * gaps).sum(axis=1), minlength=size)
-        t_mean = t_mean + np.bincount(own, t_end.sum(axis=1), minlength=size)
-        stick_frac = stick_frac + np.bincount(own, (ends[2] * gaps).sum(axis=1), minlength=size)
-    top = vertex(pts[:, [0, 2, 4]], e[:, [0, 2, 4]], s0, s1)
+    top = vertex(pts[:, [0, 2, 4]], e[:, [0, 2, 4]], p0, p1)
     e_lo = np.fmin(e.min(axis=1), top)
     e_hi = np.fmax(e.max(axis=1), top)
     fields = (
