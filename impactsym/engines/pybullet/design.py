@@ -34,19 +34,21 @@ budget, minutes for a refusal).
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
 
+from impactsym.engines.mujoco.discrete import PhaseSummary
 from impactsym.engines.pybullet.design_table import table_designs
-from impactsym.engines.pybullet.pair import split_pair
-from impactsym.engines.pybullet.phase_means import phase_means
+from impactsym.engines.pybullet.pair import combine_pair, split_pair
 from impactsym.engines.pybullet.phases import phase_summary
 from impactsym.engines.pybullet.prediction import (
     PyBulletContact,
     check_budget,
     check_settings,
     predict,
+    summary_contact,
 )
 from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD, DEFAULT_SLOP
 from impactsym.validation import broadcast, real_array
@@ -145,7 +147,7 @@ def contact_for(
     shape = broadcast(restitution=e, speed=v, mass=m, gravity=g, contact_time=t)
     e, v, m, g, t = (np.broadcast_to(a, shape).ravel() for a in (e, v, m, g, t))
     check_budget(m * (np.pi / t) ** 2, 0.0, m, h)  # the stiffness of an undamped contact of t
-    k, c = _designs(e, t, v, m, g, h, settings)
+    k, c, summary = _designs(e, t, v, m, g, h, settings)
     bad = ~(np.isfinite(k) & np.isfinite(c))
     if bad.any():
         _refuse(e, t, v, m, g, h, settings, int(np.flatnonzero(bad)[0]))
@@ -157,6 +159,21 @@ def contact_for(
     if scalar:
         shaped = [float(a) for a in shaped]
     k_b, c_b, m_, v_, g_ = shaped
+    single = np.ndim(other_stiffness) == 0 and np.ndim(other_damping) == 0
+    if single and np.all(np.isfinite(summary)):
+        # every design from a table: the summary of its accepting exact evaluation (at the
+        # pair's (k, c) as designed; the pair rules' round trip moves them by an ulp) is
+        # the prediction, with the ranges: no second evaluation
+        k_pair, c_pair = combine_pair(
+            stiffness=k_body, damping=c_body, other_stiffness=other_stiffness,
+            other_damping=other_damping,
+        )  # fmt: skip
+        check_budget(k_pair, c_pair, m, h)
+        pair = [np.reshape(a, shape) for a in (k_body, c_body, k_pair, c_pair)]
+        found = PhaseSummary(*(np.reshape(row, shape) for row in summary))
+        return summary_contact(
+            found, *pair, scalar=scalar, timestep=h, substeps=settings["substeps"]
+        )
     return predict(
         stiffness=k_b,
         damping=c_b,
@@ -171,13 +188,10 @@ def contact_for(
 
 
 def _means(k, c, m, v, g, h, settings):
-    """The phase means: without the ranges and with the break points in closed form
-    (:func:`~impactsym.engines.pybullet.phase_means.phase_means`, the numbers of
-    ``phase_summary`` to rounding) where the contact processing threshold is left open
-    and the velocity restitution off (PyBullet's defaults; there the roots see every
-    change of the pattern), else the full summary."""
-    if np.isinf(settings["processing_threshold"]) and not settings["velocity_restitution"]:
-        return phase_means(k, c, m, v, g, h, **settings)
+    """The phase means ``(restitution, contact_time)`` of
+    :func:`~impactsym.engines.pybullet.phases.phase_summary` (with PyBullet's defaults
+    the break points in closed form and the pieces integrated exactly,
+    :func:`~impactsym.engines.pybullet.phase_means.root_summary`)."""
     r = phase_summary(k, c, m, v, g, h, **settings)
     return r.restitution, r.contact_time
 
@@ -197,7 +211,8 @@ def _designs(e, t, v, m, g, h, settings):
     )
     big = counts[label.ravel()] >= TABLE_GROUP
     k, c = np.full(e.size, np.nan), np.full(e.size, np.nan)
-    _from_tables(e, t, v, m, g, h, settings, k, c, big)
+    summary = np.full((len(dataclasses.fields(PhaseSummary)), e.size), np.nan)
+    _from_tables(e, t, v, m, g, h, settings, k, c, summary, big)
     left = np.isnan(k)
     if left.all():  # no table: the textbook path alone, as for any call below TABLE_GROUP
         k, c = _solve(e, t, v, m, g, h, settings)
@@ -206,7 +221,7 @@ def _designs(e, t, v, m, g, h, settings):
     # a second chance under gravity for short contacts (bounded cost: see module docstring)
     short = (g > 0) & (t <= _RESCUE_STEPS * h)
     rescue = ~big & np.isnan(k) & short
-    _from_tables(e, t, v, m, g, h, settings, k, c, rescue)
+    _from_tables(e, t, v, m, g, h, settings, k, c, summary, rescue)
     # a table's box and grid depend on the targets it serves: one a shared table missed
     # gets a table of its own, as in a call of its own, in order; the first still missed
     # ends the retries (the call is refused there, naming it)
@@ -218,16 +233,17 @@ def _designs(e, t, v, m, g, h, settings):
     for i in np.flatnonzero(np.isnan(k) & short & ~alone):
         one = np.zeros(e.size, bool)
         one[i] = True
-        _from_tables(e, t, v, m, g, h, settings, k, c, one)
+        _from_tables(e, t, v, m, g, h, settings, k, c, summary, one)
         if np.isnan(k[i]):
             break
-    return k, c
+    return k, c, summary
 
 
-def _from_tables(e, t, v, m, g, h, settings, k, c, todo):
-    """Fill ``k``, ``c`` (in place) of the targets ``todo`` from one table per contact
-    (:func:`~impactsym.engines.pybullet.design_table.table_designs`; ``nan`` left where
-    it finds no design)."""
+def _from_tables(e, t, v, m, g, h, settings, k, c, summary, todo):
+    """Fill ``k``, ``c`` and the rows of their :class:`PhaseSummary` ``summary`` (in
+    place; the accepting evaluation's) of the targets ``todo`` from one table per
+    contact (:func:`~impactsym.engines.pybullet.design_table.table_designs`; ``nan``
+    left where it finds no design)."""
     if not todo.any():
         return
     _, label = np.unique(np.stack([v, m, g])[:, todo], axis=1, return_inverse=True)
@@ -238,16 +254,18 @@ def _from_tables(e, t, v, m, g, h, settings, k, c, todo):
 
         def evaluate(u, z, v0=v0, m0=m0, g0=g0):
             kk = np.exp(u)
-            em, tm = _means(kk, 2.0 * np.exp(z) * np.sqrt(kk * m0), m0, v0, g0, h, settings)
+            r = phase_summary(kk, 2.0 * np.exp(z) * np.sqrt(kk * m0), m0, v0, g0, h, **settings)
+            fields = (getattr(r, f.name) for f in dataclasses.fields(r))
             with np.errstate(divide="ignore"):
-                return em, np.log(tm)
+                return r.restitution, np.log(r.contact_time), *fields
 
-        x = table_designs(
+        x, found = table_designs(
             evaluate, np.stack([e[i], np.log(t[i])]), _textbook(e[i], t[i], m[i]), rtol=_RTOL
         )
         got = np.all(np.isfinite(x), axis=0)
         k[i[got]] = np.exp(x[0, got])
         c[i[got]] = 2.0 * np.exp(x[1, got]) * np.sqrt(k[i[got]] * m[i[got]])
+        summary[:, i[got]] = found[:, got]
 
 
 def _textbook(e, t, m):

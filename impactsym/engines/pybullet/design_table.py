@@ -65,20 +65,23 @@ _MAX_STEP = 0.5  # largest step in u or z
 
 
 def table_designs(
-    evaluate: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]],
+    evaluate: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, ...]],
     target: np.ndarray,
     start: np.ndarray,
     *,
     rtol: float,
-) -> np.ndarray:
+) -> tuple[np.ndarray, np.ndarray]:
     """The designs ``(u, z)`` of one contact (``(2, n)``; ``nan`` columns: no design found
-    from the table, left to the caller).
+    from the table, left to the caller) and what ``evaluate`` gave besides at each
+    design's accepting evaluation (``(extra, n)``; ``nan`` columns likewise).
 
     ``evaluate(u, z)`` is the exact ``(restitution, ln contact_time)`` phase means at the
-    points ``(u, z)`` (flat arrays; ``inf`` contact time where a phase sticks), ``target``
-    the ``(2, n)`` targets ``(e, ln t)``, ``start`` the ``(2, n)`` textbook designs
-    (which place the coarse table). A design is accepted where ``|e_mean - e| < rtol e``
-    and ``|ln t_mean - ln t| < rtol`` at an exact evaluation.
+    points ``(u, z)`` (flat arrays; ``inf`` contact time where a phase sticks), followed
+    by any further arrays of the same points (``extra`` of them: the caller's prediction,
+    so that the accepted evaluation need not be repeated), ``target`` the ``(2, n)``
+    targets ``(e, ln t)``, ``start`` the ``(2, n)`` textbook designs (which place the
+    coarse table). A design is accepted where ``|e_mean - e| < rtol e`` and ``|ln t_mean
+    - ln t| < rtol`` at an exact evaluation.
 
     A map with a known inverse (``e = exp(-zeta)``, ``ln t = -u/2 + z/10``); the second
     design lies beyond the first coarse box, which grows towards it:
@@ -86,7 +89,7 @@ def table_designs(
     >>> def f(u, z):
     ...     return np.exp(-np.exp(z)), -0.5 * u + 0.1 * z
     >>> target = np.array([[0.4, 0.3], [-3.0, -2.5]])
-    >>> x = table_designs(f, target, np.array([[5.5, 5.0], [-0.5, -0.2]]), rtol=1e-12)
+    >>> x, _ = table_designs(f, target, np.array([[5.5, 5.0], [-0.5, -0.2]]), rtol=1e-12)
     >>> [round(float(zeta), 9) for zeta in np.exp(x[1])]  # zeta = -ln e
     [0.916290732, 1.203972804]
     """
@@ -106,7 +109,7 @@ def table_designs(
         width = hi - lo
         lo, hi = lo - np.where(low, width / 2, 0.0), hi + np.where(high, width / 2, 0.0)
     if not found.any():
-        return out
+        return out, np.full((0, n), np.nan)
     step = (hi - lo) / (_COARSE - 1)
     lo = np.maximum(lo, first[:, found].min(axis=1) - 2 * step)
     hi = np.minimum(hi, first[:, found].max(axis=1) + 2 * step)
@@ -116,8 +119,11 @@ def table_designs(
     fine = _Table(evaluate, lo, hi, shape)
     guess, _ = fine.invert(target)
     has = np.flatnonzero(np.all(np.isfinite(guess), axis=0))
-    out[:, has] = _refine(evaluate, fine, guess[:, has], target[:, has], rtol)
-    return out
+    designs, extra = _refine(evaluate, fine, guess[:, has], target[:, has], rtol)
+    out[:, has] = designs
+    more = np.full((extra.shape[0], n), np.nan)
+    more[:, has] = extra
+    return out, more
 
 
 class _Table:
@@ -129,7 +135,7 @@ class _Table:
         self.step = (hi - lo) / (self.shape - 1)
         uu, zz = np.meshgrid(*(np.linspace(a, b, s) for a, b, s in zip(lo, hi, shape, strict=True)),
                              indexing="ij")  # fmt: skip
-        E, L = evaluate(uu.ravel(), zz.ravel())
+        E, L, *_ = evaluate(uu.ravel(), zz.ravel())
         self.values = np.stack([E, L]).reshape(2, *shape)
         self.points = np.stack([uu.ravel(), zz.ravel()])
 
@@ -183,15 +189,18 @@ class _Table:
 
 def _refine(evaluate, table, x, target, rtol):
     """Quasi-Newton on the exact ``F`` from the table's start ``x`` (module docstring):
-    the accepted designs, ``nan`` columns for the rest."""
-    out = np.full(x.shape, np.nan)
+    the accepted designs and the further outputs of ``evaluate`` there, ``nan`` columns
+    for the rest."""
+    out, more = np.full(x.shape, np.nan), None
     _, jac = table.at(x)
     live = np.arange(x.shape[1])
     last_x = last_r = None
     for _ in range(_STEPS):
         if live.size == 0:
             break
-        E, L = evaluate(x[0], x[1])
+        E, L, *extra = evaluate(x[0], x[1])
+        if more is None:
+            more = np.full((len(extra), x.shape[1]), np.nan)
         r = np.stack([E, L]) - target[:, live]
         with np.errstate(invalid="ignore"):
             ok = (np.abs(r[0]) < rtol * target[0, live]) & (np.abs(r[1]) < rtol)
@@ -202,11 +211,13 @@ def _refine(evaluate, table, x, target, rtol):
                 upd = miss[:, None, :] * dx[None, :, :] / np.sum(dx * dx, axis=0)
             jac = np.where(np.isfinite(upd), jac + upd, jac)
         out[:, live[ok]] = x[:, ok]
+        for row, values in zip(more, extra, strict=True):
+            row[live[ok]] = values[ok]
         step = _newton_step(jac, -r)
         keep = ~ok & np.all(np.isfinite(step), axis=0)
         last_x, last_r = x[:, keep], r[:, keep]
         live, x, jac = live[keep], x[:, keep] + step[:, keep], jac[:, :, keep]
-    return out
+    return out, np.full((0, out.shape[1]), np.nan) if more is None else more
 
 
 def _newton_step(jac, rhs):
