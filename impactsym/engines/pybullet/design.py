@@ -265,7 +265,8 @@ def _from_tables(e, t, v, m, g, h, settings, k, c, summary, todo):
         got = np.all(np.isfinite(x), axis=0)
         k[i[got]] = np.exp(x[0, got])
         c[i[got]] = 2.0 * np.exp(x[1, got]) * np.sqrt(k[i[got]] * m[i[got]])
-        summary[:, i[got]] = found[:, got]
+        if got.any():  # (without a design, found may have no rows)
+            summary[:, i[got]] = found[:, got]
 
 
 def _textbook(e, t, m):

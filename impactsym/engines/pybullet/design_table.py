@@ -60,6 +60,7 @@ _PAD_U = (1.0, 0.25)  # the coarse box: textbook ln k minus / plus these
 _PAD_Z = (1.5, 0.5)  # and textbook ln zeta minus / plus these
 _GROW = 4  # coarse tables at most: the box grows by half its width towards targets beyond it
 _SPLINE_NEWTON = 12  # Newton steps on the table's cubic
+_SETTLED = 1e-15  # a Newton step on the cubic this small (relative) ends its iteration
 _STEPS = 8  # exact evaluations per design before it is left to the caller
 _MAX_STEP = 0.5  # largest step in u or z
 
@@ -138,6 +139,15 @@ class _Table:
         E, L, *_ = evaluate(uu.ravel(), zz.ravel())
         self.values = np.stack([E, L]).reshape(2, *shape)
         self.points = np.stack([uu.ravel(), zz.ravel()])
+        self.offsets = np.add.outer(np.arange(4) * shape[1], np.arange(4))  # a stencil's
+        finite = np.all(np.isfinite(self.values), axis=0)
+        windows = np.lib.stride_tricks.sliding_window_view(finite, (4, 4))
+        self.finite_stencil = np.all(windows, axis=(2, 3))  # per stencil's first point
+
+    def flat_index(self, base: np.ndarray, *, stencils: bool = False) -> np.ndarray:
+        """The flat index of the grid points ``base`` (``(2, n)``) in the table, or with
+        ``stencils`` in :attr:`finite_stencil`."""
+        return base[0] * (self.shape[1] - (3 if stencils else 0)) + base[1]
 
     def at(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The interpolant ``(2, n)`` and its Jacobian ``(2, 2, n)`` at ``x`` (``(2, n)``):
@@ -152,15 +162,18 @@ class _Table:
         frac = s - base - 1  # in [-1, 2]: the cell's stencil, shifted at the edges
         wu, du = cubic_lagrange_weights(frac[0])
         wz, dz = cubic_lagrange_weights(frac[1])
-        iu = base[0][:, None] + np.arange(4)[None, :]  # (n, 4)
-        iz = base[1][:, None] + np.arange(4)[None, :]
-        block = self.values[:, iu[:, :, None], iz[:, None, :]]  # (2, n, 4, 4)
-        val = np.einsum("fnij,ni,nj->fn", block, wu, wz)
+        # the 4 x 4 stencils, (2, 4, 4, n): the weights contracted in z, then in u
+        block = self.values.reshape(2, -1)[:, self.offsets[:, :, None] + self.flat_index(base)]
+        wz, dz = wz.T, dz.T
+        along = sum(block[:, :, j] * wz[j] for j in range(4))  # (2, 4, n)
+        slope = sum(block[:, :, j] * dz[j] for j in range(4))
+        wu, du = wu.T, du.T
+        val = sum(along[:, i] * wu[i] for i in range(4))
         jac = np.stack([
-            np.einsum("fnij,ni,nj->fn", block, du, wz) / self.step[0],
-            np.einsum("fnij,ni,nj->fn", block, wu, dz) / self.step[1],
+            sum(along[:, i] * du[i] for i in range(4)) / self.step[0],
+            sum(slope[:, i] * wu[i] for i in range(4)) / self.step[1],
         ], axis=1)  # fmt: skip
-        bad = ~inside | ~np.all(np.isfinite(block), axis=(0, 2, 3))
+        bad = ~inside | ~self.finite_stencil.ravel()[self.flat_index(base, stencils=True)]
         return np.where(bad, np.nan, val), np.where(bad, np.nan, jac)
 
     def invert(self, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -178,9 +191,18 @@ class _Table:
         _, nearest = tree.query((target / scale).T)
         nearest = np.flatnonzero(ok)[nearest]
         x = self.points[:, nearest]
-        for _ in range(_SPLINE_NEWTON):
-            val, jac = self.at(x)
-            x = np.clip(x + _newton_step(jac, target - val), self.lo[:, None], self.hi[:, None])
+        live = np.arange(x.shape[1])  # columns still moving (a column that no longer moves,
+        for _ in range(_SPLINE_NEWTON):  # or went nan outside the grid, stays so)
+            val, jac = self.at(x[:, live])
+            was = x[:, live]
+            now = np.clip(was + _newton_step(jac, target[:, live] - val), self.lo[:, None],
+                          self.hi[:, None])  # fmt: skip
+            x[:, live] = now
+            with np.errstate(invalid="ignore"):
+                still = np.abs(now - was) > _SETTLED * np.maximum(1.0, np.abs(was))
+            live = live[np.any(still, axis=0)]
+            if live.size == 0:
+                break
         val, _ = self.at(x)
         with np.errstate(invalid="ignore"):
             good = np.all(np.abs(val - target) <= 1e-12 * np.maximum(1.0, np.abs(target)), axis=0)
