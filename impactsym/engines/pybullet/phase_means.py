@@ -63,6 +63,7 @@ _GRID = 8  # phase intervals: the check of the roots (a change the roots miss is
 #: only contacts that stick at some phases, whose mean contact time is infinite anyway)
 _ROUNDS = 12
 _BISECT = 42  # bisection steps of the fallback (2^-42 of an interval)
+_REACH = 1.0  # roots ahead further than this (in phase) lie past every phase range
 _GAP = 1e-12  # the patterns either side of a root are read this far (in phase) from it
 
 
@@ -101,11 +102,11 @@ def tracked_pattern(
     restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The pattern of :func:`~impactsym.engines.pybullet.stepping.step_pattern` (the
-    same numbers), the phase distance to the first root ahead (``inf``: none up to
-    the end of the phase range; module docstring) and ``(3, n)``: the end state's speed
-    ``w`` and its first and second derivatives in the phase (where the contact ended;
-    while the pattern holds, ``w`` is that quadratic in the phase). Flat arrays,
-    broadcast together."""
+    same numbers), the phase distance to the first root ahead (``inf``: none within a
+    whole phase, so none before the end of the phase range; module docstring) and
+    ``(3, n)``: the end state's speed ``w`` and its first and second derivatives in the
+    phase (where the contact ended; while the pattern holds, ``w`` is that quadratic in
+    the phase). Flat arrays, broadcast together."""
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
     )
@@ -132,7 +133,7 @@ def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
     h, erp, gain = a["h"], a["erp"], a["gain"]
     x, w = a["x"], a["w"]
     x1, x2, w1, w2 = a["x1"], a["x2"], a["w1"], a["w2"]
-    watching = np.flatnonzero(~a["ended"] & ~a["done"])
+    watching = ~a["ended"] & ~a["done"]
     first = a["first"].copy()
     settings = (slop, threshold, rest_coef, rest_threshold)
     for _ in range(substeps):
@@ -144,11 +145,8 @@ def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
             s1, s2, p1, p2 = s1 + r0 * w1, s2 + r0 * w2, p1 + r0 * w1, p2 + r0 * w2
         on = dv > 0
         quantities = (x, x1, x2, w_star, w1, w2, d, within, b_spec, s1, s2, b_pos, p1, p2)
-        if watching.size == x.size:  # the roots ahead, for the contacts not yet ended
-            first = np.fmin(first, _ahead(*quantities, threshold, rest_coef, rest_threshold))
-        elif watching.size:
-            ahead = _ahead(*(q[watching] for q in quantities), threshold, rest_coef, rest_threshold)
-            first[watching] = np.fmin(first[watching], ahead)
+        if watching.any():  # the roots ahead, for the contacts not yet ended
+            _ahead(first, watching, quantities, threshold, rest_coef, rest_threshold)
         # the derivatives through the branch taken
         gb = np.where(on, gain, 0.0)
         b1, b2 = np.where(spec, s1, p1), np.where(spec, s2, p2)
@@ -254,45 +252,42 @@ def break_pieces(
     return _merge(*parts)
 
 
-def _ahead(
-    x,
-    x1,
-    x2,
-    w_star,
-    w1,
-    w2,
-    d,
-    within,
-    b_spec,
-    s1,
-    s2,
-    b_pos,
-    p1,
-    p2,
-    threshold,
-    rest_coef,
-    rest_threshold,
-):
-    """The first root ahead of the branch quantities of one sub-step (module docstring):
-    ``b`` on the side of ``d`` whose formula it is, ``d`` where the impulse is on at
-    ``d = 0`` (there ``b = w*``, plus the restitution term), the thresholds."""
+def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
+    """Lower ``first`` (in place) to the first root ahead of the branch quantities of one
+    sub-step (module docstring) where ``watch``: ``b`` on the side of ``d`` whose formula
+    it is, ``d`` where the impulse is on at ``d = 0`` (there ``b = w*``, plus the
+    restitution term), the thresholds. Roots are solved only where one can lie before
+    ``min(first, 1)``: ``|q0| <= (|q1| + |q2| D / 2) D`` at that ``D`` (a root further
+    than a whole phase lies past the end of every phase range, and one past ``first``
+    changes nothing), which leaves the few sub-steps next to a change of branch."""
+    x, x1, x2, w_star, w1, w2, d, within, b_spec, s1, s2, b_pos, p1, p2 = quantities
     mx1, mx2 = -x1, -x2
     q = [
-        (b_spec, s1, s2, lambda r: within & (_at(d, mx1, mx2, r) > 0)),
-        (b_pos, p1, p2, lambda r: within & (_at(d, mx1, mx2, r) <= 0)),
-        (d, mx1, mx2, lambda r: within & (_at(w_star, w1, w2, r) > 0)),
+        (b_spec, s1, s2, (d, mx1, mx2, True)),
+        (b_pos, p1, p2, (d, mx1, mx2, False)),
+        (d, mx1, mx2, (w_star, w1, w2, True)),
     ]
     if np.isfinite(threshold):
         q.append((x + threshold, x1, x2, None))
     if rest_coef:
         q += [(w_star - rest_threshold, w1, w2, None), (w_star, w1, w2, None)]
-    first = np.full(x.shape, np.inf)  # the smallest valid root, quantity by quantity
     for q0, q1, q2, valid in q:
-        for root in _roots(q0, q1, q2):
-            first = np.minimum(
-                first, root if valid is None else np.where(valid(root), root, np.inf)
-            )
-    return first
+        reach = np.minimum(first, _REACH) * (1.0 + 1e-9)  # (the slack covers rounding)
+        with np.errstate(invalid="ignore", over="ignore"):
+            near = watch & (np.abs(q0) <= (np.abs(q1) + 0.5 * np.abs(q2) * reach) * reach)
+        if valid is not None:
+            near &= within
+        j = np.flatnonzero(near)
+        if j.size == 0:
+            continue
+        best = first[j]
+        for root in _roots(q0[j], q1[j], q2[j]):
+            if valid is not None:  # the root counts where the side quantity allows it
+                v0, v1, v2, positive = valid
+                side = _at(v0[j], v1[j], v2[j], root)
+                root = np.where(side > 0 if positive else side <= 0, root, np.inf)
+            best = np.minimum(best, root)
+        first[j] = best
 
 
 def phase_means(
