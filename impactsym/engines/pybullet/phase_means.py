@@ -155,12 +155,11 @@ def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
         w = w_star - dv
         x = x + h * w
     a["x"], a["w"], a["x1"], a["x2"], a["w1"], a["w2"], a["first"] = x, w, x1, x2, w1, w2, first
-    ended = a["ended"]
     close_state(a, n, limit, dv * a["m"] / h)
-    stop = a["ended"] & ~ended  # the end state: its speed's phase derivatives
+    stop = a["ended"] & (a["n_end"] == n)  # the end state: its speed's phase derivatives
     if stop.any():
-        a["w1_end"] = np.where(stop, w1, a["w1_end"])
-        a["w2_end"] = np.where(stop, w2, a["w2_end"])
+        np.copyto(a["w1_end"], w1, where=stop)
+        np.copyto(a["w2_end"], w2, where=stop)
 
 
 def break_pieces(
@@ -271,12 +270,14 @@ def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
         q.append((x + threshold, x1, x2, None))
     if rest_coef:
         q += [(w_star - rest_threshold, w1, w2, None), (w_star, w1, w2, None)]
+    reach = np.minimum(first, _REACH) * (1.0 + 1e-9)  # (the slack covers rounding)
+    half = 0.5 * reach
+    # (without a processing threshold every contact is within it: no mask to apply)
+    inside = watch if np.isinf(threshold) else watch & within
     for q0, q1, q2, valid in q:
-        reach = np.minimum(first, _REACH) * (1.0 + 1e-9)  # (the slack covers rounding)
         with np.errstate(invalid="ignore", over="ignore"):
-            near = watch & (np.abs(q0) <= (np.abs(q1) + 0.5 * np.abs(q2) * reach) * reach)
-        if valid is not None:
-            near &= within
+            near = np.abs(q0) <= (np.abs(q1) + np.abs(q2) * half) * reach
+        near &= watch if valid is None else inside
         j = np.flatnonzero(near)
         if j.size == 0:
             continue

@@ -96,24 +96,26 @@ def read_state(
     ``(back, gone)``; the caller marks them done. One place for the PyBullet maps
     (compliant, rigid and the rotating body)."""
     on = push > 0
-    begin = live & ~r["started"] & on
-    r["started"] |= begin
-    r["n_first"] = np.where(begin, n, r["n_first"])
-    contact = live & r["started"] & ~r["ended"]
-    r["x_max"] = np.where(contact, np.maximum(r["x_max"], x), r["x_max"])
-    r["f_max"] = np.where(contact, np.maximum(r["f_max"], push), r["f_max"])
+    started, ended = r["started"], r["ended"]  # (the arrays of r, updated in place)
+    begin = live & ~started & on
+    started |= begin
+    np.copyto(r["n_first"], n, where=begin)
+    contact = live & started & ~ended
+    np.maximum(r["x_max"], x, out=r["x_max"], where=contact)
+    np.maximum(r["f_max"], push, out=r["f_max"], where=contact)
     stop = contact & ~on
     if separating is not None:
         stop &= separating
-    r["ended"] = ended = r["ended"] | stop
-    r["n_end"] = np.where(stop, n, r["n_end"])
-    r["w_end"] = np.where(stop, w, r["w_end"])
-    r["x_end"] = np.where(stop, x, r["x_end"])
+    ended |= stop
+    if stop.any():
+        np.copyto(r["n_end"], n, where=stop)
+        np.copyto(r["w_end"], w, where=stop)
+        np.copyto(r["x_end"], x, where=stop)
     after = live & ended & ~stop
     back = after & on & (x > 0)  # force back inside the overlap
     r["sticks"] |= back
-    gone = (after & ~back & (x <= 0)) | (stop & (x <= 0))
-    r["depart"] = np.where(gone, -w, r["depart"])
+    gone = (after & ~back | stop) & (x <= 0)
+    np.copyto(r["depart"], -w, where=gone)
     return back, gone
 
 
