@@ -21,12 +21,15 @@ The roots are checked, never trusted: the pattern ``1e-12`` of a phase before a 
 must be that of the piece (the pattern ``1e-12`` after it starts the next piece, and
 both are the one-sided limits a range needs), and a piece ends at one of 8 grid points
 only where the grid's pattern is the piece's; everything else (a change the roots do
-not see, such as a contact that starts sticking after its end state) is bisected as
-before. Pieces meet at the roots; adjacent pieces of one pattern are merged (the
-restitution is one quadratic there) and integrated by three-point Gauss–Legendre
-(exact for a quadratic) at the map's own runs. The roots are found to ~1e-14 of a
-phase, so the means agree with the bisection's to ~1e-13 and the ranges to ~1e-12
-(tested). A processing threshold or velocity restitution adds roots whose changes the
+not see, such as a contact that starts sticking after its end state) is searched
+as before, 15 phases a round (to ``2^-44`` of a grid interval in 11 runs of the map).
+Pieces meet at the roots; adjacent pieces of one pattern are merged (the end speed is
+one quadratic there) and integrated in closed form (:func:`root_summary`): the run
+that read a piece's pattern carries the quadratic's three coefficients. The roots are
+found to ~1e-14 of a phase, so the means agree with the bisection's to ~1e-13 and the
+ranges to ~1e-12 (tested). The roots are solved only at the sub-steps where one can
+lie within a phase (a bound from the quadratic's coefficients), the few next to a
+change of branch. A processing threshold or velocity restitution adds roots whose changes the
 pattern may not show (then bisected, slower than the old search): the callers use this
 module with PyBullet's defaults for both. All arrays, SI.
 """
@@ -62,7 +65,8 @@ _GRID = 8  # phase intervals: the check of the roots (a change the roots miss is
 #: pattern changes thousands of times over the phase: in the random contacts checked,
 #: only contacts that stick at some phases, whose mean contact time is infinite anyway)
 _ROUNDS = 12
-_BISECT = 42  # bisection steps of the fallback (2^-42 of an interval)
+_SECTIONS = 16  # the fallback search cuts an interval into this many parts per round
+_SECTION_ROUNDS = 11  # rounds of it: 16^-11 = 2^-44 of an interval
 _REACH = 1.0  # roots ahead further than this (in phase) lie past every phase range
 _GAP = 1e-12  # the patterns either side of a root are read this far (in phase) from it
 
@@ -409,11 +413,20 @@ def _merge(p0, p1, s0, s1, key, own, speed):
 
 
 def _bisect(run, own, lo, hi, k_lo):
-    """The phases ``a < b`` at ``2^-42`` of ``[lo, hi]`` with pattern ``k_lo`` at ``a``
-    and another at ``b`` (as in :mod:`~impactsym.engines.pybullet.phases`)."""
+    """The phases ``a < b`` at most ``2^-44`` of ``[lo, hi]`` apart with pattern ``k_lo``
+    at ``a`` and another at ``b`` (as the bisection of
+    :mod:`~impactsym.engines.pybullet.phases`, but ``_SECTIONS - 1`` points per round:
+    11 runs of the map instead of 42 sequential ones; the first sampled change is kept)."""
     a, b = lo.copy(), hi.copy()
-    for _ in range(_BISECT):
-        mid = 0.5 * (a + b)
-        same = run(own, mid)[1] == k_lo
-        a, b = np.where(same, mid, a), np.where(same, b, mid)
+    inner = np.arange(1, _SECTIONS) / _SECTIONS
+    rows = np.repeat(own, inner.size)
+    for _ in range(_SECTION_ROUNDS):
+        pts = a[:, None] + (b - a)[:, None] * inner[None, :]
+        same = (run(rows, pts.ravel())[1] == np.repeat(k_lo, inner.size)).reshape(pts.shape)
+        # the first point off the pattern (or b): the change lies before it
+        first = np.where(same.all(axis=1), inner.size, np.argmin(same, axis=1))
+        at, last = np.arange(own.size), inner.size - 1
+        before = np.where(first > 0, pts[at, np.maximum(first - 1, 0)], a)
+        b = np.where(first <= last, pts[at, np.minimum(first, last)], b)
+        a = before
     return a, b
