@@ -208,13 +208,14 @@ def break_pieces(
 
     grid = np.linspace(0.0, 1.0, _GRID + 1)
     grid[-1] = np.nextafter(1.0, 0.0)
-    every = np.repeat(np.arange(size), _GRID + 1)
-    keys, ahead, speed = track(every, np.tile(grid, size))
-    keys, ahead = keys.reshape(size, _GRID + 1), ahead.reshape(size, _GRID + 1)
-    speed = speed.reshape(3, size, _GRID + 1)[:, :, :-1].reshape(3, -1)
-    lo, hi = np.tile(grid[:-1], size), np.tile(grid[1:], size)
-    k_lo, k_hi, r_lo = keys[:, :-1].ravel(), keys[:, 1:].ravel(), ahead[:, :-1].ravel()
     own = np.repeat(np.arange(size), _GRID)
+    lo, hi = np.tile(grid[:-1], size), np.tile(grid[1:], size)
+    # the pattern, roots ahead and end speed where each grid interval starts; at the last
+    # grid point only the pattern (a plain run: the same numbers, without the tracking)
+    k_lo, r_lo, speed = track(own, lo)
+    k_hi = np.concatenate([k_lo.reshape(size, _GRID)[:, 1:],
+                           run(np.arange(size), np.full(size, grid[-1]))[1][:, None]],
+                          axis=1).ravel()  # fmt: skip
     s_lo = lo.copy()  # where the pattern of the piece starting at lo was read
     # (start, end, sampled start, sampled end, pattern, owner, end speed at the sampled
     # start and its phase derivatives) of every piece
@@ -234,12 +235,10 @@ def break_pieces(
             break
         a = np.where(split, np.maximum(cut - _GAP, lo), lo)
         b = np.where(split, np.minimum(cut + _GAP, hi), hi)
-        # one run: the pattern just before each root, and the pattern and root after it
-        both_keys, both_ahead, both_speed = track(
-            np.concatenate([own, own]), np.concatenate([a, b])
-        )
-        key_a, key_b, r_b = both_keys[: own.size], both_keys[own.size :], both_ahead[own.size :]
-        speed_b = both_speed[:, own.size :]
+        # the pattern just before each root (a plain run), and the pattern, root ahead
+        # and end speed after it
+        key_a = run(own, a)[1]
+        key_b, r_b, speed_b = track(own, b)
         # the pieces meet at the root; the patterns either side are read _GAP away
         end, r_b = np.where(split, cut, a), r_b + (b - np.where(split, cut, b))
         bad = ~split | (key_a != k_lo)
