@@ -123,27 +123,30 @@ def tracked_pattern(
         "first": np.full(size, np.inf), "w1_end": np.zeros(size), "w2_end": np.zeros(size),
     })  # fmt: skip
     settings = (substeps, slop, processing_threshold, velocity_restitution, restitution_threshold)
-    state = run_live(fixed, state, lambda a, n, limit: _advance(a, n, limit, *settings))
+    curved = bool(np.any(g))  # (without gravity every second derivative stays 0)
+    state = run_live(fixed, state, lambda a, n, limit: _advance(a, n, limit, curved, *settings))
     sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
     pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
     return pattern, state["first"], np.stack([state["w_end"], state["w1_end"], state["w2_end"]])
 
 
-def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
+def _advance(a, n, limit, curved, substeps, slop, threshold, rest_coef, rest_threshold):
     """State ``n``: the map of :func:`~impactsym.engines.pybullet.stepping.step_pattern`
     (the same operations), the derivatives of ``x`` and ``w`` in the phase, and the first
-    root of the branch quantities while the contact has not ended."""
+    root of the branch quantities while the contact has not ended. Not ``curved`` (no
+    gravity): the second derivatives are zeros, carried as the scalar ``0.0``."""
     h, erp, gain = a["h"], a["erp"], a["gain"]
     x, w = a["x"], a["w"]
-    x1, x2, w1, w2 = a["x1"], a["x2"], a["w1"], a["w2"]
+    x1, w1 = a["x1"], a["w1"]
+    x2, w2 = (a["x2"], a["w2"]) if curved else (0.0, 0.0)
     watching = ~a["ended"] & ~a["done"]
     first = a["first"].copy()
     settings = (slop, threshold, rest_coef, rest_threshold)
     for _ in range(substeps):
         w_star, d, spec, b_spec, b_pos, rest, within, dv = substep_impulse(a, x, w, *settings)
-        s1, s2 = w1 + x1 / h, w2 + x2 / h  # derivatives of b_spec
-        p1, p2 = w1 + erp * x1 / h, w2 + erp * x2 / h  # of b_pos
+        s1, p1 = w1 + x1 / h, w1 + erp * x1 / h  # derivatives of b_spec, b_pos
+        s2, p2 = (w2 + x2 / h, w2 + erp * x2 / h) if curved else (0.0, 0.0)
         if rest is not None:  # the restitution term's
             r0 = np.where(rest, rest_coef, 0.0)
             s1, s2, p1, p2 = s1 + r0 * w1, s2 + r0 * w2, p1 + r0 * w1, p2 + r0 * w2
@@ -153,17 +156,21 @@ def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
             _ahead(first, watching, quantities, threshold, rest_coef, rest_threshold)
         # the derivatives through the branch taken
         gb = np.where(on, gain, 0.0)
-        b1, b2 = np.where(spec, s1, p1), np.where(spec, s2, p2)
-        w1, w2 = w1 - gb * b1, w2 - gb * b2
-        x1, x2 = x1 + h * w1, x2 + h * w2
+        w1 = w1 - gb * np.where(spec, s1, p1)
+        x1 = x1 + h * w1
+        if curved:
+            w2 = w2 - gb * np.where(spec, s2, p2)
+            x2 = x2 + h * w2
         w = w_star - dv
         x = x + h * w
-    a["x"], a["w"], a["x1"], a["x2"], a["w1"], a["w2"], a["first"] = x, w, x1, x2, w1, w2, first
+    a["x"], a["w"], a["x1"], a["w1"], a["first"] = x, w, x1, w1, first
+    if curved:
+        a["x2"], a["w2"] = x2, w2
     close_state(a, n, limit, dv * a["m"] / h)
     stop = a["ended"] & (a["n_end"] == n)  # the end state: its speed's phase derivatives
     if stop.any():
         np.copyto(a["w1_end"], w1, where=stop)
-        np.copyto(a["w2_end"], w2, where=stop)
+        np.copyto(a["w2_end"], w2, where=stop)  # (0.0 where not curved)
 
 
 def break_pieces(
@@ -284,11 +291,15 @@ def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
         j = np.flatnonzero(near)
         if j.size == 0:
             continue
+
+        def pick(q, j=j):  # (a second derivative may be the scalar 0.0)
+            return q if np.ndim(q) == 0 else q[j]
+
         best = first[j]
-        for root in _roots(q0[j], q1[j], q2[j]):
+        for root in _roots(q0[j], q1[j], pick(q2)):
             if valid is not None:  # the root counts where the side quantity allows it
                 v0, v1, v2, positive = valid
-                side = _at(v0[j], v1[j], v2[j], root)
+                side = _at(v0[j], v1[j], pick(v2), root)
                 root = np.where(side > 0 if positive else side <= 0, root, np.inf)
             best = np.minimum(best, root)
         first[j] = best
