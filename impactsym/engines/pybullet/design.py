@@ -22,7 +22,11 @@ them instead from the inverse of a table of the phase means
 (:func:`~impactsym.engines.pybullet.design_table.table_designs`) and steps on the exact
 phase means with the table's Jacobian, one evaluation per step (2-3 per design against
 about 14): the designs meet the same test, both targets to ``1e-9``, and agree with the
-textbook start's to a few ``1e-9``. The rule depends on the call alone; a smaller call
+textbook start's to a few ``1e-9``. Where every target of the call is designed from a
+table, the prediction returned (means, ranges, stick fraction) is the summary of the
+exact evaluation that accepted each design, not a second one: :func:`predict` of the
+returned values gives it again to ~1e-15 (the pair rules' round trip moves ``k`` and
+``c`` by an ulp; tested). The rule depends on the call alone; a smaller call
 gives the same numbers as before, element by element. A target Newton from the textbook
 start does not reach under gravity, with a contact of at most 50 steps, is tried from a
 table of its own contact before it is refused: the textbook start can lie past the stick
