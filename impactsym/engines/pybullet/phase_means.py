@@ -166,7 +166,7 @@ def _advance(a, n, limit, curved, substeps, slop, threshold, rest_coef, rest_thr
     a["x"], a["w"], a["x1"], a["w1"], a["first"] = x, w, x1, w1, first
     if curved:
         a["x2"], a["w2"] = x2, w2
-    close_state(a, n, limit, dv * a["m"] / h)
+    close_state(a, n, limit, dv * a["m"] / h, extremes=False)  # (the pattern alone)
     stop = a["ended"] & (a["n_end"] == n)  # the end state: its speed's phase derivatives
     if stop.any():
         np.copyto(a["w1_end"], w1, where=stop)
