@@ -157,3 +157,22 @@ def test_pieces_tile_the_phase_and_searched_changes_are_tight():
     np.testing.assert_array_equal(before, key[searched])
     np.testing.assert_array_equal(after, key[searched + 1])
     assert np.all(before != after)
+
+
+@pytest.mark.parametrize("substeps", [1, 2])
+def test_tracked_runs_that_stop_at_a_separating_end_keep_the_maps_pattern(substeps):
+    """Without gravity a tracked run ends where the contact ends separating (no later
+    impulse can come back), unless leaving the overlap could outlast the step budget:
+    heavily damped, slow contacts that stick by the budget are in the mix, and every
+    pattern must be the full run's of ``step_pattern``."""
+    rng = np.random.default_rng(4)
+    n = 3000
+    t = rng.uniform(1.0, 40.0, n) * H
+    zeta = np.exp(rng.uniform(np.log(0.5), np.log(200.0), n))
+    m, v = rng.uniform(0.05, 1.0, n), np.exp(rng.uniform(np.log(1e-4), np.log(2.0), n))
+    k = m * (np.pi / t) ** 2
+    c, p = 2.0 * zeta * np.sqrt(k * m), rng.uniform(0.0, 1.0, n)
+    key, _, _ = tracked_pattern(k, c, m, v, 0.0, H, p, substeps=substeps, **BASE)
+    run, full = step_pattern(k, c, m, v, 0.0, H, p, substeps=substeps, **BASE)
+    assert run.sticks.sum() > 100
+    np.testing.assert_array_equal(key, full)

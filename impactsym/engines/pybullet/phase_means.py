@@ -171,6 +171,15 @@ def _advance(a, n, limit, curved, substeps, slop, threshold, rest_coef, rest_thr
     if stop.any():
         np.copyto(a["w1_end"], w1, where=stop)
         np.copyto(a["w2_end"], w2, where=stop)  # (0.0 where not curved)
+        if not curved:
+            # without gravity a contact that ended separating (w < 0) never sticks: each
+            # later bias is the last one (<= 0) plus erp w < 0 (or the speculative one,
+            # below w); what the run reports is final, unless the way out (x / (H |w|)
+            # calls) could outlast the step budget, which counts as sticking
+            with np.errstate(divide="ignore", invalid="ignore"):
+                calls = x / (-w * h * substeps)
+                final = stop & (w < 0) & (n + calls + 2.0 < a["budget"])
+            a["done"] |= final
 
 
 def break_pieces(
