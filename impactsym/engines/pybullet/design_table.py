@@ -62,7 +62,7 @@ _PAD_U = (1.0, 0.25)  # the coarse box: textbook ln k minus / plus these
 _PAD_Z = (1.5, 0.5)  # and textbook ln zeta minus / plus these
 _GROW = 4  # coarse tables at most: the box grows by half its width towards targets beyond it
 _SPLINE_NEWTON = 12  # Newton steps on the table's cubic
-_SETTLED = 1e-15  # a Newton step on the cubic this small (relative) ends its iteration
+_SETTLED = 1e-9  # a Newton step on the cubic this small (relative) ends its iteration
 _STEPS = 8  # exact evaluations per design before it is left to the caller
 _MAX_STEP = 0.5  # largest step in u or z
 
