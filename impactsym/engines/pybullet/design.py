@@ -210,10 +210,8 @@ def _designs(e, t, v, m, g, h, settings):
     from the textbook start can miss a design that exists), and those a shared table
     missed from a table of their own target, so that a target designed alone is designed
     in any call."""
-    _, label, counts = np.unique(
-        np.stack([v, m, g]), axis=1, return_inverse=True, return_counts=True
-    )
-    big = counts[label.ravel()] >= TABLE_GROUP
+    label, counts = _contacts(v, m, g)
+    big = counts[label] >= TABLE_GROUP
     k, c = np.full(e.size, np.nan), np.full(e.size, np.nan)
     summary = np.full((len(dataclasses.fields(PhaseSummary)), e.size), np.nan)
     _from_tables(e, t, v, m, g, h, settings, k, c, summary, big)
@@ -229,11 +227,9 @@ def _designs(e, t, v, m, g, h, settings):
     # a table's box and grid depend on the targets it serves: one a shared table missed
     # gets a table of its own, as in a call of its own, in order; the first still missed
     # ends the retries (the call is refused there, naming it)
-    _, label, counts = np.unique(
-        np.stack([v, m, g])[:, rescue], axis=1, return_inverse=True, return_counts=True
-    )
+    label, counts = _contacts(v[rescue], m[rescue], g[rescue])
     alone = np.zeros(e.size, bool)
-    alone[np.flatnonzero(rescue)[counts[label.ravel()] == 1]] = True
+    alone[np.flatnonzero(rescue)[counts[label] == 1]] = True
     for i in np.flatnonzero(np.isnan(k) & short & ~alone):
         one = np.zeros(e.size, bool)
         one[i] = True
@@ -243,6 +239,18 @@ def _designs(e, t, v, m, g, h, settings):
     return k, c, summary
 
 
+def _contacts(v, m, g):
+    """The contact of each target (labels ``0, 1, ...`` in the order of the distinct
+    ``(speed, mass, gravity)``, as ``np.unique`` of the columns) and each contact's count;
+    one contact without sorting."""
+    if v.size and np.all(v == v[0]) and np.all(m == m[0]) and np.all(g == g[0]):
+        return np.zeros(v.size, int), np.array([v.size])
+    _, label, counts = np.unique(
+        np.stack([v, m, g]), axis=1, return_inverse=True, return_counts=True
+    )
+    return label.ravel(), counts
+
+
 def _from_tables(e, t, v, m, g, h, settings, k, c, summary, todo):
     """Fill ``k``, ``c`` and the rows of their :class:`PhaseSummary` ``summary`` (in
     place; the accepting evaluation's) of the targets ``todo`` from one table per
@@ -250,8 +258,7 @@ def _from_tables(e, t, v, m, g, h, settings, k, c, summary, todo):
     left where it finds no design)."""
     if not todo.any():
         return
-    _, label = np.unique(np.stack([v, m, g])[:, todo], axis=1, return_inverse=True)
-    label = label.ravel()
+    label, _ = _contacts(v[todo], m[todo], g[todo])
     for group in range(label.max() + 1):
         i = np.flatnonzero(todo)[label == group]
         v0, m0, g0 = v[i[0]], m[i[0]], g[i[0]]
