@@ -378,12 +378,19 @@ def root_summary(
         "restitution_threshold": restitution_threshold,
     }  # fmt: skip
     if size > CHUNK:  # in passes of CHUNK elements: the same numbers, element by element
-        parts = [root_summary(*(a[i : i + CHUNK] for a in flat), **settings)
+        # passes of contacts of like length (sorted by the period^2 m / k, then the damping
+        # time c / k), so that a pass's runs end together instead of stepping the short
+        # contacts' arrays until the long ones end
+        k, c, m = flat[:3]
+        order = np.lexsort((c / k, m / k))
+        parts = [root_summary(*(a[order[i : i + CHUNK]] for a in flat), **settings)
                  for i in range(0, size, CHUNK)]  # fmt: skip
-        return PhaseSummary(*(
-            np.concatenate([getattr(part, f.name) for part in parts]).reshape(shape)
-            for f in dataclasses.fields(PhaseSummary)
-        ))  # fmt: skip
+        out = []
+        for f in dataclasses.fields(PhaseSummary):
+            field = np.empty(size)
+            field[order] = np.concatenate([getattr(part, f.name) for part in parts])
+            out.append(field.reshape(shape))
+        return PhaseSummary(*out)
     p0, p1, s0, s1, own, key, (w0, w1, w2) = break_pieces(*flat, **settings)
     v, h = flat[3][own], flat[5][own]
     stuck = key["end"] < 0
