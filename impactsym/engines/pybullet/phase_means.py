@@ -1,10 +1,11 @@
 r"""PyBullet's phase-mean contact for the designs: the pattern's break points in closed form.
 
-:func:`~impactsym.engines.pybullet.phases.phase_summary` found where the branch pattern
+:func:`~impactsym.engines.pybullet.phases.phase_summary` finds where the branch pattern
 of :func:`~impactsym.engines.pybullet.stepping.step_pattern` changes by bisection (42
-runs of the map per change, on 32 grid intervals); :func:`break_pieces` finds the same
-pieces from a few runs, and :func:`phase_means` gives the means alone, which the
-designs need many times over. Where the pattern is constant the state of every
+runs of the map per change, on 32 grid intervals) for any map; for PyBullet's own
+:func:`break_pieces` finds the same pieces from a few runs and :func:`root_summary`
+integrates them in closed form (the summary the designs need many times over;
+:func:`phase_means` the means alone). Where the pattern is constant the state of every
 (sub)step is an affine map of the free-flight state ``-1``, itself quadratic in the
 phase ``p`` (``x = v t + g t^2/2``, ``w = v + g t``, ``t = (p - 1) h``), so every
 quantity whose sign picks a branch (the gap ``d = s - x`` of the speculative branch,
