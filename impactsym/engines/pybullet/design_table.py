@@ -165,7 +165,8 @@ class _Table:
         wu, du = cubic_lagrange_weights(frac[0])
         wz, dz = cubic_lagrange_weights(frac[1])
         # the 4 x 4 stencils, (2, 4, 4, n): the weights contracted in z, then in u
-        block = self.values.reshape(2, -1)[:, self.offsets[:, :, None] + self.flat_index(base)]
+        index = (self.offsets[:, :, None] + self.flat_index(base)).ravel()
+        block = self.values.reshape(2, -1).take(index, axis=1).reshape(2, 4, 4, -1)
         wz, dz = wz.T, dz.T
         along = sum(block[:, :, j] * wz[j] for j in range(4))  # (2, 4, n)
         slope = sum(block[:, :, j] * dz[j] for j in range(4))
