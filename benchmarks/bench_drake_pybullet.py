@@ -38,9 +38,9 @@ many brackets), the factor over the 2 s target after:
   design (no second evaluation), the roots ahead solved only at the sub-steps next to a
   change of branch, tracked runs that end at a separating end without gravity, passes of
   contacts of like length, the table's inverse without three-operand einsums. CPU
-  seconds (``time.process_time``) per 10^5, ``--count 100000``, load 5-7, main and this
-  measured back to back, before -> after: contact_time array 18.3 -> 4.2, default
-  7.5 -> 1.95; under gravity 6.7 -> 2.1 and 7.9 -> 2.4 (2.1, 0.98, 1.06 and 1.2 x the
+  seconds (``time.process_time``) per 10^5, ``--count 100000``, load ~5, main and this
+  measured back to back, before -> after: contact_time array 19.8 -> 4.2, default
+  7.6 -> 1.6; under gravity 6.8 -> 2.1 and 7.5 -> 2.2 (2.1, 0.8, 1.04 and 1.1 x the
   target); designs and predictions as before to 1e-14 (ranges 2e-13).
 * Drake continuous, g = 0: 0.015 (0.76 x: under the target).
 * Drake continuous, g = 9.81: 11.0 -> 5.1 (contact_time, 254 x), 5.7 (max_penetration);
