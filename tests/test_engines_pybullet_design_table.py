@@ -141,3 +141,20 @@ def test_a_target_designed_alone_is_designed_beside_others():
     assert among.stiffness[73] == pytest.approx(alone.stiffness, rel=1e-7)
     assert abs(among.restitution[73] - e[73]) < 1e-9
     assert among.contact_time[73] == pytest.approx(t[73], rel=1e-9)
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+def test_the_prediction_of_table_designs_is_a_fresh_predict(gravity):
+    """Designs from a table report the summary of their accepting exact evaluation (no
+    second evaluation): every field must be what ``predict`` computes afresh from the
+    returned body values (pair rules applied again, ranges included)."""
+    rng = np.random.default_rng(12)
+    e = rng.uniform(0.4, 0.45, TABLE_GROUP) if gravity else rng.uniform(0.2, 0.5, TABLE_GROUP)
+    t = (rng.uniform(9.8, 10.2, TABLE_GROUP) if gravity else rng.uniform(10, 40, TABLE_GROUP)) * H
+    d = pyb.contact_for(restitution=e, contact_time=t, gravity=gravity, **BASE)
+    p = pyb.predict(stiffness=d.stiffness, damping=d.damping, gravity=gravity, **BASE)
+    for name in ("pair_stiffness", "pair_damping", "stick_fraction"):
+        np.testing.assert_array_equal(getattr(d, name), getattr(p, name), err_msg=name)
+    for name in ("restitution", "contact_time", "restitution_range", "contact_time_range"):
+        np.testing.assert_allclose(getattr(d, name), getattr(p, name), rtol=1e-12, err_msg=name)
+    assert not np.any(d.sticks)

@@ -48,7 +48,7 @@ def test_means_and_ranges_are_those_of_the_bisection(gravity, substeps):
 def test_the_pattern_holds_up_to_the_root_and_changes_there():
     k, c, m, v, g = _contacts(40, 0.0)
     p = RNG.uniform(0.0, 0.9, k.size)
-    key, ahead = tracked_pattern(k, c, m, v, g, H, p, substeps=1, **BASE)
+    key, ahead, _ = tracked_pattern(k, c, m, v, g, H, p, substeps=1, **BASE)
     np.testing.assert_array_equal(key, step_pattern(k, c, m, v, g, H, p, substeps=1, **BASE)[1])
     has = p + ahead < 1.0
     assert has.sum() > 20
@@ -111,3 +111,68 @@ def test_passes_of_chunk_elements_give_every_element_its_own_numbers(monkeypatch
         np.testing.assert_array_equal(a, b.ravel())
     for name in ("restitution", "contact_time", "restitution_min", "contact_time_max"):
         np.testing.assert_array_equal(getattr(summary, name), getattr(in_passes, name))
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+def test_the_tracked_end_speed_is_the_maps_restitution_up_to_the_root(gravity):
+    """``root_summary`` integrates the quadratic ``-(w0 + w1 u + w2 u^2 / 2) / v`` that the
+    tracked run at a phase carries: it must be the restitution the map itself gives at
+    phases up to the first root ahead (fresh runs of ``step_pattern``)."""
+    k, c, m, v, g = _contacts(80, gravity)
+    p = RNG.uniform(0.0, 0.9, k.size)
+    key, ahead, (w0, w1, w2) = tracked_pattern(k, c, m, v, g, H, p, substeps=1, **BASE)
+    keep = (key["end"] >= 0) & (np.minimum(ahead, 1.0 - p) > 0.05)
+    assert keep.sum() > 20
+    k, c, m, v, g, p, ahead, w0, w1, w2 = (a[keep] for a in (k, c, m, v, g, p, ahead, w0, w1, w2))
+    u = np.minimum(ahead, 1.0 - p) * np.linspace(0.0, 0.999, 7)[:, None]
+    run = step_pattern(k, c, m, v, g, H, p + u, substeps=1, **BASE)[0]
+    quadratic = -(w0 + w1 * u + 0.5 * w2 * u * u) / v
+    np.testing.assert_allclose(quadratic, run.restitution, rtol=1e-11, atol=1e-13)
+
+
+def test_pieces_tile_the_phase_and_searched_changes_are_tight():
+    """Every element's pieces cover [0, 1) in order; where two pieces do not meet at a
+    root the change was searched (15 phases a round, 11 rounds): the gap is at most
+    2^-44 of a grid interval, and the map's pattern differs across it."""
+    from impactsym.engines.pybullet.phase_means import break_pieces
+
+    rng = np.random.default_rng(1)  # (200 contacts: changes the roots miss are rare)
+    t, zeta = rng.uniform(3.0, 40.0, 200) * H, rng.uniform(0.0, 0.6, 200)
+    m, v = rng.uniform(0.05, 1.0, 200), rng.uniform(0.3, 2.0, 200)
+    k, g = m * (np.pi / t) ** 2, np.full(200, 9.81)
+    c = 2.0 * zeta * np.sqrt(k * m)
+    p0, p1, s0, s1, own, key, _ = break_pieces(k, c, m, v, g, H, substeps=1, **BASE)
+    first = np.r_[True, own[1:] != own[:-1]]
+    last = np.r_[own[1:] != own[:-1], True]
+    assert np.all(p0[first] == 0.0)
+    assert np.all(p1[last] == np.nextafter(1.0, 0.0))
+    gap = p0[1:][~first[1:]] - p1[:-1][~last[:-1]]
+    assert np.all(gap >= 0.0)
+    assert np.all(gap <= 2.0**-44 / 8 * 1.01)
+    searched = np.flatnonzero(~last[:-1])[gap > 0]
+    assert searched.size > 0  # contacts that stick at some phases are in the mix
+    i = own[searched]
+    before = step_pattern(k[i], c[i], m[i], v[i], g[i], H, s1[searched], substeps=1, **BASE)[1]
+    after = step_pattern(k[i], c[i], m[i], v[i], g[i], H, s0[searched + 1], substeps=1, **BASE)[1]
+    np.testing.assert_array_equal(before, key[searched])
+    np.testing.assert_array_equal(after, key[searched + 1])
+    assert np.all(before != after)
+
+
+@pytest.mark.parametrize("substeps", [1, 2])
+def test_tracked_runs_that_stop_at_a_separating_end_keep_the_maps_pattern(substeps):
+    """Without gravity a tracked run ends where the contact ends separating (no later
+    impulse can come back), unless leaving the overlap could outlast the step budget:
+    heavily damped, slow contacts that stick by the budget are in the mix, and every
+    pattern must be the full run's of ``step_pattern``."""
+    rng = np.random.default_rng(4)
+    n = 3000
+    t = rng.uniform(1.0, 40.0, n) * H
+    zeta = np.exp(rng.uniform(np.log(0.5), np.log(200.0), n))
+    m, v = rng.uniform(0.05, 1.0, n), np.exp(rng.uniform(np.log(1e-4), np.log(2.0), n))
+    k = m * (np.pi / t) ** 2
+    c, p = 2.0 * zeta * np.sqrt(k * m), rng.uniform(0.0, 1.0, n)
+    key, _, _ = tracked_pattern(k, c, m, v, 0.0, H, p, substeps=substeps, **BASE)
+    run, full = step_pattern(k, c, m, v, 0.0, H, p, substeps=substeps, **BASE)
+    assert run.sticks.sum() > 100
+    np.testing.assert_array_equal(key, full)

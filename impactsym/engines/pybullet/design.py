@@ -22,7 +22,11 @@ them instead from the inverse of a table of the phase means
 (:func:`~impactsym.engines.pybullet.design_table.table_designs`) and steps on the exact
 phase means with the table's Jacobian, one evaluation per step (2-3 per design against
 about 14): the designs meet the same test, both targets to ``1e-9``, and agree with the
-textbook start's to a few ``1e-9``. The rule depends on the call alone; a smaller call
+textbook start's to a few ``1e-9``. Where every target of the call is designed from a
+table, the prediction returned (means, ranges, stick fraction) is the summary of the
+exact evaluation that accepted each design, not a second one: :func:`predict` of the
+returned values gives it again to ~1e-15 (the pair rules' round trip moves ``k`` and
+``c`` by an ulp; tested). The rule depends on the call alone; a smaller call
 gives the same numbers as before, element by element. A target Newton from the textbook
 start does not reach under gravity, with a contact of at most 50 steps, is tried from a
 table of its own contact before it is refused: the textbook start can lie past the stick
@@ -34,19 +38,21 @@ budget, minutes for a refusal).
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
 
+from impactsym.engines.mujoco.discrete import PhaseSummary
 from impactsym.engines.pybullet.design_table import table_designs
-from impactsym.engines.pybullet.pair import split_pair
-from impactsym.engines.pybullet.phase_means import phase_means
+from impactsym.engines.pybullet.pair import combine_pair, split_pair
 from impactsym.engines.pybullet.phases import phase_summary
 from impactsym.engines.pybullet.prediction import (
     PyBulletContact,
     check_budget,
     check_settings,
     predict,
+    summary_contact,
 )
 from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD, DEFAULT_SLOP
 from impactsym.validation import broadcast, real_array
@@ -145,7 +151,7 @@ def contact_for(
     shape = broadcast(restitution=e, speed=v, mass=m, gravity=g, contact_time=t)
     e, v, m, g, t = (np.broadcast_to(a, shape).ravel() for a in (e, v, m, g, t))
     check_budget(m * (np.pi / t) ** 2, 0.0, m, h)  # the stiffness of an undamped contact of t
-    k, c = _designs(e, t, v, m, g, h, settings)
+    k, c, summary = _designs(e, t, v, m, g, h, settings)
     bad = ~(np.isfinite(k) & np.isfinite(c))
     if bad.any():
         _refuse(e, t, v, m, g, h, settings, int(np.flatnonzero(bad)[0]))
@@ -157,6 +163,21 @@ def contact_for(
     if scalar:
         shaped = [float(a) for a in shaped]
     k_b, c_b, m_, v_, g_ = shaped
+    single = np.ndim(other_stiffness) == 0 and np.ndim(other_damping) == 0
+    if single and np.all(np.isfinite(summary)):
+        # every design from a table: the summary of its accepting exact evaluation (at the
+        # pair's (k, c) as designed; the pair rules' round trip moves them by an ulp) is
+        # the prediction, with the ranges: no second evaluation
+        k_pair, c_pair = combine_pair(
+            stiffness=k_body, damping=c_body, other_stiffness=other_stiffness,
+            other_damping=other_damping,
+        )  # fmt: skip
+        check_budget(k_pair, c_pair, m, h)
+        pair = [np.reshape(a, shape) for a in (k_body, c_body, k_pair, c_pair)]
+        found = PhaseSummary(*(np.reshape(row, shape) for row in summary))
+        return summary_contact(
+            found, *pair, scalar=scalar, timestep=h, substeps=settings["substeps"]
+        )
     return predict(
         stiffness=k_b,
         damping=c_b,
@@ -171,13 +192,10 @@ def contact_for(
 
 
 def _means(k, c, m, v, g, h, settings):
-    """The phase means: without the ranges and with the break points in closed form
-    (:func:`~impactsym.engines.pybullet.phase_means.phase_means`, the numbers of
-    ``phase_summary`` to rounding) where the contact processing threshold is left open
-    and the velocity restitution off (PyBullet's defaults; there the roots see every
-    change of the pattern), else the full summary."""
-    if np.isinf(settings["processing_threshold"]) and not settings["velocity_restitution"]:
-        return phase_means(k, c, m, v, g, h, **settings)
+    """The phase means ``(restitution, contact_time)`` of
+    :func:`~impactsym.engines.pybullet.phases.phase_summary` (with PyBullet's defaults
+    the break points in closed form and the pieces integrated exactly,
+    :func:`~impactsym.engines.pybullet.phase_means.root_summary`)."""
     r = phase_summary(k, c, m, v, g, h, **settings)
     return r.restitution, r.contact_time
 
@@ -192,12 +210,11 @@ def _designs(e, t, v, m, g, h, settings):
     from the textbook start can miss a design that exists), and those a shared table
     missed from a table of their own target, so that a target designed alone is designed
     in any call."""
-    _, label, counts = np.unique(
-        np.stack([v, m, g]), axis=1, return_inverse=True, return_counts=True
-    )
-    big = counts[label.ravel()] >= TABLE_GROUP
+    label, counts = _contacts(v, m, g)
+    big = counts[label] >= TABLE_GROUP
     k, c = np.full(e.size, np.nan), np.full(e.size, np.nan)
-    _from_tables(e, t, v, m, g, h, settings, k, c, big)
+    summary = np.full((len(dataclasses.fields(PhaseSummary)), e.size), np.nan)
+    _from_tables(e, t, v, m, g, h, settings, k, c, summary, big)
     left = np.isnan(k)
     if left.all():  # no table: the textbook path alone, as for any call below TABLE_GROUP
         k, c = _solve(e, t, v, m, g, h, settings)
@@ -206,48 +223,61 @@ def _designs(e, t, v, m, g, h, settings):
     # a second chance under gravity for short contacts (bounded cost: see module docstring)
     short = (g > 0) & (t <= _RESCUE_STEPS * h)
     rescue = ~big & np.isnan(k) & short
-    _from_tables(e, t, v, m, g, h, settings, k, c, rescue)
+    _from_tables(e, t, v, m, g, h, settings, k, c, summary, rescue)
     # a table's box and grid depend on the targets it serves: one a shared table missed
     # gets a table of its own, as in a call of its own, in order; the first still missed
     # ends the retries (the call is refused there, naming it)
-    _, label, counts = np.unique(
-        np.stack([v, m, g])[:, rescue], axis=1, return_inverse=True, return_counts=True
-    )
+    label, counts = _contacts(v[rescue], m[rescue], g[rescue])
     alone = np.zeros(e.size, bool)
-    alone[np.flatnonzero(rescue)[counts[label.ravel()] == 1]] = True
+    alone[np.flatnonzero(rescue)[counts[label] == 1]] = True
     for i in np.flatnonzero(np.isnan(k) & short & ~alone):
         one = np.zeros(e.size, bool)
         one[i] = True
-        _from_tables(e, t, v, m, g, h, settings, k, c, one)
+        _from_tables(e, t, v, m, g, h, settings, k, c, summary, one)
         if np.isnan(k[i]):
             break
-    return k, c
+    return k, c, summary
 
 
-def _from_tables(e, t, v, m, g, h, settings, k, c, todo):
-    """Fill ``k``, ``c`` (in place) of the targets ``todo`` from one table per contact
-    (:func:`~impactsym.engines.pybullet.design_table.table_designs`; ``nan`` left where
-    it finds no design)."""
+def _contacts(v, m, g):
+    """The contact of each target (labels ``0, 1, ...`` in the order of the distinct
+    ``(speed, mass, gravity)``, as ``np.unique`` of the columns) and each contact's count;
+    one contact without sorting."""
+    if v.size and np.all(v == v[0]) and np.all(m == m[0]) and np.all(g == g[0]):
+        return np.zeros(v.size, int), np.array([v.size])
+    _, label, counts = np.unique(
+        np.stack([v, m, g]), axis=1, return_inverse=True, return_counts=True
+    )
+    return label.ravel(), counts
+
+
+def _from_tables(e, t, v, m, g, h, settings, k, c, summary, todo):
+    """Fill ``k``, ``c`` and the rows of their :class:`PhaseSummary` ``summary`` (in
+    place; the accepting evaluation's) of the targets ``todo`` from one table per
+    contact (:func:`~impactsym.engines.pybullet.design_table.table_designs`; ``nan``
+    left where it finds no design)."""
     if not todo.any():
         return
-    _, label = np.unique(np.stack([v, m, g])[:, todo], axis=1, return_inverse=True)
-    label = label.ravel()
+    label, _ = _contacts(v[todo], m[todo], g[todo])
     for group in range(label.max() + 1):
         i = np.flatnonzero(todo)[label == group]
         v0, m0, g0 = v[i[0]], m[i[0]], g[i[0]]
 
         def evaluate(u, z, v0=v0, m0=m0, g0=g0):
             kk = np.exp(u)
-            em, tm = _means(kk, 2.0 * np.exp(z) * np.sqrt(kk * m0), m0, v0, g0, h, settings)
+            r = phase_summary(kk, 2.0 * np.exp(z) * np.sqrt(kk * m0), m0, v0, g0, h, **settings)
+            fields = (getattr(r, f.name) for f in dataclasses.fields(r))
             with np.errstate(divide="ignore"):
-                return em, np.log(tm)
+                return r.restitution, np.log(r.contact_time), *fields
 
-        x = table_designs(
+        x, found = table_designs(
             evaluate, np.stack([e[i], np.log(t[i])]), _textbook(e[i], t[i], m[i]), rtol=_RTOL
         )
         got = np.all(np.isfinite(x), axis=0)
         k[i[got]] = np.exp(x[0, got])
         c[i[got]] = 2.0 * np.exp(x[1, got]) * np.sqrt(k[i[got]] * m[i[got]])
+        if got.any():  # (without a design, found may have no rows)
+            summary[:, i[got]] = found[:, got]
 
 
 def _textbook(e, t, m):

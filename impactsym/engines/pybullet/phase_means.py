@@ -1,10 +1,11 @@
 r"""PyBullet's phase-mean contact for the designs: the pattern's break points in closed form.
 
-:func:`~impactsym.engines.pybullet.phases.phase_summary` found where the branch pattern
+:func:`~impactsym.engines.pybullet.phases.phase_summary` finds where the branch pattern
 of :func:`~impactsym.engines.pybullet.stepping.step_pattern` changes by bisection (42
-runs of the map per change, on 32 grid intervals); :func:`break_pieces` finds the same
-pieces from a few runs, and :func:`phase_means` gives the means alone, which the
-designs need many times over. Where the pattern is constant the state of every
+runs of the map per change, on 32 grid intervals) for any map; for PyBullet's own
+:func:`break_pieces` finds the same pieces from a few runs and :func:`root_summary`
+integrates them in closed form (the summary the designs need many times over;
+:func:`phase_means` the means alone). Where the pattern is constant the state of every
 (sub)step is an affine map of the free-flight state ``-1``, itself quadratic in the
 phase ``p`` (``x = v t + g t^2/2``, ``w = v + g t``, ``t = (p - 1) h``), so every
 quantity whose sign picks a branch (the gap ``d = s - x`` of the speculative branch,
@@ -21,22 +22,28 @@ The roots are checked, never trusted: the pattern ``1e-12`` of a phase before a 
 must be that of the piece (the pattern ``1e-12`` after it starts the next piece, and
 both are the one-sided limits a range needs), and a piece ends at one of 8 grid points
 only where the grid's pattern is the piece's; everything else (a change the roots do
-not see, such as a contact that starts sticking after its end state) is bisected as
-before. Pieces meet at the roots; adjacent pieces of one pattern are merged (the
-restitution is one quadratic there) and integrated by three-point Gauss–Legendre
-(exact for a quadratic) at the map's own runs. The roots are found to ~1e-14 of a
-phase, so the means agree with the bisection's to ~1e-13 and the ranges to ~1e-12
-(tested). A processing threshold or velocity restitution adds roots whose changes the
+not see, such as a contact that starts sticking after its end state) is searched
+as before, 15 phases a round (to ``2^-44`` of a grid interval in 11 runs of the map).
+Pieces meet at the roots; adjacent pieces of one pattern are merged (the end speed is
+one quadratic there) and integrated in closed form (:func:`root_summary`): the run
+that read a piece's pattern carries the quadratic's three coefficients. The roots are
+found to ~1e-14 of a phase, so the means agree with the bisection's to ~1e-13 and the
+ranges to ~1e-12 (tested). The roots are solved only at the sub-steps where one can
+lie within a phase (a bound from the quadratic's coefficients), the few next to a
+change of branch. A processing threshold or velocity restitution adds roots whose changes the
 pattern may not show (then bisected, slower than the old search): the callers use this
 module with PyBullet's defaults for both. All arrays, SI.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
 
+from impactsym.engines.mujoco.discrete import PhaseSummary
+from impactsym.engines.phase_pieces import reduce_at
 from impactsym.engines.pybullet.stepping import (
     DEFAULT_RESTITUTION_THRESHOLD,
     close_state,
@@ -47,7 +54,7 @@ from impactsym.engines.pybullet.stepping import (
     substep_impulse,
 )
 
-__all__ = ["CHUNK", "break_pieces", "phase_means", "tracked_pattern"]
+__all__ = ["CHUNK", "break_pieces", "phase_means", "root_summary", "tracked_pattern"]
 
 #: elements per pass of :func:`phase_means` and of the phase summary: every element's
 #: numbers are its own, but a pass over 10^5 elements at once runs out of the cache
@@ -59,9 +66,10 @@ _GRID = 8  # phase intervals: the check of the roots (a change the roots miss is
 #: pattern changes thousands of times over the phase: in the random contacts checked,
 #: only contacts that stick at some phases, whose mean contact time is infinite anyway)
 _ROUNDS = 12
-_BISECT = 42  # bisection steps of the fallback (2^-42 of an interval)
+_SECTIONS = 16  # the fallback search cuts an interval into this many parts per round
+_SECTION_ROUNDS = 11  # rounds of it: 16^-11 = 2^-44 of an interval
+_REACH = 1.0  # roots ahead further than this (in phase) lie past every phase range
 _GAP = 1e-12  # the patterns either side of a root are read this far (in phase) from it
-_NODES = 3  # Gauss-Legendre nodes per merged piece
 
 
 def _roots(q0, q1, q2):
@@ -99,8 +107,11 @@ def tracked_pattern(
     restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The pattern of :func:`~impactsym.engines.pybullet.stepping.step_pattern` (the
-    same numbers) and the phase distance to the first root ahead (``inf``: none up to
-    the end of the phase range; module docstring). Flat arrays, broadcast together."""
+    same numbers), the phase distance to the first root ahead (``inf``: none within a
+    whole phase, so none before the end of the phase range; module docstring) and
+    ``(3, n)``: the end state's speed ``w`` and its first and second derivatives in the
+    phase (where the contact ended; while the pattern holds, ``w`` is that quadratic in
+    the phase). Flat arrays, broadcast together."""
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
     )
@@ -110,48 +121,66 @@ def tracked_pattern(
     size = k.size
     state.update({
         "x1": state["w"] * H, "x2": g * H * H, "w1": g * H, "w2": np.zeros(size),
-        "first": np.full(size, np.inf),
+        "first": np.full(size, np.inf), "w1_end": np.zeros(size), "w2_end": np.zeros(size),
     })  # fmt: skip
     settings = (substeps, slop, processing_threshold, velocity_restitution, restitution_threshold)
-    state = run_live(fixed, state, lambda a, n, limit: _advance(a, n, limit, *settings))
+    curved = bool(np.any(g))  # (without gravity every second derivative stays 0)
+    state = run_live(fixed, state, lambda a, n, limit: _advance(a, n, limit, curved, *settings))
     sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
-    return pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest), state["first"]
+    pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
+    return pattern, state["first"], np.stack([state["w_end"], state["w1_end"], state["w2_end"]])
 
 
-def _advance(a, n, limit, substeps, slop, threshold, rest_coef, rest_threshold):
+def _advance(a, n, limit, curved, substeps, slop, threshold, rest_coef, rest_threshold):
     """State ``n``: the map of :func:`~impactsym.engines.pybullet.stepping.step_pattern`
     (the same operations), the derivatives of ``x`` and ``w`` in the phase, and the first
-    root of the branch quantities while the contact has not ended."""
+    root of the branch quantities while the contact has not ended. Not ``curved`` (no
+    gravity): the second derivatives are zeros, carried as the scalar ``0.0``."""
     h, erp, gain = a["h"], a["erp"], a["gain"]
     x, w = a["x"], a["w"]
-    x1, x2, w1, w2 = a["x1"], a["x2"], a["w1"], a["w2"]
-    watching = np.flatnonzero(~a["ended"] & ~a["done"])
+    x1, w1 = a["x1"], a["w1"]
+    x2, w2 = (a["x2"], a["w2"]) if curved else (0.0, 0.0)
+    watching = ~a["ended"] & ~a["done"]
     first = a["first"].copy()
     settings = (slop, threshold, rest_coef, rest_threshold)
     for _ in range(substeps):
         w_star, d, spec, b_spec, b_pos, rest, within, dv = substep_impulse(a, x, w, *settings)
-        s1, s2 = w1 + x1 / h, w2 + x2 / h  # derivatives of b_spec
-        p1, p2 = w1 + erp * x1 / h, w2 + erp * x2 / h  # of b_pos
+        s1, p1 = w1 + x1 / h, w1 + erp * x1 / h  # derivatives of b_spec, b_pos
+        s2, p2 = (w2 + x2 / h, w2 + erp * x2 / h) if curved else (0.0, 0.0)
         if rest is not None:  # the restitution term's
             r0 = np.where(rest, rest_coef, 0.0)
             s1, s2, p1, p2 = s1 + r0 * w1, s2 + r0 * w2, p1 + r0 * w1, p2 + r0 * w2
         on = dv > 0
         quantities = (x, x1, x2, w_star, w1, w2, d, within, b_spec, s1, s2, b_pos, p1, p2)
-        if watching.size == x.size:  # the roots ahead, for the contacts not yet ended
-            first = np.fmin(first, _ahead(*quantities, threshold, rest_coef, rest_threshold))
-        elif watching.size:
-            ahead = _ahead(*(q[watching] for q in quantities), threshold, rest_coef, rest_threshold)
-            first[watching] = np.fmin(first[watching], ahead)
+        if watching.any():  # the roots ahead, for the contacts not yet ended
+            _ahead(first, watching, quantities, threshold, rest_coef, rest_threshold)
         # the derivatives through the branch taken
         gb = np.where(on, gain, 0.0)
-        b1, b2 = np.where(spec, s1, p1), np.where(spec, s2, p2)
-        w1, w2 = w1 - gb * b1, w2 - gb * b2
-        x1, x2 = x1 + h * w1, x2 + h * w2
+        w1 = w1 - gb * np.where(spec, s1, p1)
+        x1 = x1 + h * w1
+        if curved:
+            w2 = w2 - gb * np.where(spec, s2, p2)
+            x2 = x2 + h * w2
         w = w_star - dv
         x = x + h * w
-    a["x"], a["w"], a["x1"], a["x2"], a["w1"], a["w2"], a["first"] = x, w, x1, x2, w1, w2, first
-    close_state(a, n, limit, dv * a["m"] / h)
+    a["x"], a["w"], a["x1"], a["w1"], a["first"] = x, w, x1, w1, first
+    if curved:
+        a["x2"], a["w2"] = x2, w2
+    close_state(a, n, limit, dv * a["m"] / h, extremes=False)  # (the pattern alone)
+    stop = a["ended"] & (a["n_end"] == n)  # the end state: its speed's phase derivatives
+    if stop.any():
+        np.copyto(a["w1_end"], w1, where=stop)
+        np.copyto(a["w2_end"], w2, where=stop)  # (0.0 where not curved)
+        if not curved:
+            # without gravity a contact that ended separating (w < 0) never sticks: each
+            # later bias is the last one (<= 0) plus erp w < 0 (or the speculative one,
+            # below w); what the run reports is final, unless the way out (x / (H |w|)
+            # calls) could outlast the step budget, which counts as sticking
+            with np.errstate(divide="ignore", invalid="ignore"):
+                calls = x / (-w * h * substeps)
+                final = stop & (w < 0) & (n + calls + 2.0 < a["budget"])
+            a["done"] |= final
 
 
 def break_pieces(
@@ -169,11 +198,14 @@ def break_pieces(
     restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> tuple[np.ndarray, ...]:
     """The pieces of constant pattern (module docstring): ``(start, end, sampled_start,
-    sampled_end, owner)``, adjacent pieces of one pattern merged, sorted by owner and
-    start. A piece that meets another at a root starts (ends) there, and its pattern
-    was read ``_GAP`` inside, at ``sampled_start`` (``sampled_end``): there the map
-    gives the one-sided limits at the jump (elsewhere the sampled end is the end).
-    Arguments as in :func:`phase_means`, flattened (``owner`` indexes the flat arrays)."""
+    sampled_end, owner, pattern, end_speed)``, adjacent pieces of one pattern merged,
+    sorted by owner and start. A piece that meets another at a root starts (ends) there,
+    and its pattern was read ``_GAP`` inside, at ``sampled_start`` (``sampled_end``):
+    there the map gives the one-sided limits at the jump (elsewhere the sampled end is
+    the end). ``end_speed`` (``(3, pieces)``) is the end state's speed at
+    ``sampled_start`` and its two phase derivatives (:func:`tracked_pattern`): the
+    quadratic the end speed follows over the piece. Arguments as in
+    :func:`phase_means`, flattened (``owner`` indexes the flat arrays)."""
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
     )
@@ -193,82 +225,94 @@ def break_pieces(
 
     grid = np.linspace(0.0, 1.0, _GRID + 1)
     grid[-1] = np.nextafter(1.0, 0.0)
-    every = np.repeat(np.arange(size), _GRID + 1)
-    keys, ahead = (a.reshape(size, _GRID + 1) for a in track(every, np.tile(grid, size)))
-    lo, hi = np.tile(grid[:-1], size), np.tile(grid[1:], size)
-    k_lo, k_hi, r_lo = keys[:, :-1].ravel(), keys[:, 1:].ravel(), ahead[:, :-1].ravel()
     own = np.repeat(np.arange(size), _GRID)
+    lo, hi = np.tile(grid[:-1], size), np.tile(grid[1:], size)
+    # the pattern, roots ahead and end speed where each grid interval starts; at the last
+    # grid point only the pattern (a plain run: the same numbers, without the tracking)
+    k_lo, r_lo, speed = track(own, lo)
+    k_hi = np.concatenate([k_lo.reshape(size, _GRID)[:, 1:],
+                           run(np.arange(size), np.full(size, grid[-1]))[1][:, None]],
+                          axis=1).ravel()  # fmt: skip
     s_lo = lo.copy()  # where the pattern of the piece starting at lo was read
-    pieces = []  # (start, end, sampled start, sampled end, pattern, owner) of every piece
+    # (start, end, sampled start, sampled end, pattern, owner, end speed at the sampled
+    # start and its phase derivatives) of every piece
+    pieces = []
     for _ in range(_ROUNDS):
         cut = lo + r_lo
         split = cut < hi
         flat_piece = ~split & (k_lo == k_hi)
-        pieces.append(tuple(arr[flat_piece] for arr in (lo, hi, s_lo, hi, k_lo, own)))
+        pieces.append((*(arr[flat_piece] for arr in (lo, hi, s_lo, hi, k_lo, own)),
+                       speed[:, flat_piece]))  # fmt: skip
         rest = ~flat_piece
         lo, hi, s_lo, k_lo, k_hi, own, cut, split = (
             arr[rest] for arr in (lo, hi, s_lo, k_lo, k_hi, own, cut, split)
         )  # fmt: skip
+        speed = speed[:, rest]
         if own.size == 0:
             break
         a = np.where(split, np.maximum(cut - _GAP, lo), lo)
         b = np.where(split, np.minimum(cut + _GAP, hi), hi)
-        # one run: the pattern just before each root, and the pattern and root after it
-        both_keys, both_ahead = track(np.concatenate([own, own]), np.concatenate([a, b]))
-        key_a, key_b, r_b = both_keys[: own.size], both_keys[own.size :], both_ahead[own.size :]
+        # the pattern just before each root (a plain run), and the pattern, root ahead
+        # and end speed after it
+        key_a = run(own, a)[1]
+        key_b, r_b, speed_b = track(own, b)
         # the pieces meet at the root; the patterns either side are read _GAP away
         end, r_b = np.where(split, cut, a), r_b + (b - np.where(split, cut, b))
         bad = ~split | (key_a != k_lo)
         if bad.any():  # a change the roots do not see: bisection
             j = np.flatnonzero(bad)
             end[j], b[j] = _bisect(run, own[j], lo[j], hi[j], k_lo[j])
-            key_b[j], r_b[j] = track(own[j], b[j])
-        pieces.append((lo, end, s_lo, np.where(bad, end, a), k_lo, own))
-        lo, s_lo, k_lo, r_lo = np.where(bad, b, cut), b, key_b, r_b
+            key_b[j], r_b[j], speed_b[:, j] = track(own[j], b[j])
+        pieces.append((lo, end, s_lo, np.where(bad, end, a), k_lo, own, speed))
+        lo, s_lo, k_lo, r_lo, speed = np.where(bad, b, cut), b, key_b, r_b, speed_b
     else:
-        pieces.append((lo, hi, s_lo, hi, k_lo, own))  # left after _ROUNDS: one piece
-    return _merge(*(np.concatenate(part) for part in zip(*pieces, strict=True)))
+        pieces.append((lo, hi, s_lo, hi, k_lo, own, speed))  # left after _ROUNDS: one piece
+    parts = [np.concatenate(part, axis=-1) for part in zip(*pieces, strict=True)]
+    return _merge(*parts)
 
 
-def _ahead(
-    x,
-    x1,
-    x2,
-    w_star,
-    w1,
-    w2,
-    d,
-    within,
-    b_spec,
-    s1,
-    s2,
-    b_pos,
-    p1,
-    p2,
-    threshold,
-    rest_coef,
-    rest_threshold,
-):
-    """The first root ahead of the branch quantities of one sub-step (module docstring):
-    ``b`` on the side of ``d`` whose formula it is, ``d`` where the impulse is on at
-    ``d = 0`` (there ``b = w*``, plus the restitution term), the thresholds."""
+def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
+    """Lower ``first`` (in place) to the first root ahead of the branch quantities of one
+    sub-step (module docstring) where ``watch``: ``b`` on the side of ``d`` whose formula
+    it is, ``d`` where the impulse is on at ``d = 0`` (there ``b = w*``, plus the
+    restitution term), the thresholds. Roots are solved only where one can lie before
+    ``min(first, 1)``: ``|q0| <= (|q1| + |q2| D / 2) D`` at that ``D`` (a root further
+    than a whole phase lies past the end of every phase range, and one past ``first``
+    changes nothing), which leaves the few sub-steps next to a change of branch."""
+    x, x1, x2, w_star, w1, w2, d, within, b_spec, s1, s2, b_pos, p1, p2 = quantities
     mx1, mx2 = -x1, -x2
     q = [
-        (b_spec, s1, s2, lambda r: within & (_at(d, mx1, mx2, r) > 0)),
-        (b_pos, p1, p2, lambda r: within & (_at(d, mx1, mx2, r) <= 0)),
-        (d, mx1, mx2, lambda r: within & (_at(w_star, w1, w2, r) > 0)),
+        (b_spec, s1, s2, (d, mx1, mx2, True)),
+        (b_pos, p1, p2, (d, mx1, mx2, False)),
+        (d, mx1, mx2, (w_star, w1, w2, True)),
     ]
     if np.isfinite(threshold):
         q.append((x + threshold, x1, x2, None))
     if rest_coef:
         q += [(w_star - rest_threshold, w1, w2, None), (w_star, w1, w2, None)]
-    first = np.full(x.shape, np.inf)  # the smallest valid root, quantity by quantity
+    reach = np.minimum(first, _REACH) * (1.0 + 1e-9)  # (the slack covers rounding)
+    half = 0.5 * reach
+    # (without a processing threshold every contact is within it: no mask to apply)
+    inside = watch if np.isinf(threshold) else watch & within
     for q0, q1, q2, valid in q:
-        for root in _roots(q0, q1, q2):
-            first = np.minimum(
-                first, root if valid is None else np.where(valid(root), root, np.inf)
-            )
-    return first
+        with np.errstate(invalid="ignore", over="ignore"):
+            near = np.abs(q0) <= (np.abs(q1) + np.abs(q2) * half) * reach
+        near &= watch if valid is None else inside
+        j = np.flatnonzero(near)
+        if j.size == 0:
+            continue
+
+        def pick(q, j=j):  # (a second derivative may be the scalar 0.0)
+            return q if np.ndim(q) == 0 else q[j]
+
+        best = first[j]
+        for root in _roots(q0[j], q1[j], pick(q2)):
+            if valid is not None:  # the root counts where the side quantity allows it
+                v0, v1, v2, positive = valid
+                side = _at(v0[j], v1[j], pick(v2), root)
+                root = np.where(side > 0 if positive else side <= 0, root, np.inf)
+            best = np.minimum(best, root)
+        first[j] = best
 
 
 def phase_means(
@@ -286,9 +330,43 @@ def phase_means(
     restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The phase-mean restitution and contact time (``inf`` where a piece sticks) of
-    :func:`~impactsym.engines.pybullet.phases.phase_summary`, without the ranges
-    (module docstring). Validated arrays in, broadcast together; arrays out, computed
-    in passes of :data:`CHUNK` elements."""
+    :func:`root_summary`. Validated arrays in, broadcast together."""
+    summary = root_summary(
+        stiffness, damping, mass, speed, gravity, timestep, substeps=substeps, slop=slop,
+        processing_threshold=processing_threshold, velocity_restitution=velocity_restitution,
+        restitution_threshold=restitution_threshold,
+    )  # fmt: skip
+    return summary.restitution, summary.contact_time
+
+
+def root_summary(
+    stiffness: Any,
+    damping: Any,
+    mass: Any,
+    speed: Any,
+    gravity: Any,
+    timestep: Any,
+    *,
+    substeps: int,
+    slop: float,
+    processing_threshold: float,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
+) -> PhaseSummary:
+    """The phase summary (means, ranges, stick fraction) from the pieces of
+    :func:`break_pieces`, each integrated in closed form.
+
+    On a piece the end speed is the quadratic ``w(p) = w0 + w1 u + w2 u^2 / 2``,
+    ``u = p - s`` about the phase ``s`` where the piece's pattern was read (its three
+    coefficients tracked along that run, :func:`tracked_pattern`), the restitution
+    ``-w / v`` and the contact time ``(p + n) h`` (``n`` the end state): the mean is the
+    exact integral of each over ``[start, end]``, the range the values at the sampled ends
+    (the one-sided limits at the jumps) and at the quadratic's vertex where it lies
+    between them. Where the piece sticks: restitution 0, contact time ``inf``. The
+    same numbers as Gauss-Legendre on runs of the map at the nodes (which re-ran the
+    map three or five times per piece) to rounding. Validated arrays in, broadcast
+    together; arrays out, in passes of :data:`CHUNK` elements.
+    """
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
     )
@@ -301,44 +379,81 @@ def phase_means(
         "restitution_threshold": restitution_threshold,
     }  # fmt: skip
     if size > CHUNK:  # in passes of CHUNK elements: the same numbers, element by element
-        parts = [phase_means(*(a[i : i + CHUNK] for a in flat), **settings)
+        # passes of contacts of like length (sorted by the period^2 m / k, then the damping
+        # time c / k), so that a pass's runs end together instead of stepping the short
+        # contacts' arrays until the long ones end
+        k, c, m = flat[:3]
+        order = np.lexsort((c / k, m / k))
+        parts = [root_summary(*(a[order[i : i + CHUNK]] for a in flat), **settings)
                  for i in range(0, size, CHUNK)]  # fmt: skip
-        return tuple(np.concatenate(part).reshape(shape) for part in zip(*parts, strict=True))
-    p0, p1, _, _, own = break_pieces(*flat, **settings)
-    x, weights = np.polynomial.legendre.leggauss(_NODES)
-    half, centre = 0.5 * (p1 - p0), 0.5 * (p1 + p0)
-    pts = centre[:, None] + half[:, None] * x[None, :]
-    rows = np.repeat(own, _NODES)
-    res = step_pattern(*(a[rows] for a in flat), pts.ravel(), **settings)[0]
-    e = res.restitution.reshape(pts.shape)
-    t = res.contact_time.reshape(pts.shape)
-    stuck = res.sticks.reshape(pts.shape)
-    wts = half[:, None] * weights[None, :]
-    e_mean = np.bincount(own, (wts * e).sum(axis=1), minlength=size)
-    with np.errstate(invalid="ignore"):
-        t_piece = np.where(stuck.any(axis=1), np.inf, (wts * t).sum(axis=1))
-    t_mean = np.zeros(size)
-    np.add.at(t_mean, own, t_piece)
-    return e_mean.reshape(shape), t_mean.reshape(shape)
+        out = []
+        for f in dataclasses.fields(PhaseSummary):
+            field = np.empty(size)
+            field[order] = np.concatenate([getattr(part, f.name) for part in parts])
+            out.append(field.reshape(shape))
+        return PhaseSummary(*out)
+    p0, p1, s0, s1, own, key, (w0, w1, w2) = break_pieces(*flat, **settings)
+    v, h = flat[3][own], flat[5][own]
+    stuck = key["end"] < 0
+    length = p1 - p0
+    u0, u1, top = p0 - s0, p1 - s0, s1 - s0
+    with np.errstate(all="ignore"):
+        # the exact mean of the quadratic over [p0, p1], times the length
+        w_int = length * (w0 + w1 * (0.5 * (u0 + u1)) + w2 * ((u0 * u0 + u0 * u1 + u1 * u1) / 6.0))
+        u_vertex = -w1 / w2
+        inside = (u_vertex > 0.0) & (u_vertex < top)
+        e_vertex = -(w0 + u_vertex * (w1 + 0.5 * w2 * u_vertex)) / v
+        e_first = -w0 / v
+        e_last = -(w0 + top * (w1 + 0.5 * w2 * top)) / v
+    e_lo, e_hi = np.minimum(e_first, e_last), np.maximum(e_first, e_last)
+    e_lo = np.where(inside, np.minimum(e_lo, e_vertex), e_lo)
+    e_hi = np.where(inside, np.maximum(e_hi, e_vertex), e_hi)
+    n_end = key["end"].astype(float)
+    e_piece = np.where(stuck, 0.0, -w_int / v)
+    t_piece = np.where(stuck, np.inf, h * length * (0.5 * (p0 + p1) + n_end))
+    e_lo, e_hi = np.where(stuck, 0.0, e_lo), np.where(stuck, 0.0, e_hi)
+    t_lo = np.where(stuck, np.inf, h * (s0 + n_end))
+    t_hi = np.where(stuck, np.inf, h * (s1 + n_end))
+    fields = (
+        np.bincount(own, e_piece, minlength=size),
+        np.bincount(own, t_piece, minlength=size),
+        reduce_at(np.minimum, own, e_lo, size, np.inf),
+        reduce_at(np.maximum, own, e_hi, size, -np.inf),
+        reduce_at(np.minimum, own, t_lo, size, np.inf),
+        reduce_at(np.maximum, own, t_hi, size, -np.inf),
+        np.bincount(own, np.where(stuck, length, 0.0), minlength=size),
+    )
+    return PhaseSummary(*(np.reshape(f, shape) for f in fields))
 
 
-def _merge(p0, p1, s0, s1, key, own):
-    """The pieces sorted by owner and start, adjacent ones of one pattern joined."""
+def _merge(p0, p1, s0, s1, key, own, speed):
+    """The pieces sorted by owner and start, adjacent ones of one pattern joined (the
+    pattern and the end speed's quadratic are those of the first)."""
     order = np.lexsort((p0, own))
     p0, p1, s0, s1, key, own = (a[order] for a in (p0, p1, s0, s1, key, own))
+    speed = speed[:, order]
     joins = np.zeros(p0.size, bool)
     joins[1:] = (own[1:] == own[:-1]) & (key[1:] == key[:-1]) & (p0[1:] == p1[:-1])
     starts = np.flatnonzero(~joins)
     lasts = np.append(starts[1:], p0.size) - 1
-    return p0[starts], p1[lasts], s0[starts], s1[lasts], own[starts]
+    return p0[starts], p1[lasts], s0[starts], s1[lasts], own[starts], key[starts], speed[:, starts]
 
 
 def _bisect(run, own, lo, hi, k_lo):
-    """The phases ``a < b`` at ``2^-42`` of ``[lo, hi]`` with pattern ``k_lo`` at ``a``
-    and another at ``b`` (as in :mod:`~impactsym.engines.pybullet.phases`)."""
+    """The phases ``a < b`` at most ``2^-44`` of ``[lo, hi]`` apart with pattern ``k_lo``
+    at ``a`` and another at ``b`` (as the bisection of
+    :mod:`~impactsym.engines.pybullet.phases`, but ``_SECTIONS - 1`` points per round:
+    11 runs of the map instead of 42 sequential ones; the first sampled change is kept)."""
     a, b = lo.copy(), hi.copy()
-    for _ in range(_BISECT):
-        mid = 0.5 * (a + b)
-        same = run(own, mid)[1] == k_lo
-        a, b = np.where(same, mid, a), np.where(same, b, mid)
+    inner = np.arange(1, _SECTIONS) / _SECTIONS
+    rows = np.repeat(own, inner.size)
+    for _ in range(_SECTION_ROUNDS):
+        pts = a[:, None] + (b - a)[:, None] * inner[None, :]
+        same = (run(rows, pts.ravel())[1] == np.repeat(k_lo, inner.size)).reshape(pts.shape)
+        # the first point off the pattern (or b): the change lies before it
+        first = np.where(same.all(axis=1), inner.size, np.argmin(same, axis=1))
+        at, last = np.arange(own.size), inner.size - 1
+        before = np.where(first > 0, pts[at, np.maximum(first - 1, 0)], a)
+        b = np.where(first <= last, pts[at, np.minimum(first, last)], b)
+        a = before
     return a, b

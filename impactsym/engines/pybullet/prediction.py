@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from impactsym.engines.mujoco.discrete import PhaseSummary
 from impactsym.engines.pybullet.pair import combine_pair
 from impactsym.engines.pybullet.phases import phase_summary
 from impactsym.engines.pybullet.stepping import (
@@ -46,7 +47,7 @@ from impactsym.engines.pybullet.stepping import (
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, check_count, real_array
 
-__all__ = ["PyBulletContact", "check_budget", "check_settings", "predict"]
+__all__ = ["PyBulletContact", "check_budget", "check_settings", "predict", "summary_contact"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -207,23 +208,53 @@ def predict(
     k, c = np.asarray(k, float), np.asarray(c, float)
     broadcast(stiffness=k, damping=c, mass=m, speed=v, gravity=g)
     check_budget(k, c, m, float(h))
-    if phase is not None:
-        p, p_scalar = real_array("phase", phase, lower=0.0)
-        if np.any(p >= 1):
-            raise ValueError(f"phase must lie in [0, 1), got {phase!r}")
-        scalar = scalar and p_scalar
-        at = step_contact(k, c, m, v, g, float(h), p, **settings)
-        e, t, sticks = at.restitution, at.contact_time, at.sticks
-        frac = sticks.astype(float)
-        ranges = (e, e), (t, t)
-    else:
+    if phase is None:
         summary = phase_summary(k, c, m, v, g, float(h), **settings)
-        e, t, frac = summary.restitution, summary.contact_time, summary.stick_fraction
-        sticks = frac > 0
-        ranges = (
-            (summary.restitution_min, summary.restitution_max),
-            (summary.contact_time_min, summary.contact_time_max),
-        )
+        return summary_contact(
+            summary, k_body, c_body, k, c, scalar=scalar, timestep=float(h),
+            substeps=settings["substeps"],
+        )  # fmt: skip
+    p, p_scalar = real_array("phase", phase, lower=0.0)
+    if np.any(p >= 1):
+        raise ValueError(f"phase must lie in [0, 1), got {phase!r}")
+    scalar = scalar and p_scalar
+    at = step_contact(k, c, m, v, g, float(h), p, **settings)
+    e, t, sticks = at.restitution, at.contact_time, at.sticks
+    ranges = (e, e), (t, t)
+    frac = sticks.astype(float)
+    return _record(k_body, c_body, k, c, e, t, sticks, frac, ranges, scalar, h, settings, phase)
+
+
+def summary_contact(
+    summary: PhaseSummary,
+    stiffness: Any,
+    damping: Any,
+    pair_stiffness: Any,
+    pair_damping: Any,
+    *,
+    scalar: bool,
+    timestep: float,
+    substeps: int,
+) -> PyBulletContact:
+    """The :class:`PyBulletContact` over the touch phase (``phase=None``) of the body's
+    ``stiffness``, ``damping`` and the pair's values, from their ``summary``
+    (:func:`~impactsym.engines.pybullet.phases.phase_summary`); ``scalar``: floats out.
+    Shared by :func:`predict` and the designs, whose last exact evaluation is this
+    summary."""
+    ranges = (
+        (summary.restitution_min, summary.restitution_max),
+        (summary.contact_time_min, summary.contact_time_max),
+    )
+    frac = summary.stick_fraction
+    return _record(
+        stiffness, damping, pair_stiffness, pair_damping, summary.restitution,
+        summary.contact_time, frac > 0, frac, ranges, scalar, timestep, {"substeps": substeps},
+        None,
+    )  # fmt: skip
+
+
+def _record(k_body, c_body, k, c, e, t, sticks, frac, ranges, scalar, h, settings, phase):
+    """The :class:`PyBulletContact` of these fields (floats where ``scalar``)."""
     out = [np.broadcast_to(a, np.shape(e)) for a in (k_body, c_body, k, c)]
     out += [e, t, sticks, frac]
     if scalar:

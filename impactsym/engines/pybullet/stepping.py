@@ -87,6 +87,7 @@ def read_state(
     live: np.ndarray,
     *,
     separating: np.ndarray | None = None,
+    extremes: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Read state ``n`` into ``r`` (updated in place) by the definitions of the module
     docstring: the contact begins at the first positive ``push`` (the state's force, or
@@ -94,26 +95,30 @@ def read_state(
     mask also holds), is back while it overlaps (``x > 0``: a stick) and is gone where
     ``x <= 0`` after its end. ``live``: the elements not yet done. Returns the masks
     ``(back, gone)``; the caller marks them done. One place for the PyBullet maps
-    (compliant, rigid and the rotating body)."""
+    (compliant, rigid and the rotating body). Without ``extremes`` the peak penetration
+    and force are not kept (runs that want the pattern alone)."""
     on = push > 0
-    begin = live & ~r["started"] & on
-    r["started"] |= begin
-    r["n_first"] = np.where(begin, n, r["n_first"])
-    contact = live & r["started"] & ~r["ended"]
-    r["x_max"] = np.where(contact, np.maximum(r["x_max"], x), r["x_max"])
-    r["f_max"] = np.where(contact, np.maximum(r["f_max"], push), r["f_max"])
+    started, ended = r["started"], r["ended"]  # (the arrays of r, updated in place)
+    begin = live & ~started & on
+    started |= begin
+    np.copyto(r["n_first"], n, where=begin)
+    contact = live & started & ~ended
+    if extremes:
+        np.maximum(r["x_max"], x, out=r["x_max"], where=contact)
+        np.maximum(r["f_max"], push, out=r["f_max"], where=contact)
     stop = contact & ~on
     if separating is not None:
         stop &= separating
-    r["ended"] = ended = r["ended"] | stop
-    r["n_end"] = np.where(stop, n, r["n_end"])
-    r["w_end"] = np.where(stop, w, r["w_end"])
-    r["x_end"] = np.where(stop, x, r["x_end"])
+    ended |= stop
+    if stop.any():
+        np.copyto(r["n_end"], n, where=stop)
+        np.copyto(r["w_end"], w, where=stop)
+        np.copyto(r["x_end"], x, where=stop)
     after = live & ended & ~stop
     back = after & on & (x > 0)  # force back inside the overlap
     r["sticks"] |= back
-    gone = (after & ~back & (x <= 0)) | (stop & (x <= 0))
-    r["depart"] = np.where(gone, -w, r["depart"])
+    gone = (after & ~back | stop) & (x <= 0)
+    np.copyto(r["depart"], -w, where=gone)
     return back, gone
 
 
@@ -282,12 +287,13 @@ def run_live(fixed: dict, state: dict, advance: Callable[[dict, int, int], None]
     return state
 
 
-def close_state(a: dict, n: int, limit: int, force: np.ndarray) -> None:
+def close_state(a: dict, n: int, limit: int, force: np.ndarray, *, extremes: bool = True) -> None:
     """State ``n`` of the live elements ``a`` (after their sub-steps): read it
-    (:func:`read_state`, ``force`` the last sub-step's) and mark the elements done that
-    departed, stick by a force back inside the overlap, or outlast their own step
-    budget (a stick; checked from ``limit``, the smallest budget, on)."""
-    back, gone = read_state(a, n, a["x"], a["w"], force, ~a["done"])
+    (:func:`read_state`, ``force`` the last sub-step's; ``extremes`` as there) and mark
+    the elements done that departed, stick by a force back inside the overlap, or
+    outlast their own step budget (a stick; checked from ``limit``, the smallest budget,
+    on)."""
+    back, gone = read_state(a, n, a["x"], a["w"], force, ~a["done"], extremes=extremes)
     done = a["done"] | back | gone
     if n >= limit:
         over = ~done & (n >= a["budget"])
