@@ -217,6 +217,12 @@ def test_first_crossing_of_any_level_from_any_state_matches_mpmath():
     level = np.where(level + h0 > 0, level, -h0 + np.abs(level))  # starts above
     level[-2:] = [-0.2, -0.4]  # negative levels: the over-damped tail at D = 3
     h0[-2:], h1[-2:] = [0.5, 0.9], [-0.1, 0.3]
+    # level 0 next to critical damping: the zero of h from the arctanh series (its first
+    # term alone missed by 3e-7 relative at D = 1 + 1e-7)
+    near = np.array([1 + 1e-7, 1 + 1e-9, 1 + 1e-5, 1 - 1e-7])
+    D = np.concatenate([D, near])
+    level = np.concatenate([level, np.zeros(near.size)])
+    h0, h1 = np.concatenate([h0, np.full(near.size, 1.0)]), np.concatenate([h1, [-2.0] * 4])
     tau = first_crossing(D, level, h0, h1, homogeneous_modes(D, h0, h1),
                          exclude_start=np.zeros(D.size, bool))  # fmt: skip
     mp.mp.dps = 30
@@ -245,3 +251,19 @@ def test_first_crossing_of_any_level_from_any_state_matches_mpmath():
             assert tau[i] == np.inf or tau[i] > 60.0, i
         else:
             assert tau[i] == pytest.approx(float(found), rel=1e-11), i
+
+
+@pytest.mark.parametrize("D", [1 + 1e-9, 1 + 1e-7, 1 + 1e-5, 1 - 1e-7])
+def test_paper_force_condition_next_to_critical_damping_matches_mpmath(D):
+    # z = e^{-D t} sinh(mu t)/mu (sin below D = 1), released where 2 D z' + z = 0
+    mp.mp.dps = 40
+    d = mp.mpf(D)
+    mu = mp.sqrt(abs(1 - d * d))
+    if d > 1:
+        z = lambda t: mp.exp(-d * t) * mp.sinh(mu * t) / mu  # noqa: E731
+    else:
+        z = lambda t: mp.exp(-d * t) * mp.sin(mu * t) / mu  # noqa: E731
+    force = lambda t: 2 * d * mp.diff(z, t) + z(t)  # noqa: E731
+    ref = mp.findroot(force, mp.mpf(2))
+    got = float(linear_release(D, 0.0, 0.0).contact_time)
+    assert got == pytest.approx(float(ref), rel=1e-13)

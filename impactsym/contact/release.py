@@ -153,7 +153,10 @@ def homogeneous_extrema(
         ratio = h1 / p
         arg = mu * ratio
         t1_over = np.where(
-            mu * np.abs(ratio) < _SERIES, ratio, np.arctanh(np.clip(arg, -1.0, 1.0)) / mu
+            # arctanh(x)/mu = ratio (1 + x^2/3 + x^4/5 + ...), x = mu ratio: to x^6/7 ~ 1e-18
+            mu * np.abs(ratio) < _SERIES,
+            ratio * (1.0 + arg * arg * (1.0 / 3.0 + arg * arg / 5.0)),
+            np.arctanh(np.clip(arg, -1.0, 1.0)) / mu,
         )
         ok = (ratio > 0) & (arg < 1.0)
     t1 = np.where(under, t1_under, np.where(ok, t1_over, np.inf))

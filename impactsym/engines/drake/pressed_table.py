@@ -29,9 +29,11 @@ and then :math:`k = m (g / (b v))^2`, :math:`d = s / v`. So every target of one 
   :data:`TAIL_TERMS` degrees in either variable sum to at most :data:`TAIL` times its
   largest value (measured: ``2e-15`` for the restitution, ``9e-15`` for the contact time
   on the benchmark's box). Otherwise it is built again with twice the points in both
-  variables. The box's four corners are evaluated first: where one sticks (heavy damping
-  under a strong pressing force, e.g. every target with ``e <= 0.02`` at ``g = 9.81``)
-  the nodes are not. Where a node sticks (a corner of the box under a strong pressing force) or
+  variables. The box's four corners are evaluated first: the body sticks above a
+  pressing number ``b*(s)`` that falls with ``s``, so a node sticks only where the corner
+  of largest ``s`` and ``b`` does (heavy damping under a strong pressing force, e.g.
+  every target with ``e <= 0.02`` at ``g = 9.81``), and then the nodes are not
+  evaluated. Where a corner or node sticks, or
   the tail stays too large, the targets are split in two halves along the wider side of
   their box (relative width, at the median), each with its own box, down to
   :data:`MIN_GROUP` targets; the targets of a group that finds no table are left to the
