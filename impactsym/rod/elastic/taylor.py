@@ -117,26 +117,31 @@ class TaylorTable:
         self.cells_per_interval = n
 
     def _build(self, n: int, n_intervals: int) -> None:
-        """Coefficients on ``n`` cells per interval, then :meth:`_bound`."""
+        """Coefficients on ``n`` cells per interval, then :meth:`_bound`: all cells of an
+        interval at once (:func:`cell_chain`)."""
         self.h = h = 2.0 / n
         total = n * n_intervals
         self.lo = np.arange(total) * h
         self.hi = self.lo + h
         D = DEGREE
-        # coefficients [rhs (A, B), cell, order]; the constant coefficients of y, v, N
-        # are double-double (+ Y_lo, V_lo, N_lo): a cell starts exactly where the one
-        # before ends, up to u^2. G = g(t - 2), the alternating sum of the N before,
-        # is double-double too. (The bound measures both afterwards, in _bound.)
-        Y = np.zeros((2, total, D + 2))
-        V = np.zeros((2, total, D + 1))
-        N = np.zeros((2, total, D + 1))
-        Y_lo, V_lo, N_lo = (np.zeros((2, total)) for _ in range(3))
-        G_hi, G_lo = np.zeros((2, total, D + 1)), np.zeros((2, total, D + 1))
-        c_v = [h / (self.alpha * (k + 1)) for k in range(D)]
-        c_n = [h * self.kappa / (k + 1) for k in range(D)]
-        c_y = [h / (k + 1) for k in range(D + 1)]
-        # (y, v, N) at the next cell start, as (high, low) pairs
-        state = [[(0.0, 0.0), (1.0, 0.0), (0.0, 0.0)], [(0.0, 0.0)] * 3]
+        # coefficients [rhs (A, B), cell, order] and their low parts (every order): a
+        # cell starts exactly where the one before ends, up to u^2. G = g(t - 2), the
+        # alternating sum of the N before, is double-double. (The bound measures both
+        # afterwards, in _bound.)
+        Y, Y_lo = np.zeros((2, total, D + 2)), np.zeros((2, total, D + 2))
+        V, N, V_lo, N_lo, G_hi, G_lo = (np.zeros((2, total, D + 1)) for _ in range(6))
+        factors = tuple(
+            np.array(c)
+            for c in (
+                [h / (self.alpha * (k + 1)) for k in range(D)],
+                [h * self.kappa / (k + 1) for k in range(D)],
+                [h / (k + 1) for k in range(D + 1)],
+            )
+        )
+        maps = layer_maps(factors)
+        force = np.array([0.0, 1.0])
+        # (y, v, N) at the interval's start, high and low parts, per right-hand side
+        state = (np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]), np.zeros((2, 3)))
         for m in range(n_intervals):
             cells = slice(m * n, (m + 1) * n)
             if m:  # G_m = N_(m-1) - G_(m-1), nearly exactly
@@ -144,25 +149,17 @@ class TaylorTable:
                 G_hi[:, cells], G_lo[:, cells] = next_incoming(
                     N[:, before], N_lo[:, before], G_hi[:, before], G_lo[:, before]
                 )
-            G_all = (G_hi[:, cells] + G_lo[:, cells]).tolist()
-            for rhs, force in ((0, 0.0), (1, 1.0)):
-                (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
-                rows = []
-                for G in G_all[rhs]:
-                    v, w, y = taylor_cell(y0, v0, n0, force, G, (c_v, c_n, c_y))
-                    rows.append((v, w, y, v0_lo, n0_lo, y0_lo))
-                    (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = (
-                        _end(y, y0_lo),
-                        _end(v, v0_lo),
-                        _end(w, n0_lo),
-                    )
-                V[rhs, cells] = [r[0] for r in rows]
-                N[rhs, cells] = [r[1] for r in rows]
-                Y[rhs, cells] = [r[2] for r in rows]
-                V_lo[rhs, cells], N_lo[rhs, cells], Y_lo[rhs, cells] = np.array(
-                    [r[3:] for r in rows]
-                ).T
-                state[rhs] = [(y0, y0_lo), (v0, v0_lo), (n0, n0_lo)]
+            G = G_hi[:, cells] + G_lo[:, cells]
+            step = np.broadcast_to(maps[1], (2, n, 3, 3))
+            offsets = G @ maps[2].T + force[:, None, None] * maps[3]
+
+            def coefficients(starts, G=G):
+                return taylor_cells(*np.moveaxis(starts, -1, 0), force[:, None], G, factors)
+
+            (Y[:, cells], V[:, cells], N[:, cells]), lows, state = cell_chain(
+                coefficients, maps[0], step, offsets, state
+            )
+            Y_lo[:, cells], V_lo[:, cells], N_lo[:, cells] = lows
         self._bound(Y, V, N, (Y_lo, V_lo, N_lo), G_hi, G_lo, n)
 
     def _bound(self, Y, V, N, lows, G_hi, G_lo, n):
@@ -233,13 +230,24 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=No
     n_low_next = np.concatenate([n_low[..., 1:], pad], axis=-1)
     # r0 = y' - v
     p, e = two_prod(kp1 / hc, Y[..., 1:])
-    r0, b0 = sum_with_bound([p, e, -V, -v_low], 1)
+    # with low parts of every coefficient (a few ulps: float, their rounding bounded):
+    # their derivatives, by kp1/h (exact: h a power of two) and by alpha/h
+    lows_y, lows_v = [], []
+    if np.ndim(Y_lo) == 3:
+        lows_y = [(kp1 / hc) * Y_lo[..., 1:]]
+    if np.ndim(V_lo) == 3:
+        lows_v = [(alpha / hc) * (kp1 * np.concatenate([V_lo[..., 1:], pad], axis=-1))]
+    r0, b0 = sum_with_bound([p, e, -V, -v_low, *lows_y], 1)
+    for z in lows_y:
+        b0 += _U * np.abs(z)
     # r1 = alpha v' - f + N
     x1, x2 = two_prod(kp1, v_next)
     p, e = two_prod(alpha / hc, x1)
     rest = (alpha / hc) * x2
-    r1, b1 = sum_with_bound([p, e, rest, -force, N, n_low], 2)
+    r1, b1 = sum_with_bound([p, e, rest, -force, N, n_low, *lows_v], 2)
     b1 += _U * np.abs(rest)
+    for z in lows_v:
+        b1 += 3.0 * _U * np.abs(z)
     # r2 = N' - kappa (v - N + 2 G), G = G_hi + G_lo (+- dG)
     terms = [*two_prod(kp1 / hc, n_next)]
     if np.ndim(N_lo) == 3:  # low parts of every coefficient (the slow-manifold cells)
@@ -351,6 +359,118 @@ def taylor_cell(y0: float, v0: float, n0: float, force: float, G: list, factors:
         w.append(wk)
         fk = 0.0
     return v, w, [y0] + [cy * x for cy, x in zip(c_y, v, strict=True)]
+
+
+def taylor_cells(y0, v0, n0, force, G, factors):
+    r"""Internal: :func:`taylor_cell` on many cells at once (NumPy, elementwise the same
+    operations in the same order): ``(Y, V, N)``, shaped ``broadcast + (DEGREE + 2,)``
+    resp. ``(DEGREE + 1,)``, from starts ``y0, v0, n0`` and forces ``force`` (arrays
+    that broadcast), incoming waves ``G`` (``[..., order]``) and ``factors = (c_v, c_n,
+    c_y)`` (``[..., order]``: one set, or one per cell)."""
+    c_v, c_n, c_y = factors
+    D = DEGREE
+    shape = np.broadcast_shapes(
+        np.shape(y0), np.shape(v0), np.shape(n0), np.shape(force), np.shape(G)[:-1]
+    )
+    V, N = np.empty((*shape, D + 1)), np.empty((*shape, D + 1))
+    V[..., 0], N[..., 0] = v0, n0
+    vk, wk, fk = V[..., 0], N[..., 0], np.asarray(force, dtype=float)
+    for k in range(D):
+        vk, wk = c_v[..., k] * (fk - wk), c_n[..., k] * ((vk - wk) + 2.0 * G[..., k])
+        V[..., k + 1], N[..., k + 1] = vk, wk
+        fk = 0.0
+    Y = np.empty((*shape, D + 2))
+    Y[..., 0] = y0
+    Y[..., 1:] = c_y * V
+    return Y, V, N
+
+
+def layer_maps(factors):
+    """Internal: what :func:`cell_chain` needs of Taylor cells with ``factors`` (one set):
+    the responses ``(E_y, E_v, E_n)`` to unit starts ``(y, v, N)`` (each ``[start,
+    order]``), the map ``T`` of the start to the end (``[end, start]``), and the ends'
+    response to the incoming wave (``[end, order of G]``) and to a unit force."""
+    D = DEGREE
+    lanes = 3 + (D + 1) + 1  # unit starts, unit G_k, unit force
+    starts = np.zeros((lanes, 3))
+    starts[:3] = np.eye(3)
+    G = np.zeros((lanes, D + 1))
+    G[3 : 3 + D + 1] = np.eye(D + 1)
+    force = np.zeros(lanes)
+    force[-1] = 1.0
+    Y, V, N = taylor_cells(*starts.T, force, G, factors)
+    ends = np.stack([C.sum(axis=-1) for C in (Y, V, N)], axis=-1)  # [lane, end]
+    responses = (Y[:3], V[:3], N[:3])
+    return responses, ends[:3].T, ends[3 : 3 + D + 1].T, ends[-1]
+
+
+def affine_scan(A: np.ndarray, c: np.ndarray, x0: np.ndarray) -> np.ndarray:
+    """Internal: ``x_1 .. x_n`` of ``x_(i+1) = A_i x_i + c_i`` (``A: [..., n, k, k]``,
+    ``c: [..., n, k]``, ``x0: [..., k]``), by doubling (Hillis and Steele): ``log2 n``
+    NumPy steps instead of ``n``, rounding at the level of a sequential loop."""
+    A, c = A.copy(), c.copy()
+    n, d = A.shape[-3], 1
+    while d < n:
+        c[..., d:, :] = (
+            np.einsum("...ij,...j->...i", A[..., d:, :, :], c[..., :-d, :]) + c[..., d:, :]
+        )
+        A[..., d:, :, :] = A[..., d:, :, :] @ A[..., :-d, :, :]
+        d *= 2
+    return np.einsum("...ij,...j->...i", A, x0[..., None, :]) + c
+
+
+def _column_sums(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(s, e)`` per row of ``C`` (``[..., order]``): the cascaded sum of its entries
+    (Ogita, Rump and Oishi's Sum2), ``s + e`` within ``u |s| + gamma_n^2 sum |c|`` of the
+    exact sum; the value of a polynomial in ``xi`` at ``xi = 1``."""
+    s, e = C[..., 0].copy(), np.zeros(C.shape[:-1])
+    for k in range(1, C.shape[-1]):
+        s, err = two_sum(s, C[..., k])
+        e += err
+    return s, e
+
+
+def cell_chain(coefficients, responses, A, c, state):
+    """Internal: the cells of one reflection interval, all at once, each starting where the
+    one before ends, up to ``u^2``: ``((Y, V, N), (Y_lo, V_lo, N_lo), state)``.
+
+    The cells are affine in their start ``x = (y, v, N)``: a cell from ``x`` ends at
+    ``A_i x + c_i`` (``A: [rhs, cell, end, start]``, ``c: [rhs, cell, end]``, in float:
+    only to find starts), and ``coefficients(starts)`` (``starts: [rhs, cell, 3]``) gives
+    its polynomials ``(Y, V, N)`` (``[rhs, cell, order]``) from a float start, in the
+    cells' own arithmetic; ``responses = (E_y, E_v, E_n)``, the polynomials of unit
+    starts (``[start, order]``, one set, or ``[rhs, cell, start, order]``).
+
+    1. the float starts of every cell from ``state = (high, low)`` (``[rhs, 3]``, the
+       start of the interval) by :func:`affine_scan`; the polynomials from them;
+    2. what each cell misses of the exact end of the one before, ``l``, is the low part
+       of its start: ``l_(i+1) = (end_i - start_(i+1)) + A_i l_i`` (the ends of the
+       stored polynomials to ``u^2``, :func:`_column_sums`), and its polynomials' low
+       parts are ``l`` times the unit responses (float: ``l`` is a few ulps, so their
+       rounding is ``u^2``): the stored ``C + C_lo`` starts at the exact end before;
+    3. ``state`` the exact end of the last cell.
+
+    Unlike a cell-by-cell loop with double-double starts the polynomials are the
+    recurrence of a start a few ulps off, completed by the low parts (the bound measures
+    both, :func:`cell_bounds`); a NumPy operation on all cells of the interval replaces
+    one per cell."""
+    high, low = state
+    starts = np.concatenate([high[:, None], affine_scan(A[:, :-1], c[:, :-1], high + low)], 1)
+    starts[:, 0] = high
+    polys = coefficients(starts)
+    sums = [_column_sums(C) for C in polys]
+    s_end = np.stack([s for s, _ in sums], axis=-1)  # [rhs, cell, end]
+    e_end = np.stack([e for _, e in sums], axis=-1)
+    # what the next start misses of this end: exact difference of near values, then
+    # the end's error term (a few ulps of the state: its rounding is u^2)
+    missed = (s_end[:, :-1] - starts[:, 1:]) + e_end[:, :-1]
+    lows = np.concatenate([low[:, None], affine_scan(A[:, :-1], missed, low)], axis=1)
+    subscripts = "rcs,so->rco" if responses[0].ndim == 2 else "rcs,rcso->rco"
+    low_polys = tuple(np.einsum(subscripts, lows, E) for E in responses)
+    # the exact end of the last cell, as (high, low)
+    last = e_end[:, -1] + np.stack([P[:, -1].sum(axis=-1) for P in low_polys], axis=-1)
+    end_high, end_low = two_sum(s_end[:, -1], last)
+    return polys, low_polys, (end_high, end_low)
 
 
 def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray, before=None) -> np.ndarray:
