@@ -49,10 +49,12 @@ from impactsym.rod.elastic.taylor import (
     DEGREE,
     TaylorTable,
     TaylorView,
+    cell_chain,
     check_table_arguments,
     fastest_rate,
+    layer_maps,
     next_incoming,
-    taylor_cell,
+    taylor_cells,
 )
 
 #: Largest ``h p_f`` on a layer (Taylor) cell.
@@ -174,43 +176,41 @@ def _manifold_forces(V, V0_lo, G_hi, G_lo, widths, kappa):
     return n_high, n_low
 
 
-def _slow_velocity(y0, v0, force, G_hi, G_lo, width, kappa, operator, factors):
-    """``(v, y)`` (lists, lowest order first) on one slow cell from its start ``y0`` and
-    ``v0 = (high, low)`` and its incoming wave ``G_hi + G_lo``: the linear solve, then one
+def _slow_cells(y0, v0, force, G_hi, G_lo, widths, kappa, operators, factors):
+    """``(Y, V)`` of slow cells (``[cell, order]``, one width per cell) from their starts
+    ``y0, v0`` (float) and incoming waves ``G_hi + G_lo``: the linear solve, then one
     Gauss-Seidel sweep (``N_k`` from the new ``v_k`` and the solve's ``N_{k+1}``, in
-    double-double, then ``v_{k+1} = h (f delta_{k0} - N_k)/(alpha (k+1))``)."""
-    v0, v0_lo = v0
+    double-double, then ``v_{k+1} = h (f delta_{k0} - N_k)/(alpha (k+1))``), all cells at
+    once; ``operators = (S, inverse)`` and ``factors = (c_v, c_y)`` per cell."""
     D = DEGREE
-    S, inverse = operator
+    S, inverse = operators
     c_v, c_y = factors
     twice_g = 2.0 * (G_hi + G_lo)
-    rhs = -(S @ twice_g)[:D]
-    rhs[0] += force - v0
-    v = [v0, *(inverse @ rhs).tolist()]
-    old = (S @ (np.array(v) + twice_g)).tolist()
-    gh, gl = (2.0 * G_hi).tolist(), (2.0 * G_lo).tolist()
-    fk, vl = force, v0_lo
+    rhs = -np.einsum("cij,cj->ci", S, twice_g)[:, :D]
+    rhs[:, 0] += force - v0
+    V = np.empty_like(G_hi)
+    V[:, 0] = v0
+    V[:, 1:] = np.einsum("cij,cj->ci", inverse, rhs)
+    old = np.einsum("cij,cj->ci", S, V + twice_g)
+    gh, gl = 2.0 * G_hi, 2.0 * G_lo
+    fk = force
     for k in range(D):
-        vk = v[k]
-        t = ((k + 1) / width * old[k + 1]) / kappa
-        s1 = vk + gh[k]
+        vk = V[:, k]
+        t = ((k + 1) / widths * old[:, k + 1]) / kappa
+        s1 = vk + gh[:, k]
         bb = s1 - vk
-        e1 = (vk - (s1 - bb)) + (gh[k] - bb)
+        e1 = (vk - (s1 - bb)) + (gh[:, k] - bb)
         s2 = s1 - t
         bb = s2 - s1
         e2 = (s1 - (s2 - bb)) + (-t - bb)
-        low = (e1 + e2) + (gl[k] + vl)
+        low = (e1 + e2) + gl[:, k]
         nh = s2 + low
-        v[k + 1] = c_v[k] * ((fk - nh) - (low - (nh - s2)))
-        fk = vl = 0.0
-    y = [y0] + [cy * vk for cy, vk in zip(c_y, v, strict=True)]
-    return v, y
-
-
-def _split_total(values: list) -> tuple[float, float]:
-    """The exact sum of ``values`` as ``(high, low)``, both correctly rounded."""
-    high = math.fsum(values)
-    return high, math.fsum([*values, -high])
+        V[:, k + 1] = c_v[:, k] * ((fk - nh) - (low - (nh - s2)))
+        fk = 0.0
+    Y = np.empty((V.shape[0], D + 2))
+    Y[:, 0] = y0
+    Y[:, 1:] = c_y * V
+    return Y, V
 
 
 class ManifoldTable(TaylorTable):
@@ -241,18 +241,19 @@ class ManifoldTable(TaylorTable):
         self._h = np.tile(widths, n_intervals)
         self._lo = (2.0 * np.arange(n_intervals)[:, None] + starts).ravel()
         D, total = DEGREE, n * n_intervals
+        # coefficients [rhs, cell, order] and their low parts (every order)
         self._arrays = {
-            "Y": np.zeros((2, total, D + 2)),
-            **{name: np.zeros((2, total, D + 1)) for name in ("V", "N", "N_lo", "G_hi", "G_lo")},
-            "Y_lo": np.zeros((2, total)),
-            "V_lo": np.zeros((2, total)),
+            **{name: np.zeros((2, total, D + 2)) for name in ("Y", "Y_lo")},
+            **{name: np.zeros((2, total, D + 1)) for name in ("V", "V_lo", "N", "N_lo")},
+            **{name: np.zeros((2, total, D + 1)) for name in ("G_hi", "G_lo")},
         }
         self._errors = np.zeros((4, total))
         self._carry = None
         self._lock = threading.Lock()
-        # (y, v, N) at the next cell start, as (high, low) pairs
-        self._state = [[(0.0, 0.0), (1.0, 0.0), (0.0, 0.0)], [(0.0, 0.0)] * 3]
-        self._factors = self._cell_factors()
+        # (y, v, N) at the next interval's start, high and low parts, per right-hand side
+        # (replaced, never changed in place)
+        self._state = (np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]), np.zeros((2, 3)))
+        self._maps = self._cell_maps()
         self._expose()
         if not lazy:
             self.extend(n_intervals)
@@ -267,7 +268,7 @@ class ManifoldTable(TaylorTable):
         if end <= self.built:
             return
         begin = self.built
-        saved = [list(rows) for rows in self._state]
+        saved = self._state
         try:
             for m in range(begin, end):
                 self._build_interval(m)
@@ -312,84 +313,118 @@ class ManifoldTable(TaylorTable):
         self.Y_a, self.Y_b = self._arrays["Y"][:, upto]
         self.err_y_a, self.err_y_b, self.err_n_a, self.err_n_b = self._errors[:, upto]
 
-    def _cell_factors(self):
-        """The Taylor factors of the layer cells and the slow operators of the wide cells,
-        per width."""
+    def _cell_maps(self) -> dict:
+        """What the cells of an interval need, per cell (``[cell, ...]``): the Taylor
+        factors of the layer cells, the slow operators and factors of the wide cells, and
+        for :func:`impactsym.rod.elastic.taylor.cell_chain` the map of a cell's start to
+        its end, the end's response to the incoming wave and to a unit force, and the
+        polynomials of unit starts."""
         alpha, kappa, D = self.alpha, self.kappa, DEGREE
-        width_list = self._widths.tolist()
-        taylor_factors = {
-            h: (
-                [h / (alpha * (k + 1)) for k in range(D)],
-                [h * kappa / (k + 1) for k in range(D)],
-                [h / (k + 1) for k in range(D + 1)],
+        widths, layer = self._widths, self._layer
+        n = widths.size
+        A, W, b = np.zeros((n, 3, 3)), np.zeros((n, 3, D + 1)), np.zeros((n, 3))
+        E_y, E_v, E_n = np.zeros((n, 3, D + 2)), np.zeros((n, 3, D + 1)), np.zeros((n, 3, D + 1))
+        k = np.arange(D)
+        fine = np.flatnonzero(layer)
+        taylor_factors = tuple(
+            np.array(c)
+            for c in (
+                widths[fine, None] / (alpha * (k + 1)),
+                widths[fine, None] * kappa / (k + 1),
+                widths[fine, None] / np.arange(1, D + 2),
             )
-            for h in {w for w, fine in zip(width_list, self._layer, strict=True) if fine}
+        )
+        for width in np.unique(widths[fine]):
+            cells = np.flatnonzero(layer & (widths == width))
+            factors = tuple(c[np.searchsorted(fine, cells[0])] for c in taylor_factors)
+            (ry, rv, rn), A[cells], W[cells], b[cells] = layer_maps(factors)
+            E_y[cells], E_v[cells], E_n[cells] = ry, rv, rn
+        wide = np.flatnonzero(~layer)
+        S, inverse = np.zeros((wide.size, D + 1, D + 1)), np.zeros((wide.size, D, D))
+        slow_factors = (
+            widths[wide, None] / (alpha * (k + 1)),
+            widths[wide, None] / np.arange(1, D + 2),
+        )
+        for width in np.unique(widths[wide]):
+            at = np.flatnonzero(widths[wide] == width)
+            S[at], inverse[at] = _slow_operator(alpha, kappa, width)
+            c_y = slow_factors[1][at[0]]
+            s_op, inv = S[at[0]], inverse[at[0]]
+            # the exact linear responses (float: only for starts and the low parts): a
+            # unit v0, every unit G_k (as 2 G), a unit force
+            lanes = np.zeros((D + 1, 1 + (D + 1) + 1))  # rhs of the solve, per lane
+            lanes[0, 0] = -1.0
+            lanes[:, 1 : D + 2] = -(s_op @ (2.0 * np.eye(D + 1)))
+            lanes[0, -1] = 1.0
+            V = np.zeros((D + 1, lanes.shape[1]))
+            V[0, 0] = 1.0
+            V[1:] = inv @ lanes[:D]
+            twice_g = np.zeros_like(V)
+            twice_g[:, 1 : D + 2] = 2.0 * np.eye(D + 1)
+            N = s_op @ (V + twice_g)
+            Y = np.vstack([np.zeros(V.shape[1]), c_y[:, None] * V])
+            ends = np.stack([Y.sum(axis=0), V.sum(axis=0), N.sum(axis=0)])  # [end, lane]
+            cells = wide[at]
+            A[cells, :, 0] = [1.0, 0.0, 0.0]  # a unit y0 only moves y
+            A[cells, :, 1] = ends[:, 0]
+            W[cells], b[cells] = ends[:, 1 : D + 2], ends[:, -1]
+            E_y[cells, 0, 0] = 1.0
+            E_y[cells, 1], E_v[cells, 1], E_n[cells, 1] = Y[:, 0], V[:, 0], N[:, 0]
+        return {
+            "fine": fine,
+            "wide": wide,
+            "taylor": taylor_factors,
+            "slow": ((S, inverse), slow_factors),
+            "chain": ((E_y, E_v, E_n), A, W, b),
         }
-        slow = {}
-        for width in {w for w, fine in zip(width_list, self._layer, strict=True) if not fine}:
-            slow[width] = (
-                _slow_operator(alpha, kappa, width),
-                (
-                    [width / (alpha * (k + 1)) for k in range(D)],
-                    [width / (k + 1) for k in range(D + 1)],
-                ),
-            )
-        return taylor_factors, slow
 
     def _build_interval(self, m: int) -> None:
-        """The coefficients of reflection interval ``m`` (the ones before built)."""
-        kappa, D = self.kappa, DEGREE
-        widths, layer = self._widths, self._layer
-        width_list = widths.tolist()
-        taylor_factors, slow = self._factors
-        n = widths.size
-        a = self._arrays
-        Y, V, N, N_lo, Y_lo, V_lo = (a[k] for k in ("Y", "V", "N", "N_lo", "Y_lo", "V_lo"))
+        """The coefficients of reflection interval ``m`` (the ones before built), all its
+        cells at once (:func:`impactsym.rod.elastic.taylor.cell_chain`)."""
+        kappa, D, n = self.kappa, DEGREE, self.cells_per_interval
+        a, maps = self._arrays, self._maps
         G_hi, G_lo = a["G_hi"], a["G_lo"]
-        state = self._state
         cells = slice(m * n, (m + 1) * n)
         if m:  # G_m = N_(m-1) - G_(m-1), nearly exactly (measured in the bound)
             before = slice((m - 1) * n, m * n)
             G_hi[:, cells], G_lo[:, cells] = next_incoming(
-                N[:, before], N_lo[:, before], G_hi[:, before], G_lo[:, before]
+                a["N"][:, before], a["N_lo"][:, before], G_hi[:, before], G_lo[:, before]
             )
-        for rhs, force in ((0, 0.0), (1, 1.0)):
-            (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
-            rows_v, rows_y, rows_n, lows = [], [], [], []
-            incoming = (G_hi[rhs, cells] + G_lo[rhs, cells]).tolist()
-            for i in range(n):
-                c = m * n + i
-                lows.append((v0_lo, y0_lo, n0_lo))
-                if layer[i]:
-                    v, n_high, y = taylor_cell(
-                        y0, v0, n0, force, incoming[i], taylor_factors[width_list[i]]
-                    )
-                    rows_n.append(n_high)
-                    n0, n0_lo = _split_total([*n_high, n0_lo])
-                else:  # N: all slow cells of the interval at once, below
-                    operator, factors = slow[width_list[i]]
-                    v, y = _slow_velocity(
-                        y0, (v0, v0_lo), force, G_hi[rhs, c], G_lo[rhs, c], width_list[i],
-                        kappa, operator, factors,
-                    )  # fmt: skip
-                    rows_n.append([0.0] * (D + 1))
-                rows_v.append(v)
-                rows_y.append(y)
-                y0, y0_lo = _split_total([*y, y0_lo])
-                v0, v0_lo = _split_total([*v, v0_lo])
-            V[rhs, cells], Y[rhs, cells], N[rhs, cells] = rows_v, rows_y, rows_n
-            V_lo[rhs, cells], Y_lo[rhs, cells], N_lo[rhs, cells, 0] = np.array(lows).T
-            state[rhs] = [(y0, y0_lo), (v0, v0_lo), (n0, n0_lo)]
-        # N on the slow cells of both right-hand sides at once (elementwise)
-        at = m * n + np.flatnonzero(~layer)
-        flat = [X[:, at].reshape(2 * at.size, D + 1) for X in (V, G_hi, G_lo)]
-        high, low = _manifold_forces(
-            flat[0], V_lo[:, at].ravel(), *flat[1:], np.tile(widths[~layer], 2), kappa
-        )
-        N[:, at], N_lo[:, at] = (x.reshape(2, at.size, D + 1) for x in (high, low))
-        if not layer[-1]:
-            for rhs in (0, 1):
-                state[rhs][2] = _split_total([*N[rhs, at[-1]], *N_lo[rhs, at[-1]]])
+        g_hi, g_lo = G_hi[:, cells], G_lo[:, cells]
+        G = g_hi + g_lo
+        force = np.array([0.0, 1.0])
+        fine, wide = maps["fine"], maps["wide"]
+        widths = self._widths[wide]
+
+        def coefficients(starts):
+            Y, V, N = np.zeros((2, n, D + 2)), np.zeros((2, n, D + 1)), np.zeros((2, n, D + 1))
+            N_lo = np.zeros((2, n, D + 1))
+            y0, v0, n0 = np.moveaxis(starts[:, fine], -1, 0)
+            Y[:, fine], V[:, fine], N[:, fine] = taylor_cells(
+                y0, v0, n0, force[:, None], G[:, fine], maps["taylor"]
+            )
+            # the slow cells of both right-hand sides as one list
+            y0, v0 = (starts[:, wide, j].ravel() for j in (0, 1))
+            (S, inverse), (c_v, c_y) = maps["slow"]
+            twice = (np.concatenate([x, x]) for x in (S, inverse, c_v, c_y))
+            S2, inverse2, c_v2, c_y2 = twice
+            h2, f2 = np.tile(widths, 2), np.repeat(force, wide.size)
+            gh, gl = (x[:, wide].reshape(2 * wide.size, D + 1) for x in (g_hi, g_lo))
+            Ys, Vs = _slow_cells(y0, v0, f2, gh, gl, h2, kappa, (S2, inverse2), (c_v2, c_y2))
+            # N on the slow manifold in double-double (its low parts: part of the cell)
+            Ns, Ns_lo = _manifold_forces(Vs, np.zeros(Vs.shape[0]), gh, gl, h2, kappa)
+            for X, x in ((Y, Ys), (V, Vs), (N, Ns), (N_lo, Ns_lo)):
+                X[:, wide] = x.reshape(2, wide.size, -1)
+            return (Y, V, N), (None, None, N_lo)
+
+        responses, A, W, b = maps["chain"]
+        offsets = np.einsum("rco,cjo->rcj", G, W) + force[:, None, None] * b
+        step = np.broadcast_to(A, (2, *A.shape))
+        polys, lows, self._state = cell_chain(coefficients, responses, step, offsets, self._state)
+        for name, x in zip(("Y", "V", "N"), polys, strict=True):
+            a[name][:, cells] = x
+        for name, x in zip(("Y_lo", "V_lo", "N_lo"), lows, strict=True):
+            a[name][:, cells] = x
 
 
 @lru_cache(maxsize=64)

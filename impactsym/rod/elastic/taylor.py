@@ -154,7 +154,8 @@ class TaylorTable:
             offsets = G @ maps[2].T + force[:, None, None] * maps[3]
 
             def coefficients(starts, G=G):
-                return taylor_cells(*np.moveaxis(starts, -1, 0), force[:, None], G, factors)
+                polys = taylor_cells(*np.moveaxis(starts, -1, 0), force[:, None], G, factors)
+                return polys, (None, None, None)
 
             (Y[:, cells], V[:, cells], N[:, cells]), lows, state = cell_chain(
                 coefficients, maps[0], step, offsets, state
@@ -438,8 +439,9 @@ def cell_chain(coefficients, responses, A, c, state):
     ``A_i x + c_i`` (``A: [rhs, cell, end, start]``, ``c: [rhs, cell, end]``, in float:
     only to find starts), and ``coefficients(starts)`` (``starts: [rhs, cell, 3]``) gives
     its polynomials ``(Y, V, N)`` (``[rhs, cell, order]``) from a float start, in the
-    cells' own arithmetic; ``responses = (E_y, E_v, E_n)``, the polynomials of unit
-    starts (``[start, order]``, one set, or ``[rhs, cell, start, order]``).
+    cells' own arithmetic, and their own low parts (an array like each, or ``None``);
+    ``responses = (E_y, E_v, E_n)``, the polynomials of unit starts (``[start, order]``,
+    one set, or ``[cell, start, order]``, one per cell).
 
     1. the float starts of every cell from ``state = (high, low)`` (``[rhs, 3]``, the
        start of the interval) by :func:`affine_scan`; the polynomials from them;
@@ -457,20 +459,29 @@ def cell_chain(coefficients, responses, A, c, state):
     high, low = state
     starts = np.concatenate([high[:, None], affine_scan(A[:, :-1], c[:, :-1], high + low)], 1)
     starts[:, 0] = high
-    polys = coefficients(starts)
-    sums = [_column_sums(C) for C in polys]
+    polys, own = coefficients(starts)
+    sums = [
+        _column_sums(C if C_lo is None else np.concatenate([C, C_lo], axis=-1))
+        for C, C_lo in zip(polys, own, strict=True)
+    ]
     s_end = np.stack([s for s, _ in sums], axis=-1)  # [rhs, cell, end]
     e_end = np.stack([e for _, e in sums], axis=-1)
     # what the next start misses of this end: exact difference of near values, then
     # the end's error term (a few ulps of the state: its rounding is u^2)
     missed = (s_end[:, :-1] - starts[:, 1:]) + e_end[:, :-1]
     lows = np.concatenate([low[:, None], affine_scan(A[:, :-1], missed, low)], axis=1)
-    subscripts = "rcs,so->rco" if responses[0].ndim == 2 else "rcs,rcso->rco"
-    low_polys = tuple(np.einsum(subscripts, lows, E) for E in responses)
+    subscripts = "rcs,so->rco" if responses[0].ndim == 2 else "rcs,cso->rco"
+    added = tuple(np.einsum(subscripts, lows, E) for E in responses)
     # the exact end of the last cell, as (high, low)
-    last = e_end[:, -1] + np.stack([P[:, -1].sum(axis=-1) for P in low_polys], axis=-1)
+    last = e_end[:, -1] + np.stack([P[:, -1].sum(axis=-1) for P in added], axis=-1)
     end_high, end_low = two_sum(s_end[:, -1], last)
-    return polys, low_polys, (end_high, end_low)
+    # the low parts of the wide layer cells can be many ulps (their ends cancel): each
+    # coefficient's high part takes them, exactly (two-sum), the low part keeps <= u/2 of it
+    stored = [
+        two_sum(C, P if C_lo is None else C_lo + P)
+        for C, P, C_lo in zip(polys, added, own, strict=True)
+    ]
+    return tuple(hi for hi, _ in stored), tuple(lo for _, lo in stored), (end_high, end_low)
 
 
 def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray, before=None) -> np.ndarray:
