@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 import threading
+from contextlib import ExitStack
 from functools import lru_cache
 from types import SimpleNamespace
 
@@ -54,6 +55,7 @@ from impactsym.rod.elastic.taylor import (
     fastest_rate,
     layer_maps,
     next_incoming,
+    scan_stages,
     taylor_cells,
 )
 
@@ -158,26 +160,34 @@ def _manifold_forces(V, V0_lo, G_hi, G_lo, widths, kappa):
     ``V0_lo`` of its constant coefficients, ``G = G_hi + G_lo``; ``[cell, order]``, one
     width per cell): ``(N_high, N_low)``, each step a compensated sum."""
     D = DEGREE
+    # order first (contiguous per order: the loop runs over the orders)
+    V, G_hi, G_lo = (np.ascontiguousarray(np.moveaxis(x, -1, 0)) for x in (V, G_hi, G_lo))
     n_high, n_low = np.zeros_like(V), np.zeros_like(V)
-    nh, nl = np.zeros(V.shape[0]), np.zeros(V.shape[0])
+    nh, nl = np.zeros(V.shape[1:]), np.zeros(V.shape[1:])
     for k in range(D, -1, -1):
         t = ((k + 1) / widths * (nh + nl)) / kappa
-        vk, gh = V[:, k], 2.0 * G_hi[:, k]
+        vk, gh = V[k], 2.0 * G_hi[k]
         s1 = vk + gh
         bb = s1 - vk
         e1 = (vk - (s1 - bb)) + (gh - bb)
         s2 = s1 - t
         bb = s2 - s1
         e2 = (s1 - (s2 - bb)) + (-t - bb)
-        low = (e1 + e2) + (2.0 * G_lo[:, k] + (V0_lo if k == 0 else 0.0))
+        low = (e1 + e2) + (2.0 * G_lo[k] + (V0_lo if k == 0 else 0.0))
         nh = s2 + low
         nl = low - (nh - s2)
-        n_high[:, k], n_low[:, k] = nh, nl
-    return n_high, n_low
+        n_high[k], n_low[k] = nh, nl
+    return np.moveaxis(n_high, 0, -1), np.moveaxis(n_low, 0, -1)
+
+
+def _matvec(M: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``M_c x_c`` per cell ``c`` (a matrix product per cell: the same bits whatever the
+    number of cells)."""
+    return (M @ x[..., None])[..., 0]
 
 
 def _slow_cells(y0, v0, force, G_hi, G_lo, widths, kappa, operators, factors):
-    """``(Y, V)`` of slow cells (``[cell, order]``, one width per cell) from their starts
+    """``(Y, V)`` of slow cells (``[..., cell, order]``, one width per cell) from their starts
     ``y0, v0`` (float) and incoming waves ``G_hi + G_lo``: the linear solve, then one
     Gauss-Seidel sweep (``N_k`` from the new ``v_k`` and the solve's ``N_{k+1}``, in
     double-double, then ``v_{k+1} = h (f delta_{k0} - N_k)/(alpha (k+1))``), all cells at
@@ -186,30 +196,35 @@ def _slow_cells(y0, v0, force, G_hi, G_lo, widths, kappa, operators, factors):
     S, inverse = operators
     c_v, c_y = factors
     twice_g = 2.0 * (G_hi + G_lo)
-    rhs = -np.einsum("cij,cj->ci", S, twice_g)[:, :D]
-    rhs[:, 0] += force - v0
+    rhs = -_matvec(S, twice_g)[..., :D]
+    rhs[..., 0] += force - v0
     V = np.empty_like(G_hi)
-    V[:, 0] = v0
-    V[:, 1:] = np.einsum("cij,cj->ci", inverse, rhs)
-    old = np.einsum("cij,cj->ci", S, V + twice_g)
-    gh, gl = 2.0 * G_hi, 2.0 * G_lo
+    V[..., 0] = v0
+    V[..., 1:] = _matvec(inverse, rhs)
+    old = _matvec(S, V + twice_g)
+    # the sweep order by order, on order-first copies (contiguous per order)
+    gh, gl, old, V = (
+        np.ascontiguousarray(np.moveaxis(x, -1, 0)) for x in (2.0 * G_hi, 2.0 * G_lo, old, V)
+    )
+    c_v = np.ascontiguousarray(c_v.T)
     fk = force
     for k in range(D):
-        vk = V[:, k]
-        t = ((k + 1) / widths * old[:, k + 1]) / kappa
-        s1 = vk + gh[:, k]
+        vk = V[k]
+        t = ((k + 1) / widths * old[k + 1]) / kappa
+        s1 = vk + gh[k]
         bb = s1 - vk
-        e1 = (vk - (s1 - bb)) + (gh[:, k] - bb)
+        e1 = (vk - (s1 - bb)) + (gh[k] - bb)
         s2 = s1 - t
         bb = s2 - s1
         e2 = (s1 - (s2 - bb)) + (-t - bb)
-        low = (e1 + e2) + gl[:, k]
+        low = (e1 + e2) + gl[k]
         nh = s2 + low
-        V[:, k + 1] = c_v[:, k] * ((fk - nh) - (low - (nh - s2)))
+        V[k + 1] = c_v[k] * ((fk - nh) - (low - (nh - s2)))
         fk = 0.0
-    Y = np.empty((V.shape[0], D + 2))
-    Y[:, 0] = y0
-    Y[:, 1:] = c_y * V
+    V = np.moveaxis(V, 0, -1)
+    Y = np.empty((*V.shape[:-1], D + 2))
+    Y[..., 0] = y0
+    Y[..., 1:] = c_y * V
     return Y, V
 
 
@@ -275,6 +290,10 @@ class ManifoldTable(TaylorTable):
         except BaseException:  # (e.g. KeyboardInterrupt) the next extend starts over
             self._state = saved
             raise
+        self._bound(begin, end)
+
+    def _bound(self, begin: int, end: int) -> None:
+        """Bound the intervals ``begin .. end - 1`` (built), carrying the running sums on."""
         n, a = self.cells_per_interval, self._arrays
         upto = slice(0, end * n)
         arrays = tuple(a[name][:, upto] for name in ("Y", "V", "N"))
@@ -379,52 +398,151 @@ class ManifoldTable(TaylorTable):
         }
 
     def _build_interval(self, m: int) -> None:
-        """The coefficients of reflection interval ``m`` (the ones before built), all its
-        cells at once (:func:`impactsym.rod.elastic.taylor.cell_chain`)."""
-        kappa, D, n = self.kappa, DEGREE, self.cells_per_interval
-        a, maps = self._arrays, self._maps
-        G_hi, G_lo = a["G_hi"], a["G_lo"]
+        """The coefficients of reflection interval ``m`` (the ones before built)."""
+        _build_intervals([self], [m])
+
+
+def extend_tables(tables: list, n_intervals: list) -> None:
+    """Internal: :meth:`ManifoldTable.extend` of ``tables[j]`` to ``n_intervals[j]`` for
+    all of them together: interval by interval, the tables that need one more built at
+    once (:func:`_build_intervals`: a NumPy operation on the cells of all of them, not one
+    per table), then each bounded. Holds every table's lock meanwhile (taken in one order
+    by every caller: no deadlock); a table's intervals are the same to the last bit as
+    when built alone."""
+    wanted: dict = {}
+    for table, n in zip(tables, n_intervals, strict=True):
+        wanted[table] = max(wanted.get(table, 0), min(n, table.n_intervals))
+    order = sorted(wanted, key=id)
+    with ExitStack() as stack:
+        for table in order:
+            stack.enter_context(table._lock)
+        todo = [t for t in order if wanted[t] > t.built]
+        made = {t: t.built for t in todo}
+        saved = {t: t._state for t in todo}
+        try:
+            while batch := [t for t in todo if made[t] < wanted[t]]:
+                _build_intervals(batch, [made[t] for t in batch])
+                for table in batch:
+                    made[table] += 1
+        except BaseException:  # (e.g. KeyboardInterrupt) the next extend starts over
+            for table in todo:
+                table._state = saved[table]
+            raise
+        for table in todo:
+            table._bound(table.built, wanted[table])
+
+
+@lru_cache(maxsize=8)
+def _batch(tables: tuple) -> SimpleNamespace:
+    """What :func:`_build_intervals` needs of ``tables`` that does not change from one
+    interval to the next, stacked: one chain per right-hand side and table (``r J + j``),
+    padded to the longest (the padding's maps leave the state as it is)."""
+    D, J = DEGREE, len(tables)
+    ns = np.array([t.cells_per_interval for t in tables])
+    width = int(ns.max())
+    A = np.broadcast_to(np.eye(3), (J, width, 3, 3)).copy()
+    W, b = np.zeros((J, width, 3, D + 1)), np.zeros((J, width, 3))
+    E = tuple(np.zeros((J, width, 3, D + k)) for k in (2, 1, 1))
+    for j, table in enumerate(tables):
+        responses, A[j, : ns[j]], W[j, : ns[j]], b[j, : ns[j]] = table._maps["chain"]
+        for X, x in zip(E, responses, strict=True):
+            X[j, : ns[j]] = x
+
+    def lanes(key):  # (table, cell) of the layer resp. slow cells
+        j = np.concatenate([np.full(t._maps[key].size, i) for i, t in enumerate(tables)])
+        return j, np.concatenate([t._maps[key] for t in tables])
+
+    def stacked(key, i, k=None):
+        return np.concatenate(
+            [t._maps[key][i] if k is None else t._maps[key][i][k] for t in tables]
+        )
+
+    (fj, fc), (sj, sc) = lanes("fine"), lanes("wide")
+    return SimpleNamespace(
+        ns=ns,
+        width=width,
+        fine=(fj, fc),
+        wide=(sj, sc),
+        taylor=tuple(stacked("taylor", i) for i in range(3)),
+        operators=tuple(stacked("slow", 0, i) for i in range(2)),
+        factors=tuple(stacked("slow", 1, i) for i in range(2)),
+        widths=np.concatenate([t._widths[t._maps["wide"]] for t in tables]),
+        kappa=np.concatenate([np.full(t._maps["wide"].size, t.kappa) for t in tables]),
+        W=W,
+        b=b,
+        responses=tuple(np.concatenate([X, X]) for X in E),
+        stages=scan_stages(np.concatenate([A, A])[:, :-1]),
+        last=np.tile(ns - 1, 2),
+    )
+
+
+def _build_intervals(tables: list, intervals: list) -> None:
+    """The coefficients of reflection interval ``intervals[j]`` of ``tables[j]`` (the ones
+    before built), all cells of all of them at once: one chain per table and right-hand
+    side (:func:`impactsym.rod.elastic.taylor.cell_chain`; shorter chains padded), the
+    layer's Taylor recurrences and the slow cells' solves and sweeps one NumPy operation
+    each. Every operation is elementwise or a product per cell, so a table's coefficients
+    are the same to the last bit whichever tables are built with it."""
+    D, J = DEGREE, len(tables)
+    batch = _batch(tuple(tables))
+    ns, width = batch.ns, batch.width
+    force = np.array([0.0, 1.0])
+    g_hi, g_lo = np.zeros((2, J, width, D + 1)), np.zeros((2, J, width, D + 1))
+    for j, (table, m) in enumerate(zip(tables, intervals, strict=True)):
+        n, a = ns[j], table._arrays
         cells = slice(m * n, (m + 1) * n)
         if m:  # G_m = N_(m-1) - G_(m-1), nearly exactly (measured in the bound)
             before = slice((m - 1) * n, m * n)
-            G_hi[:, cells], G_lo[:, cells] = next_incoming(
-                a["N"][:, before], a["N_lo"][:, before], G_hi[:, before], G_lo[:, before]
+            a["G_hi"][:, cells], a["G_lo"][:, cells] = next_incoming(
+                a["N"][:, before], a["N_lo"][:, before], a["G_hi"][:, before], a["G_lo"][:, before]
             )
-        g_hi, g_lo = G_hi[:, cells], G_lo[:, cells]
-        G = g_hi + g_lo
-        force = np.array([0.0, 1.0])
-        fine, wide = maps["fine"], maps["wide"]
-        widths = self._widths[wide]
+        g_hi[:, j, :n], g_lo[:, j, :n] = a["G_hi"][:, cells], a["G_lo"][:, cells]
+    G = g_hi + g_lo
+    (fj, fc), (sj, sc) = batch.fine, batch.wide
 
-        def coefficients(starts):
-            Y, V, N = np.zeros((2, n, D + 2)), np.zeros((2, n, D + 1)), np.zeros((2, n, D + 1))
-            N_lo = np.zeros((2, n, D + 1))
-            y0, v0, n0 = np.moveaxis(starts[:, fine], -1, 0)
-            Y[:, fine], V[:, fine], N[:, fine] = taylor_cells(
-                y0, v0, n0, force[:, None], G[:, fine], maps["taylor"]
-            )
-            # the slow cells of both right-hand sides as one list
-            y0, v0 = (starts[:, wide, j].ravel() for j in (0, 1))
-            (S, inverse), (c_v, c_y) = maps["slow"]
-            twice = (np.concatenate([x, x]) for x in (S, inverse, c_v, c_y))
-            S2, inverse2, c_v2, c_y2 = twice
-            h2, f2 = np.tile(widths, 2), np.repeat(force, wide.size)
-            gh, gl = (x[:, wide].reshape(2 * wide.size, D + 1) for x in (g_hi, g_lo))
-            Ys, Vs = _slow_cells(y0, v0, f2, gh, gl, h2, kappa, (S2, inverse2), (c_v2, c_y2))
-            # N on the slow manifold in double-double (its low parts: part of the cell)
-            Ns, Ns_lo = _manifold_forces(Vs, np.zeros(Vs.shape[0]), gh, gl, h2, kappa)
-            for X, x in ((Y, Ys), (V, Vs), (N, Ns), (N_lo, Ns_lo)):
-                X[:, wide] = x.reshape(2, wide.size, -1)
-            return (Y, V, N), (None, None, N_lo)
+    def coefficients(starts):
+        starts = starts.reshape(2, J, width, 3)
+        Y = np.zeros((2, J, width, D + 2))
+        V, N, N_lo = (np.zeros((2, J, width, D + 1)) for _ in range(3))
+        y0, v0, n0 = np.moveaxis(starts[:, fj, fc], -1, 0)
+        Y[:, fj, fc], V[:, fj, fc], N[:, fj, fc] = taylor_cells(
+            y0, v0, n0, force[:, None], G[:, fj, fc], batch.taylor
+        )
+        # the slow cells of both right-hand sides: [rhs, cell, order]
+        y0, v0 = (starts[:, sj, sc, i] for i in (0, 1))
+        gh, gl = g_hi[:, sj, sc], g_lo[:, sj, sc]
+        Y[:, sj, sc], V[:, sj, sc] = _slow_cells(
+            y0, v0, force[:, None], gh, gl, batch.widths, batch.kappa, batch.operators,
+            batch.factors,
+        )  # fmt: skip
+        # N on the slow manifold in double-double (its low parts: part of the cell)
+        N[:, sj, sc], N_lo[:, sj, sc] = _manifold_forces(
+            V[:, sj, sc], np.zeros(y0.shape), gh, gl, batch.widths, batch.kappa
+        )
+        chains = [X.reshape(2 * J, width, -1) for X in (Y, V, N)]
+        return chains, (None, None, N_lo.reshape(2 * J, width, -1))
 
-        responses, A, W, b = maps["chain"]
-        offsets = np.einsum("rco,cjo->rcj", G, W) + force[:, None, None] * b
-        step = np.broadcast_to(A, (2, *A.shape))
-        polys, lows, self._state = cell_chain(coefficients, responses, step, offsets, self._state)
-        for name, x in zip(("Y", "V", "N"), polys, strict=True):
-            a[name][:, cells] = x
-        for name, x in zip(("Y_lo", "V_lo", "N_lo"), lows, strict=True):
-            a[name][:, cells] = x
+    offsets = (G[..., None, :] * batch.W).sum(axis=-1) + force[:, None, None, None] * batch.b
+    state = tuple(
+        np.stack([t._state[i] for t in tables], axis=1).reshape(2 * J, 3) for i in range(2)
+    )
+    polys, lows, (high, low) = cell_chain(
+        coefficients,
+        batch.responses,
+        batch.stages,
+        offsets.reshape(2 * J, width, 3),
+        state,
+        last=batch.last,
+    )
+    high, low = high.reshape(2, J, 3), low.reshape(2, J, 3)
+    polys, lows = ([x.reshape(2, J, width, -1) for x in group] for group in (polys, lows))
+    for j, (table, m) in enumerate(zip(tables, intervals, strict=True)):
+        n, a = ns[j], table._arrays
+        cells = slice(m * n, (m + 1) * n)
+        for names, arrays in ((("Y", "V", "N"), polys), (("Y_lo", "V_lo", "N_lo"), lows)):
+            for name, x in zip(names, arrays, strict=True):
+                a[name][:, cells] = x[:, j, :n]
+        table._state = (high[:, j].copy(), low[:, j].copy())
 
 
 @lru_cache(maxsize=64)

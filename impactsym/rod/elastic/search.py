@@ -21,7 +21,11 @@ from impactsym.numeric.isolation import first_sign_change
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.rod.elastic import CertifiedTable
 from impactsym.rod.elastic.cells import cell_table
-from impactsym.rod.elastic.manifold import cells_per_interval_manifold, manifold_table
+from impactsym.rod.elastic.manifold import (
+    cells_per_interval_manifold,
+    extend_tables,
+    manifold_table,
+)
 from impactsym.rod.elastic.poles import check_which, pole_model, time_function
 from impactsym.rod.elastic.taylor import MAX_CELLS, cells_per_interval, fastest_rate, taylor_table
 from impactsym.rod.rigid_search import SCREEN_MIN_PAIRS, SCREEN_STRIDES, screen_interval
@@ -58,35 +62,69 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
     if method not in ("taylor", "cells"):
         raise ValueError(f"method must be 'taylor' or 'cells', got {method!r}")
     result = np.full(alpha.size, np.inf)
-    n_terms = int(t_max // 2) + 1
     # the float64 tables stop at the first reflection time >= t_max: their cells and
     # bounds on [0, 2 n] do not depend on later intervals (the bound accumulates forward)
     n_searched = max(1, math.ceil(t_max / 2.0))
     keys = np.stack([alpha, kappa], axis=1)
     groups, inverse = np.unique(keys, axis=0, return_inverse=True)
     inverse = inverse.ravel()
+    stiff = {}  # group -> (search steps, slow-manifold table)
     for g_index, (ag, kg) in enumerate(groups):
         members = np.flatnonzero(inverse == g_index)
         members = members[np.argsort(f[members], kind="stable")]  # screened in order of f
         ag, kg = float(ag), float(kg)
         check_stiffness(ag, kappa=kg)
-        times = None
-        n_taylor = cells_per_interval(ag, kappa=kg)
         n_manifold = cells_per_interval_manifold(ag, kappa=kg)
-        fewer = n_manifold is not None and n_manifold < n_taylor and n_manifold <= MAX_CELLS
-        if method == "taylor" and fewer:
-            source = _certified_manifold(ag, kg, which, n_searched, f[members])
-            times = _table_contact_times(source, which, ag, kg, f[members], t_max)
-        if times is None:
-            if method == "taylor" and n_taylor <= MAX_CELLS:
-                table = taylor_table(ag, kappa=kg, n_intervals=n_searched).view(which)
-            else:
-                table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
-            times = _table_contact_times(
-                lambda _, table=table: table, which, ag, kg, f[members], t_max
-            )
-        result[members] = times
+        fewer = n_manifold is not None and n_manifold < cells_per_interval(ag, kappa=kg)
+        if method == "taylor" and fewer and n_manifold <= MAX_CELLS:
+            through = _certified_manifold(ag, kg, which, n_searched, f[members])
+            steps = _table_search_steps(through, which, ag, kg, f[members], t_max)
+            stiff[g_index] = (steps, through.table, members)
+        else:
+            result[members] = _other_table(which, ag, kg, f[members], t_max, method)
+    # the slow-manifold tables of all groups interval by interval together: each step
+    # extends every table its search needs next at once (extend_tables), then searches
+    needs = {}
+    for g_index, (steps, _, _) in stiff.items():
+        _advance(steps, g_index, needs, stiff, result, which, groups, f, t_max)
+    while needs:
+        extend_tables([stiff[g][1] for g in needs], list(needs.values()))
+        for g_index in list(needs):
+            del needs[g_index]
+            _advance(stiff[g_index][0], g_index, needs, stiff, result, which, groups, f, t_max)
     return result
+
+
+def _advance(steps, g_index, needs, stiff, result, which, groups, f, t_max):
+    """Run the search ``steps`` of group ``g_index`` to its next need of table intervals
+    (``needs[g_index]``), or to its end: its contact times, or where the slow-manifold table
+    is not certified those of the other tables."""
+    try:
+        needs[g_index] = next(steps)
+    except StopIteration as stop:
+        members = stiff[g_index][2]
+        times = stop.value
+        if times is None:
+            ag, kg = (float(x) for x in groups[g_index])
+            times = _other_table(which, ag, kg, f[members], t_max, "taylor")
+        result[members] = times
+
+
+def _other_table(which, ag, kg, fm, t_max, method):
+    """Contact times of ``fm`` on the Taylor table (``method="taylor"``, where the spring
+    needs at most ``MAX_CELLS`` cells per interval) or else the cell table."""
+    n_terms = int(t_max // 2) + 1
+    if method == "taylor" and cells_per_interval(ag, kappa=kg) <= MAX_CELLS:
+        n_searched = max(1, math.ceil(t_max / 2.0))
+        table = taylor_table(ag, kappa=kg, n_intervals=n_searched).view(which)
+    else:
+        table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
+    steps = _table_search_steps(lambda _, table=table: table, which, ag, kg, fm, t_max)
+    while True:
+        try:
+            next(steps)
+        except StopIteration as stop:
+            return stop.value
 
 
 def _certified_manifold(alpha, kappa, which, n_terms, forces):
@@ -112,6 +150,7 @@ def _certified_manifold(alpha, kappa, which, n_terms, forces):
             views[m] = view
         return views[max(views)]
 
+    through.table = table  # for the caller that extends many tables together
     return through
 
 
@@ -129,12 +168,14 @@ def check_stiffness(alpha: float, *, kappa: float) -> None:
         )
 
 
-def _table_contact_times(through, which, ag, kg, fm, t_max):
+def _table_search_steps(through, which, ag, kg, fm, t_max):
     """Contact times of the forces ``fm`` (sorted) of one ``(alpha, kappa)`` on the table
     ``through(m)`` (a :class:`impactsym.rod.elastic.CertifiedTable` over at least the first
     ``m`` reflection intervals), interval by interval, so that later cells are built,
     repaired and searched only for the ``f`` still in contact; ``None`` where ``through``
-    gives none (a table not certified)."""
+    gives none (a table not certified). A generator: it yields ``m`` before it asks
+    ``through(m)`` (so that the caller can build the tables of many groups at once) and
+    returns the times."""
     n_terms = int(t_max // 2) + 1
     result = np.full(fm.size, np.inf)
     active = np.arange(fm.size)
@@ -144,6 +185,7 @@ def _table_contact_times(through, which, ag, kg, fm, t_max):
         if start >= t_max or active.size == 0:
             break
         # this interval and the next (its end is the next one's first cell's start)
+        yield m + 2
         current = through(m + 2)
         if current is None:
             return None

@@ -139,6 +139,7 @@ class TaylorTable:
             )
         )
         maps = layer_maps(factors)
+        stages = scan_stages(np.broadcast_to(maps[1], (2, n - 1, 3, 3)))
         force = np.array([0.0, 1.0])
         # (y, v, N) at the interval's start, high and low parts, per right-hand side
         state = (np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]), np.zeros((2, 3)))
@@ -150,7 +151,6 @@ class TaylorTable:
                     N[:, before], N_lo[:, before], G_hi[:, before], G_lo[:, before]
                 )
             G = G_hi[:, cells] + G_lo[:, cells]
-            step = np.broadcast_to(maps[1], (2, n, 3, 3))
             offsets = G @ maps[2].T + force[:, None, None] * maps[3]
 
             def coefficients(starts, G=G):
@@ -158,7 +158,7 @@ class TaylorTable:
                 return polys, (None, None, None)
 
             (Y[:, cells], V[:, cells], N[:, cells]), lows, state = cell_chain(
-                coefficients, maps[0], step, offsets, state
+                coefficients, maps[0], stages, offsets, state
             )
             Y_lo[:, cells], V_lo[:, cells], N_lo[:, cells] = lows
         self._bound(Y, V, N, (Y_lo, V_lo, N_lo), G_hi, G_lo, n)
@@ -405,19 +405,44 @@ def layer_maps(factors):
     return responses, ends[:3].T, ends[3 : 3 + D + 1].T, ends[-1]
 
 
-def affine_scan(A: np.ndarray, c: np.ndarray, x0: np.ndarray) -> np.ndarray:
-    """Internal: ``x_1 .. x_n`` of ``x_(i+1) = A_i x_i + c_i`` (``A: [..., n, k, k]``,
-    ``c: [..., n, k]``, ``x0: [..., k]``), by doubling (Hillis and Steele): ``log2 n``
-    NumPy steps instead of ``n``, rounding at the level of a sequential loop."""
-    A, c = A.copy(), c.copy()
-    n, d = A.shape[-3], 1
-    while d < n:
-        c[..., d:, :] = (
-            np.einsum("...ij,...j->...i", A[..., d:, :, :], c[..., :-d, :]) + c[..., d:, :]
+def scan_stages(A: np.ndarray) -> tuple[list, np.ndarray]:
+    """Internal: the maps of :func:`affine_scan` for ``A`` (``[..., n, k, k]``), computed
+    once where many scans share them: per doubling step ``d`` the composed maps before
+    it, and the composition of each prefix. Elementwise products and sums written out (no
+    matrix product, whose rounding may depend on the shape): each entry is the same to the
+    last bit whatever the leading axes hold."""
+    A, stages, d = A.copy(), [], 1
+    while d < A.shape[-3]:
+        stages.append(A)
+        A = A.copy()
+        A[..., d:, :, :] = np.stack(
+            [
+                _apply(stages[-1][..., d:, :, :], stages[-1][..., :-d, :, j])
+                for j in range(A.shape[-1])
+            ],
+            axis=-1,
         )
-        A[..., d:, :, :] = A[..., d:, :, :] @ A[..., :-d, :, :]
         d *= 2
-    return np.einsum("...ij,...j->...i", A, x0[..., None, :]) + c
+    return stages, A
+
+
+def affine_scan(stages: tuple, c: np.ndarray, x0: np.ndarray) -> np.ndarray:
+    """Internal: ``x_1 .. x_n`` of ``x_(i+1) = A_i x_i + c_i`` (``c: [..., n, k]``, ``x0:
+    [..., k]``, ``stages = scan_stages(A)``), by doubling (Hillis and Steele): ``log2 n``
+    NumPy steps instead of ``n``, rounding at the level of a sequential loop, and the
+    same bits whatever the leading axes hold."""
+    maps, A = stages
+    c, d = c.copy(), 1
+    for before in maps:
+        c[..., d:, :] = _apply(before[..., d:, :, :], c[..., :-d, :]) + c[..., d:, :]
+        d *= 2
+    return _apply(A, x0[..., None, :]) + c
+
+
+def _apply(A: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``A x`` over the last axes (``A: [..., k, k]``, ``x: [..., k]``): products, then the
+    sum of each row of ``k`` (the same additions whatever the leading axes)."""
+    return (A * x[..., None, :]).sum(axis=-1)
 
 
 def _column_sums(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -431,17 +456,20 @@ def _column_sums(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return s, e
 
 
-def cell_chain(coefficients, responses, A, c, state):
+def cell_chain(coefficients, responses, stages, c, state, last=None):
     """Internal: the cells of one reflection interval, all at once, each starting where the
     one before ends, up to ``u^2``: ``((Y, V, N), (Y_lo, V_lo, N_lo), state)``.
 
     The cells are affine in their start ``x = (y, v, N)``: a cell from ``x`` ends at
     ``A_i x + c_i`` (``A: [rhs, cell, end, start]``, ``c: [rhs, cell, end]``, in float:
-    only to find starts), and ``coefficients(starts)`` (``starts: [rhs, cell, 3]``) gives
+    only to find starts; ``stages = scan_stages(A[:, :-1])``, shared by every interval),
+    and ``coefficients(starts)`` (``starts: [rhs, cell, 3]``) gives
     its polynomials ``(Y, V, N)`` (``[rhs, cell, order]``) from a float start, in the
     cells' own arithmetic, and their own low parts (an array like each, or ``None``);
     ``responses = (E_y, E_v, E_n)``, the polynomials of unit starts (``[start, order]``,
-    one set, or ``[cell, start, order]``, one per cell).
+    one set, or ``[rhs, cell, start, order]``, one per cell). The first axis may hold
+    several chains (right-hand sides, tables); ``last`` the index of each one's last cell
+    (default: the last; the cells after it are padding, ignored).
 
     1. the float starts of every cell from ``state = (high, low)`` (``[rhs, 3]``, the
        start of the interval) by :func:`affine_scan`; the polynomials from them;
@@ -457,7 +485,7 @@ def cell_chain(coefficients, responses, A, c, state):
     both, :func:`cell_bounds`); a NumPy operation on all cells of the interval replaces
     one per cell."""
     high, low = state
-    starts = np.concatenate([high[:, None], affine_scan(A[:, :-1], c[:, :-1], high + low)], 1)
+    starts = np.concatenate([high[:, None], affine_scan(stages, c[:, :-1], high + low)], 1)
     starts[:, 0] = high
     polys, own = coefficients(starts)
     sums = [
@@ -469,12 +497,18 @@ def cell_chain(coefficients, responses, A, c, state):
     # what the next start misses of this end: exact difference of near values, then
     # the end's error term (a few ulps of the state: its rounding is u^2)
     missed = (s_end[:, :-1] - starts[:, 1:]) + e_end[:, :-1]
-    lows = np.concatenate([low[:, None], affine_scan(A[:, :-1], missed, low)], axis=1)
-    subscripts = "rcs,so->rco" if responses[0].ndim == 2 else "rcs,cso->rco"
-    added = tuple(np.einsum(subscripts, lows, E) for E in responses)
+    lows = np.concatenate([low[:, None], affine_scan(stages, missed, low)], axis=1)
+    added = tuple(
+        (lows[..., 0, None] * E[..., 0, :] + lows[..., 1, None] * E[..., 1, :])
+        + lows[..., 2, None] * E[..., 2, :]
+        for E in responses
+    )
     # the exact end of the last cell, as (high, low)
-    last = e_end[:, -1] + np.stack([P[:, -1].sum(axis=-1) for P in added], axis=-1)
-    end_high, end_low = two_sum(s_end[:, -1], last)
+    if last is None:
+        last = np.full(high.shape[0], s_end.shape[1] - 1)
+    chain = np.arange(high.shape[0])
+    rest = e_end[chain, last] + np.stack([P[chain, last].sum(axis=-1) for P in added], axis=-1)
+    end_high, end_low = two_sum(s_end[chain, last], rest)
     # the low parts of the wide layer cells can be many ulps (their ends cancel): each
     # coefficient's high part takes them, exactly (two-sum), the low part keeps <= u/2 of it
     stored = [
@@ -493,11 +527,13 @@ def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray, before=None) ->
         C = np.concatenate([before[0], C], axis=1)
         C_lo = np.concatenate([before[1], C_lo], axis=1)
         return _jumps(C, C_lo, initial)[:, 1:]
-    if C_lo.ndim == 3:  # low parts of every coefficient
-        terms = [C[:, 1:, 0], C_lo[:, 1:, 0]]
-        terms += [-C[:, :-1, k] for k in range(C.shape[-1])]
-        terms += [-C_lo[:, :-1, k] for k in range(C.shape[-1])]
+    if C_lo.ndim == 3:  # low parts of every coefficient (each <= u/2 of its high part)
+        # the end of the low parts in float: within gamma_n sum |low| (u^2 of the ends)
+        n = C.shape[-1]
+        low_end = C_lo[:, :-1].sum(axis=-1)
+        terms = [C[:, 1:, 0], C_lo[:, 1:, 0], *(-C[:, :-1, k] for k in range(n)), -low_end]
         later, bound = sum_with_bound(terms)
+        bound += n * _U / (1.0 - n * _U) * np.abs(C_lo[:, :-1]).sum(axis=-1) * (1.0 + 1e-9)
         first, first_bound = sum_with_bound([C[:, :1, 0], C_lo[:, :1, 0], -initial[:, None]])
         return np.concatenate([np.abs(first) + first_bound, np.abs(later) + bound], axis=1)
     terms = [C[:, 1:, 0], C_lo[:, 1:]]
