@@ -446,14 +446,40 @@ def _apply(A: np.ndarray, x: np.ndarray) -> np.ndarray:
 
 
 def _column_sums(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(s, e)`` per row of ``C`` (``[..., order]``): the cascaded sum of its entries
-    (Ogita, Rump and Oishi's Sum2), ``s + e`` within ``u |s| + gamma_n^2 sum |c|`` of the
-    exact sum; the value of a polynomial in ``xi`` at ``xi = 1``."""
-    s, e = C[..., 0].copy(), np.zeros(C.shape[:-1])
-    for k in range(1, C.shape[-1]):
-        s, err = two_sum(s, C[..., k])
-        e += err
-    return s, e
+    """``(s, e)`` per row of ``C`` (``[..., order]``): the value of a polynomial in ``xi``
+    at ``xi = 1`` as a high part and the sum of the two-sums' errors
+    (:func:`tree_sum_with_bound`), ``s + e`` within ``u^2``-level of the exact sum."""
+    return _tree_sum(C)[:2]
+
+
+def _tree_sum(C: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """Pairwise two-sums along the last axis: ``(s, e, size, levels)`` with ``s + e_exact
+    = sum C`` exactly, ``e`` the float sum of the two-sums' errors (each level's errors
+    summed along with the pairs), ``size = sum |C|``."""
+    s, e, levels = C, np.zeros(C.shape[:-1]), 0
+    size = np.abs(C).sum(axis=-1)
+    while s.shape[-1] > 1:
+        if s.shape[-1] % 2:  # an odd one out waits for the next level
+            s = np.concatenate([s, np.zeros_like(s[..., :1])], axis=-1)
+        s, err = two_sum(s[..., 0::2], s[..., 1::2])
+        e = e + err.sum(axis=-1)
+        levels += 1
+    return s[..., 0], e, size, levels
+
+
+def tree_sum_with_bound(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Internal: ``(total, bound)``: the sum of ``C`` along its last axis by pairwise
+    two-sums (``log2 n`` NumPy steps, not ``n``), and a bound on ``|total - exact|``.
+    Every two-sum is exact, ``|err| <= u |s|`` of its pair, and the pairs of a level
+    partition the terms, so the errors sum to at most ``levels u sum |C|`` in absolute
+    value; adding them up in float (``<= n`` of them, any order) errs by at most
+    ``gamma_n`` of that, and the last addition by ``u |total|``."""
+    s, e, size, levels = _tree_sum(C)
+    n = C.shape[-1]
+    total = s + e
+    gamma = n * _U / (1.0 - n * _U)
+    bound = (_U * np.abs(total) + gamma * levels * _U * size) * (1.0 + 1e-9)
+    return total, bound
 
 
 def cell_chain(coefficients, responses, stages, c, state, last=None):
@@ -531,8 +557,10 @@ def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray, before=None) ->
         # the end of the low parts in float: within gamma_n sum |low| (u^2 of the ends)
         n = C.shape[-1]
         low_end = C_lo[:, :-1].sum(axis=-1)
-        terms = [C[:, 1:, 0], C_lo[:, 1:, 0], *(-C[:, :-1, k] for k in range(n)), -low_end]
-        later, bound = sum_with_bound(terms)
+        terms = np.concatenate(
+            [C[:, 1:, :1], C_lo[:, 1:, :1], -C[:, :-1], -low_end[..., None]], axis=-1
+        )
+        later, bound = tree_sum_with_bound(terms)
         bound += n * _U / (1.0 - n * _U) * np.abs(C_lo[:, :-1]).sum(axis=-1) * (1.0 + 1e-9)
         first, first_bound = sum_with_bound([C[:, :1, 0], C_lo[:, :1, 0], -initial[:, None]])
         return np.concatenate([np.abs(first) + first_bound, np.abs(later) + bound], axis=1)
