@@ -251,19 +251,18 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=No
         b1 += 3.0 * _U * np.abs(z)
     # r2 = N' - kappa (v - N + 2 G), G = G_hi + G_lo (+- dG)
     terms = [*two_prod(kp1 / hc, n_next)]
-    if np.ndim(N_lo) == 3:  # low parts of every coefficient (the slow-manifold cells)
-        terms += two_prod(kp1 / hc, n_low_next)
-    for factor, x in (
-        (-kappa, V),
-        (-kappa, v_low),
-        (kappa, N),
-        (kappa, n_low),
-        (-2.0 * kappa, G_hi),
-        (-2.0 * kappa, G_lo),
-    ):
+    for factor, x in ((-kappa, V), (kappa, N), (-2.0 * kappa, G_hi)):
         terms += two_prod(factor, x)
-    r2, b2 = sum_with_bound(terms, len(terms) // 2)
-    b2 += 2.0 * kappa * dG
+    # the low parts' terms (each at most u/2 of its high part's, or of G's) in float: a
+    # product each and their sum, within 5 u of the sum of their sizes (u^2 of r2's terms)
+    small = [-kappa * v_low, kappa * n_low, (-2.0 * kappa) * G_lo]
+    if np.ndim(N_lo) == 3:  # low parts of every coefficient (the slow-manifold cells)
+        small.append((kp1 / hc) * n_low_next)
+    small_sum = small[0]
+    for z in small[1:]:
+        small_sum = small_sum + z
+    r2, b2 = sum_with_bound([*terms, small_sum], len(terms) // 2)
+    b2 += 2.0 * kappa * dG + 5.0 * _U * sum(np.abs(z) for z in small)
     # integrals over a cell: h int_0^1 |sum r_k xi^k| <= h sum |r_k| / (k + 1)
     margin = 1.0 + 1e-9
     i0, i1, i2 = (_cell_integral(np.abs(r) + b, h, kp1) for r, b in ((r0, b0), (r1, b1), (r2, b2)))
