@@ -77,6 +77,10 @@ _WIDEST = 0.25
 _GRADING = [(0.0, 1.25), (16.0, 2.5), (32.0, 5.0)]
 #: Least ratio ``p_f / p_s`` of the contact poles for the slow manifold.
 _SEPARATION = 8.0
+#: Least ratio ``p_f / p_s`` for Taylor cells graded as the layer's throughout (below
+#: ``_SEPARATION``: the slow cells' bound is too large there); the widest cells then have
+#: ``h p_s <= 5/4``.
+_GRADED_SEPARATION = 4.0
 
 
 def _power_of_two_below(x: float) -> float:
@@ -98,11 +102,12 @@ def interval_mesh(alpha: float, *, kappa: float) -> tuple[np.ndarray, np.ndarray
         return None
     fast = fastest_rate(alpha, kappa=kappa)
     slow = kappa / (alpha * fast)  # the roots' product is kappa / alpha
-    if not (math.isfinite(fast) and fast >= _SEPARATION * slow):
+    if not (math.isfinite(fast) and fast >= _GRADED_SEPARATION * slow):
         return None
+    graded_only = fast < _SEPARATION * slow  # Taylor cells throughout, graded
     h = _power_of_two_below(_LAYER_REACH / fast)
     wide = _power_of_two_below(min(_SLOW_REACH / slow, _WIDEST))
-    if wide < 8.0 * h:
+    if wide < 8.0 * h and not graded_only:
         return None
     # the layer, in units of h: 8 cells of h (the kink), then as wide as the transient
     # left allows, up to a multiple of 8 h at least 64 / p_f long
@@ -118,6 +123,12 @@ def interval_mesh(alpha: float, *, kappa: float) -> tuple[np.ndarray, np.ndarray
     n_layer = len(widths)
     if position * h > 1.0:
         return None
+    if graded_only:  # the layer's widest cells on to the interval's end
+        width = 1
+        while 2 * width * step <= _GRADING[-1][1] and position % (2 * width) == 0:
+            width *= 2
+        widths += [width] * ((round(2.0 / h) - position) // width)
+        return np.array(widths) * h, np.ones(len(widths), dtype=bool)
     widths = [w * h for w in widths]
     top = round(wide / h)
     width = 1
