@@ -33,6 +33,18 @@ jump of :math:`N` is the transient left over. Accepted by the same a-posteriori 
 the Taylor table (:func:`impactsym.rod.elastic.taylor.cell_bounds`: residuals and jumps
 measured on the stored arrays, the energy of the error): how the coefficients were made
 does not enter the proof. See docs/physics.md#finite-contact-stiffness-three-methods.
+
+Where the poles are only 4 to 8 apart (too near for the slow cells' bound) the table
+keeps Taylor cells to the interval's end, graded as the layer's (``h p_f`` up to 5 once
+the transient has decayed, ``h p_s <= 5/4``): fewer cells than the uniform Taylor mesh
+(88 instead of 256 at ``(0.1, 1e2)``), the same bound.
+
+All cells of an interval are computed at once
+(:func:`impactsym.rod.elastic.taylor.cell_chain`: float starts from the cells' affine
+maps, the recurrences and solves as NumPy operations over the cells, the few ulps each
+start misses of the exact end before as low parts of every coefficient), and the tables
+of a search's ``(alpha, kappa)`` groups together (:func:`extend_tables`: one pass over
+the cells of all of them per interval).
 """
 
 from __future__ import annotations
@@ -364,48 +376,52 @@ class ManifoldTable(TaylorTable):
                 widths[fine, None] / np.arange(1, D + 2),
             )
         )
-        for width in np.unique(widths[fine]):
-            cells = np.flatnonzero(layer & (widths == width))
-            factors = tuple(c[np.searchsorted(fine, cells[0])] for c in taylor_factors)
-            (ry, rv, rn), A[cells], W[cells], b[cells] = layer_maps(factors)
-            E_y[cells], E_v[cells], E_n[cells] = ry, rv, rn
+        # every layer width at once
+        sizes, which = np.unique(widths[fine], return_inverse=True)
+        first = np.array([np.flatnonzero(widths[fine] == w)[0] for w in sizes])
+        (ry, rv, rn), T, WG, bf = layer_maps(tuple(c[first] for c in taylor_factors))
+        A[fine], W[fine], b[fine] = T[which], WG[which], bf[which]
+        E_y[fine], E_v[fine], E_n[fine] = ry[which], rv[which], rn[which]
         wide = np.flatnonzero(~layer)
         S, inverse = np.zeros((wide.size, D + 1, D + 1)), np.zeros((wide.size, D, D))
         slow_factors = (
             widths[wide, None] / (alpha * (k + 1)),
             widths[wide, None] / np.arange(1, D + 2),
         )
-        for width in np.unique(widths[wide]):
-            at = np.flatnonzero(widths[wide] == width)
-            S[at], inverse[at] = _slow_operator(alpha, kappa, width)
-            c_y = slow_factors[1][at[0]]
-            s_op, inv = S[at[0]], inverse[at[0]]
-            # the exact linear responses (float: only for starts and the low parts): a
-            # unit v0, every unit G_k (as 2 G), a unit force
-            lanes = np.zeros((D + 1, 1 + (D + 1) + 1))  # rhs of the solve, per lane
-            lanes[0, 0] = -1.0
-            lanes[:, 1 : D + 2] = -(s_op @ (2.0 * np.eye(D + 1)))
-            lanes[0, -1] = 1.0
-            V = np.zeros((D + 1, lanes.shape[1]))
-            V[0, 0] = 1.0
-            V[1:] = inv @ lanes[:D]
+        # every slow width at once: S and the inverse per width, then the exact linear
+        # responses (float: only for starts and the low parts) to a unit v0, to every
+        # unit G_k (as 2 G) and to a unit force, as the right-hand sides of the solve
+        if wide.size:
+            sizes, which = np.unique(widths[wide], return_inverse=True)
+            ops = [_slow_operator(alpha, kappa, w) for w in sizes]
+            s_op, inv = np.array([o[0] for o in ops]), np.array([o[1] for o in ops])
+            S[:], inverse[:] = s_op[which], inv[which]
+            c_y = sizes[:, None] / np.arange(1, D + 2)
+            lanes = np.zeros((sizes.size, D + 1, 1 + (D + 1) + 1))  # [width, order, lane]
+            lanes[:, 0, 0] = -1.0
+            lanes[:, :, 1 : D + 2] = -(s_op * 2.0)
+            lanes[:, 0, -1] = 1.0
+            V = np.zeros_like(lanes)
+            V[:, 0, 0] = 1.0
+            V[:, 1:] = inv @ lanes[:, :D]
             twice_g = np.zeros_like(V)
-            twice_g[:, 1 : D + 2] = 2.0 * np.eye(D + 1)
+            twice_g[:, :, 1 : D + 2] = 2.0 * np.eye(D + 1)
             N = s_op @ (V + twice_g)
-            Y = np.vstack([np.zeros(V.shape[1]), c_y[:, None] * V])
-            ends = np.stack([Y.sum(axis=0), V.sum(axis=0), N.sum(axis=0)])  # [end, lane]
-            cells = wide[at]
-            A[cells, :, 0] = [1.0, 0.0, 0.0]  # a unit y0 only moves y
-            A[cells, :, 1] = ends[:, 0]
-            W[cells], b[cells] = ends[:, 1 : D + 2], ends[:, -1]
-            E_y[cells, 0, 0] = 1.0
-            E_y[cells, 1], E_v[cells, 1], E_n[cells, 1] = Y[:, 0], V[:, 0], N[:, 0]
+            Y = np.concatenate([np.zeros_like(V[:, :1]), c_y[:, :, None] * V], axis=1)
+            ends = np.stack([Y.sum(axis=1), V.sum(axis=1), N.sum(axis=1)], axis=1)  # [w, end, lane]
+            ends = ends[which]
+            A[wide, :, 0] = [1.0, 0.0, 0.0]  # a unit y0 only moves y
+            A[wide, :, 1] = ends[:, :, 0]
+            W[wide], b[wide] = ends[:, :, 1 : D + 2], ends[:, :, -1]
+            E_y[wide, 0, 0] = 1.0
+            E_y[wide, 1], E_v[wide, 1], E_n[wide, 1] = (X[which, :, 0] for X in (Y, V, N))
         return {
             "fine": fine,
             "wide": wide,
             "taylor": taylor_factors,
             "slow": ((S, inverse), slow_factors),
             "chain": ((E_y, E_v, E_n), A, W, b),
+            "stages": scan_stages(A[:-1]),  # of one interval's chain (taken apart: _batch)
         }
 
     def _build_interval(self, m: int) -> None:
@@ -482,9 +498,29 @@ def _batch(tables: tuple) -> SimpleNamespace:
         W=W,
         b=b,
         responses=tuple(np.concatenate([X, X]) for X in E),
-        stages=scan_stages(np.concatenate([A, A])[:, :-1]),
+        stages=_padded_stages([t._maps["stages"] for t in tables], width - 1),
         last=np.tile(ns - 1, 2),
     )
+
+
+def _padded_stages(own: list, width: int) -> tuple[list, np.ndarray]:
+    """:func:`impactsym.rod.elastic.taylor.scan_stages` of the chains of several tables
+    (``own``: each table's, of its cells but the last) for their batch: stacked, padded to
+    ``width`` maps, for both right-hand sides. A map at position ``i`` is composed of the
+    maps up to ``i`` only, so each chain's are its own; a chain's stages past its own
+    count leave its positions as its last one did."""
+    depth = max(len(stages) for stages, _ in own)
+    J = len(own)
+
+    def stack(pick):
+        out = np.broadcast_to(np.eye(3), (J, width, 3, 3)).copy()
+        for j, stages in enumerate(own):
+            x = pick(stages)
+            out[j, : x.shape[0]] = x
+        return np.concatenate([out, out])  # [rhs J + j, position, 3, 3]
+
+    maps = [stack(lambda st, s=s: st[0][s] if s < len(st[0]) else st[1]) for s in range(depth)]
+    return maps, stack(lambda st: st[1])
 
 
 def _build_intervals(tables: list, intervals: list) -> None:

@@ -12,7 +12,9 @@ persistent-contact problem (eq. (1) in the time domain) is, for :math:`t \ge 0`,
 Every reflection interval is cut into :math:`2^j \ge 16` equal cells with
 :math:`h |p| \le 1` for the roots :math:`p` of :math:`\alpha s^2 + \alpha\kappa s + \kappa`;
 on a cell :math:`y, v, N` are Taylor polynomials of degree ``DEGREE`` from the exact
-recurrences of the equations, linear in :math:`f` (:math:`A + f B`). The error bound is
+recurrences of the equations, linear in :math:`f` (:math:`A + f B`), all cells of an
+interval at once (:func:`cell_chain`), each starting at the exact end of the one before
+(to :math:`u^2`, with low parts of every coefficient). The error bound is
 a posteriori: the residuals and jumps of the stored polynomials, measured exactly to
 rounding (:mod:`impactsym.numeric.eft`), drive the error, whose energy the lossless rod
 and spring cannot grow. Float64 and milliseconds per table, where the mpmath table of
@@ -370,8 +372,9 @@ def taylor_cells(y0, v0, n0, force, G, factors):
     c_v, c_n, c_y = factors
     D = DEGREE
     shape = np.broadcast_shapes(
-        np.shape(y0), np.shape(v0), np.shape(n0), np.shape(force), np.shape(G)[:-1]
-    )
+        np.shape(y0), np.shape(v0), np.shape(n0), np.shape(force), np.shape(G)[:-1],
+        *(np.shape(c)[:-1] for c in factors),
+    )  # fmt: skip
     V, N = np.empty((*shape, D + 1)), np.empty((*shape, D + 1))
     V[..., 0], N[..., 0] = v0, n0
     vk, wk, fk = V[..., 0], N[..., 0], np.asarray(force, dtype=float)
@@ -386,10 +389,11 @@ def taylor_cells(y0, v0, n0, force, G, factors):
 
 
 def layer_maps(factors):
-    """Internal: what :func:`cell_chain` needs of Taylor cells with ``factors`` (one set):
-    the responses ``(E_y, E_v, E_n)`` to unit starts ``(y, v, N)`` (each ``[start,
-    order]``), the map ``T`` of the start to the end (``[end, start]``), and the ends'
-    response to the incoming wave (``[end, order of G]``) and to a unit force."""
+    """Internal: what :func:`cell_chain` needs of Taylor cells with ``factors`` (one set, or
+    sets along leading axes ``...``): the responses ``(E_y, E_v, E_n)`` to unit starts
+    ``(y, v, N)`` (each ``[..., start, order]``), the map ``T`` of the start to the end
+    (``[..., end, start]``), and the ends' response to the incoming wave (``[..., end,
+    order of G]``) and to a unit force (``[..., end]``)."""
     D = DEGREE
     lanes = 3 + (D + 1) + 1  # unit starts, unit G_k, unit force
     starts = np.zeros((lanes, 3))
@@ -398,10 +402,12 @@ def layer_maps(factors):
     G[3 : 3 + D + 1] = np.eye(D + 1)
     force = np.zeros(lanes)
     force[-1] = 1.0
-    Y, V, N = taylor_cells(*starts.T, force, G, factors)
-    ends = np.stack([C.sum(axis=-1) for C in (Y, V, N)], axis=-1)  # [lane, end]
-    responses = (Y[:3], V[:3], N[:3])
-    return responses, ends[:3].T, ends[3 : 3 + D + 1].T, ends[-1]
+    sets = tuple(np.asarray(c)[..., None, :] for c in factors)  # a set per lane block
+    Y, V, N = taylor_cells(*starts.T, force, G, sets)
+    ends = np.stack([C.sum(axis=-1) for C in (Y, V, N)], axis=-1)  # [..., lane, end]
+    responses = (Y[..., :3, :], V[..., :3, :], N[..., :3, :])
+    T = np.swapaxes(ends[..., :3, :], -1, -2)
+    return responses, T, np.swapaxes(ends[..., 3 : 3 + D + 1, :], -1, -2), ends[..., -1, :]
 
 
 def scan_stages(A: np.ndarray) -> tuple[list, np.ndarray]:
