@@ -68,7 +68,7 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
     keys = np.stack([alpha, kappa], axis=1)
     groups, inverse = np.unique(keys, axis=0, return_inverse=True)
     inverse = inverse.ravel()
-    stiff = {}  # group -> (search steps, slow-manifold table)
+    stiff = []  # (through, alpha, kappa, forces, members) of the slow-manifold groups
     for g_index, (ag, kg) in enumerate(groups):
         members = np.flatnonzero(inverse == g_index)
         members = members[np.argsort(f[members], kind="stable")]  # screened in order of f
@@ -78,36 +78,108 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
         fewer = n_manifold is not None and n_manifold < cells_per_interval(ag, kappa=kg)
         if method == "taylor" and fewer and n_manifold <= MAX_CELLS:
             through = _certified_manifold(ag, kg, which, n_searched, f[members])
-            steps = _table_search_steps(through, which, ag, kg, f[members], t_max)
-            stiff[g_index] = (steps, through.table, members)
+            stiff.append((through, ag, kg, f[members], members))
         else:
             result[members] = _other_table(which, ag, kg, f[members], t_max, method)
-    # the slow-manifold tables of all groups interval by interval together: each step
-    # extends every table its search needs next at once (extend_tables), then searches
-    needs = {}
-    for g_index, (steps, _, _) in stiff.items():
-        _advance(steps, g_index, needs, stiff, result, which, groups, f, t_max)
-    while needs:
-        extend_tables([stiff[g][1] for g in needs], list(needs.values()))
-        for g_index in list(needs):
-            del needs[g_index]
-            _advance(stiff[g_index][0], g_index, needs, stiff, result, which, groups, f, t_max)
+    if stiff:
+        # the slow-manifold groups searched together, interval by interval: each step
+        # extends every table the search needs next at once (extend_tables)
+        steps = _joint_search_steps(stiff, which, t_max)
+        try:
+            needs = next(steps)
+            while True:
+                extend_tables([stiff[g][0].table for g in needs], [needs[g] for g in needs])
+                needs = steps.send(None)
+        except StopIteration as stop:
+            times = stop.value
+        for (_, ag, kg, fm, members), found in zip(stiff, times, strict=True):
+            if found is None:  # the slow-manifold table not certified: another one
+                found = _other_table(which, ag, kg, fm, t_max, "taylor")
+            result[members] = found
     return result
 
 
-def _advance(steps, g_index, needs, stiff, result, which, groups, f, t_max):
-    """Run the search ``steps`` of group ``g_index`` to its next need of table intervals
-    (``needs[g_index]``), or to its end: its contact times, or where the slow-manifold table
-    is not certified those of the other tables."""
-    try:
-        needs[g_index] = next(steps)
-    except StopIteration as stop:
-        members = stiff[g_index][2]
-        times = stop.value
-        if times is None:
-            ag, kg = (float(x) for x in groups[g_index])
-            times = _other_table(which, ag, kg, f[members], t_max, "taylor")
-        result[members] = times
+def _joint_search_steps(groups, which, t_max):
+    """:func:`_table_search_steps` for several groups ``(through, alpha, kappa, forces,
+    members)`` at once: one search per interval over the pairs of all of them (each on its
+    own table), so that the work that does not depend on the pairs' number is done once.
+    A generator: it yields ``{group: m}`` (the intervals each still searching group needs
+    next) and returns a list of contact times per group, ``None`` for a group whose table
+    ``through(m)`` refused."""
+    n_terms = int(t_max // 2) + 1
+    sizes = [g[3].size for g in groups]
+    offset = np.concatenate([[0], np.cumsum(sizes)])
+    owner = np.repeat(np.arange(len(groups)), sizes)  # the group of each pair
+    fm = np.concatenate([g[3] for g in groups])
+    local = np.arange(fm.size) - offset[owner]
+    result = np.full(fm.size, np.inf)
+    refused = np.zeros(len(groups), dtype=bool)
+    active = np.arange(fm.size)
+    tables, searches = [None] * len(groups), [None] * len(groups)
+    for m in range(n_terms):
+        start, end = 2.0 * m, min(2.0 * m + 2.0, t_max)
+        if start >= t_max or active.size == 0:
+            break
+        present = np.unique(owner[active])
+        # this interval and the next (its end is the next one's first cell's start)
+        yield {int(g): m + 2 for g in present}
+        for g in present:
+            through, ag, kg, forces, _ = groups[g]
+            current = through(m + 2)
+            if current is None:
+                refused[g] = True
+            elif current is not tables[g]:
+                tables[g] = current
+                searches[g] = _table_search(current, which, ag, kg, forces, n_terms)
+        active = active[~refused[owner[active]]]
+        if active.size == 0:
+            continue
+        present = np.unique(owner[active])
+        bases = {
+            g: np.append(tables[g].lo[(tables[g].lo >= start) & (tables[g].lo < end)], end)
+            for g in present
+        }
+
+        def split(pairs, present=present):  # the positions of pairs per group
+            return [(g, np.flatnonzero(owner[pairs] == g)) for g in present]
+
+        def evaluate(t, pairs):
+            value, slope = np.empty(t.size), np.empty(t.size)
+            for g, at in split(pairs):
+                if at.size:
+                    value[at], slope[at], _ = searches[g][0](t[at], local[pairs[at]])
+            return value, slope, value
+
+        def bound(ta, tb, pairs, *ends):
+            out = np.empty(ta.size)
+            for g, at in split(pairs):
+                if at.size:
+                    cut = (e[at] for e in ends)
+                    out[at] = searches[g][1](ta[at], tb[at], local[pairs[at]], *cut)
+            return out
+
+        def search(pos, bases=bases, active=active, evaluate=evaluate, bound=bound):
+            pairs = active[pos]
+            nodes = [bases[g] for g in owner[pairs]]
+            return first_sign_change(
+                lambda t, own: _deeper(evaluate(t, pairs[own])),
+                lambda ta, tb, own, *ends: bound(ta, tb, pairs[own], *ends),
+                np.concatenate(nodes),
+                np.repeat(np.arange(pos.size), [x.size for x in nodes]),
+                pos.size,
+                max_cells=2**22,
+                certify=True,
+            )
+
+        # g = A + f B is affine in f: proofs of g > 0 are shared between the forces of
+        # a group (not on interval 0, where g(0) = 0 leaves nothing to prove)
+        counts = np.bincount(owner[active])
+        crowded = m > 0 and counts.max() >= SCREEN_MIN_PAIRS
+        roots = screen_interval(search, owner[active], SCREEN_STRIDES if crowded else (1,))
+        hit = np.isfinite(roots)
+        result[active[hit]] = _zero_before(evaluate, roots[hit], active[hit], start)
+        active = active[~hit]
+    return [None if refused[g] else result[offset[g] : offset[g + 1]] for g in range(len(groups))]
 
 
 def _other_table(which, ag, kg, fm, t_max, method):
