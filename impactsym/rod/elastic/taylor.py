@@ -454,15 +454,15 @@ def _column_sums(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(s, e)`` per row of ``C`` (``[..., order]``): the value of a polynomial in ``xi``
     at ``xi = 1`` as a high part and the sum of the two-sums' errors
     (:func:`tree_sum_with_bound`), ``s + e`` within ``u^2``-level of the exact sum."""
-    return _tree_sum(C)[:2]
+    return _tree_sum(C, size=False)[:2]
 
 
-def _tree_sum(C: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+def _tree_sum(C: np.ndarray, size: bool = True) -> tuple:
     """Pairwise two-sums along the last axis: ``(s, e, size, levels)`` with ``s + e_exact
     = sum C`` exactly, ``e`` the float sum of the two-sums' errors (each level's errors
-    summed along with the pairs), ``size = sum |C|``."""
+    summed along with the pairs), ``size = sum |C|`` (or ``None``)."""
     s, e, levels = C, np.zeros(C.shape[:-1]), 0
-    size = np.abs(C).sum(axis=-1)
+    size = np.abs(C).sum(axis=-1) if size else None
     while s.shape[-1] > 1:
         if s.shape[-1] % 2:  # an odd one out waits for the next level
             s = np.concatenate([s, np.zeros_like(s[..., :1])], axis=-1)
