@@ -40,7 +40,7 @@ the transient has decayed, ``h p_s <= 5/4``): fewer cells than the uniform Taylo
 (88 instead of 256 at ``(0.1, 1e2)``), the same bound.
 
 All cells of an interval are computed at once
-(:func:`impactsym.rod.elastic.taylor.cell_chain`: float starts from the cells' affine
+(:func:`impactsym.rod.elastic.chain.cell_chain`: float starts from the cells' affine
 maps, the recurrences and solves as NumPy operations over the cells, the few ulps each
 start misses of the exact end before as low parts of every coefficient), and the tables
 of a search's ``(alpha, kappa)`` groups together (:func:`extend_tables`: one pass over
@@ -58,16 +58,15 @@ from types import SimpleNamespace
 import numpy as np
 
 from impactsym.rod.elastic import taylor
+from impactsym.rod.elastic.chain import cell_chain, scan_stages
 from impactsym.rod.elastic.taylor import (
     DEGREE,
     TaylorTable,
     TaylorView,
-    cell_chain,
     check_table_arguments,
     fastest_rate,
     layer_maps,
     next_incoming,
-    scan_stages,
     taylor_cells,
 )
 
@@ -358,7 +357,7 @@ class ManifoldTable(TaylorTable):
     def _cell_maps(self) -> dict:
         """What the cells of an interval need, per cell (``[cell, ...]``): the Taylor
         factors of the layer cells, the slow operators and factors of the wide cells, and
-        for :func:`impactsym.rod.elastic.taylor.cell_chain` the map of a cell's start to
+        for :func:`impactsym.rod.elastic.chain.cell_chain` the map of a cell's start to
         its end, the end's response to the incoming wave and to a unit force, and the
         polynomials of unit starts."""
         alpha, kappa, D = self.alpha, self.kappa, DEGREE
@@ -504,7 +503,7 @@ def _batch(tables: tuple) -> SimpleNamespace:
 
 
 def _padded_stages(own: list, width: int) -> tuple[list, np.ndarray]:
-    """:func:`impactsym.rod.elastic.taylor.scan_stages` of the chains of several tables
+    """:func:`impactsym.rod.elastic.chain.scan_stages` of the chains of several tables
     (``own``: each table's, of its cells but the last) for their batch: stacked, padded to
     ``width`` maps, for both right-hand sides. A map at position ``i`` is composed of the
     maps up to ``i`` only, so each chain's are its own; a chain's stages past its own
@@ -526,7 +525,7 @@ def _padded_stages(own: list, width: int) -> tuple[list, np.ndarray]:
 def _build_intervals(tables: list, intervals: list) -> None:
     """The coefficients of reflection interval ``intervals[j]`` of ``tables[j]`` (the ones
     before built), all cells of all of them at once: one chain per table and right-hand
-    side (:func:`impactsym.rod.elastic.taylor.cell_chain`; shorter chains padded), the
+    side (:func:`impactsym.rod.elastic.chain.cell_chain`; shorter chains padded), the
     layer's Taylor recurrences and the slow cells' solves and sweeps one NumPy operation
     each. Every operation is elementwise or a product per cell, so a table's coefficients
     are the same to the last bit whichever tables are built with it."""

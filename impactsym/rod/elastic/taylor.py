@@ -13,8 +13,9 @@ Every reflection interval is cut into :math:`2^j \ge 16` equal cells with
 :math:`h |p| \le 1` for the roots :math:`p` of :math:`\alpha s^2 + \alpha\kappa s + \kappa`;
 on a cell :math:`y, v, N` are Taylor polynomials of degree ``DEGREE`` from the exact
 recurrences of the equations, linear in :math:`f` (:math:`A + f B`), all cells of an
-interval at once (:func:`cell_chain`), each starting at the exact end of the one before
-(to :math:`u^2`, with low parts of every coefficient). The error bound is
+interval at once (:func:`impactsym.rod.elastic.chain.cell_chain`), each starting at the
+exact end of the one before (to :math:`u^2`, with low parts of every coefficient). The
+error bound is
 a posteriori: the residuals and jumps of the stored polynomials, measured exactly to
 rounding (:mod:`impactsym.numeric.eft`), drive the error, whose energy the lossless rod
 and spring cannot grow. Float64 and milliseconds per table, where the mpmath table of
@@ -32,6 +33,7 @@ from functools import lru_cache
 import numpy as np
 
 from impactsym.numeric.eft import sum_with_bound, two_prod, two_sum
+from impactsym.rod.elastic.chain import cell_chain, scan_stages, tree_sum_with_bound
 from impactsym.validation import real_array
 
 #: Polynomial degree of ``v`` and ``g`` on a cell (``y``: one more).
@@ -120,7 +122,7 @@ class TaylorTable:
 
     def _build(self, n: int, n_intervals: int) -> None:
         """Coefficients on ``n`` cells per interval, then :meth:`_bound`: all cells of an
-        interval at once (:func:`cell_chain`)."""
+        interval at once (:func:`impactsym.rod.elastic.chain.cell_chain`)."""
         self.h = h = 2.0 / n
         total = n * n_intervals
         self.lo = np.arange(total) * h
@@ -344,31 +346,15 @@ def _cell_integral(r: np.ndarray, h, kp1: np.ndarray) -> np.ndarray:
     return (r * (np.asarray(h)[:, None] / kp1)).sum(axis=-1)
 
 
-def taylor_cell(y0: float, v0: float, n0: float, force: float, G: list, factors: tuple):
-    r"""Internal: Taylor coefficients ``(v, N, y)`` (lists, lowest order first) on one cell
-    from its start ``y0, v0, n0`` and incoming wave ``G`` by the recurrences
-    :math:`(k+1) v_{k+1} = h (f\delta_{k0} - N_k)/\alpha`, :math:`(k+1) N_{k+1} = h\kappa
-    (v_k - N_k + 2G_k)`, :math:`(k+1) y_{k+1} = h v_k`; ``factors = (c_v, c_n, c_y)``, the
-    factors ``h/(alpha (k+1))``, ``h kappa/(k+1)`` (``DEGREE`` each) and ``h/(k+1)``
-    (one more)."""
-    c_v, c_n, c_y = factors
-    v, w = [v0], [n0]
-    vk, wk, fk = v0, n0, force
-    # orders 1 .. D (c_v, c_n have D entries; c_y, G one more)
-    for cv, cn, Gk in zip(c_v, c_n, G, strict=False):
-        vk, wk = cv * (fk - wk), cn * ((vk - wk) + 2.0 * Gk)
-        v.append(vk)
-        w.append(wk)
-        fk = 0.0
-    return v, w, [y0] + [cy * x for cy, x in zip(c_y, v, strict=True)]
-
-
 def taylor_cells(y0, v0, n0, force, G, factors):
-    r"""Internal: :func:`taylor_cell` on many cells at once (NumPy, elementwise the same
-    operations in the same order): ``(Y, V, N)``, shaped ``broadcast + (DEGREE + 2,)``
-    resp. ``(DEGREE + 1,)``, from starts ``y0, v0, n0`` and forces ``force`` (arrays
-    that broadcast), incoming waves ``G`` (``[..., order]``) and ``factors = (c_v, c_n,
-    c_y)`` (``[..., order]``: one set, or one per cell)."""
+    r"""Internal: Taylor coefficients ``(Y, V, N)`` (lowest order first) on many cells at
+    once by the recurrences :math:`(k+1) v_{k+1} = h (f\delta_{k0} - N_k)/\alpha`,
+    :math:`(k+1) N_{k+1} = h\kappa (v_k - N_k + 2G_k)`, :math:`(k+1) y_{k+1} = h v_k`,
+    shaped ``broadcast + (DEGREE + 2,)`` resp. ``(DEGREE + 1,)``, from starts ``y0, v0,
+    n0`` and forces ``force`` (arrays that broadcast), incoming waves ``G`` (``[...,
+    order]``) and ``factors = (c_v, c_n, c_y)``, the factors ``h/(alpha (k+1))``, ``h
+    kappa/(k+1)`` (``DEGREE`` each) and ``h/(k+1)`` (one more), ``[..., order]``: one
+    set, or one per cell."""
     c_v, c_n, c_y = factors
     D = DEGREE
     shape = np.broadcast_shapes(
@@ -389,11 +375,11 @@ def taylor_cells(y0, v0, n0, force, G, factors):
 
 
 def layer_maps(factors):
-    """Internal: what :func:`cell_chain` needs of Taylor cells with ``factors`` (one set, or
-    sets along leading axes ``...``): the responses ``(E_y, E_v, E_n)`` to unit starts
-    ``(y, v, N)`` (each ``[..., start, order]``), the map ``T`` of the start to the end
-    (``[..., end, start]``), and the ends' response to the incoming wave (``[..., end,
-    order of G]``) and to a unit force (``[..., end]``)."""
+    """Internal: what :func:`impactsym.rod.elastic.chain.cell_chain` needs of Taylor cells
+    with ``factors`` (one set, or sets along leading axes ``...``): the responses ``(E_y,
+    E_v, E_n)`` to unit starts ``(y, v, N)`` (each ``[..., start, order]``), the map
+    ``T`` of the start to the end (``[..., end, start]``), and the ends' response to the
+    incoming wave (``[..., end, order of G]``) and to a unit force (``[..., end]``)."""
     D = DEGREE
     lanes = 3 + (D + 1) + 1  # unit starts, unit G_k, unit force
     starts = np.zeros((lanes, 3))
@@ -408,145 +394,6 @@ def layer_maps(factors):
     responses = (Y[..., :3, :], V[..., :3, :], N[..., :3, :])
     T = np.swapaxes(ends[..., :3, :], -1, -2)
     return responses, T, np.swapaxes(ends[..., 3 : 3 + D + 1, :], -1, -2), ends[..., -1, :]
-
-
-def scan_stages(A: np.ndarray) -> tuple[list, np.ndarray]:
-    """Internal: the maps of :func:`affine_scan` for ``A`` (``[..., n, k, k]``), computed
-    once where many scans share them: per doubling step ``d`` the composed maps before
-    it, and the composition of each prefix. Elementwise products and sums written out (no
-    matrix product, whose rounding may depend on the shape): each entry is the same to the
-    last bit whatever the leading axes hold."""
-    A, stages, d = A.copy(), [], 1
-    while d < A.shape[-3]:
-        stages.append(A)
-        A = A.copy()
-        A[..., d:, :, :] = np.stack(
-            [
-                _apply(stages[-1][..., d:, :, :], stages[-1][..., :-d, :, j])
-                for j in range(A.shape[-1])
-            ],
-            axis=-1,
-        )
-        d *= 2
-    return stages, A
-
-
-def affine_scan(stages: tuple, c: np.ndarray, x0: np.ndarray) -> np.ndarray:
-    """Internal: ``x_1 .. x_n`` of ``x_(i+1) = A_i x_i + c_i`` (``c: [..., n, k]``, ``x0:
-    [..., k]``, ``stages = scan_stages(A)``), by doubling (Hillis and Steele): ``log2 n``
-    NumPy steps instead of ``n``, rounding at the level of a sequential loop, and the
-    same bits whatever the leading axes hold."""
-    maps, A = stages
-    c, d = c.copy(), 1
-    for before in maps:
-        c[..., d:, :] = _apply(before[..., d:, :, :], c[..., :-d, :]) + c[..., d:, :]
-        d *= 2
-    return _apply(A, x0[..., None, :]) + c
-
-
-def _apply(A: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """``A x`` over the last axes (``A: [..., k, k]``, ``x: [..., k]``): products, then the
-    sum of each row of ``k`` (the same additions whatever the leading axes)."""
-    return (A * x[..., None, :]).sum(axis=-1)
-
-
-def _column_sums(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(s, e)`` per row of ``C`` (``[..., order]``): the value of a polynomial in ``xi``
-    at ``xi = 1`` as a high part and the sum of the two-sums' errors
-    (:func:`tree_sum_with_bound`), ``s + e`` within ``u^2``-level of the exact sum."""
-    return _tree_sum(C, size=False)[:2]
-
-
-def _tree_sum(C: np.ndarray, size: bool = True) -> tuple:
-    """Pairwise two-sums along the last axis: ``(s, e, size, levels)`` with ``s + e_exact
-    = sum C`` exactly, ``e`` the float sum of the two-sums' errors (each level's errors
-    summed along with the pairs), ``size = sum |C|`` (or ``None``)."""
-    s, e, levels = C, np.zeros(C.shape[:-1]), 0
-    size = np.abs(C).sum(axis=-1) if size else None
-    while s.shape[-1] > 1:
-        if s.shape[-1] % 2:  # an odd one out waits for the next level
-            s = np.concatenate([s, np.zeros_like(s[..., :1])], axis=-1)
-        s, err = two_sum(s[..., 0::2], s[..., 1::2])
-        e = e + err.sum(axis=-1)
-        levels += 1
-    return s[..., 0], e, size, levels
-
-
-def tree_sum_with_bound(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Internal: ``(total, bound)``: the sum of ``C`` along its last axis by pairwise
-    two-sums (``log2 n`` NumPy steps, not ``n``), and a bound on ``|total - exact|``.
-    Every two-sum is exact, ``|err| <= u |s|`` of its pair, and the pairs of a level
-    partition the terms, so the errors sum to at most ``levels u sum |C|`` in absolute
-    value; adding them up in float (``<= n`` of them, any order) errs by at most
-    ``gamma_n`` of that, and the last addition by ``u |total|``."""
-    s, e, size, levels = _tree_sum(C)
-    n = C.shape[-1]
-    total = s + e
-    gamma = n * _U / (1.0 - n * _U)
-    bound = (_U * np.abs(total) + gamma * levels * _U * size) * (1.0 + 1e-9)
-    return total, bound
-
-
-def cell_chain(coefficients, responses, stages, c, state, last=None):
-    """Internal: the cells of one reflection interval, all at once, each starting where the
-    one before ends, up to ``u^2``: ``((Y, V, N), (Y_lo, V_lo, N_lo), state)``.
-
-    The cells are affine in their start ``x = (y, v, N)``: a cell from ``x`` ends at
-    ``A_i x + c_i`` (``A: [rhs, cell, end, start]``, ``c: [rhs, cell, end]``, in float:
-    only to find starts; ``stages = scan_stages(A[:, :-1])``, shared by every interval),
-    and ``coefficients(starts)`` (``starts: [rhs, cell, 3]``) gives
-    its polynomials ``(Y, V, N)`` (``[rhs, cell, order]``) from a float start, in the
-    cells' own arithmetic, and their own low parts (an array like each, or ``None``);
-    ``responses = (E_y, E_v, E_n)``, the polynomials of unit starts (``[start, order]``,
-    one set, or ``[rhs, cell, start, order]``, one per cell). The first axis may hold
-    several chains (right-hand sides, tables); ``last`` the index of each one's last cell
-    (default: the last; the cells after it are padding, ignored).
-
-    1. the float starts of every cell from ``state = (high, low)`` (``[rhs, 3]``, the
-       start of the interval) by :func:`affine_scan`; the polynomials from them;
-    2. what each cell misses of the exact end of the one before, ``l``, is the low part
-       of its start: ``l_(i+1) = (end_i - start_(i+1)) + A_i l_i`` (the ends of the
-       stored polynomials to ``u^2``, :func:`_column_sums`), and its polynomials' low
-       parts are ``l`` times the unit responses (float: ``l`` is a few ulps, so their
-       rounding is ``u^2``): the stored ``C + C_lo`` starts at the exact end before;
-    3. ``state`` the exact end of the last cell.
-
-    Unlike a cell-by-cell loop with double-double starts the polynomials are the
-    recurrence of a start a few ulps off, completed by the low parts (the bound measures
-    both, :func:`cell_bounds`); a NumPy operation on all cells of the interval replaces
-    one per cell."""
-    high, low = state
-    starts = np.concatenate([high[:, None], affine_scan(stages, c[:, :-1], high + low)], 1)
-    starts[:, 0] = high
-    polys, own = coefficients(starts)
-    sums = [
-        _column_sums(C if C_lo is None else np.concatenate([C, C_lo], axis=-1))
-        for C, C_lo in zip(polys, own, strict=True)
-    ]
-    s_end = np.stack([s for s, _ in sums], axis=-1)  # [rhs, cell, end]
-    e_end = np.stack([e for _, e in sums], axis=-1)
-    # what the next start misses of this end: exact difference of near values, then
-    # the end's error term (a few ulps of the state: its rounding is u^2)
-    missed = (s_end[:, :-1] - starts[:, 1:]) + e_end[:, :-1]
-    lows = np.concatenate([low[:, None], affine_scan(stages, missed, low)], axis=1)
-    added = tuple(
-        (lows[..., 0, None] * E[..., 0, :] + lows[..., 1, None] * E[..., 1, :])
-        + lows[..., 2, None] * E[..., 2, :]
-        for E in responses
-    )
-    # the exact end of the last cell, as (high, low)
-    if last is None:
-        last = np.full(high.shape[0], s_end.shape[1] - 1)
-    chain = np.arange(high.shape[0])
-    rest = e_end[chain, last] + np.stack([P[chain, last].sum(axis=-1) for P in added], axis=-1)
-    end_high, end_low = two_sum(s_end[chain, last], rest)
-    # the low parts of the wide layer cells can be many ulps (their ends cancel): each
-    # coefficient's high part takes them, exactly (two-sum), the low part keeps <= u/2 of it
-    stored = [
-        two_sum(C, P if C_lo is None else C_lo + P)
-        for C, P, C_lo in zip(polys, added, own, strict=True)
-    ]
-    return tuple(hi for hi, _ in stored), tuple(lo for _, lo in stored), (end_high, end_low)
 
 
 def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray, before=None) -> np.ndarray:
@@ -592,14 +439,6 @@ def _incoming_wave_defect(N, n_low, G_hi, G_lo, n, start=0, carry=None):
         previous = carry[0] if k == 0 else dG[:, (k - 1) * n : k * n]
         dG[:, k * n : (k + 1) * n] = previous + np.abs(step) + bound
     return dG
-
-
-def _end(coefficients: list, low: float) -> tuple[float, float]:
-    """The exact value at ``xi = 1`` of a polynomial whose constant coefficient is
-    ``coefficients[0] + low``, as ``(high, low)``: ``high`` correctly rounded, ``low``
-    the correctly rounded remainder."""
-    high = math.fsum([*coefficients, low])
-    return high, math.fsum([*coefficients, low, -high])
 
 
 class TaylorView:
