@@ -111,3 +111,22 @@ def _within_bounds_of_the_pole_sums(table, a, k, n_terms, t, f):
         assert np.all(np.abs(value - exact) <= bound), which
         bounds.append(bound)
     return np.concatenate(bounds)
+
+
+def test_the_batches_kept_do_not_keep_their_tables_alive():
+    """The data of recent batches is kept between intervals, by weak references: a table
+    no one holds is freed, and a new table at its address is not mistaken for it."""
+    import gc
+    import weakref
+
+    tables = [ManifoldTable(a, 1e3, 2, lazy=True) for a in (0.5, 2.0)]
+    extend_tables(tables, [2, 2])
+    gone = weakref.ref(tables[0])
+    del tables
+    gc.collect()
+    assert gone() is None
+    fresh = [ManifoldTable(a, 1e4, 2, lazy=True) for a in (0.5, 2.0)]
+    extend_tables(fresh, [2, 2])
+    alone = [ManifoldTable(a, 1e4, 2) for a in (0.5, 2.0)]
+    for one, many in zip(alone, fresh, strict=True):
+        assert np.array_equal(one.N_a, many.N_a)

@@ -40,6 +40,26 @@ def scan_stages(A: np.ndarray) -> tuple[list, np.ndarray]:
     return stages, A
 
 
+def stacked_stages(own: list, width: int) -> tuple[list, np.ndarray]:
+    """Internal: :func:`scan_stages` of the chains of several tables (``own``: each
+    table's, of its cells but the last) for their batch: stacked, padded to ``width``
+    maps, for both right-hand sides (``[r J + j, position, 3, 3]``). A map at position
+    ``i`` is composed of the maps up to ``i`` only, so each chain's are its own; a
+    chain's stages past its own count leave its positions as its last one did."""
+    depth = max(len(stages) for stages, _ in own)
+    J = len(own)
+
+    def stack(pick):
+        out = np.broadcast_to(np.eye(3), (J, width, 3, 3)).copy()
+        for j, stages in enumerate(own):
+            x = pick(stages)
+            out[j, : x.shape[0]] = x
+        return np.concatenate([out, out])  # [rhs J + j, position, 3, 3]
+
+    maps = [stack(lambda st, s=s: st[0][s] if s < len(st[0]) else st[1]) for s in range(depth)]
+    return maps, stack(lambda st: st[1])
+
+
 def affine_scan(stages: tuple, c: np.ndarray, x0: np.ndarray) -> np.ndarray:
     """Internal: ``x_1 .. x_n`` of ``x_(i+1) = A_i x_i + c_i`` (``c: [..., n, k]``, ``x0:
     [..., k]``, ``stages = scan_stages(A)``), by doubling (Hillis and Steele): ``log2 n``

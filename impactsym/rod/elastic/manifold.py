@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import math
 import threading
+import weakref
 from contextlib import ExitStack
 from functools import lru_cache
 from types import SimpleNamespace
@@ -58,7 +59,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from impactsym.rod.elastic import taylor
-from impactsym.rod.elastic.chain import cell_chain, scan_stages
+from impactsym.rod.elastic.chain import cell_chain, scan_stages, stacked_stages
 from impactsym.rod.elastic.taylor import (
     DEGREE,
     TaylorTable,
@@ -458,8 +459,29 @@ def extend_tables(tables: list, n_intervals: list) -> None:
             table._bound(table.built, wanted[table])
 
 
-@lru_cache(maxsize=8)
+#: The data of the last few batches (:func:`_batch`): ``ids -> (weak references, data)``.
+_BATCHES: dict = {}
+_BATCHES_LOCK = threading.Lock()
+
+
 def _batch(tables: tuple) -> SimpleNamespace:
+    """:func:`_batch_data` of ``tables``, kept for the last 8 batches (a search extends
+    the same tables interval after interval). Weak references: the cache neither keeps a
+    table alive nor mistakes a new table for a dead one with the same ``id``."""
+    key = tuple(id(t) for t in tables)
+    with _BATCHES_LOCK:
+        hit = _BATCHES.get(key)
+    if hit is not None and all(r() is t for r, t in zip(hit[0], tables, strict=True)):
+        return hit[1]
+    data = _batch_data(tables)
+    with _BATCHES_LOCK:
+        _BATCHES[key] = (tuple(weakref.ref(t) for t in tables), data)
+        while len(_BATCHES) > 8:
+            del _BATCHES[next(iter(_BATCHES))]
+    return data
+
+
+def _batch_data(tables: tuple) -> SimpleNamespace:
     """What :func:`_build_intervals` needs of ``tables`` that does not change from one
     interval to the next, stacked: one chain per right-hand side and table (``r J + j``),
     padded to the longest (the padding's maps leave the state as it is)."""
@@ -497,29 +519,9 @@ def _batch(tables: tuple) -> SimpleNamespace:
         W=W,
         b=b,
         responses=tuple(np.concatenate([X, X]) for X in E),
-        stages=_padded_stages([t._maps["stages"] for t in tables], width - 1),
+        stages=stacked_stages([t._maps["stages"] for t in tables], width - 1),
         last=np.tile(ns - 1, 2),
     )
-
-
-def _padded_stages(own: list, width: int) -> tuple[list, np.ndarray]:
-    """:func:`impactsym.rod.elastic.chain.scan_stages` of the chains of several tables
-    (``own``: each table's, of its cells but the last) for their batch: stacked, padded to
-    ``width`` maps, for both right-hand sides. A map at position ``i`` is composed of the
-    maps up to ``i`` only, so each chain's are its own; a chain's stages past its own
-    count leave its positions as its last one did."""
-    depth = max(len(stages) for stages, _ in own)
-    J = len(own)
-
-    def stack(pick):
-        out = np.broadcast_to(np.eye(3), (J, width, 3, 3)).copy()
-        for j, stages in enumerate(own):
-            x = pick(stages)
-            out[j, : x.shape[0]] = x
-        return np.concatenate([out, out])  # [rhs J + j, position, 3, 3]
-
-    maps = [stack(lambda st, s=s: st[0][s] if s < len(st[0]) else st[1]) for s in range(depth)]
-    return maps, stack(lambda st: st[1])
 
 
 def _build_intervals(tables: list, intervals: list) -> None:
