@@ -30,9 +30,10 @@ Stiff maps (issue 22, target < 1 ms per point), ``--stiff-only --repeat 3``, CPU
 point for ``N`` / ``y`` at ``kappa = 1e2, 1e3, 1e4``. Before the round-3 work (load 6-9)
 2.40/1.98, 1.89/1.65, 1.94/1.78; after its first part 2.14/2.02, 1.70/1.53, 1.72/1.68.
 Then (h33stiff), main and this branch run in turns, two runs each, on the 2-core machine
-at load 5: main 2.26-2.37/2.02-2.12, 1.71-1.76/1.52-1.62, 1.64-1.98/1.51-1.78; now
-1.03-1.14/0.81-0.92, 0.98-1.14/0.83-0.96, 0.99-1.06/0.85-0.93 (the search alone 0.33-0.37
-for ``N``, 0.20 for ``y``): ``y`` under the target, ``N`` at it. What changed: all
+at load 3.5: main 2.12-2.16/1.94-1.95, 1.66-1.91/1.45-1.81, 1.73-1.89/1.54-1.87; now
+1.09-1.10/0.83-0.91, 1.05-1.07/0.88-0.89, 0.98-1.06/0.92-0.94 (the search alone 0.31-0.36
+for ``N``, 0.19-0.21 for ``y``; at load 5 the same): ``y`` under the target, ``N`` 5-10 %
+above it. What changed: all
 cells of a reflection interval are computed at once (float starts from the cells' affine
 maps by a doubling scan, the Taylor recurrences, solves and Gauss-Seidel sweeps as NumPy
 operations over the cells, the few ulps each start misses of the exact end before kept
