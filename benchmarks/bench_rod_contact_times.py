@@ -27,18 +27,23 @@ Run ``python benchmarks/bench_rod_contact_times.py [--n 100]``. In one run, on t
   tables left by the call.
 
 Stiff maps (issue 22, target < 1 ms per point), ``--stiff-only --repeat 3``, CPU ms per
-point for ``N`` / ``y`` at ``kappa = 1e2, 1e3, 1e4``, 2-core machine at load 6-9 (the
-median of three runs of best-of-5): before the round-3 work 2.40/1.98, 1.89/1.65,
-1.94/1.78; after it 2.14/2.02, 1.70/1.53, 1.72/1.68 (the search alone 0.40-0.45 for
-``N``, 0.25 for ``y``). What changed: the manifold tables are built only as far as the
-contacts last (39 of 50 intervals in these maps), the Taylor table stops at ``t_max``
-(10 intervals, not 11), the tables' polynomials are evaluated with a few array
-operations instead of Horner's rule (searches 15 % faster). Still far from the target:
-the tables cost 75-80 % of a map, about 30 ms each (45 ms for ``alpha = 0.1``, 150 ms for
-the Taylor table at ``(0.1, 1e2)``, just past the manifold's separation limit), spent in
-the Python loop over the cells of each interval (the Taylor recurrences and the
-Gauss-Seidel sweeps, 20 us per cell and right-hand side) and in the a-posteriori bound
-(a third of it).
+point for ``N`` / ``y`` at ``kappa = 1e2, 1e3, 1e4``. Before the round-3 work (load 6-9)
+2.40/1.98, 1.89/1.65, 1.94/1.78; after its first part 2.14/2.02, 1.70/1.53, 1.72/1.68.
+Then (h33stiff), main and this branch run in turns, two runs each, on the 2-core machine
+at load 3.5: main 2.12-2.16/1.94-1.95, 1.66-1.91/1.45-1.81, 1.73-1.89/1.54-1.87; now
+1.09-1.10/0.83-0.91, 1.05-1.07/0.88-0.89, 0.98-1.06/0.92-0.94 (the search alone 0.31-0.36
+for ``N``, 0.19-0.21 for ``y``; at load 5 the same): ``y`` under the target, ``N`` 5-10 %
+above it. What changed: all
+cells of a reflection interval are computed at once (float starts from the cells' affine
+maps by a doubling scan, the Taylor recurrences, solves and Gauss-Seidel sweeps as NumPy
+operations over the cells, the few ulps each start misses of the exact end before kept
+as low parts of every coefficient, which the bound measures); the tables of all
+``alpha`` of a call are built together, one pass per interval over the cells of all of
+them, and searched together; ``(0.1, 1e2)``, whose poles are too near for slow cells,
+gets Taylor cells graded as the layer's (88 per interval, not 256); the bound's sums
+along the coefficients by pairwise two-sums. Where the time goes now (a profile of the
+six maps): building the cells 29 %, their bound 30 % (``cell_bounds``: proportional to
+the cells, the exact residuals and jumps), the search 34 %, setting up the tables 6 %.
 
 Times are CPU seconds of this process (``time.process_time``), robust against a
 loaded machine; ``--repeat k`` quotes the best of ``k`` runs of the certified search.

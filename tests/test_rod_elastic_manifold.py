@@ -51,7 +51,12 @@ def test_the_cell_count_does_not_grow_with_the_stiffness():
     assert max(counts) < 160, counts  # a uniform Taylor mesh: 2048 .. 2e6 cells
     assert interval_mesh(1.0, kappa=4.0) is None  # complex contact poles: no manifold
     assert interval_mesh(1.0, kappa=30.0) is None  # layer too long: the Taylor table
-    assert interval_mesh(0.1, kappa=100.0) is None  # roots 11.3 and 88.7: too near
+    # roots 11.3 and 88.7, too near for slow cells: Taylor cells graded throughout
+    widths, layer = interval_mesh(0.1, kappa=100.0)
+    assert layer.all()
+    assert widths.size < 256
+    assert widths.sum() == 2.0
+    assert interval_mesh(0.05, kappa=100.0) is None  # roots 27.6 and 72.4: too near
 
 
 @pytest.mark.parametrize(("a", "k"), [(0.3, 1e3), (3.0, 1e4)])

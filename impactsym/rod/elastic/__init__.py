@@ -11,6 +11,8 @@ One method per module (docs/physics.md#finite-contact-stiffness-three-methods):
   float64 (milliseconds; springs up to ``MAX_CELLS`` cells per interval);
 * :mod:`~impactsym.rod.elastic.manifold` -- the same equations and bound for stiff springs
   on a mesh that does not grow with the stiffness (fast layers, then the slow manifold);
+* :mod:`~impactsym.rod.elastic.chain` -- all cells of a reflection interval at once, for
+  the two float64 tables;
 * :mod:`~impactsym.rod.elastic.search` -- the certified contact-time search on a table,
   falling back on the pole sums where the table's bound is too large.
 

@@ -22,6 +22,7 @@ construction and its bounds: docs/physics.md#finite-contact-stiffness-three-meth
 from __future__ import annotations
 
 import math
+import threading
 from functools import lru_cache
 
 import numpy as np
@@ -85,6 +86,9 @@ class CellTable:
         self.fastest = model.fastest
         self._model, self._dps = model, dps
         self._pending: dict = {}  # cell -> data for repair()
+        # a cached table is shared between threads, and _repair changes it: the lock
+        # makes a check and the repair it starts one step (see certified)
+        self._lock = threading.RLock()
         cells = []
         with mp.workdps(dps):
             pbar = -mp.mpf(kappa) / 2
@@ -164,12 +168,17 @@ class CellTable:
     def certified(self, index: np.ndarray, f: np.ndarray, tolerance: float) -> np.ndarray:
         """Whether the proven error of cells ``index`` is at most ``tolerance`` for ``f``;
         cells above it are first repaired (:meth:`_repair`) if they can be."""
-        ok = self.err_a[index] + f * self.err_b[index] <= tolerance
-        if not ok.all():
-            waiting = index[~ok][self._waiting(index[~ok])]
-            if waiting.size:  # repair in mpmath where first needed, then look again
-                self._repair(waiting)
-                ok = self.err_a[index] + f * self.err_b[index] <= tolerance
+        # under the lock: a thread that finds a cell another thread is repairing (taken
+        # from the pending cells, its polynomial not yet written back) waits for it, and
+        # does not search that cell on the pole sums instead (a result differing from one
+        # thread's), nor read a cell while it is written
+        with self._lock:
+            ok = self.err_a[index] + f * self.err_b[index] <= tolerance
+            if not ok.all():
+                waiting = index[~ok][self._waiting(index[~ok])]
+                if waiting.size:  # repair in mpmath where first needed, then look again
+                    self._repair(waiting)
+                    ok = self.err_a[index] + f * self.err_b[index] <= tolerance
         return ok
 
     def second_derivative_bound(self, index: np.ndarray, f: np.ndarray) -> np.ndarray:
@@ -180,6 +189,10 @@ class CellTable:
         """Recompute the worst terms of pending ``cells`` exactly about the cell centre
         (mpmath, all their poles at once so that they cancel there), until the rows'
         float bound is below ``_TARGET / 2`` or the rest is many small errors."""
+        with self._lock:  # it changes a table that threads share (see certified)
+            self._repair_locked(cells)
+
+    def _repair_locked(self, cells: np.ndarray) -> None:
         import mpmath as mp
 
         for gi in np.unique(cells):
@@ -224,7 +237,8 @@ class CellTable:
         i = self.cell(t) if index is None else index
         w = self.w[i]
         x = (t - self.c[i]) / w
-        A, B = self.A[i], self.B[i]
+        with self._lock:  # copies of rows that _repair may be writing
+            A, B = self.A[i], self.B[i]
         value = A[:, -1] + f * B[:, -1]
         slope = np.zeros_like(value)
         for n in range(self.degree - 1, -1, -1):

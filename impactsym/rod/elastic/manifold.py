@@ -33,26 +33,42 @@ jump of :math:`N` is the transient left over. Accepted by the same a-posteriori 
 the Taylor table (:func:`impactsym.rod.elastic.taylor.cell_bounds`: residuals and jumps
 measured on the stored arrays, the energy of the error): how the coefficients were made
 does not enter the proof. See docs/physics.md#finite-contact-stiffness-three-methods.
+
+Where the poles are only 4 to 8 apart (too near for the slow cells' bound) the table
+keeps Taylor cells to the interval's end, graded as the layer's (``h p_f`` up to 5 once
+the transient has decayed, ``h p_s <= 5/4``): fewer cells than the uniform Taylor mesh
+(88 instead of 256 at ``(0.1, 1e2)``), the same bound.
+
+All cells of an interval are computed at once
+(:func:`impactsym.rod.elastic.chain.cell_chain`: float starts from the cells' affine
+maps, the recurrences and solves as NumPy operations over the cells, the few ulps each
+start misses of the exact end before as low parts of every coefficient), and the tables
+of a search's ``(alpha, kappa)`` groups together (:func:`extend_tables`: one pass over
+the cells of all of them per interval).
 """
 
 from __future__ import annotations
 
 import math
 import threading
+import weakref
+from contextlib import ExitStack
 from functools import lru_cache
 from types import SimpleNamespace
 
 import numpy as np
 
 from impactsym.rod.elastic import taylor
+from impactsym.rod.elastic.chain import cell_chain, scan_stages, stacked_stages
 from impactsym.rod.elastic.taylor import (
     DEGREE,
     TaylorTable,
     TaylorView,
     check_table_arguments,
     fastest_rate,
+    layer_maps,
     next_incoming,
-    taylor_cell,
+    taylor_cells,
 )
 
 #: Largest ``h p_f`` on a layer (Taylor) cell.
@@ -73,6 +89,10 @@ _WIDEST = 0.25
 _GRADING = [(0.0, 1.25), (16.0, 2.5), (32.0, 5.0)]
 #: Least ratio ``p_f / p_s`` of the contact poles for the slow manifold.
 _SEPARATION = 8.0
+#: Least ratio ``p_f / p_s`` for Taylor cells graded as the layer's throughout (below
+#: ``_SEPARATION``: the slow cells' bound is too large there); the widest cells then have
+#: ``h p_s <= 5/4``.
+_GRADED_SEPARATION = 4.0
 
 
 def _power_of_two_below(x: float) -> float:
@@ -94,11 +114,12 @@ def interval_mesh(alpha: float, *, kappa: float) -> tuple[np.ndarray, np.ndarray
         return None
     fast = fastest_rate(alpha, kappa=kappa)
     slow = kappa / (alpha * fast)  # the roots' product is kappa / alpha
-    if not (math.isfinite(fast) and fast >= _SEPARATION * slow):
+    if not (math.isfinite(fast) and fast >= _GRADED_SEPARATION * slow):
         return None
+    graded_only = fast < _SEPARATION * slow  # Taylor cells throughout, graded
     h = _power_of_two_below(_LAYER_REACH / fast)
     wide = _power_of_two_below(min(_SLOW_REACH / slow, _WIDEST))
-    if wide < 8.0 * h:
+    if wide < 8.0 * h and not graded_only:
         return None
     # the layer, in units of h: 8 cells of h (the kink), then as wide as the transient
     # left allows, up to a multiple of 8 h at least 64 / p_f long
@@ -114,6 +135,12 @@ def interval_mesh(alpha: float, *, kappa: float) -> tuple[np.ndarray, np.ndarray
     n_layer = len(widths)
     if position * h > 1.0:
         return None
+    if graded_only:  # the layer's widest cells on to the interval's end
+        width = 1
+        while 2 * width * step <= _GRADING[-1][1] and position % (2 * width) == 0:
+            width *= 2
+        widths += [width] * ((round(2.0 / h) - position) // width)
+        return np.array(widths) * h, np.ones(len(widths), dtype=bool)
     widths = [w * h for w in widths]
     top = round(wide / h)
     width = 1
@@ -156,61 +183,72 @@ def _manifold_forces(V, V0_lo, G_hi, G_lo, widths, kappa):
     ``V0_lo`` of its constant coefficients, ``G = G_hi + G_lo``; ``[cell, order]``, one
     width per cell): ``(N_high, N_low)``, each step a compensated sum."""
     D = DEGREE
+    # order first (contiguous per order: the loop runs over the orders)
+    V, G_hi, G_lo = (np.ascontiguousarray(np.moveaxis(x, -1, 0)) for x in (V, G_hi, G_lo))
     n_high, n_low = np.zeros_like(V), np.zeros_like(V)
-    nh, nl = np.zeros(V.shape[0]), np.zeros(V.shape[0])
+    nh, nl = np.zeros(V.shape[1:]), np.zeros(V.shape[1:])
     for k in range(D, -1, -1):
         t = ((k + 1) / widths * (nh + nl)) / kappa
-        vk, gh = V[:, k], 2.0 * G_hi[:, k]
+        vk, gh = V[k], 2.0 * G_hi[k]
         s1 = vk + gh
         bb = s1 - vk
         e1 = (vk - (s1 - bb)) + (gh - bb)
         s2 = s1 - t
         bb = s2 - s1
         e2 = (s1 - (s2 - bb)) + (-t - bb)
-        low = (e1 + e2) + (2.0 * G_lo[:, k] + (V0_lo if k == 0 else 0.0))
+        low = (e1 + e2) + (2.0 * G_lo[k] + (V0_lo if k == 0 else 0.0))
         nh = s2 + low
         nl = low - (nh - s2)
-        n_high[:, k], n_low[:, k] = nh, nl
-    return n_high, n_low
+        n_high[k], n_low[k] = nh, nl
+    return np.moveaxis(n_high, 0, -1), np.moveaxis(n_low, 0, -1)
 
 
-def _slow_velocity(y0, v0, force, G_hi, G_lo, width, kappa, operator, factors):
-    """``(v, y)`` (lists, lowest order first) on one slow cell from its start ``y0`` and
-    ``v0 = (high, low)`` and its incoming wave ``G_hi + G_lo``: the linear solve, then one
+def _matvec(M: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``M_c x_c`` per cell ``c`` (a matrix product per cell: the same bits whatever the
+    number of cells)."""
+    return (M @ x[..., None])[..., 0]
+
+
+def _slow_cells(y0, v0, force, G_hi, G_lo, widths, kappa, operators, factors):
+    """``(Y, V)`` of slow cells (``[..., cell, order]``, one width per cell) from their starts
+    ``y0, v0`` (float) and incoming waves ``G_hi + G_lo``: the linear solve, then one
     Gauss-Seidel sweep (``N_k`` from the new ``v_k`` and the solve's ``N_{k+1}``, in
-    double-double, then ``v_{k+1} = h (f delta_{k0} - N_k)/(alpha (k+1))``)."""
-    v0, v0_lo = v0
+    double-double, then ``v_{k+1} = h (f delta_{k0} - N_k)/(alpha (k+1))``), all cells at
+    once; ``operators = (S, inverse)`` and ``factors = (c_v, c_y)`` per cell."""
     D = DEGREE
-    S, inverse = operator
+    S, inverse = operators
     c_v, c_y = factors
     twice_g = 2.0 * (G_hi + G_lo)
-    rhs = -(S @ twice_g)[:D]
-    rhs[0] += force - v0
-    v = [v0, *(inverse @ rhs).tolist()]
-    old = (S @ (np.array(v) + twice_g)).tolist()
-    gh, gl = (2.0 * G_hi).tolist(), (2.0 * G_lo).tolist()
-    fk, vl = force, v0_lo
+    rhs = -_matvec(S, twice_g)[..., :D]
+    rhs[..., 0] += force - v0
+    V = np.empty_like(G_hi)
+    V[..., 0] = v0
+    V[..., 1:] = _matvec(inverse, rhs)
+    old = _matvec(S, V + twice_g)
+    # the sweep order by order, on order-first copies (contiguous per order)
+    gh, gl, old, V = (
+        np.ascontiguousarray(np.moveaxis(x, -1, 0)) for x in (2.0 * G_hi, 2.0 * G_lo, old, V)
+    )
+    c_v = np.ascontiguousarray(c_v.T)
+    fk = force
     for k in range(D):
-        vk = v[k]
-        t = ((k + 1) / width * old[k + 1]) / kappa
+        vk = V[k]
+        t = ((k + 1) / widths * old[k + 1]) / kappa
         s1 = vk + gh[k]
         bb = s1 - vk
         e1 = (vk - (s1 - bb)) + (gh[k] - bb)
         s2 = s1 - t
         bb = s2 - s1
         e2 = (s1 - (s2 - bb)) + (-t - bb)
-        low = (e1 + e2) + (gl[k] + vl)
+        low = (e1 + e2) + gl[k]
         nh = s2 + low
-        v[k + 1] = c_v[k] * ((fk - nh) - (low - (nh - s2)))
-        fk = vl = 0.0
-    y = [y0] + [cy * vk for cy, vk in zip(c_y, v, strict=True)]
-    return v, y
-
-
-def _split_total(values: list) -> tuple[float, float]:
-    """The exact sum of ``values`` as ``(high, low)``, both correctly rounded."""
-    high = math.fsum(values)
-    return high, math.fsum([*values, -high])
+        V[k + 1] = c_v[k] * ((fk - nh) - (low - (nh - s2)))
+        fk = 0.0
+    V = np.moveaxis(V, 0, -1)
+    Y = np.empty((*V.shape[:-1], D + 2))
+    Y[..., 0] = y0
+    Y[..., 1:] = c_y * V
+    return Y, V
 
 
 class ManifoldTable(TaylorTable):
@@ -241,18 +279,19 @@ class ManifoldTable(TaylorTable):
         self._h = np.tile(widths, n_intervals)
         self._lo = (2.0 * np.arange(n_intervals)[:, None] + starts).ravel()
         D, total = DEGREE, n * n_intervals
+        # coefficients [rhs, cell, order] and their low parts (every order)
         self._arrays = {
-            "Y": np.zeros((2, total, D + 2)),
-            **{name: np.zeros((2, total, D + 1)) for name in ("V", "N", "N_lo", "G_hi", "G_lo")},
-            "Y_lo": np.zeros((2, total)),
-            "V_lo": np.zeros((2, total)),
+            **{name: np.zeros((2, total, D + 2)) for name in ("Y", "Y_lo")},
+            **{name: np.zeros((2, total, D + 1)) for name in ("V", "V_lo", "N", "N_lo")},
+            **{name: np.zeros((2, total, D + 1)) for name in ("G_hi", "G_lo")},
         }
         self._errors = np.zeros((4, total))
         self._carry = None
         self._lock = threading.Lock()
-        # (y, v, N) at the next cell start, as (high, low) pairs
-        self._state = [[(0.0, 0.0), (1.0, 0.0), (0.0, 0.0)], [(0.0, 0.0)] * 3]
-        self._factors = self._cell_factors()
+        # (y, v, N) at the next interval's start, high and low parts, per right-hand side
+        # (replaced, never changed in place)
+        self._state = (np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]), np.zeros((2, 3)))
+        self._maps = self._cell_maps()
         self._expose()
         if not lazy:
             self.extend(n_intervals)
@@ -267,13 +306,17 @@ class ManifoldTable(TaylorTable):
         if end <= self.built:
             return
         begin = self.built
-        saved = [list(rows) for rows in self._state]
+        saved = self._state
         try:
             for m in range(begin, end):
                 self._build_interval(m)
         except BaseException:  # (e.g. KeyboardInterrupt) the next extend starts over
             self._state = saved
             raise
+        self._bound(begin, end)
+
+    def _bound(self, begin: int, end: int) -> None:
+        """Bound the intervals ``begin .. end - 1`` (built), carrying the running sums on."""
         n, a = self.cells_per_interval, self._arrays
         upto = slice(0, end * n)
         arrays = tuple(a[name][:, upto] for name in ("Y", "V", "N"))
@@ -312,84 +355,242 @@ class ManifoldTable(TaylorTable):
         self.Y_a, self.Y_b = self._arrays["Y"][:, upto]
         self.err_y_a, self.err_y_b, self.err_n_a, self.err_n_b = self._errors[:, upto]
 
-    def _cell_factors(self):
-        """The Taylor factors of the layer cells and the slow operators of the wide cells,
-        per width."""
+    def _cell_maps(self) -> dict:
+        """What the cells of an interval need, per cell (``[cell, ...]``): the Taylor
+        factors of the layer cells, the slow operators and factors of the wide cells, and
+        for :func:`impactsym.rod.elastic.chain.cell_chain` the map of a cell's start to
+        its end, the end's response to the incoming wave and to a unit force, and the
+        polynomials of unit starts."""
         alpha, kappa, D = self.alpha, self.kappa, DEGREE
-        width_list = self._widths.tolist()
-        taylor_factors = {
-            h: (
-                [h / (alpha * (k + 1)) for k in range(D)],
-                [h * kappa / (k + 1) for k in range(D)],
-                [h / (k + 1) for k in range(D + 1)],
+        widths, layer = self._widths, self._layer
+        n = widths.size
+        A, W, b = np.zeros((n, 3, 3)), np.zeros((n, 3, D + 1)), np.zeros((n, 3))
+        E_y, E_v, E_n = np.zeros((n, 3, D + 2)), np.zeros((n, 3, D + 1)), np.zeros((n, 3, D + 1))
+        k = np.arange(D)
+        fine = np.flatnonzero(layer)
+        taylor_factors = tuple(
+            np.array(c)
+            for c in (
+                widths[fine, None] / (alpha * (k + 1)),
+                widths[fine, None] * kappa / (k + 1),
+                widths[fine, None] / np.arange(1, D + 2),
             )
-            for h in {w for w, fine in zip(width_list, self._layer, strict=True) if fine}
+        )
+        # every layer width at once
+        sizes, which = np.unique(widths[fine], return_inverse=True)
+        first = np.array([np.flatnonzero(widths[fine] == w)[0] for w in sizes])
+        (ry, rv, rn), T, WG, bf = layer_maps(tuple(c[first] for c in taylor_factors))
+        A[fine], W[fine], b[fine] = T[which], WG[which], bf[which]
+        E_y[fine], E_v[fine], E_n[fine] = ry[which], rv[which], rn[which]
+        wide = np.flatnonzero(~layer)
+        S, inverse = np.zeros((wide.size, D + 1, D + 1)), np.zeros((wide.size, D, D))
+        slow_factors = (
+            widths[wide, None] / (alpha * (k + 1)),
+            widths[wide, None] / np.arange(1, D + 2),
+        )
+        # every slow width at once: S and the inverse per width, then the exact linear
+        # responses (float: only for starts and the low parts) to a unit v0, to every
+        # unit G_k (as 2 G) and to a unit force, as the right-hand sides of the solve
+        if wide.size:
+            sizes, which = np.unique(widths[wide], return_inverse=True)
+            ops = [_slow_operator(alpha, kappa, w) for w in sizes]
+            s_op, inv = np.array([o[0] for o in ops]), np.array([o[1] for o in ops])
+            S[:], inverse[:] = s_op[which], inv[which]
+            c_y = sizes[:, None] / np.arange(1, D + 2)
+            lanes = np.zeros((sizes.size, D + 1, 1 + (D + 1) + 1))  # [width, order, lane]
+            lanes[:, 0, 0] = -1.0
+            lanes[:, :, 1 : D + 2] = -(s_op * 2.0)
+            lanes[:, 0, -1] = 1.0
+            V = np.zeros_like(lanes)
+            V[:, 0, 0] = 1.0
+            V[:, 1:] = inv @ lanes[:, :D]
+            twice_g = np.zeros_like(V)
+            twice_g[:, :, 1 : D + 2] = 2.0 * np.eye(D + 1)
+            N = s_op @ (V + twice_g)
+            Y = np.concatenate([np.zeros_like(V[:, :1]), c_y[:, :, None] * V], axis=1)
+            ends = np.stack([Y.sum(axis=1), V.sum(axis=1), N.sum(axis=1)], axis=1)  # [w, end, lane]
+            ends = ends[which]
+            A[wide, :, 0] = [1.0, 0.0, 0.0]  # a unit y0 only moves y
+            A[wide, :, 1] = ends[:, :, 0]
+            W[wide], b[wide] = ends[:, :, 1 : D + 2], ends[:, :, -1]
+            E_y[wide, 0, 0] = 1.0
+            E_y[wide, 1], E_v[wide, 1], E_n[wide, 1] = (X[which, :, 0] for X in (Y, V, N))
+        return {
+            "fine": fine,
+            "wide": wide,
+            "taylor": taylor_factors,
+            "slow": ((S, inverse), slow_factors),
+            "chain": ((E_y, E_v, E_n), A, W, b),
+            "stages": scan_stages(A[:-1]),  # of one interval's chain (taken apart: _batch)
         }
-        slow = {}
-        for width in {w for w, fine in zip(width_list, self._layer, strict=True) if not fine}:
-            slow[width] = (
-                _slow_operator(alpha, kappa, width),
-                (
-                    [width / (alpha * (k + 1)) for k in range(D)],
-                    [width / (k + 1) for k in range(D + 1)],
-                ),
-            )
-        return taylor_factors, slow
 
     def _build_interval(self, m: int) -> None:
         """The coefficients of reflection interval ``m`` (the ones before built)."""
-        kappa, D = self.kappa, DEGREE
-        widths, layer = self._widths, self._layer
-        width_list = widths.tolist()
-        taylor_factors, slow = self._factors
-        n = widths.size
-        a = self._arrays
-        Y, V, N, N_lo, Y_lo, V_lo = (a[k] for k in ("Y", "V", "N", "N_lo", "Y_lo", "V_lo"))
-        G_hi, G_lo = a["G_hi"], a["G_lo"]
-        state = self._state
+        _build_intervals([self], [m])
+
+
+def extend_tables(tables: list, n_intervals: list) -> None:
+    """Internal: :meth:`ManifoldTable.extend` of ``tables[j]`` to ``n_intervals[j]`` for
+    all of them together: interval by interval, the tables that need one more built at
+    once (:func:`_build_intervals`: a NumPy operation on the cells of all of them, not one
+    per table), then each bounded. Holds every table's lock meanwhile (taken in one order
+    by every caller: no deadlock); a table's intervals are the same to the last bit as
+    when built alone."""
+    wanted: dict = {}
+    for table, n in zip(tables, n_intervals, strict=True):
+        wanted[table] = max(wanted.get(table, 0), min(n, table.n_intervals))
+    order = sorted(wanted, key=id)
+    with ExitStack() as stack:
+        for table in order:
+            stack.enter_context(table._lock)
+        todo = [t for t in order if wanted[t] > t.built]
+        made = {t: t.built for t in todo}
+        saved = {t: t._state for t in todo}
+        try:
+            while batch := [t for t in todo if made[t] < wanted[t]]:
+                _build_intervals(batch, [made[t] for t in batch])
+                for table in batch:
+                    made[table] += 1
+        except BaseException:  # (e.g. KeyboardInterrupt) the next extend starts over
+            for table in todo:
+                table._state = saved[table]
+            raise
+        for table in todo:
+            table._bound(table.built, wanted[table])
+
+
+#: The data of the last few batches (:func:`_batch`): ``ids -> (weak references, data)``.
+_BATCHES: dict = {}
+_BATCHES_LOCK = threading.Lock()
+
+
+def _batch(tables: tuple) -> SimpleNamespace:
+    """:func:`_batch_data` of ``tables``, kept for the last 8 batches (a search extends
+    the same tables interval after interval). Weak references: the cache neither keeps a
+    table alive nor mistakes a new table for a dead one with the same ``id``."""
+    key = tuple(id(t) for t in tables)
+    with _BATCHES_LOCK:
+        hit = _BATCHES.get(key)
+    if hit is not None and all(r() is t for r, t in zip(hit[0], tables, strict=True)):
+        return hit[1]
+    data = _batch_data(tables)
+    with _BATCHES_LOCK:
+        _BATCHES[key] = (tuple(weakref.ref(t) for t in tables), data)
+        while len(_BATCHES) > 8:
+            del _BATCHES[next(iter(_BATCHES))]
+    return data
+
+
+def _batch_data(tables: tuple) -> SimpleNamespace:
+    """What :func:`_build_intervals` needs of ``tables`` that does not change from one
+    interval to the next, stacked: one chain per right-hand side and table (``r J + j``),
+    padded to the longest (the padding's maps leave the state as it is)."""
+    D, J = DEGREE, len(tables)
+    ns = np.array([t.cells_per_interval for t in tables])
+    width = int(ns.max())
+    A = np.broadcast_to(np.eye(3), (J, width, 3, 3)).copy()
+    W, b = np.zeros((J, width, 3, D + 1)), np.zeros((J, width, 3))
+    E = tuple(np.zeros((J, width, 3, D + k)) for k in (2, 1, 1))
+    for j, table in enumerate(tables):
+        responses, A[j, : ns[j]], W[j, : ns[j]], b[j, : ns[j]] = table._maps["chain"]
+        for X, x in zip(E, responses, strict=True):
+            X[j, : ns[j]] = x
+
+    def lanes(key):  # (table, cell) of the layer resp. slow cells
+        j = np.concatenate([np.full(t._maps[key].size, i) for i, t in enumerate(tables)])
+        return j, np.concatenate([t._maps[key] for t in tables])
+
+    def stacked(key, i, k=None):
+        return np.concatenate(
+            [t._maps[key][i] if k is None else t._maps[key][i][k] for t in tables]
+        )
+
+    (fj, fc), (sj, sc) = lanes("fine"), lanes("wide")
+    return SimpleNamespace(
+        ns=ns,
+        width=width,
+        fine=(fj, fc),
+        wide=(sj, sc),
+        taylor=tuple(stacked("taylor", i) for i in range(3)),
+        operators=tuple(stacked("slow", 0, i) for i in range(2)),
+        factors=tuple(stacked("slow", 1, i) for i in range(2)),
+        widths=np.concatenate([t._widths[t._maps["wide"]] for t in tables]),
+        kappa=np.concatenate([np.full(t._maps["wide"].size, t.kappa) for t in tables]),
+        W=W,
+        b=b,
+        responses=tuple(np.concatenate([X, X]) for X in E),
+        stages=stacked_stages([t._maps["stages"] for t in tables], width - 1),
+        last=np.tile(ns - 1, 2),
+    )
+
+
+def _build_intervals(tables: list, intervals: list) -> None:
+    """The coefficients of reflection interval ``intervals[j]`` of ``tables[j]`` (the ones
+    before built), all cells of all of them at once: one chain per table and right-hand
+    side (:func:`impactsym.rod.elastic.chain.cell_chain`; shorter chains padded), the
+    layer's Taylor recurrences and the slow cells' solves and sweeps one NumPy operation
+    each. Every operation is elementwise or a product per cell, so a table's coefficients
+    are the same to the last bit whichever tables are built with it."""
+    D, J = DEGREE, len(tables)
+    batch = _batch(tuple(tables))
+    ns, width = batch.ns, batch.width
+    force = np.array([0.0, 1.0])
+    g_hi, g_lo = np.zeros((2, J, width, D + 1)), np.zeros((2, J, width, D + 1))
+    for j, (table, m) in enumerate(zip(tables, intervals, strict=True)):
+        n, a = ns[j], table._arrays
         cells = slice(m * n, (m + 1) * n)
         if m:  # G_m = N_(m-1) - G_(m-1), nearly exactly (measured in the bound)
             before = slice((m - 1) * n, m * n)
-            G_hi[:, cells], G_lo[:, cells] = next_incoming(
-                N[:, before], N_lo[:, before], G_hi[:, before], G_lo[:, before]
+            a["G_hi"][:, cells], a["G_lo"][:, cells] = next_incoming(
+                a["N"][:, before], a["N_lo"][:, before], a["G_hi"][:, before], a["G_lo"][:, before]
             )
-        for rhs, force in ((0, 0.0), (1, 1.0)):
-            (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
-            rows_v, rows_y, rows_n, lows = [], [], [], []
-            incoming = (G_hi[rhs, cells] + G_lo[rhs, cells]).tolist()
-            for i in range(n):
-                c = m * n + i
-                lows.append((v0_lo, y0_lo, n0_lo))
-                if layer[i]:
-                    v, n_high, y = taylor_cell(
-                        y0, v0, n0, force, incoming[i], taylor_factors[width_list[i]]
-                    )
-                    rows_n.append(n_high)
-                    n0, n0_lo = _split_total([*n_high, n0_lo])
-                else:  # N: all slow cells of the interval at once, below
-                    operator, factors = slow[width_list[i]]
-                    v, y = _slow_velocity(
-                        y0, (v0, v0_lo), force, G_hi[rhs, c], G_lo[rhs, c], width_list[i],
-                        kappa, operator, factors,
-                    )  # fmt: skip
-                    rows_n.append([0.0] * (D + 1))
-                rows_v.append(v)
-                rows_y.append(y)
-                y0, y0_lo = _split_total([*y, y0_lo])
-                v0, v0_lo = _split_total([*v, v0_lo])
-            V[rhs, cells], Y[rhs, cells], N[rhs, cells] = rows_v, rows_y, rows_n
-            V_lo[rhs, cells], Y_lo[rhs, cells], N_lo[rhs, cells, 0] = np.array(lows).T
-            state[rhs] = [(y0, y0_lo), (v0, v0_lo), (n0, n0_lo)]
-        # N on the slow cells of both right-hand sides at once (elementwise)
-        at = m * n + np.flatnonzero(~layer)
-        flat = [X[:, at].reshape(2 * at.size, D + 1) for X in (V, G_hi, G_lo)]
-        high, low = _manifold_forces(
-            flat[0], V_lo[:, at].ravel(), *flat[1:], np.tile(widths[~layer], 2), kappa
+        g_hi[:, j, :n], g_lo[:, j, :n] = a["G_hi"][:, cells], a["G_lo"][:, cells]
+    G = g_hi + g_lo
+    (fj, fc), (sj, sc) = batch.fine, batch.wide
+
+    def coefficients(starts):
+        starts = starts.reshape(2, J, width, 3)
+        Y = np.zeros((2, J, width, D + 2))
+        V, N, N_lo = (np.zeros((2, J, width, D + 1)) for _ in range(3))
+        y0, v0, n0 = np.moveaxis(starts[:, fj, fc], -1, 0)
+        Y[:, fj, fc], V[:, fj, fc], N[:, fj, fc] = taylor_cells(
+            y0, v0, n0, force[:, None], G[:, fj, fc], batch.taylor
         )
-        N[:, at], N_lo[:, at] = (x.reshape(2, at.size, D + 1) for x in (high, low))
-        if not layer[-1]:
-            for rhs in (0, 1):
-                state[rhs][2] = _split_total([*N[rhs, at[-1]], *N_lo[rhs, at[-1]]])
+        # the slow cells of both right-hand sides: [rhs, cell, order]
+        y0, v0 = (starts[:, sj, sc, i] for i in (0, 1))
+        gh, gl = g_hi[:, sj, sc], g_lo[:, sj, sc]
+        Y[:, sj, sc], V[:, sj, sc] = _slow_cells(
+            y0, v0, force[:, None], gh, gl, batch.widths, batch.kappa, batch.operators,
+            batch.factors,
+        )  # fmt: skip
+        # N on the slow manifold in double-double (its low parts: part of the cell)
+        N[:, sj, sc], N_lo[:, sj, sc] = _manifold_forces(
+            V[:, sj, sc], np.zeros(y0.shape), gh, gl, batch.widths, batch.kappa
+        )
+        chains = [X.reshape(2 * J, width, -1) for X in (Y, V, N)]
+        return chains, (None, None, N_lo.reshape(2 * J, width, -1))
+
+    offsets = (G[..., None, :] * batch.W).sum(axis=-1) + force[:, None, None, None] * batch.b
+    state = tuple(
+        np.stack([t._state[i] for t in tables], axis=1).reshape(2 * J, 3) for i in range(2)
+    )
+    polys, lows, (high, low) = cell_chain(
+        coefficients,
+        batch.responses,
+        batch.stages,
+        offsets.reshape(2 * J, width, 3),
+        state,
+        last=batch.last,
+    )
+    high, low = high.reshape(2, J, 3), low.reshape(2, J, 3)
+    polys, lows = ([x.reshape(2, J, width, -1) for x in group] for group in (polys, lows))
+    for j, (table, m) in enumerate(zip(tables, intervals, strict=True)):
+        n, a = ns[j], table._arrays
+        cells = slice(m * n, (m + 1) * n)
+        for names, arrays in ((("Y", "V", "N"), polys), (("Y_lo", "V_lo", "N_lo"), lows)):
+            for name, x in zip(names, arrays, strict=True):
+                a[name][:, cells] = x[:, j, :n]
+        table._state = (high[:, j].copy(), low[:, j].copy())
 
 
 @lru_cache(maxsize=64)

@@ -21,7 +21,11 @@ from impactsym.numeric.isolation import first_sign_change
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.rod.elastic import CertifiedTable
 from impactsym.rod.elastic.cells import cell_table
-from impactsym.rod.elastic.manifold import cells_per_interval_manifold, manifold_table
+from impactsym.rod.elastic.manifold import (
+    cells_per_interval_manifold,
+    extend_tables,
+    manifold_table,
+)
 from impactsym.rod.elastic.poles import check_which, pole_model, time_function
 from impactsym.rod.elastic.taylor import MAX_CELLS, cells_per_interval, fastest_rate, taylor_table
 from impactsym.rod.rigid_search import SCREEN_MIN_PAIRS, SCREEN_STRIDES, screen_interval
@@ -58,35 +62,141 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
     if method not in ("taylor", "cells"):
         raise ValueError(f"method must be 'taylor' or 'cells', got {method!r}")
     result = np.full(alpha.size, np.inf)
-    n_terms = int(t_max // 2) + 1
     # the float64 tables stop at the first reflection time >= t_max: their cells and
     # bounds on [0, 2 n] do not depend on later intervals (the bound accumulates forward)
     n_searched = max(1, math.ceil(t_max / 2.0))
     keys = np.stack([alpha, kappa], axis=1)
     groups, inverse = np.unique(keys, axis=0, return_inverse=True)
     inverse = inverse.ravel()
+    stiff = []  # (through, alpha, kappa, forces, members) of the slow-manifold groups
     for g_index, (ag, kg) in enumerate(groups):
         members = np.flatnonzero(inverse == g_index)
         members = members[np.argsort(f[members], kind="stable")]  # screened in order of f
         ag, kg = float(ag), float(kg)
         check_stiffness(ag, kappa=kg)
-        times = None
-        n_taylor = cells_per_interval(ag, kappa=kg)
         n_manifold = cells_per_interval_manifold(ag, kappa=kg)
-        fewer = n_manifold is not None and n_manifold < n_taylor and n_manifold <= MAX_CELLS
-        if method == "taylor" and fewer:
-            source = _certified_manifold(ag, kg, which, n_searched, f[members])
-            times = _table_contact_times(source, which, ag, kg, f[members], t_max)
-        if times is None:
-            if method == "taylor" and n_taylor <= MAX_CELLS:
-                table = taylor_table(ag, kappa=kg, n_intervals=n_searched).view(which)
-            else:
-                table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
-            times = _table_contact_times(
-                lambda _, table=table: table, which, ag, kg, f[members], t_max
-            )
-        result[members] = times
+        fewer = n_manifold is not None and n_manifold < cells_per_interval(ag, kappa=kg)
+        if method == "taylor" and fewer and n_manifold <= MAX_CELLS:
+            through = _certified_manifold(ag, kg, which, n_searched, f[members])
+            stiff.append((through, ag, kg, f[members], members))
+        else:
+            result[members] = _other_table(which, ag, kg, f[members], t_max, method)
+    if stiff:
+        # the slow-manifold groups searched together, interval by interval: each step
+        # extends every table the search needs next at once (extend_tables)
+        steps = _joint_search_steps(stiff, which, t_max)
+        try:
+            needs = next(steps)
+            while True:
+                extend_tables([stiff[g][0].table for g in needs], [needs[g] for g in needs])
+                needs = steps.send(None)
+        except StopIteration as stop:
+            times = stop.value
+        for (_, ag, kg, fm, members), found in zip(stiff, times, strict=True):
+            if found is None:  # the slow-manifold table not certified: another one
+                found = _other_table(which, ag, kg, fm, t_max, "taylor")
+            result[members] = found
     return result
+
+
+def _joint_search_steps(groups, which, t_max):
+    """:func:`_table_search_steps` for several groups ``(through, alpha, kappa, forces,
+    members)`` at once: one search per interval over the pairs of all of them (each on its
+    own table), so that the work that does not depend on the pairs' number is done once.
+    A generator: it yields ``{group: m}`` (the intervals each still searching group needs
+    next) and returns a list of contact times per group, ``None`` for a group whose table
+    ``through(m)`` refused."""
+    n_terms = int(t_max // 2) + 1
+    sizes = [g[3].size for g in groups]
+    offset = np.concatenate([[0], np.cumsum(sizes)])
+    owner = np.repeat(np.arange(len(groups)), sizes)  # the group of each pair
+    fm = np.concatenate([g[3] for g in groups])
+    local = np.arange(fm.size) - offset[owner]
+    result = np.full(fm.size, np.inf)
+    refused = np.zeros(len(groups), dtype=bool)
+    active = np.arange(fm.size)
+    tables, searches = [None] * len(groups), [None] * len(groups)
+    for m in range(n_terms):
+        start, end = 2.0 * m, min(2.0 * m + 2.0, t_max)
+        if start >= t_max or active.size == 0:
+            break
+        present = np.unique(owner[active])
+        # this interval and the next (its end is the next one's first cell's start)
+        yield {int(g): m + 2 for g in present}
+        for g in present:
+            through, ag, kg, forces, _ = groups[g]
+            current = through(m + 2)
+            if current is None:
+                refused[g] = True
+            elif current is not tables[g]:
+                tables[g] = current
+                searches[g] = _table_search(current, which, ag, kg, forces, n_terms)
+        active = active[~refused[owner[active]]]
+        if active.size == 0:
+            continue
+        present = np.unique(owner[active])
+        bases = {
+            g: np.append(tables[g].lo[(tables[g].lo >= start) & (tables[g].lo < end)], end)
+            for g in present
+        }
+
+        def split(pairs, present=present):  # the positions of pairs per group
+            return [(g, np.flatnonzero(owner[pairs] == g)) for g in present]
+
+        def evaluate(t, pairs):
+            value, slope = np.empty(t.size), np.empty(t.size)
+            for g, at in split(pairs):
+                if at.size:
+                    value[at], slope[at], _ = searches[g][0](t[at], local[pairs[at]])
+            return value, slope, value
+
+        def bound(ta, tb, pairs, *ends):
+            out = np.empty(ta.size)
+            for g, at in split(pairs):
+                if at.size:
+                    cut = (e[at] for e in ends)
+                    out[at] = searches[g][1](ta[at], tb[at], local[pairs[at]], *cut)
+            return out
+
+        def search(pos, bases=bases, active=active, evaluate=evaluate, bound=bound):
+            pairs = active[pos]
+            nodes = [bases[g] for g in owner[pairs]]
+            return first_sign_change(
+                lambda t, own: _deeper(evaluate(t, pairs[own])),
+                lambda ta, tb, own, *ends: bound(ta, tb, pairs[own], *ends),
+                np.concatenate(nodes),
+                np.repeat(np.arange(pos.size), [x.size for x in nodes]),
+                pos.size,
+                max_cells=2**22,
+                certify=True,
+            )
+
+        # g = A + f B is affine in f: proofs of g > 0 are shared between the forces of
+        # a group (not on interval 0, where g(0) = 0 leaves nothing to prove)
+        counts = np.bincount(owner[active])
+        crowded = m > 0 and counts.max() >= SCREEN_MIN_PAIRS
+        roots = screen_interval(search, owner[active], SCREEN_STRIDES if crowded else (1,))
+        hit = np.isfinite(roots)
+        result[active[hit]] = _zero_before(evaluate, roots[hit], active[hit], start)
+        active = active[~hit]
+    return [None if refused[g] else result[offset[g] : offset[g + 1]] for g in range(len(groups))]
+
+
+def _other_table(which, ag, kg, fm, t_max, method):
+    """Contact times of ``fm`` on the Taylor table (``method="taylor"``, where the spring
+    needs at most ``MAX_CELLS`` cells per interval) or else the cell table."""
+    n_terms = int(t_max // 2) + 1
+    if method == "taylor" and cells_per_interval(ag, kappa=kg) <= MAX_CELLS:
+        n_searched = max(1, math.ceil(t_max / 2.0))
+        table = taylor_table(ag, kappa=kg, n_intervals=n_searched).view(which)
+    else:
+        table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
+    steps = _table_search_steps(lambda _, table=table: table, which, ag, kg, fm, t_max)
+    while True:
+        try:
+            next(steps)
+        except StopIteration as stop:
+            return stop.value
 
 
 def _certified_manifold(alpha, kappa, which, n_terms, forces):
@@ -112,6 +222,7 @@ def _certified_manifold(alpha, kappa, which, n_terms, forces):
             views[m] = view
         return views[max(views)]
 
+    through.table = table  # for the caller that extends many tables together
     return through
 
 
@@ -129,12 +240,14 @@ def check_stiffness(alpha: float, *, kappa: float) -> None:
         )
 
 
-def _table_contact_times(through, which, ag, kg, fm, t_max):
+def _table_search_steps(through, which, ag, kg, fm, t_max):
     """Contact times of the forces ``fm`` (sorted) of one ``(alpha, kappa)`` on the table
     ``through(m)`` (a :class:`impactsym.rod.elastic.CertifiedTable` over at least the first
     ``m`` reflection intervals), interval by interval, so that later cells are built,
     repaired and searched only for the ``f`` still in contact; ``None`` where ``through``
-    gives none (a table not certified)."""
+    gives none (a table not certified). A generator: it yields ``m`` before it asks
+    ``through(m)`` (so that the caller can build the tables of many groups at once) and
+    returns the times."""
     n_terms = int(t_max // 2) + 1
     result = np.full(fm.size, np.inf)
     active = np.arange(fm.size)
@@ -144,6 +257,7 @@ def _table_contact_times(through, which, ag, kg, fm, t_max):
         if start >= t_max or active.size == 0:
             break
         # this interval and the next (its end is the next one's first cell's start)
+        yield m + 2
         current = through(m + 2)
         if current is None:
             return None

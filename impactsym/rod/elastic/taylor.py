@@ -12,7 +12,10 @@ persistent-contact problem (eq. (1) in the time domain) is, for :math:`t \ge 0`,
 Every reflection interval is cut into :math:`2^j \ge 16` equal cells with
 :math:`h |p| \le 1` for the roots :math:`p` of :math:`\alpha s^2 + \alpha\kappa s + \kappa`;
 on a cell :math:`y, v, N` are Taylor polynomials of degree ``DEGREE`` from the exact
-recurrences of the equations, linear in :math:`f` (:math:`A + f B`). The error bound is
+recurrences of the equations, linear in :math:`f` (:math:`A + f B`), all cells of an
+interval at once (:func:`impactsym.rod.elastic.chain.cell_chain`), each starting at the
+exact end of the one before (to :math:`u^2`, with low parts of every coefficient). The
+error bound is
 a posteriori: the residuals and jumps of the stored polynomials, measured exactly to
 rounding (:mod:`impactsym.numeric.eft`), drive the error, whose energy the lossless rod
 and spring cannot grow. Float64 and milliseconds per table, where the mpmath table of
@@ -30,6 +33,7 @@ from functools import lru_cache
 import numpy as np
 
 from impactsym.numeric.eft import sum_with_bound, two_prod, two_sum
+from impactsym.rod.elastic.chain import cell_chain, scan_stages, tree_sum_with_bound
 from impactsym.validation import real_array
 
 #: Polynomial degree of ``v`` and ``g`` on a cell (``y``: one more).
@@ -117,26 +121,32 @@ class TaylorTable:
         self.cells_per_interval = n
 
     def _build(self, n: int, n_intervals: int) -> None:
-        """Coefficients on ``n`` cells per interval, then :meth:`_bound`."""
+        """Coefficients on ``n`` cells per interval, then :meth:`_bound`: all cells of an
+        interval at once (:func:`impactsym.rod.elastic.chain.cell_chain`)."""
         self.h = h = 2.0 / n
         total = n * n_intervals
         self.lo = np.arange(total) * h
         self.hi = self.lo + h
         D = DEGREE
-        # coefficients [rhs (A, B), cell, order]; the constant coefficients of y, v, N
-        # are double-double (+ Y_lo, V_lo, N_lo): a cell starts exactly where the one
-        # before ends, up to u^2. G = g(t - 2), the alternating sum of the N before,
-        # is double-double too. (The bound measures both afterwards, in _bound.)
-        Y = np.zeros((2, total, D + 2))
-        V = np.zeros((2, total, D + 1))
-        N = np.zeros((2, total, D + 1))
-        Y_lo, V_lo, N_lo = (np.zeros((2, total)) for _ in range(3))
-        G_hi, G_lo = np.zeros((2, total, D + 1)), np.zeros((2, total, D + 1))
-        c_v = [h / (self.alpha * (k + 1)) for k in range(D)]
-        c_n = [h * self.kappa / (k + 1) for k in range(D)]
-        c_y = [h / (k + 1) for k in range(D + 1)]
-        # (y, v, N) at the next cell start, as (high, low) pairs
-        state = [[(0.0, 0.0), (1.0, 0.0), (0.0, 0.0)], [(0.0, 0.0)] * 3]
+        # coefficients [rhs (A, B), cell, order] and their low parts (every order): a
+        # cell starts exactly where the one before ends, up to u^2. G = g(t - 2), the
+        # alternating sum of the N before, is double-double. (The bound measures both
+        # afterwards, in _bound.)
+        Y, Y_lo = np.zeros((2, total, D + 2)), np.zeros((2, total, D + 2))
+        V, N, V_lo, N_lo, G_hi, G_lo = (np.zeros((2, total, D + 1)) for _ in range(6))
+        factors = tuple(
+            np.array(c)
+            for c in (
+                [h / (self.alpha * (k + 1)) for k in range(D)],
+                [h * self.kappa / (k + 1) for k in range(D)],
+                [h / (k + 1) for k in range(D + 1)],
+            )
+        )
+        maps = layer_maps(factors)
+        stages = scan_stages(np.broadcast_to(maps[1], (2, n - 1, 3, 3)))
+        force = np.array([0.0, 1.0])
+        # (y, v, N) at the interval's start, high and low parts, per right-hand side
+        state = (np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]), np.zeros((2, 3)))
         for m in range(n_intervals):
             cells = slice(m * n, (m + 1) * n)
             if m:  # G_m = N_(m-1) - G_(m-1), nearly exactly
@@ -144,25 +154,17 @@ class TaylorTable:
                 G_hi[:, cells], G_lo[:, cells] = next_incoming(
                     N[:, before], N_lo[:, before], G_hi[:, before], G_lo[:, before]
                 )
-            G_all = (G_hi[:, cells] + G_lo[:, cells]).tolist()
-            for rhs, force in ((0, 0.0), (1, 1.0)):
-                (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = state[rhs]
-                rows = []
-                for G in G_all[rhs]:
-                    v, w, y = taylor_cell(y0, v0, n0, force, G, (c_v, c_n, c_y))
-                    rows.append((v, w, y, v0_lo, n0_lo, y0_lo))
-                    (y0, y0_lo), (v0, v0_lo), (n0, n0_lo) = (
-                        _end(y, y0_lo),
-                        _end(v, v0_lo),
-                        _end(w, n0_lo),
-                    )
-                V[rhs, cells] = [r[0] for r in rows]
-                N[rhs, cells] = [r[1] for r in rows]
-                Y[rhs, cells] = [r[2] for r in rows]
-                V_lo[rhs, cells], N_lo[rhs, cells], Y_lo[rhs, cells] = np.array(
-                    [r[3:] for r in rows]
-                ).T
-                state[rhs] = [(y0, y0_lo), (v0, v0_lo), (n0, n0_lo)]
+            G = G_hi[:, cells] + G_lo[:, cells]
+            offsets = G @ maps[2].T + force[:, None, None] * maps[3]
+
+            def coefficients(starts, G=G):
+                polys = taylor_cells(*np.moveaxis(starts, -1, 0), force[:, None], G, factors)
+                return polys, (None, None, None)
+
+            (Y[:, cells], V[:, cells], N[:, cells]), lows, state = cell_chain(
+                coefficients, maps[0], stages, offsets, state
+            )
+            Y_lo[:, cells], V_lo[:, cells], N_lo[:, cells] = lows
         self._bound(Y, V, N, (Y_lo, V_lo, N_lo), G_hi, G_lo, n)
 
     def _bound(self, Y, V, N, lows, G_hi, G_lo, n):
@@ -233,28 +235,38 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=No
     n_low_next = np.concatenate([n_low[..., 1:], pad], axis=-1)
     # r0 = y' - v
     p, e = two_prod(kp1 / hc, Y[..., 1:])
-    r0, b0 = sum_with_bound([p, e, -V, -v_low], 1)
+    # with low parts of every coefficient (a few ulps: float, their rounding bounded):
+    # their derivatives, by kp1/h (exact: h a power of two) and by alpha/h
+    lows_y, lows_v = [], []
+    if np.ndim(Y_lo) == 3:
+        lows_y = [(kp1 / hc) * Y_lo[..., 1:]]
+    if np.ndim(V_lo) == 3:
+        lows_v = [(alpha / hc) * (kp1 * np.concatenate([V_lo[..., 1:], pad], axis=-1))]
+    r0, b0 = sum_with_bound([p, e, -V, -v_low, *lows_y], 1)
+    for z in lows_y:
+        b0 += _U * np.abs(z)
     # r1 = alpha v' - f + N
     x1, x2 = two_prod(kp1, v_next)
     p, e = two_prod(alpha / hc, x1)
     rest = (alpha / hc) * x2
-    r1, b1 = sum_with_bound([p, e, rest, -force, N, n_low], 2)
+    r1, b1 = sum_with_bound([p, e, rest, -force, N, n_low, *lows_v], 2)
     b1 += _U * np.abs(rest)
+    for z in lows_v:
+        b1 += 3.0 * _U * np.abs(z)
     # r2 = N' - kappa (v - N + 2 G), G = G_hi + G_lo (+- dG)
     terms = [*two_prod(kp1 / hc, n_next)]
-    if np.ndim(N_lo) == 3:  # low parts of every coefficient (the slow-manifold cells)
-        terms += two_prod(kp1 / hc, n_low_next)
-    for factor, x in (
-        (-kappa, V),
-        (-kappa, v_low),
-        (kappa, N),
-        (kappa, n_low),
-        (-2.0 * kappa, G_hi),
-        (-2.0 * kappa, G_lo),
-    ):
+    for factor, x in ((-kappa, V), (kappa, N), (-2.0 * kappa, G_hi)):
         terms += two_prod(factor, x)
-    r2, b2 = sum_with_bound(terms, len(terms) // 2)
-    b2 += 2.0 * kappa * dG
+    # the low parts' terms (each at most u/2 of its high part's, or of G's) in float: a
+    # product each and their sum, within 5 u of the sum of their sizes (u^2 of r2's terms)
+    small = [-kappa * v_low, kappa * n_low, (-2.0 * kappa) * G_lo]
+    if np.ndim(N_lo) == 3:  # low parts of every coefficient (the slow-manifold cells)
+        small.append((kp1 / hc) * n_low_next)
+    small_sum = small[0]
+    for z in small[1:]:
+        small_sum = small_sum + z
+    r2, b2 = sum_with_bound([*terms, small_sum], len(terms) // 2)
+    b2 += 2.0 * kappa * dG + 5.0 * _U * sum(np.abs(z) for z in small)
     # integrals over a cell: h int_0^1 |sum r_k xi^k| <= h sum |r_k| / (k + 1)
     margin = 1.0 + 1e-9
     i0, i1, i2 = (_cell_integral(np.abs(r) + b, h, kp1) for r, b in ((r0, b0), (r1, b1), (r2, b2)))
@@ -334,23 +346,54 @@ def _cell_integral(r: np.ndarray, h, kp1: np.ndarray) -> np.ndarray:
     return (r * (np.asarray(h)[:, None] / kp1)).sum(axis=-1)
 
 
-def taylor_cell(y0: float, v0: float, n0: float, force: float, G: list, factors: tuple):
-    r"""Internal: Taylor coefficients ``(v, N, y)`` (lists, lowest order first) on one cell
-    from its start ``y0, v0, n0`` and incoming wave ``G`` by the recurrences
-    :math:`(k+1) v_{k+1} = h (f\delta_{k0} - N_k)/\alpha`, :math:`(k+1) N_{k+1} = h\kappa
-    (v_k - N_k + 2G_k)`, :math:`(k+1) y_{k+1} = h v_k`; ``factors = (c_v, c_n, c_y)``, the
-    factors ``h/(alpha (k+1))``, ``h kappa/(k+1)`` (``DEGREE`` each) and ``h/(k+1)``
-    (one more)."""
+def taylor_cells(y0, v0, n0, force, G, factors):
+    r"""Internal: Taylor coefficients ``(Y, V, N)`` (lowest order first) on many cells at
+    once by the recurrences :math:`(k+1) v_{k+1} = h (f\delta_{k0} - N_k)/\alpha`,
+    :math:`(k+1) N_{k+1} = h\kappa (v_k - N_k + 2G_k)`, :math:`(k+1) y_{k+1} = h v_k`,
+    shaped ``broadcast + (DEGREE + 2,)`` resp. ``(DEGREE + 1,)``, from starts ``y0, v0,
+    n0`` and forces ``force`` (arrays that broadcast), incoming waves ``G`` (``[...,
+    order]``) and ``factors = (c_v, c_n, c_y)``, the factors ``h/(alpha (k+1))``, ``h
+    kappa/(k+1)`` (``DEGREE`` each) and ``h/(k+1)`` (one more), ``[..., order]``: one
+    set, or one per cell."""
     c_v, c_n, c_y = factors
-    v, w = [v0], [n0]
-    vk, wk, fk = v0, n0, force
-    # orders 1 .. D (c_v, c_n have D entries; c_y, G one more)
-    for cv, cn, Gk in zip(c_v, c_n, G, strict=False):
-        vk, wk = cv * (fk - wk), cn * ((vk - wk) + 2.0 * Gk)
-        v.append(vk)
-        w.append(wk)
+    D = DEGREE
+    shape = np.broadcast_shapes(
+        np.shape(y0), np.shape(v0), np.shape(n0), np.shape(force), np.shape(G)[:-1],
+        *(np.shape(c)[:-1] for c in factors),
+    )  # fmt: skip
+    V, N = np.empty((*shape, D + 1)), np.empty((*shape, D + 1))
+    V[..., 0], N[..., 0] = v0, n0
+    vk, wk, fk = V[..., 0], N[..., 0], np.asarray(force, dtype=float)
+    for k in range(D):
+        vk, wk = c_v[..., k] * (fk - wk), c_n[..., k] * ((vk - wk) + 2.0 * G[..., k])
+        V[..., k + 1], N[..., k + 1] = vk, wk
         fk = 0.0
-    return v, w, [y0] + [cy * x for cy, x in zip(c_y, v, strict=True)]
+    Y = np.empty((*shape, D + 2))
+    Y[..., 0] = y0
+    Y[..., 1:] = c_y * V
+    return Y, V, N
+
+
+def layer_maps(factors):
+    """Internal: what :func:`impactsym.rod.elastic.chain.cell_chain` needs of Taylor cells
+    with ``factors`` (one set, or sets along leading axes ``...``): the responses ``(E_y,
+    E_v, E_n)`` to unit starts ``(y, v, N)`` (each ``[..., start, order]``), the map
+    ``T`` of the start to the end (``[..., end, start]``), and the ends' response to the
+    incoming wave (``[..., end, order of G]``) and to a unit force (``[..., end]``)."""
+    D = DEGREE
+    lanes = 3 + (D + 1) + 1  # unit starts, unit G_k, unit force
+    starts = np.zeros((lanes, 3))
+    starts[:3] = np.eye(3)
+    G = np.zeros((lanes, D + 1))
+    G[3 : 3 + D + 1] = np.eye(D + 1)
+    force = np.zeros(lanes)
+    force[-1] = 1.0
+    sets = tuple(np.asarray(c)[..., None, :] for c in factors)  # a set per lane block
+    Y, V, N = taylor_cells(*starts.T, force, G, sets)
+    ends = np.stack([C.sum(axis=-1) for C in (Y, V, N)], axis=-1)  # [..., lane, end]
+    responses = (Y[..., :3, :], V[..., :3, :], N[..., :3, :])
+    T = np.swapaxes(ends[..., :3, :], -1, -2)
+    return responses, T, np.swapaxes(ends[..., 3 : 3 + D + 1, :], -1, -2), ends[..., -1, :]
 
 
 def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray, before=None) -> np.ndarray:
@@ -362,11 +405,15 @@ def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray, before=None) ->
         C = np.concatenate([before[0], C], axis=1)
         C_lo = np.concatenate([before[1], C_lo], axis=1)
         return _jumps(C, C_lo, initial)[:, 1:]
-    if C_lo.ndim == 3:  # low parts of every coefficient
-        terms = [C[:, 1:, 0], C_lo[:, 1:, 0]]
-        terms += [-C[:, :-1, k] for k in range(C.shape[-1])]
-        terms += [-C_lo[:, :-1, k] for k in range(C.shape[-1])]
-        later, bound = sum_with_bound(terms)
+    if C_lo.ndim == 3:  # low parts of every coefficient (each <= u/2 of its high part)
+        # the end of the low parts in float: within gamma_n sum |low| (u^2 of the ends)
+        n = C.shape[-1]
+        low_end = C_lo[:, :-1].sum(axis=-1)
+        terms = np.concatenate(
+            [C[:, 1:, :1], C_lo[:, 1:, :1], -C[:, :-1], -low_end[..., None]], axis=-1
+        )
+        later, bound = tree_sum_with_bound(terms)
+        bound += n * _U / (1.0 - n * _U) * np.abs(C_lo[:, :-1]).sum(axis=-1) * (1.0 + 1e-9)
         first, first_bound = sum_with_bound([C[:, :1, 0], C_lo[:, :1, 0], -initial[:, None]])
         return np.concatenate([np.abs(first) + first_bound, np.abs(later) + bound], axis=1)
     terms = [C[:, 1:, 0], C_lo[:, 1:]]
@@ -392,14 +439,6 @@ def _incoming_wave_defect(N, n_low, G_hi, G_lo, n, start=0, carry=None):
         previous = carry[0] if k == 0 else dG[:, (k - 1) * n : k * n]
         dG[:, k * n : (k + 1) * n] = previous + np.abs(step) + bound
     return dG
-
-
-def _end(coefficients: list, low: float) -> tuple[float, float]:
-    """The exact value at ``xi = 1`` of a polynomial whose constant coefficient is
-    ``coefficients[0] + low``, as ``(high, low)``: ``high`` correctly rounded, ``low``
-    the correctly rounded remainder."""
-    high = math.fsum([*coefficients, low])
-    return high, math.fsum([*coefficients, low, -high])
 
 
 class TaylorView:
