@@ -57,9 +57,24 @@ _GAUSS_BY_DEGREE = [
     (16, np.polynomial.legendre.leggauss(32)),
     (_MAX_COEFFICIENTS, np.polynomial.legendre.leggauss(48)),
 ]
+# each rule's nodes as fractions of [0, 1] and their powers (columns k = 0, 1, ...)
+_GAUSS_POWERS = [
+    (top, 0.5 * (1.0 + z), np.power.outer(0.5 * (1.0 + z), np.arange(top + 1.0)), w)
+    for top, (z, w) in _GAUSS_BY_DEGREE
+]
 _twice = functools.partial(operator.mul, 2.0)
 _G_SAMPLES = 17  # samples per piece that floor the search for the largest g (33 cost more
 # in sampling than they save in searches)
+
+
+def _small_matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a @ b`` in blocks of rows small enough (at most 2**18 multiply-adds) that
+    OpenBLAS runs each on one thread: for these sizes its worker threads cost more CPU
+    time than they save."""
+    rows = max(1, 2**18 // max(1, a.shape[1] * b.shape[1]))
+    if a.shape[0] <= rows:
+        return a @ b
+    return np.concatenate([a[i : i + rows] @ b for i in range(0, a.shape[0], rows)])
 
 
 def _bound_exp_part(Q, X: float) -> float:
@@ -158,16 +173,19 @@ class _Tables:
             int2 = np.array(int2, dtype=float).ravel()
             flat_i, flat_x, flat_d = np.ravel(i), np.ravel(x), np.ravel(degree)
             low = 0
-            for top, (z, weight) in _GAUSS_BY_DEGREE:  # nodes enough for the degree
+            for top, zeta, powers, weight in _GAUSS_POWERS:  # nodes enough for the degree
                 k = np.flatnonzero((flat_d > low) & (flat_d <= top))
                 low = top
                 if k.size == 0:
                     continue
                 ii, xx = flat_i[k], flat_x[k]
-                nodes = 0.5 * xx[:, None] * (1.0 + z[None, :])
                 d = int(flat_d[k].max()) + 1
-                vals = polyval_rows(self.q[ii, :d][:, None, :], nodes)
-                vals *= np.exp(-nodes)
+                # Q(x zeta_j) = sum_k (Q_k x^k) zeta_j^k: one matrix product for all
+                # pieces and nodes (x <= 2 on pieces with an exponential part)
+                vals = _small_matmul(
+                    self.q[ii, :d] * np.power.outer(xx, np.arange(d, dtype=float)), powers[:, :d].T
+                )
+                vals *= np.exp(-np.multiply.outer(xx, zeta))
                 vals += self.p[ii][:, None]
                 half = 0.5 * a * xx  # the rule's weights on [0, x], times alpha
                 int1[k] = half * (vals @ weight)
