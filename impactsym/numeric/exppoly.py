@@ -31,7 +31,7 @@ from itertools import islice
 
 import numpy as np
 
-from impactsym.numeric.poly import shift_matrix, taylor_shift_list, trim
+from impactsym.numeric.poly import shift_matrix, trim
 from impactsym.numeric.roots import bracketed_newton_scalar
 
 __all__ = ["exp_poly_bernstein_positive", "exp_poly_positive", "exp_poly_roots"]
@@ -82,7 +82,14 @@ def _shifted(c: list, u: float) -> tuple[list, list]:
         Smag = np.abs(S) if u < 0.0 else S
         v = np.array(c)
         return (S @ v).tolist(), (Smag @ np.abs(v)).tolist()
-    return taylor_shift_list(c, u), taylor_shift_list([abs(x) for x in c], abs(u))
+    # both by synthetic division in one loop (taylor_shift_list's steps, in its order)
+    d, mag, au = list(c), list(map(abs, c)), abs(u)
+    n = len(c)
+    for i in range(n - 1):
+        for k in range(n - 2, i - 1, -1):
+            d[k] += u * d[k + 1]
+            mag[k] += au * mag[k + 1]
+    return d, mag
 
 
 def _coefficients(A: list, B: list, u: float, M: int) -> tuple[list, list, list]:
@@ -424,6 +431,8 @@ def exp_poly_roots(
             brackets.append((known[0], x, known[3], value) if z is None else (z, z, 0.0, 0.0))
         known[:] = [x, sign, None, value]
 
+    b0 = Bl[0] if Bl else 0.0
+    at_zero = 1.0 * Al[0] + b0 if Al else b0  # F(0), as _value_slope computes it
     stack = [(lo, hi)]
     at = math.nan  # the last expansion point (T, Tmag, absA: its coefficients)
     guard = 64.0 * (M + 4) * _EPS * 4.0  # rounding margin per unit of summed magnitude
@@ -492,7 +501,9 @@ def exp_poly_roots(
             # F is rounding noise all over [u, v]
             or abs(T0) + sum(map(operator.mul, map(abs, T[1:]), powers[1:])) <= 2.0 * noise
         ):
-            Fu, Fv = _value_slope(Al, Bl, u)[0], _value_slope(Al, Bl, v)[0]
+            # (at 0 Horner's scheme gives F = A_0 + B_0, bit for bit: no evaluation)
+            Fu = _value_slope(Al, Bl, u)[0] if u != 0.0 else at_zero
+            Fv = _value_slope(Al, Bl, v)[0]
             visit(u, _sign(Fu), Fu)
             if Fv == 0.0 and v == hi:
                 brackets.append((u, v, Fu, Fv))  # a zero at hi: the sign beyond not examined
