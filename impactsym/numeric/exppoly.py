@@ -27,7 +27,7 @@ import functools
 import math
 import operator
 from collections.abc import Sequence
-from itertools import islice
+from itertools import accumulate, islice, repeat
 
 import numpy as np
 
@@ -76,7 +76,7 @@ def _shifted(c: list, u: float) -> tuple[list, list]:
     r"""``c(x + u)`` and the magnitude of its summands (for rounding bounds):
     :math:`\sum_j \binom{j}{i} |u|^{j-i} |c_j|`, the shift of ``|c|`` by ``|u|``."""
     if u == 0.0 or len(c) < 2:  # no shift: the identity (or a constant)
-        return c, [abs(x) for x in c]
+        return c, list(map(abs, c))
     if len(c) > _LIST_SHIFT_PAIR_MAX:  # one matrix for both: cheaper from here on
         S = shift_matrix(len(c), u)
         Smag = np.abs(S) if u < 0.0 else S
@@ -446,10 +446,9 @@ def exp_poly_roots(
             )
         u, v = stack.pop()
         r = v - u
-        try:
-            powers = [r**k for k in range(M + 1)]
-        except OverflowError:  # (NumPy's power gives inf there, as the bounds expect)
-            powers = (r ** np.arange(M + 1.0)).tolist()
+        # r**k by repeated products (k roundings at most, far below the margin; an
+        # overflow gives inf, as the bounds expect)
+        powers = list(accumulate(repeat(r, M), operator.mul, initial=1.0))
         if u != at:  # a left half keeps its left end: the same coefficients
             at = u
             T, Tmag, absA = _coefficients(Al, Bl, u, M)
@@ -520,10 +519,13 @@ def exp_poly_roots(
     return np.array(roots) if len(roots) == 1 else np.sort(np.array(roots))
 
 
+_FLOAT_ONLY = frozenset([float])
+
+
 def _trimmed_list(c) -> list:
     """``c`` as a list of floats without trailing zeros (a list of floats is stripped
     in plain Python: the event loop's pieces are lists)."""
-    if type(c) is list and all(type(x) is float for x in c):
+    if type(c) is list and _FLOAT_ONLY.issuperset(map(type, c)):
         n = len(c)
         while n and c[n - 1] == 0.0:
             n -= 1

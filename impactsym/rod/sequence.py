@@ -390,6 +390,7 @@ def _run(
     contacts, velocities, flights = [], [], []
     in_contact, contact_start, final = True, 0.0, False
     j = 0  # incoming piece: the one holding t - 2
+    incoming_piece, contact, flight = model.incoming, model.contact, model.flight
     try:
         while state.t < t_max:
             t = state.t
@@ -402,19 +403,19 @@ def _run(
             # aligned pieces meet exactly
             while j + 1 < len(starts) and starts[j + 1] + 2.0 <= t:
                 j += 1
-            incoming = model.incoming(j, max(t - (starts[j] + 2.0), 0.0))
+            incoming = incoming_piece(j, max(t - (starts[j] + 2.0), 0.0))
             t_next = min((starts[j + 1] if j + 1 < len(starts) else t) + 2.0, t_max)
             if final:  # free vibration: copy the reflected wave, no events
                 model.free(state, incoming, t_next)
             elif in_contact:
-                if model.contact(state, incoming, t_next):
+                if contact(state, incoming, t_next):
                     contacts.append((contact_start, state.t))
                     velocities.append(state.v)
                     flights.append((state.t, state.y, state.v))
                     in_contact = False
             else:
                 opening = bool(flights) and flights[-1][0] == t
-                if model.flight(state, incoming, t_next, opening):
+                if flight(state, incoming, t_next, opening):
                     if len(contacts) >= max_contacts:
                         raise RuntimeError(
                             f"{where}: more than max_contacts={max_contacts} contacts "
