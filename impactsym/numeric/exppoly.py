@@ -56,10 +56,16 @@ def _value_slope(A: list, B: list, x: float) -> tuple[float, float]:
         b = b * x + c
     if not A:  # a plain polynomial: no exponential (which could overflow)
         return b, db
-    a = da = 0.0
-    for c in reversed(A):
-        da = da * x + a
-        a = a * x + c
+    if len(A) == 3:  # the rod's flight gap: the loop below written out (the same sums;
+        a2 = A[2]  # its first steps give da = 0, a = A_2 exactly: A is trimmed)
+        a = a2 * x + A[1]
+        da = a2 * x + a
+        a = a * x + A[0]
+    else:
+        a = da = 0.0
+        for c in reversed(A):
+            da = da * x + a
+            a = a * x + c
     ex = math.exp(x)
     return ex * a + b, ex * (a + da) + db
 

@@ -65,6 +65,8 @@ _GAUSS_POWERS = [
 _twice = functools.partial(operator.mul, 2.0)
 _G_SAMPLES = 17  # samples per piece that floor the search for the largest g (33 cost more
 # in sampling than they save in searches)
+_G_FRACTIONS = np.linspace(0.0, 1.0, _G_SAMPLES)
+_G_FRACTION_POWERS = np.power.outer(_G_FRACTIONS, np.arange(float(_MAX_COEFFICIENTS)))
 
 
 def _small_matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -228,10 +230,21 @@ def _g_max(tab: _Tables, s_end: float) -> float:
     s0 = tab.start[live]
     lo, hi = np.maximum(s0, 0.0), np.minimum(ends[live], s_end)
     xlo, xhi = (lo - s0) / a, (hi - s0) / a
-    x = xlo[:, None] + (xhi - xlo)[:, None] * np.linspace(0.0, 1.0, _G_SAMPLES)
+    x = xlo[:, None] + (xhi - xlo)[:, None] * _G_FRACTIONS
     q = tab.q[live]
     p = tab.p[live]
-    sampled = p[:, None] + np.exp(-x) * polyval_rows(q[:, None, :], x)
+    # Q at the samples: on pieces sampled from their start (all but the one holding
+    # s = 0), Q(X s_j) = sum_k (Q_k X^k) s_j^k, one matrix product; x <= 40 keeps X^k
+    # finite (pieces with an exponential part are at most x = 2 long)
+    near = (xlo == 0.0) & (xhi <= _X_LONG)
+    poly = np.empty_like(x)
+    if near.any():
+        width = q.shape[1]
+        scaled = q[near] * np.power.outer(xhi[near], np.arange(width, dtype=float))
+        poly[near] = _small_matmul(scaled, _G_FRACTION_POWERS[:, :width].T)
+    if not near.all():
+        poly[~near] = polyval_rows(q[~near][:, None, :], x[~near])
+    sampled = p[:, None] + np.exp(-x) * poly
     floor = float(sampled.max())
     # upper bounds: |e^-x c(x)| <= sum_k |c_k| max x^k e^-x (largest at x = k) for
     # c = Q, and for c = Q' - Q a Lipschitz constant L of g in x; between two
