@@ -278,3 +278,40 @@ def test_quick_gap_bound_proves_only_open_gaps():
     assert _gap_stays_open([5.0, -1.0, -0.25], [], [0.0], 1.0, 2.0)  # C(2) = 2
     assert not _gap_stays_open([5.0, -1.0, -0.25], [], [0.0], 1.0, 3.0)  # C(3) < 0
     assert not _gap_stays_open([0.0, 1.0, -0.25], [], [0.0], 1.0, 3.0)
+
+
+def test_piece_integrals_of_high_degree_agree_with_mpmath():
+    """The Gauss rules evaluate Q at all nodes of all pieces as one matrix product (Q_k
+    x^k times powers of the nodes' fractions of [0, x]): pieces of degree 9 to 40 (24,
+    32 and 48 nodes) of a long chattering sequence against mpmath quadrature, at their
+    ends and halfway."""
+    tab = impact_sequence(3.0, 1.0, t_max=100.0)._tables
+    chosen = []
+    for low, high in ((1, 8), (9, 16), (17, 96)):
+        rows = np.flatnonzero((tab.degree >= low) & (tab.degree <= high))
+        chosen += rows[:: max(1, rows.size // 3)][:3].tolist()
+    assert int(tab.degree[chosen].max()) > 16  # the 48-node rule is exercised
+    h = np.diff(np.append(tab.start, 100.0))[chosen]
+    tau = np.concatenate([h, 0.5 * h])
+    i1, i2 = tab._partial(np.array(chosen * 2), tau)
+    for k, (i, t) in enumerate(zip(chosen * 2, tau, strict=True)):
+        Q = tab.q[i][: tab.degree[i] + 1][::-1].tolist()
+
+        def g(s, i=i, Q=Q):
+            return tab.p[i] + mp.exp(-s / tab.alpha) * mp.polyval(Q, s / tab.alpha)
+
+        with mp.workdps(30):
+            ref1 = mp.quad(g, [0, t])
+            ref2 = mp.quad(lambda s, g=g: g(s) ** 2, [0, t])
+        assert float(i1[k]) == pytest.approx(float(ref1), abs=1e-13, rel=1e-13)
+        assert float(i2[k]) == pytest.approx(float(ref2), abs=1e-13, rel=1e-13)
+
+
+def test_blocked_matrix_product_is_the_plain_one():
+    """The row blocks that keep OpenBLAS on one thread give the plain product."""
+    from impactsym.rod.sequence_rigid import _small_matmul
+
+    rng = np.random.default_rng(3)
+    a, b = rng.normal(size=(3000, 40)), rng.normal(size=(40, 48))  # 26 blocks
+    assert np.abs(_small_matmul(a, b) - a @ b).max() < 1e-12
+    assert _small_matmul(a[:5], b).shape == (5, 48)

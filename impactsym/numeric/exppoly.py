@@ -27,10 +27,11 @@ import functools
 import math
 import operator
 from collections.abc import Sequence
+from itertools import accumulate, islice, repeat
 
 import numpy as np
 
-from impactsym.numeric.poly import shift_matrix, taylor_shift_list, trim
+from impactsym.numeric.poly import shift_matrix, trim
 from impactsym.numeric.roots import bracketed_newton_scalar
 
 __all__ = ["exp_poly_bernstein_positive", "exp_poly_positive", "exp_poly_roots"]
@@ -41,8 +42,10 @@ _EPS = float(np.finfo(float).eps)
 _FACT = np.array([math.factorial(k) for k in range(171)], dtype=float)
 _INVFACT = 1.0 / _FACT
 _INVFACT_LIST = _INVFACT.tolist()
+_INVFACT_FROM_1 = _INVFACT_LIST[1:]
 _INVFACT_PADDED = [0.0, 0.0, *_INVFACT_LIST]
 _ORDER_LIST = [float(k) for k in range(171)]
+_ORDER_FROM_1, _ORDER_FROM_2 = _ORDER_LIST[1:], _ORDER_LIST[2:]
 
 
 def _value_slope(A: list, B: list, x: float) -> tuple[float, float]:
@@ -53,10 +56,16 @@ def _value_slope(A: list, B: list, x: float) -> tuple[float, float]:
         b = b * x + c
     if not A:  # a plain polynomial: no exponential (which could overflow)
         return b, db
-    a = da = 0.0
-    for c in reversed(A):
-        da = da * x + a
-        a = a * x + c
+    if len(A) == 3:  # the rod's flight gap: the loop below written out (the same sums;
+        a2 = A[2]  # its first steps give da = 0, a = A_2 exactly: A is trimmed)
+        a = a2 * x + A[1]
+        da = a2 * x + a
+        a = a * x + A[0]
+    else:
+        a = da = 0.0
+        for c in reversed(A):
+            da = da * x + a
+            a = a * x + c
     ex = math.exp(x)
     return ex * a + b, ex * (a + da) + db
 
@@ -73,13 +82,20 @@ def _shifted(c: list, u: float) -> tuple[list, list]:
     r"""``c(x + u)`` and the magnitude of its summands (for rounding bounds):
     :math:`\sum_j \binom{j}{i} |u|^{j-i} |c_j|`, the shift of ``|c|`` by ``|u|``."""
     if u == 0.0 or len(c) < 2:  # no shift: the identity (or a constant)
-        return c, [abs(x) for x in c]
+        return c, list(map(abs, c))
     if len(c) > _LIST_SHIFT_PAIR_MAX:  # one matrix for both: cheaper from here on
         S = shift_matrix(len(c), u)
         Smag = np.abs(S) if u < 0.0 else S
         v = np.array(c)
         return (S @ v).tolist(), (Smag @ np.abs(v)).tolist()
-    return taylor_shift_list(c, u), taylor_shift_list([abs(x) for x in c], abs(u))
+    # both by synthetic division in one loop (taylor_shift_list's steps, in its order)
+    d, mag, au = list(c), list(map(abs, c)), abs(u)
+    n = len(c)
+    for i in range(n - 1):
+        for k in range(n - 2, i - 1, -1):
+            d[k] += u * d[k + 1]
+            mag[k] += au * mag[k + 1]
+    return d, mag
 
 
 def _coefficients(A: list, B: list, u: float, M: int) -> tuple[list, list, list]:
@@ -99,44 +115,19 @@ def _coefficients(A: list, B: list, u: float, M: int) -> tuple[list, list, list]
             T = [a * c for c in _INVFACT_LIST[: M + 1]]
             Tmag = [am * c for c in _INVFACT_LIST[: M + 1]]
         else:  # (one matrix product beats Python's loops from two coefficients on)
-            expand = _EXPAND[: len(Au), : M + 1]
-            T = (np.array(Au) @ expand).tolist()
-            Tmag = (np.array(Amag) @ expand).tolist()
-        absA = [abs(a) for a in Au]
+            T, Tmag = (np.array([Au, Amag]) @ _EXPAND[: len(Au), : M + 1]).tolist()
+        absA = list(map(abs, Au))
     else:
         T, Tmag, absA = [0.0] * (M + 1), [0.0] * (M + 1), []
-    for k, (b, bm) in enumerate(zip(Bu, Bmag, strict=False)):
-        T[k] += b
-        Tmag[k] += bm
+    n = len(Bu)  # (< M + 1)
+    T[:n] = map(operator.add, T, Bu)
+    Tmag[:n] = map(operator.add, Tmag, Bmag)
     return T, Tmag, absA
 
 
 def _dot(a, b) -> float:
     """``sum(a[k] * b[k])`` over plain floats (the shorter length)."""
     return sum(map(operator.mul, a, b))
-
-
-def _taylor(coefficients, r, M, powers):
-    """The Taylor coefficients ``T`` at ``u`` (from :func:`_coefficients`), the bound
-    ``rho0`` of the omitted tail plus rounding for ``F`` on ``[u, u + r]``, the rounding
-    part of it alone, and ``slope_bound()``, the same bound ``rho1`` for ``F'``
-    (computed only when asked for: most intervals are decided without it).
-    ``powers = r**k`` (a list)."""
-    T, Tmag, absA = coefficients
-    guard = 64.0 * (M + 4) * _EPS * 4.0
-    tail0 = tail1 = 0.0
-    if absA:
-        scale = math.exp(r) * powers[M]
-        for i, a in enumerate(absA):
-            K = M - i + 1  # first omitted power of e^z in term i: order i + K = M + 1
-            tail0 += a * scale * r * _INVFACT_LIST[K]
-            tail1 += a * scale * (i * _INVFACT_LIST[K] + _INVFACT_LIST[K - 1])
-    noise = guard * _dot(Tmag, powers)
-
-    def slope_bound() -> float:
-        return tail1 + guard * _dot(map(operator.mul, _ORDER_LIST[1 : M + 1], Tmag[1:]), powers)
-
-    return T, tail0 + noise, slope_bound, noise
 
 
 def exp_poly_positive(
@@ -226,11 +217,11 @@ _BERNSTEIN_EXTRA = 8  # most orders of e^x A kept beyond those of B (A with a ne
 
 
 @functools.cache
-def _bernstein_ratios(n: int) -> tuple:
-    r"""Rows ``i``: :math:`\binom{i}{k} / \binom{n}{k}`, ``k <= i`` (monomial to
-    Bernstein coefficients of degree ``n`` on ``[0, 1]``)."""
-    return tuple(
-        tuple(math.comb(i, k) / math.comb(n, k) for k in range(i + 1)) for i in range(n + 1)
+def _bernstein_ratios(n: int) -> np.ndarray:
+    r"""Rows ``i``: :math:`\binom{i}{k} / \binom{n}{k}`, ``k <= i``, zero beyond (monomial
+    to Bernstein coefficients of degree ``n`` on ``[0, 1]``)."""
+    return np.array(
+        [[math.comb(i, k) / math.comb(n, k) for k in range(n + 1)] for i in range(n + 1)]
     )
 
 
@@ -266,11 +257,24 @@ def exp_poly_bernstein_positive(
     power = 1.0  # X ** (k - lead)
     e_X = math.exp(X) if negative else 1.0
     a0 = A[0] if m == 1 else 0.0  # (one coefficient, the rod's contact: written out)
+    if m == 3:
+        a0, a1, a2 = A
+        inv = _INVFACT_PADDED  # inv[k + 2] = 1 / k!, zero for k < 0
     for top in range(lead, first + 1 + (_BERNSTEIN_EXTRA if negative else 0)):
         t = B[top] if top < nb else 0.0
         size = abs(t)
         if m == 1:
             term = a0 * _INVFACT_LIST[top]
+            t += term
+            size += abs(term)
+        elif m == 3:  # (the rod's flight gap: the loop below written out, the same sums)
+            term = a0 * inv[top + 2]
+            t += term
+            size += abs(term)
+            term = a1 * inv[top + 1]
+            t += term
+            size += abs(term)
+            term = a2 * inv[top]
             t += term
             size += abs(term)
         else:
@@ -282,13 +286,18 @@ def exp_poly_bernstein_positive(
         mag += size * power
         power *= X
         if negative and top >= first:  # orders top + 1, ...: power is X ** (top + 1 - lead)
-            tail = e_X * power * sum(abs(a) * _INVFACT_LIST[top + 1 - i] for i, a in enumerate(A))
+            if m == 3:
+                tail = abs(a0) * inv[top + 3] + abs(a1) * inv[top + 2] + abs(a2) * inv[top + 1]
+            else:
+                tail = sum(abs(a) * _INVFACT_LIST[top + 1 - i] for i, a in enumerate(A))
+            tail *= e_X * power
             if tail <= 256.0 * _EPS * mag:  # below rounding: more orders add nothing
                 break
     n = len(coef) - 1
     floor = tail + 256.0 * (top + 16) * _EPS * (mag + tail)
-    # every Bernstein coefficient above the floor (the first one below ends the proof)
-    return all(sum(map(operator.mul, row, coef)) > floor for row in _bernstein_ratios(n))
+    # every Bernstein coefficient above the floor (one matrix product: cheaper than
+    # stopping at the first one below, as most proofs succeed)
+    return bool((_bernstein_ratios(n) @ np.array(coef) > floor).all())
 
 
 def _constant_times_exp_positive(a: float, B: Sequence[float], hi: float) -> bool:
@@ -300,7 +309,7 @@ def _constant_times_exp_positive(a: float, B: Sequence[float], hi: float) -> boo
         return False
     mag = abs(B[0]) + a
     power = 1.0
-    for b, c in zip(B[1:], _INVFACT_LIST[1:], strict=False):
+    for b, c in zip(islice(B, 1, None), _INVFACT_FROM_1, strict=False):
         power *= hi
         term = a * c
         T = b + term
@@ -428,8 +437,11 @@ def exp_poly_roots(
             brackets.append((known[0], x, known[3], value) if z is None else (z, z, 0.0, 0.0))
         known[:] = [x, sign, None, value]
 
+    b0 = Bl[0] if Bl else 0.0
+    at_zero = 1.0 * Al[0] + b0 if Al else b0  # F(0), as _value_slope computes it
     stack = [(lo, hi)]
-    at = [math.nan, None]  # the last expansion point and its coefficients
+    at = math.nan  # the last expansion point (T, Tmag, absA: its coefficients)
+    guard = 64.0 * (M + 4) * _EPS * 4.0  # rounding margin per unit of summed magnitude
     budget = _MAX_CELLS
     while stack and not (first and brackets):
         budget -= 1
@@ -440,21 +452,29 @@ def exp_poly_roots(
             )
         u, v = stack.pop()
         r = v - u
-        try:
-            powers = [r**k for k in range(M + 1)]
-        except OverflowError:  # (NumPy's power gives inf there, as the bounds expect)
-            powers = (r ** np.arange(M + 1.0)).tolist()
-        if u != at[0]:  # a left half keeps its left end: the same coefficients
-            at[:] = [u, _coefficients(Al, Bl, u, M)]
-        T, rho0, slope_bound, noise = _taylor(at[1], r, M, powers)
+        # r**k by repeated products (k roundings at most, far below the margin; an
+        # overflow gives inf, as the bounds expect)
+        powers = list(accumulate(repeat(r, M), operator.mul, initial=1.0))
+        if u != at:  # a left half keeps its left end: the same coefficients
+            at = u
+            T, Tmag, absA = _coefficients(Al, Bl, u, M)
+        # rho0: the omitted orders of e^z A (term i from order M + 1 on) plus rounding
+        tail0 = 0.0
+        if absA:
+            scale = math.exp(r) * powers[M]
+            for i, a in enumerate(absA):
+                tail0 += a * scale * r * _INVFACT_LIST[M - i + 1]
+        noise = guard * _dot(Tmag, powers)
+        rho0 = tail0 + noise
         T0 = T[0]
-        # one-sided: only terms of the sign opposite to T_0 can bring F to zero
+        # one-sided: only terms of the sign opposite to T_0 can bring F to zero (T_0
+        # itself never passes the filter)
         if T0 > 0.0:
             s0 = 1.0
-            against = -sum([t * p for t, p in zip(T[1:], powers[1:], strict=False) if t < 0.0])
+            against = -sum([t * p for t, p in zip(T, powers, strict=True) if t < 0.0])
         else:
             s0 = -1.0
-            against = sum([t * p for t, p in zip(T[1:], powers[1:], strict=False) if t > 0.0])
+            against = sum([t * p for t, p in zip(T, powers, strict=True) if t > 0.0])
         if T0 != 0.0 and abs(T0) > against + rho0:  # no zero in [u, v]: F has T_0's sign
             visit(u, s0)
             visit(v, s0)
@@ -467,25 +487,28 @@ def exp_poly_roots(
         T1 = T[1]
         mono = False
         if T1 != 0.0:
+            # the same bound rho1 for F' (orders k >= 2 as k T_k r^(k-1))
+            terms = zip(_ORDER_FROM_2, islice(T, 2, None), islice(powers, 1, None), strict=False)
             if T1 > 0.0:
-                terms = [
-                    k * t * p
-                    for k, t, p in zip(_ORDER_LIST[2:], T[2:], powers[1:], strict=False)
-                    if t < 0.0
-                ]
-                slope_against = -sum(terms)
+                slope_against = -sum([k * t * p for k, t, p in terms if t < 0.0])
             else:
-                terms = [
-                    k * t * p
-                    for k, t, p in zip(_ORDER_LIST[2:], T[2:], powers[1:], strict=False)
-                    if t > 0.0
-                ]
-                slope_against = sum(terms)
-            mono = abs(T1) > slope_against + slope_bound()
-        spread = sum(map(operator.mul, map(abs, T[1:]), powers[1:]))
-        flat = abs(T0) + spread <= 2.0 * noise  # F is rounding noise all over [u, v]
-        if mono or flat or r <= min_width * max(1.0, abs(u)):
-            Fu, Fv = _value_slope(Al, Bl, u)[0], _value_slope(Al, Bl, v)[0]
+                slope_against = sum([k * t * p for k, t, p in terms if t > 0.0])
+            tail1 = 0.0
+            if absA:
+                for i, a in enumerate(absA):
+                    K = M - i + 1  # first omitted power of e^z in term i
+                    tail1 += a * scale * (i * _INVFACT_LIST[K] + _INVFACT_LIST[K - 1])
+            slope_noise = _dot(map(operator.mul, _ORDER_FROM_1, islice(Tmag, 1, None)), powers)
+            mono = abs(T1) > slope_against + (tail1 + guard * slope_noise)
+        if (
+            mono
+            or r <= min_width * max(1.0, abs(u))
+            # F is rounding noise all over [u, v]
+            or abs(T0) + sum(map(operator.mul, map(abs, T[1:]), powers[1:])) <= 2.0 * noise
+        ):
+            # (at 0 Horner's scheme gives F = A_0 + B_0, bit for bit: no evaluation)
+            Fu = _value_slope(Al, Bl, u)[0] if u != 0.0 else at_zero
+            Fv = _value_slope(Al, Bl, v)[0]
             visit(u, _sign(Fu), Fu)
             if Fv == 0.0 and v == hi:
                 brackets.append((u, v, Fu, Fv))  # a zero at hi: the sign beyond not examined
@@ -502,10 +525,13 @@ def exp_poly_roots(
     return np.array(roots) if len(roots) == 1 else np.sort(np.array(roots))
 
 
+_FLOAT_ONLY = frozenset([float])
+
+
 def _trimmed_list(c) -> list:
     """``c`` as a list of floats without trailing zeros (a list of floats is stripped
     in plain Python: the event loop's pieces are lists)."""
-    if type(c) is list and all(type(x) is float for x in c):
+    if type(c) is list and _FLOAT_ONLY.issuperset(map(type, c)):
         n = len(c)
         while n and c[n - 1] == 0.0:
             n -= 1

@@ -185,7 +185,7 @@ class RodImpactSequence(ArrayRecord):
         starts = np.array([fl[0] for fl in self._flights] + [np.inf])
         k = np.searchsorted(starts, tt, side="right") - 1
         ends = np.array([c[0] for c in self.contacts[1:]] + [np.inf])
-        in_flight = (k >= 0) & (tt < ends[np.clip(k, 0, None)] if ends.size else False)
+        in_flight = (k >= 0) & (tt < ends[np.maximum(k, 0)] if ends.size else False)
         return k, in_flight
 
     def displacement(self, t):
@@ -202,7 +202,7 @@ class RodImpactSequence(ArrayRecord):
         if self._flights:
             k, fl = self._flight_index(tt)
             data = np.array(self._flights)
-            t0, y0, v0 = data[np.clip(k, 0, None)].T
+            t0, y0, v0 = data[np.maximum(k, 0)].T
             d = tt - t0
             y = np.where(fl, y0 + v0 * d + 0.5 * self.f / self.alpha * d * d, y)
             if velocity is not None:
@@ -216,7 +216,7 @@ class RodImpactSequence(ArrayRecord):
         if self._flights:
             k, fl = self._flight_index(tt)
             data = np.array(self._flights)
-            t0, _, v0 = data[np.clip(k, 0, None)].T
+            t0, _, v0 = data[np.maximum(k, 0)].T
             v = np.where(fl, v0 + self.f / self.alpha * (tt - t0), v)
         return float(v) if np.ndim(t) == 0 else v
 
@@ -390,6 +390,7 @@ def _run(
     contacts, velocities, flights = [], [], []
     in_contact, contact_start, final = True, 0.0, False
     j = 0  # incoming piece: the one holding t - 2
+    incoming_piece, contact, flight = model.incoming, model.contact, model.flight
     try:
         while state.t < t_max:
             t = state.t
@@ -402,19 +403,19 @@ def _run(
             # aligned pieces meet exactly
             while j + 1 < len(starts) and starts[j + 1] + 2.0 <= t:
                 j += 1
-            incoming = model.incoming(j, max(t - (starts[j] + 2.0), 0.0))
+            incoming = incoming_piece(j, max(t - (starts[j] + 2.0), 0.0))
             t_next = min((starts[j + 1] if j + 1 < len(starts) else t) + 2.0, t_max)
             if final:  # free vibration: copy the reflected wave, no events
                 model.free(state, incoming, t_next)
             elif in_contact:
-                if model.contact(state, incoming, t_next):
+                if contact(state, incoming, t_next):
                     contacts.append((contact_start, state.t))
                     velocities.append(state.v)
                     flights.append((state.t, state.y, state.v))
                     in_contact = False
             else:
                 opening = bool(flights) and flights[-1][0] == t
-                if model.flight(state, incoming, t_next, opening):
+                if flight(state, incoming, t_next, opening):
                     if len(contacts) >= max_contacts:
                         raise RuntimeError(
                             f"{where}: more than max_contacts={max_contacts} contacts "
@@ -459,7 +460,7 @@ def check_balance(seq: RodImpactSequence, note: str = "") -> None:
     coefficients cancel, so past some time the result is no longer exact
     (docs/physics.md#the-rod-impact-continued-past-separation). Internal: used by
     :func:`follow`."""
-    ends = np.r_[seq._tables.start, seq.t_max]
+    ends = np.append(seq._tables.start, seq.t_max)
     ts = 0.5 * (ends[:-1] + ends[1:])  # mid-piece: no event (jump) is evaluated
     ts = ts[(ts > 0.0) & (ts < seq.t_max)]
     residual, work = seq.energy.balance_and_work(ts)
