@@ -168,14 +168,17 @@ class _Table:
         index = (self.offsets[:, :, None] + self.flat_index(base)).ravel()
         block = self.values.reshape(2, -1).take(index, axis=1).reshape(2, 4, 4, -1)
         wz, dz = wz.T, dz.T
-        along = sum(block[:, :, j] * wz[j] for j in range(4))  # (2, 4, n)
-        slope = sum(block[:, :, j] * dz[j] for j in range(4))
         wu, du = wu.T, du.T
-        val = sum(along[:, i] * wu[i] for i in range(4))
-        jac = np.stack([
-            sum(along[:, i] * du[i] for i in range(4)) / self.step[0],
-            sum(slope[:, i] * wu[i] for i in range(4)) / self.step[1],
-        ], axis=1)  # fmt: skip
+        # a stencil holding a sticking point (contact time inf) gives inf * 0 and inf - inf:
+        # such stencils are masked as bad just below
+        with np.errstate(invalid="ignore"):
+            along = sum(block[:, :, j] * wz[j] for j in range(4))  # (2, 4, n)
+            slope = sum(block[:, :, j] * dz[j] for j in range(4))
+            val = sum(along[:, i] * wu[i] for i in range(4))
+            jac = np.stack([
+                sum(along[:, i] * du[i] for i in range(4)) / self.step[0],
+                sum(slope[:, i] * wu[i] for i in range(4)) / self.step[1],
+            ], axis=1)  # fmt: skip
         bad = ~inside | ~self.finite_stencil.ravel()[self.flat_index(base, stencils=True)]
         return np.where(bad, np.nan, val), np.where(bad, np.nan, jac)
 
