@@ -63,10 +63,6 @@ _PAD_Z = (1.5, 0.5)  # and textbook ln zeta minus / plus these
 _GROW = 4  # coarse tables at most: the box grows by half its width towards targets beyond it
 _SPLINE_NEWTON = 12  # Newton steps on the table's cubic
 _SETTLED = 1e-9  # a Newton step on the cubic this small (relative) ends its iteration
-_ACCEPT = 1e-12  # and a start is taken where the cubic meets the target this closely
-#: both on the coarse table, which only places the fine one (two coarse cells wider than
-#: the designs it finds): 1e-4 of the values is plenty
-_COARSE_TOL = 1e-4
 _STEPS = 8  # exact evaluations per design before it is left to the caller
 _MAX_STEP = 0.5  # largest step in u or z
 
@@ -106,7 +102,7 @@ def table_designs(
     out = np.full((2, n), np.nan)
     for _ in range(_GROW):  # the coarse table, its box grown where targets lie beyond it
         coarse = _Table(evaluate, lo, hi, (_COARSE, _COARSE))
-        first, nearest = coarse.invert(target, settle=_COARSE_TOL, accept=_COARSE_TOL)
+        first, nearest = coarse.invert(target)
         found = np.all(np.isfinite(first), axis=0)
         edge = nearest[:, ~found]  # grid indices of the unfound targets' nearest points
         low = np.any(edge == 0, axis=1)
@@ -124,7 +120,7 @@ def table_designs(
     side = np.sqrt(points * (hi - lo) / (hi - lo)[::-1])  # equal spacing in u and z
     shape = tuple(int(s) for s in np.clip(np.ceil(side), 6, None))
     fine = _Table(evaluate, lo, hi, shape)
-    guess, _ = fine.invert(target, settle=_SETTLED, accept=_ACCEPT)
+    guess, _ = fine.invert(target)
     has = np.flatnonzero(np.all(np.isfinite(guess), axis=0))
     designs, extra = _refine(evaluate, fine, guess[:, has], target[:, has], rtol)
     out[:, has] = designs
@@ -172,24 +168,25 @@ class _Table:
         index = (self.offsets[:, :, None] + self.flat_index(base)).ravel()
         block = self.values.reshape(2, -1).take(index, axis=1).reshape(2, 4, 4, -1)
         wz, dz = wz.T, dz.T
-        along = sum(block[:, :, j] * wz[j] for j in range(4))  # (2, 4, n)
-        slope = sum(block[:, :, j] * dz[j] for j in range(4))
         wu, du = wu.T, du.T
-        val = sum(along[:, i] * wu[i] for i in range(4))
-        jac = np.stack([
-            sum(along[:, i] * du[i] for i in range(4)) / self.step[0],
-            sum(slope[:, i] * wu[i] for i in range(4)) / self.step[1],
-        ], axis=1)  # fmt: skip
+        # a stencil holding a sticking point (contact time inf) gives inf * 0 and inf - inf:
+        # such stencils are masked as bad just below
+        with np.errstate(invalid="ignore"):
+            along = sum(block[:, :, j] * wz[j] for j in range(4))  # (2, 4, n)
+            slope = sum(block[:, :, j] * dz[j] for j in range(4))
+            val = sum(along[:, i] * wu[i] for i in range(4))
+            jac = np.stack([
+                sum(along[:, i] * du[i] for i in range(4)) / self.step[0],
+                sum(slope[:, i] * wu[i] for i in range(4)) / self.step[1],
+            ], axis=1)  # fmt: skip
         bad = ~inside | ~self.finite_stencil.ravel()[self.flat_index(base, stencils=True)]
         return np.where(bad, np.nan, val), np.where(bad, np.nan, jac)
 
-    def invert(
-        self, target: np.ndarray, *, settle: float, accept: float
-    ) -> tuple[np.ndarray, np.ndarray]:
+    def invert(self, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``x`` with interpolant ``== target`` (Newton from the table point nearest in
-        ``F``, scaled by the table's spread, until its step is below ``settle`` relative;
-        ``nan`` columns where it does not meet the target to ``accept`` in ``F`` inside
-        the grid) and the grid indices ``(2, n)`` of those nearest points."""
+        ``F``, scaled by the table's spread; ``nan`` columns where it does not converge
+        to ``1e-12`` in ``F`` inside the grid) and the grid indices ``(2, n)`` of those
+        nearest points."""
         flat = self.values.reshape(2, -1)
         ok = np.all(np.isfinite(flat), axis=0)
         if not ok.any():
@@ -208,14 +205,13 @@ class _Table:
                           self.hi[:, None])  # fmt: skip
             x[:, live] = now
             with np.errstate(invalid="ignore"):
-                still = np.abs(now - was) > settle * np.maximum(1.0, np.abs(was))
+                still = np.abs(now - was) > _SETTLED * np.maximum(1.0, np.abs(was))
             live = live[np.any(still, axis=0)]
             if live.size == 0:
                 break
         val, _ = self.at(x)
         with np.errstate(invalid="ignore"):
-            miss = np.abs(val - target)
-            good = np.all(miss <= accept * np.maximum(1.0, np.abs(target)), axis=0)
+            good = np.all(np.abs(val - target) <= 1e-12 * np.maximum(1.0, np.abs(target)), axis=0)
         return np.where(good, x, np.nan), np.stack(np.unravel_index(nearest, self.shape))
 
 
