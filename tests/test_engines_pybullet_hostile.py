@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from impactsym.engines import pybullet as pyb
@@ -89,3 +90,14 @@ def test_a_timestep_too_fine_for_the_step_by_step_map_is_refused_with_one_that_w
 def test_bad_restitution_settings_are_named(name, bad):
     with pytest.raises(ValueError, match=name):
         pyb.predict(**OK, **{name: bad})
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+def test_empty_arrays_give_empty_results(gravity):
+    # as the other engines do (MuJoCo, Drake): an empty call is no error
+    designs = pyb.contact_for(restitution=np.array([]), contact_time=np.array([]),
+                                   speed=1.0, mass=0.1, gravity=gravity)  # fmt: skip
+    assert designs.stiffness.shape == designs.restitution.shape == (0,)
+    p = pyb.predict(stiffness=np.zeros((0, 3)), damping=1.0, speed=1.0, mass=0.1,
+                         gravity=gravity)  # fmt: skip
+    assert p.restitution.shape == p.contact_time.shape == (0, 3)

@@ -31,7 +31,7 @@ found to ~1e-14 of a phase, so the means agree with the bisection's to ~1e-13 an
 ranges to ~1e-12 (tested). The roots are solved only at the sub-steps where one can
 lie within a phase (a bound from the quadratic's coefficients), the few next to a
 change of branch. A processing threshold or velocity restitution adds roots whose changes the
-pattern may not show (then bisected, slower than the old search): the callers use this
+pattern may not show (then searched, slower than the old search): the callers use this
 module with PyBullet's defaults for both. All arrays, SI.
 """
 
@@ -61,7 +61,7 @@ __all__ = ["CHUNK", "break_pieces", "phase_means", "root_summary", "tracked_patt
 #: (measured 7.9 s against 3.9 s in passes of 5000-20000)
 CHUNK = 8192
 
-_GRID = 8  # phase intervals: the check of the roots (a change the roots miss is bisected)
+_GRID = 8  # phase intervals: the check of the roots (a change the roots miss is searched)
 #: pieces split off one grid interval before the rest counts as one piece (met where the
 #: pattern changes thousands of times over the phase: in the random contacts checked,
 #: only contacts that stick at some phases, whose mean contact time is infinite anyway)
@@ -105,7 +105,7 @@ def tracked_pattern(
     processing_threshold: float,
     velocity_restitution: float = 0.0,
     restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The pattern of :func:`~impactsym.engines.pybullet.stepping.step_pattern` (the
     same numbers), the phase distance to the first root ahead (``inf``: none within a
     whole phase, so none before the end of the phase range; module docstring) and
@@ -259,9 +259,9 @@ def break_pieces(
         # the pieces meet at the root; the patterns either side are read _GAP away
         end, r_b = np.where(split, cut, a), r_b + (b - np.where(split, cut, b))
         bad = ~split | (key_a != k_lo)
-        if bad.any():  # a change the roots do not see: bisection
+        if bad.any():  # a change the roots do not see: the multisection search
             j = np.flatnonzero(bad)
-            end[j], b[j] = _bisect(run, own[j], lo[j], hi[j], k_lo[j])
+            end[j], b[j] = _multisect(run, own[j], lo[j], hi[j], k_lo[j])
             key_b[j], r_b[j], speed_b[:, j] = track(own[j], b[j])
         pieces.append((lo, end, s_lo, np.where(bad, end, a), k_lo, own, speed))
         lo, s_lo, k_lo, r_lo, speed = np.where(bad, b, cut), b, key_b, r_b, speed_b
@@ -439,7 +439,7 @@ def _merge(p0, p1, s0, s1, key, own, speed):
     return p0[starts], p1[lasts], s0[starts], s1[lasts], own[starts], key[starts], speed[:, starts]
 
 
-def _bisect(run, own, lo, hi, k_lo):
+def _multisect(run, own, lo, hi, k_lo):
     """The phases ``a < b`` at most ``2^-44`` of ``[lo, hi]`` apart with pattern ``k_lo``
     at ``a`` and another at ``b`` (as the bisection of
     :mod:`~impactsym.engines.pybullet.phases`, but ``_SECTIONS - 1`` points per round:

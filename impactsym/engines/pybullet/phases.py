@@ -68,6 +68,11 @@ def phase_summary(
     result; the rigid contact of :mod:`~impactsym.engines.pybullet.rigid` passes its own).
     Computed in passes of :data:`~impactsym.engines.pybullet.phase_means.CHUNK` elements.
     """
+    shape = np.broadcast_shapes(
+        *(np.shape(a) for a in (stiffness, damping, mass, speed, gravity, timestep))
+    )
+    if 0 in shape:  # an empty call: empty fields of its shape
+        return PhaseSummary(*(np.empty(shape) for _ in dataclasses.fields(PhaseSummary)))
     closed = pattern is None and np.isinf(processing_threshold) and not velocity_restitution
     if closed:  # the compliant map with PyBullet's defaults: break points in closed form
         return root_summary(

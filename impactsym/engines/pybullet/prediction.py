@@ -93,7 +93,7 @@ class PyBulletContact(ArrayRecord):
 
 def check_budget(k: Any, c: Any, m: Any, h: float) -> None:
     """Refuse a ``timestep`` so fine that the exact map would take minutes (``ValueError``)."""
-    budget = np.max(step_budget(k, c, m, h))
+    budget = np.max(step_budget(k, c, m, h), initial=0.0)  # (an empty call: nothing to refuse)
     if budget > MAX_STEPS:
         raise ValueError(
             f"timestep = {h!r} s is too fine for the exact step-by-step map: the contact "
