@@ -260,7 +260,11 @@ class ManifoldTable(TaylorTable):
     :meth:`extend` asks (the attributes and views hold the intervals built); the cells,
     coefficients and bounds of an interval do not depend on later ones (the bound
     accumulates forward), so they are the same, to the last bit, however far the table
-    is built and in how many steps."""
+    is built and in how many steps. The bound of ``y`` (a quarter of the bound's work,
+    :func:`impactsym.rod.elastic.taylor.displacement_bounds`) is computed only when asked
+    for (``which`` of :meth:`extend`, a view of ``y``): until then ``err_y_a, err_y_b``
+    are ``inf`` on the cells built (nothing certified), after it the same bits as when
+    bounded with ``N``."""
 
     def __init__(self, alpha: float, kappa: float, n_intervals: int, *, lazy: bool = False):
         self.alpha, self.kappa = check_table_arguments(alpha, kappa=kappa, n_intervals=n_intervals)
@@ -285,8 +289,12 @@ class ManifoldTable(TaylorTable):
             **{name: np.zeros((2, total, D + 1)) for name in ("V", "V_lo", "N", "N_lo")},
             **{name: np.zeros((2, total, D + 1)) for name in ("G_hi", "G_lo")},
         }
+        # err_y_a, err_y_b, err_n_a, err_n_b; y's inf until bounded (built_y intervals)
         self._errors = np.zeros((4, total))
-        self._carry = None
+        self._errors[:2] = np.inf
+        # what the bound of y needs of N's (taylor.force_bounds), per cell
+        self._coupling = np.zeros((3, 2, total))
+        self._carry, self._carry_y, self.built_y = None, None, 0
         self._lock = threading.Lock()
         # (y, v, N) at the next interval's start, high and low parts, per right-hand side
         # (replaced, never changed in place)
@@ -296,11 +304,16 @@ class ManifoldTable(TaylorTable):
         if not lazy:
             self.extend(n_intervals)
 
-    def extend(self, n_intervals: int) -> None:
-        """Build and bound the intervals up to ``n_intervals`` (at most the table's); one
-        thread at a time (a cached table is shared), the intervals built never change."""
+    def extend(self, n_intervals: int, *, which: str | tuple = ("y", "N")) -> None:
+        """Build and bound the intervals up to ``n_intervals`` (at most the table's): the
+        bound of ``N`` always, that of ``y`` if ``"y"`` is in ``which``; one thread at a
+        time (a cached table is shared), the intervals built never change."""
+        bound_y = _bounds_y(which)
         with self._lock:
-            self._extend(min(n_intervals, self.n_intervals))
+            end = min(n_intervals, self.n_intervals)
+            self._extend(end)
+            if bound_y:
+                self._bound_y(end)
 
     def _extend(self, end: int) -> None:
         if end <= self.built:
@@ -316,30 +329,49 @@ class ManifoldTable(TaylorTable):
         self._bound(begin, end)
 
     def _bound(self, begin: int, end: int) -> None:
-        """Bound the intervals ``begin .. end - 1`` (built), carrying the running sums on."""
+        """Bound ``N`` on the intervals ``begin .. end - 1`` (built), carrying the running
+        sums on (:func:`impactsym.rod.elastic.taylor.force_bounds`)."""
         n, a = self.cells_per_interval, self._arrays
-        upto = slice(0, end * n)
-        arrays = tuple(a[name][:, upto] for name in ("Y", "V", "N"))
-        lows = tuple(a[name][:, upto] for name in ("Y_lo", "V_lo", "N_lo"))
+        upto, cells = slice(0, end * n), slice(begin * n, end * n)
+        arrays = tuple(a[name][:, upto] for name in ("V", "N"))
+        lows = tuple(a[name][:, upto] for name in ("V_lo", "N_lo"))
         incoming = (a["G_hi"][:, upto], a["G_lo"][:, upto])
-        bounds, self._carry = taylor.cell_bounds(
+        bounds, self._coupling[:, :, cells], self._carry = taylor.force_bounds(
             self.alpha, self._h[upto], arrays, lows, incoming, n,
             kappa=self.kappa, start=begin, carry=self._carry,
         )  # fmt: skip
-        self._errors[:, begin * n : end * n] = bounds
+        self._errors[2:, cells] = bounds
         self.built = end
+        self._expose()
+
+    def _bound_y(self, end: int) -> None:
+        """Bound ``y`` on the intervals ``built_y .. end - 1`` (``N`` bounded there), the
+        running sums carried on (:func:`impactsym.rod.elastic.taylor.displacement_bounds`)."""
+        begin = self.built_y
+        if end <= begin:
+            return
+        n, a = self.cells_per_interval, self._arrays
+        upto, cells = slice(0, end * n), slice(begin * n, end * n)
+        arrays = tuple(a[name][:, upto] for name in ("Y", "V"))
+        lows = tuple(a[name][:, upto] for name in ("Y_lo", "V_lo"))
+        bounds, self._carry_y = taylor.displacement_bounds(
+            self.alpha, self._h[upto], arrays, lows, self._coupling[:, :, cells], n,
+            kappa=self.kappa, start=begin, carry=self._carry_y,
+        )  # fmt: skip
+        self._errors[:2, cells] = bounds
+        self.built_y = end
         self._expose()
 
     def view(self, which: str, *, n_intervals: int | None = None) -> TaylorView:
         """:meth:`TaylorTable.view` over the first ``n_intervals`` reflection intervals
         (default: all of them), built first as far as that."""
-        if n_intervals is None:
-            self.extend(self.n_intervals)
-            return super().view(which)
-        self.extend(n_intervals)
-        upto = slice(0, min(n_intervals, self.n_intervals) * self.cells_per_interval)
         if which not in ("y", "N"):
             raise ValueError(f"which must be 'y' or 'N', got {which!r}")
+        if n_intervals is None:
+            self.extend(self.n_intervals, which=which)
+            return super().view(which)
+        self.extend(n_intervals, which=which)
+        upto = slice(0, min(n_intervals, self.n_intervals) * self.cells_per_interval)
         prefix = SimpleNamespace(lo=self.lo[upto], hi=self.hi[upto], h=self.h[upto])
         arrays = (self.Y_a, self.Y_b, self.err_y_a, self.err_y_b)
         if which == "N":
@@ -429,13 +461,22 @@ class ManifoldTable(TaylorTable):
         _build_intervals([self], [m])
 
 
-def extend_tables(tables: list, n_intervals: list) -> None:
-    """Internal: :meth:`ManifoldTable.extend` of ``tables[j]`` to ``n_intervals[j]`` for
-    all of them together: interval by interval, the tables that need one more built at
-    once (:func:`_build_intervals`: a NumPy operation on the cells of all of them, not one
-    per table), then each bounded. Holds every table's lock meanwhile (taken in one order
-    by every caller: no deadlock); a table's intervals are the same to the last bit as
-    when built alone."""
+def _bounds_y(which: str | tuple) -> bool:
+    """Whether ``which`` (``"y"``, ``"N"`` or a tuple of them) asks for the bound of ``y``."""
+    parts = (which,) if isinstance(which, str) else tuple(which)
+    if not parts or any(part not in ("y", "N") for part in parts):
+        raise ValueError(f"which must be 'y', 'N' or a tuple of them, got {which!r}")
+    return "y" in parts
+
+
+def extend_tables(tables: list, n_intervals: list, *, which: str | tuple = ("y", "N")) -> None:
+    """Internal: :meth:`ManifoldTable.extend` of ``tables[j]`` to ``n_intervals[j]`` (and
+    ``which``) for all of them together: interval by interval, the tables that need one
+    more built at once (:func:`_build_intervals`: a NumPy operation on the cells of all of
+    them, not one per table), then each bounded. Holds every table's lock meanwhile (taken
+    in one order by every caller: no deadlock); a table's intervals are the same to the
+    last bit as when built alone."""
+    bound_y = _bounds_y(which)
     wanted: dict = {}
     for table, n in zip(tables, n_intervals, strict=True):
         wanted[table] = max(wanted.get(table, 0), min(n, table.n_intervals))
@@ -457,6 +498,9 @@ def extend_tables(tables: list, n_intervals: list) -> None:
             raise
         for table in todo:
             table._bound(table.built, wanted[table])
+        if bound_y:
+            for table in order:
+                table._bound_y(wanted[table])
 
 
 #: The data of the last few batches (:func:`_batch`): ``ids -> (weak references, data)``.

@@ -88,7 +88,9 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
         try:
             needs = next(steps)
             while True:
-                extend_tables([stiff[g][0].table for g in needs], [needs[g] for g in needs])
+                extend_tables(
+                    [stiff[g][0].table for g in needs], [needs[g] for g in needs], which=which
+                )
                 needs = steps.send(None)
         except StopIteration as stop:
             times = stop.value
