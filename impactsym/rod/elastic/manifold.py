@@ -60,6 +60,7 @@ import numpy as np
 
 from impactsym.rod.elastic import taylor
 from impactsym.rod.elastic.chain import cell_chain, scan_stages, stacked_stages
+from impactsym.rod.elastic.slow import manifold_forces, slow_cells, slow_operator
 from impactsym.rod.elastic.taylor import (
     DEGREE,
     TaylorTable,
@@ -160,95 +161,6 @@ def cells_per_interval_manifold(alpha: float, *, kappa: float) -> int | None:
     ``None`` where it does not apply."""
     mesh = interval_mesh(alpha, kappa=kappa)
     return None if mesh is None else mesh[0].size
-
-
-def _slow_operator(alpha: float, kappa: float, width: float):
-    """``S`` (``N = S (v + 2G)`` on coefficients in ``xi``, degree ``DEGREE``) and the
-    inverse of the matrix of ``alpha v' + N = f`` in ``v_1 .. v_D`` (``v_0`` given)."""
-    D = DEGREE
-    eps = 1.0 / (width * kappa)
-    # S[j, i] = prod_{l = j+1 .. i} (-eps l): running products along each row (above
-    # the diagonal; ones on and below it multiply exactly), the same products in order
-    order = np.arange(D + 1)
-    factors = np.where(order[None, :] > order[:, None], -eps * order[None, :], 1.0)
-    S = np.triu(np.cumprod(factors, axis=1))
-    M = S[:D, 1:].copy()
-    M[np.arange(D), np.arange(D)] += alpha * np.arange(1, D + 1) / width
-    return S, np.linalg.inv(M)
-
-
-def _manifold_forces(V, V0_lo, G_hi, G_lo, widths, kappa):
-    """``N = S (v + 2G)`` of slow cells in double-double by the back recurrence
-    ``N_k = v_k + 2 G_k - (k + 1) N_{k+1} / (h kappa)`` (``v`` from ``V`` and the low parts
-    ``V0_lo`` of its constant coefficients, ``G = G_hi + G_lo``; ``[cell, order]``, one
-    width per cell): ``(N_high, N_low)``, each step a compensated sum."""
-    D = DEGREE
-    # order first (contiguous per order: the loop runs over the orders)
-    V, G_hi, G_lo = (np.ascontiguousarray(np.moveaxis(x, -1, 0)) for x in (V, G_hi, G_lo))
-    n_high, n_low = np.zeros_like(V), np.zeros_like(V)
-    nh, nl = np.zeros(V.shape[1:]), np.zeros(V.shape[1:])
-    for k in range(D, -1, -1):
-        t = ((k + 1) / widths * (nh + nl)) / kappa
-        vk, gh = V[k], 2.0 * G_hi[k]
-        s1 = vk + gh
-        bb = s1 - vk
-        e1 = (vk - (s1 - bb)) + (gh - bb)
-        s2 = s1 - t
-        bb = s2 - s1
-        e2 = (s1 - (s2 - bb)) + (-t - bb)
-        low = (e1 + e2) + (2.0 * G_lo[k] + (V0_lo if k == 0 else 0.0))
-        nh = s2 + low
-        nl = low - (nh - s2)
-        n_high[k], n_low[k] = nh, nl
-    return np.moveaxis(n_high, 0, -1), np.moveaxis(n_low, 0, -1)
-
-
-def _matvec(M: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """``M_c x_c`` per cell ``c`` (a matrix product per cell: the same bits whatever the
-    number of cells)."""
-    return (M @ x[..., None])[..., 0]
-
-
-def _slow_cells(y0, v0, force, G_hi, G_lo, widths, kappa, operators, factors):
-    """``(Y, V)`` of slow cells (``[..., cell, order]``, one width per cell) from their starts
-    ``y0, v0`` (float) and incoming waves ``G_hi + G_lo``: the linear solve, then one
-    Gauss-Seidel sweep (``N_k`` from the new ``v_k`` and the solve's ``N_{k+1}``, in
-    double-double, then ``v_{k+1} = h (f delta_{k0} - N_k)/(alpha (k+1))``), all cells at
-    once; ``operators = (S, inverse)`` and ``factors = (c_v, c_y)`` per cell."""
-    D = DEGREE
-    S, inverse = operators
-    c_v, c_y = factors
-    twice_g = 2.0 * (G_hi + G_lo)
-    rhs = -_matvec(S, twice_g)[..., :D]
-    rhs[..., 0] += force - v0
-    V = np.empty_like(G_hi)
-    V[..., 0] = v0
-    V[..., 1:] = _matvec(inverse, rhs)
-    old = _matvec(S, V + twice_g)
-    # the sweep order by order, on order-first copies (contiguous per order)
-    gh, gl, old, V = (
-        np.ascontiguousarray(np.moveaxis(x, -1, 0)) for x in (2.0 * G_hi, 2.0 * G_lo, old, V)
-    )
-    c_v = np.ascontiguousarray(c_v.T)
-    fk = force
-    for k in range(D):
-        vk = V[k]
-        t = ((k + 1) / widths * old[k + 1]) / kappa
-        s1 = vk + gh[k]
-        bb = s1 - vk
-        e1 = (vk - (s1 - bb)) + (gh[k] - bb)
-        s2 = s1 - t
-        bb = s2 - s1
-        e2 = (s1 - (s2 - bb)) + (-t - bb)
-        low = (e1 + e2) + gl[k]
-        nh = s2 + low
-        V[k + 1] = c_v[k] * ((fk - nh) - (low - (nh - s2)))
-        fk = 0.0
-    V = np.moveaxis(V, 0, -1)
-    Y = np.empty((*V.shape[:-1], D + 2))
-    Y[..., 0] = y0
-    Y[..., 1:] = c_y * V
-    return Y, V
 
 
 class ManifoldTable(TaylorTable):
@@ -425,7 +337,7 @@ class ManifoldTable(TaylorTable):
         # unit G_k (as 2 G) and to a unit force, as the right-hand sides of the solve
         if wide.size:
             sizes, which = np.unique(widths[wide], return_inverse=True)
-            ops = [_slow_operator(alpha, kappa, w) for w in sizes]
+            ops = [slow_operator(alpha, w, kappa=kappa) for w in sizes]
             s_op, inv = np.array([o[0] for o in ops]), np.array([o[1] for o in ops])
             S[:], inverse[:] = s_op[which], inv[which]
             c_y = sizes[:, None] / np.arange(1, D + 2)
@@ -603,13 +515,13 @@ def _build_intervals(tables: list, intervals: list) -> None:
         # the slow cells of both right-hand sides: [rhs, cell, order]
         y0, v0 = (starts[:, sj, sc, i] for i in (0, 1))
         gh, gl = g_hi[:, sj, sc], g_lo[:, sj, sc]
-        Y[:, sj, sc], V[:, sj, sc] = _slow_cells(
-            y0, v0, force[:, None], gh, gl, batch.widths, batch.kappa, batch.operators,
-            batch.factors,
+        Y[:, sj, sc], V[:, sj, sc] = slow_cells(
+            y0, v0, force[:, None], gh, gl, batch.widths, batch.operators, batch.factors,
+            kappa=batch.kappa,
         )  # fmt: skip
         # N on the slow manifold in double-double (its low parts: part of the cell)
-        N[:, sj, sc], N_lo[:, sj, sc] = _manifold_forces(
-            V[:, sj, sc], np.zeros(y0.shape), gh, gl, batch.widths, batch.kappa
+        N[:, sj, sc], N_lo[:, sj, sc] = manifold_forces(
+            V[:, sj, sc], np.zeros(y0.shape), gh, gl, batch.widths, kappa=batch.kappa
         )
         chains = [X.reshape(2 * J, width, -1) for X in (Y, V, N)]
         return chains, (None, None, N_lo.reshape(2 * J, width, -1))
