@@ -233,8 +233,7 @@ def force_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=N
     V_lo, N_lo = lows
     D = DEGREE
     first = start * n  # the first cell bounded
-    if (start > 0) != (carry is not None):
-        raise ValueError("force_bounds: a carry goes with start > 0, and only then")
+    _check_carry("force_bounds", start, carry)
     n_low_all = _full_low(N_lo, N)
     dG_raw = _incoming_wave_defect(N, n_low_all, G_hi, G_lo, n, start, carry)
     dG = dG_raw * (1.0 + 1e-9)  # (0 on interval 0: G = 0 there)
@@ -245,10 +244,7 @@ def force_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=N
     ]
     V, N, G_hi, G_lo = (x[:, first:] for x in (V, N, G_hi, G_lo))
     V_lo, N_lo = (x[:, first:] for x in (V_lo, N_lo))
-    if np.ndim(h):
-        h = np.asarray(h)[first:]
-    kp1 = np.arange(D + 1) + 1.0
-    hc = h if np.ndim(h) == 0 else np.asarray(h)[:, None]
+    h, hc, kp1 = _widths_from(h, first)
     pad = np.zeros_like(V[..., :1])
     v_next = np.concatenate([V[..., 1:], pad], axis=-1)
     n_next = np.concatenate([N[..., 1:], pad], axis=-1)
@@ -317,14 +313,10 @@ def displacement_bounds(alpha, h, arrays, lows, coupling, n, *, kappa, start=0, 
     Y_lo, V_lo = lows
     D = DEGREE
     first = start * n  # the first cell bounded
-    if (start > 0) != (carry is not None):
-        raise ValueError("displacement_bounds: a carry goes with start > 0, and only then")
+    _check_carry("displacement_bounds", start, carry)
     before = (Y[:, first - 1 : first], Y_lo[:, first - 1 : first]) if first else None
     Y, V, Y_lo, V_lo = (x[:, first:] for x in (Y, V, Y_lo, V_lo))
-    if np.ndim(h):
-        h = np.asarray(h)[first:]
-    kp1 = np.arange(D + 1) + 1.0
-    hc = h if np.ndim(h) == 0 else np.asarray(h)[:, None]
+    h, hc, kp1 = _widths_from(h, first)
     v_low = _full_low(V_lo, V)
     # r0 = y' - v
     p, e = two_prod(kp1 / hc, Y[..., 1:])
@@ -350,6 +342,20 @@ def displacement_bounds(alpha, h, arrays, lows, coupling, n, *, kappa, start=0, 
     horner_y = _EPS * (D + 5) * np.abs(Y).sum(axis=-1) + _abs_low(Y_lo)
     err_y_a, err_y_b = (e_y + horner_y) * margin
     return (err_y_a, err_y_b), (sigma_sum[:, -1:], v_sum[:, -1:])
+
+
+def _check_carry(name: str, start: int, carry) -> None:
+    if (start > 0) != (carry is not None):
+        raise ValueError(f"{name}: a carry goes with start > 0, and only then")
+
+
+def _widths_from(h, first: int):
+    """``(h, hc, kp1)`` of the cells from ``first`` on: the width (one, or one per cell),
+    as a column to broadcast over the orders, and ``k + 1`` per order."""
+    if np.ndim(h):
+        h = np.asarray(h)[first:]
+    hc = h if np.ndim(h) == 0 else np.asarray(h)[:, None]
+    return h, hc, np.arange(DEGREE + 1) + 1.0
 
 
 def _running_sum(x: np.ndarray, before: np.ndarray | None) -> np.ndarray:
