@@ -8,8 +8,8 @@ stiff springs where its bound certifies every cell, else the float64 Taylor tabl
 (:mod:`impactsym.rod.elastic.cells`). Where a cell's
 proven error exceeds ``TABLE_TOLERANCE`` the pole sums (:mod:`impactsym.rod.elastic.poles`)
 stand in, with their own bounds. On the slow-manifold tables the first cells of each
-reflection interval whose polynomials their Bernstein coefficients prove positive are
-not searched (:func:`_positive_prefix`: where ``N`` nearly touches zero at a reflection
+reflection interval whose polynomials (of ``N``) their Bernstein coefficients prove
+positive are not searched (:func:`_positive_prefix`: where ``N`` nearly touches zero at a reflection
 time, its second derivative ``~ kappa^2``, the search's halving needs a dozen rounds to
 prove what the coefficients show at once). Internal: used by
 :mod:`impactsym.rod.contact_times`; see
@@ -146,9 +146,10 @@ def _joint_search_steps(groups, which, t_max):
         cells = {g: np.flatnonzero((tables[g].lo >= start) & (tables[g].lo < end)) for g in present}
         bases = {g: np.append(tables[g].lo[cells[g]], end) for g in present}
         # the cells of the interval's start proved positive on their polynomials (their
-        # Bernstein coefficients): the search starts after them, per pair
+        # Bernstein coefficients): the search starts after them, per pair (N only: y'' is
+        # moderate at a reflection time, its search halves nothing there)
         skip = np.zeros(fm.size, dtype=np.int64)
-        if m > 0:
+        if m > 0 and which == "N":
             for g in present:
                 mine = active[owner[active] == g]
                 skip[mine] = _positive_prefix(tables[g], cells[g], fm[mine])
