@@ -44,6 +44,16 @@ gets Taylor cells graded as the layer's (88 per interval, not 256); the bound's 
 along the coefficients by pairwise two-sums. Where the time goes now (a profile of the
 six maps): building the cells 29 %, their bound 30 % (``cell_bounds``: proportional to
 the cells, the exact residuals and jumps), the search 34 %, setting up the tables 6 %.
+Then (h33stiff2), main and this branch in turns: at load 2, two runs each, main
+1.00-1.01/0.79-0.82, 0.95-0.98/0.79-0.81, 0.93-0.94/0.82-0.83; now 0.86-0.87/0.81-0.82,
+0.83-0.86/0.81-0.83, 0.84-0.86/0.84-0.86 (the search alone for ``N`` 0.29-0.33 ->
+0.26-0.29); at load 4-4.6, four runs each, ``N`` 0.98-1.09 -> 0.85-0.97. ``N`` under
+the target, ``y`` as before (0-3 % slower: its bound in a second call). What changed: a
+search for ``N`` bounds only ``N`` (the bound of ``y``, a quarter of the bound, is
+computed when ``y`` is asked for, the same bits); the first cells of each reflection
+interval that their Bernstein coefficients prove ``N > 0`` are not searched (``N``
+nearly touches zero at some reflection times while ``N'' ~ kappa^2``: the halving
+took a dozen rounds there).
 
 Times are CPU seconds of this process (``time.process_time``), robust against a
 loaded machine; ``--repeat k`` quotes the best of ``k`` runs of the certified search.

@@ -103,20 +103,23 @@ def test_the_layer_widens_as_its_transient_decays(k):
 @pytest.mark.parametrize(("array", "offset"), [("N", 0), ("N", 1), ("V", 2), ("Y", 1)])
 def test_a_planted_error_on_a_slow_cell_shows_in_the_bound(monkeypatch, array, offset):
     """Spoil one stored coefficient of the first wide cell after the layer (offset 0: its
-    constant coefficient, a jump) by 1e-8: the bound must still contain the truth, and
-    the cells after it (where it matters) must no longer pass as certified."""
+    constant coefficient, a jump) by 1e-8 once the cells are built, before they are
+    bounded: the bound must still contain the truth, and the cells after it (where it
+    matters) must no longer pass as certified. The table is bounded for ``N`` first, and
+    for ``y`` only when its view asks (as a search for ``N`` leaves it)."""
     a, k, force = 1.0, 1e3, 0.5
     _, layer = interval_mesh(a, kappa=k)
     cell = int(np.flatnonzero(~layer)[0]) + 1
-    original = taylor.cell_bounds  # the bound both tables call (TaylorTable._bound)
+    original = ManifoldTable._bound  # the bound of N; y's comes later, on the same arrays
 
-    def spoiled(alpha, h, arrays, *rest, kappa, **options):
-        Y, V, N = arrays
-        {"N": N, "V": V, "Y": Y}[array][:, cell, offset] += 1e-8
-        return original(alpha, h, arrays, *rest, kappa=kappa, **options)
+    def spoiled(self, begin, end):
+        self._arrays[array][:, cell, offset] += 1e-8
+        original(self, begin, end)
 
-    monkeypatch.setattr(taylor, "cell_bounds", spoiled)
-    table = ManifoldTable(a, k, 2)
+    monkeypatch.setattr(ManifoldTable, "_bound", spoiled)
+    table = ManifoldTable(a, k, 2, lazy=True)
+    table.extend(2, which="N")
+    assert np.all(np.isinf(table.err_y_a))  # y not bounded yet: nothing certified
     rng = np.random.default_rng(5)
     for which in ("N", "y"):
         reference = pole_model(which, a, kappa=k, n_terms=2, dps=60)
@@ -220,6 +223,38 @@ def test_a_table_built_interval_by_interval_is_the_table_built_at_once(a, k, ste
             i = np.arange(part.lo.size)
             assert np.array_equal(part.err_a, full.err_a[i])
             assert np.array_equal(part.d2_b, full.d2_b[i])
+
+
+@pytest.mark.parametrize(("a", "k"), [(0.1, 100.0), (1.0, 1e4), (3.0, 1e3)])
+def test_the_bound_of_y_asked_for_late_is_the_bound_computed_with_n(a, k):
+    """A search for ``N`` bounds only ``N`` (``which="N"``): ``err_y`` stays ``inf`` (not
+    certified) until ``y`` is asked for, in whatever steps, and is then the bound of the
+    table bounded for both at once, to the last bit (the running sums of ``y`` carried on
+    from where its bound stopped, not from where ``N``'s did)."""
+    whole = ManifoldTable(a, k, 8)
+    table = ManifoldTable(a, k, 8, lazy=True)
+    n = table.cells_per_interval
+    table.extend(3, which="N")
+    assert np.all(np.isinf(table.err_y_a))
+    assert np.all(np.isinf(table.err_y_b))
+    assert np.array_equal(table.err_n_b, whole.err_n_b[: 3 * n])
+    table.extend(2, which="y")  # y on the first two intervals only
+    assert np.array_equal(table.err_y_a[: 2 * n], whole.err_y_a[: 2 * n])
+    assert np.all(np.isinf(table.err_y_b[2 * n :]))
+    table.extend(6, which="N")
+    view = table.view("y", n_intervals=5)  # y on intervals 3 .. 5 (N built to 6)
+    assert np.array_equal(view.err_b, whole.err_y_b[: 5 * n])
+    assert np.all(np.isinf(table.err_y_a[5 * n :]))
+    table.extend(8)
+    for name in ("N_a", "Y_b", "err_n_a", "err_n_b", "err_y_a", "err_y_b"):
+        assert np.array_equal(getattr(table, name), getattr(whole, name)), name
+
+
+@pytest.mark.parametrize("which", ["x", (), ("N", "v"), "yN"])
+def test_extend_refuses_an_unknown_function(which):
+    table = ManifoldTable(1.0, 1e3, 2, lazy=True)
+    with pytest.raises(ValueError, match="which"):
+        table.extend(1, which=which)
 
 
 def test_an_interrupted_extension_leaves_the_table_as_it_was(monkeypatch):

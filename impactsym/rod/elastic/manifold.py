@@ -60,6 +60,7 @@ import numpy as np
 
 from impactsym.rod.elastic import taylor
 from impactsym.rod.elastic.chain import cell_chain, scan_stages, stacked_stages
+from impactsym.rod.elastic.slow import manifold_forces, slow_cells, slow_operator
 from impactsym.rod.elastic.taylor import (
     DEGREE,
     TaylorTable,
@@ -162,95 +163,6 @@ def cells_per_interval_manifold(alpha: float, *, kappa: float) -> int | None:
     return None if mesh is None else mesh[0].size
 
 
-def _slow_operator(alpha: float, kappa: float, width: float):
-    """``S`` (``N = S (v + 2G)`` on coefficients in ``xi``, degree ``DEGREE``) and the
-    inverse of the matrix of ``alpha v' + N = f`` in ``v_1 .. v_D`` (``v_0`` given)."""
-    D = DEGREE
-    eps = 1.0 / (width * kappa)
-    # S[j, i] = prod_{l = j+1 .. i} (-eps l): running products along each row (above
-    # the diagonal; ones on and below it multiply exactly), the same products in order
-    order = np.arange(D + 1)
-    factors = np.where(order[None, :] > order[:, None], -eps * order[None, :], 1.0)
-    S = np.triu(np.cumprod(factors, axis=1))
-    M = S[:D, 1:].copy()
-    M[np.arange(D), np.arange(D)] += alpha * np.arange(1, D + 1) / width
-    return S, np.linalg.inv(M)
-
-
-def _manifold_forces(V, V0_lo, G_hi, G_lo, widths, kappa):
-    """``N = S (v + 2G)`` of slow cells in double-double by the back recurrence
-    ``N_k = v_k + 2 G_k - (k + 1) N_{k+1} / (h kappa)`` (``v`` from ``V`` and the low parts
-    ``V0_lo`` of its constant coefficients, ``G = G_hi + G_lo``; ``[cell, order]``, one
-    width per cell): ``(N_high, N_low)``, each step a compensated sum."""
-    D = DEGREE
-    # order first (contiguous per order: the loop runs over the orders)
-    V, G_hi, G_lo = (np.ascontiguousarray(np.moveaxis(x, -1, 0)) for x in (V, G_hi, G_lo))
-    n_high, n_low = np.zeros_like(V), np.zeros_like(V)
-    nh, nl = np.zeros(V.shape[1:]), np.zeros(V.shape[1:])
-    for k in range(D, -1, -1):
-        t = ((k + 1) / widths * (nh + nl)) / kappa
-        vk, gh = V[k], 2.0 * G_hi[k]
-        s1 = vk + gh
-        bb = s1 - vk
-        e1 = (vk - (s1 - bb)) + (gh - bb)
-        s2 = s1 - t
-        bb = s2 - s1
-        e2 = (s1 - (s2 - bb)) + (-t - bb)
-        low = (e1 + e2) + (2.0 * G_lo[k] + (V0_lo if k == 0 else 0.0))
-        nh = s2 + low
-        nl = low - (nh - s2)
-        n_high[k], n_low[k] = nh, nl
-    return np.moveaxis(n_high, 0, -1), np.moveaxis(n_low, 0, -1)
-
-
-def _matvec(M: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """``M_c x_c`` per cell ``c`` (a matrix product per cell: the same bits whatever the
-    number of cells)."""
-    return (M @ x[..., None])[..., 0]
-
-
-def _slow_cells(y0, v0, force, G_hi, G_lo, widths, kappa, operators, factors):
-    """``(Y, V)`` of slow cells (``[..., cell, order]``, one width per cell) from their starts
-    ``y0, v0`` (float) and incoming waves ``G_hi + G_lo``: the linear solve, then one
-    Gauss-Seidel sweep (``N_k`` from the new ``v_k`` and the solve's ``N_{k+1}``, in
-    double-double, then ``v_{k+1} = h (f delta_{k0} - N_k)/(alpha (k+1))``), all cells at
-    once; ``operators = (S, inverse)`` and ``factors = (c_v, c_y)`` per cell."""
-    D = DEGREE
-    S, inverse = operators
-    c_v, c_y = factors
-    twice_g = 2.0 * (G_hi + G_lo)
-    rhs = -_matvec(S, twice_g)[..., :D]
-    rhs[..., 0] += force - v0
-    V = np.empty_like(G_hi)
-    V[..., 0] = v0
-    V[..., 1:] = _matvec(inverse, rhs)
-    old = _matvec(S, V + twice_g)
-    # the sweep order by order, on order-first copies (contiguous per order)
-    gh, gl, old, V = (
-        np.ascontiguousarray(np.moveaxis(x, -1, 0)) for x in (2.0 * G_hi, 2.0 * G_lo, old, V)
-    )
-    c_v = np.ascontiguousarray(c_v.T)
-    fk = force
-    for k in range(D):
-        vk = V[k]
-        t = ((k + 1) / widths * old[k + 1]) / kappa
-        s1 = vk + gh[k]
-        bb = s1 - vk
-        e1 = (vk - (s1 - bb)) + (gh[k] - bb)
-        s2 = s1 - t
-        bb = s2 - s1
-        e2 = (s1 - (s2 - bb)) + (-t - bb)
-        low = (e1 + e2) + gl[k]
-        nh = s2 + low
-        V[k + 1] = c_v[k] * ((fk - nh) - (low - (nh - s2)))
-        fk = 0.0
-    V = np.moveaxis(V, 0, -1)
-    Y = np.empty((*V.shape[:-1], D + 2))
-    Y[..., 0] = y0
-    Y[..., 1:] = c_y * V
-    return Y, V
-
-
 class ManifoldTable(TaylorTable):
     """``y`` and ``N`` for one ``(alpha, kappa)`` of a stiff spring on ``[0, 2 n_intervals]``:
     the attributes and :meth:`view` of :class:`impactsym.rod.elastic.taylor.TaylorTable`,
@@ -260,7 +172,11 @@ class ManifoldTable(TaylorTable):
     :meth:`extend` asks (the attributes and views hold the intervals built); the cells,
     coefficients and bounds of an interval do not depend on later ones (the bound
     accumulates forward), so they are the same, to the last bit, however far the table
-    is built and in how many steps."""
+    is built and in how many steps. The bound of ``y`` (a quarter of the bound's work,
+    :func:`impactsym.rod.elastic.taylor.displacement_bounds`) is computed only when asked
+    for (``which`` of :meth:`extend`, a view of ``y``): until then ``err_y_a, err_y_b``
+    are ``inf`` on the cells built (nothing certified), after it the same bits as when
+    bounded with ``N``."""
 
     def __init__(self, alpha: float, kappa: float, n_intervals: int, *, lazy: bool = False):
         self.alpha, self.kappa = check_table_arguments(alpha, kappa=kappa, n_intervals=n_intervals)
@@ -285,8 +201,12 @@ class ManifoldTable(TaylorTable):
             **{name: np.zeros((2, total, D + 1)) for name in ("V", "V_lo", "N", "N_lo")},
             **{name: np.zeros((2, total, D + 1)) for name in ("G_hi", "G_lo")},
         }
+        # err_y_a, err_y_b, err_n_a, err_n_b; y's inf until bounded (built_y intervals)
         self._errors = np.zeros((4, total))
-        self._carry = None
+        self._errors[:2] = np.inf
+        # what the bound of y needs of N's (taylor.force_bounds), per cell
+        self._coupling = np.zeros((3, 2, total))
+        self._carry, self._carry_y, self.built_y = None, None, 0
         self._lock = threading.Lock()
         # (y, v, N) at the next interval's start, high and low parts, per right-hand side
         # (replaced, never changed in place)
@@ -296,11 +216,16 @@ class ManifoldTable(TaylorTable):
         if not lazy:
             self.extend(n_intervals)
 
-    def extend(self, n_intervals: int) -> None:
-        """Build and bound the intervals up to ``n_intervals`` (at most the table's); one
-        thread at a time (a cached table is shared), the intervals built never change."""
+    def extend(self, n_intervals: int, *, which: str | tuple = ("y", "N")) -> None:
+        """Build and bound the intervals up to ``n_intervals`` (at most the table's): the
+        bound of ``N`` always, that of ``y`` if ``"y"`` is in ``which``; one thread at a
+        time (a cached table is shared), the intervals built never change."""
+        bound_y = _bounds_y(which)
         with self._lock:
-            self._extend(min(n_intervals, self.n_intervals))
+            end = min(n_intervals, self.n_intervals)
+            self._extend(end)
+            if bound_y:
+                self._bound_y(end)
 
     def _extend(self, end: int) -> None:
         if end <= self.built:
@@ -316,30 +241,49 @@ class ManifoldTable(TaylorTable):
         self._bound(begin, end)
 
     def _bound(self, begin: int, end: int) -> None:
-        """Bound the intervals ``begin .. end - 1`` (built), carrying the running sums on."""
+        """Bound ``N`` on the intervals ``begin .. end - 1`` (built), carrying the running
+        sums on (:func:`impactsym.rod.elastic.taylor.force_bounds`)."""
         n, a = self.cells_per_interval, self._arrays
-        upto = slice(0, end * n)
-        arrays = tuple(a[name][:, upto] for name in ("Y", "V", "N"))
-        lows = tuple(a[name][:, upto] for name in ("Y_lo", "V_lo", "N_lo"))
+        upto, cells = slice(0, end * n), slice(begin * n, end * n)
+        arrays = tuple(a[name][:, upto] for name in ("V", "N"))
+        lows = tuple(a[name][:, upto] for name in ("V_lo", "N_lo"))
         incoming = (a["G_hi"][:, upto], a["G_lo"][:, upto])
-        bounds, self._carry = taylor.cell_bounds(
+        bounds, self._coupling[:, :, cells], self._carry = taylor.force_bounds(
             self.alpha, self._h[upto], arrays, lows, incoming, n,
             kappa=self.kappa, start=begin, carry=self._carry,
         )  # fmt: skip
-        self._errors[:, begin * n : end * n] = bounds
+        self._errors[2:, cells] = bounds
         self.built = end
+        self._expose()
+
+    def _bound_y(self, end: int) -> None:
+        """Bound ``y`` on the intervals ``built_y .. end - 1`` (``N`` bounded there), the
+        running sums carried on (:func:`impactsym.rod.elastic.taylor.displacement_bounds`)."""
+        begin = self.built_y
+        if end <= begin:
+            return
+        n, a = self.cells_per_interval, self._arrays
+        upto, cells = slice(0, end * n), slice(begin * n, end * n)
+        arrays = tuple(a[name][:, upto] for name in ("Y", "V"))
+        lows = tuple(a[name][:, upto] for name in ("Y_lo", "V_lo"))
+        bounds, self._carry_y = taylor.displacement_bounds(
+            self.alpha, self._h[upto], arrays, lows, self._coupling[:, :, cells], n,
+            kappa=self.kappa, start=begin, carry=self._carry_y,
+        )  # fmt: skip
+        self._errors[:2, cells] = bounds
+        self.built_y = end
         self._expose()
 
     def view(self, which: str, *, n_intervals: int | None = None) -> TaylorView:
         """:meth:`TaylorTable.view` over the first ``n_intervals`` reflection intervals
         (default: all of them), built first as far as that."""
-        if n_intervals is None:
-            self.extend(self.n_intervals)
-            return super().view(which)
-        self.extend(n_intervals)
-        upto = slice(0, min(n_intervals, self.n_intervals) * self.cells_per_interval)
         if which not in ("y", "N"):
             raise ValueError(f"which must be 'y' or 'N', got {which!r}")
+        if n_intervals is None:
+            self.extend(self.n_intervals, which=which)
+            return super().view(which)
+        self.extend(n_intervals, which=which)
+        upto = slice(0, min(n_intervals, self.n_intervals) * self.cells_per_interval)
         prefix = SimpleNamespace(lo=self.lo[upto], hi=self.hi[upto], h=self.h[upto])
         arrays = (self.Y_a, self.Y_b, self.err_y_a, self.err_y_b)
         if which == "N":
@@ -393,7 +337,7 @@ class ManifoldTable(TaylorTable):
         # unit G_k (as 2 G) and to a unit force, as the right-hand sides of the solve
         if wide.size:
             sizes, which = np.unique(widths[wide], return_inverse=True)
-            ops = [_slow_operator(alpha, kappa, w) for w in sizes]
+            ops = [slow_operator(alpha, w, kappa=kappa) for w in sizes]
             s_op, inv = np.array([o[0] for o in ops]), np.array([o[1] for o in ops])
             S[:], inverse[:] = s_op[which], inv[which]
             c_y = sizes[:, None] / np.arange(1, D + 2)
@@ -429,13 +373,22 @@ class ManifoldTable(TaylorTable):
         _build_intervals([self], [m])
 
 
-def extend_tables(tables: list, n_intervals: list) -> None:
-    """Internal: :meth:`ManifoldTable.extend` of ``tables[j]`` to ``n_intervals[j]`` for
-    all of them together: interval by interval, the tables that need one more built at
-    once (:func:`_build_intervals`: a NumPy operation on the cells of all of them, not one
-    per table), then each bounded. Holds every table's lock meanwhile (taken in one order
-    by every caller: no deadlock); a table's intervals are the same to the last bit as
-    when built alone."""
+def _bounds_y(which: str | tuple) -> bool:
+    """Whether ``which`` (``"y"``, ``"N"`` or a tuple of them) asks for the bound of ``y``."""
+    parts = (which,) if isinstance(which, str) else tuple(which)
+    if not parts or any(part not in ("y", "N") for part in parts):
+        raise ValueError(f"which must be 'y', 'N' or a tuple of them, got {which!r}")
+    return "y" in parts
+
+
+def extend_tables(tables: list, n_intervals: list, *, which: str | tuple = ("y", "N")) -> None:
+    """Internal: :meth:`ManifoldTable.extend` of ``tables[j]`` to ``n_intervals[j]`` (and
+    ``which``) for all of them together: interval by interval, the tables that need one
+    more built at once (:func:`_build_intervals`: a NumPy operation on the cells of all of
+    them, not one per table), then each bounded. Holds every table's lock meanwhile (taken
+    in one order by every caller: no deadlock); a table's intervals are the same to the
+    last bit as when built alone."""
+    bound_y = _bounds_y(which)
     wanted: dict = {}
     for table, n in zip(tables, n_intervals, strict=True):
         wanted[table] = max(wanted.get(table, 0), min(n, table.n_intervals))
@@ -457,6 +410,9 @@ def extend_tables(tables: list, n_intervals: list) -> None:
             raise
         for table in todo:
             table._bound(table.built, wanted[table])
+        if bound_y:
+            for table in order:
+                table._bound_y(wanted[table])
 
 
 #: The data of the last few batches (:func:`_batch`): ``ids -> (weak references, data)``.
@@ -559,13 +515,13 @@ def _build_intervals(tables: list, intervals: list) -> None:
         # the slow cells of both right-hand sides: [rhs, cell, order]
         y0, v0 = (starts[:, sj, sc, i] for i in (0, 1))
         gh, gl = g_hi[:, sj, sc], g_lo[:, sj, sc]
-        Y[:, sj, sc], V[:, sj, sc] = _slow_cells(
-            y0, v0, force[:, None], gh, gl, batch.widths, batch.kappa, batch.operators,
-            batch.factors,
+        Y[:, sj, sc], V[:, sj, sc] = slow_cells(
+            y0, v0, force[:, None], gh, gl, batch.widths, batch.operators, batch.factors,
+            kappa=batch.kappa,
         )  # fmt: skip
         # N on the slow manifold in double-double (its low parts: part of the cell)
-        N[:, sj, sc], N_lo[:, sj, sc] = _manifold_forces(
-            V[:, sj, sc], np.zeros(y0.shape), gh, gl, batch.widths, batch.kappa
+        N[:, sj, sc], N_lo[:, sj, sc] = manifold_forces(
+            V[:, sj, sc], np.zeros(y0.shape), gh, gl, batch.widths, kappa=batch.kappa
         )
         chains = [X.reshape(2 * J, width, -1) for X in (Y, V, N)]
         return chains, (None, None, N_lo.reshape(2 * J, width, -1))

@@ -7,13 +7,19 @@ stiff springs where its bound certifies every cell, else the float64 Taylor tabl
 (:mod:`impactsym.rod.elastic.taylor`) where the spring allows, else the mpmath cell table
 (:mod:`impactsym.rod.elastic.cells`). Where a cell's
 proven error exceeds ``TABLE_TOLERANCE`` the pole sums (:mod:`impactsym.rod.elastic.poles`)
-stand in, with their own bounds. Internal: used by :mod:`impactsym.rod.contact_times`; see
+stand in, with their own bounds. On the slow-manifold tables the first cells of each
+reflection interval whose polynomials (of ``N``) their Bernstein coefficients prove
+positive are not searched (:func:`_positive_prefix`: where ``N`` nearly touches zero at a reflection
+time, its second derivative ``~ kappa^2``, the search's halving needs a dozen rounds to
+prove what the coefficients show at once). Internal: used by
+:mod:`impactsym.rod.contact_times`; see
 docs/physics.md#finite-contact-stiffness-three-methods.
 """
 
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -88,7 +94,9 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
         try:
             needs = next(steps)
             while True:
-                extend_tables([stiff[g][0].table for g in needs], [needs[g] for g in needs])
+                extend_tables(
+                    [stiff[g][0].table for g in needs], [needs[g] for g in needs], which=which
+                )
                 needs = steps.send(None)
         except StopIteration as stop:
             times = stop.value
@@ -135,10 +143,16 @@ def _joint_search_steps(groups, which, t_max):
         if active.size == 0:
             continue
         present = np.unique(owner[active])
-        bases = {
-            g: np.append(tables[g].lo[(tables[g].lo >= start) & (tables[g].lo < end)], end)
-            for g in present
-        }
+        cells = {g: np.flatnonzero((tables[g].lo >= start) & (tables[g].lo < end)) for g in present}
+        bases = {g: np.append(tables[g].lo[cells[g]], end) for g in present}
+        # the cells of the interval's start proved positive on their polynomials (their
+        # Bernstein coefficients): the search starts after them, per pair (N only: y'' is
+        # moderate at a reflection time, its search halves nothing there)
+        skip = np.zeros(fm.size, dtype=np.int64)
+        if m > 0 and which == "N":
+            for g in present:
+                mine = active[owner[active] == g]
+                skip[mine] = _positive_prefix(tables[g], cells[g], fm[mine])
 
         def split(pairs, present=present):  # the positions of pairs per group
             return [(g, np.flatnonzero(owner[pairs] == g)) for g in present]
@@ -158,9 +172,9 @@ def _joint_search_steps(groups, which, t_max):
                     out[at] = searches[g][1](ta[at], tb[at], local[pairs[at]], *cut)
             return out
 
-        def search(pos, bases=bases, active=active, evaluate=evaluate, bound=bound):
+        def search(pos, bases=bases, active=active, evaluate=evaluate, bound=bound, skip=skip):
             pairs = active[pos]
-            nodes = [bases[g] for g in owner[pairs]]
+            nodes = [bases[g][k:] for g, k in zip(owner[pairs], skip[pairs], strict=True)]
             return first_sign_change(
                 lambda t, own: _deeper(evaluate(t, pairs[own])),
                 lambda ta, tb, own, *ends: bound(ta, tb, pairs[own], *ends),
@@ -180,6 +194,50 @@ def _joint_search_steps(groups, which, t_max):
         result[active[hit]] = _zero_before(evaluate, roots[hit], active[hit], start)
         active = active[~hit]
     return [None if refused[g] else result[offset[g] : offset[g + 1]] for g in range(len(groups))]
+
+
+#: Cells at the start of a reflection interval tried by :func:`_positive_prefix`.
+_PREFIX_CELLS = 8
+_U = 2.0**-53  # unit roundoff
+
+
+@lru_cache(maxsize=4)
+def _bernstein_weights(degree: int) -> np.ndarray:
+    """``W[j, k] = C(j, k) / C(degree, k)`` (``k <= j``, else 0), correctly rounded: the
+    Bernstein coefficients of ``sum c_k xi^k`` on ``[0, 1]`` are ``W c``, each in [0, 1]."""
+    return np.array(
+        [
+            [math.comb(j, k) / math.comb(degree, k) if k <= j else 0.0 for k in range(degree + 1)]
+            for j in range(degree + 1)
+        ]
+    )
+
+
+def _positive_prefix(table, cells, forces):
+    """Per force, how many of the first cells ``cells`` (a reflection interval's, in order)
+    of ``table`` are proved positive before the first one that is not, so that the search
+    may start after them.
+
+    A cell counts if it and the next cell are certified (``TABLE_TOLERANCE`` each) and the
+    exact polynomial ``p = A + f B`` exceeds ``4 u (|A_0| + |f B_0|)`` of the next cell on
+    it: ``p`` is at least the least of its Bernstein coefficients ``W c`` on ``[0, 1]``,
+    which float computes within ``32 u sum_k (|A_k| + |f B_k|)`` (``c_k`` within ``2 u``
+    of its terms, ``W`` within ``u``, the sum of 25 or 26 products within ``gamma_26``). So
+    ``g > -TABLE_TOLERANCE`` there, and the next cell starts above ``-DEPTH`` (the two
+    polynomials within ``DEPTH`` of each other at the node), also as the search evaluates
+    it (rounding ``2 u (|A_0| + |f B_0|)``): a sign change at ``-DEPTH`` cannot lie in
+    the cells skipped, nor at their end."""
+    index = cells[: _PREFIX_CELLS + 1]
+    f = forces[:, None]
+    A, B = table.A[index], table.B[index]  # [cell, order]
+    size = np.abs(A).sum(axis=-1) + np.abs(f) * np.abs(B).sum(axis=-1)  # [force, cell]
+    least = ((A + f[..., None] * B) @ _bernstein_weights(A.shape[-1] - 1).T).min(axis=-1)
+    lower = least - 32.0 * _U * size
+    head = np.abs(A[:, 0]) + np.abs(f) * np.abs(B[:, 0])
+    ok = table.certified(index, f, TABLE_TOLERANCE)
+    proved = ok[:, :-1] & ok[:, 1:] & (lower[:, :-1] > 4.0 * _U * head[:, 1:])
+    # the first cell not proved (the prefix's length)
+    return np.argmin(np.concatenate([proved, np.zeros((forces.size, 1), bool)], axis=1), axis=1)
 
 
 def _other_table(which, ag, kg, fm, t_max, method):

@@ -190,7 +190,8 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=No
     """Internal: proven bounds ``(err_y_a, err_y_b, err_n_a, err_n_b)`` per cell of stored
     polynomials of the delay equations, from their residuals, jumps and the energy bound
     (docs/physics.md#finite-contact-stiffness-three-methods), all measured on the arrays,
-    and the ``carry`` that continues them on later intervals.
+    and the ``carry`` that continues them on later intervals: :func:`force_bounds`, then
+    :func:`displacement_bounds` on its ``coupling``.
 
     ``arrays = (Y, V, N)`` (``[rhs, cell, order]`` in ``xi = (t - lo)/h``), ``lows = (Y_lo,
     V_lo, N_lo)`` their low parts (``[rhs, cell]``: of the constant coefficients, or
@@ -206,26 +207,44 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=No
     are read for the jump into the first new cell and the incoming wave's defect.
     """
     Y, V, N = arrays
-    G_hi, G_lo = incoming
     Y_lo, V_lo, N_lo = lows
+    force_carry, displacement_carry = (None, None) if carry is None else (carry[:2], carry[2:])
+    (err_n_a, err_n_b), coupling, force_carry = force_bounds(
+        alpha, h, (V, N), (V_lo, N_lo), incoming, n, kappa=kappa, start=start, carry=force_carry
+    )
+    (err_y_a, err_y_b), displacement_carry = displacement_bounds(
+        alpha, h, (Y, V), (Y_lo, V_lo), coupling, n, kappa=kappa, start=start,
+        carry=displacement_carry,
+    )  # fmt: skip
+    return (err_y_a, err_y_b, err_n_a, err_n_b), (*force_carry, *displacement_carry)
+
+
+def force_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=None):
+    """Internal: the part of :func:`cell_bounds` that ``N`` needs, ``(err_n_a, err_n_b)``,
+    from ``arrays = (V, N)``, ``lows = (V_lo, N_lo)`` and ``incoming`` (as there): the
+    residuals of ``alpha v' = f - N`` and ``N' = kappa (v - N + 2G)``, the jumps of ``v``
+    and ``N`` and the energy bound ``q`` they drive; also the ``coupling`` of each cell
+    that :func:`displacement_bounds` needs of them (``q`` before its margin, the
+    residual's and the jump's terms of ``N`` in ``sigma``; ``[3, rhs, cell]``) and the
+    ``carry`` (``[incoming wave defect, q]``) that continues them on later intervals.
+    ``y`` does not enter: a search for ``N`` alone bounds nothing of ``y``."""
+    V, N = arrays
+    G_hi, G_lo = incoming
+    V_lo, N_lo = lows
     D = DEGREE
     first = start * n  # the first cell bounded
-    if (start > 0) != (carry is not None):
-        raise ValueError("cell_bounds: a carry goes with start > 0, and only then")
+    _check_carry("force_bounds", start, carry)
     n_low_all = _full_low(N_lo, N)
     dG_raw = _incoming_wave_defect(N, n_low_all, G_hi, G_lo, n, start, carry)
     dG = dG_raw * (1.0 + 1e-9)  # (0 on interval 0: G = 0 there)
     # the cell before the ones bounded (its end: the first jump), then those
     ends = [
         (C[:, first - 1 : first], C_lo[:, first - 1 : first]) if first else None
-        for C, C_lo in ((V, V_lo), (N, N_lo), (Y, Y_lo))
+        for C, C_lo in ((V, V_lo), (N, N_lo))
     ]
-    Y, V, N, G_hi, G_lo = (x[:, first:] for x in (Y, V, N, G_hi, G_lo))
-    Y_lo, V_lo, N_lo = (x[:, first:] for x in (Y_lo, V_lo, N_lo))
-    if np.ndim(h):
-        h = np.asarray(h)[first:]
-    kp1 = np.arange(D + 1) + 1.0
-    hc = h if np.ndim(h) == 0 else np.asarray(h)[:, None]
+    V, N, G_hi, G_lo = (x[:, first:] for x in (V, N, G_hi, G_lo))
+    V_lo, N_lo = (x[:, first:] for x in (V_lo, N_lo))
+    h, hc, kp1 = _widths_from(h, first)
     pad = np.zeros_like(V[..., :1])
     v_next = np.concatenate([V[..., 1:], pad], axis=-1)
     n_next = np.concatenate([N[..., 1:], pad], axis=-1)
@@ -233,18 +252,11 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=No
     force[1, :, 0] = 1.0
     v_low, n_low = (_full_low(low, V) for low in (V_lo, N_lo))
     n_low_next = np.concatenate([n_low[..., 1:], pad], axis=-1)
-    # r0 = y' - v
-    p, e = two_prod(kp1 / hc, Y[..., 1:])
     # with low parts of every coefficient (a few ulps: float, their rounding bounded):
     # their derivatives, by kp1/h (exact: h a power of two) and by alpha/h
-    lows_y, lows_v = [], []
-    if np.ndim(Y_lo) == 3:
-        lows_y = [(kp1 / hc) * Y_lo[..., 1:]]
+    lows_v = []
     if np.ndim(V_lo) == 3:
         lows_v = [(alpha / hc) * (kp1 * np.concatenate([V_lo[..., 1:], pad], axis=-1))]
-    r0, b0 = sum_with_bound([p, e, -V, -v_low, *lows_y], 1)
-    for z in lows_y:
-        b0 += _U * np.abs(z)
     # r1 = alpha v' - f + N
     x1, x2 = two_prod(kp1, v_next)
     p, e = two_prod(alpha / hc, x1)
@@ -269,36 +281,81 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=No
     b2 += 2.0 * kappa * dG + 5.0 * _U * sum(np.abs(z) for z in small)
     # integrals over a cell: h int_0^1 |sum r_k xi^k| <= h sum |r_k| / (k + 1)
     margin = 1.0 + 1e-9
-    i0, i1, i2 = (_cell_integral(np.abs(r) + b, h, kp1) for r, b in ((r0, b0), (r1, b1), (r2, b2)))
+    i1, i2 = (_cell_integral(np.abs(r) + b, h, kp1) for r, b in ((r1, b1), (r2, b2)))
     # jumps at the cell starts (from the end of the cell before, or the initial state)
-    j_v, j_n, j_y = (
+    j_v, j_n = (
         _jumps(C, C_lo, initial, before)
         for C, C_lo, initial, before in zip(
-            (V, N, Y),
-            (V_lo, N_lo, Y_lo),
-            (np.array([1.0, 0.0]), np.zeros(2), np.zeros(2)),
-            ends,
-            strict=True,
+            (V, N), (V_lo, N_lo), (np.array([1.0, 0.0]), np.zeros(2)), ends, strict=True
         )
     )
     sqa, sqk = math.sqrt(alpha), math.sqrt(kappa)
-    old = (None, None, None) if carry is None else carry[1:]
-    q_sum = _running_sum(i1 / sqa + i2 / sqk + sqa * j_v + j_n / sqk, old[0])
-    sigma_sum = _running_sum(i0 + i2 / kappa + j_y + j_n / kappa, old[1])
+    q_sum = _running_sum(
+        i1 / sqa + i2 / sqk + sqa * j_v + j_n / sqk, None if carry is None else carry[1]
+    )
+    e_n = sqk * (q_sum * margin)
+    # the tables hold the high parts: |low| and a Horner evaluation's rounding
+    horner_n = _EPS * (D + 4) * np.abs(N).sum(axis=-1) + _abs_low(N_lo)
+    err_n_a, err_n_b = (e_n + horner_n) * margin
+    coupling = np.stack([q_sum, i2 / kappa, j_n / kappa])
+    return (err_n_a, err_n_b), coupling, (dG_raw[:, -n:], q_sum[:, -1:])
+
+
+def displacement_bounds(alpha, h, arrays, lows, coupling, n, *, kappa, start=0, carry=None):
+    """Internal: the part of :func:`cell_bounds` that ``y`` adds, ``(err_y_a, err_y_b)``,
+    from ``arrays = (Y, V)``, ``lows = (Y_lo, V_lo)`` (as there) and the ``coupling`` of
+    :func:`force_bounds` on the same cells (from interval ``start`` on): the residual of
+    ``y' = v`` and the jumps of ``y``, then two bounds of ``e_y``, both valid, the lesser
+    kept. With ``start`` and the ``carry`` (``[sigma, v]``: the running sums) of the call
+    on the intervals before, the same bits as one call on all of them; it may come any
+    time after :func:`force_bounds` (a table bounds ``y`` only when a search asks)."""
+    Y, V = arrays
+    Y_lo, V_lo = lows
+    D = DEGREE
+    first = start * n  # the first cell bounded
+    _check_carry("displacement_bounds", start, carry)
+    before = (Y[:, first - 1 : first], Y_lo[:, first - 1 : first]) if first else None
+    Y, V, Y_lo, V_lo = (x[:, first:] for x in (Y, V, Y_lo, V_lo))
+    h, hc, kp1 = _widths_from(h, first)
+    v_low = _full_low(V_lo, V)
+    # r0 = y' - v
+    p, e = two_prod(kp1 / hc, Y[..., 1:])
+    # with low parts of every coefficient: their derivatives, by kp1/h (exact)
+    lows_y = [(kp1 / hc) * Y_lo[..., 1:]] if np.ndim(Y_lo) == 3 else []
+    r0, b0 = sum_with_bound([p, e, -V, -v_low, *lows_y], 1)
+    for z in lows_y:
+        b0 += _U * np.abs(z)
+    margin = 1.0 + 1e-9
+    i0 = _cell_integral(np.abs(r0) + b0, h, kp1)
+    j_y = _jumps(Y, Y_lo, np.zeros(2), before)
+    q_sum, i2_term, j_n_term = coupling
+    sqa, sqk = math.sqrt(alpha), math.sqrt(kappa)
+    old = (None, None) if carry is None else carry
+    sigma_sum = _running_sum(i0 + i2_term + j_y + j_n_term, old[0])
     q, sigma = q_sum * margin, sigma_sum * margin
-    e_n = sqk * q
     # two bounds of e_y, both valid: through y = u + N/kappa (tight unless the
     # spring is very soft), and e_y = int e_v with |e_v| <= q / sqrt(alpha)
-    v_sum = _running_sum(h * q / sqa + i0 + j_y, old[2])
+    v_sum = _running_sum(h * q / sqa + i0 + j_y, old[1])
     through_v = v_sum * margin
     e_y = np.minimum(q * (1.0 + 1.0 / sqk) + sigma, through_v)
     # the tables hold the high parts: |low| and a Horner evaluation's rounding
-    horner_n = _EPS * (D + 4) * np.abs(N).sum(axis=-1) + _abs_low(N_lo)
     horner_y = _EPS * (D + 5) * np.abs(Y).sum(axis=-1) + _abs_low(Y_lo)
-    err_n_a, err_n_b = (e_n + horner_n) * margin
     err_y_a, err_y_b = (e_y + horner_y) * margin
-    carry = (dG_raw[:, -n:], q_sum[:, -1:], sigma_sum[:, -1:], v_sum[:, -1:])
-    return (err_y_a, err_y_b, err_n_a, err_n_b), carry
+    return (err_y_a, err_y_b), (sigma_sum[:, -1:], v_sum[:, -1:])
+
+
+def _check_carry(name: str, start: int, carry) -> None:
+    if (start > 0) != (carry is not None):
+        raise ValueError(f"{name}: a carry goes with start > 0, and only then")
+
+
+def _widths_from(h, first: int):
+    """``(h, hc, kp1)`` of the cells from ``first`` on: the width (one, or one per cell),
+    as a column to broadcast over the orders, and ``k + 1`` per order."""
+    if np.ndim(h):
+        h = np.asarray(h)[first:]
+    hc = h if np.ndim(h) == 0 else np.asarray(h)[:, None]
+    return h, hc, np.arange(DEGREE + 1) + 1.0
 
 
 def _running_sum(x: np.ndarray, before: np.ndarray | None) -> np.ndarray:
