@@ -61,14 +61,16 @@ class PhaseSummary(ArrayRecord):
 
 def phase_summary(
     k: Any, d: Any, tau: Any, m: Any, g: Any, v: Any, h: Any, *, approximation: str,
-    bounds: bool = True,
+    bounds: bool = True, stuck_peaks: bool = True,
 ) -> PhaseSummary:  # fmt: skip
     """Mean over the touch phase and bounds over every phase (module docstring).
 
     Arguments as in :func:`~impactsym.engines.drake.stepping.step_contact`, without the
     phase; they broadcast. ``bounds=False`` skips the golden-section search of the
     restitution range (then bounded by the sampled phases only), for designs that need
-    only the means.
+    only the means; ``stuck_peaks=False`` lets the penetration of sticking phases stop
+    at the stick verdict (:func:`~impactsym.engines.drake.stepping.step_contact`), for
+    designs that do not read it.
     """
     arrays = np.broadcast_arrays(*(np.asarray(a, float) for a in (k, d, tau, m, g, v, h)))
     shape = arrays[0].shape
@@ -77,7 +79,8 @@ def phase_summary(
     dt = flat[-1]
 
     def run(i, p):
-        return step_contact(*(a[i] for a in flat), p, approximation=approximation)
+        return step_contact(*(a[i] for a in flat), p, approximation=approximation,
+                            stuck_peaks=stuck_peaks)  # fmt: skip
 
     def key(res, p, i):
         with np.errstate(invalid="ignore", over="ignore"):
