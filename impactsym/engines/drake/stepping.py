@@ -51,7 +51,7 @@ import numpy as np
 from impactsym.engines.drake.update import hunt_crossley_velocity, sap_velocity
 from impactsym.engines.mujoco.stepping import StepContact
 
-__all__ = ["MAX_STEPS", "step_contact"]
+__all__ = ["MAX_STEPS", "end_margin", "step_contact"]
 
 #: Updates stepped before a contact that has not ended is declared sticking.
 MAX_STEPS = 2_000_000
@@ -177,3 +177,52 @@ def _settled(x, u, k, d, m, g, h, v, x_max, peak, stuck_peaks):
             return never_ends
         peaked = (x_max >= x_e * (1.0 + rho)) & (peak >= m * g * (1.0 + rho) * (1.0 + speed))
         return never_ends & peaked
+
+
+def end_margin(
+    k: Any, d: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, step: Any
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """How far the state ``step`` (0 the first detecting state) of a
+    ``"tamsi"``/``"similar"``/``"lagged"`` contact is from ending, as a smooth function of
+    the phase, for locating where the end state changes (flat arrays, SI).
+
+    Returns ``(margin, ends, valid)``: ``margin`` (m/s) is the smaller of ``x/h`` and the
+    update's impulse over ``m`` less the floor ``1e-12 v``, the impulse taken from the
+    larger root of the quadratic without clipping (negative where the update is free, and
+    through zero there: the larger root is ``u*`` at ``u* = max(-x/h, -1/d)``);
+    ``ends`` is :func:`step_contact`'s end test at that state (no contact, or no impulse
+    above the floor); ``valid`` is False where an earlier state already ended or turned
+    back (then ``margin`` does not decide the end at ``step``).
+    """
+    k, d, m, g, v, h, phase = np.broadcast_arrays(
+        *(np.asarray(a, float) for a in (k, d, m, g, v, h, phase))
+    )
+    k, d, m, g, v, h, phase = (a.ravel() for a in (k, d, m, g, v, h, phase))
+    step = np.broadcast_to(np.asarray(step, np.int64), k.shape).ravel()
+    t0 = phase * h
+    x, u = v * t0 + 0.5 * g * t0 * t0, v + g * t0
+    valid = np.ones(k.size, bool)
+    live = np.flatnonzero(step > 0)  # stepped; gathered when half have reached their step
+    rows = [a[live] for a in (k, d, m, g, v, h, x, u, step)]
+    count = 0
+    while live.size:
+        kl, dl, ml, gl, vl, hl, xl, ul, sl = rows
+        new, impulse = hunt_crossley_velocity(xl, ul, kl, dl, ml, gl, hl)
+        going = sl > count
+        ended = (xl < 0.0) | (impulse <= _ZERO * ml * vl) | ((ul < 0.0) & (new > 0.0))
+        valid[live[going & ended]] = False
+        rows[6], rows[7] = np.where(going, xl + hl * new, xl), np.where(going, new, ul)
+        count += 1
+        reached = sl == count
+        x[live[reached]], u[live[reached]] = rows[6][reached], rows[7][reached]
+        rest = sl > count
+        if 2 * np.count_nonzero(rest) <= live.size:
+            live, rows = live[rest], [a[rest] for a in rows]
+    ustar = u + h * g
+    a, b, c = h * h * k * d, m + h * h * k + h * k * d * x, m * ustar - h * k * x
+    with np.errstate(invalid="ignore", divide="ignore"):
+        root = 2.0 * c / (b + np.sqrt(b * b + 4.0 * a * c))
+    margin = np.minimum(x / h, ustar - root - _ZERO * v)
+    _, impulse = hunt_crossley_velocity(x, u, k, d, m, g, h)
+    ends = (x < 0.0) | (impulse <= _ZERO * m * v)
+    return margin, ends, valid
