@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from references.drake_steps import step_contact as reference
 
+from impactsym.engines.drake import stepping
 from impactsym.engines.drake.stepping import step_contact
 
 RNG = np.random.default_rng(1000)
@@ -57,6 +58,7 @@ def test_a_settled_contact_sticks_without_stepping_to_the_limit(monkeypatch):
     import references.drake_steps as ref
 
     monkeypatch.setattr(ref, "MAX_STEPS", 30_000)
+    monkeypatch.setattr(stepping, "MAX_STEPS", 30_000)  # the creeping ones, both alike
     h, m = 1e-3, 0.1
     s, w = np.meshgrid([2.0, 4.0, 6.0, 9.0], [0.01, 0.02, 0.04])
     k, d = m * (w.ravel() / h) ** 2, s.ravel()
