@@ -50,10 +50,10 @@ many brackets), the factor over the 2 s target after:
   contact_time: a target 7e-5 steps from a plateau's edge).
 * Drake lagged 1e-3, each change of the end step located by a root of the end margin
   (``drake.phases``: ~20 margins per change instead of 63 contacts) instead of
-  multisection: CPU seconds per 10^5 from ``--count 10000`` (process time, load 4.5-6.5;
-  ``benchmarks`` cases, timed by ``time.process_time`` around the call), before -> after:
-  122.6 -> 94.5 and 142.2 -> 116.1 (g = 0), 128.5 -> 109.2 and 142.9 -> 110.2
-  (g = 9.81): still 47-58 x. Gauss nodes stay at 5 (4 move the mean by 5e-13).
+  multisection: CPU seconds per 10^5 from 10^4 targets (these cases, the call timed by
+  ``time.process_time``, load 1.6), before -> after: 115.3 -> 87.0 and 130.8 -> 99.6
+  (g = 0), 124.9 -> 95.7 and 129.5 -> 97.1 (g = 9.81): still 44-50 x. Gauss nodes stay
+  at 5 (4 move the mean by 5e-13).
 * A refusal from a big call under gravity (256 lagged targets over 8-100 steps, one with
   e = 0.999): 136 s CPU -> 2.3 s (the table's box reached settled corners stepped to
   2e6 updates; they are now decided by their energy).
