@@ -170,25 +170,34 @@ def test_read_designs_deliver_in_drake():
         assert abs(run["contact_time"] / t[j] - 1.0) < 5e-3
 
 
-def test_a_call_whose_leftovers_are_refused_is_designed_as_without_a_table(monkeypatch):
+def test_leftovers_refused_together_are_iterated_apart(monkeypatch):
     # the iteration's stopping rules act on its whole batch: where it refuses the targets
-    # a table left, the call is designed by it as a whole, as before (bit for bit)
+    # a table left, they are iterated in halves down to single targets (never the whole
+    # call again), and a target is refused only alone, with its own reason
     e, t, _, m, v, g = _targets(MIN_TARGETS + 8)
     g[:8] = 0.0  # left to the iteration
     args = {"restitution": e, "contact_time": t, "speed": v, "mass": m, "gravity": g}
     iterate, sizes = design._iterate, []
 
-    def refuse_small_batches(*rows):
+    def refuse_batches(*rows):
         sizes.append(rows[0].size)
-        if rows[0].size < e.size:
-            raise ValueError("refused in a small batch")
+        if rows[0].size > 1:
+            raise ValueError("refused in a batch")
         return iterate(*rows)
 
-    monkeypatch.setattr(design, "_iterate", refuse_small_batches)
+    monkeypatch.setattr(design, "_iterate", refuse_batches)
     c = drake.point_contact_for(**args)
-    assert sizes == [8, e.size]
-    monkeypatch.setattr(design, "MIN_TARGETS", 10**9)  # no table: the call as before
-    before = drake.point_contact_for(**args)
-    for name in ("point_contact_stiffness", "hunt_crossley_dissipation", "restitution",
-                 "contact_time", "max_penetration"):  # fmt: skip
-        assert np.array_equal(getattr(c, name), getattr(before, name))
+    assert sizes == [8, 4, 2, 1, 1, 2, 1, 1, 4, 2, 1, 1, 2, 1, 1]
+    for i in (0, 5):  # each as designed alone (no table: the iteration alone)
+        alone = drake.point_contact_for(**{key: val[i] for key, val in args.items()})
+        assert alone.point_contact_stiffness == c.point_contact_stiffness[i]
+        assert alone.hunt_crossley_dissipation == c.hunt_crossley_dissipation[i]
+
+    def refuse_one(*rows):
+        if np.any(rows[0] == e[5]):
+            raise ValueError(f"restitution {float(e[5])} refused")
+        return iterate(*rows)
+
+    monkeypatch.setattr(design, "_iterate", refuse_one)
+    with pytest.raises(ValueError, match=f"restitution {float(e[5])} refused"):
+        drake.point_contact_for(**args)

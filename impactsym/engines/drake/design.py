@@ -28,10 +28,10 @@ without an exact evaluation per design). A call with at least
 the phase means and finishes them by Broyden steps on the exact phase means
 (:mod:`~impactsym.engines.drake.step_table`: about five phase means per design). The
 targets a table does not serve, and every smaller call, take the iteration above. Its
-stopping rules act on its whole batch, and the targets a table leaves are the hardest
-(next to a plateau's edge): where it refuses them in their small batch, the call is
-designed by it as a whole, exactly as without a table, so a table never refuses what
-the iteration designs.
+stopping rules act on its whole batch: where it refuses the targets a table left, they
+are iterated in halves, down to the target refused alone, which the refusal names with
+its reason (the call is not iterated again as a whole: that cost as much as designing it
+without a table, after the table, and could name another target).
 """
 
 from __future__ import annotations
@@ -190,16 +190,9 @@ def point_contact_for(
         k, damp = np.empty(e.size), np.empty(e.size)
         k[read], damp[read] = k_read, d_read
         rest = np.flatnonzero(~read)
-        try:
-            if rest.size:
-                rows = (a[rest] for a in (e, v, m, g, target))
-                k[rest], damp[rest] = _iterate(*rows, h, approx, size_name)
-        except ValueError:
-            # the targets left lie where the iteration is hardest (next to a plateau's
-            # edge) and its stopping rules act on the whole batch: the call is designed
-            # as without a table, which designs or refuses it as before
-            read, values_read = np.zeros(e.size, bool), None
-            k, damp = _iterate(e, v, m, g, target, h, approx, size_name)
+        if rest.size:
+            rows = (a[rest] for a in (e, v, m, g, target))
+            k[rest], damp[rest] = _iterate_apart(*rows, h, approx, size_name)
 
     def out(a):
         return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
@@ -220,6 +213,24 @@ def point_contact_for(
         sticks=p.sticks,
         prediction=p,
     )
+
+
+def _iterate_apart(e, v, m, g, target, h, approx, size_name):
+    """:func:`_iterate` on the targets a table left; where it refuses them together, on
+    each half apart, down to the first target refused alone, whose reason is raised (the
+    iteration's stopping rules act on its whole batch: a target may hold up a batch that
+    designs every other)."""
+    try:
+        return _iterate(e, v, m, g, target, h, approx, size_name)
+    except ValueError:
+        if e.size == 1:
+            raise
+    half = e.size // 2
+    k, damp = np.empty(e.size), np.empty(e.size)
+    for part in (slice(0, half), slice(half, None)):
+        rows = (a[part] for a in (e, v, m, g, target))
+        k[part], damp[part] = _iterate_apart(*rows, h, approx, size_name)
+    return k, damp
 
 
 def _iterate(e, v, m, g, target, h, approx, size_name):
@@ -436,8 +447,8 @@ def _mean_of(k, m, v, g, h, approx, size_name):
     def e_of(p, rows):
         d = np.zeros(rows.size) if sap else p
         tau = p if sap else 0.0
-        r = phase_summary(k[rows], d, tau, m[rows], g[rows], v[rows], h,
-                          approximation=approx, bounds=False)  # fmt: skip
+        r = phase_summary(k[rows], d, tau, m[rows], g[rows], v[rows], h, approximation=approx,
+                          bounds=False, stuck_peaks=size_name != "contact_time")  # fmt: skip
         return r.restitution, getattr(r, size_name)
 
     return e_of

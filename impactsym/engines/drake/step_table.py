@@ -52,7 +52,13 @@ take the contour search, and fewer still are left to the iteration. The tables c
 ``16 * 16 + NODES_S * NODES_W`` phase means per group. The caller
 (:func:`~impactsym.engines.drake.design.point_contact_for`) uses it for the groups of at
 least :data:`MIN_TARGETS` targets (equal ``g / v``) of one call, a rule of the call alone:
-smaller calls are designed by the iteration, as before.
+smaller calls are designed by the iteration, as before. A group whose sizes in steps
+span more than :data:`SPAN` is split into chunks of at least :data:`MIN_TARGETS` that
+span at most that (where it holds enough targets), one table each: the tables' work
+follows the targets, and a box over a wide span would be coarse. Under gravity the box's
+corners may stick; :func:`~impactsym.engines.drake.stepping.step_contact` decides such a
+settled contact within a few hundred updates (it stepped it to ``2e6`` before: 256
+targets over 8-100 steps took 136 s of table, now 2 s).
 """
 
 from __future__ import annotations
@@ -70,6 +76,7 @@ __all__ = [
     "MIN_TARGETS",
     "NODES_S",
     "NODES_W",
+    "SPAN",
     "STEPS",
     "WIDE",
     "stepped_designs",
@@ -77,6 +84,9 @@ __all__ = [
 
 #: Targets sharing ``g / v`` per call from which a table starts their designs.
 MIN_TARGETS = 256
+#: Largest ratio of the sizes in steps (longest over shortest) of one table's targets,
+#: where a group holds enough targets to split.
+SPAN = 2.0
 #: Nodes of the coarse table (in the damping number and in the step) on the wide box.
 COARSE = (16, 16)
 #: The wide box: the continuous designs without gravity, this factor either way.
@@ -109,15 +119,33 @@ def stepped_designs(
     n = e.size
     ok, k, d = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
     ratio = g / v
+    q = target / (h if size_name == "contact_time" else v * h)  # the size in steps
     _, inverse, counts = np.unique(ratio, return_inverse=True, return_counts=True)
     for label, count in enumerate(counts):
         if count < MIN_TARGETS:
             continue
-        rows = np.flatnonzero(inverse == label)
-        done, k_r, d_r = _group(*(a[rows] for a in (e, v, m, g, target)), h, approx,
-                                size_name)  # fmt: skip
-        ok[rows], k[rows], d[rows] = done, k_r, d_r
+        for rows in _chunks(np.flatnonzero(inverse == label), q):
+            done, k_r, d_r = _group(*(a[rows] for a in (e, v, m, g, target)), h, approx,
+                                    size_name)  # fmt: skip
+            ok[rows], k[rows], d[rows] = done, k_r, d_r
     return ok, k, d
+
+
+def _chunks(rows, q):
+    """``rows`` in chunks of at least :data:`MIN_TARGETS` targets whose sizes in steps
+    ``q`` span at most a factor :data:`SPAN` where there are enough targets (each chunk
+    one table: a table on a wide box is coarse and reaches long contacts)."""
+    order = rows[np.argsort(q[rows], kind="stable")]
+    sizes = q[order]
+    out, start = [], 0
+    while start < order.size:
+        end = max(int(np.searchsorted(sizes, SPAN * sizes[start], side="right")),
+                  start + MIN_TARGETS)  # fmt: skip
+        if order.size - end < MIN_TARGETS:
+            end = order.size
+        out.append(np.sort(order[start:end]))
+        start = end
+    return out
 
 
 def _group(e, v, m, g, target, h, approx, size_name):
@@ -175,7 +203,8 @@ def _means_rows(m, v, g, h, approx, size_name, unit):
     def mean(s, w, rows):
         mr = m[rows]
         r = phase_summary(mr * (w / h) ** 2, s / v[rows], 0.0, mr, g[rows], v[rows], h,
-                          approximation=approx, bounds=False)  # fmt: skip
+                          approximation=approx, bounds=False,
+                          stuck_peaks=size_name != "contact_time")  # fmt: skip
         return r.restitution, getattr(r, size_name) / unit[rows]
 
     return mean

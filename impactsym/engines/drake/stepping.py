@@ -17,6 +17,28 @@ and only rounding would end it). If the impulse comes back while
 the overlap lasts, or the body turns back inwards inside the overlap before the end (a
 loaded contact settling: its energy only falls from there, so it never leaves), the body
 sticks. The result is :class:`~impactsym.engines.mujoco.stepping.StepContact`.
+
+*A settled contact* (``"tamsi"``/``"similar"``/``"lagged"`` under gravity) is declared
+sticking as soon as it provably never ends, instead of after :data:`MAX_STEPS` updates
+(a heavily damped loaded contact creeps to rest without turning back: 2·10^6 updates,
+a minute per call). While the update carries an impulse, the discrete energy
+:math:`E = m u^2/2 + k x^2/2 - m g x` falls: with :math:`x' = x + h u'`,
+:math:`E' - E = -h k d x' u'^2 - m (u' - u)^2/2 - k h^2 u'^2/2 \le 0`. Let the well be
+:math:`W = (m g)^2/(2k)` and :math:`E \le -c W` (``c > 0``). Allowing rounding to give
+back :math:`10^{-6} W` (far more than :data:`MAX_STEPS` updates can), every later state
+has :math:`|x - x_e| \le \rho x_e` (:math:`x_e = m g/k`) and :math:`|u| \le \rho g T`
+(:math:`T = \sqrt{m/k}`, :math:`\rho = \sqrt{1 - c + 10^{-6}}`). There the impulse
+cannot vanish: ``u* <= -x/h`` would need :math:`E \ge k x^2/2 \ge 0`, and
+``u* <= -1/d`` is excluded by :math:`d \rho g T < 1`; it stays above the ``1e-12 m v`` floor where
+:math:`h g (1 - \rho)(1 - d \rho g T) > 2\cdot 10^{-12} v`. So the contact never ends, as
+the full loop would find. The rule is applied every :data:`_SETTLE_EVERY` updates and only
+where the largest penetration and force so far already exceed their bounds
+:math:`x_e(1 + \rho)` and :math:`m g (1 + \rho)(1 + d \rho g T)` (then
+``max_penetration`` and ``peak_accel`` are those of the full loop; ``steps`` of a
+sticking contact counts the updates until the verdict). A caller that does not read the
+peaks of sticking contacts (``stuck_peaks=False``: the phase means of the designs by
+contact time) drops that condition: a contact creeping up to its rest from below is then
+decided as soon, its peaks being those until the verdict.
 All quantities are SI. Internal to :mod:`impactsym.engines.drake`.
 """
 
@@ -29,21 +51,35 @@ import numpy as np
 from impactsym.engines.drake.update import hunt_crossley_velocity, sap_velocity
 from impactsym.engines.mujoco.stepping import StepContact
 
-__all__ = ["MAX_STEPS", "step_contact"]
+__all__ = ["MAX_STEPS", "end_margin", "step_contact"]
 
 #: Updates stepped before a contact that has not ended is declared sticking.
 MAX_STEPS = 2_000_000
 _ZERO = 1e-12  # impulses below this times m v count as zero
+_SETTLE_EVERY = 64  # updates between two checks of the settled-contact rule
+_DRIFT = 1e-6  # energy (in wells) that rounding may give back, in the rule
 
 
 def step_contact(
-    k: Any, d: Any, tau: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, *, approximation: str
+    k: Any,
+    d: Any,
+    tau: Any,
+    m: Any,
+    g: Any,
+    v: Any,
+    h: Any,
+    phase: Any,
+    *,
+    approximation: str,
+    stuck_peaks: bool = True,
 ) -> StepContact:
     """The contact at touch phase ``phase`` under ``approximation`` (arrays broadcast, SI).
 
     ``k`` combined point stiffness, ``d`` Hunt–Crossley dissipation (s/m), ``tau``
     combined relaxation time (``sap`` only), ``m`` mass, ``g`` pressing acceleration,
     ``v`` approach speed at touch, ``h`` time step, ``phase`` in ``[0, 1)``.
+    ``stuck_peaks=False``: ``max_penetration`` and ``peak_accel`` of a sticking contact
+    may stop at the verdict (module docstring).
     """
     arrays = np.broadcast_arrays(*(np.asarray(a, float) for a in (k, d, tau, m, g, v, h, phase)))
     shape = arrays[0].shape
@@ -65,6 +101,7 @@ def step_contact(
     velocity = sap_velocity if sap else hunt_crossley_velocity
     kl, dl, ml, gl, hl, vl = k, tau if sap else d, m, g, h, v
     xl, ul = x, u
+    settle = not sap and bool(np.any(g > 0))  # the settled-contact rule (docstring)
     ended = np.zeros(n, bool)  # the end state is reached (coasting out, or done)
     active = np.ones(n, bool)  # among the gathered: not yet finished
     steps_l, x_max_l, peak_l = np.zeros(n, np.int64), np.zeros(n), np.zeros(n)
@@ -91,6 +128,8 @@ def step_contact(
         x_max_l = np.where(going, np.maximum(x_max_l, xl), x_max_l)
         peak_l = np.where(going, np.maximum(peak_l, impulse / hl), peak_l)
         turned = going & (ul < 0.0) & (new > 0.0)
+        if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:
+            turned |= going & _settled(xl, ul, kl, dl, ml, gl, hl, vl, x_max_l, peak_l, stuck_peaks)
         # after the end: the impulse coming back inside the overlap means sticking
         back = active & was_ended & contact & (impulse > 0.0)
         sticks[live[turned | back]] = True
@@ -116,3 +155,74 @@ def step_contact(
     by_position[sticks] = False
     fields = (e, t_c, sticks, by_position, departure, steps, x_max, peak / m)
     return StepContact(*(f.reshape(shape) for f in fields))
+
+
+def _settled(x, u, k, d, m, g, h, v, x_max, peak, stuck_peaks):
+    """Where a contact under gravity provably never ends (module docstring: its energy
+    lies deep enough in the well) and, if ``stuck_peaks``, its penetration and force have
+    already peaked."""
+    with np.errstate(all="ignore"):
+        well = (m * g) ** 2 / (2.0 * k)
+        c = -(0.5 * m * u * u + 0.5 * k * x * x - m * g * x) / well
+        rho = np.sqrt(np.maximum(1.0 - c, 0.0) + _DRIFT)
+        speed = d * rho * g * np.sqrt(m / k)  # d times the largest |u| from here on
+        x_e = m * g / k
+        never_ends = (
+            (g > 0)
+            & (c > 1e-2)
+            & (speed < 1.0)
+            & (h * g * (1.0 - rho) * (1.0 - speed) > 2.0 * _ZERO * v)
+        )
+        if not stuck_peaks:
+            return never_ends
+        peaked = (x_max >= x_e * (1.0 + rho)) & (peak >= m * g * (1.0 + rho) * (1.0 + speed))
+        return never_ends & peaked
+
+
+def end_margin(
+    k: Any, d: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, step: Any
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """How far the state ``step`` (0 the first detecting state) of a
+    ``"tamsi"``/``"similar"``/``"lagged"`` contact is from ending, as a smooth function of
+    the phase, for locating where the end state changes (flat arrays, SI).
+
+    Returns ``(margin, ends, valid)``: ``margin`` (m/s) is the smaller of ``x/h`` and the
+    update's impulse over ``m`` less the floor ``1e-12 v``, the impulse taken from the
+    larger root of the quadratic without clipping (negative where the update is free, and
+    through zero there: the larger root is ``u*`` at ``u* = max(-x/h, -1/d)``);
+    ``ends`` is :func:`step_contact`'s end test at that state (no contact, or no impulse
+    above the floor); ``valid`` is False where an earlier state already ended or turned
+    back (then ``margin`` does not decide the end at ``step``).
+    """
+    k, d, m, g, v, h, phase = np.broadcast_arrays(
+        *(np.asarray(a, float) for a in (k, d, m, g, v, h, phase))
+    )
+    k, d, m, g, v, h, phase = (a.ravel() for a in (k, d, m, g, v, h, phase))
+    step = np.broadcast_to(np.asarray(step, np.int64), k.shape).ravel()
+    t0 = phase * h
+    x, u = v * t0 + 0.5 * g * t0 * t0, v + g * t0
+    valid = np.ones(k.size, bool)
+    live = np.flatnonzero(step > 0)  # stepped; gathered when half have reached their step
+    rows = [a[live] for a in (k, d, m, g, v, h, x, u, step)]
+    count = 0
+    while live.size:
+        kl, dl, ml, gl, vl, hl, xl, ul, sl = rows
+        new, impulse = hunt_crossley_velocity(xl, ul, kl, dl, ml, gl, hl)
+        going = sl > count
+        ended = (xl < 0.0) | (impulse <= _ZERO * ml * vl) | ((ul < 0.0) & (new > 0.0))
+        valid[live[going & ended]] = False
+        rows[6], rows[7] = np.where(going, xl + hl * new, xl), np.where(going, new, ul)
+        count += 1
+        reached = sl == count
+        x[live[reached]], u[live[reached]] = rows[6][reached], rows[7][reached]
+        rest = sl > count
+        if 2 * np.count_nonzero(rest) <= live.size:
+            live, rows = live[rest], [a[rest] for a in rows]
+    ustar = u + h * g
+    a, b, c = h * h * k * d, m + h * h * k + h * k * d * x, m * ustar - h * k * x
+    with np.errstate(invalid="ignore", divide="ignore"):
+        root = 2.0 * c / (b + np.sqrt(b * b + 4.0 * a * c))
+    margin = np.minimum(x / h, ustar - root - _ZERO * v)
+    _, impulse = hunt_crossley_velocity(x, u, k, d, m, g, h)
+    ends = (x < 0.0) | (impulse <= _ZERO * m * v)
+    return margin, ends, valid

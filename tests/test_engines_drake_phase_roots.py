@@ -1,0 +1,73 @@
+"""The changes of Drake's end state over the touch phase located by a root of the end
+margin, against the multisection on the full contact's end state (the slow exact path).
+
+Checked: the margin's end test is the step loop's own (the end state ends, the one before
+does not, a later one is not reached); the phase means and ranges of random designs
+agree with those from the multisection alone; the root search steps far fewer contacts.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from impactsym.engines.drake import phases
+from impactsym.engines.drake.stepping import end_margin, step_contact
+
+RNG = np.random.default_rng(4242)
+
+
+def _designs(n):
+    """Random contacts of 2 to 100 steps, damping numbers to 4, half under gravity, most
+    at 1 ms."""
+    m, v = RNG.uniform(0.05, 2.0, n), RNG.uniform(0.5, 3.0, n)
+    w = np.pi / RNG.uniform(2.2, 100.0, n)
+    d = RNG.uniform(0.0, 4.0, n) / v
+    g = np.where(RNG.uniform(size=n) < 0.5, 0.0, 9.81)
+    h = np.where(RNG.uniform(size=n) < 0.8, 1e-3, 10 ** RNG.uniform(-4.0, -2.5, n))
+    return m * (w / h) ** 2, d, m, g, v, h
+
+
+def test_the_margin_decides_the_end_as_the_step_loop():
+    k, d, m, g, v, h = _designs(1500)
+    p = RNG.uniform(0.0, 1.0, k.size)
+    r = step_contact(k, d, 0.0, m, g, v, h, p, approximation="lagged", stuck_peaks=False)
+    ok = ~r.sticks
+    n = np.where(ok, np.rint(r.contact_time / h - p), 0).astype(int)
+    margin, ends, valid = end_margin(k, d, m, g, v, h, p, n)
+    assert np.all(ends[ok] & valid[ok] & (margin[ok] <= 0))
+    before = ok & (n > 0)
+    margin, ends, valid = end_margin(k, d, m, g, v, h, p, np.maximum(n - 1, 0))
+    assert np.all(~ends[before] & valid[before] & (margin[before] > 0))
+    assert not np.any(end_margin(k, d, m, g, v, h, p, n + 1)[2][ok])  # past the end
+
+
+@pytest.mark.parametrize("approximation", ["lagged", "tamsi"])
+def test_phase_means_agree_with_the_multisection(approximation, monkeypatch):
+    k, d, m, g, v, h = _designs(600)
+    steps = []
+
+    def counted(*args, **options):
+        res = step_contact(*args, **options)
+        steps.append(int(res.steps.sum()))
+        return res
+
+    monkeypatch.setattr(phases, "step_contact", counted)
+    fast = phases.phase_summary(k, d, 0.0, m, g, v, h, approximation=approximation)
+    work_fast = sum(steps)
+
+    def none_found(flat, run, key, ii, a, c, left, right):
+        return np.zeros(ii.size, bool), a, c
+
+    monkeypatch.setattr(phases, "_roots", none_found)
+    steps.clear()
+    slow = phases.phase_summary(k, d, 0.0, m, g, v, h, approximation=approximation)
+    assert np.any(slow.stick_fraction > 0)  # sticking phases: those take the multisection
+    np.testing.assert_allclose(fast.restitution, slow.restitution, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(fast.contact_time / h, slow.contact_time / h, rtol=0, atol=1e-11)
+    np.testing.assert_array_equal(fast.stick_fraction > 0, slow.stick_fraction > 0)
+    np.testing.assert_allclose(fast.stick_fraction, slow.stick_fraction, rtol=0, atol=1e-12)
+    for name in ("restitution_min", "restitution_max", "max_penetration"):
+        np.testing.assert_allclose(getattr(fast, name), getattr(slow, name), rtol=1e-12,
+                                   err_msg=name)  # fmt: skip
+    assert work_fast < 0.5 * sum(steps)  # stepped contacts (the margin's steps not counted)
