@@ -235,10 +235,11 @@ class ManifoldTable(TaylorTable):
         try:
             for m in range(begin, end):
                 self._build_interval(m)
+            self._bound(begin, end)
         except BaseException:  # (e.g. KeyboardInterrupt) the next extend starts over
-            self._state = saved
+            if self.built == begin:  # (the bound did not finish: nothing was taken on)
+                self._state = saved
             raise
-        self._bound(begin, end)
 
     def _bound(self, begin: int, end: int) -> None:
         """Bound ``N`` on the intervals ``begin .. end - 1`` (built), carrying the running
@@ -404,12 +405,13 @@ def extend_tables(tables: list, n_intervals: list, *, which: str | tuple = ("y",
                 _build_intervals(batch, [made[t] for t in batch])
                 for table in batch:
                     made[table] += 1
-        except BaseException:  # (e.g. KeyboardInterrupt) the next extend starts over
             for table in todo:
-                table._state = saved[table]
+                table._bound(table.built, wanted[table])
+        except BaseException:  # (e.g. KeyboardInterrupt) the next extend starts over,
+            for table in todo:  # for the tables whose bound did not finish
+                if table.built < wanted[table]:
+                    table._state = saved[table]
             raise
-        for table in todo:
-            table._bound(table.built, wanted[table])
         if bound_y:
             for table in order:
                 table._bound_y(wanted[table])
