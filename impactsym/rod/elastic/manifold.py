@@ -102,8 +102,10 @@ def _power_of_two_below(x: float) -> float:
 
 def interval_mesh(alpha: float, *, kappa: float) -> tuple[np.ndarray, np.ndarray] | None:
     """Internal: widths (powers of two) of the cells of one reflection interval and which
-    of them are layer (Taylor) cells, or ``None`` where the slow manifold does not apply
-    (complex or near contact poles, ``p_f / p_s < 8``, or a layer longer than 1).
+    of them are layer (Taylor) cells, or ``None`` where the mesh does not apply (complex
+    or near contact poles, ``p_f / p_s < 4``, or a layer longer than 1). From ``p_f / p_s
+    = 4`` to ``8`` every cell is a Taylor cell, graded as the layer's throughout (the
+    slow manifold needs the poles 8 apart).
 
     The layer (in units of ``h``, ``h p_f <= 1``): 8 cells of ``h``, then each cell the
     widest power of two that the position is a multiple of with ``width p_f`` at most the
