@@ -130,3 +130,30 @@ def test_the_batches_kept_do_not_keep_their_tables_alive():
     alone = [ManifoldTable(a, 1e4, 2) for a in (0.5, 2.0)]
     for one, many in zip(alone, fresh, strict=True):
         assert np.array_equal(one.N_a, many.N_a)
+
+
+def test_a_pass_interrupted_in_its_bounds_leaves_the_unbounded_tables_as_they_were(monkeypatch):
+    # the first table bounded, the second interrupted: the next pass finishes both as if
+    # never interrupted
+    from impactsym.rod.elastic import taylor
+
+    whole = [ManifoldTable(a, 1e3, 4) for a in (0.5, 5.0)]
+    tables = [ManifoldTable(a, 1e3, 4, lazy=True) for a in (0.5, 5.0)]
+    extend_tables(tables, [1, 1])
+    bound, calls = taylor.force_bounds, []
+
+    def second_interrupted(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return bound(*args, **kwargs)
+
+    monkeypatch.setattr(taylor, "force_bounds", second_interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        extend_tables(tables, [3, 3])
+    assert sorted(t.built for t in tables) == [1, 3]
+    monkeypatch.setattr(taylor, "force_bounds", bound)
+    extend_tables(tables, [4, 4])
+    for one, many in zip(whole, tables, strict=True):
+        for name in ("N_a", "N_b", "Y_a", "err_n_a", "err_n_b", "err_y_a", "err_y_b"):
+            assert np.array_equal(getattr(one, name), getattr(many, name)), name

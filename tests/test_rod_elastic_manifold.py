@@ -332,3 +332,27 @@ def test_threads_sharing_the_cached_tables_find_what_one_thread_finds():
         )
     for (which, points), times in zip(jobs, found, strict=True):
         assert np.array_equal(times, alone[which][points]), which
+
+
+def test_an_extension_interrupted_in_its_bound_leaves_the_table_as_it_was(monkeypatch):
+    """Interrupted while bounding (after the intervals were built), the table starts the
+    next extension over from its state before (the build alone was guarded: the bound's
+    interruption left the carried state advanced, found by review)."""
+    from impactsym.rod.elastic import taylor
+
+    whole = ManifoldTable(1.0, 1e3, 4)
+    table = ManifoldTable(1.0, 1e3, 4, lazy=True)
+    table.extend(2)
+    bound = taylor.force_bounds
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(taylor, "force_bounds", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        table.extend(3)
+    assert table.built == 2
+    monkeypatch.setattr(taylor, "force_bounds", bound)
+    table.extend(4)
+    for name in ("N_a", "N_b", "Y_a", "Y_b", "err_n_a", "err_n_b", "err_y_a", "err_y_b"):
+        assert np.array_equal(getattr(table, name), getattr(whole, name)), name

@@ -67,6 +67,7 @@ import sympy as sp
 from sympy.polys.domains import QQ
 from sympy.polys.rings import ring
 
+from impactsym.numeric.precision import workdps
 from impactsym.records import ArrayRecord
 from impactsym.validation import check_condition, real_array
 
@@ -135,7 +136,7 @@ def universal_coefficients(order: int, *, nodes: int = 48, dps: int = 40) -> tup
     for name, value, least in (("order", order, 0), ("nodes", nodes, 8), ("dps", dps, 20)):
         if isinstance(value, bool) or not isinstance(value, int) or value < least:
             raise ValueError(f"{name} must be an integer >= {least}; got {value!r}")
-    with mpmath.workdps(dps):
+    with workdps(dps):
         cos, sin = np.frompyfunc(mpmath.cos, 1, 1), np.frompyfunc(mpmath.sin, 1, 1)
         sqrt = np.frompyfunc(mpmath.sqrt, 1, 1)
         mpf = np.frompyfunc(mpmath.mpf, 1, 1)
@@ -377,17 +378,17 @@ def _series(order: int, condition: str) -> ViscoelasticRestitutionSeries:
     values = []
     for nodes, dps in ((48, 40), (64, 50)):
         c = universal_coefficients(order, nodes=nodes, dps=dps)
-        with mpmath.workdps(dps):
+        with workdps(dps):
             table = {symbols[f"c_{n}"]: sp.Float(c[n], dps) for n in range(1, order + 1)}
             table[kappa] = sp.Float(mpmath.mpf(2) * mpmath.mpf(1.25) ** 0.6, dps)
             values.append([mpmath.mpf(str(sp.N(x.xreplace(table), dps))) for x in h])
-    with mpmath.workdps(50):
+    with workdps(50):
         errors = [
             abs(a - b) / max(abs(b), mpmath.mpf(10) ** -45) for a, b in zip(*values, strict=True)
         ]
         worst = max((err for err, x in zip(errors, exact, strict=True) if x is None), default=0)
         digits = 35 if worst == 0 else min(35, int(-mpmath.log10(worst)))
-    with mpmath.workdps(50):
+    with workdps(50):
         precise = tuple(
             mpmath.mpf(str(sp.N(x, 50))) if x is not None else v
             for x, v in zip(exact, values[1], strict=True)

@@ -27,6 +27,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from impactsym.numeric.precision import workdps
 from impactsym.rod.elastic.poles import pole_model, series_coefficients
 
 #: Largest degree of the cell polynomials in ``x``.
@@ -90,7 +91,7 @@ class CellTable:
         # makes a check and the repair it starts one step (see certified)
         self._lock = threading.RLock()
         cells = []
-        with mp.workdps(dps):
+        with workdps(dps):
             pbar = -mp.mpf(kappa) / 2
             groups_by_term = [
                 _term_groups(parts, pbar, n_terms - j) for j, parts in enumerate(model.parts)
@@ -123,7 +124,7 @@ class CellTable:
                     if j in young or not _across_terms(g[0])
                 ]
             old = [(j, model.parts[j]) for j in range(m + 1) if j not in young]
-            with mp.workdps(dps):  # slow families of the older terms at once
+            with workdps(dps):  # slow families of the older terms at once
                 for lam in families if old else ():
                     lam_mp = mp.mpf(0) if lam == 0 else (pbar if lam == complex(pbar) else None)
                     if lam_mp is None:
@@ -170,8 +171,12 @@ class CellTable:
         cells above it are first repaired (:meth:`_repair`) if they can be."""
         # under the lock: a thread that finds a cell another thread is repairing (taken
         # from the pending cells, its polynomial not yet written back) waits for it, and
-        # does not search that cell on the pole sums instead (a result differing from one
-        # thread's), nor read a cell while it is written
+        # does not search that cell on the pole sums instead, nor read a cell while it is
+        # written. It does not make results independent of the call history: a waiting
+        # cell may pass the tolerance at a small f before any repair, and a repair that a
+        # larger f started (in this thread or another) rewrites its rows, which moves
+        # values at the small f by rounding (up to 9e-16 measured), always within the
+        # certified bound
         with self._lock:
             ok = self.err_a[index] + f * self.err_b[index] <= tolerance
             if not ok.all():
@@ -183,7 +188,8 @@ class CellTable:
 
     def second_derivative_bound(self, index: np.ndarray, f: np.ndarray) -> np.ndarray:
         """Bound on ``|d^2/dt^2 (A + f B)|`` over cells ``index``."""
-        return self.d2_a[index] + f * self.d2_b[index]
+        with self._lock:  # rows that _repair may be writing
+            return self.d2_a[index] + f * self.d2_b[index]
 
     def _repair(self, cells: np.ndarray) -> None:
         """Recompute the worst terms of pending ``cells`` exactly about the cell centre
@@ -193,7 +199,6 @@ class CellTable:
             self._repair_locked(cells)
 
     def _repair_locked(self, cells: np.ndarray) -> None:
-        import mpmath as mp
 
         for gi in np.unique(cells):
             job = self._pending.pop(int(gi), None)
@@ -208,7 +213,7 @@ class CellTable:
                     break  # many small float errors: mpmath would not pay
                 if j == m + 1:
                     continue  # the families summed over the terms in mpmath already
-                with mp.workdps(self._dps):
+                with workdps(self._dps):
                     qa, qb, ea, eb, ma, mb = _mp_cell(
                         self._model.parts[j],
                         c - 2 * j,

@@ -102,8 +102,10 @@ def _power_of_two_below(x: float) -> float:
 
 def interval_mesh(alpha: float, *, kappa: float) -> tuple[np.ndarray, np.ndarray] | None:
     """Internal: widths (powers of two) of the cells of one reflection interval and which
-    of them are layer (Taylor) cells, or ``None`` where the slow manifold does not apply
-    (complex or near contact poles, ``p_f / p_s < 8``, or a layer longer than 1).
+    of them are layer (Taylor) cells, or ``None`` where the mesh does not apply (complex
+    or near contact poles, ``p_f / p_s < 4``, or a layer longer than 1). From ``p_f / p_s
+    = 4`` to ``8`` every cell is a Taylor cell, graded as the layer's throughout (the
+    slow manifold needs the poles 8 apart).
 
     The layer (in units of ``h``, ``h p_f <= 1``): 8 cells of ``h``, then each cell the
     widest power of two that the position is a multiple of with ``width p_f`` at most the
@@ -235,10 +237,11 @@ class ManifoldTable(TaylorTable):
         try:
             for m in range(begin, end):
                 self._build_interval(m)
+            self._bound(begin, end)
         except BaseException:  # (e.g. KeyboardInterrupt) the next extend starts over
-            self._state = saved
+            if self.built == begin:  # (the bound did not finish: nothing was taken on)
+                self._state = saved
             raise
-        self._bound(begin, end)
 
     def _bound(self, begin: int, end: int) -> None:
         """Bound ``N`` on the intervals ``begin .. end - 1`` (built), carrying the running
@@ -404,12 +407,13 @@ def extend_tables(tables: list, n_intervals: list, *, which: str | tuple = ("y",
                 _build_intervals(batch, [made[t] for t in batch])
                 for table in batch:
                     made[table] += 1
-        except BaseException:  # (e.g. KeyboardInterrupt) the next extend starts over
             for table in todo:
-                table._state = saved[table]
+                table._bound(table.built, wanted[table])
+        except BaseException:  # (e.g. KeyboardInterrupt) the next extend starts over,
+            for table in todo:  # for the tables whose bound did not finish
+                if table.built < wanted[table]:
+                    table._state = saved[table]
             raise
-        for table in todo:
-            table._bound(table.built, wanted[table])
         if bound_y:
             for table in order:
                 table._bound_y(wanted[table])

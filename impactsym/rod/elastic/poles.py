@@ -19,6 +19,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from impactsym.numeric.precision import workdps
+
 #: Absolute error allowed for the float path of the finite-stiffness evaluation.
 _TOLERANCE = 1e-12
 #: Largest normalized time evaluated with a finite contact stiffness (the time
@@ -118,7 +120,7 @@ class PoleModel:
         self.parts: list[list] = []
         self.dparts: list[list] = []
         self.d2parts: list[list] = []
-        with mp.workdps(dps):
+        with workdps(dps):
             a, k = mp.mpf(alpha), mp.mpf(kappa)
             disc = a * a * k * k - 4 * a * k  # exact: products of doubles fit in dps
             if disc == 0:
@@ -180,7 +182,7 @@ class PoleModel:
         import mpmath as mp
 
         out = []
-        with mp.workdps(self.dps):
+        with workdps(self.dps):
             c = mp.mpf(centre)
             for r, p0, p1, pair in (self.dparts if derivative else self.parts)[k]:
                 shifted = []
@@ -259,7 +261,7 @@ class PoleModel:
         """The same sum with mpmath at the model's precision (one point)."""
         import mpmath as mp
 
-        with mp.workdps(self.dps):
+        with workdps(self.dps):
             total = mp.mpf(0)
             for k, parts in enumerate(self.dparts if derivative else self.parts):
                 u = mp.mpf(t) - 2 * k
