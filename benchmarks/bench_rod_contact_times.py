@@ -51,7 +51,8 @@ Then (h33stiff2), main and this branch in turns: at load 2, two runs each, main
 the target, ``y`` as before (0-3 % slower: its bound in a second call). What changed: a
 search for ``N`` bounds only ``N`` (the bound of ``y``, a quarter of the bound, is
 computed when ``y`` is asked for, the same bits); the first cells of each reflection
-interval that their Bernstein coefficients prove ``N > 0`` are not searched (``N``
+interval whose polynomial their Bernstein coefficients prove positive (the true ``N``
+above ``-1e-12``, the search's depth) are not searched (``N``
 nearly touches zero at some reflection times while ``N'' ~ kappa^2``: the halving
 took a dozen rounds there).
 

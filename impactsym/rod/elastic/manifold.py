@@ -30,7 +30,8 @@ kept in double-double from the compensated back recurrence :math:`N_k = v_k + 2G
 (k+1) N_{k+1}/(h\kappa)`: the residual :math:`N' - \kappa(v - N + 2G)` then does not carry
 :math:`\kappa` times the rounding of :math:`N`. Where the manifold meets the layer, the
 jump of :math:`N` is the transient left over. Accepted by the same a-posteriori bound as
-the Taylor table (:func:`impactsym.rod.elastic.taylor.cell_bounds`: residuals and jumps
+the Taylor table (:func:`impactsym.rod.elastic.taylor.force_bounds` and
+:func:`~impactsym.rod.elastic.taylor.displacement_bounds`: residuals and jumps
 measured on the stored arrays, the energy of the error): how the coefficients were made
 does not enter the proof. See docs/physics.md#finite-contact-stiffness-three-methods.
 
@@ -269,12 +270,12 @@ class ManifoldTable(TaylorTable):
         upto, cells = slice(0, end * n), slice(begin * n, end * n)
         arrays = tuple(a[name][:, upto] for name in ("Y", "V"))
         lows = tuple(a[name][:, upto] for name in ("Y_lo", "V_lo"))
-        bounds, self._carry_y = taylor.displacement_bounds(
+        bounds, carry = taylor.displacement_bounds(
             self.alpha, self._h[upto], arrays, lows, self._coupling[:, :, cells], n,
             kappa=self.kappa, start=begin, carry=self._carry_y,
         )  # fmt: skip
-        self._errors[:2, cells] = bounds
-        self.built_y = end
+        # taken on together (an interruption before leaves the table as it was)
+        self._errors[:2, cells], self._carry_y, self.built_y = bounds, carry, end
         self._expose()
 
     def view(self, which: str, *, n_intervals: int | None = None) -> TaylorView:

@@ -205,12 +205,14 @@ _U = 2.0**-53  # unit roundoff
 def _bernstein_weights(degree: int) -> np.ndarray:
     """``W[j, k] = C(j, k) / C(degree, k)`` (``k <= j``, else 0), correctly rounded: the
     Bernstein coefficients of ``sum c_k xi^k`` on ``[0, 1]`` are ``W c``, each in [0, 1]."""
-    return np.array(
+    weights = np.array(
         [
             [math.comb(j, k) / math.comb(degree, k) if k <= j else 0.0 for k in range(degree + 1)]
             for j in range(degree + 1)
         ]
     )
+    weights.flags.writeable = False  # cached: shared by every later call
+    return weights
 
 
 def _positive_prefix(table, cells, forces):
