@@ -72,3 +72,27 @@ def test_without_it_the_same_call_is_designed():
     np.testing.assert_allclose(p.restitution, e[keep], rtol=1e-11)
     np.testing.assert_allclose(p.contact_time, t[keep], rtol=1e-9)
     assert not np.any(p.sticks)
+
+
+def test_designs_by_max_penetration_do_not_step_settled_corners_either(monkeypatch):
+    # the same call by largest overlap: its table ran with the peaks of sticking phases
+    # wanted, so the settled corners were stepped to 2e6 updates (142 s; found by review)
+    rng = np.random.default_rng(5)
+    e, x = rng.uniform(0.3, 0.6, 257), rng.uniform(8.0, 100.0, 257) * H / np.pi
+    updates = []
+
+    def counted(*args, **options):
+        res = step_contact(*args, **options)
+        updates.append(int(res.steps.max(initial=0)))
+        return res
+
+    monkeypatch.setattr(phases, "step_contact", counted)
+    c = drake.point_contact_for(restitution=e, max_penetration=x, speed=1.0, mass=0.1,
+                                gravity=9.81, time_step=H)  # fmt: skip
+    assert max(updates) < 5_000, max(updates)
+    monkeypatch.undo()
+    p = drake.predict(stiffness=c.point_contact_stiffness, dissipation=c.hunt_crossley_dissipation,
+                      mass=0.1, speed=1.0, gravity=9.81, time_step=H)  # fmt: skip
+    np.testing.assert_allclose(p.restitution, e, rtol=1e-11)
+    np.testing.assert_allclose(p.max_penetration, x, rtol=1e-9)
+    assert not np.any(p.sticks)

@@ -9,8 +9,12 @@ a grid of phases and locates each change of the end state between grid points to
 stops ending, a zero of its end margin
 (:func:`~impactsym.engines.drake.stepping.end_margin`, smooth in the phase): regula
 falsi steps straddling the root, then trisection where rounding blurs the margin
-(~1e-11 of a phase), about 20 margins per change instead of 63 (large batches) or 441
-contacts; the full contact's end states at the bracket's ends confirm it. Elsewhere, or
+(~1e-11 of a phase; where the contact ends on the impulse floor, damping numbers
+``d v`` above ~5.5, the end state flips back and forth over ~2e-10 of a phase, and the
+change found may lie anywhere in that band, as the multisection's may: mean contact
+times then agree with it to ~1e-10 of a step), about 20 margins per change instead of 63
+(large batches) or 441 contacts; the full contact's end states at the bracket's ends
+confirm it. Elsewhere, or
 where that fails, multisection on the full contact's end state (63 phases per call, 7
 calls, up to ~500 brackets; 3 phases, 21 calls, for more). Each smooth piece is
 integrated by 5-point Gauss–Legendre (the restitution is an algebraic, smooth function

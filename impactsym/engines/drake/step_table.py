@@ -203,9 +203,14 @@ def _means_rows(m, v, g, h, approx, size_name, unit):
     def mean(s, w, rows):
         mr = m[rows]
         r = phase_summary(mr * (w / h) ** 2, s / v[rows], 0.0, mr, g[rows], v[rows], h,
-                          approximation=approx, bounds=False,
-                          stuck_peaks=size_name != "contact_time")  # fmt: skip
-        return r.restitution, getattr(r, size_name) / unit[rows]
+                          approximation=approx, bounds=False, stuck_peaks=False)  # fmt: skip
+        size = getattr(r, size_name) / unit[rows]
+        if size_name != "contact_time":  # (the contact time is inf where a phase sticks)
+            # a sticking phase's peak is cut short here (a settled corner of the box would
+            # else be stepped to 2e6 updates): such a node gives no start, such a design is
+            # left to the caller's iteration
+            size = np.where(r.stick_fraction > 0, np.nan, size)
+        return r.restitution, size
 
     return mean
 

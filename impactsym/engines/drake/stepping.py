@@ -24,7 +24,7 @@ sticking as soon as it provably never ends, instead of after :data:`MAX_STEPS` u
 a minute per call). While the update carries an impulse, the discrete energy
 :math:`E = m u^2/2 + k x^2/2 - m g x` falls: with :math:`x' = x + h u'`,
 :math:`E' - E = -h k d x' u'^2 - m (u' - u)^2/2 - k h^2 u'^2/2 \le 0`. Let the well be
-:math:`W = (m g)^2/(2k)` and :math:`E \le -c W` (``c > 0``). Allowing rounding to give
+:math:`W = (m g)^2/(2k)` and :math:`E \le -c W` (``c > 0``; applied from ``c > 0.01``). Allowing rounding to give
 back :math:`10^{-6} W` (far more than :data:`MAX_STEPS` updates can), every later state
 has :math:`|x - x_e| \le \rho x_e` (:math:`x_e = m g/k`) and :math:`|u| \le \rho g T`
 (:math:`T = \sqrt{m/k}`, :math:`\rho = \sqrt{1 - c + 10^{-6}}`). There the impulse
@@ -37,7 +37,8 @@ where the largest penetration and force so far already exceed their bounds
 ``max_penetration`` and ``peak_accel`` are those of the full loop; ``steps`` of a
 sticking contact counts the updates until the verdict). A caller that does not read the
 peaks of sticking contacts (``stuck_peaks=False``: the phase means of the designs by
-contact time) drops that condition: a contact creeping up to its rest from below is then
+contact time, and the step table's, which leaves sticking nodes and designs by largest
+overlap to the iteration) drops that condition: a contact creeping up to its rest from below is then
 decided as soon, its peaks being those until the verdict.
 All quantities are SI. Internal to :mod:`impactsym.engines.drake`.
 """

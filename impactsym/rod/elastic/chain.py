@@ -61,7 +61,7 @@ def stacked_stages(own: list, width: int) -> tuple[list, np.ndarray]:
 
 
 def affine_scan(stages: tuple, c: np.ndarray, x0: np.ndarray) -> np.ndarray:
-    """Internal: ``x_1 .. x_n`` of ``x_(i+1) = A_i x_i + c_i`` (``c: [..., n, k]``, ``x0:
+    """Internal: ``x_1, ..., x_n`` of ``x_(i+1) = A_i x_i + c_i`` (``c: [..., n, k]``, ``x0:
     [..., k]``, ``stages = scan_stages(A)``), by doubling (Hillis and Steele): ``log2 n``
     NumPy steps instead of ``n``, rounding at the level of a sequential loop, and the
     same bits whatever the leading axes hold."""

@@ -19,8 +19,6 @@ from functools import lru_cache
 
 import numpy as np
 
-from impactsym.numeric.precision import workdps
-
 #: Absolute error allowed for the float path of the finite-stiffness evaluation.
 _TOLERANCE = 1e-12
 #: Largest normalized time evaluated with a finite contact stiffness (the time
@@ -115,6 +113,8 @@ class PoleModel:
     def __init__(self, which: str, alpha: float, kappa: float, n_terms: int, dps: int) -> None:
         import mpmath as mp
 
+        from impactsym.numeric.precision import workdps  # (mpmath: not in exported code)
+
         self.dps = dps
         self._shift_cache: dict = {}
         self.parts: list[list] = []
@@ -180,6 +180,8 @@ class PoleModel:
         if cached is not None:
             return cached
         import mpmath as mp
+
+        from impactsym.numeric.precision import workdps  # (mpmath: not in exported code)
 
         out = []
         with workdps(self.dps):
@@ -260,6 +262,8 @@ class PoleModel:
     def evaluate_mp(self, t, f, derivative=False):
         """The same sum with mpmath at the model's precision (one point)."""
         import mpmath as mp
+
+        from impactsym.numeric.precision import workdps  # (mpmath: not in exported code)
 
         with workdps(self.dps):
             total = mp.mpf(0)

@@ -20,7 +20,7 @@ from impactsym.rod.elastic.taylor import DEGREE
 
 def slow_operator(alpha: float, width: float, *, kappa: float):
     """Internal: ``S`` (``N = S (v + 2G)`` on coefficients in ``xi``, degree ``DEGREE``) and the
-    inverse of the matrix of ``alpha v' + N = f`` in ``v_1 .. v_D`` (``v_0`` given)."""
+    inverse of the matrix of ``alpha v' + N = f`` in ``v_1, ..., v_D`` (``v_0`` given)."""
     D = DEGREE
     eps = 1.0 / (width * kappa)
     # S[j, i] = prod_{l = j+1 .. i} (-eps l): running products along each row (above
