@@ -340,7 +340,8 @@ def _reproduce(args: argparse.Namespace) -> None:
     Python raises ``KeyboardInterrupt`` wherever the signal arrives; inside a finalizer
     or weakref callback it is printed and ignored. The handler therefore also sets a
     flag that the next progress message turns into ``KeyboardInterrupt`` again, and such
-    an ignored interrupt is not printed.
+    an ignored interrupt is not printed. Once interrupted, any error that follows (a
+    library's cleanup failing on a half-made object) is reported as the interrupt.
     """
     from impactsym.reproduce import reproduce
 
@@ -364,6 +365,12 @@ def _reproduce(args: argparse.Namespace) -> None:
     previous_hook, sys.unraisablehook = sys.unraisablehook, unraisable
     try:
         reproduce(args.out, quick=args.quick, force=args.force, progress=progress)
+    except Exception as exc:
+        # the interrupt may surface as another error: a library's cleanup after it (e.g.
+        # Matplotlib's PDF writer closing a stream it was opening raised AttributeError)
+        if interrupted:
+            raise KeyboardInterrupt from exc
+        raise
     finally:
         sys.unraisablehook = previous_hook
         if in_main_thread:

@@ -228,6 +228,28 @@ def test_an_interrupted_run_exits_130_with_one_line_and_no_partial_file(
     assert sorted(recorded) == sorted(n for n in names if n != MARKER)
 
 
+def test_an_interrupt_that_a_library_turns_into_another_error_is_still_the_interrupt(
+    sandbox, monkeypatch, capsys
+):
+    # Ctrl-C inside Matplotlib's PDF writer: its cleanup of a half-made stream raised
+    # AttributeError, which the command reported as an internal error (exit 3)
+    home, _ = sandbox
+
+    def cleanup_fails(ax, out, stem):
+        try:
+            os.kill(os.getpid(), signal.SIGINT)  # the handler raises KeyboardInterrupt here
+            time.sleep(1.0)
+        except KeyboardInterrupt:
+            raise AttributeError("'Stream' object has no attribute 'pos'") from None
+
+    import impactsym.results.rod as rod_results
+
+    monkeypatch.setattr(rod_results, "save_figure", cleanup_fails)
+    assert main(["reproduce", "--quick", "--out", str(home / "out")]) == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["impactsym: interrupted; files completed so far are kept"]
+
+
 @pytest.mark.slow
 def test_sigint_during_a_run_prints_one_line_and_leaves_only_complete_files(tmp_path):
     out = tmp_path / "out"

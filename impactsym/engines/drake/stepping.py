@@ -20,26 +20,26 @@ sticks. The result is :class:`~impactsym.engines.mujoco.stepping.StepContact`.
 
 *A settled contact* (``"tamsi"``/``"similar"``/``"lagged"`` under gravity) is declared
 sticking as soon as it provably never ends, instead of after :data:`MAX_STEPS` updates
-(a heavily damped loaded contact creeps to rest without turning back: 2·10^6 updates,
-a minute per call). While the update carries an impulse, the discrete energy
-:math:`E = m u^2/2 + k x^2/2 - m g x` falls: with :math:`x' = x + h u'`,
-:math:`E' - E = -h k d x' u'^2 - m (u' - u)^2/2 - k h^2 u'^2/2 \le 0`. Let the well be
-:math:`W = (m g)^2/(2k)` and :math:`E \le -c W` (``c > 0``; applied from ``c > 0.01``). Allowing rounding to give
+(a heavily damped loaded contact creeps to rest without turning back: 2·10^6 updates, a
+minute per call). While the update carries an impulse, the discrete energy :math:`E = m
+u^2/2 + k x^2/2 - m g x` falls: with :math:`x' = x + h u'`, :math:`E' - E = -h k d x'
+u'^2 - m (u' - u)^2/2 - k h^2 u'^2/2 \le 0`. Let the well be :math:`W = (m g)^2/(2k)`
+and :math:`E \le -c W` (``c > 0``; applied from ``c > 0.01``). Allowing rounding to give
 back :math:`10^{-6} W` (far more than :data:`MAX_STEPS` updates can), every later state
 has :math:`|x - x_e| \le \rho x_e` (:math:`x_e = m g/k`) and :math:`|u| \le \rho g T`
 (:math:`T = \sqrt{m/k}`, :math:`\rho = \sqrt{1 - c + 10^{-6}}`). There the impulse
-cannot vanish: ``u* <= -x/h`` would need :math:`E \ge k x^2/2 \ge 0`, and
-``u* <= -1/d`` is excluded by :math:`d \rho g T < 1`; it stays above the ``1e-12 m v`` floor where
-:math:`h g (1 - \rho)(1 - d \rho g T) > 2\cdot 10^{-12} v`. So the contact never ends, as
-the full loop would find. The rule is applied every :data:`_SETTLE_EVERY` updates and only
-where the largest penetration and force so far already exceed their bounds
+cannot vanish: ``u* <= -x/h`` would need :math:`E \ge k x^2/2 \ge 0`, and ``u* <= -1/d``
+is excluded by :math:`d \rho g T < 1`; it stays above the ``1e-12 m v`` floor where
+:math:`h g (1 - \rho)(1 - d \rho g T) > 2\cdot 10^{-12} v`. So the contact never ends,
+as the full loop would find. The rule is applied every :data:`_SETTLE_EVERY` updates and
+only where the largest penetration and force so far already exceed their bounds
 :math:`x_e(1 + \rho)` and :math:`m g (1 + \rho)(1 + d \rho g T)` (then
 ``max_penetration`` and ``peak_accel`` are those of the full loop; ``steps`` of a
 sticking contact counts the updates until the verdict). A caller that does not read the
 peaks of sticking contacts (``stuck_peaks=False``: the phase means of the designs by
 contact time, and the step table's, which leaves sticking nodes and designs by largest
-overlap to the iteration) drops that condition: a contact creeping up to its rest from below is then
-decided as soon, its peaks being those until the verdict.
+overlap to the iteration) drops that condition: a contact creeping up to its rest from
+below is then decided as soon, its peaks being those until the verdict.
 All quantities are SI. Internal to :mod:`impactsym.engines.drake`.
 """
 
