@@ -28,7 +28,9 @@ certificates of the pieces that hold no event 20 %, the event loop's own arithme
 35 %, the tables, the stress maximum and the energy check 16 %. Every contact time,
 separation velocity and stress maximum of the 1000 draws is bit for bit the same as
 before; the energy residuals move by less than 1e-14 (benchmarks/compare_rod_sequence.py
-compares two checkouts on these draws).
+compares two checkouts on these draws). The piece integrals are Horner's rule again (one
+matrix product over the powers lost 1.3 digits where a piece's terms cancel, found by
+review; ~0.1 s): 4.74 and 4.86 s CPU on the idle machine (load 0.7), under the target.
 """
 
 from __future__ import annotations
