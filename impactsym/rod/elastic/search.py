@@ -23,6 +23,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from impactsym.numeric.eft import UNIT_ROUNDOFF as _U
 from impactsym.numeric.isolation import first_sign_change
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.rod.elastic import CertifiedTable
@@ -204,7 +205,6 @@ def _joint_search_steps(groups, which, t_max, *, prefix=True):
 
 #: Cells at the start of a reflection interval tried by :func:`_positive_prefix`.
 _PREFIX_CELLS = 8
-_U = 2.0**-53  # unit roundoff
 
 
 @lru_cache(maxsize=4)

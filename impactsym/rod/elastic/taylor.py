@@ -32,7 +32,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from impactsym.numeric.eft import sum_with_bound, two_prod, two_sum
+from impactsym.numeric.eft import UNIT_ROUNDOFF as _U
+from impactsym.numeric.eft import gamma, sum_with_bound, two_prod, two_sum
 from impactsym.rod.elastic.chain import cell_chain, scan_stages, tree_sum_with_bound
 from impactsym.validation import real_array
 
@@ -44,7 +45,6 @@ _REACH = 1.0
 #: this table).
 MAX_CELLS = 256
 _EPS = float(np.finfo(np.float64).eps)
-_U = 0.5 * _EPS  # unit roundoff
 #: Largest sum of the absolute coefficients of a cell's ``N`` (its Horner rounding
 #: bound is ``(DEGREE + 4) eps`` times it) before the cells are halved.
 _COEFFICIENT_SUM = 100.0
@@ -470,7 +470,7 @@ def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray, before=None) ->
             [C[:, 1:, :1], C_lo[:, 1:, :1], -C[:, :-1], -low_end[..., None]], axis=-1
         )
         later, bound = tree_sum_with_bound(terms)
-        bound += n * _U / (1.0 - n * _U) * np.abs(C_lo[:, :-1]).sum(axis=-1) * (1.0 + 1e-9)
+        bound += gamma(n) * np.abs(C_lo[:, :-1]).sum(axis=-1) * (1.0 + 1e-9)
         first, first_bound = sum_with_bound([C[:, :1, 0], C_lo[:, :1, 0], -initial[:, None]])
         return np.concatenate([np.abs(first) + first_bound, np.abs(later) + bound], axis=1)
     terms = [C[:, 1:, 0], C_lo[:, 1:]]
