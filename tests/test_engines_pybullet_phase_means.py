@@ -7,9 +7,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from impactsym.engines.pybullet.phase_means import phase_means, tracked_pattern
+from impactsym.engines.pybullet.phase_means import root_summary, tracked_pattern
 from impactsym.engines.pybullet.phases import phase_summary
 from impactsym.engines.pybullet.stepping import step_pattern
+
+
+def phase_means(*args, **settings):
+    """The phase-mean restitution and contact time of :func:`root_summary`."""
+    summary = root_summary(*args, **settings)
+    return summary.restitution, summary.contact_time
+
 
 RNG = np.random.default_rng(2040)
 H = 1 / 240

@@ -6,6 +6,7 @@ import threading
 import time
 
 import mpmath
+import pytest
 
 from impactsym.numeric.precision import workdps
 
@@ -51,3 +52,11 @@ def test_plain_mpmath_workdps_is_shared_between_threads():
             break
     mpmath.mp.dps = before
     assert seen != {60}
+
+
+@pytest.mark.parametrize(
+    ("dps", "error"), [("30", TypeError), (2.5, TypeError), (True, TypeError), (0, ValueError)]
+)
+def test_a_bad_precision_is_refused_by_name(dps, error):
+    with pytest.raises(error, match="dps"), workdps(dps):
+        pass

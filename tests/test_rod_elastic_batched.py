@@ -15,10 +15,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from references.rod_pole_search import pointwise_pole_contact_times
+from references.rod_pole_search import pointwise_pole_contact_times, table_within_its_bounds
 
 from impactsym.rod.elastic.manifold import ManifoldTable, extend_tables, interval_mesh
-from impactsym.rod.elastic.poles import pole_model
 from impactsym.rod.elastic.search import TABLE_TOLERANCE, elastic_contact_times
 from impactsym.rod.elastic.taylor import TaylorTable
 
@@ -72,7 +71,7 @@ def test_the_graded_taylor_mesh_lies_within_its_bounds_of_the_mpmath_pole_sums(a
     table = ManifoldTable(a, k, 4)
     rng = np.random.default_rng(7)
     t = np.concatenate([rng.uniform(0.0, 8.0, 10), 2.0 * np.arange(4) + rng.uniform(0, 0.8, 4)])
-    bounds = _within_bounds_of_the_pole_sums(table, a, k, 4, t, rng.uniform(0.0, 2.0, t.size))
+    bounds = table_within_its_bounds(table, a, k, 4, t, rng.uniform(0.0, 2.0, t.size))
     assert np.all(bounds <= TABLE_TOLERANCE)
 
 
@@ -94,23 +93,7 @@ def test_the_graded_taylor_mesh_finds_the_contact_times_of_the_uniform_one():
 def test_the_uniform_taylor_table_lies_within_its_bounds_of_the_mpmath_pole_sums(a, k):
     rng = np.random.default_rng(9)
     t = rng.uniform(0.0, 6.0, 14)
-    _within_bounds_of_the_pole_sums(TaylorTable(a, k, 3), a, k, 3, t, rng.uniform(0, 2, t.size))
-
-
-def _within_bounds_of_the_pole_sums(table, a, k, n_terms, t, f):
-    """Assert that ``y`` and ``N`` of ``table`` at ``(t, f)`` lie within their proven
-    bounds of the pole sums at 60 digits; the bounds."""
-    bounds = []
-    for which in ("N", "y"):
-        reference = pole_model(which, a, kappa=k, n_terms=n_terms, dps=60)
-        view = table.view(which)
-        value, _ = view.evaluate(t, f)
-        exact = np.array([reference.evaluate_mp(x, y) for x, y in zip(t, f, strict=True)])
-        i = view.cell(t)
-        bound = view.err_a[i] + f * view.err_b[i]
-        assert np.all(np.abs(value - exact) <= bound), which
-        bounds.append(bound)
-    return np.concatenate(bounds)
+    table_within_its_bounds(TaylorTable(a, k, 3), a, k, 3, t, rng.uniform(0, 2, t.size))
 
 
 def test_the_batches_kept_do_not_keep_their_tables_alive():

@@ -19,7 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
-_U = 2.0**-53
+#: The unit roundoff of float64, ``u = 2^-53``.
+UNIT_ROUNDOFF = 2.0**-53
 _SPLIT = 2.0**27 + 1.0
 #: Absolute slack per product for an underflowing error term (far below any bound used).
 TINY = 1e-290
@@ -50,8 +51,10 @@ def two_prod(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return p, e
 
 
-def _gamma(n: int) -> float:
-    return n * _U / (1.0 - n * _U)
+def gamma(n: int) -> float:
+    """``gamma_n = n u / (1 - n u)``: the relative error bound of ``n`` float operations
+    in sequence (Higham)."""
+    return n * UNIT_ROUNDOFF / (1.0 - n * UNIT_ROUNDOFF)
 
 
 def sum_with_bound(terms: list[np.ndarray], n_products: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -70,5 +73,5 @@ def sum_with_bound(terms: list[np.ndarray], n_products: int = 0) -> tuple[np.nda
         size = size + np.abs(t)
     n = len(terms)
     total = s + err
-    bound = _U * np.abs(total) + _gamma(n) ** 2 * size * 4.0 + n_products * TINY
+    bound = UNIT_ROUNDOFF * np.abs(total) + gamma(n) ** 2 * size * 4.0 + n_products * TINY
     return total, bound

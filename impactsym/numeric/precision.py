@@ -17,6 +17,8 @@ from contextlib import contextmanager
 
 import mpmath
 
+from impactsym.validation import check_count
+
 __all__ = ["workdps"]
 
 _LOCK = threading.RLock()
@@ -25,11 +27,13 @@ _LOCK = threading.RLock()
 @contextmanager
 def workdps(dps: int) -> Iterator[None]:
     """``mpmath.workdps(dps)`` under the process-wide lock (module docstring); nested
-    calls in one thread are fine (re-entrant).
+    calls in one thread are fine (re-entrant). ``dps``: a whole number of digits in
+    ``[1, 100000]`` (else ``TypeError``/``ValueError`` naming it).
 
     >>> with workdps(30):
     ...     print(mpmath.mp.dps)
     30
     """
+    dps = check_count("dps", dps, upper=100_000)  # (a bad one is named before the lock)
     with _LOCK, mpmath.workdps(dps):
         yield

@@ -49,7 +49,11 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.drake.update import hunt_crossley_velocity, sap_velocity
+from impactsym.engines.drake.update import (
+    hunt_crossley_root,
+    hunt_crossley_velocity,
+    sap_velocity,
+)
 from impactsym.engines.mujoco.stepping import StepContact
 
 __all__ = ["MAX_STEPS", "end_margin", "step_contact"]
@@ -219,10 +223,7 @@ def end_margin(
         rest = sl > count
         if 2 * np.count_nonzero(rest) <= live.size:
             live, rows = live[rest], [a[rest] for a in rows]
-    ustar = u + h * g
-    a, b, c = h * h * k * d, m + h * h * k + h * k * d * x, m * ustar - h * k * x
-    with np.errstate(invalid="ignore", divide="ignore"):
-        root = 2.0 * c / (b + np.sqrt(b * b + 4.0 * a * c))
+    ustar, root = hunt_crossley_root(x, u, k, d, m, g, h, clip=False)
     margin = np.minimum(x / h, ustar - root - _ZERO * v)
     _, impulse = hunt_crossley_velocity(x, u, k, d, m, g, h)
     ends = (x < 0.0) | (impulse <= _ZERO * m * v)

@@ -34,7 +34,13 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["APPROXIMATIONS", "DEFAULT_RELAXATION_TIME", "hunt_crossley_velocity", "sap_velocity"]
+__all__ = [
+    "APPROXIMATIONS",
+    "DEFAULT_RELAXATION_TIME",
+    "hunt_crossley_root",
+    "hunt_crossley_velocity",
+    "sap_velocity",
+]
 
 #: Drake's discrete contact approximations (MultibodyPlantConfig.discrete_contact_approximation).
 APPROXIMATIONS = ("tamsi", "similar", "lagged", "sap")
@@ -55,16 +61,29 @@ def hunt_crossley_velocity(
     ``b = m + h^2 k + h k d x`` and ``c = m u* - h k x`` (no cancellation for ``d = 0``
     either). Returns ``(u', impulse)`` with ``impulse = m (u* - u') >= 0``.
     """
-    ustar = u + h * g
-    a = h * h * k * d
-    b = m + h * h * k + h * k * d * x
-    c = m * ustar - h * k * x
+    ustar, root = hunt_crossley_root(x, u, k, d, m, g, h)
     with np.errstate(invalid="ignore", divide="ignore"):
-        root = 2.0 * c / (b + np.sqrt(np.maximum(b * b + 4.0 * a * c, 0.0)))
         limit = np.where(d > 0, np.maximum(-x / h, -1.0 / d), -x / h)
     free = ustar <= limit
     new = np.where(free, ustar, root)
     return new, np.where(free, 0.0, m * (ustar - new))
+
+
+def hunt_crossley_root(
+    x: Any, u: Any, k: Any, d: Any, m: Any, g: Any, h: Any, *, clip: bool = True
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(u*, root)``: the free velocity and the larger root of
+    ``m (u' - u*) + h k (x + h u')(1 + d u') = 0`` in the stable form of
+    :func:`hunt_crossley_velocity`, without its clipping of the impulse (``clip=False``:
+    nor of the discriminant at 0, so ``nan`` where there is no real root)."""
+    ustar = u + h * g
+    a = h * h * k * d
+    b = m + h * h * k + h * k * d * x
+    c = m * ustar - h * k * x
+    disc = b * b + 4.0 * a * c
+    with np.errstate(invalid="ignore", divide="ignore"):
+        root = 2.0 * c / (b + np.sqrt(np.maximum(disc, 0.0) if clip else disc))
+    return ustar, root
 
 
 def sap_velocity(

@@ -4,19 +4,18 @@ r"""PyBullet's phase-mean contact for the designs: the pattern's break points in
 of :func:`~impactsym.engines.pybullet.stepping.step_pattern` changes by bisection (42
 runs of the map per change, on 32 grid intervals) for any map; for PyBullet's own
 :func:`break_pieces` finds the same pieces from a few runs and :func:`root_summary`
-integrates them in closed form (the summary the designs need many times over;
-:func:`phase_means` the means alone). Where the pattern is constant the state of every
-(sub)step is an affine map of the free-flight state ``-1``, itself quadratic in the
-phase ``p`` (``x = v t + g t^2/2``, ``w = v + g t``, ``t = (p - 1) h``), so every
-quantity whose sign picks a branch (the gap ``d = s - x`` of the speculative branch,
-the bias ``b`` of the clipped impulse, the processing threshold ``x + threshold``, the
-restitution threshold) is a quadratic in ``p``, and :func:`tracked_pattern` carries
-the first and second phase derivatives of the state along the run: the first root
-ahead of a phase, over the (sub)steps up to the end state, is the next point where the
-pattern can change. ``b`` is followed across a change of the speculative branch it does
-not feel (where ``b <= 0`` at ``d = 0`` the impulse is zero on both sides, so ``b``
-changes formula but the pattern not): its root counts on the side of ``d`` whose
-formula gives it.
+integrates them in closed form (the summary the designs need many times over). Where the
+pattern is constant the state of every (sub)step is an affine map of the free-flight
+state ``-1``, itself quadratic in the phase ``p`` (``x = v t + g t^2/2``, ``w = v + g
+t``, ``t = (p - 1) h``), so every quantity whose sign picks a branch (the gap ``d = s -
+x`` of the speculative branch, the bias ``b`` of the clipped impulse, the processing
+threshold ``x + threshold``, the restitution threshold) is a quadratic in ``p``, and
+:func:`tracked_pattern` carries the first and second phase derivatives of the state
+along the run: the first root ahead of a phase, over the (sub)steps up to the end state,
+is the next point where the pattern can change. ``b`` is followed across a change of the
+speculative branch it does not feel (where ``b <= 0`` at ``d = 0`` the impulse is zero
+on both sides, so ``b`` changes formula but the pattern not): its root counts on the
+side of ``d`` whose formula gives it.
 
 The roots are checked, never trusted: the pattern ``1e-12`` of a phase before a root
 must be that of the piece (the pattern ``1e-12`` after it starts the next piece, and
@@ -54,9 +53,9 @@ from impactsym.engines.pybullet.stepping import (
     substep_impulse,
 )
 
-__all__ = ["CHUNK", "break_pieces", "phase_means", "root_summary", "tracked_pattern"]
+__all__ = ["CHUNK", "break_pieces", "root_summary", "tracked_pattern"]
 
-#: elements per pass of :func:`phase_means` and of the phase summary: every element's
+#: elements per pass of :func:`root_summary` and of the phase summary: every element's
 #: numbers are its own, but a pass over 10^5 elements at once runs out of the cache
 #: (measured 7.9 s against 3.9 s in passes of 5000-20000)
 CHUNK = 8192
@@ -205,7 +204,7 @@ def break_pieces(
     the end). ``end_speed`` (``(3, pieces)``) is the end state's speed at
     ``sampled_start`` and its two phase derivatives (:func:`tracked_pattern`): the
     quadratic the end speed follows over the piece. Arguments as in
-    :func:`phase_means`, flattened (``owner`` indexes the flat arrays)."""
+    :func:`root_summary`, flattened (``owner`` indexes the flat arrays)."""
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
     )
@@ -313,30 +312,6 @@ def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
                 root = np.where(side > 0 if positive else side <= 0, root, np.inf)
             best = np.minimum(best, root)
         first[j] = best
-
-
-def phase_means(
-    stiffness: Any,
-    damping: Any,
-    mass: Any,
-    speed: Any,
-    gravity: Any,
-    timestep: Any,
-    *,
-    substeps: int,
-    slop: float,
-    processing_threshold: float,
-    velocity_restitution: float = 0.0,
-    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
-) -> tuple[np.ndarray, np.ndarray]:
-    """The phase-mean restitution and contact time (``inf`` where a piece sticks) of
-    :func:`root_summary`. Validated arrays in, broadcast together."""
-    summary = root_summary(
-        stiffness, damping, mass, speed, gravity, timestep, substeps=substeps, slop=slop,
-        processing_threshold=processing_threshold, velocity_restitution=velocity_restitution,
-        restitution_threshold=restitution_threshold,
-    )  # fmt: skip
-    return summary.restitution, summary.contact_time
 
 
 def root_summary(

@@ -222,7 +222,9 @@ def predict(
     e, t, sticks = at.restitution, at.contact_time, at.sticks
     ranges = (e, e), (t, t)
     frac = sticks.astype(float)
-    return _record(k_body, c_body, k, c, e, t, sticks, frac, ranges, scalar, h, settings, phase)
+    return _record(
+        k_body, c_body, k, c, e, t, sticks, frac, ranges, scalar, h, settings["substeps"], phase
+    )
 
 
 def summary_contact(
@@ -248,12 +250,11 @@ def summary_contact(
     frac = summary.stick_fraction
     return _record(
         stiffness, damping, pair_stiffness, pair_damping, summary.restitution,
-        summary.contact_time, frac > 0, frac, ranges, scalar, timestep, {"substeps": substeps},
-        None,
+        summary.contact_time, frac > 0, frac, ranges, scalar, timestep, substeps, None,
     )  # fmt: skip
 
 
-def _record(k_body, c_body, k, c, e, t, sticks, frac, ranges, scalar, h, settings, phase):
+def _record(k_body, c_body, k, c, e, t, sticks, frac, ranges, scalar, h, substeps, phase):
     """The :class:`PyBulletContact` of these fields (floats where ``scalar``)."""
     out = [np.broadcast_to(a, np.shape(e)) for a in (k_body, c_body, k, c)]
     out += [e, t, sticks, frac]
@@ -261,4 +262,4 @@ def _record(k_body, c_body, k, c, e, t, sticks, frac, ranges, scalar, h, setting
         kinds = (float, float, float, float, float, float, bool, float)
         out = [kind(a) for kind, a in zip(kinds, out, strict=True)]
         ranges = tuple((float(a), float(b)) for a, b in ranges)
-    return PyBulletContact(*out, *ranges, float(h), settings["substeps"], phase)
+    return PyBulletContact(*out, *ranges, float(h), substeps, phase)

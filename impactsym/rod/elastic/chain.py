@@ -14,9 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from impactsym.numeric.eft import two_sum
-
-_U = 2.0**-53  # unit roundoff
+from impactsym.numeric.eft import UNIT_ROUNDOFF as _U
+from impactsym.numeric.eft import gamma, two_sum
 
 
 def scan_stages(A: np.ndarray) -> tuple[list, np.ndarray]:
@@ -111,8 +110,7 @@ def tree_sum_with_bound(C: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     s, e, size, levels = _tree_sum(C)
     n = C.shape[-1]
     total = s + e
-    gamma = n * _U / (1.0 - n * _U)
-    bound = (_U * np.abs(total) + gamma * levels * _U * size) * (1.0 + 1e-9)
+    bound = (_U * np.abs(total) + gamma(n) * levels * _U * size) * (1.0 + 1e-9)
     return total, bound
 
 

@@ -23,6 +23,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from impactsym.numeric.eft import UNIT_ROUNDOFF as _U
 from impactsym.numeric.isolation import first_sign_change
 from impactsym.numeric.roots import bracketed_newton
 from impactsym.rod.elastic import CertifiedTable
@@ -107,12 +108,18 @@ def elastic_contact_times(which, alpha, f, *, kappa, t_max, method="taylor"):
     return result
 
 
-def _joint_search_steps(groups, which, t_max):
-    """:func:`_table_search_steps` for several groups ``(through, alpha, kappa, forces,
-    members)`` at once: one search per interval over the pairs of all of them (each on its
-    own table), so that the work that does not depend on the pairs' number is done once.
-    A generator: it yields ``{group: m}`` (the intervals each still searching group needs
-    next) and returns a list of contact times per group, ``None`` for a group whose table
+def _joint_search_steps(groups, which, t_max, *, prefix=True):
+    """Contact times of the forces (sorted) of several groups ``(through, alpha, kappa,
+    forces, members)``, each on its own table ``through(m)`` (a
+    :class:`impactsym.rod.elastic.CertifiedTable` over at least the first ``m``
+    reflection intervals, or ``None``: not certified), interval by interval, so that later
+    cells are built, repaired and searched only for the ``f`` still in contact: one search
+    per interval over the pairs of all groups, so that the work that does not depend on
+    the pairs' number is done once. ``prefix``: the ``N`` search starts after the cells of
+    an interval's start that :func:`_positive_prefix` proves positive. A generator: it
+    yields ``{group: m}`` (the intervals each still searching group needs next, before it
+    asks ``through(m)``: the caller can build the tables of many groups at once) and
+    returns a list of contact times per group, ``None`` for a group whose table
     ``through(m)`` refused."""
     n_terms = int(t_max // 2) + 1
     sizes = [g[3].size for g in groups]
@@ -149,7 +156,7 @@ def _joint_search_steps(groups, which, t_max):
         # Bernstein coefficients): the search starts after them, per pair (N only: y'' is
         # moderate at a reflection time, its search halves nothing there)
         skip = np.zeros(fm.size, dtype=np.int64)
-        if m > 0 and which == "N":
+        if prefix and m > 0 and which == "N":
             for g in present:
                 mine = active[owner[active] == g]
                 skip[mine] = _positive_prefix(tables[g], cells[g], fm[mine])
@@ -198,7 +205,6 @@ def _joint_search_steps(groups, which, t_max):
 
 #: Cells at the start of a reflection interval tried by :func:`_positive_prefix`.
 _PREFIX_CELLS = 8
-_U = 2.0**-53  # unit roundoff
 
 
 @lru_cache(maxsize=4)
@@ -251,12 +257,15 @@ def _other_table(which, ag, kg, fm, t_max, method):
         table = taylor_table(ag, kappa=kg, n_intervals=n_searched).view(which)
     else:
         table = cell_table(which, ag, kappa=kg, n_terms=n_terms)
-    steps = _table_search_steps(lambda _, table=table: table, which, ag, kg, fm, t_max)
+    # one group, on a table built whole (nothing to extend between the steps); the
+    # cells of an interval's start are searched as they are (prefix=False)
+    group = (lambda _, table=table: table, ag, kg, fm, None)
+    steps = _joint_search_steps([group], which, t_max, prefix=False)
     while True:
         try:
             next(steps)
         except StopIteration as stop:
-            return stop.value
+            return stop.value[0]
 
 
 def _certified_manifold(alpha, kappa, which, n_terms, forces):
@@ -298,55 +307,6 @@ def check_stiffness(alpha: float, *, kappa: float) -> None:
             f"1/{fastest:.3g} is "
             f"below 1/{_FASTEST_POLE:g}; use kappa=inf (rigid contact), its limit"
         )
-
-
-def _table_search_steps(through, which, ag, kg, fm, t_max):
-    """Contact times of the forces ``fm`` (sorted) of one ``(alpha, kappa)`` on the table
-    ``through(m)`` (a :class:`impactsym.rod.elastic.CertifiedTable` over at least the first
-    ``m`` reflection intervals), interval by interval, so that later cells are built,
-    repaired and searched only for the ``f`` still in contact; ``None`` where ``through``
-    gives none (a table not certified). A generator: it yields ``m`` before it asks
-    ``through(m)`` (so that the caller can build the tables of many groups at once) and
-    returns the times."""
-    n_terms = int(t_max // 2) + 1
-    result = np.full(fm.size, np.inf)
-    active = np.arange(fm.size)
-    table = None
-    for m in range(n_terms):
-        start, end = 2.0 * m, min(2.0 * m + 2.0, t_max)
-        if start >= t_max or active.size == 0:
-            break
-        # this interval and the next (its end is the next one's first cell's start)
-        yield m + 2
-        current = through(m + 2)
-        if current is None:
-            return None
-        if current is not table:
-            table = current
-            evaluate, bound = _table_search(table, which, ag, kg, fm, n_terms)
-        base = np.append(table.lo[(table.lo >= start) & (table.lo < end)], end)
-
-        def search(pos, base=base, active=active, evaluate=evaluate, bound=bound):
-            pairs = active[pos]
-            return first_sign_change(
-                lambda t, own: _deeper(evaluate(t, pairs[own])),
-                lambda ta, tb, own, *ends: bound(ta, tb, pairs[own], *ends),
-                np.tile(base, pos.size),
-                np.repeat(np.arange(pos.size), base.size),
-                pos.size,
-                max_cells=2**22,
-                certify=True,
-            )
-
-        # g = A + f B is affine in f: proofs of g > 0 are shared between the
-        # forces (not on interval 0, where g(0) = 0 leaves nothing to prove)
-        crowded = m > 0 and active.size >= SCREEN_MIN_PAIRS
-        rows = np.zeros(active.size, dtype=np.int64)
-        roots = screen_interval(search, rows, SCREEN_STRIDES if crowded else (1,))
-        hit = np.isfinite(roots)
-        result[active[hit]] = _zero_before(evaluate, roots[hit], active[hit], start)
-        active = active[~hit]
-    return result
 
 
 def _deeper(values: tuple) -> tuple:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from impactsym.numeric.eft import two_sum
 from impactsym.rod.elastic.taylor import DEGREE
 
 
@@ -45,13 +46,8 @@ def manifold_forces(V, V0_lo, G_hi, G_lo, widths, *, kappa):
     nh, nl = np.zeros(V.shape[1:]), np.zeros(V.shape[1:])
     for k in range(D, -1, -1):
         t = ((k + 1) / widths * (nh + nl)) / kappa
-        vk, gh = V[k], 2.0 * G_hi[k]
-        s1 = vk + gh
-        bb = s1 - vk
-        e1 = (vk - (s1 - bb)) + (gh - bb)
-        s2 = s1 - t
-        bb = s2 - s1
-        e2 = (s1 - (s2 - bb)) + (-t - bb)
+        s1, e1 = two_sum(V[k], 2.0 * G_hi[k])
+        s2, e2 = two_sum(s1, -t)
         low = (e1 + e2) + (2.0 * G_lo[k] + (V0_lo if k == 0 else 0.0))
         nh = s2 + low
         nl = low - (nh - s2)
@@ -89,14 +85,9 @@ def slow_cells(y0, v0, force, G_hi, G_lo, widths, operators, factors, *, kappa):
     c_v = np.ascontiguousarray(c_v.T)
     fk = force
     for k in range(D):
-        vk = V[k]
         t = ((k + 1) / widths * old[k + 1]) / kappa
-        s1 = vk + gh[k]
-        bb = s1 - vk
-        e1 = (vk - (s1 - bb)) + (gh[k] - bb)
-        s2 = s1 - t
-        bb = s2 - s1
-        e2 = (s1 - (s2 - bb)) + (-t - bb)
+        s1, e1 = two_sum(V[k], gh[k])
+        s2, e2 = two_sum(s1, -t)
         low = (e1 + e2) + gl[k]
         nh = s2 + low
         V[k + 1] = c_v[k] * ((fk - nh) - (low - (nh - s2)))

@@ -32,7 +32,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from impactsym.numeric.eft import sum_with_bound, two_prod, two_sum
+from impactsym.numeric.eft import UNIT_ROUNDOFF as _U
+from impactsym.numeric.eft import gamma, sum_with_bound, two_prod, two_sum
 from impactsym.rod.elastic.chain import cell_chain, scan_stages, tree_sum_with_bound
 from impactsym.validation import real_array
 
@@ -44,7 +45,6 @@ _REACH = 1.0
 #: this table).
 MAX_CELLS = 256
 _EPS = float(np.finfo(np.float64).eps)
-_U = 0.5 * _EPS  # unit roundoff
 #: Largest sum of the absolute coefficients of a cell's ``N`` (its Horner rounding
 #: bound is ``(DEGREE + 4) eps`` times it) before the cells are halved.
 _COEFFICIENT_SUM = 100.0
@@ -194,8 +194,9 @@ def cell_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=No
     :func:`displacement_bounds` on its ``coupling``.
 
     ``arrays = (Y, V, N)`` (``[rhs, cell, order]`` in ``xi = (t - lo)/h``), ``lows = (Y_lo,
-    V_lo, N_lo)`` their low parts (``[rhs, cell]``: of the constant coefficients, or
-    ``[rhs, cell, order]``: of every coefficient), ``incoming = (G_hi, G_lo)``, ``n`` cells
+    V_lo, N_lo)`` their low parts (``[rhs, cell, order]``: of every coefficient, as
+    :func:`~impactsym.rod.elastic.chain.cell_chain` makes them), ``incoming = (G_hi,
+    G_lo)``, ``n`` cells
     per reflection interval (the same cells in every interval), ``h`` the cell width (a
     power of two: then ``t - lo`` and the divisions by ``h`` are exact), one for all cells
     or one per cell. Includes a Horner evaluation's rounding of the high parts.
@@ -234,7 +235,7 @@ def force_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=N
     D = DEGREE
     first = start * n  # the first cell bounded
     _check_carry("force_bounds", start, carry)
-    n_low_all = _full_low(N_lo, N)
+    n_low_all = N_lo
     dG_raw = _incoming_wave_defect(N, n_low_all, G_hi, G_lo, n, start, carry)
     dG = dG_raw * (1.0 + 1e-9)  # (0 on interval 0: G = 0 there)
     # the cell before the ones bounded (its end: the first jump), then those
@@ -250,13 +251,11 @@ def force_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=N
     n_next = np.concatenate([N[..., 1:], pad], axis=-1)
     force = np.zeros_like(V)
     force[1, :, 0] = 1.0
-    v_low, n_low = (_full_low(low, V) for low in (V_lo, N_lo))
+    v_low, n_low = V_lo, N_lo
     n_low_next = np.concatenate([n_low[..., 1:], pad], axis=-1)
     # with low parts of every coefficient (a few ulps: float, their rounding bounded):
     # their derivatives, by kp1/h (exact: h a power of two) and by alpha/h
-    lows_v = []
-    if np.ndim(V_lo) == 3:
-        lows_v = [(alpha / hc) * (kp1 * np.concatenate([V_lo[..., 1:], pad], axis=-1))]
+    lows_v = [(alpha / hc) * (kp1 * np.concatenate([V_lo[..., 1:], pad], axis=-1))]
     # r1 = alpha v' - f + N
     x1, x2 = two_prod(kp1, v_next)
     p, e = two_prod(alpha / hc, x1)
@@ -271,9 +270,7 @@ def force_bounds(alpha, h, arrays, lows, incoming, n, *, kappa, start=0, carry=N
         terms += two_prod(factor, x)
     # the low parts' terms (each at most u/2 of its high part's, or of G's) in float: a
     # product each and their sum, within 5 u of the sum of their sizes (u^2 of r2's terms)
-    small = [-kappa * v_low, kappa * n_low, (-2.0 * kappa) * G_lo]
-    if np.ndim(N_lo) == 3:  # low parts of every coefficient (the slow-manifold cells)
-        small.append((kp1 / hc) * n_low_next)
+    small = [-kappa * v_low, kappa * n_low, (-2.0 * kappa) * G_lo, (kp1 / hc) * n_low_next]
     small_sum = small[0]
     for z in small[1:]:
         small_sum = small_sum + z
@@ -317,11 +314,11 @@ def displacement_bounds(alpha, h, arrays, lows, coupling, n, *, kappa, start=0, 
     before = (Y[:, first - 1 : first], Y_lo[:, first - 1 : first]) if first else None
     Y, V, Y_lo, V_lo = (x[:, first:] for x in (Y, V, Y_lo, V_lo))
     h, hc, kp1 = _widths_from(h, first)
-    v_low = _full_low(V_lo, V)
+    v_low = V_lo
     # r0 = y' - v
     p, e = two_prod(kp1 / hc, Y[..., 1:])
     # with low parts of every coefficient: their derivatives, by kp1/h (exact)
-    lows_y = [(kp1 / hc) * Y_lo[..., 1:]] if np.ndim(Y_lo) == 3 else []
+    lows_y = [(kp1 / hc) * Y_lo[..., 1:]]
     r0, b0 = sum_with_bound([p, e, -V, -v_low, *lows_y], 1)
     for z in lows_y:
         b0 += _U * np.abs(z)
@@ -371,29 +368,14 @@ def next_incoming(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Internal: the incoming wave of the next reflection interval, ``G_m = N_(m-1) -
     G_(m-1)`` on the cell coefficients, in double-double from ``N + N_lo`` and ``G_hi +
-    G_lo`` of the interval before (``N_lo``: the constant coefficients' low parts, or
-    every coefficient's, shaped like ``N``)."""
+    G_lo`` of the interval before (``N_lo``: every coefficient's low part)."""
     s, e = two_sum(N, -G_hi)
-    t = e - G_lo
-    if N_lo.ndim == N.ndim:
-        t = t + N_lo
-    else:
-        t[..., 0] += N_lo
-    return two_sum(s, t)
-
-
-def _full_low(low: np.ndarray, like: np.ndarray) -> np.ndarray:
-    """Low parts as an array shaped ``like`` (constant-only low parts as order 0)."""
-    if low.ndim == like.ndim:
-        return low
-    full = np.zeros_like(like)
-    full[..., 0] = low
-    return full
+    return two_sum(s, e - G_lo + N_lo)
 
 
 def _abs_low(low: np.ndarray) -> np.ndarray:
     """Bound on the low parts' value on a cell (``|xi| <= 1``)."""
-    return np.abs(low) if low.ndim == 2 else np.abs(low).sum(axis=-1)
+    return np.abs(low).sum(axis=-1)
 
 
 def _cell_integral(r: np.ndarray, h, kp1: np.ndarray) -> np.ndarray:
@@ -456,34 +438,29 @@ def layer_maps(factors):
 def _jumps(C: np.ndarray, C_lo: np.ndarray, initial: np.ndarray, before=None) -> np.ndarray:
     """Bounds on ``|start of cell i - end of cell i - 1|`` (cell 0: ``- initial``, or the
     end of the cell ``before = (C, C_lo)`` of the cells before) of the polynomials ``C``
-    (``[rhs, cell, order]``) with low constant parts ``C_lo``, from an exact-to-``u^2``
+    (``[rhs, cell, order]``) with low parts ``C_lo`` of every coefficient, from an exact-to-``u^2``
     cascaded sum of all the coefficients involved."""
     if before is not None:  # the same sums, from the cell before on; its own jump dropped
         C = np.concatenate([before[0], C], axis=1)
         C_lo = np.concatenate([before[1], C_lo], axis=1)
         return _jumps(C, C_lo, initial)[:, 1:]
-    if C_lo.ndim == 3:  # low parts of every coefficient (each <= u/2 of its high part)
-        # the end of the low parts in float: within gamma_n sum |low| (u^2 of the ends)
-        n = C.shape[-1]
-        low_end = C_lo[:, :-1].sum(axis=-1)
-        terms = np.concatenate(
-            [C[:, 1:, :1], C_lo[:, 1:, :1], -C[:, :-1], -low_end[..., None]], axis=-1
-        )
-        later, bound = tree_sum_with_bound(terms)
-        bound += n * _U / (1.0 - n * _U) * np.abs(C_lo[:, :-1]).sum(axis=-1) * (1.0 + 1e-9)
-        first, first_bound = sum_with_bound([C[:, :1, 0], C_lo[:, :1, 0], -initial[:, None]])
-        return np.concatenate([np.abs(first) + first_bound, np.abs(later) + bound], axis=1)
-    terms = [C[:, 1:, 0], C_lo[:, 1:]]
-    terms += [-C[:, :-1, k] for k in range(C.shape[-1])] + [-C_lo[:, :-1]]
-    later, bound = sum_with_bound(terms)
-    first, first_bound = sum_with_bound([C[:, :1, 0], C_lo[:, :1], -initial[:, None]])
+    # low parts of every coefficient (each <= u/2 of its high part): the end of the low
+    # parts in float, within gamma_n sum |low| (u^2 of the ends)
+    n = C.shape[-1]
+    low_end = C_lo[:, :-1].sum(axis=-1)
+    terms = np.concatenate(
+        [C[:, 1:, :1], C_lo[:, 1:, :1], -C[:, :-1], -low_end[..., None]], axis=-1
+    )
+    later, bound = tree_sum_with_bound(terms)
+    bound += gamma(n) * np.abs(C_lo[:, :-1]).sum(axis=-1) * (1.0 + 1e-9)
+    first, first_bound = sum_with_bound([C[:, :1, 0], C_lo[:, :1, 0], -initial[:, None]])
     return np.concatenate([np.abs(first) + first_bound, np.abs(later) + bound], axis=1)
 
 
 def _incoming_wave_defect(N, n_low, G_hi, G_lo, n, start=0, carry=None):
     """Bounds on ``|G - (G_hi + G_lo)|`` per coefficient, ``G`` the exact alternating sum
-    ``G_m = N_(m-1) - G_(m-1)`` of the stored ``N + n_low`` (``n_low``: the low constant
-    parts as order-0 coefficients; ``n`` cells per interval; ``G = 0`` on the first
+    ``G_m = N_(m-1) - G_(m-1)`` of the stored ``N + n_low`` (``n_low``: the low parts of
+    every coefficient; ``n`` cells per interval; ``G = 0`` on the first
     interval): the defect of each step, summed with a bound, accumulates. For the
     intervals from ``start`` on (``carry[0]``: the sum on interval ``start - 1``), before
     the margin."""
