@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from impactsym.engines.drake import phases
-from impactsym.engines.drake.stepping import end_margin, step_contact
+from impactsym.engines.drake.stepping import contact_ends, end_margin, step_contact
 
 RNG = np.random.default_rng(4242)
 
@@ -45,22 +45,22 @@ def test_the_margin_decides_the_end_as_the_step_loop():
 @pytest.mark.parametrize("approximation", ["lagged", "tamsi"])
 def test_phase_means_agree_with_the_multisection(approximation, monkeypatch):
     k, d, m, g, v, h = _designs(600)
-    steps = []
+    runs = []
 
     def counted(*args, **options):
-        res = step_contact(*args, **options)
-        steps.append(int(res.steps.sum()))
+        res = contact_ends(*args, **options)
+        runs.append(res.sticks.size)
         return res
 
-    monkeypatch.setattr(phases, "step_contact", counted)
+    monkeypatch.setattr(phases, "contact_ends", counted)
     fast = phases.phase_summary(k, d, 0.0, m, g, v, h, approximation=approximation)
-    work_fast = sum(steps)
+    work_fast = sum(runs)
 
     def none_found(flat, run, key, ii, a, c, left, right):
-        return np.zeros(ii.size, bool), a, c
+        return np.zeros(ii.size, bool), a, c, None
 
     monkeypatch.setattr(phases, "_roots", none_found)
-    steps.clear()
+    runs.clear()
     slow = phases.phase_summary(k, d, 0.0, m, g, v, h, approximation=approximation)
     assert np.any(slow.stick_fraction > 0)  # sticking phases: those take the multisection
     np.testing.assert_allclose(fast.restitution, slow.restitution, rtol=0, atol=1e-13)
@@ -70,4 +70,4 @@ def test_phase_means_agree_with_the_multisection(approximation, monkeypatch):
     for name in ("restitution_min", "restitution_max", "max_penetration"):
         np.testing.assert_allclose(getattr(fast, name), getattr(slow, name), rtol=1e-12,
                                    err_msg=name)  # fmt: skip
-    assert work_fast < 0.5 * sum(steps)  # stepped contacts (the margin's steps not counted)
+    assert work_fast < 0.5 * sum(runs)  # contacts run (the margins not counted)

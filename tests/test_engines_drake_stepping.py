@@ -2,7 +2,8 @@
 against the loop that gathers them at every step (tests/references/drake_steps.py): the
 same numbers, bit for bit (except the update count of a sticking contact, which the
 settled-contact rule decides early: the reference steps it until it turns back or to
-``MAX_STEPS``)."""
+``MAX_STEPS``). The lean loop of the phase means (``contact_ends``) against
+``step_contact``: the same numbers, bit for bit."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import pytest
 from references.drake_steps import step_contact as reference
 
 from impactsym.engines.drake import stepping
-from impactsym.engines.drake.stepping import step_contact
+from impactsym.engines.drake.stepping import contact_ends, step_contact
 
 RNG = np.random.default_rng(1000)
 
@@ -76,3 +77,23 @@ def test_a_settled_contact_sticks_without_stepping_to_the_limit(monkeypatch):
     for name in ("restitution", "contact_time", "sticks", "released_by_position",
                  "departure_speed"):  # fmt: skip
         np.testing.assert_array_equal(getattr(quick, name), getattr(old, name), err_msg=name)
+
+
+@pytest.mark.parametrize("h", [1e-3, 1e-2])
+@pytest.mark.parametrize("stuck_peaks", [True, False])
+def test_the_lean_loop_is_step_contact_bit_for_bit(h, stuck_peaks, monkeypatch):
+    monkeypatch.setattr(stepping, "_BLOCK", 700)  # several blocks
+    monkeypatch.setattr(stepping, "MAX_STEPS", 20_000)  # (creeping contacts: both alike)
+    k, d, _, m, g, v, p = _contacts(3000, 0.0)
+    d[:300], p[300:450] = 0.0, 0.0  # undamped; touching exactly at a state
+    d[450:600] *= 20.0  # beyond the rebound bound: contacts that end without leaving
+    old = step_contact(k, d, 0.0, m, g, v, h, p, approximation="lagged", stuck_peaks=stuck_peaks)
+    new = contact_ends(k, d, m, g, v, h, p, stuck_peaks=stuck_peaks)
+    coasted = ~old.sticks & ~old.released_by_position
+    assert coasted.any()  # ended by the impulse inside the overlap, then left
+    assert old.sticks.any()
+    assert not old.sticks.all()
+    for name in new._fields:
+        np.testing.assert_array_equal(getattr(new, name), getattr(old, name), err_msg=name)
+    one = contact_ends(1e4, 0.5, 1.0, 0.0, 1.0, 1e-3, [[0.0, 0.5]])
+    assert one.restitution.shape == (1, 2)

@@ -45,7 +45,7 @@ All quantities are SI. Internal to :mod:`impactsym.engines.drake`.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -56,13 +56,14 @@ from impactsym.engines.drake.update import (
 )
 from impactsym.engines.mujoco.stepping import StepContact
 
-__all__ = ["MAX_STEPS", "end_margin", "step_contact"]
+__all__ = ["MAX_STEPS", "ContactEnds", "contact_ends", "end_margin", "step_contact"]
 
 #: Updates stepped before a contact that has not ended is declared sticking.
 MAX_STEPS = 2_000_000
 _ZERO = 1e-12  # impulses below this times m v count as zero
 _SETTLE_EVERY = 64  # updates between two checks of the settled-contact rule
 _DRIFT = 1e-6  # energy (in wells) that rounding may give back, in the rule
+_BLOCK = 16_384  # contacts stepped together by contact_ends (measured: 2x over 4e5 at once)
 
 
 def step_contact(
@@ -228,3 +229,164 @@ def end_margin(
     _, impulse = hunt_crossley_velocity(x, u, k, d, m, g, h)
     ends = (x < 0.0) | (impulse <= _ZERO * m * v)
     return margin, ends, valid
+
+
+def contact_ends(
+    k: Any, d: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, *, stuck_peaks: bool = True
+) -> ContactEnds:
+    """What :func:`step_contact` gives a ``"tamsi"``/``"similar"``/``"lagged"`` contact's
+    phase means, bit for bit: the restitution, contact time, stick verdict and largest
+    penetration (flat arrays broadcast, SI; ``stuck_peaks`` as there).
+
+    The same update in the same floating-point operations, leaner: the constants of
+    :func:`~impactsym.engines.drake.update.hunt_crossley_root` computed once per contact,
+    the contacts that end dropped from the arrays (gathered when a quarter have ended)
+    instead of masked at every step, and the contacts that end without leaving the
+    overlap (no impulse) stepped apart until they leave or the impulse comes back.
+    """
+    arrays = np.broadcast_arrays(*(np.asarray(a, float) for a in (k, d, m, g, v, h, phase)))
+    k, d, m, g, v, h, phase = (a.ravel() for a in arrays)
+    n = k.size
+    out = ContactEnds(np.zeros(n), np.full(n, np.inf), np.zeros(n, bool), np.zeros(n))
+    for lo in range(0, n, _BLOCK):  # blocks that stay in the cache while stepped
+        block = slice(lo, min(lo + _BLOCK, n))
+        rows = (a[block] for a in (k, d, m, g, v, h, phase))
+        part = ContactEnds(*(a[block] for a in out))  # views: written in place
+        _block_ends(*rows, part, stuck_peaks=stuck_peaks)
+    out.restitution[out.sticks] = 0.0
+    out.contact_time[out.sticks] = np.inf
+    shape = arrays[0].shape
+    return ContactEnds(*(a.reshape(shape) for a in out))
+
+
+def _block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
+    """:func:`contact_ends` of one block, into ``out``."""
+    with np.errstate(all="ignore"):  # the finished contacts step on until gathered
+        t0 = phase * h
+        x = v * t0 + 0.5 * g * t0 * t0
+        u = v + g * t0
+        hk = h * k
+        consts = (
+            h * g,  # u* = u + h g
+            m,
+            hk,  # c = m u* - h k x
+            m + h * h * k,  # b = m + h^2 k + (h k d) x
+            hk * d,
+            4.0 * (h * h * k * d),  # disc = b^2 + (4 a) c
+            -h,  # limit = max(-x/h, -1/d), -x/h = x/(-h)
+            np.where(d > 0, -1.0 / d, -np.inf),
+            _ZERO * m * v,  # the impulse floor
+            h,
+        )
+        coast = _ends_loop(np.arange(k.size), x, u, consts, (k, d, m, g, h, v, t0), out,
+                           stuck_peaks=stuck_peaks)  # fmt: skip
+        if coast is not None:
+            _coast(*coast, consts, out)
+
+
+class ContactEnds(NamedTuple):
+    """:func:`contact_ends`: the fields of :class:`StepContact` that phase means read."""
+
+    restitution: np.ndarray
+    contact_time: np.ndarray
+    sticks: np.ndarray
+    max_penetration: np.ndarray
+
+
+def _update(x, u, consts):
+    """``(u*, new)`` of :func:`~impactsym.engines.drake.update.hunt_crossley_velocity`
+    where the contact ``x >= 0`` holds, ``u*`` elsewhere; the same operations."""
+    hg, m, hk, b0, hkd, a4, nh, nd = consts[:8]
+    ustar = u + hg
+    c = m * ustar
+    c -= hk * x
+    b = hkd * x
+    b += b0
+    disc = b * b
+    disc += a4 * c
+    np.maximum(disc, 0.0, out=disc)
+    np.sqrt(disc, out=disc)
+    disc += b
+    c *= 2.0
+    c /= disc  # the root
+    limit = x / nh
+    np.maximum(limit, nd, out=limit)
+    free = ustar <= limit
+    free |= x < 0.0
+    return ustar, np.where(free, ustar, c)
+
+
+def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
+    """Steps the contacts ``live`` to their end state (:func:`step_contact`'s loop) into
+    ``out``; returns those that end without leaving the overlap, to coast."""
+    k, d, m, g, h, v, t0 = raw
+    settle = bool(np.any(g > 0))
+    peaks = settle and stuck_peaks
+    x_max, peak = np.zeros(live.size), np.zeros(live.size) if peaks else None
+    going = np.ones(live.size, bool)  # not yet ended (the others are dropped in a while)
+    coasting = []
+    count = 0
+    for count in range(MAX_STEPS):
+        if live.size == 0:
+            break
+        ustar, new = _update(x, u, consts)
+        impulse = ustar - new
+        impulse *= consts[1]
+        hit = impulse > consts[8]  # an impulse above the floor (and contact)
+        ends = going & ~hit
+        if ends.any():  # the end state: separation speed, and the time
+            i = live[ends]
+            out.restitution[i] = -u[ends] / v[i]
+            out.contact_time[i] = t0[i] + count * h[i]
+            out.max_penetration[i] = x_max[ends]
+            stay = ends & (x >= 0.0)  # no impulse inside the overlap: it coasts on
+            if stay.any():
+                start = np.full(np.count_nonzero(stay), count + 1)
+                coasting.append((live[stay], x[stay] + consts[9][stay] * new[stay],
+                                 new[stay], start))  # fmt: skip
+            going &= ~ends
+        np.maximum(x_max, x, out=x_max)
+        if peaks:
+            np.maximum(peak, impulse / consts[9], out=peak)
+        turned = going & (u < 0.0) & (new > 0.0)
+        if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:
+            rows = (a[live] for a in (k, d, m, g, h, v))
+            turned |= going & _settled(x, u, *rows, x_max, peak, stuck_peaks)
+        if turned.any():
+            i = live[turned]
+            out.sticks[i] = True
+            out.max_penetration[i] = x_max[turned]
+            going &= ~turned
+        x += consts[9] * new
+        u = new
+        remaining = int(np.count_nonzero(going))
+        if 4 * remaining <= 3 * live.size:  # drop the finished ones
+            live, x, u, x_max = live[going], x[going], u[going], x_max[going]
+            consts = tuple(a[going] for a in consts)
+            peak = peak[going] if peaks else None
+            going = np.ones(live.size, bool)
+    i = live[going]
+    out.sticks[i] = True
+    out.max_penetration[i] = x_max[going]
+    if not coasting:
+        return None
+    return tuple(np.concatenate(a) for a in zip(*coasting, strict=True))
+
+
+def _coast(live, x, u, start, consts, out):
+    """Steps the contacts ``live`` that ended without impulse inside the overlap (at the
+    state before ``start``) until they leave it; where the impulse comes back first, or
+    the count reaches :data:`MAX_STEPS`, they stick (:func:`step_contact`)."""
+    consts = tuple(a[live] for a in consts)
+    for j in range(MAX_STEPS):
+        if live.size == 0:
+            break
+        ustar, new = _update(x, u, consts)
+        impulse = ustar - new
+        impulse *= consts[1]
+        back = (x >= 0.0) & (impulse > consts[8])
+        out.sticks[live[back | (start + j >= MAX_STEPS)]] = True
+        keep = (x >= 0.0) & ~back & (start + j < MAX_STEPS)
+        x = x + consts[9] * new
+        live, x, u, start = live[keep], x[keep], new[keep], start[keep]
+        consts = tuple(a[keep] for a in consts)
