@@ -3,16 +3,18 @@ against the loop that gathers them at every step (tests/references/drake_steps.p
 same numbers, bit for bit (except the update count of a sticking contact, which the
 settled-contact rule decides early: the reference steps it until it turns back or to
 ``MAX_STEPS``). The lean loop of the phase means (``contact_ends``) against
-``step_contact``: the same numbers, bit for bit."""
+``step_contact``, and the lean ``end_margin`` against its masked loop: the same numbers,
+bit for bit."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from references.drake_steps import end_margin as margin_reference
 from references.drake_steps import step_contact as reference
 
 from impactsym.engines.drake import stepping
-from impactsym.engines.drake.stepping import contact_ends, step_contact
+from impactsym.engines.drake.stepping import contact_ends, end_margin, step_contact
 
 RNG = np.random.default_rng(1000)
 
@@ -97,3 +99,16 @@ def test_the_lean_loop_is_step_contact_bit_for_bit(h, stuck_peaks, monkeypatch):
         np.testing.assert_array_equal(getattr(new, name), getattr(old, name), err_msg=name)
     one = contact_ends(1e4, 0.5, 1.0, 0.0, 1.0, 1e-3, [[0.0, 0.5]])
     assert one.restitution.shape == (1, 2)
+
+
+def test_the_lean_margin_loop_is_the_masked_one_bit_for_bit(monkeypatch):
+    monkeypatch.setattr(stepping, "_BLOCK", 700)  # several blocks
+    k, d, _, m, g, v, p = _contacts(3000, 0.0)
+    d[:300] = 0.0
+    h = np.where(RNG.uniform(size=k.size) < 0.5, 1e-3, 1e-2)
+    step = RNG.integers(0, 60, k.size)
+    new = end_margin(k, d, m, g, v, h, p, step)
+    old = margin_reference(k, d, m, g, v, h, p, step)
+    assert 0.2 < np.mean(new[2]) < 0.95  # valid and not (ended or turned before the step)
+    for a, b, name in zip(new, old, ("margin", "ends", "valid"), strict=True):
+        np.testing.assert_array_equal(a, b, err_msg=name)

@@ -208,22 +208,9 @@ def end_margin(
     t0 = phase * h
     x, u = v * t0 + 0.5 * g * t0 * t0, v + g * t0
     valid = np.ones(k.size, bool)
-    live = np.flatnonzero(step > 0)  # stepped; gathered when half have reached their step
-    rows = [a[live] for a in (k, d, m, g, v, h, x, u, step)]
-    count = 0
-    while live.size:
-        kl, dl, ml, gl, vl, hl, xl, ul, sl = rows
-        new, impulse = hunt_crossley_velocity(xl, ul, kl, dl, ml, gl, hl)
-        going = sl > count
-        ended = (xl < 0.0) | (impulse <= _ZERO * ml * vl) | ((ul < 0.0) & (new > 0.0))
-        valid[live[going & ended]] = False
-        rows[6], rows[7] = np.where(going, xl + hl * new, xl), np.where(going, new, ul)
-        count += 1
-        reached = sl == count
-        x[live[reached]], u[live[reached]] = rows[6][reached], rows[7][reached]
-        rest = sl > count
-        if 2 * np.count_nonzero(rest) <= live.size:
-            live, rows = live[rest], [a[rest] for a in rows]
+    for lo in range(0, k.size, _BLOCK):  # blocks that stay in the cache while stepped
+        block = slice(lo, min(lo + _BLOCK, k.size))
+        _margin_states(*(a[block] for a in (k, d, m, g, v, h, x, u, step, valid)))
     ustar, root = hunt_crossley_root(x, u, k, d, m, g, h, clip=False)
     margin = np.minimum(x / h, ustar - root - _ZERO * v)
     _, impulse = hunt_crossley_velocity(x, u, k, d, m, g, h)
@@ -265,23 +252,61 @@ def _block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
         t0 = phase * h
         x = v * t0 + 0.5 * g * t0 * t0
         u = v + g * t0
-        hk = h * k
-        consts = (
-            h * g,  # u* = u + h g
-            m,
-            hk,  # c = m u* - h k x
-            m + h * h * k,  # b = m + h^2 k + (h k d) x
-            hk * d,
-            4.0 * (h * h * k * d),  # disc = b^2 + (4 a) c
-            -h,  # limit = max(-x/h, -1/d), -x/h = x/(-h)
-            np.where(d > 0, -1.0 / d, -np.inf),
-            _ZERO * m * v,  # the impulse floor
-            h,
-        )
+        consts = _constants(k, d, m, g, v, h)
         coast = _ends_loop(np.arange(k.size), x, u, consts, (k, d, m, g, h, v, t0), out,
                            stuck_peaks=stuck_peaks)  # fmt: skip
         if coast is not None:
             _coast(*coast, consts, out)
+
+
+def _margin_states(k, d, m, g, v, h, x, u, step, valid):
+    """:func:`end_margin`'s states ``step`` into ``x``, ``u`` (views, in place), and its
+    ``valid``: the update of
+    :func:`~impactsym.engines.drake.update.hunt_crossley_velocity` (no contact test), the
+    same operations."""
+    live = np.flatnonzero(step > 0)  # stepped; gathered when a quarter reached their step
+    with np.errstate(all="ignore"):  # (those that reached it step on until gathered)
+        consts = tuple(a[live] for a in _constants(k, d, m, g, v, h))
+        xl, ul, sl = x[live], u[live], step[live]
+        count = 0
+        while live.size:
+            ustar, new, free = _update(xl, ul, consts, contact=False)
+            impulse = ustar - new
+            impulse *= consts[1]
+            going = sl > count
+            ended = np.where(free, 0.0, impulse) <= consts[8]
+            ended |= xl < 0.0
+            ended |= (ul < 0.0) & (new > 0.0)
+            ended &= going
+            if ended.any():
+                valid[live[ended]] = False
+            xl += consts[9] * new
+            ul = new
+            count += 1
+            reached = sl == count
+            if reached.any():
+                x[live[reached]], u[live[reached]] = xl[reached], ul[reached]
+            rest = sl > count
+            if 4 * np.count_nonzero(rest) <= 3 * live.size:
+                live, xl, ul, sl = live[rest], xl[rest], ul[rest], sl[rest]
+                consts = tuple(a[rest] for a in consts)
+
+
+def _constants(k, d, m, g, v, h):
+    """The per-contact constants of the update, for :func:`_update`."""
+    hk = h * k
+    return (
+        h * g,  # u* = u + h g
+        m,
+        hk,  # c = m u* - h k x
+        m + h * h * k,  # b = m + h^2 k + (h k d) x
+        hk * d,
+        4.0 * (h * h * k * d),  # disc = b^2 + (4 a) c
+        -h,  # limit = max(-x/h, -1/d), -x/h = x/(-h)
+        np.where(d > 0, -1.0 / d, -np.inf),
+        _ZERO * m * v,  # the impulse floor
+        h,
+    )
 
 
 class ContactEnds(NamedTuple):
@@ -293,9 +318,10 @@ class ContactEnds(NamedTuple):
     max_penetration: np.ndarray
 
 
-def _update(x, u, consts):
-    """``(u*, new)`` of :func:`~impactsym.engines.drake.update.hunt_crossley_velocity`
-    where the contact ``x >= 0`` holds, ``u*`` elsewhere; the same operations."""
+def _update(x, u, consts, *, contact=True):
+    """``(u*, new, free)`` of
+    :func:`~impactsym.engines.drake.update.hunt_crossley_velocity`, the same operations;
+    ``contact``: ``new = u*`` where the contact ``x >= 0`` is gone too (``free``)."""
     hg, m, hk, b0, hkd, a4, nh, nd = consts[:8]
     ustar = u + hg
     c = m * ustar
@@ -312,8 +338,9 @@ def _update(x, u, consts):
     limit = x / nh
     np.maximum(limit, nd, out=limit)
     free = ustar <= limit
-    free |= x < 0.0
-    return ustar, np.where(free, ustar, c)
+    if contact:
+        free |= x < 0.0
+    return ustar, np.where(free, ustar, c), free
 
 
 def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
@@ -329,7 +356,7 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
     for count in range(MAX_STEPS):
         if live.size == 0:
             break
-        ustar, new = _update(x, u, consts)
+        ustar, new, _ = _update(x, u, consts)
         impulse = ustar - new
         impulse *= consts[1]
         hit = impulse > consts[8]  # an impulse above the floor (and contact)
@@ -381,7 +408,7 @@ def _coast(live, x, u, start, consts, out):
     for j in range(MAX_STEPS):
         if live.size == 0:
             break
-        ustar, new = _update(x, u, consts)
+        ustar, new, _ = _update(x, u, consts)
         impulse = ustar - new
         impulse *= consts[1]
         back = (x >= 0.0) & (impulse > consts[8])
