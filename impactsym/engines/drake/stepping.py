@@ -351,16 +351,17 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
     peaks = settle and stuck_peaks
     x_max, peak = np.zeros(live.size), np.zeros(live.size) if peaks else None
     going = np.ones(live.size, bool)  # not yet ended (the others are dropped in a while)
+    finished = 0  # of the gathered
     coasting = []
     count = 0
     for count in range(MAX_STEPS):
         if live.size == 0:
             break
-        ustar, new, _ = _update(x, u, consts)
-        impulse = ustar - new
+        impulse, new, _ = _update(x, u, consts)
+        impulse -= new  # u* - new
         impulse *= consts[1]
-        hit = impulse > consts[8]  # an impulse above the floor (and contact)
-        ends = going & ~hit
+        # going, and no impulse above the floor (or no contact): the end state
+        ends = np.greater(going, impulse > consts[8])
         if ends.any():  # the end state: separation speed, and the time
             i = live[ends]
             out.restitution[i] = -u[ends] / v[i]
@@ -372,10 +373,13 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
                 coasting.append((live[stay], x[stay] + consts[9][stay] * new[stay],
                                  new[stay], start))  # fmt: skip
             going &= ~ends
+            finished += int(np.count_nonzero(ends))
         np.maximum(x_max, x, out=x_max)
         if peaks:
             np.maximum(peak, impulse / consts[9], out=peak)
-        turned = going & (u < 0.0) & (new > 0.0)
+        turned = u < 0.0
+        turned &= new > 0.0
+        turned &= going
         if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:
             rows = (a[live] for a in (k, d, m, g, h, v))
             turned |= going & _settled(x, u, *rows, x_max, peak, stuck_peaks)
@@ -384,14 +388,15 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
             out.sticks[i] = True
             out.max_penetration[i] = x_max[turned]
             going &= ~turned
+            finished += int(np.count_nonzero(turned))
         x += consts[9] * new
         u = new
-        remaining = int(np.count_nonzero(going))
-        if 4 * remaining <= 3 * live.size:  # drop the finished ones
+        if 4 * finished >= live.size:  # drop the finished ones
             live, x, u, x_max = live[going], x[going], u[going], x_max[going]
             consts = tuple(a[going] for a in consts)
             peak = peak[going] if peaks else None
             going = np.ones(live.size, bool)
+            finished = 0
     i = live[going]
     out.sticks[i] = True
     out.max_penetration[i] = x_max[going]
