@@ -40,6 +40,13 @@ peaks of sticking contacts (``stuck_peaks=False``: the phase means of the design
 contact time, and the step table's, which leaves sticking nodes and designs by largest
 overlap to the iteration) drops that condition: a contact creeping up to its rest from
 below is then decided as soon, its peaks being those until the verdict.
+
+:func:`contact_ends` is the same loop for the phase means (the restitution, contact
+time, stick verdict and largest overlap of ``"tamsi"``/``"similar"``/``"lagged"``), bit
+for bit, about four times faster: the update's constants once per contact, the finished
+contacts gathered out when a quarter have finished (not masked field by field at every
+step), blocks of :data:`_BLOCK` contacts that stay in the cache (twice as fast as 4e5 at
+once); :func:`end_margin` steps its states the same way.
 All quantities are SI. Internal to :mod:`impactsym.engines.drake`.
 """
 
