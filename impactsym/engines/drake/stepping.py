@@ -275,28 +275,32 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid):
     with np.errstate(all="ignore"):  # (those that reached it step on until gathered)
         consts = tuple(a[live] for a in _constants(k, d, m, g, v, h))
         xl, ul, sl = x[live], u[live], step[live]
-        count = 0
+        bad = np.zeros(live.size, bool)  # a state so far ended or turned back
+        arrivals = np.bincount(sl)  # how many reach their step at each count
+        done, count = 0, 0  # those reached among the gathered, and the count
         while live.size:
             ustar, new, free = _update(xl, ul, consts, contact=False)
             impulse = ustar - new
             impulse *= consts[1]
-            going = sl > count
             ended = np.where(free, 0.0, impulse) <= consts[8]
             ended |= xl < 0.0
-            ended |= (ul < 0.0) & (new > 0.0)
-            ended &= going
-            if ended.any():
-                valid[live[ended]] = False
+            turned = ul < 0.0
+            turned &= new > 0.0
+            ended |= turned
+            bad |= ended
             xl += consts[9] * new
             ul = new
             count += 1
-            reached = sl == count
-            if reached.any():
-                x[live[reached]], u[live[reached]] = xl[reached], ul[reached]
-            rest = sl > count
-            if 4 * np.count_nonzero(rest) <= 3 * live.size:
-                live, xl, ul, sl = live[rest], xl[rest], ul[rest], sl[rest]
-                consts = tuple(a[rest] for a in consts)
+            if arrivals[count]:  # its state, and whether a state before it ended
+                reached = sl == count
+                i = live[reached]
+                x[i], u[i], valid[i] = xl[reached], ul[reached], ~bad[reached]
+                done += int(arrivals[count])
+                if 4 * done >= live.size:
+                    rest = sl > count
+                    live, xl, ul, sl, bad = live[rest], xl[rest], ul[rest], sl[rest], bad[rest]
+                    consts = tuple(a[rest] for a in consts)
+                    done = 0
 
 
 def _constants(k, d, m, g, v, h):
