@@ -230,7 +230,7 @@ def contact_ends(
 ) -> ContactEnds:
     """What :func:`step_contact` gives a ``"tamsi"``/``"similar"``/``"lagged"`` contact's
     phase means, bit for bit: the restitution, contact time, stick verdict and largest
-    penetration (flat arrays broadcast, SI; ``stuck_peaks`` as there).
+    penetration (arrays broadcast, SI; ``stuck_peaks`` as there).
 
     The same update in the same floating-point operations, leaner: the constants of
     :func:`~impactsym.engines.drake.update.hunt_crossley_root` computed once per contact,
