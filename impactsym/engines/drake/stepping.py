@@ -41,16 +41,36 @@ contact time, and the step table's, which leaves sticking nodes and designs by l
 overlap to the iteration) drops that condition: a contact creeping up to its rest from
 below is then decided as soon, its peaks being those until the verdict.
 
-*A contact at rest* (any approximation under gravity) is declared sticking once an
-update gives back its state bit for bit (``u' = u`` and ``x + h u' = x``): the loop is
-deterministic, so every later update repeats it, the contact never ends and its peaks
-are final; the verdict and the peaks are those of the full loop. A heavily damped
-contact creeping up to its rest from below (which the energy rule above cannot decide
-with its peaks) gets there after about 30 of its slow time constants ``m g d/k``,
-where rounding stalls the creep (``h u'`` below half an ulp of ``x``): e.g. 1.5·10^4
-updates instead of 2·10^6 for ``k = 10^3`` N/m, ``m = 1`` kg, ``d = 50`` s/m at
-``h = 10^{-3}`` s, 1.3·10^5 for ``d = 500`` s/m. Checked every :data:`_SETTLE_EVERY`
-updates too.
+*Creeping up to rest* (``"tamsi"``/``"similar"``/``"lagged"`` under gravity): a heavily
+damped loaded contact that approaches its rest :math:`x_e` from below never reaches
+the energy rule's peak bounds; stepped, rounding stalls it after about 30 of its slow
+time constants :math:`m g d/k` (``h u'`` under half an ulp of ``x``): 10^5-10^6 updates
+for soft, heavily damped contacts at small steps (``k = 10^3`` N/m, ``m = 1`` kg,
+``d = 500`` s/m, ``h = 10^{-4}`` s: 80 s a call). With :math:`\delta = x_e - x > 0`,
+:math:`\eta = h u \ge 0`, :math:`a = h^2 k/m` and the update's damping term
+:math:`\beta' = h d g\, x'/x_e`, the update reads
+:math:`\eta' (1 + a + \beta') = \eta + a \delta`, :math:`\delta' = \delta - \eta'`.
+While :math:`\delta` falls, :math:`\beta' \ge B = h d g\, x/x_e`; if
+:math:`\eta \le \mu \delta` with :math:`\mu^2 - B \mu + a \le 0` (real roots need
+:math:`B^2 > 4a`, the discrete over-damping), then :math:`\eta'(1 + \mu) \le \mu
+\delta` (expand), i.e. :math:`\eta' \le \mu \delta'` with :math:`\delta' > 0`: the cone
+is invariant, ``x`` rises for ever towards :math:`x_e` (geometrically, since
+:math:`\eta' \ge a\delta/(1 + a + h d g)`), the contact and its impulse
+(:math:`\ge h k x`) never end. Every later force :math:`k x' (1 + d u')` is at most
+:math:`m g \max_{0 < y \le \delta/x_e} (1 - y)(1 + c y)`, :math:`c = d \mu x_e/h`. Where
+the state lies in such a cone (``mu`` at least the current ratio) and the force so far
+already exceeds that bound (margins of ``1e-9``), the contact sticks, its force has
+peaked and its largest penetration is :math:`\max(x_{\max}, x_e)`: the limit of the
+creep, which the full loop approaches from below and stalls under, about
+:math:`(1 + a + h d g)/(2a)` ulps short (5e-15 relative at ``k = 10^4`` N/m, ``d = 50``
+s/m, ``h = 10^{-3}`` s), or stops at :data:`MAX_STEPS` short of it. Checked every
+:data:`_SETTLE_EVERY` updates, whatever ``stuck_peaks``.
+
+*A contact at rest* (any approximation under gravity, ``"sap"`` included) is declared
+sticking once an update gives back its state bit for bit (``u' = u`` and
+``x + h u' = x``): the loop is deterministic, so every later update repeats it, the
+contact never ends and its peaks are final, those of the full loop. Checked every
+:data:`_SETTLE_EVERY` updates too.
 All quantities are SI. Internal to :mod:`impactsym.engines.drake`.
 """
 
@@ -151,6 +171,10 @@ def step_contact(
             if settle:
                 turned |= going & _settled(xl, ul, kl, dl, ml, gl, hl, vl, x_max_l, peak_l,
                                            stuck_peaks)  # fmt: skip
+                # creeping up to rest from below: its penetration tends to m g / k
+                creep = going & _creeping(xl, ul, kl, dl, ml, gl, hl, vl, peak_l)
+                x_max_l = np.where(creep, np.maximum(x_max_l, ml * gl / kl), x_max_l)
+                turned |= creep
         # after the end: the impulse coming back inside the overlap means sticking
         back = active & was_ended & contact & (impulse > 0.0)
         sticks[live[turned | back]] = True
@@ -198,6 +222,37 @@ def _settled(x, u, k, d, m, g, h, v, x_max, peak, stuck_peaks):
             return never_ends
         peaked = (x_max >= x_e * (1.0 + rho)) & (peak >= m * g * (1.0 + rho) * (1.0 + speed))
         return never_ends & peaked
+
+
+def _creeping(x, u, k, d, m, g, h, v, peak):
+    """Where a ``"tamsi"``/``"similar"``/``"lagged"`` contact under gravity provably
+    creeps up to its rest ``x_e = m g / k`` from below for ever, and its force has
+    already peaked (module docstring, "creeping up to rest"). Margins of ``1e-9``
+    relative cover rounding."""
+    with np.errstate(all="ignore"):
+        x_e = m * g / k
+        gap = x_e - x  # delta > 0: below the rest
+        a = h * h * k / m
+        b = h * d * g * x / x_e  # the least damping term of every later update
+        disc = b * b - 4.0 * a
+        root = np.sqrt(np.maximum(disc, 0.0))
+        mu_hi, mu_lo = 0.5 * (b + root), 2.0 * a / (b + root)  # mu^2 - b mu + a = 0
+        ratio = h * u / gap
+        mu = np.maximum(ratio, mu_lo) * (1.0 + 1e-9)  # h u' <= mu (x_e - x') from here on
+        # the largest later force over m g: (1 - y)(1 + c y), y = (x_e - x')/x_e <= gap/x_e
+        c = d * mu * x_e / h
+        y = np.clip((c - 1.0) / (2.0 * c), 0.0, gap / x_e)
+        force = np.maximum(1.0, (1.0 - y) * (1.0 + c * y)) * (1.0 + 1e-9)
+        return (
+            (g > 0)
+            & (x >= 0.0)
+            & (gap > 0.0)
+            & (u >= 0.0)
+            & (disc > 0.0)
+            & (ratio * (1.0 + 1e-9) <= mu_hi * (1.0 - 1e-9))
+            & (h * g * x / x_e > 2.0 * _ZERO * v)
+            & (peak >= m * g * force)
+        )
 
 
 def end_margin(
