@@ -34,7 +34,7 @@ def _same(new, old, rest=None):
             a, b = a[~old.sticks], b[~old.sticks]
         if name == "max_penetration" and rest is not None:
             creep = a == rest
-            assert np.all(b[creep] <= a[creep]), name
+            assert np.all(b[creep] <= a[creep] * (1 + 1e-15)), name  # an ulp or two above
             np.testing.assert_allclose(b[creep], a[creep], rtol=1e-11, err_msg=name)
             a, b = a[~creep], b[~creep]
         np.testing.assert_array_equal(a, b, err_msg=name)
@@ -146,18 +146,19 @@ def _exact_lagged(x, u, k, d, m, g, h, n):
 
 
 def test_the_creep_rule_against_the_exact_map():
-    # random states below rest moving in: where the rule holds (force bound waived), the
-    # 40-digit map rises monotonically below m g / k; with the peak set just below the
-    # largest later force the rule must not hold
+    # random states below rest, moving in or out, some barely in contact, some fast
+    # (the impulse floor 1e-12 m v): where the rule holds (force bound waived), the
+    # 40-digit map rises monotonically below m g / k with impulses above the floor; with
+    # the peak set just below the largest later force the rule must not hold
     rng = np.random.default_rng(7)
     held = 0
     for _ in range(300):
         k, m, h = 10 ** rng.uniform(2, 5), rng.uniform(0.05, 2.0), 10 ** rng.uniform(-4, -2)
-        g, v = 9.81, 1.0
+        g, v = 9.81, 10 ** rng.uniform(0, 13)
         x_e = m * g / k
         d = 10 ** rng.uniform(0, 3) * np.sqrt(k / m) / g  # from under- to far over-damped
-        x = x_e * rng.uniform(0.0, 1.0)
-        u = rng.uniform(0.0, 1.0) * (x_e - x) / h * rng.uniform(0.0, 1.0) ** 4
+        x = x_e * (rng.uniform(0.0, 1.0) if rng.uniform() < 0.8 else 10 ** rng.uniform(-16, -8))
+        u = rng.uniform(-0.2, 1.0) * (x_e - x) / h * rng.uniform(0.0, 1.0) ** 4
         args = (x, u, k, d, m, g, h, v)
         if not stepping._creeping(*args, np.inf):
             continue
@@ -165,6 +166,6 @@ def test_the_creep_rule_against_the_exact_map():
         xs, fs = _exact_lagged(x, u, k, d, m, g, h, 400)
         assert np.all(np.diff(np.concatenate([[x], xs])) >= 0.0)
         assert np.all(xs < x_e * (1 + 1e-15))
-        assert np.all(fs > 0.0)
+        assert np.all(fs * h > 1e-12 * m * v)
         assert not stepping._creeping(*args, fs.max() * (1 - 1e-7))
     assert held >= 50

@@ -46,7 +46,8 @@ damped loaded contact that approaches its rest :math:`x_e` from below never reac
 the energy rule's peak bounds; stepped, rounding stalls it after about 30 of its slow
 time constants :math:`m g d/k` (``h u'`` under half an ulp of ``x``): 10^5-10^6 updates
 for soft, heavily damped contacts at small steps (``k = 10^3`` N/m, ``m = 1`` kg,
-``d = 500`` s/m, ``h = 10^{-4}`` s: 80 s a call). With :math:`\delta = x_e - x > 0`,
+``d = 500`` s/m, ``h = 10^{-4}`` s: 1.2·10^6 updates; up to :data:`MAX_STEPS`, about
+two minutes a call). With :math:`\delta = x_e - x > 0`,
 :math:`\eta = h u \ge 0`, :math:`a = h^2 k/m` and the update's damping term
 :math:`\beta' = h d g\, x'/x_e`, the update reads
 :math:`\eta' (1 + a + \beta') = \eta + a \delta`, :math:`\delta' = \delta - \eta'`.
@@ -61,9 +62,10 @@ is invariant, ``x`` rises for ever towards :math:`x_e` (geometrically, since
 the state lies in such a cone (``mu`` at least the current ratio) and the force so far
 already exceeds that bound (margins of ``1e-9``), the contact sticks, its force has
 peaked and its largest penetration is :math:`\max(x_{\max}, x_e)`: the limit of the
-creep, which the full loop approaches from below and stalls under, about
-:math:`(1 + a + h d g)/(2a)` ulps short (5e-15 relative at ``k = 10^4`` N/m, ``d = 50``
-s/m, ``h = 10^{-3}`` s), or stops at :data:`MAX_STEPS` short of it. Checked every
+creep, which the full loop approaches from below and stalls at by rounding, about
+:math:`(a + h d g)/(2a)` ulps short (5e-15 relative at ``k = 10^4`` N/m, ``m = 1`` kg,
+``d = 50`` s/m, ``h = 10^{-3}`` s; rarely an ulp or two above), or stops at
+:data:`MAX_STEPS` short of it (where its slow time constant exceeds ~6·10^4 updates). Checked every
 :data:`_SETTLE_EVERY` updates, whatever ``stuck_peaks``.
 
 *A contact at rest* (any approximation under gravity, ``"sap"`` included) is declared
@@ -115,7 +117,9 @@ def step_contact(
     combined relaxation time (``sap`` only), ``m`` mass, ``g`` pressing acceleration,
     ``v`` approach speed at touch, ``h`` time step, ``phase`` in ``[0, 1)``.
     ``stuck_peaks=False``: ``max_penetration`` and ``peak_accel`` of a sticking contact
-    may stop at the verdict (module docstring).
+    may stop at the verdict (module docstring). Under gravity the ``max_penetration`` of
+    a contact creeping up to its rest from below is the rest ``m g / k``, the limit of
+    the creep (module docstring).
     """
     arrays = np.broadcast_arrays(*(np.asarray(a, float) for a in (k, d, tau, m, g, v, h, phase)))
     shape = arrays[0].shape
@@ -228,7 +232,8 @@ def _creeping(x, u, k, d, m, g, h, v, peak):
     """Where a ``"tamsi"``/``"similar"``/``"lagged"`` contact under gravity provably
     creeps up to its rest ``x_e = m g / k`` from below for ever, and its force has
     already peaked (module docstring, "creeping up to rest"). Margins of ``1e-9``
-    relative cover rounding."""
+    relative cover rounding, and of ``1e-12 b^2`` in the discriminant (its cancellation
+    near the critical damping)."""
     with np.errstate(all="ignore"):
         x_e = m * g / k
         gap = x_e - x  # delta > 0: below the rest
@@ -248,7 +253,7 @@ def _creeping(x, u, k, d, m, g, h, v, peak):
             & (x >= 0.0)
             & (gap > 0.0)
             & (u >= 0.0)
-            & (disc > 0.0)
+            & (disc > 1e-12 * b * b)
             & (ratio * (1.0 + 1e-9) <= mu_hi * (1.0 - 1e-9))
             & (h * g * x / x_e > 2.0 * _ZERO * v)
             & (peak >= m * g * force)
