@@ -56,7 +56,8 @@ class Prediction(ArrayRecord):
     sticks
         Where the body never leaves (at some phase, for the phase mean).
     max_penetration
-        Largest overlap (over every phase for the phase mean).
+        Largest overlap (over every phase for the phase mean); for a contact that creeps
+        up to rest under gravity, its limit ``m g / k``.
     restitution_range, contact_time_range
         ``(low, high)`` over every touch phase (the value twice where it is exact).
     stick_fraction

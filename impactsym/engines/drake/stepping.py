@@ -41,6 +41,39 @@ contact time, and the step table's, which leaves sticking nodes and designs by l
 overlap to the iteration) drops that condition: a contact creeping up to its rest from
 below is then decided as soon, its peaks being those until the verdict.
 
+*Creeping up to rest* (``"tamsi"``/``"similar"``/``"lagged"`` under gravity): a heavily
+damped loaded contact that approaches its rest :math:`x_e` from below never reaches
+the energy rule's peak bounds; stepped, rounding stalls it after about 30 of its slow
+time constants :math:`m g d/k` (``h u'`` under half an ulp of ``x``): 10^5-10^6 updates
+for soft, heavily damped contacts at small steps (``k = 10^3`` N/m, ``m = 1`` kg,
+``d = 500`` s/m, ``h = 10^{-4}`` s: 1.2·10^6 updates; up to :data:`MAX_STEPS`, about
+two minutes a call). With :math:`\delta = x_e - x > 0`,
+:math:`\eta = h u \ge 0`, :math:`a = h^2 k/m` and the update's damping term
+:math:`\beta' = h d g\, x'/x_e`, the update reads
+:math:`\eta' (1 + a + \beta') = \eta + a \delta`, :math:`\delta' = \delta - \eta'`.
+While :math:`\delta` falls, :math:`\beta' \ge B = h d g\, x/x_e`; if
+:math:`\eta \le \mu \delta` with :math:`\mu^2 - B \mu + a \le 0` (real roots need
+:math:`B^2 > 4a`, the discrete over-damping), then :math:`\eta'(1 + \mu) \le \mu
+\delta` (expand), i.e. :math:`\eta' \le \mu \delta'` with :math:`\delta' > 0`: the cone
+is invariant, ``x`` rises for ever towards :math:`x_e` (geometrically, since
+:math:`\eta' \ge a\delta/(1 + a + h d g)`), the contact and its impulse
+(:math:`\ge h k x`) never end. Every later force :math:`k x' (1 + d u')` is at most
+:math:`m g \max_{0 < y \le \delta/x_e} (1 - y)(1 + c y)`, :math:`c = d \mu x_e/h`. Where
+the state lies in such a cone (``mu`` at least the current ratio) and the force so far
+already exceeds that bound (margins of ``1e-9``), the contact sticks, its force has
+peaked and its largest penetration is :math:`\max(x_{\max}, x_e)`: the limit of the
+creep, which the full loop approaches from below and stalls at by rounding, about
+:math:`(a + h d g)/(2a)` ulps short (5e-15 relative at ``k = 10^4`` N/m, ``m = 1`` kg,
+``d = 50`` s/m, ``h = 10^{-3}`` s; rarely an ulp or two above), or stops at
+:data:`MAX_STEPS` short of it (where its slow time constant exceeds ~6·10^4 updates). Checked every
+:data:`_SETTLE_EVERY` updates, whatever ``stuck_peaks``.
+
+*A contact at rest* (any approximation under gravity, ``"sap"`` included) is declared
+sticking once an update gives back its state bit for bit (``u' = u`` and
+``x + h u' = x``): the loop is deterministic, so every later update repeats it, the
+contact never ends and its peaks are final, those of the full loop. Checked every
+:data:`_SETTLE_EVERY` updates too.
+
 :func:`contact_ends` is the same loop for the phase means (the restitution, contact
 time, stick verdict and largest overlap of ``"tamsi"``/``"similar"``/``"lagged"``), bit
 for bit, about four times faster: the update's constants once per contact, the finished
@@ -92,7 +125,9 @@ def step_contact(
     combined relaxation time (``sap`` only), ``m`` mass, ``g`` pressing acceleration,
     ``v`` approach speed at touch, ``h`` time step, ``phase`` in ``[0, 1)``.
     ``stuck_peaks=False``: ``max_penetration`` and ``peak_accel`` of a sticking contact
-    may stop at the verdict (module docstring).
+    may stop at the verdict (module docstring). Under gravity the ``max_penetration`` of
+    a contact creeping up to its rest from below is the rest ``m g / k``, the limit of
+    the creep (module docstring).
     """
     arrays = np.broadcast_arrays(*(np.asarray(a, float) for a in (k, d, tau, m, g, v, h, phase)))
     shape = arrays[0].shape
@@ -114,7 +149,8 @@ def step_contact(
     velocity = sap_velocity if sap else hunt_crossley_velocity
     kl, dl, ml, gl, hl, vl = k, tau if sap else d, m, g, h, v
     xl, ul = x, u
-    settle = not sap and bool(np.any(g > 0))  # the settled-contact rule (docstring)
+    loaded = bool(np.any(g > 0))  # a contact may come to rest (docstring)
+    settle = loaded and not sap  # the settled-contact rule (docstring)
     ended = np.zeros(n, bool)  # the end state is reached (coasting out, or done)
     active = np.ones(n, bool)  # among the gathered: not yet finished
     steps_l, x_max_l, peak_l = np.zeros(n, np.int64), np.zeros(n), np.zeros(n)
@@ -141,8 +177,16 @@ def step_contact(
         x_max_l = np.where(going, np.maximum(x_max_l, xl), x_max_l)
         peak_l = np.where(going, np.maximum(peak_l, impulse / hl), peak_l)
         turned = going & (ul < 0.0) & (new > 0.0)
-        if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:
-            turned |= going & _settled(xl, ul, kl, dl, ml, gl, hl, vl, x_max_l, peak_l, stuck_peaks)
+        if loaded and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:
+            # at rest to the last bit: the update gives back the same state from now on
+            turned |= going & (new == ul) & (xl + hl * new == xl)
+            if settle:
+                turned |= going & _settled(xl, ul, kl, dl, ml, gl, hl, vl, x_max_l, peak_l,
+                                           stuck_peaks)  # fmt: skip
+                # creeping up to rest from below: its penetration tends to m g / k
+                creep = going & _creeping(xl, ul, kl, dl, ml, gl, hl, vl, peak_l)
+                x_max_l = np.where(creep, np.maximum(x_max_l, ml * gl / kl), x_max_l)
+                turned |= creep
         # after the end: the impulse coming back inside the overlap means sticking
         back = active & was_ended & contact & (impulse > 0.0)
         sticks[live[turned | back]] = True
@@ -190,6 +234,38 @@ def _settled(x, u, k, d, m, g, h, v, x_max, peak, stuck_peaks):
             return never_ends
         peaked = (x_max >= x_e * (1.0 + rho)) & (peak >= m * g * (1.0 + rho) * (1.0 + speed))
         return never_ends & peaked
+
+
+def _creeping(x, u, k, d, m, g, h, v, peak):
+    """Where a ``"tamsi"``/``"similar"``/``"lagged"`` contact under gravity provably
+    creeps up to its rest ``x_e = m g / k`` from below for ever, and its force has
+    already peaked (module docstring, "creeping up to rest"). Margins of ``1e-9``
+    relative cover rounding, and of ``1e-12 b^2`` in the discriminant (its cancellation
+    near the critical damping)."""
+    with np.errstate(all="ignore"):
+        x_e = m * g / k
+        gap = x_e - x  # delta > 0: below the rest
+        a = h * h * k / m
+        b = h * d * g * x / x_e  # the least damping term of every later update
+        disc = b * b - 4.0 * a
+        root = np.sqrt(np.maximum(disc, 0.0))
+        mu_hi, mu_lo = 0.5 * (b + root), 2.0 * a / (b + root)  # mu^2 - b mu + a = 0
+        ratio = h * u / gap
+        mu = np.maximum(ratio, mu_lo) * (1.0 + 1e-9)  # h u' <= mu (x_e - x') from here on
+        # the largest later force over m g: (1 - y)(1 + c y), y = (x_e - x')/x_e <= gap/x_e
+        c = d * mu * x_e / h
+        y = np.clip((c - 1.0) / (2.0 * c), 0.0, gap / x_e)
+        force = np.maximum(1.0, (1.0 - y) * (1.0 + c * y)) * (1.0 + 1e-9)
+        return (
+            (g > 0)
+            & (x >= 0.0)
+            & (gap > 0.0)
+            & (u >= 0.0)
+            & (disc > 1e-12 * b * b)
+            & (ratio * (1.0 + 1e-9) <= mu_hi * (1.0 - 1e-9))
+            & (h * g * x / x_e > 2.0 * _ZERO * v)
+            & (peak >= m * g * force)
+        )
 
 
 def end_margin(
@@ -358,9 +434,8 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
     """Steps the contacts ``live`` to their end state (:func:`step_contact`'s loop) into
     ``out``; returns those that end without leaving the overlap, to coast."""
     k, d, m, g, h, v, t0 = raw
-    settle = bool(np.any(g > 0))
-    peaks = settle and stuck_peaks
-    x_max, peak = np.zeros(live.size), np.zeros(live.size) if peaks else None
+    settle = bool(np.any(g > 0))  # the settled, creep and rest rules (module docstring)
+    x_max, peak = np.zeros(live.size), np.zeros(live.size) if settle else None
     going = np.ones(live.size, bool)  # not yet ended (the others are dropped in a while)
     finished = 0  # of the gathered
     coasting = []
@@ -386,14 +461,21 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
             going &= ~ends
             finished += int(np.count_nonzero(ends))
         np.maximum(x_max, x, out=x_max)
-        if peaks:
+        if settle:
             np.maximum(peak, impulse / consts[9], out=peak)
         turned = u < 0.0
         turned &= new > 0.0
         turned &= going
         if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:
-            rows = (a[live] for a in (k, d, m, g, h, v))
+            # at rest to the last bit; settled; creeping up to rest (then its overlap
+            # tends to m g / k): step_contact's checks, in its order
+            rows = [a[live] for a in (k, d, m, g, h, v)]
+            turned |= going & (new == u) & (x + consts[9] * new == x)
             turned |= going & _settled(x, u, *rows, x_max, peak, stuck_peaks)
+            creep = going & _creeping(x, u, *rows, peak)
+            kr, _, mr, gr = rows[:4]
+            x_max = np.where(creep, np.maximum(x_max, mr * gr / kr), x_max)
+            turned |= creep
         if turned.any():
             i = live[turned]
             out.sticks[i] = True
@@ -405,7 +487,7 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
         if 4 * finished >= live.size:  # drop the finished ones
             live, x, u, x_max = live[going], x[going], u[going], x_max[going]
             consts = tuple(a[going] for a in consts)
-            peak = peak[going] if peaks else None
+            peak = peak[going] if settle else None
             going = np.ones(live.size, bool)
             finished = 0
     i = live[going]
