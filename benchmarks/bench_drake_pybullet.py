@@ -70,8 +70,8 @@ many brackets), the factor over the 2 s target after:
   margins stepped the same way), and the pieces' ends taken from the grid and the jump
   searches instead of run again: the same designs, predictions and phase means bit for
   bit. CPU seconds per 10^5 from 10^4 targets (the call timed by ``time.process_time``,
-  main and this back to back, load 0.5-1.5), before -> after: 84.2 -> 30.3 and
-  95.3 -> 28.1 (g = 0), 96.4 -> 34.8 and 93.0 -> 26.9 (g = 9.81): 13-17 x the target.
+  main and this back to back, load 0.9-1.2), before -> after: 87.3 -> 28.7 and
+  96.5 -> 28.4 (g = 0), 95.7 -> 34.7 and 94.9 -> 29.0 (g = 9.81): 14-17 x the target.
   One phase mean of 10^4 designs takes 0.30-0.34 s (1.03-1.12 s before); at 10^4 about
   1 s of each call is the tail, ~100-200 phase means of a few designs each (the
   Broyden stragglers, the plateau-edge walks, the targets left to the iteration) at
