@@ -32,8 +32,10 @@ def _call():
 
 
 def _counted_updates(monkeypatch):
-    """The updates of the step loop per call of the phase summaries' runs (all blocks),
-    appended to the list returned."""
+    """The updates of the step loop (``stepping._update``: the phase summaries' runs and
+    ``end_margin``'s) in a list with one entry per run of the phase summaries (all
+    blocks), each update counted on the last run begun (a phase summary always runs its
+    grid before any end margin)."""
     updates, lean_update = [], stepping._update
 
     def counted(*args, **options):

@@ -243,7 +243,11 @@ def test_the_lean_loop_decides_creeping_contacts_as_step_contact(stuck_peaks, mo
     p = np.array([0.1972316200004598, 0.9109266011601548])
     old = step_contact(k, d, 0.0, m, 9.81, v, h, p, approximation="lagged",
                        stuck_peaks=stuck_peaks)  # fmt: skip
+    updates.clear()
+    monkeypatch.setattr(stepping, "_update", counted)
     new = contact_ends(k, d, m, 9.81, v, h, p, stuck_peaks=stuck_peaks)
+    monkeypatch.setattr(stepping, "_update", lean_update)
+    assert len(updates) < 5_000  # decided at rest, not stepped to MAX_STEPS
     assert old.sticks.all()
     for name in new._fields:
         np.testing.assert_array_equal(getattr(new, name), getattr(old, name), err_msg=name)
