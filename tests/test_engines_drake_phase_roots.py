@@ -3,7 +3,9 @@ margin, against the multisection on the full contact's end state (the slow exact
 
 Checked: the margin's end test is the step loop's own (the end state ends, the one before
 does not, a later one is not reached); the phase means and ranges of random designs
-agree with those from the multisection alone; the root search steps far fewer contacts.
+agree with those from the multisection alone; the root search steps far fewer contacts;
+the pieces' ends the summary takes from the grid and the searches (not run again) are
+``step_contact``'s contacts there, bit for bit.
 """
 
 from __future__ import annotations
@@ -12,7 +14,8 @@ import numpy as np
 import pytest
 
 from impactsym.engines.drake import phases
-from impactsym.engines.drake.stepping import end_margin, step_contact
+from impactsym.engines.drake.stepping import contact_ends, end_margin, step_contact
+from impactsym.engines.phase_pieces import integrate_pieces
 
 RNG = np.random.default_rng(4242)
 
@@ -45,22 +48,22 @@ def test_the_margin_decides_the_end_as_the_step_loop():
 @pytest.mark.parametrize("approximation", ["lagged", "tamsi"])
 def test_phase_means_agree_with_the_multisection(approximation, monkeypatch):
     k, d, m, g, v, h = _designs(600)
-    steps = []
+    runs = []
 
     def counted(*args, **options):
-        res = step_contact(*args, **options)
-        steps.append(int(res.steps.sum()))
+        res = contact_ends(*args, **options)
+        runs.append(res.sticks.size)
         return res
 
-    monkeypatch.setattr(phases, "step_contact", counted)
+    monkeypatch.setattr(phases, "contact_ends", counted)
     fast = phases.phase_summary(k, d, 0.0, m, g, v, h, approximation=approximation)
-    work_fast = sum(steps)
+    work_fast = sum(runs)
 
     def none_found(flat, run, key, ii, a, c, left, right):
-        return np.zeros(ii.size, bool), a, c
+        return np.zeros(ii.size, bool), a, c, None
 
     monkeypatch.setattr(phases, "_roots", none_found)
-    steps.clear()
+    runs.clear()
     slow = phases.phase_summary(k, d, 0.0, m, g, v, h, approximation=approximation)
     assert np.any(slow.stick_fraction > 0)  # sticking phases: those take the multisection
     np.testing.assert_allclose(fast.restitution, slow.restitution, rtol=0, atol=1e-13)
@@ -70,4 +73,30 @@ def test_phase_means_agree_with_the_multisection(approximation, monkeypatch):
     for name in ("restitution_min", "restitution_max", "max_penetration"):
         np.testing.assert_allclose(getattr(fast, name), getattr(slow, name), rtol=1e-12,
                                    err_msg=name)  # fmt: skip
-    assert work_fast < 0.5 * sum(steps)  # stepped contacts (the margin's steps not counted)
+    assert work_fast < 0.5 * sum(runs)  # contacts run (the margins not counted)
+
+
+@pytest.mark.parametrize("approximation", ["lagged", "sap"])
+def test_the_pieces_ends_reused_are_the_contacts_there(approximation, monkeypatch):
+    # the summary takes the pieces' ends from the grid and the jump searches instead of
+    # running them again: they are step_contact's contacts at those phases, bit for bit
+    k, d, m, g, v, h = _designs(300)
+    tau = 2e-3 if approximation == "sap" else 0.0
+    seen = []
+
+    def spy(run, p0, p1, owner, size, *, nodes):
+        pieces = integrate_pieces(run, p0, p1, owner, size, nodes=nodes)
+        seen.append((pieces, owner))
+        return pieces
+
+    monkeypatch.setattr(phases, "integrate_pieces", spy)
+    phases.phase_summary(k, d, tau, m, g, v, h, approximation=approximation, bounds=False)
+    ((pieces, owner),) = seen
+    assert pieces.pts.shape[0] > k.size  # pieces split at changes of the end state
+    ends = pieces.pts[:, [0, -1]]
+    rows = np.repeat(owner, 2)
+    exact = step_contact(k[rows], d[rows], tau, m[rows], g[rows], v[rows], h[rows],
+                         ends.ravel(), approximation=approximation)  # fmt: skip
+    for name in ("restitution", "contact_time", "sticks", "max_penetration"):
+        got = getattr(pieces.result, name).reshape(pieces.pts.shape)[:, [0, -1]]
+        np.testing.assert_array_equal(got.ravel(), getattr(exact, name), err_msg=name)

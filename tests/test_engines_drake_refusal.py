@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from impactsym.engines import drake
-from impactsym.engines.drake import design, phases
-from impactsym.engines.drake.stepping import step_contact
+from impactsym.engines.drake import design, phases, stepping
+from impactsym.engines.drake.stepping import contact_ends
 
 H = 1e-3
 BAD = 7
@@ -31,24 +31,38 @@ def _call():
     return e, t
 
 
+def _counted_updates(monkeypatch):
+    """The updates of the step loop (``stepping._update``: the phase summaries' runs and
+    ``end_margin``'s) in a list with one entry per run of the phase summaries (all
+    blocks), each update counted on the last run begun (a phase summary always runs its
+    grid before any end margin)."""
+    updates, lean_update = [], stepping._update
+
+    def counted(*args, **options):
+        updates.append(0)
+        return contact_ends(*args, **options)
+
+    def update(*args, **options):
+        updates[-1] += 1
+        return lean_update(*args, **options)
+
+    monkeypatch.setattr(phases, "contact_ends", counted)
+    monkeypatch.setattr(stepping, "_update", update)
+    return updates
+
+
 def test_one_target_out_of_reach_is_refused_quickly_and_named(monkeypatch):
     e, t = _call()
     with pytest.raises(ValueError, match="out of reach") as alone:
         drake.point_contact_for(restitution=e[BAD], contact_time=t[BAD], speed=1.0, mass=0.1,
                                 gravity=9.81, time_step=H)  # fmt: skip
-    updates, iterated = [], []
-
-    def counted(*args, **options):
-        res = step_contact(*args, **options)
-        updates.append(int(res.steps.max(initial=0)))  # the loop's updates in this call
-        return res
+    updates, iterated = _counted_updates(monkeypatch), []
 
     def spy(*args):
         iterated.append(args[0].size)
         return iterate(*args)
 
     iterate = design._iterate
-    monkeypatch.setattr(phases, "step_contact", counted)
     monkeypatch.setattr(design, "_iterate", spy)
     with pytest.raises(ValueError, match="out of reach") as many:
         drake.point_contact_for(restitution=e, contact_time=t, speed=1.0, mass=0.1, gravity=9.81,
@@ -79,14 +93,7 @@ def test_designs_by_max_penetration_do_not_step_settled_corners_either(monkeypat
     # wanted, so the settled corners were stepped to 2e6 updates (142 s; found by review)
     rng = np.random.default_rng(5)
     e, x = rng.uniform(0.3, 0.6, 257), rng.uniform(8.0, 100.0, 257) * H / np.pi
-    updates = []
-
-    def counted(*args, **options):
-        res = step_contact(*args, **options)
-        updates.append(int(res.steps.max(initial=0)))
-        return res
-
-    monkeypatch.setattr(phases, "step_contact", counted)
+    updates = _counted_updates(monkeypatch)
     c = drake.point_contact_for(restitution=e, max_penetration=x, speed=1.0, mass=0.1,
                                 gravity=9.81, time_step=H)  # fmt: skip
     assert max(updates) < 5_000, max(updates)

@@ -2,16 +2,19 @@
 against the loop that gathers them at every step (tests/references/drake_steps.py): the
 same numbers, bit for bit (except the update count of a sticking contact, which the
 settled-contact rule decides early: the reference steps it until it turns back or to
-``MAX_STEPS``)."""
+``MAX_STEPS``). The lean loop of the phase means (``contact_ends``) against
+``step_contact``, and the lean ``end_margin`` against its masked loop: the same numbers,
+bit for bit."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from references.drake_steps import end_margin as margin_reference
 from references.drake_steps import step_contact as reference
 
 from impactsym.engines.drake import stepping
-from impactsym.engines.drake.stepping import step_contact
+from impactsym.engines.drake.stepping import contact_ends, end_margin, step_contact
 
 RNG = np.random.default_rng(1000)
 
@@ -169,3 +172,82 @@ def test_the_creep_rule_against_the_exact_map():
         assert np.all(fs * h > 1e-12 * m * v)
         assert not stepping._creeping(*args, fs.max() * (1 - 1e-7))
     assert held >= 50
+
+
+@pytest.mark.parametrize("h", [1e-3, 1e-2])
+@pytest.mark.parametrize("stuck_peaks", [True, False])
+def test_the_lean_loop_is_step_contact_bit_for_bit(h, stuck_peaks, monkeypatch):
+    monkeypatch.setattr(stepping, "_BLOCK", 700)  # several blocks
+    monkeypatch.setattr(stepping, "MAX_STEPS", 20_000)  # (creeping contacts: both alike)
+    k, d, _, m, g, v, p = _contacts(3000, 0.0)
+    d[:300], p[300:450] = 0.0, 0.0  # undamped; touching exactly at a state
+    d[450:600] *= 20.0  # beyond the rebound bound: contacts that end without leaving
+    old = step_contact(k, d, 0.0, m, g, v, h, p, approximation="lagged", stuck_peaks=stuck_peaks)
+    new = contact_ends(k, d, m, g, v, h, p, stuck_peaks=stuck_peaks)
+    coasted = ~old.sticks & ~old.released_by_position
+    assert coasted.any()  # ended by the impulse inside the overlap, then left
+    assert old.sticks.any()
+    assert not old.sticks.all()
+    for name in new._fields:
+        np.testing.assert_array_equal(getattr(new, name), getattr(old, name), err_msg=name)
+    one = contact_ends(1e4, 0.5, 1.0, 0.0, 1.0, 1e-3, [[0.0, 0.5]])
+    assert one.restitution.shape == (1, 2)
+
+
+def test_the_lean_margin_loop_is_the_masked_one_bit_for_bit(monkeypatch):
+    monkeypatch.setattr(stepping, "_BLOCK", 700)  # several blocks
+    k, d, _, m, g, v, p = _contacts(3000, 0.0)
+    d[:300] = 0.0
+    h = np.where(RNG.uniform(size=k.size) < 0.5, 1e-3, 1e-2)
+    step = RNG.integers(0, 60, k.size)
+    new = end_margin(k, d, m, g, v, h, p, step)
+    old = margin_reference(k, d, m, g, v, h, p, step)
+    assert 0.2 < np.mean(new[2]) < 0.95  # valid and not (ended or turned before the step)
+    for a, b, name in zip(new, old, ("margin", "ends", "valid"), strict=True):
+        np.testing.assert_array_equal(a, b, err_msg=name)
+
+
+@pytest.mark.parametrize("stuck_peaks", [True, False])
+def test_the_lean_loop_decides_creeping_contacts_as_step_contact(stuck_peaks, monkeypatch):
+    # overdamped loaded contacts creeping up to rest, and some at rest to the last bit
+    monkeypatch.setattr(stepping, "MAX_STEPS", 20_000)
+    h, m = 1e-3, 1.0
+    k = np.repeat([1e4, 1e4, 3e4, 1e4, 1e3], 8)
+    d = np.repeat([50.0, 40.0, 50.0, 80.0, 500.0], 8)
+    p = np.tile(np.linspace(0.0, 1.0, 8, endpoint=False), 5)
+    old = step_contact(k, d, 0.0, m, 9.81, 0.1, h, p, approximation="lagged",
+                       stuck_peaks=stuck_peaks)  # fmt: skip
+    updates, lean_update = [], stepping._update
+
+    def counted(*args, **options):
+        updates.append(1)
+        return lean_update(*args, **options)
+
+    monkeypatch.setattr(stepping, "_update", counted)
+    new = contact_ends(k, d, m, 9.81, 0.1, h, p, stuck_peaks=stuck_peaks)
+    monkeypatch.setattr(stepping, "_update", lean_update)
+    assert len(updates) < 2_000  # decided by the rules, not stepped to MAX_STEPS
+    assert old.sticks.all()
+    assert np.count_nonzero(old.max_penetration == m * 9.81 / k) >= 8  # the creep rule
+    for name in new._fields:
+        np.testing.assert_array_equal(getattr(new, name), getattr(old, name), err_msg=name)
+    # settling to rest to the last bit, its peaks wanted (found in a random search)
+    k, d = (
+        np.array([2334.6713204733805, 2269.1204974017573]),
+        np.array([11.95354944396061, 18.04068001524455]),
+    )
+    m, v = (
+        np.array([1.0088777106807114, 1.2895273632951088]),
+        np.array([0.0430962879979416, 0.4326955656871267]),
+    )
+    p = np.array([0.1972316200004598, 0.9109266011601548])
+    old = step_contact(k, d, 0.0, m, 9.81, v, h, p, approximation="lagged",
+                       stuck_peaks=stuck_peaks)  # fmt: skip
+    updates.clear()
+    monkeypatch.setattr(stepping, "_update", counted)
+    new = contact_ends(k, d, m, 9.81, v, h, p, stuck_peaks=stuck_peaks)
+    monkeypatch.setattr(stepping, "_update", lean_update)
+    assert len(updates) < 5_000  # decided at rest, not stepped to MAX_STEPS
+    assert old.sticks.all()
+    for name in new._fields:
+        np.testing.assert_array_equal(getattr(new, name), getattr(old, name), err_msg=name)

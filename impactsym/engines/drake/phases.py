@@ -21,7 +21,16 @@ integrated by 5-point Gauss–Legendre (the restitution is an algebraic, smooth 
 of the phase there; against 12 nodes the mean moves by 1e-15 over 2500 random contacts
 of 2-100 steps, by 5e-13 with 4 nodes and 2e-10 with 3, too much for designs held to
 1e-12) and bounded by the piece ends (the one-sided limits at the jumps), the nodes, and
-a zoom search (33 phases per call) where an interior node is extreme.
+a zoom search (33 phases per call) where an interior node is extreme. The piece ends
+are the grid phases and the located brackets' ends, whose contacts were run already:
+only the nodes are run again. Those runs take
+:func:`~impactsym.engines.drake.stepping.contact_ends` (``"sap"``: ``step_contact``),
+the same numbers bit for bit. A panel rule spanning several grid intervals of a smooth
+piece would run fewer nodes (one 10-node rule over a whole piece misses the mean by
+9e-11; that and the errors for 3, 4, 5 nodes per eighth, 2e-10, 5e-13, 1e-15, are
+consistent with ``~1e-2 (L/2.5)^(2N)`` for ``N`` nodes on a length ``L``: ~10 nodes per
+half, ~20 per design instead of ~45, not tried), but the
+largest overlap is sampled at the nodes, and the designs by it read that sample.
 All designs and pieces are evaluated together on whole arrays.
 """
 
@@ -32,7 +41,7 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.drake.stepping import end_margin, step_contact
+from impactsym.engines.drake.stepping import ContactEnds, contact_ends, end_margin, step_contact
 from impactsym.engines.phase_pieces import integrate_pieces, reduce_at
 from impactsym.records import ArrayRecord
 
@@ -94,8 +103,11 @@ def phase_summary(
     dt = flat[-1]
 
     def run(i, p):
-        return step_contact(*(a[i] for a in flat), p, approximation=approximation,
-                            stuck_peaks=stuck_peaks)  # fmt: skip
+        if approximation == "sap":
+            return step_contact(*(a[i] for a in flat), p, approximation=approximation,
+                                stuck_peaks=stuck_peaks)  # fmt: skip
+        k, d, _, m, g, v, h = (a[i] for a in flat)  # (no relaxation time)
+        return contact_ends(k, d, m, g, v, h, p, stuck_peaks=stuck_peaks)
 
     def key(res, p, i):
         with np.errstate(invalid="ignore", over="ignore"):
@@ -109,25 +121,53 @@ def phase_summary(
     i_all = np.repeat(np.arange(size), _GRID)
     i_grid = np.repeat(np.arange(size), _GRID + 1)
     at = np.tile(grid, size)
-    keys = key(run(i_grid, at), at, i_grid).reshape(size, _GRID + 1)
+    at_grid = _fields(run(i_grid, at))
+    keys = key(at_grid, at, i_grid).reshape(size, _GRID + 1)
     key_lo, key_hi = keys[:, :-1], keys[:, 1:]
     jump = key_lo != key_hi
     ii, kk = np.nonzero(jump)
     a, c = lo[ii, kk].copy(), hi[ii, kk].copy()
     left = key_lo[ii, kk]
     todo = np.arange(ii.size)
+    at_jump = ContactEnds(*(np.empty((ii.size, 2), f.dtype) for f in at_grid))  # at (a, c)
     if approximation != "sap":  # a root of the end margin where it decides the change
-        found, a_r, c_r = _roots(flat, run, key, ii, a, c, left, key_hi[ii, kk])
+        found, a_r, c_r, at_found = _roots(flat, run, key, ii, a, c, left, key_hi[ii, kk])
         a[found], c[found] = a_r[found], c_r[found]
+        if found.any():
+            for f, g in zip(at_jump, at_found, strict=True):
+                f[found] = g[found]
         todo = np.flatnonzero(~found)
     if todo.size:  # the others (sap, sticking, a margin that does not decide)
         a[todo], c[todo] = _multisection(run, key, ii[todo], a[todo], c[todo], left[todo])
+        rows, p = np.repeat(ii[todo], 2), np.column_stack([a[todo], c[todo]]).ravel()
+        for f, g in zip(at_jump, _fields(run(rows, p)), strict=True):
+            f[todo] = g.reshape(-1, 2)
     ends = np.where(jump, np.nan, hi)
     ends[ii, kk] = a
     p0 = np.concatenate([lo.ravel(), c])
     p1 = np.concatenate([ends.ravel(), hi[ii, kk]])
     own = np.concatenate([i_all, ii])
-    pieces = integrate_pieces(run, p0, p1, own, size, nodes=_NODES)
+    # the records at the piece ends, from the grid and the jumps' brackets (run there)
+    at_p0, at_p1 = [], []
+    for f, g in zip(at_grid, at_jump, strict=True):
+        f = f.reshape(size, _GRID + 1)
+        f_end = f[:, 1:].copy()
+        f_end[ii, kk] = g[:, 0]
+        at_p0.append(np.concatenate([f[:, :-1].ravel(), g[:, 1]]))
+        at_p1.append(np.concatenate([f_end.ravel(), f[ii, kk + 1]]))
+
+    def run_inner(i, p):
+        """``run`` at the pieces' samples (start, nodes, end), run at the nodes only."""
+        shape = (p0.size, _NODES + 2)
+        inner = run(i.reshape(shape)[:, 1:-1].ravel(), p.reshape(shape)[:, 1:-1].ravel())
+        out = []
+        for f, f0, f1 in zip(_fields(inner), at_p0, at_p1, strict=True):
+            full = np.empty(shape, f.dtype)
+            full[:, 0], full[:, 1:-1], full[:, -1] = f0, f.reshape(-1, _NODES), f1
+            out.append(full.ravel())
+        return ContactEnds(*out)
+
+    pieces = integrate_pieces(run_inner, p0, p1, own, size, nodes=_NODES)
     pts, res, e, t = pieces.pts, pieces.result, pieces.restitution, pieces.contact_time
     e_mean, t_mean, stick_frac = (
         pieces.restitution_mean, pieces.contact_time_mean, pieces.stick_fraction
@@ -148,6 +188,11 @@ def phase_summary(
         stick_frac,
     )
     return PhaseSummary(*(np.reshape(f, shape) for f in fields))
+
+
+def _fields(res) -> ContactEnds:
+    """The fields of a contact record that the summary reads."""
+    return ContactEnds(res.restitution, res.contact_time, res.sticks, res.max_penetration)
 
 
 def _multisection(run, key, ii, a, c, left):
@@ -183,19 +228,23 @@ def _roots(flat, run, key, ii, a, c, left, right):
     both sides; once that fails to shrink the bracket fourfold (the margin is
     rounding noise below ~1e-11 of a phase) trisection finishes it. The phases' side is
     :func:`~impactsym.engines.drake.stepping.step_contact`'s own end test at state ``j``.
-    Returns ``(found, a, c)``; ``found`` is False where a
+    Returns ``(found, a, c, at_found)``; ``found`` is False where a
     state before ``j`` ends, a bracket sticks at an end, a margin is not finite, or the
     bracket is not shut after
     :data:`_ROOT_CALLS` calls; and where the end states of :func:`step_contact` at the
-    final ``a`` and ``c`` are not ``left`` and another (then the multisection decides).
+    final ``a`` and ``c`` are not ``left`` and another (then the multisection decides);
+    ``at_found`` holds the contact's record at ``(a, c)`` (``n x 2``) where found (the
+    pieces' ends: not run again).
     """
     n = ii.size
     found = np.zeros(n, bool)
     a, c = a.copy(), c.copy()
+    # the records at the final (a, c) where found
+    at_found = ContactEnds(*(np.zeros((n, 2), t) for t in (float, float, bool, float)))
     j = np.minimum(left, right)
     live = np.flatnonzero(j >= 0)
     if live.size == 0:
-        return found, a, c
+        return found, a, c, at_found
     sign = np.where(left == j, 1.0, -1.0)  # f = sign * margin: f <= 0 at the left end
 
     def side(rows, p):
@@ -261,9 +310,12 @@ def _roots(flat, run, key, ii, a, c, left, right):
     if done.size:  # the end states of the full contact at the final ends
         rows = np.repeat(ii[done], 2)
         p = np.column_stack([a[done], c[done]]).ravel()
-        k_end = key(run(rows, p), p, rows).reshape(-1, 2)
+        at_ends = _fields(run(rows, p))
+        k_end = key(at_ends, p, rows).reshape(-1, 2)
         found[done] = (k_end[:, 0] == left[done]) & (k_end[:, 1] != left[done])
-    return found, a, c
+        for f, g in zip(at_found, at_ends, strict=True):
+            f[done] = g.reshape(-1, 2)
+    return found, a, c, at_found
 
 
 def _interior_extreme(run, own, pts, e, sign):

@@ -73,12 +73,19 @@ sticking once an update gives back its state bit for bit (``u' = u`` and
 ``x + h u' = x``): the loop is deterministic, so every later update repeats it, the
 contact never ends and its peaks are final, those of the full loop. Checked every
 :data:`_SETTLE_EVERY` updates too.
+
+:func:`contact_ends` is the same loop for the phase means (the restitution, contact
+time, stick verdict and largest overlap of ``"tamsi"``/``"similar"``/``"lagged"``), bit
+for bit, about four times faster: the update's constants once per contact, the finished
+contacts gathered out when a quarter have finished (not masked field by field at every
+step), blocks of :data:`_BLOCK` contacts that stay in the cache (twice as fast as 4e5 at
+once); :func:`end_margin` steps its states the same way.
 All quantities are SI. Internal to :mod:`impactsym.engines.drake`.
 """
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -89,13 +96,14 @@ from impactsym.engines.drake.update import (
 )
 from impactsym.engines.mujoco.stepping import StepContact
 
-__all__ = ["MAX_STEPS", "end_margin", "step_contact"]
+__all__ = ["MAX_STEPS", "ContactEnds", "contact_ends", "end_margin", "step_contact"]
 
 #: Updates stepped before a contact that has not ended is declared sticking.
 MAX_STEPS = 2_000_000
 _ZERO = 1e-12  # impulses below this times m v count as zero
 _SETTLE_EVERY = 64  # updates between two checks of the settled-contact rule
 _DRIFT = 1e-6  # energy (in wells) that rounding may give back, in the rule
+_BLOCK = 16_384  # contacts stepped together by contact_ends (measured: 2x over 4e5 at once)
 
 
 def step_contact(
@@ -283,24 +291,227 @@ def end_margin(
     t0 = phase * h
     x, u = v * t0 + 0.5 * g * t0 * t0, v + g * t0
     valid = np.ones(k.size, bool)
-    live = np.flatnonzero(step > 0)  # stepped; gathered when half have reached their step
-    rows = [a[live] for a in (k, d, m, g, v, h, x, u, step)]
-    count = 0
-    while live.size:
-        kl, dl, ml, gl, vl, hl, xl, ul, sl = rows
-        new, impulse = hunt_crossley_velocity(xl, ul, kl, dl, ml, gl, hl)
-        going = sl > count
-        ended = (xl < 0.0) | (impulse <= _ZERO * ml * vl) | ((ul < 0.0) & (new > 0.0))
-        valid[live[going & ended]] = False
-        rows[6], rows[7] = np.where(going, xl + hl * new, xl), np.where(going, new, ul)
-        count += 1
-        reached = sl == count
-        x[live[reached]], u[live[reached]] = rows[6][reached], rows[7][reached]
-        rest = sl > count
-        if 2 * np.count_nonzero(rest) <= live.size:
-            live, rows = live[rest], [a[rest] for a in rows]
+    for lo in range(0, k.size, _BLOCK):  # blocks that stay in the cache while stepped
+        block = slice(lo, min(lo + _BLOCK, k.size))
+        _margin_states(*(a[block] for a in (k, d, m, g, v, h, x, u, step, valid)))
     ustar, root = hunt_crossley_root(x, u, k, d, m, g, h, clip=False)
     margin = np.minimum(x / h, ustar - root - _ZERO * v)
     _, impulse = hunt_crossley_velocity(x, u, k, d, m, g, h)
     ends = (x < 0.0) | (impulse <= _ZERO * m * v)
     return margin, ends, valid
+
+
+def contact_ends(
+    k: Any, d: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, *, stuck_peaks: bool = True
+) -> ContactEnds:
+    """What :func:`step_contact` gives a ``"tamsi"``/``"similar"``/``"lagged"`` contact's
+    phase means, bit for bit: the restitution, contact time, stick verdict and largest
+    penetration (arrays broadcast, SI; ``stuck_peaks`` as there).
+
+    The same update in the same floating-point operations, leaner: the constants of
+    :func:`~impactsym.engines.drake.update.hunt_crossley_root` computed once per contact,
+    the contacts that end dropped from the arrays (gathered when a quarter have ended)
+    instead of masked at every step, and the contacts that end without leaving the
+    overlap (no impulse) stepped apart until they leave or the impulse comes back.
+    """
+    arrays = np.broadcast_arrays(*(np.asarray(a, float) for a in (k, d, m, g, v, h, phase)))
+    k, d, m, g, v, h, phase = (a.ravel() for a in arrays)
+    n = k.size
+    out = ContactEnds(np.zeros(n), np.full(n, np.inf), np.zeros(n, bool), np.zeros(n))
+    for lo in range(0, n, _BLOCK):  # blocks that stay in the cache while stepped
+        block = slice(lo, min(lo + _BLOCK, n))
+        rows = (a[block] for a in (k, d, m, g, v, h, phase))
+        part = ContactEnds(*(a[block] for a in out))  # views: written in place
+        _block_ends(*rows, part, stuck_peaks=stuck_peaks)
+    out.restitution[out.sticks] = 0.0
+    out.contact_time[out.sticks] = np.inf
+    shape = arrays[0].shape
+    return ContactEnds(*(a.reshape(shape) for a in out))
+
+
+def _block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
+    """:func:`contact_ends` of one block, into ``out``."""
+    with np.errstate(all="ignore"):  # the finished contacts step on until gathered
+        t0 = phase * h
+        x = v * t0 + 0.5 * g * t0 * t0
+        u = v + g * t0
+        consts = _constants(k, d, m, g, v, h)
+        coast = _ends_loop(np.arange(k.size), x, u, consts, (k, d, m, g, h, v, t0), out,
+                           stuck_peaks=stuck_peaks)  # fmt: skip
+        if coast is not None:
+            _coast(*coast, consts, out)
+
+
+def _margin_states(k, d, m, g, v, h, x, u, step, valid):
+    """:func:`end_margin`'s states ``step`` into ``x``, ``u`` (views, in place), and its
+    ``valid``: the update of
+    :func:`~impactsym.engines.drake.update.hunt_crossley_velocity` (no contact test), the
+    same operations."""
+    live = np.flatnonzero(step > 0)  # stepped; gathered when a quarter reached their step
+    with np.errstate(all="ignore"):  # (those that reached it step on until gathered)
+        consts = tuple(a[live] for a in _constants(k, d, m, g, v, h))
+        xl, ul, sl = x[live], u[live], step[live]
+        bad = np.zeros(live.size, bool)  # a state so far ended or turned back
+        arrivals = np.bincount(sl)  # how many reach their step at each count
+        done, count = 0, 0  # those reached among the gathered, and the count
+        while live.size:
+            ustar, new, free = _update(xl, ul, consts, contact=False)
+            impulse = ustar - new
+            impulse *= consts[1]
+            ended = np.where(free, 0.0, impulse) <= consts[8]
+            ended |= xl < 0.0
+            turned = ul < 0.0
+            turned &= new > 0.0
+            ended |= turned
+            bad |= ended
+            xl += consts[9] * new
+            ul = new
+            count += 1
+            if arrivals[count]:  # its state, and whether a state before it ended
+                reached = sl == count
+                i = live[reached]
+                x[i], u[i], valid[i] = xl[reached], ul[reached], ~bad[reached]
+                done += int(arrivals[count])
+                if 4 * done >= live.size:
+                    rest = sl > count
+                    live, xl, ul, sl, bad = live[rest], xl[rest], ul[rest], sl[rest], bad[rest]
+                    consts = tuple(a[rest] for a in consts)
+                    done = 0
+
+
+def _constants(k, d, m, g, v, h):
+    """The per-contact constants of the update, for :func:`_update`."""
+    hk = h * k
+    return (
+        h * g,  # u* = u + h g
+        m,
+        hk,  # c = m u* - h k x
+        m + h * h * k,  # b = m + h^2 k + (h k d) x
+        hk * d,
+        4.0 * (h * h * k * d),  # disc = b^2 + (4 a) c
+        -h,  # limit = max(-x/h, -1/d), -x/h = x/(-h)
+        np.where(d > 0, -1.0 / d, -np.inf),
+        _ZERO * m * v,  # the impulse floor
+        h,
+    )
+
+
+class ContactEnds(NamedTuple):
+    """:func:`contact_ends`: the fields of :class:`StepContact` that phase means read."""
+
+    restitution: np.ndarray
+    contact_time: np.ndarray
+    sticks: np.ndarray
+    max_penetration: np.ndarray
+
+
+def _update(x, u, consts, *, contact=True):
+    """``(u*, new, free)`` of
+    :func:`~impactsym.engines.drake.update.hunt_crossley_velocity`, the same operations;
+    ``contact``: ``new = u*`` where the contact ``x >= 0`` is gone too (``free``)."""
+    hg, m, hk, b0, hkd, a4, nh, nd = consts[:8]
+    ustar = u + hg
+    c = m * ustar
+    c -= hk * x
+    b = hkd * x
+    b += b0
+    disc = b * b
+    disc += a4 * c
+    np.maximum(disc, 0.0, out=disc)
+    np.sqrt(disc, out=disc)
+    disc += b
+    c *= 2.0
+    c /= disc  # the root
+    limit = x / nh
+    np.maximum(limit, nd, out=limit)
+    free = ustar <= limit
+    if contact:
+        free |= x < 0.0
+    return ustar, np.where(free, ustar, c), free
+
+
+def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
+    """Steps the contacts ``live`` to their end state (:func:`step_contact`'s loop) into
+    ``out``; returns those that end without leaving the overlap, to coast."""
+    k, d, m, g, h, v, t0 = raw
+    settle = bool(np.any(g > 0))  # the settled, creep and rest rules (module docstring)
+    x_max, peak = np.zeros(live.size), np.zeros(live.size) if settle else None
+    going = np.ones(live.size, bool)  # not yet ended (the others are dropped in a while)
+    finished = 0  # of the gathered
+    coasting = []
+    count = 0
+    for count in range(MAX_STEPS):
+        if live.size == 0:
+            break
+        impulse, new, _ = _update(x, u, consts)
+        impulse -= new  # u* - new
+        impulse *= consts[1]
+        # going, and no impulse above the floor (or no contact): the end state
+        ends = np.greater(going, impulse > consts[8])
+        if ends.any():  # the end state: separation speed, and the time
+            i = live[ends]
+            out.restitution[i] = -u[ends] / v[i]
+            out.contact_time[i] = t0[i] + count * h[i]
+            out.max_penetration[i] = x_max[ends]
+            stay = ends & (x >= 0.0)  # no impulse inside the overlap: it coasts on
+            if stay.any():
+                start = np.full(np.count_nonzero(stay), count + 1)
+                coasting.append((live[stay], x[stay] + consts[9][stay] * new[stay],
+                                 new[stay], start))  # fmt: skip
+            going &= ~ends
+            finished += int(np.count_nonzero(ends))
+        np.maximum(x_max, x, out=x_max)
+        if settle:
+            np.maximum(peak, impulse / consts[9], out=peak)
+        turned = u < 0.0
+        turned &= new > 0.0
+        turned &= going
+        if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:
+            # at rest to the last bit; settled; creeping up to rest (then its overlap
+            # tends to m g / k): step_contact's checks, in its order
+            rows = [a[live] for a in (k, d, m, g, h, v)]
+            turned |= going & (new == u) & (x + consts[9] * new == x)
+            turned |= going & _settled(x, u, *rows, x_max, peak, stuck_peaks)
+            creep = going & _creeping(x, u, *rows, peak)
+            kr, _, mr, gr = rows[:4]
+            x_max = np.where(creep, np.maximum(x_max, mr * gr / kr), x_max)
+            turned |= creep
+        if turned.any():
+            i = live[turned]
+            out.sticks[i] = True
+            out.max_penetration[i] = x_max[turned]
+            going &= ~turned
+            finished += int(np.count_nonzero(turned))
+        x += consts[9] * new
+        u = new
+        if 4 * finished >= live.size:  # drop the finished ones
+            live, x, u, x_max = live[going], x[going], u[going], x_max[going]
+            consts = tuple(a[going] for a in consts)
+            peak = peak[going] if settle else None
+            going = np.ones(live.size, bool)
+            finished = 0
+    i = live[going]
+    out.sticks[i] = True
+    out.max_penetration[i] = x_max[going]
+    if not coasting:
+        return None
+    return tuple(np.concatenate(a) for a in zip(*coasting, strict=True))
+
+
+def _coast(live, x, u, start, consts, out):
+    """Steps the contacts ``live`` that ended without impulse inside the overlap (at the
+    state before ``start``) until they leave it; where the impulse comes back first, or
+    the count reaches :data:`MAX_STEPS`, they stick (:func:`step_contact`)."""
+    consts = tuple(a[live] for a in consts)
+    for j in range(MAX_STEPS):
+        if live.size == 0:
+            break
+        ustar, new, _ = _update(x, u, consts)
+        impulse = ustar - new
+        impulse *= consts[1]
+        back = (x >= 0.0) & (impulse > consts[8])
+        out.sticks[live[back | (start + j >= MAX_STEPS)]] = True
+        keep = (x >= 0.0) & ~back & (start + j < MAX_STEPS)
+        x = x + consts[9] * new
+        live, x, u, start = live[keep], x[keep], new[keep], start[keep]
+        consts = tuple(a[keep] for a in consts)
