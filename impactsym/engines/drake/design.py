@@ -17,6 +17,10 @@ restitution:
   factor ``(1 + d x')`` of the law vanishes. For ``"sap"`` the damping is the
   relaxation time (``hunt_crossley_dissipation`` is ignored there and returned as 0).
 
+At a step the phase-mean contact time rests at ``(N + 1/2) h`` over stretches of ``k``
+where every phase lasts ``N`` steps; there the stiffness step doubles until the size
+crosses the target, then a bracketed Illinois step finishes it.
+
 All designs are solved together on whole arrays. A call with at least
 :data:`~impactsym.engines.drake.pressed_table.MIN_TARGETS` continuous targets under
 gravity (``g > 0``) reads their designs off one Chebyshev table of the normalized impact
@@ -255,6 +259,7 @@ def _iterate(e, v, m, g, target, h, approx, size_name):
     f_below, f_above = np.ones_like(k), -np.ones_like(k)
     side = np.zeros(k.size, int)
     f_last = np.full_like(k, np.inf)
+    stride = np.ones_like(k)  # doubles while a design walks along a plateau of the size
     best, stalled = np.inf, 0
     q = np.full_like(k, np.nan)
     moved = np.full_like(k, np.inf)  # |change of ln k| since the last damping root
@@ -287,13 +292,19 @@ def _iterate(e, v, m, g, target, h, approx, size_name):
         side = np.where(up, 1, np.where(down, -1, side))
         # secant in (log k, log q): the slope is -1/2 where the damping number is fixed
         slope = np.full_like(k, -0.5)
+        bracketed = np.isfinite(below) & np.isfinite(above)
         if log_prev is not None:
             with np.errstate(all="ignore"):
                 secant = (log_q - q_prev) / (log_k - log_prev)
             slope = np.where(np.isfinite(secant), np.clip(secant, -2.0, -0.1), slope)
+            # on a plateau (the size unmoved by a move of k) the step doubles until the
+            # size crosses the target: next to the plateau's edge the miss, and with it
+            # the secant's step, is tiny (a target 1.6e-4 steps from the edge walked
+            # 80 steps of 1e-5 in ln k and was refused)
+            flat = (log_q == q_prev) & (log_k != log_prev) & ~bracketed
+            stride = np.where(flat, 2.0 * stride, 1.0)
         log_prev, q_prev = log_k, log_q
-        trial = log_k - f / slope
-        bracketed = np.isfinite(below) & np.isfinite(above)
+        trial = log_k - stride * f / slope
         low, high = np.minimum(below, above), np.maximum(below, above)
         with np.errstate(all="ignore"):
             false_pos = (below * f_above - above * f_below) / (f_above - f_below)
