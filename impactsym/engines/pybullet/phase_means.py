@@ -45,10 +45,12 @@ from impactsym.engines.mujoco.discrete import PhaseSummary
 from impactsym.engines.phase_pieces import reduce_at
 from impactsym.engines.pybullet.stepping import (
     DEFAULT_RESTITUTION_THRESHOLD,
+    MAX_STEPS,
     close_state,
     pattern_code,
     run_live,
     start_state,
+    step_budget,
     step_pattern,
     substep_impulse,
 )
@@ -114,21 +116,32 @@ def tracked_pattern(
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
     )
-    k, c, m, v, g, H, p = (a.ravel().copy() for a in arrays)
+    settings = (substeps, slop, processing_threshold, velocity_restitution, restitution_threshold)
+    pattern, first, end = _track(*(a.ravel().copy() for a in arrays), settings)
+    return pattern, first, end[:3]
+
+
+def _track(k, c, m, v, g, H, p, settings):
+    """:func:`tracked_pattern` of flat arrays (``settings``: ``substeps, slop,
+    processing_threshold, velocity_restitution, restitution_threshold``), the end state
+    ``(5, n)``: its speed ``w`` with two phase derivatives, then its penetration ``x``
+    with the first (where the contact ended)."""
+    substeps = settings[0]
     fixed, state = start_state(k, c, m, v, g, H, p, substeps)
     # the phase derivatives ride along: x = x0 + x1 dp + x2 dp^2 / 2, w likewise
     size = k.size
     state.update({
         "x1": state["w"] * H, "x2": g * H * H, "w1": g * H, "w2": np.zeros(size),
         "first": np.full(size, np.inf), "w1_end": np.zeros(size), "w2_end": np.zeros(size),
+        "x1_end": np.zeros(size),
     })  # fmt: skip
-    settings = (substeps, slop, processing_threshold, velocity_restitution, restitution_threshold)
     curved = bool(np.any(g))  # (without gravity every second derivative stays 0)
     state = run_live(fixed, state, lambda a, n, limit: _advance(a, n, limit, curved, *settings))
     sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
     pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
-    return pattern, state["first"], np.stack([state["w_end"], state["w1_end"], state["w2_end"]])
+    end = ("w_end", "w1_end", "w2_end", "x_end", "x1_end")
+    return pattern, state["first"], np.stack([state[key] for key in end])
 
 
 def _advance(a, n, limit, curved, substeps, slop, threshold, rest_coef, rest_threshold):
@@ -170,6 +183,7 @@ def _advance(a, n, limit, curved, substeps, slop, threshold, rest_coef, rest_thr
     stop = a["ended"] & (a["n_end"] == n)  # the end state: its speed's phase derivatives
     if stop.any():
         np.copyto(a["w1_end"], w1, where=stop)
+        np.copyto(a["x1_end"], x1, where=stop)
         np.copyto(a["w2_end"], w2, where=stop)  # (0.0 where not curved)
         if not curved:
             # without gravity a contact that ended separating (w < 0) never sticks: each
@@ -209,31 +223,59 @@ def break_pieces(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
     )
     flat = [a.ravel() for a in arrays]
+    settings = (substeps, slop, processing_threshold, velocity_restitution, restitution_threshold)
+    # without gravity (and with PyBullet's defaults for the thresholds) one interval is
+    # searched first; an element keeps those pieces where every phase provably ends
+    # final, the others are searched on the grid
+    coarse = flat[4] == 0.0
+    if velocity_restitution or np.isfinite(processing_threshold):
+        coarse[:] = False
+    found = []
+    if coarse.any():
+        i = np.flatnonzero(coarse)
+        pieces, unsure = _grid_pieces([a[i] for a in flat], settings, 1)
+        k, c, m, H = (a[i] for a in (flat[0], flat[1], flat[2], flat[5]))
+        sure = ~unsure & _ends_final(pieces, np.minimum(step_budget(k, c, m, H), MAX_STEPS), H)
+        kept = sure[pieces[5]]
+        found.append([a[..., kept] for a in pieces[:5]] + [i[pieces[5][kept]], pieces[6][:, kept]])
+        coarse[i[~sure]] = False
+    if not coarse.all():
+        j = np.flatnonzero(~coarse)
+        pieces, _ = _grid_pieces([a[j] for a in flat], settings, _GRID)
+        found.append([*pieces[:5], j[pieces[5]], pieces[6]])
+    parts = [np.concatenate(part, axis=-1) for part in zip(*found, strict=True)]
+    parts[6] = parts[6][:3]  # the end speed's quadratic (the penetration's rows checked)
+    return _merge(*parts)
+
+
+def _grid_pieces(flat, settings, intervals):
+    """The pieces of :func:`break_pieces` (not merged; ``end`` with the end state's
+    penetration and its phase derivative as rows 3-4) from ``intervals`` grid intervals,
+    and per element whether a change was searched (one the roots missed, or left after
+    ``_ROUNDS`` roots of one interval)."""
     size = flat[0].size
-    settings = {
-        "substeps": substeps, "slop": slop, "processing_threshold": processing_threshold,
-        "velocity_restitution": velocity_restitution,
-        "restitution_threshold": restitution_threshold,
-    }  # fmt: skip
 
     def track(i, p):
-        return tracked_pattern(*(a[i] for a in flat), p, **settings)
+        return _track(*(a[i] for a in flat), p, settings)
 
     def run(i, p):
-        return step_pattern(*(a[i] for a in flat), p, **settings)
+        names = ("substeps", "slop", "processing_threshold", "velocity_restitution",
+                 "restitution_threshold")  # fmt: skip
+        return step_pattern(*(a[i] for a in flat), p, **dict(zip(names, settings, strict=True)))
 
-    grid = np.linspace(0.0, 1.0, _GRID + 1)
+    grid = np.linspace(0.0, 1.0, intervals + 1)
     grid[-1] = np.nextafter(1.0, 0.0)
-    own = np.repeat(np.arange(size), _GRID)
+    own = np.repeat(np.arange(size), intervals)
     lo, hi = np.tile(grid[:-1], size), np.tile(grid[1:], size)
-    # the pattern, roots ahead and end speed where each grid interval starts; at the last
+    # the pattern, roots ahead and end state where each grid interval starts; at the last
     # grid point only the pattern (a plain run: the same numbers, without the tracking)
-    k_lo, r_lo, speed = track(own, lo)
-    k_hi = np.concatenate([k_lo.reshape(size, _GRID)[:, 1:],
+    k_lo, r_lo, end_state = track(own, lo)
+    k_hi = np.concatenate([k_lo.reshape(size, intervals)[:, 1:],
                            run(np.arange(size), np.full(size, grid[-1]))[1][:, None]],
                           axis=1).ravel()  # fmt: skip
     s_lo = lo.copy()  # where the pattern of the piece starting at lo was read
-    # (start, end, sampled start, sampled end, pattern, owner, end speed at the sampled
+    searched = np.zeros(size, bool)
+    # (start, end, sampled start, sampled end, pattern, owner, end state at the sampled
     # start and its phase derivatives) of every piece
     pieces = []
     for _ in range(_ROUNDS):
@@ -241,33 +283,53 @@ def break_pieces(
         split = cut < hi
         flat_piece = ~split & (k_lo == k_hi)
         pieces.append((*(arr[flat_piece] for arr in (lo, hi, s_lo, hi, k_lo, own)),
-                       speed[:, flat_piece]))  # fmt: skip
+                       end_state[:, flat_piece]))  # fmt: skip
         rest = ~flat_piece
         lo, hi, s_lo, k_lo, k_hi, own, cut, split = (
             arr[rest] for arr in (lo, hi, s_lo, k_lo, k_hi, own, cut, split)
         )  # fmt: skip
-        speed = speed[:, rest]
+        end_state = end_state[:, rest]
         if own.size == 0:
             break
         a = np.where(split, np.maximum(cut - _GAP, lo), lo)
         b = np.where(split, np.minimum(cut + _GAP, hi), hi)
         # the pattern just before each root (a plain run), and the pattern, root ahead
-        # and end speed after it
+        # and end state after it
         key_a = run(own, a)[1]
-        key_b, r_b, speed_b = track(own, b)
+        key_b, r_b, end_b = track(own, b)
         # the pieces meet at the root; the patterns either side are read _GAP away
         end, r_b = np.where(split, cut, a), r_b + (b - np.where(split, cut, b))
         bad = ~split | (key_a != k_lo)
         if bad.any():  # a change the roots do not see: the multisection search
             j = np.flatnonzero(bad)
+            searched[own[j]] = True
             end[j], b[j] = _multisect(run, own[j], lo[j], hi[j], k_lo[j])
-            key_b[j], r_b[j], speed_b[:, j] = track(own[j], b[j])
-        pieces.append((lo, end, s_lo, np.where(bad, end, a), k_lo, own, speed))
-        lo, s_lo, k_lo, r_lo, speed = np.where(bad, b, cut), b, key_b, r_b, speed_b
+            key_b[j], r_b[j], end_b[:, j] = track(own[j], b[j])
+        pieces.append((lo, end, s_lo, np.where(bad, end, a), k_lo, own, end_state))
+        lo, s_lo, k_lo, r_lo, end_state = np.where(bad, b, cut), b, key_b, r_b, end_b
     else:
-        pieces.append((lo, hi, s_lo, hi, k_lo, own, speed))  # left after _ROUNDS: one piece
-    parts = [np.concatenate(part, axis=-1) for part in zip(*pieces, strict=True)]
-    return _merge(*parts)
+        pieces.append((lo, hi, s_lo, hi, k_lo, own, end_state))  # left after _ROUNDS
+        searched[own] = True
+    return [np.concatenate(part, axis=-1) for part in zip(*pieces, strict=True)], searched
+
+
+def _ends_final(pieces, budget, H):
+    """Per element: whether at every phase of every piece (of :func:`_grid_pieces`,
+    without gravity: the end state linear in the phase) the contact ends separating,
+    ``w < 0``, and leaves the overlap within its step budget ``budget``,
+    ``n_end + x / (-w H) + 2 < budget`` (the test of the tracked run's stop), both
+    checked at the piece's ends with a margin: there no branch changes after the end
+    state, so the roots ahead see every change of the pattern and the grid's check is
+    not needed."""
+    p0, p1, s0, _, key, own, (w0, w1, _, x0, x1) = pieces
+    n = key["end"].astype(float)
+    room = (budget[own] - n - 2.0) * H[own]
+    ok = key["end"] >= 0
+    for u in (p0 - s0, p1 - s0):
+        w, x = w0 + w1 * u, x0 + x1 * u
+        slack = 1e-9 * (np.abs(w0) + np.abs(w1))
+        ok &= (w + slack < 0.0) & (x + 1e-9 * (np.abs(x0) + np.abs(x1)) < room * (-w - slack))
+    return np.bincount(own, ~ok, minlength=budget.size) == 0
 
 
 def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
