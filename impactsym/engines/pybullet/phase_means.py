@@ -63,6 +63,7 @@ __all__ = ["CHUNK", "break_pieces", "root_summary", "tracked_pattern"]
 CHUNK = 8192
 
 _GRID = 8  # phase intervals: the check of the roots (a change the roots miss is searched)
+_COARSE_PASS = 4  # CHUNK times this many elements per pass where each runs one interval
 #: pieces split off one grid interval before the rest counts as one piece (met where the
 #: pattern changes thousands of times over the phase: in the random contacts checked,
 #: only contacts that stick at some phases, whose mean contact time is infinite anyway)
@@ -402,7 +403,8 @@ def root_summary(
     between them. Where the piece sticks: restitution 0, contact time ``inf``. The
     same numbers as Gauss-Legendre on runs of the map at the nodes (which re-ran the
     map three or five times per piece) to rounding. Validated arrays in, broadcast
-    together; arrays out, in passes of :data:`CHUNK` elements.
+    together; arrays out, in passes of :data:`CHUNK` elements (4 times as many without
+    gravity, where each starts from one phase interval).
     """
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep))
@@ -415,14 +417,19 @@ def root_summary(
         "velocity_restitution": velocity_restitution,
         "restitution_threshold": restitution_threshold,
     }  # fmt: skip
-    if size > CHUNK:  # in passes of CHUNK elements: the same numbers, element by element
+    # a pass of CHUNK elements runs _GRID intervals of each; without gravity (and with the
+    # thresholds' defaults) break_pieces starts from one interval: passes of _COARSE_PASS
+    # CHUNK elements then (measured 1.9 s against 2.1 s for 10^5 designs)
+    coarse = not np.any(flat[4]) and not velocity_restitution and np.isinf(processing_threshold)
+    chunk = _COARSE_PASS * CHUNK if coarse else CHUNK
+    if size > chunk:  # in passes of chunk elements: the same numbers, element by element
         # passes of contacts of like length (sorted by the period^2 m / k, then the damping
         # time c / k), so that a pass's runs end together instead of stepping the short
         # contacts' arrays until the long ones end
         k, c, m = flat[:3]
         order = np.lexsort((c / k, m / k))
-        parts = [root_summary(*(a[order[i : i + CHUNK]] for a in flat), **settings)
-                 for i in range(0, size, CHUNK)]  # fmt: skip
+        parts = [root_summary(*(a[order[i : i + chunk]] for a in flat), **settings)
+                 for i in range(0, size, chunk)]  # fmt: skip
         out = []
         for f in dataclasses.fields(PhaseSummary):
             field = np.empty(size)
