@@ -47,11 +47,12 @@ from impactsym.engines.pybullet.stepping import (
     DEFAULT_RESTITUTION_THRESHOLD,
     MAX_STEPS,
     close_state,
+    end_final,
     pattern_code,
     run_live,
+    run_pattern,
     start_state,
     step_budget,
-    step_pattern,
     substep_impulse,
 )
 
@@ -186,15 +187,8 @@ def _advance(a, n, limit, curved, substeps, slop, threshold, rest_coef, rest_thr
         np.copyto(a["w1_end"], w1, where=stop)
         np.copyto(a["x1_end"], x1, where=stop)
         np.copyto(a["w2_end"], w2, where=stop)  # (0.0 where not curved)
-        if not curved:
-            # without gravity a contact that ended separating (w < 0) never sticks: each
-            # later bias is the last one (<= 0) plus erp w < 0 (or the speculative one,
-            # below w); what the run reports is final, unless the way out (x / (H |w|)
-            # calls) could outlast the step budget, which counts as sticking
-            with np.errstate(divide="ignore", invalid="ignore"):
-                calls = x / (-w * h * substeps)
-                final = stop & (w < 0) & (n + calls + 2.0 < a["budget"])
-            a["done"] |= final
+        if not curved:  # without gravity what a run that ended final reports is final
+            a["done"] |= end_final(a, n, stop, substeps)
 
 
 def break_pieces(
@@ -262,7 +256,7 @@ def _grid_pieces(flat, settings, intervals):
     def run(i, p):
         names = ("substeps", "slop", "processing_threshold", "velocity_restitution",
                  "restitution_threshold")  # fmt: skip
-        return step_pattern(*(a[i] for a in flat), p, **dict(zip(names, settings, strict=True)))
+        return run_pattern(*(a[i] for a in flat), p, **dict(zip(names, settings, strict=True)))
 
     grid = np.linspace(0.0, 1.0, intervals + 1)
     grid[-1] = np.nextafter(1.0, 0.0)
@@ -272,7 +266,7 @@ def _grid_pieces(flat, settings, intervals):
     # grid point only the pattern (a plain run: the same numbers, without the tracking)
     k_lo, r_lo, end_state = track(own, lo)
     k_hi = np.concatenate([k_lo.reshape(size, intervals)[:, 1:],
-                           run(np.arange(size), np.full(size, grid[-1]))[1][:, None]],
+                           run(np.arange(size), np.full(size, grid[-1]))[:, None]],
                           axis=1).ravel()  # fmt: skip
     s_lo = lo.copy()  # where the pattern of the piece starting at lo was read
     searched = np.zeros(size, bool)
@@ -296,7 +290,7 @@ def _grid_pieces(flat, settings, intervals):
         b = np.where(split, np.minimum(cut + _GAP, hi), hi)
         # the pattern just before each root (a plain run), and the pattern, root ahead
         # and end state after it
-        key_a = run(own, a)[1]
+        key_a = run(own, a)
         key_b, r_b, end_b = track(own, b)
         # the pieces meet at the root; the patterns either side are read _GAP away
         end, r_b = np.where(split, cut, a), r_b + (b - np.where(split, cut, b))
@@ -493,7 +487,7 @@ def _multisect(run, own, lo, hi, k_lo):
     rows = np.repeat(own, inner.size)
     for _ in range(_SECTION_ROUNDS):
         pts = a[:, None] + (b - a)[:, None] * inner[None, :]
-        same = (run(rows, pts.ravel())[1] == np.repeat(k_lo, inner.size)).reshape(pts.shape)
+        same = (run(rows, pts.ravel()) == np.repeat(k_lo, inner.size)).reshape(pts.shape)
         # the first point off the pattern (or b): the change lies before it
         first = np.where(same.all(axis=1), inner.size, np.argmin(same, axis=1))
         at, last = np.arange(own.size), inner.size - 1

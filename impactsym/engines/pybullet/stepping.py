@@ -47,11 +47,13 @@ __all__ = [
     "MAX_STEPS",
     "PATTERN",
     "close_state",
+    "end_final",
     "new_reading",
     "pattern_code",
     "read_state",
     "reading_fields",
     "run_live",
+    "run_pattern",
     "start_state",
     "step_budget",
     "step_contact",
@@ -230,6 +232,51 @@ def step_pattern(
     return record, pattern.reshape(shape)
 
 
+def run_pattern(
+    stiffness: Any,
+    damping: Any,
+    mass: Any,
+    speed: Any,
+    gravity: Any,
+    timestep: Any,
+    phase: Any,
+    *,
+    substeps: int = 1,
+    slop: float = DEFAULT_SLOP,
+    processing_threshold: float = np.inf,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
+) -> np.ndarray:
+    """The pattern of :func:`step_pattern` alone (the same records, flat), for less
+    work: no peak penetration or force is kept, and without gravity (in the whole call)
+    a run stops where its contact ends final (:func:`end_final`)."""
+    arrays = np.broadcast_arrays(
+        *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
+    )
+    k, c, m, v, g, H, p = (a.ravel().copy() for a in arrays)
+    fixed, state = start_state(k, c, m, v, g, H, p, substeps)
+    settings = (slop, processing_threshold, velocity_restitution, restitution_threshold)
+    final = not np.any(g)
+    state = run_live(
+        fixed, state,
+        lambda a, n, limit: _advance(a, n, limit, substeps, *settings, pattern=True, final=final),
+    )  # fmt: skip
+    counts = ("sticks", "n_end", "n_first", "n_spec", "n_pos", "n_rest")
+    return pattern_code(*(state[key] for key in counts))
+
+
+def end_final(a: dict, n: int, stop: np.ndarray, substeps: int) -> np.ndarray:
+    """Of the live elements ``a`` without gravity whose contact ended at state ``n``
+    (``stop``): those whose run can stop there, its pattern final. A contact that ended
+    separating (``w < 0``) never sticks: each later bias is the last one (``<= 0``) plus
+    ``erp w < 0`` (or the speculative one, below ``w``); unless the way out (``x / (H
+    |w|)`` calls) could outlast the step budget, which counts as sticking."""
+    x, w = a["x"], a["w"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        calls = x / (-w * a["h"] * substeps)
+        return stop & (w < 0) & (n + calls + 2.0 < a["budget"])
+
+
 def start_state(
     k: np.ndarray,
     c: np.ndarray,
@@ -365,11 +412,22 @@ def substep_impulse(
 
 
 def _advance(
-    a, n, limit, substeps, slop, processing_threshold, velocity_restitution, restitution_threshold
+    a,
+    n,
+    limit,
+    substeps,
+    slop,
+    processing_threshold,
+    velocity_restitution,
+    restitution_threshold,
+    *,
+    pattern=False,
+    final=False,
 ):
     """State ``n`` of the live elements (the dict ``a`` of their arrays, updated in
     place): the sub-steps of one ``stepSimulation`` call and the bookkeeping of the
-    module docstring; ``a["done"]`` marks the elements departed or stuck."""
+    module docstring; ``a["done"]`` marks the elements departed or stuck. ``pattern``:
+    the extremes not kept; ``final`` (no gravity): also done where :func:`end_final`."""
     settings = (slop, processing_threshold, velocity_restitution, restitution_threshold)
     x, w, h = a["x"], a["w"], a["h"]
     for _ in range(substeps):
@@ -377,4 +435,8 @@ def _advance(
         w = w_star - dv
         x = x + h * w
     a["x"], a["w"] = x, w
-    close_state(a, n, limit, dv * a["m"] / h)
+    close_state(a, n, limit, dv * a["m"] / h, extremes=not pattern)
+    if final:
+        stop = a["ended"] & (a["n_end"] == n)
+        if stop.any():
+            a["done"] |= end_final(a, n, stop, substeps)
