@@ -352,7 +352,8 @@ def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
     inside = watch if np.isinf(threshold) else watch & within
     for q0, q1, q2, valid in q:
         with np.errstate(invalid="ignore", over="ignore"):
-            near = np.abs(q0) <= (np.abs(q1) + np.abs(q2) * half) * reach
+            slope = np.abs(q1) if np.ndim(q2) == 0 and q2 == 0 else np.abs(q1) + np.abs(q2) * half
+            near = np.abs(q0) <= slope * reach
         near &= watch if valid is None else inside
         j = np.flatnonzero(near)
         if j.size == 0:
