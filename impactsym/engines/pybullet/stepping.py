@@ -217,17 +217,9 @@ def step_pattern(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
     )
     shape = arrays[0].shape
-    k, c, m, v, g, H, p = (a.ravel().copy() for a in arrays)
-    fixed, state = start_state(k, c, m, v, g, H, p, substeps)
-    state = run_live(
-        fixed, state,
-        lambda a, n, limit: _advance(a, n, limit, substeps, slop, processing_threshold,
-                                     velocity_restitution, restitution_threshold),
-    )  # fmt: skip
-    sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
-    n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
+    settings = (slop, processing_threshold, velocity_restitution, restitution_threshold)
+    state, pattern, (m, v, H, p) = _run_map(arrays, substeps, settings, pattern_only=False)
     fields = reading_fields(state, v, p, H, m)
-    pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
     record = StepContact(**{key: val.reshape(shape) for key, val in fields.items()})
     return record, pattern.reshape(shape)
 
@@ -253,16 +245,25 @@ def run_pattern(
     arrays = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
     )
+    settings = (slop, processing_threshold, velocity_restitution, restitution_threshold)
+    return _run_map(arrays, substeps, settings, pattern_only=True)[1]
+
+
+def _run_map(arrays, substeps, settings, *, pattern_only):
+    """Run the map on the broadcast ``(k, c, m, v, g, H, p)`` (``settings``: ``slop,
+    processing_threshold, velocity_restitution, restitution_threshold``): the finished
+    state, the flat pattern and the flat ``(m, v, H, p)``. ``pattern_only``: as
+    :func:`run_pattern` (no extremes; without gravity stopped at a final end)."""
     k, c, m, v, g, H, p = (a.ravel().copy() for a in arrays)
     fixed, state = start_state(k, c, m, v, g, H, p, substeps)
-    settings = (slop, processing_threshold, velocity_restitution, restitution_threshold)
-    final = not np.any(g)
+    final = pattern_only and not np.any(g)
     state = run_live(
         fixed, state,
-        lambda a, n, limit: _advance(a, n, limit, substeps, *settings, pattern=True, final=final),
+        lambda a, n, limit: _advance(a, n, limit, substeps, *settings, pattern=pattern_only,
+                                     final=final),
     )  # fmt: skip
     counts = ("sticks", "n_end", "n_first", "n_spec", "n_pos", "n_rest")
-    return pattern_code(*(state[key] for key in counts))
+    return state, pattern_code(*(state[key] for key in counts)), (m, v, H, p)
 
 
 def end_final(a: dict, n: int, stop: np.ndarray, substeps: int) -> np.ndarray:
