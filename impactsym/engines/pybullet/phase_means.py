@@ -487,7 +487,12 @@ def root_summary(
 def _merge(p0, p1, s0, s1, key, own, speed):
     """The pieces sorted by owner and start, adjacent ones of one pattern joined (the
     pattern and the end speed's quadratic are those of the first)."""
-    order = np.lexsort((p0, own))
+    # by owner (stable): the order by owner and start where each owner's pieces came in
+    # order of their start, as from one interval (checked; else sorted by both)
+    order = np.argsort(own, kind="stable")
+    mine, start = own[order], p0[order]
+    if np.any((mine[1:] == mine[:-1]) & (start[1:] < start[:-1])):
+        order = np.lexsort((p0, own))
     p0, p1, s0, s1, key, own = (a[order] for a in (p0, p1, s0, s1, key, own))
     speed = speed[:, order]
     joins = np.zeros(p0.size, bool)

@@ -272,10 +272,13 @@ def end_final(a: dict, n: int, stop: np.ndarray, substeps: int) -> np.ndarray:
     separating (``w < 0``) never sticks: each later bias is the last one (``<= 0``) plus
     ``erp w < 0`` (or the speculative one, below ``w``); unless the way out (``x / (H
     |w|)`` calls) could outlast the step budget, which counts as sticking."""
-    x, w = a["x"], a["w"]
+    j = np.flatnonzero(stop)  # (few: the test on those alone)
+    x, w = a["x"][j], a["w"][j]
     with np.errstate(divide="ignore", invalid="ignore"):
-        calls = x / (-w * a["h"] * substeps)
-        return stop & (w < 0) & (n + calls + 2.0 < a["budget"])
+        calls = x / (-w * a["h"][j] * substeps)
+        final = np.zeros(stop.size, bool)
+        final[j] = (w < 0) & (n + calls + 2.0 < a["budget"][j])
+    return final
 
 
 def start_state(
@@ -390,7 +393,8 @@ def substep_impulse(
     within, dv``: the bias on both sides of the speculative branch ``spec = d > 0``
     (``b_spec``, ``b_pos``, the restitution term included), the mask ``rest`` of the
     velocity-restitution term (``None`` without it), the mask ``within`` of the contact
-    processing threshold and the velocity change ``dv = lambda / m``; the caller makes
+    processing threshold (``True`` where it is infinite) and the velocity change ``dv =
+    lambda / m``; the caller makes
     ``w' = w_star - dv``, ``x' = x + h w'``. Shared by :func:`step_pattern` and the
     phase-derivative tracker of :mod:`~impactsym.engines.pybullet.phase_means`."""
     g, h, erp, gain, ended = a["g"], a["h"], a["erp"], a["gain"], a["ended"]
@@ -404,8 +408,12 @@ def substep_impulse(
         add = np.where(rest, velocity_restitution * w_star, 0.0)
         b_spec, b_pos = b_spec + add, b_pos + add
         a["n_rest"] += ~ended & rest
-    within = -x <= processing_threshold
-    dv = np.where(within, np.maximum(gain * np.where(spec, b_spec, b_pos), 0.0), 0.0)
+    dv = np.maximum(gain * np.where(spec, b_spec, b_pos), 0.0)
+    if np.isinf(processing_threshold):  # (every contact within it: no mask to apply)
+        within = True
+    else:
+        within = -x <= processing_threshold
+        dv = np.where(within, dv, 0.0)
     counting = ~ended & (dv > 0)
     a["n_spec"] += counting & spec
     a["n_pos"] += counting & ~spec
