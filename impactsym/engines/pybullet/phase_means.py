@@ -172,7 +172,7 @@ def _advance(a, n, limit, curved, substeps, slop, threshold, rest_coef, rest_thr
     x1, w1 = a["x1"], a["w1"]
     x2, w2 = (a["x2"], a["w2"]) if curved else (0.0, 0.0)
     watching = ~a["ended"] & ~a["done"]
-    first = a["first"].copy()
+    first = a["first"]  # (lowered in place)
     settings = (slop, threshold, rest_coef, rest_threshold)
     for _ in range(substeps):
         w_star, d, spec, b_spec, b_pos, rest, within, dv = substep_impulse(a, x, w, *settings)

@@ -120,7 +120,8 @@ def read_state(
     back = after & on & (x > 0)  # force back inside the overlap
     r["sticks"] |= back
     gone = (after & ~back | stop) & (x <= 0)
-    np.copyto(r["depart"], -w, where=gone)
+    if gone.any():
+        np.copyto(r["depart"], -w, where=gone)
     return back, gone
 
 
