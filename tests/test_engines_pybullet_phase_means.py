@@ -208,9 +208,9 @@ def test_pieces_without_gravity_from_one_interval_are_the_maps(monkeypatch, subs
     calls = []
     grid_pieces = means_module._grid_pieces
 
-    def counted(flat, settings, intervals):
+    def counted(flat, settings, intervals, **budget):
         calls.append((intervals, flat[0].size))
-        return grid_pieces(flat, settings, intervals)
+        return grid_pieces(flat, settings, intervals, **budget)
 
     monkeypatch.setattr(means_module, "_grid_pieces", counted)
     k, c, m, v = _free_contacts(200, 5)
@@ -298,3 +298,42 @@ def test_run_pattern_is_the_pattern_of_step_pattern(gravity, substeps):
     np.testing.assert_array_equal(
         run_pattern(k, c, m, v, gravity, H, p, substeps=substeps, **BASE), full[1]
     )
+
+
+@pytest.mark.parametrize("substeps", [1, 2])
+def test_a_contact_that_sticks_at_some_phases_leaves_the_one_interval_pass_at_once(
+    monkeypatch, substeps
+):
+    """A slow, heavily damped contact without gravity sticks at some phases, so it is
+    summed on the grid; the one-interval pass gives it up at its first end (a tracked run
+    of a few steps) instead of running rounds to its step budget: ``break_pieces`` steps
+    the map little more than the grid alone, and gives the grid's pieces."""
+    import impactsym.engines.pybullet.phase_means as means_module
+    import impactsym.engines.pybullet.stepping as stepping_module
+    from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD
+
+    steps = []
+    run_live = stepping_module.run_live
+
+    def counted(fixed, state, advance):
+        def step(a, n, limit):
+            steps.append(1)
+            advance(a, n, limit)
+
+        return run_live(fixed, state, step)
+
+    monkeypatch.setattr(means_module, "run_live", counted)
+    monkeypatch.setattr(stepping_module, "run_live", counted)
+    args, opts = (1e3, 200.0, 0.1, 1e-3, 0.0, H), {**BASE, "substeps": substeps}
+    assert root_summary(*args, **opts).stick_fraction > 0.0
+    steps.clear()
+    pieces = means_module.break_pieces(*args, **opts)
+    both = len(steps)
+    steps.clear()
+    flat = [np.atleast_1d(float(a)) for a in args]
+    settings = (substeps, BASE["slop"], np.inf, 0.0, DEFAULT_RESTITUTION_THRESHOLD)
+    grid, _ = means_module._grid_pieces(flat, settings, 8)
+    assert len(steps) > 1000  # (runs to the step budget)
+    assert both <= len(steps) + 20
+    for got, want in zip(pieces, means_module._merge(*grid[:6], grid[6][:3]), strict=True):
+        np.testing.assert_array_equal(got, want)

@@ -139,11 +139,13 @@ def tracked_pattern(
     return pattern, first, end[:3]
 
 
-def _track(k, c, m, v, g, H, p, settings):
+def _track(k, c, m, v, g, H, p, settings, *, give_up=False):
     """:func:`tracked_pattern` of flat arrays (``settings``: ``substeps, slop,
     processing_threshold, velocity_restitution, restitution_threshold``), the end state
     ``(5, n)``: its speed ``w`` with two phase derivatives, then its penetration ``x``
-    with the first (where the contact ended)."""
+    with the first (where the contact ended). ``give_up`` (no gravity): a run also stops
+    where its end fails :func:`_final_at` there (``u = 0``), its pattern then not read
+    further: for the start of a piece whose element :func:`_grid_pieces` gives up."""
     substeps = settings[0]
     fixed, state = start_state(k, c, m, v, g, H, p, substeps)
     # the phase derivatives ride along: x = x0 + x1 dp + x2 dp^2 / 2, w likewise
@@ -154,7 +156,13 @@ def _track(k, c, m, v, g, H, p, settings):
         "x1_end": np.zeros(size),
     })  # fmt: skip
     curved = bool(np.any(g))  # (without gravity every second derivative stays 0)
-    state = run_live(fixed, state, lambda a, n, limit: _advance(a, n, limit, curved, *settings))
+    if give_up:
+        state["H"] = H
+
+    def advance(a, n, limit):
+        _advance(a, n, limit, curved, give_up, *settings)
+
+    state = run_live(fixed, state, advance)
     sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
     pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
@@ -162,7 +170,7 @@ def _track(k, c, m, v, g, H, p, settings):
     return pattern, state["first"], np.stack([state[key] for key in end])
 
 
-def _advance(a, n, limit, curved, substeps, slop, threshold, rest_coef, rest_threshold):
+def _advance(a, n, limit, curved, give_up, substeps, slop, threshold, rest_coef, rest_threshold):
     """State ``n``: the map of :func:`~impactsym.engines.pybullet.stepping.step_pattern`
     (the same operations), the derivatives of ``x`` and ``w`` in the phase, and the first
     root of the branch quantities while the contact has not ended. Not ``curved`` (no
@@ -204,7 +212,14 @@ def _advance(a, n, limit, curved, substeps, slop, threshold, rest_coef, rest_thr
         np.copyto(a["x1_end"], x1, where=stop)
         np.copyto(a["w2_end"], w2, where=stop)  # (0.0 where not curved)
         if not curved:  # without gravity what a run that ended final reports is final
-            a["done"] |= end_final(a, n, stop, substeps)
+            final = end_final(a, n, stop, substeps)
+            if give_up:  # and one that fails _final_at is given up (_track)
+                j = np.flatnonzero(stop & ~final)
+                ends = np.stack(
+                    [a[key][j] for key in ("w_end", "w1_end", "w2_end", "x_end", "x1_end")]
+                )
+                final[j] = ~_final_at(0.0, n, ends, a["budget"][j], a["H"][j])
+            a["done"] |= final
 
 
 def break_pieces(
@@ -246,9 +261,10 @@ def break_pieces(
     found = []
     if coarse.any():
         i = np.flatnonzero(coarse)
-        pieces, unsure = _grid_pieces([a[i] for a in flat], settings, 1)
         k, c, m, H = (a[i] for a in (flat[0], flat[1], flat[2], flat[5]))
-        sure = ~unsure & _ends_final(pieces, np.minimum(step_budget(k, c, m, H), MAX_STEPS), H)
+        budget = np.minimum(step_budget(k, c, m, H), MAX_STEPS)
+        pieces, unsure = _grid_pieces([a[i] for a in flat], settings, 1, budget=budget)
+        sure = ~unsure & _ends_final(pieces, budget, H)
         kept = sure[pieces[5]]
         found.append([a[..., kept] for a in pieces[:5]] + [i[pieces[5][kept]], pieces[6][:, kept]])
         coarse[i[~sure]] = False
@@ -261,15 +277,30 @@ def break_pieces(
     return _merge(*parts)
 
 
-def _grid_pieces(flat, settings, intervals):
+def _grid_pieces(flat, settings, intervals, *, budget=None):
     """The pieces of :func:`break_pieces` (not merged; ``end`` with the end state's
     penetration and its phase derivative as rows 3-4) from ``intervals`` grid intervals,
     and per element whether a change was searched (one the roots missed, or left after
-    ``_ROUNDS`` roots of one interval)."""
-    size = flat[0].size
+    ``_ROUNDS`` roots of one interval).
 
-    def track(i, p):
-        return _track(*(a[i] for a in flat), p, settings)
+    With the step ``budget`` (one interval without gravity, for :func:`_ends_final`): an
+    element is given up (counted as searched, its pieces incomplete) as soon as a piece
+    fails the finality test at one of its ends (:func:`_final_at`; a sticking piece
+    does) or a change the roots missed would have to be searched, since its pieces then
+    come from the grid anyway: its later rounds (each a run to its step budget where it
+    sticks) and the search are not run. The others' pieces are the same numbers (every
+    element's runs are its own)."""
+    size = flat[0].size
+    searched = np.zeros(size, bool)
+    if budget is not None:
+        assert intervals == 1  # (then a piece per element is open at a time)
+
+        def give_up(i, fails):  # drop the rows i where fails (their owners given up)
+            searched[own[i][fails]] = True
+            return ~fails
+
+    def track(i, p, give_up=False):
+        return _track(*(a[i] for a in flat), p, settings, give_up=give_up)
 
     def run(i, p):
         names = ("substeps", "slop", "processing_threshold", "velocity_restitution",
@@ -282,12 +313,18 @@ def _grid_pieces(flat, settings, intervals):
     lo, hi = np.tile(grid[:-1], size), np.tile(grid[1:], size)
     # the pattern, roots ahead and end state where each grid interval starts; at the last
     # grid point only the pattern (a plain run: the same numbers, without the tracking)
-    k_lo, r_lo, end_state = track(own, lo)
-    k_hi = np.concatenate([k_lo.reshape(size, intervals)[:, 1:],
-                           run(np.arange(size), np.full(size, grid[-1]))[:, None]],
-                          axis=1).ravel()  # fmt: skip
+    k_lo, r_lo, end_state = track(own, lo, give_up=budget is not None)
     s_lo = lo.copy()  # where the pattern of the piece starting at lo was read
-    searched = np.zeros(size, bool)
+    if budget is not None:  # the first piece's start (at 0: a stick there ends the search)
+        keep = give_up(
+            slice(None), ~_final_at(lo - s_lo, k_lo["end"], end_state, budget[own], flat[5][own])
+        )
+        lo, hi, s_lo, k_lo, r_lo, own = (arr[keep] for arr in (lo, hi, s_lo, k_lo, r_lo, own))
+        end_state = end_state[:, keep]
+    last = own[intervals - 1 :: intervals]  # the elements whose last grid point is run
+    k_hi = np.concatenate([k_lo.reshape(-1, intervals)[:, 1:],
+                           run(last, np.full(last.size, grid[-1]))[:, None]],
+                          axis=1).ravel()  # fmt: skip
     # (start, end, sampled start, sampled end, pattern, owner, end state at the sampled
     # start and its phase derivatives) of every piece
     pieces = []
@@ -298,6 +335,8 @@ def _grid_pieces(flat, settings, intervals):
         pieces.append((*(arr[flat_piece] for arr in (lo, hi, s_lo, hi, k_lo, own)),
                        end_state[:, flat_piece]))  # fmt: skip
         rest = ~flat_piece
+        if budget is not None:  # a change unseen by the roots (would be searched): given up
+            rest &= give_up(slice(None), ~split & ~flat_piece)
         lo, hi, s_lo, k_lo, k_hi, own, cut, split = (
             arr[rest] for arr in (lo, hi, s_lo, k_lo, k_hi, own, cut, split)
         )  # fmt: skip
@@ -313,6 +352,15 @@ def _grid_pieces(flat, settings, intervals):
         # the pieces meet at the root; the patterns either side are read _GAP away
         end, r_b = np.where(split, cut, a), r_b + (b - np.where(split, cut, b))
         bad = ~split | (key_a != k_lo)
+        if budget is not None:  # given up: a search, a piece's end or the next's start fails
+            room = (budget[own], flat[5][own])
+            keep = give_up(slice(None), bad | ~_final_at(end - s_lo, k_lo["end"], end_state, *room)
+                           | ~_final_at(cut - b, key_b["end"], end_b, *room))  # fmt: skip
+            lo, s_lo, k_lo, own, end_state, a, b, cut = (
+                arr[..., keep] for arr in (lo, s_lo, k_lo, own, end_state, a, b, cut)
+            )  # fmt: skip
+            end, bad, key_b, r_b, end_b = (arr[..., keep] for arr in (end, bad, key_b, r_b, end_b))
+            hi, k_hi = hi[keep], k_hi[keep]
         if bad.any():  # a change the roots do not see: the multisection search
             j = np.flatnonzero(bad)
             searched[own[j]] = True
@@ -326,6 +374,19 @@ def _grid_pieces(flat, settings, intervals):
     return [np.concatenate(part, axis=-1) for part in zip(*pieces, strict=True)], searched
 
 
+def _final_at(u, n_end, state, budget, H):
+    """Per piece: whether at ``u`` from the phase where its pattern was read (end state
+    ``n_end``, ``-1`` where it sticks; ``state`` that state and its phase derivatives, as
+    :func:`_grid_pieces` keeps them) the contact ends separating within the step
+    ``budget`` (:func:`_ends_final`)."""
+    w0, w1, _, x0, x1 = state
+    room = (budget - np.asarray(n_end, float) - 2.0) * H
+    w, x = w0 + w1 * u, x0 + x1 * u
+    slack = 1e-9 * (np.abs(w0) + np.abs(w1))
+    ok = (w + slack < 0.0) & (x + 1e-9 * (np.abs(x0) + np.abs(x1)) < room * (-w - slack))
+    return ok & (np.asarray(n_end) >= 0)
+
+
 def _ends_final(pieces, budget, H):
     """Per element: whether at every phase of every piece (of :func:`_grid_pieces`,
     without gravity: the end state linear in the phase) the contact ends separating,
@@ -334,14 +395,10 @@ def _ends_final(pieces, budget, H):
     checked at the piece's ends with a margin: there no branch changes after the end
     state, so the roots ahead see every change of the pattern and the grid's check is
     not needed."""
-    p0, p1, s0, _, key, own, (w0, w1, _, x0, x1) = pieces
-    n = key["end"].astype(float)
-    room = (budget[own] - n - 2.0) * H[own]
-    ok = key["end"] >= 0
+    p0, p1, s0, _, key, own, state = pieces
+    ok = np.ones(own.size, bool)
     for u in (p0 - s0, p1 - s0):
-        w, x = w0 + w1 * u, x0 + x1 * u
-        slack = 1e-9 * (np.abs(w0) + np.abs(w1))
-        ok &= (w + slack < 0.0) & (x + 1e-9 * (np.abs(x0) + np.abs(x1)) < room * (-w - slack))
+        ok &= _final_at(u, key["end"], state, budget[own], H[own])
     return np.bincount(own, ~ok, minlength=budget.size) == 0
 
 
@@ -367,7 +424,7 @@ def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
     reach = np.minimum(first, _REACH) * (1.0 + 1e-9)  # (the slack covers rounding)
     half = 0.5 * reach
     # (without a processing threshold every contact is within it: no mask to apply)
-    inside = watch if np.isinf(threshold) else watch & within
+    inside = watch if threshold == np.inf else watch & within
     for q0, q1, q2, valid in q:
         with np.errstate(invalid="ignore", over="ignore"):
             slope = np.abs(q1) if np.ndim(q2) == 0 and q2 == 0 else np.abs(q1) + np.abs(q2) * half

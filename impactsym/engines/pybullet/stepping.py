@@ -394,8 +394,8 @@ def substep_impulse(
     within, dv``: the bias on both sides of the speculative branch ``spec = d > 0``
     (``b_spec``, ``b_pos``, the restitution term included), the mask ``rest`` of the
     velocity-restitution term (``None`` without it), the mask ``within`` of the contact
-    processing threshold (``True`` where it is infinite) and the velocity change ``dv =
-    lambda / m``; the caller makes
+    processing threshold (``True`` where it is ``+inf``: none; ``-inf`` processes
+    nothing) and the velocity change ``dv = lambda / m``; the caller makes
     ``w' = w_star - dv``, ``x' = x + h w'``. Shared by :func:`step_pattern` and the
     phase-derivative tracker of :mod:`~impactsym.engines.pybullet.phase_means`."""
     g, h, erp, gain, ended = a["g"], a["h"], a["erp"], a["gain"], a["ended"]
@@ -410,7 +410,7 @@ def substep_impulse(
         b_spec, b_pos = b_spec + add, b_pos + add
         a["n_rest"] += ~ended & rest
     dv = np.maximum(gain * np.where(spec, b_spec, b_pos), 0.0)
-    if np.isinf(processing_threshold):  # (every contact within it: no mask to apply)
+    if processing_threshold == np.inf:  # (every contact within it: no mask to apply)
         within = True
     else:
         within = -x <= processing_threshold
