@@ -337,3 +337,23 @@ def test_a_contact_that_sticks_at_some_phases_leaves_the_one_interval_pass_at_on
     assert both <= len(steps) + 20
     for got, want in zip(pieces, means_module._merge(*grid[:6], grid[6][:3]), strict=True):
         np.testing.assert_array_equal(got, want)
+
+
+def test_the_finality_proof_reads_both_ends_of_every_piece():
+    """``_ends_final`` on hand-made pieces (end state linear in the phase): a piece that
+    separates at its start but not at its end (``w = -1 + 1.5 u``), or that leaves at
+    its end too slowly for the budget (``x / (-w H)`` calls from ``n_end = 5``), is
+    refused; one separating fast at both ends is kept. (No contact of the map gives the
+    first two: ``_ends_final``'s docstring says why; this pins the proof's end half.)"""
+    from impactsym.engines.pybullet.phase_means import _ends_final
+    from impactsym.engines.pybullet.stepping import PATTERN
+
+    key = np.zeros(3, PATTERN)
+    key["end"] = 5
+    p0, p1, s0 = np.zeros(3), np.ones(3), np.zeros(3)
+    w0, w1 = np.array([-1.0, -1.0, -1.0]), np.array([1.5, 0.0, 0.0])
+    x0, x1 = np.array([-1e-3, 0.0, 0.0]), np.array([0.0, 1.0 * 50 * H, 0.0])
+    state = np.stack([w0, w1, np.zeros(3), x0, x1])
+    pieces = (p0, p1, s0, p1, key, np.arange(3), state)
+    budget = np.full(3, 40.0)  # at the end x / (-w H) = 50 calls: past the budget
+    np.testing.assert_array_equal(_ends_final(pieces, budget, np.full(3, H)), [False, False, True])

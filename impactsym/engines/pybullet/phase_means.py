@@ -37,17 +37,20 @@ Without gravity (and with those defaults) the grid is not needed where a proof t
 place, and the pieces are searched from one interval ``[0, 1)`` first: every branch
 quantity is then linear in the phase, so its root is its only sign change, and the
 tracked run watches them all up to the end state; the pattern can change unseen only
-after the end, where a contact that hovers (zero force while approaching) or leaves the
-overlap too slowly may come back and stick. An element keeps the pieces from one
-interval where at both ends of every piece the end state separates (``w < 0``) and
-leaves the overlap within its step budget (the test by which a tracked run stops,
+after the end, where a contact that hovers (zero force while approaching) comes back
+into force inside the overlap and one that leaves it too slowly outlasts its step
+budget: both count as sticking. An element keeps the pieces from one interval where at
+both ends of every piece the end state separates (``w < 0``) and leaves the overlap
+within its step budget (the test by which a tracked run stops,
 :func:`~impactsym.engines.pybullet.stepping.end_final`; ``w`` and ``x`` are linear in
 the phase over a piece, so it then holds at every phase of it) and the roots missed no
-change; the others are searched on the grid. Besides two runs of the map per piece
-boundary, a run at ``0`` and one at ``1`` instead of the grid's nine (designs of 10-40
-steps: 6 runs per evaluation instead of 13, 3.9 -> 1.8 s per 10^5 designs); the same
-pieces, the means to ~1e-14 (tested against the grid, the bisection and the map at
-random phases inside the pieces).
+change; the others are searched on the grid, given up by the one-interval search at the
+first piece end that fails the test or change it would have to search (a sticking
+contact's tracked run stops at its first failing end instead of at its step budget).
+Besides two runs of the map per piece boundary, a run at ``0`` and one at ``1`` instead
+of the grid's nine (designs of 10-40 steps: 6 runs per evaluation instead of 13, 3.9 ->
+1.8 s per 10^5 designs); the same pieces, the means to ~1e-14 (tested against the grid,
+the bisection and the map at random phases inside the pieces).
 """
 
 from __future__ import annotations
@@ -394,7 +397,19 @@ def _ends_final(pieces, budget, H):
     ``n_end + x / (-w H) + 2 < budget`` (the test of the tracked run's stop), both
     checked at the piece's ends with a margin: there no branch changes after the end
     state, so the roots ahead see every change of the pattern and the grid's check is
-    not needed."""
+    not needed.
+
+    The test at a piece's end is a backstop no contact has been seen to need: at a
+    zero-force end after an impulse the end speed is ``w <= 0``, ``0`` only at rest at
+    ``x = s > 0`` (the last impulse leaves ``x >= s``, and a zero impulse there needs
+    ``w <= -erp (x - s) / h``), so the end speed cannot change sign with the body out of
+    the overlap; and the phases that stick after the end (by the step budget, roughly
+    ``x + (budget - n) H w >= 0``, a hover with ``w >= 0 < x`` included) are, ``x`` and
+    ``w`` linear, a half-line of the piece: they hold at one of its ends, whose pattern
+    was read there (the start, or the pattern just before the root or at the last grid
+    point), so that check already refuses them. What the end test alone refuses is a
+    piece end within the margin (2 steps, ``1e-9``) of the budget: a change of which
+    elements take the grid, not of a result."""
     p0, p1, s0, _, key, own, state = pieces
     ok = np.ones(own.size, bool)
     for u in (p0 - s0, p1 - s0):
