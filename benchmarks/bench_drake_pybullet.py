@@ -53,9 +53,10 @@ many brackets), the factor over the 2 s target after:
   exact evaluations per design), default 1.5 -> 0.75; under gravity 1.7 and 1.8-1.9 as
   before (the same path and numbers). Designs from the table (this path) and
   predictions as before to 1e-14 (ranges 1e-13); small calls, whose designs Newton
-  iterates from the textbook start on the exact means, land up to ~1e-12 (relative)
-  away in stiffness and damping and ~4e-13 in restitution and contact time (the means'
-  rounding carried through the iteration; well within the 1e-9 acceptance). Contacts
+  iterates from the textbook start on the exact means, land up to a few 1e-12
+  (relative) away (10 calls, e 0.2-0.6, 6-15 steps: damping 3.4e-12, stiffness 2e-13,
+  the designs' predicted restitution 1e-12, contact time 3e-14; the means' rounding
+  carried through the iteration, well within the 1e-9 acceptance). Contacts
   that stick at some phases leave the one-interval search at their first failing end
   (2000 random contacts, ~10% sticking at some phases, ``root_summary`` main -> this:
   0.61 -> 0.60 s with one sub-step, 0.77 -> 0.97 s with two).
