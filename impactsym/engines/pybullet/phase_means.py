@@ -298,8 +298,8 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
     if budget is not None:
         assert intervals == 1  # (then a piece per element is open at a time)
 
-        def give_up(i, fails):  # drop the rows i where fails (their owners given up)
-            searched[own[i][fails]] = True
+        def drop(fails):  # the rows kept: their owners given up where fails
+            searched[own[fails]] = True
             return ~fails
 
     def track(i, p, give_up=False):
@@ -319,11 +319,10 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
     k_lo, r_lo, end_state = track(own, lo, give_up=budget is not None)
     s_lo = lo.copy()  # where the pattern of the piece starting at lo was read
     if budget is not None:  # the first piece's start (at 0: a stick there ends the search)
-        keep = give_up(
-            slice(None), ~_final_at(lo - s_lo, k_lo["end"], end_state, budget[own], flat[5][own])
-        )
-        lo, hi, s_lo, k_lo, r_lo, own = (arr[keep] for arr in (lo, hi, s_lo, k_lo, r_lo, own))
-        end_state = end_state[:, keep]
+        keep = drop(~_final_at(lo - s_lo, k_lo["end"], end_state, budget[own], flat[5][own]))
+        if not keep.all():
+            lo, hi, s_lo, k_lo, r_lo, own = (arr[keep] for arr in (lo, hi, s_lo, k_lo, r_lo, own))
+            end_state = end_state[:, keep]
     last = own[intervals - 1 :: intervals]  # the elements whose last grid point is run
     k_hi = np.concatenate([k_lo.reshape(-1, intervals)[:, 1:],
                            run(last, np.full(last.size, grid[-1]))[:, None]],
@@ -339,7 +338,7 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
                        end_state[:, flat_piece]))  # fmt: skip
         rest = ~flat_piece
         if budget is not None:  # a change unseen by the roots (would be searched): given up
-            rest &= give_up(slice(None), ~split & ~flat_piece)
+            rest &= drop(~split & ~flat_piece)
         lo, hi, s_lo, k_lo, k_hi, own, cut, split = (
             arr[rest] for arr in (lo, hi, s_lo, k_lo, k_hi, own, cut, split)
         )  # fmt: skip
@@ -357,13 +356,15 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
         bad = ~split | (key_a != k_lo)
         if budget is not None:  # given up: a search, a piece's end or the next's start fails
             room = (budget[own], flat[5][own])
-            keep = give_up(slice(None), bad | ~_final_at(end - s_lo, k_lo["end"], end_state, *room)
-                           | ~_final_at(cut - b, key_b["end"], end_b, *room))  # fmt: skip
-            lo, s_lo, k_lo, own, end_state, a, b, cut = (
-                arr[..., keep] for arr in (lo, s_lo, k_lo, own, end_state, a, b, cut)
-            )  # fmt: skip
-            end, bad, key_b, r_b, end_b = (arr[..., keep] for arr in (end, bad, key_b, r_b, end_b))
-            hi, k_hi = hi[keep], k_hi[keep]
+            keep = drop(bad | ~_final_at(end - s_lo, k_lo["end"], end_state, *room)
+                        | ~_final_at(cut - b, key_b["end"], end_b, *room))  # fmt: skip
+            if not keep.all():
+                lo, s_lo, k_lo, own, end_state, a, b, cut, hi, k_hi = (
+                    arr[..., keep] for arr in (lo, s_lo, k_lo, own, end_state, a, b, cut, hi, k_hi)
+                )  # fmt: skip
+                end, bad, key_b, r_b, end_b = (
+                    arr[..., keep] for arr in (end, bad, key_b, r_b, end_b)
+                )  # fmt: skip
         if bad.any():  # a change the roots do not see: the multisection search
             j = np.flatnonzero(bad)
             searched[own[j]] = True
