@@ -42,6 +42,27 @@ many brackets), the factor over the 2 s target after:
   measured back to back, before -> after: contact_time array 19.8 -> 4.2, default
   7.6 -> 1.6; under gravity 6.8 -> 2.1 and 7.5 -> 2.2 (2.1, 0.8, 1.04 and 1.1 x the
   target); designs and predictions as before to 1e-14 (ranges 2e-13).
+* PyBullet without gravity, each exact phase mean searched from one phase interval
+  where every phase provably ends final (the branch quantities are linear in the phase,
+  so their roots see every change up to the end state, and a contact that ends
+  separating within its step budget changes nothing after it; the others on the grid
+  of 8): 6 runs of the map per design and evaluation instead of 13, passes of 4 x 8192
+  designs, pattern-only check runs. CPU seconds per 10^5 (``time.process_time``, one
+  warm-up call of 10 targets, then the call; ``_cases(100000)``), main and this back to
+  back, load 2-2.5, before -> after: contact_time array 3.9 -> 1.7-1.8 (still 3.05
+  exact evaluations per design), default 1.5 -> 0.75; under gravity 1.7 and 1.8-1.9 as
+  before (the same path and numbers). Designs from the table (this path) and
+  predictions as before to 1e-14 (ranges 1e-13); small calls, whose designs Newton
+  iterates from the textbook start on the exact means, land up to a few 1e-12
+  (relative) away (10 calls, e 0.2-0.6, 6-15 steps: damping 3.4e-12, stiffness 2e-13,
+  the designs' predicted restitution 1e-12, contact time 3e-14; the means' rounding
+  carried through the iteration, well within the 1e-9 acceptance). Contacts
+  that stick at some phases leave the one-interval search at their first failing end
+  (before, up to 12 rounds each to their step budget, then the grid): 2000 random
+  contacts without gravity, a third of them sticking at some phases, ``predict`` with
+  one and two sub-steps, main vs this (best of 2, load 1-1.8): 3.3 vs 3.3 s and 5.1 vs
+  5.2 s (2-3 x main before); the map's loop iterations 102456 vs 106512 and 104034 vs
+  109711, its element-steps 8-9% fewer.
 * Drake continuous, g = 0: 0.015 (0.76 x: under the target).
 * Drake continuous, g = 9.81: 11.0 -> 5.1 (contact_time, 254 x), 5.7 (max_penetration);
   from 128 targets per call the designs are read off one Chebyshev table in (s, b)

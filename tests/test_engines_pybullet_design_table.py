@@ -179,3 +179,25 @@ def test_tables_holding_sticking_points_design_without_warnings(monkeypatch):
     d = pyb.contact_for(restitution=e, contact_time=t, speed=1.0, mass=0.1, gravity=9.81)
     assert not all(seen)  # a table held sticking points
     np.testing.assert_allclose(d.restitution, e, rtol=1e-9)
+
+
+def test_table_designs_without_gravity_hit_their_targets_by_the_bisection():
+    """Designs of a contact-time array without gravity (their exact evaluations from one
+    phase interval where every phase ends final) checked by the grid-and-bisection
+    phase summary of the plain map, which shares neither the roots nor that proof: both
+    targets to the acceptance's 1e-9 (rounding aside), the reported prediction to 1e-11."""
+    from impactsym.engines.pybullet.phases import phase_summary
+    from impactsym.engines.pybullet.stepping import step_pattern
+
+    rng = np.random.default_rng(13)
+    e = rng.uniform(0.2, 0.5, TABLE_GROUP)
+    t = rng.uniform(10.0, 40.0, TABLE_GROUP) * H
+    d = pyb.contact_for(restitution=e, contact_time=t, **BASE)
+    pick = rng.choice(TABLE_GROUP, 40, replace=False)
+    bisected = phase_summary(d.pair_stiffness[pick], d.pair_damping[pick], BASE["mass"],
+                             BASE["speed"], 0.0, H, substeps=1, slop=1e-5,
+                             processing_threshold=np.inf, pattern=step_pattern)  # fmt: skip
+    assert np.max(np.abs(bisected.restitution / e[pick] - 1.0)) < 1.1e-9
+    assert np.max(np.abs(np.log(bisected.contact_time / t[pick]))) < 1.1e-9
+    np.testing.assert_allclose(d.restitution[pick], bisected.restitution, rtol=1e-11)
+    np.testing.assert_allclose(d.contact_time[pick], bisected.contact_time, rtol=1e-11)

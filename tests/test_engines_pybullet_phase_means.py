@@ -183,3 +183,177 @@ def test_tracked_runs_that_stop_at_a_separating_end_keep_the_maps_pattern(subste
     run, full = step_pattern(k, c, m, v, 0.0, H, p, substeps=substeps, **BASE)
     assert run.sticks.sum() > 100
     np.testing.assert_array_equal(key, full)
+
+
+def _free_contacts(n, seed):
+    """Contacts without gravity from light to heavily damped, fast to crawling: most end
+    separating at every phase, some hover (a zero force while still approaching) or
+    leave too slowly for their step budget, so they stick at some phases."""
+    rng = np.random.default_rng(seed)
+    t = rng.uniform(1.0, 40.0, n) * H
+    zeta = np.exp(rng.uniform(np.log(0.01), np.log(5.0), n))
+    m, v = rng.uniform(0.05, 1.0, n), np.exp(rng.uniform(np.log(1e-5), np.log(2.0), n))
+    k = m * (np.pi / t) ** 2
+    return k, 2.0 * zeta * np.sqrt(k * m), m, v
+
+
+@pytest.mark.parametrize("substeps", [1, 2])
+def test_pieces_without_gravity_from_one_interval_are_the_maps(monkeypatch, substeps):
+    """Without gravity the pieces are searched from one phase interval and kept where
+    every phase provably ends final; the others are searched on the 8-interval grid.
+    Both kinds are in the mix, and at random phases inside every piece the map itself
+    (a full ``step_pattern`` run) has the piece's pattern."""
+    import impactsym.engines.pybullet.phase_means as means_module
+
+    calls = []
+    grid_pieces = means_module._grid_pieces
+
+    def counted(flat, settings, intervals, **budget):
+        calls.append((intervals, flat[0].size))
+        return grid_pieces(flat, settings, intervals, **budget)
+
+    monkeypatch.setattr(means_module, "_grid_pieces", counted)
+    k, c, m, v = _free_contacts(200, 5)
+    opts = {**BASE, "substeps": substeps}
+    p0, p1, _, _, own, key, _ = means_module.break_pieces(k, c, m, v, 0.0, H, **opts)
+    sizes = dict(calls)
+    assert sizes[1] == 200
+    assert 5 <= sizes[8] <= 100  # the grid only for the unproved
+    u = RNG.uniform(0.0, 1.0, (5, p0.size))
+    inside = p0 + u * (p1 - p0)
+    i = np.broadcast_to(own, inside.shape)
+    run = step_pattern(k[i], c[i], m[i], v[i], 0.0, H, inside, **opts)[1]
+    np.testing.assert_array_equal(run, np.broadcast_to(key, inside.shape))
+
+
+def test_means_without_gravity_are_the_bisections_where_some_phases_stick():
+    """The phase summary of contacts without gravity (most from one interval, the
+    unproved on the grid, :func:`_free_contacts`) against the grid-and-bisection search
+    of the plain map, which shares neither the roots nor the proof of finality. (One
+    sub-step: with two, some of these contacts change pattern and back inside one of the
+    bisection's grid intervals, which it cannot see.)"""
+    k, c, m, v = _free_contacts(100, 6)
+    settings = {**BASE, "substeps": 1}
+    fast = root_summary(k, c, m, v, 0.0, H, **settings)
+    bisected = phase_summary(k, c, m, v, 0.0, H, **settings, pattern=step_pattern)
+    assert np.isinf(bisected.contact_time).any()  # sticking phases are in the mix
+    np.testing.assert_array_equal(np.isinf(fast.contact_time), np.isinf(bisected.contact_time))
+    for name in ("restitution", "contact_time", "stick_fraction"):
+        want = getattr(bisected, name)
+        np.testing.assert_allclose(getattr(fast, name), want, rtol=1e-11, atol=1e-13)
+    for name in ("restitution_min", "restitution_max", "contact_time_min", "contact_time_max"):
+        want = getattr(bisected, name)
+        np.testing.assert_allclose(getattr(fast, name), want, rtol=1e-10, err_msg=name)
+
+
+@pytest.mark.parametrize("substeps", [1, 2])
+def test_one_interval_gives_the_grids_numbers(monkeypatch, substeps):
+    """The summary from one interval where the ends are final is the 8-interval grid's
+    (every element forced onto the grid) to rounding: the roots alone, without the grid's
+    check, find the same pieces."""
+    import impactsym.engines.pybullet.phase_means as means_module
+
+    k, c, m, v = _free_contacts(200, 8)
+    opts = {**BASE, "substeps": substeps}
+    coarse = root_summary(k, c, m, v, 0.0, H, **opts)
+    monkeypatch.setattr(means_module, "_ends_final", lambda pieces, budget, H: budget < 0)
+    grid = root_summary(k, c, m, v, 0.0, H, **opts)
+    for name in ("restitution", "contact_time", "stick_fraction", "restitution_min",
+                 "restitution_max", "contact_time_min", "contact_time_max"):  # fmt: skip
+        want = getattr(grid, name)
+        np.testing.assert_allclose(getattr(coarse, name), want, rtol=1e-12, atol=1e-14)
+
+
+def test_only_contacts_that_end_final_at_every_phase_skip_the_grid():
+    """The proof that lets an element skip the grid (``_ends_final``) holds for none
+    whose map, run at 400 phases, sticks or ends with the body still approaching at
+    any of them, and for most of the others."""
+    import impactsym.engines.pybullet.phase_means as means_module
+    from impactsym.engines.pybullet.stepping import MAX_STEPS, step_budget
+
+    k, c, m, v = _free_contacts(200, 9)
+    flat = [k, c, m, v, np.zeros(k.size), np.full(k.size, H)]
+    pieces, searched = means_module._grid_pieces(flat, (1, 1e-5, np.inf, 0.0, 0.2), 1)
+    budget = np.minimum(step_budget(k, c, m, H), MAX_STEPS)
+    sure = ~searched & means_module._ends_final(pieces, budget, flat[5])
+    p = (np.arange(400) + 0.5) / 400
+    run = step_pattern(k[:, None], c[:, None], m[:, None], v[:, None], 0.0, H, p, substeps=1,
+                       **BASE)[0]  # fmt: skip
+    unsafe = np.any(run.sticks | (run.restitution <= 0.0), axis=1)
+    assert unsafe.sum() >= 5
+    assert not np.any(sure & unsafe)
+    assert sure.sum() >= 0.8 * (~unsafe).sum()
+
+
+@pytest.mark.parametrize(("gravity", "substeps"), [(0.0, 1), (0.0, 2), (9.81, 1)])
+def test_run_pattern_is_the_pattern_of_step_pattern(gravity, substeps):
+    """The pattern-only run (no extremes; without gravity stopped at a final end) gives
+    every record of the full run, sticking contacts included."""
+    from impactsym.engines.pybullet.stepping import run_pattern
+
+    k, c, m, v = _free_contacts(3000, 7)
+    p = RNG.uniform(0.0, 1.0, k.size)
+    full = step_pattern(k, c, m, v, gravity, H, p, substeps=substeps, **BASE)
+    assert full[0].sticks.sum() > 50
+    np.testing.assert_array_equal(
+        run_pattern(k, c, m, v, gravity, H, p, substeps=substeps, **BASE), full[1]
+    )
+
+
+@pytest.mark.parametrize("substeps", [1, 2])
+def test_a_contact_that_sticks_at_some_phases_leaves_the_one_interval_pass_at_once(
+    monkeypatch, substeps
+):
+    """A slow, heavily damped contact without gravity sticks at some phases, so it is
+    summed on the grid; the one-interval pass gives it up at its first end (a tracked run
+    of a few steps) instead of running rounds to its step budget: ``break_pieces`` steps
+    the map little more than the grid alone, and gives the grid's pieces."""
+    import impactsym.engines.pybullet.phase_means as means_module
+    import impactsym.engines.pybullet.stepping as stepping_module
+    from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD
+
+    steps = []
+    run_live = stepping_module.run_live
+
+    def counted(fixed, state, advance):
+        def step(a, n, limit):
+            steps.append(1)
+            advance(a, n, limit)
+
+        return run_live(fixed, state, step)
+
+    monkeypatch.setattr(means_module, "run_live", counted)
+    monkeypatch.setattr(stepping_module, "run_live", counted)
+    args, opts = (1e3, 200.0, 0.1, 1e-3, 0.0, H), {**BASE, "substeps": substeps}
+    assert root_summary(*args, **opts).stick_fraction > 0.0
+    steps.clear()
+    pieces = means_module.break_pieces(*args, **opts)
+    both = len(steps)
+    steps.clear()
+    flat = [np.atleast_1d(float(a)) for a in args]
+    settings = (substeps, BASE["slop"], np.inf, 0.0, DEFAULT_RESTITUTION_THRESHOLD)
+    grid, _ = means_module._grid_pieces(flat, settings, 8)
+    assert len(steps) > 1000  # (runs to the step budget)
+    assert both <= len(steps) + 20
+    for got, want in zip(pieces, means_module._merge(*grid[:6], grid[6][:3]), strict=True):
+        np.testing.assert_array_equal(got, want)
+
+
+def test_the_finality_proof_reads_both_ends_of_every_piece():
+    """``_ends_final`` on hand-made pieces (end state linear in the phase): a piece that
+    separates at its start but not at its end (``w = -1 + 1.5 u``), or that leaves at
+    its end too slowly for the budget (``x / (-w H)`` calls from ``n_end = 5``), is
+    refused; one separating fast at both ends is kept. (No contact of the map gives the
+    first two: ``_ends_final``'s docstring says why; this pins the proof's end half.)"""
+    from impactsym.engines.pybullet.phase_means import _ends_final
+    from impactsym.engines.pybullet.stepping import PATTERN
+
+    key = np.zeros(3, PATTERN)
+    key["end"] = 5
+    p0, p1, s0 = np.zeros(3), np.ones(3), np.zeros(3)
+    w0, w1 = np.array([-1.0, -1.0, -1.0]), np.array([1.5, 0.0, 0.0])
+    x0, x1 = np.array([-1e-3, 0.0, 0.0]), np.array([0.0, 1.0 * 50 * H, 0.0])
+    state = np.stack([w0, w1, np.zeros(3), x0, x1])
+    pieces = (p0, p1, s0, p1, key, np.arange(3), state)
+    budget = np.full(3, 40.0)  # at the end x / (-w H) = 50 calls: past the budget
+    np.testing.assert_array_equal(_ends_final(pieces, budget, np.full(3, H)), [False, False, True])

@@ -35,3 +35,17 @@ def test_live_loop_is_the_full_loop(settings):
     # shapes pass through
     one, _ = step_pattern(k[:6].reshape(2, 3), 0.5, 0.1, 1.0, 0.0, 1 / 240, 0.3)
     assert one.restitution.shape == (2, 3)
+
+
+def test_a_processing_threshold_of_minus_inf_processes_no_contact():
+    """``processing_threshold=-inf`` (no gap is within it) never applies an impulse, as
+    the reference loop's ``-x <= threshold`` says: every body passes through and sticks
+    (only ``+inf`` means no threshold at all)."""
+    k, c, m = 10 ** RNG.uniform(2, 5, 50), RNG.uniform(0.0, 30.0, 50), RNG.uniform(0.05, 2.0, 50)
+    p = RNG.uniform(0.0, 1.0, 50)
+    new, key = step_pattern(k, c, m, 1.0, 0.0, 1 / 240, p, processing_threshold=-np.inf)
+    _, key_old = reference(k, c, m, 1.0, 0.0, 1 / 240, p, processing_threshold=-np.inf)
+    assert new.sticks.all()
+    np.testing.assert_array_equal(new.peak_accel, 0.0)
+    for name in key_old.dtype.names:
+        np.testing.assert_array_equal(key[name], key_old[name], err_msg=name)

@@ -151,11 +151,12 @@ class _Table:
         ``stencils`` in :attr:`finite_stencil`."""
         return base[0] * (self.shape[1] - (3 if stencils else 0)) + base[1]
 
-    def at(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def at(self, x: np.ndarray, *, jacobian: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
         """The interpolant ``(2, n)`` and its Jacobian ``(2, 2, n)`` at ``x`` (``(2, n)``):
         the tensor-product cubic through the 4 x 4 points around each cell (Lagrange
         nodes ``-1, 0, 1, 2`` in grid units, shifted inwards at the edges); ``nan``
-        outside the grid or where the stencil holds a non-finite value."""
+        outside the grid or where the stencil holds a non-finite value. Without
+        ``jacobian`` the Jacobian is ``None`` (not computed)."""
         s = (x - self.lo[:, None]) / self.step[:, None]
         top = self.shape[:, None] - 1
         with np.errstate(invalid="ignore"):
@@ -172,15 +173,16 @@ class _Table:
         # a stencil holding a sticking point (contact time inf) gives inf * 0 and inf - inf:
         # such stencils are masked as bad just below
         with np.errstate(invalid="ignore"):
-            along = sum(block[:, :, j] * wz[j] for j in range(4))  # (2, 4, n)
-            slope = sum(block[:, :, j] * dz[j] for j in range(4))
-            val = sum(along[:, i] * wu[i] for i in range(4))
-            jac = np.stack([
-                sum(along[:, i] * du[i] for i in range(4)) / self.step[0],
-                sum(slope[:, i] * wu[i] for i in range(4)) / self.step[1],
-            ], axis=1)  # fmt: skip
+            along = _sum4(block[:, :, j] * wz[j] for j in range(4))  # (2, 4, n)
+            val = _sum4(along[:, i] * wu[i] for i in range(4))
+            if jacobian:
+                slope = _sum4(block[:, :, j] * dz[j] for j in range(4))
+                jac = np.stack([
+                    _sum4(along[:, i] * du[i] for i in range(4)) / self.step[0],
+                    _sum4(slope[:, i] * wu[i] for i in range(4)) / self.step[1],
+                ], axis=1)  # fmt: skip
         bad = ~inside | ~self.finite_stencil.ravel()[self.flat_index(base, stencils=True)]
-        return np.where(bad, np.nan, val), np.where(bad, np.nan, jac)
+        return np.where(bad, np.nan, val), np.where(bad, np.nan, jac) if jacobian else None
 
     def invert(self, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``x`` with interpolant ``== target`` (Newton from the table point nearest in
@@ -209,7 +211,7 @@ class _Table:
             live = live[np.any(still, axis=0)]
             if live.size == 0:
                 break
-        val, _ = self.at(x)
+        val, _ = self.at(x, jacobian=False)
         with np.errstate(invalid="ignore"):
             good = np.all(np.abs(val - target) <= 1e-12 * np.maximum(1.0, np.abs(target)), axis=0)
         return np.where(good, x, np.nan), np.stack(np.unravel_index(nearest, self.shape))
@@ -246,6 +248,16 @@ def _refine(evaluate, table, x, target, rtol):
         last_x, last_r = x[:, keep], r[:, keep]
         live, x, jac = live[keep], x[:, keep] + step[:, keep], jac[:, :, keep]
     return out, np.full((0, out.shape[1]), np.nan) if more is None else more
+
+
+def _sum4(terms):
+    """The sum of four new arrays, added in order into the first (the numbers of
+    ``sum``, without its leading ``0 +`` pass and the temporaries)."""
+    terms = iter(terms)
+    out = next(terms)
+    for term in terms:
+        out += term
+    return out
 
 
 def _newton_step(jac, rhs):

@@ -47,11 +47,13 @@ __all__ = [
     "MAX_STEPS",
     "PATTERN",
     "close_state",
+    "end_final",
     "new_reading",
     "pattern_code",
     "read_state",
     "reading_fields",
     "run_live",
+    "run_pattern",
     "start_state",
     "step_budget",
     "step_contact",
@@ -118,7 +120,8 @@ def read_state(
     back = after & on & (x > 0)  # force back inside the overlap
     r["sticks"] |= back
     gone = (after & ~back | stop) & (x <= 0)
-    np.copyto(r["depart"], -w, where=gone)
+    if gone.any():
+        np.copyto(r["depart"], -w, where=gone)
     return back, gone
 
 
@@ -215,19 +218,68 @@ def step_pattern(
         *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
     )
     shape = arrays[0].shape
-    k, c, m, v, g, H, p = (a.ravel().copy() for a in arrays)
-    fixed, state = start_state(k, c, m, v, g, H, p, substeps)
-    state = run_live(
-        fixed, state,
-        lambda a, n, limit: _advance(a, n, limit, substeps, slop, processing_threshold,
-                                     velocity_restitution, restitution_threshold),
-    )  # fmt: skip
-    sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
-    n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
+    settings = (slop, processing_threshold, velocity_restitution, restitution_threshold)
+    state, pattern, (m, v, H, p) = _run_map(arrays, substeps, settings, pattern_only=False)
     fields = reading_fields(state, v, p, H, m)
-    pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
     record = StepContact(**{key: val.reshape(shape) for key, val in fields.items()})
     return record, pattern.reshape(shape)
+
+
+def run_pattern(
+    stiffness: Any,
+    damping: Any,
+    mass: Any,
+    speed: Any,
+    gravity: Any,
+    timestep: Any,
+    phase: Any,
+    *,
+    substeps: int = 1,
+    slop: float = DEFAULT_SLOP,
+    processing_threshold: float = np.inf,
+    velocity_restitution: float = 0.0,
+    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
+) -> np.ndarray:
+    """The pattern of :func:`step_pattern` alone (the same records, flat), for less
+    work: no peak penetration or force is kept, and without gravity (in the whole call)
+    a run stops where its contact ends final (:func:`end_final`)."""
+    arrays = np.broadcast_arrays(
+        *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
+    )
+    settings = (slop, processing_threshold, velocity_restitution, restitution_threshold)
+    return _run_map(arrays, substeps, settings, pattern_only=True)[1]
+
+
+def _run_map(arrays, substeps, settings, *, pattern_only):
+    """Run the map on the broadcast ``(k, c, m, v, g, H, p)`` (``settings``: ``slop,
+    processing_threshold, velocity_restitution, restitution_threshold``): the finished
+    state, the flat pattern and the flat ``(m, v, H, p)``. ``pattern_only``: as
+    :func:`run_pattern` (no extremes; without gravity stopped at a final end)."""
+    k, c, m, v, g, H, p = (a.ravel().copy() for a in arrays)
+    fixed, state = start_state(k, c, m, v, g, H, p, substeps)
+    final = pattern_only and not np.any(g)
+    state = run_live(
+        fixed, state,
+        lambda a, n, limit: _advance(a, n, limit, substeps, *settings, pattern=pattern_only,
+                                     final=final),
+    )  # fmt: skip
+    counts = ("sticks", "n_end", "n_first", "n_spec", "n_pos", "n_rest")
+    return state, pattern_code(*(state[key] for key in counts)), (m, v, H, p)
+
+
+def end_final(a: dict, n: int, stop: np.ndarray, substeps: int) -> np.ndarray:
+    """Of the live elements ``a`` without gravity whose contact ended at state ``n``
+    (``stop``): those whose run can stop there, its pattern final. A contact that ended
+    separating (``w < 0``) never sticks: each later bias is the last one (``<= 0``) plus
+    ``erp w < 0`` (or the speculative one, below ``w``); unless the way out (``x / (H
+    |w|)`` calls) could outlast the step budget, which counts as sticking."""
+    j = np.flatnonzero(stop)  # (few: the test on those alone)
+    x, w = a["x"][j], a["w"][j]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        calls = x / (-w * a["h"][j] * substeps)
+        final = np.zeros(stop.size, bool)
+        final[j] = (w < 0) & (n + calls + 2.0 < a["budget"][j])
+    return final
 
 
 def start_state(
@@ -342,7 +394,8 @@ def substep_impulse(
     within, dv``: the bias on both sides of the speculative branch ``spec = d > 0``
     (``b_spec``, ``b_pos``, the restitution term included), the mask ``rest`` of the
     velocity-restitution term (``None`` without it), the mask ``within`` of the contact
-    processing threshold and the velocity change ``dv = lambda / m``; the caller makes
+    processing threshold (``True`` where it is ``+inf``: none; ``-inf`` processes
+    nothing) and the velocity change ``dv = lambda / m``; the caller makes
     ``w' = w_star - dv``, ``x' = x + h w'``. Shared by :func:`step_pattern` and the
     phase-derivative tracker of :mod:`~impactsym.engines.pybullet.phase_means`."""
     g, h, erp, gain, ended = a["g"], a["h"], a["erp"], a["gain"], a["ended"]
@@ -356,8 +409,12 @@ def substep_impulse(
         add = np.where(rest, velocity_restitution * w_star, 0.0)
         b_spec, b_pos = b_spec + add, b_pos + add
         a["n_rest"] += ~ended & rest
-    within = -x <= processing_threshold
-    dv = np.where(within, np.maximum(gain * np.where(spec, b_spec, b_pos), 0.0), 0.0)
+    dv = np.maximum(gain * np.where(spec, b_spec, b_pos), 0.0)
+    if processing_threshold == np.inf:  # (every contact within it: no mask to apply)
+        within = True
+    else:
+        within = -x <= processing_threshold
+        dv = np.where(within, dv, 0.0)
     counting = ~ended & (dv > 0)
     a["n_spec"] += counting & spec
     a["n_pos"] += counting & ~spec
@@ -365,11 +422,22 @@ def substep_impulse(
 
 
 def _advance(
-    a, n, limit, substeps, slop, processing_threshold, velocity_restitution, restitution_threshold
+    a,
+    n,
+    limit,
+    substeps,
+    slop,
+    processing_threshold,
+    velocity_restitution,
+    restitution_threshold,
+    *,
+    pattern=False,
+    final=False,
 ):
     """State ``n`` of the live elements (the dict ``a`` of their arrays, updated in
     place): the sub-steps of one ``stepSimulation`` call and the bookkeeping of the
-    module docstring; ``a["done"]`` marks the elements departed or stuck."""
+    module docstring; ``a["done"]`` marks the elements departed or stuck. ``pattern``:
+    the extremes not kept; ``final`` (no gravity): also done where :func:`end_final`."""
     settings = (slop, processing_threshold, velocity_restitution, restitution_threshold)
     x, w, h = a["x"], a["w"], a["h"]
     for _ in range(substeps):
@@ -377,4 +445,8 @@ def _advance(
         w = w_star - dv
         x = x + h * w
     a["x"], a["w"] = x, w
-    close_state(a, n, limit, dv * a["m"] / h)
+    close_state(a, n, limit, dv * a["m"] / h, extremes=not pattern)
+    if final:
+        stop = a["ended"] & (a["n_end"] == n)
+        if stop.any():
+            a["done"] |= end_final(a, n, stop, substeps)
