@@ -19,8 +19,9 @@ where that fails, multisection on the full contact's end state (63 phases per ca
 calls, up to ~500 brackets; 3 phases, 21 calls, for more). Each smooth piece is
 integrated by 5-point Gauss–Legendre (the restitution is an algebraic, smooth function
 of the phase there; against 12 nodes the mean moves by 1e-15 over 2500 random contacts
-of 2-100 steps, by 5e-13 with 4 nodes and 2e-10 with 3, too much for designs held to
-1e-12) and bounded by the piece ends (the one-sided limits at the jumps), the nodes, and
+of 2-100 steps, by up to 8.5e-14 on short contacts of ~2.4 steps with ``d v`` 3.5-4,
+by 5e-13 with 4 nodes and 2e-10 with 3, too much for designs held to 1e-12) and
+bounded by the piece ends (the one-sided limits at the jumps), the nodes, and
 a zoom search (33 phases per call) where an interior node is extreme. The piece ends
 are the grid phases and the located brackets' ends, whose contacts were run already:
 only the nodes are run again. Those runs take
@@ -51,7 +52,7 @@ _GRID = 8
 _SPLIT = 64  # multisection: 6 bits of the jump phase per call (2^-42: 7 calls)
 _BATCH = 32_000  # contacts per call above which the searches take fewer phases per call
 _ZOOM = 33  # phases per zoom round of an interior extreme
-_NODES = 5  # Gauss-Legendre nodes per piece (against 12: 1e-15; 4 nodes 5e-13, 3 nodes 2e-10)
+_NODES = 5  # Gauss-Legendre nodes per piece (against 12: 1e-15, short contacts 9e-14; 4: 5e-13)
 _WIDTH = 2.0**-45  # a change of the end state is located to this (1/8 of a phase / 64^7)
 _ROOT_CALLS = 20  # calls of the root search at most, then the multisection
 _NOISE = 1e-8  # brackets (of a phase) below which a stalled falsi turns to trisection
