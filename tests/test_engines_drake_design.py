@@ -109,3 +109,20 @@ def test_a_target_a_hair_below_a_plateau_is_designed():
     assert steps[0] == pytest.approx(21.5, rel=1e-14)
     assert steps[2] < steps[1] < 21.5
     assert 2421.7 < k < 2421.8
+
+
+def test_a_target_the_load_makes_stick_is_refused_for_the_load():
+    # a slow approach under gravity with a long contact: the undamped contact already
+    # sticks at every phase (the load's impulse over the contact, g t ~ 0.9 m/s, dwarfs
+    # v = 0.033 m/s); the refusal said "the step itself restitutes 0, use a smaller
+    # time_step", which cannot help
+    with pytest.raises(ValueError, match="sticks") as refused:
+        drake.point_contact_for(restitution=0.4747, speed=0.03294, mass=0.0664, gravity=9.81,
+                                max_penetration=0.00092, time_step=0.002,
+                                approximation="similar")  # fmt: skip
+    assert "smaller time_step" not in str(refused.value)
+    # and it does stick, without dissipation, at the stiffness named
+    k = float(str(refused.value).split("k = ")[1].split(" N/m")[0])
+    p = drake.predict(stiffness=k, dissipation=0.0, speed=0.03294, mass=0.0664, gravity=9.81,
+                      time_step=0.002, approximation="similar")  # fmt: skip
+    assert p.stick_fraction == pytest.approx(1.0, abs=1e-12)

@@ -496,6 +496,14 @@ def _discrete_cold(e, k, m, v, g, h, approx, start, size_name):
     high = e0 <= e
     if high.any():
         bad = np.flatnonzero(high)[0]
+        if e0[bad] == 0.0 and g[bad] > 0:  # every phase sticks: the load, not the step
+            raise ValueError(
+                f"restitution {float(e[bad])!r} is out of reach at speed {float(v[bad])!r}, "
+                f"gravity {float(g[bad])!r}: even without dissipation the body sticks at "
+                f"the stiffness this {size_name} needs (k = {float(k[bad]):.6g} N/m; the "
+                "pressing force holds it at every touch phase); ask for a larger speed, a "
+                "shorter contact or a smaller gravity"
+            )
         raise ValueError(
             f"restitution {float(e[bad])!r} is out of reach with {approx!r} at time_step {h!r}: "
             f"without dissipation the step itself restitutes {e0[bad]:.6g}; ask for a "
