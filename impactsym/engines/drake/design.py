@@ -504,6 +504,14 @@ def _discrete_cold(e, k, m, v, g, h, approx, start, size_name):
                 "pressing force holds it at every touch phase); ask for a larger speed, a "
                 "shorter contact or a smaller gravity"
             )
+        if g[bad] > 0:  # the load's impulse takes its share of the rebound
+            raise ValueError(
+                f"restitution {float(e[bad])!r} is out of reach with {approx!r} at time_step "
+                f"{h!r}: without dissipation the contact restitutes {e0[bad]:.6g} under "
+                f"gravity {float(g[bad])!r} (the step and the load's impulse both take "
+                "from the rebound); ask for a smaller restitution, a larger speed or a "
+                "shorter contact, or use a smaller time_step"
+            )
         raise ValueError(
             f"restitution {float(e[bad])!r} is out of reach with {approx!r} at time_step {h!r}: "
             f"without dissipation the step itself restitutes {e0[bad]:.6g}; ask for a "
