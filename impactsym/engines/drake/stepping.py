@@ -149,8 +149,7 @@ def step_contact(
     velocity = sap_velocity if sap else hunt_crossley_velocity
     kl, dl, ml, gl, hl, vl = k, tau if sap else d, m, g, h, v
     xl, ul = x, u
-    loaded = bool(np.any(g > 0))  # a contact may come to rest (docstring)
-    settle = loaded and not sap  # the settled-contact rule (docstring)
+    loaded = bool(np.any(g > 0))  # a contact may come to rest: the rules (docstring)
     ended = np.zeros(n, bool)  # the end state is reached (coasting out, or done)
     active = np.ones(n, bool)  # among the gathered: not yet finished
     steps_l, x_max_l, peak_l = np.zeros(n, np.int64), np.zeros(n), np.zeros(n)
@@ -178,15 +177,9 @@ def step_contact(
         peak_l = np.where(going, np.maximum(peak_l, impulse / hl), peak_l)
         turned = going & (ul < 0.0) & (new > 0.0)
         if loaded and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:
-            # at rest to the last bit: the update gives back the same state from now on
-            turned |= going & (new == ul) & (xl + hl * new == xl)
-            if settle:
-                turned |= going & _settled(xl, ul, kl, dl, ml, gl, hl, vl, x_max_l, peak_l,
-                                           stuck_peaks)  # fmt: skip
-                # creeping up to rest from below: its penetration tends to m g / k
-                creep = going & _creeping(xl, ul, kl, dl, ml, gl, hl, vl, peak_l)
-                x_max_l = np.where(creep, np.maximum(x_max_l, ml * gl / kl), x_max_l)
-                turned |= creep
+            stuck, x_max_l = _stuck_early(going, xl, ul, new, kl, dl, ml, gl, hl, vl, x_max_l,
+                                          peak_l, stuck_peaks, hunt_crossley=not sap)  # fmt: skip
+            turned |= stuck
         # after the end: the impulse coming back inside the overlap means sticking
         back = active & was_ended & contact & (impulse > 0.0)
         sticks[live[turned | back]] = True
@@ -234,6 +227,23 @@ def _settled(x, u, k, d, m, g, h, v, x_max, peak, stuck_peaks):
             return never_ends
         peaked = (x_max >= x_e * (1.0 + rho)) & (peak >= m * g * (1.0 + rho) * (1.0 + speed))
         return never_ends & peaked
+
+
+def _stuck_early(
+    going, x, u, new, k, d, m, g, h, v, x_max, peak, stuck_peaks, *, hunt_crossley=True
+):
+    """``(stuck, x_max)``: the contacts among ``going`` (state ``x, u``, next velocity
+    ``new``) that the rules of the module docstring declare sticking now, and the
+    largest penetrations with those creeping up to rest raised to it (``m g / k``).
+    At rest to the last bit under any update; settled or creeping only under the
+    Hunt–Crossley update (``hunt_crossley``). Shared by :func:`step_contact` and
+    :func:`contact_ends`, so that their verdicts stay the same."""
+    stuck = going & (new == u) & (x + h * new == x)  # the update gives back the state
+    if not hunt_crossley:
+        return stuck, x_max
+    stuck |= going & _settled(x, u, k, d, m, g, h, v, x_max, peak, stuck_peaks)
+    creep = going & _creeping(x, u, k, d, m, g, h, v, peak)
+    return stuck | creep, np.where(creep, np.maximum(x_max, m * g / k), x_max)
 
 
 def _creeping(x, u, k, d, m, g, h, v, peak):
@@ -466,16 +476,10 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
         turned = u < 0.0
         turned &= new > 0.0
         turned &= going
-        if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:
-            # at rest to the last bit; settled; creeping up to rest (then its overlap
-            # tends to m g / k): step_contact's checks, in its order
-            rows = [a[live] for a in (k, d, m, g, h, v)]
-            turned |= going & (new == u) & (x + consts[9] * new == x)
-            turned |= going & _settled(x, u, *rows, x_max, peak, stuck_peaks)
-            creep = going & _creeping(x, u, *rows, peak)
-            kr, _, mr, gr = rows[:4]
-            x_max = np.where(creep, np.maximum(x_max, mr * gr / kr), x_max)
-            turned |= creep
+        if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:  # step_contact's checks
+            rows = (a[live] for a in (k, d, m, g, h, v))
+            stuck, x_max = _stuck_early(going, x, u, new, *rows, x_max, peak, stuck_peaks)
+            turned |= stuck
         if turned.any():
             i = live[turned]
             out.sticks[i] = True
