@@ -92,6 +92,7 @@ _SECTIONS = 16  # the fallback search cuts an interval into this many parts per 
 _SECTION_ROUNDS = 11  # rounds of it: 16^-11 = 2^-44 of an interval
 _REACH = 1.0  # roots ahead further than this (in phase) lie past every phase range
 _GAP = 1e-12  # the patterns either side of a root are read this far (in phase) from it
+_END_STATE = ("w_end", "w1_end", "w2_end", "x_end", "x1_end")  # the tracked run's end state
 
 
 def _roots(q0, q1, q2):
@@ -169,8 +170,7 @@ def _track(k, c, m, v, g, H, p, settings, *, give_up=False):
     sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
     pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
-    end = ("w_end", "w1_end", "w2_end", "x_end", "x1_end")
-    return pattern, state["first"], np.stack([state[key] for key in end])
+    return pattern, state["first"], np.stack([state[key] for key in _END_STATE])
 
 
 def _advance(a, n, limit, curved, give_up, substeps, slop, threshold, rest_coef, rest_threshold):
@@ -218,9 +218,7 @@ def _advance(a, n, limit, curved, give_up, substeps, slop, threshold, rest_coef,
             final = end_final(a, n, stop, substeps)
             if give_up:  # and one that fails _final_at is given up (_track)
                 j = np.flatnonzero(stop & ~final)
-                ends = np.stack(
-                    [a[key][j] for key in ("w_end", "w1_end", "w2_end", "x_end", "x1_end")]
-                )
+                ends = np.stack([a[key][j] for key in _END_STATE])
                 final[j] = ~_final_at(0.0, n, ends, a["budget"][j], a["H"][j])
             a["done"] |= final
 
@@ -258,9 +256,7 @@ def break_pieces(
     # without gravity (and with PyBullet's defaults for the thresholds) one interval is
     # searched first; an element keeps those pieces where every phase provably ends
     # final, the others are searched on the grid (module docstring)
-    coarse = flat[4] == 0.0
-    if velocity_restitution or np.isfinite(processing_threshold):
-        coarse[:] = False
+    coarse = _one_interval(flat[4], velocity_restitution, processing_threshold)
     found = []
     if coarse.any():
         i = np.flatnonzero(coarse)
@@ -278,6 +274,13 @@ def break_pieces(
     parts = [np.concatenate(part, axis=-1) for part in zip(*found, strict=True)]
     parts[6] = parts[6][:3]  # the end speed's quadratic (the penetration's rows checked)
     return _merge(*parts)
+
+
+def _one_interval(gravity, velocity_restitution, processing_threshold):
+    """Per element: whether :func:`break_pieces` searches its pieces from one phase
+    interval first (no gravity, PyBullet's defaults for the thresholds)."""
+    default = not velocity_restitution and bool(np.isinf(processing_threshold))
+    return (gravity == 0.0) & default
 
 
 def _grid_pieces(flat, settings, intervals, *, budget=None):
@@ -507,7 +510,7 @@ def root_summary(
     # PyBullet's defaults for the thresholds) break_pieces starts from one interval:
     # passes of _COARSE_PASS CHUNK elements then (measured 1.8 s against 2.0 s for 10^5
     # designs)
-    coarse = not np.any(flat[4]) and not velocity_restitution and np.isinf(processing_threshold)
+    coarse = bool(np.all(_one_interval(flat[4], velocity_restitution, processing_threshold)))
     chunk = _COARSE_PASS * CHUNK if coarse else CHUNK
     if size > chunk:  # in passes of chunk elements: the same numbers, element by element
         # passes of contacts of like length (sorted by the period^2 m / k, then the damping
