@@ -122,3 +122,25 @@ def test_stick_verdict_is_drakes(time_step):
                                    gravity=9.81, t_max=0.5)["sticks"]  # fmt: skip
         assert p.sticks is sticks
         assert got is sticks
+
+
+@pytest.mark.parametrize("approximation", ["tamsi", "lagged"])
+def test_a_creeping_contact_rests_where_drake_rests_it(approximation):
+    # heavily damped under gravity: the body creeps up to its rest m g / k from below
+    # (the model declares it at once, by the creep rule); Drake, stepped 2e4 updates,
+    # sticks at every phase with its deepest overlap at the rest too: 3-5e-13 short of it
+    # with TAMSI; SAP's solver tolerance ("lagged") lets it creep ~8e-7 past it
+    tol = {"tamsi": 1e-12, "lagged": 2e-6}
+    phases = np.array([0.0, 0.4, 0.8])
+    for d in (50.0, 80.0):
+        run = drake_phases(stiffness=1e4, dissipation=d, mass=1.0, speed=0.1, gravity=9.81,
+                           time_step=1e-3, approximation=approximation, phases=phases,
+                           max_steps=20_000)  # fmt: skip
+        p = predict(stiffness=1e4, dissipation=d, mass=1.0, speed=0.1, gravity=9.81,
+                    time_step=1e-3, approximation=approximation, phase=phases)  # fmt: skip
+        assert run["sticks"].all()
+        assert p.sticks.all()
+        np.testing.assert_allclose(p.max_penetration, 9.81 / 1e4, rtol=1e-15)
+        np.testing.assert_allclose(
+            run["max_penetration"], p.max_penetration, rtol=tol[approximation]
+        )
