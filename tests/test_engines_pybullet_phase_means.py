@@ -394,3 +394,26 @@ def test_the_passes_reuse_the_pages_their_temporaries_freed():
     one_pass = 8 * 2**20 // 4096
     assert faults["keep"] < 2 * one_pass  # the first pass's pages, then reused
     assert faults["plain"] > 5 * one_pass  # (glibc's default: fresh pages again)
+
+
+@pytest.mark.parametrize(("gravity", "substeps"), [(9.81, 1), (9.81, 2), (0.0, 1)])
+def test_roots_sought_only_inside_the_interval_change_no_number(monkeypatch, gravity, substeps):
+    # the tracked runs of the piece search seek the root ahead only up to twice what is
+    # left of their interval: every piece, mean and range as with the roots sought a
+    # whole phase ahead (the tracked runs without a horizon)
+    from impactsym.engines.pybullet import phase_means as pm
+
+    k, c, m, v, g = _contacts(300, gravity)
+    settings = {**BASE, "substeps": substeps}
+    near = root_summary(k, c, m, v, g, H, **settings)
+    track = pm._track
+
+    def whole_phase(*args, horizon, **options):
+        assert np.all(horizon < 2.1)  # (the horizon is in use)
+        return track(*args, **options)
+
+    monkeypatch.setattr(pm, "_track", whole_phase)
+    far = root_summary(k, c, m, v, g, H, **settings)
+    for name in ("restitution", "contact_time", "stick_fraction", "restitution_min",
+                 "restitution_max", "contact_time_min", "contact_time_max"):  # fmt: skip
+        np.testing.assert_array_equal(getattr(near, name), getattr(far, name), err_msg=name)

@@ -29,7 +29,8 @@ that read a piece's pattern carries the quadratic's three coefficients. The root
 found to ~1e-14 of a phase, so the means agree with the bisection's to ~1e-13 and the
 ranges to ~1e-12 (tested). The roots are solved only at the sub-steps where one can
 lie within a phase (a bound from the quadratic's coefficients), the few next to a
-change of branch. A processing threshold or velocity restitution adds roots whose changes the
+change of branch; the piece search seeks them only up to twice what is left of its
+interval (a root past its end changes no piece). A processing threshold or velocity restitution adds roots whose changes the
 pattern may not show (then searched, slower than the old search): the callers use this
 module with PyBullet's defaults for both. All arrays, SI.
 
@@ -146,20 +147,24 @@ def tracked_pattern(
     return pattern, first, end[:3]
 
 
-def _track(k, c, m, v, g, H, p, settings, *, give_up=False):
+def _track(k, c, m, v, g, H, p, settings, *, give_up=False, horizon=np.inf):
     """:func:`tracked_pattern` of flat arrays (``settings``: ``substeps, slop,
     processing_threshold, velocity_restitution, restitution_threshold``), the end state
     ``(5, n)``: its speed ``w`` with two phase derivatives, then its penetration ``x``
     with the first (where the contact ended). ``give_up`` (no gravity): a run also stops
     where its end fails :func:`_final_at` there (``u = 0``), its pattern then not read
-    further: for the start of a piece whose element :func:`_grid_pieces` gives up."""
+    further: for the start of a piece whose element :func:`_grid_pieces` gives up.
+    ``horizon`` (per element): the root ahead is sought no further (the distance is at
+    most this; a caller that needs it only inside its interval saves the roots past it,
+    :func:`_ahead` solving only where one can lie before the distance so far)."""
     substeps = settings[0]
     fixed, state = start_state(k, c, m, v, g, H, p, substeps)
     # the phase derivatives ride along: x = x0 + x1 dp + x2 dp^2 / 2, w likewise
     size = k.size
     state.update({
         "x1": state["w"] * H, "x2": g * H * H, "w1": g * H, "w2": np.zeros(size),
-        "first": np.full(size, np.inf), "w1_end": np.zeros(size), "w2_end": np.zeros(size),
+        "first": np.broadcast_to(np.asarray(horizon, float), size).copy(),
+        "w1_end": np.zeros(size), "w2_end": np.zeros(size),
         "x1_end": np.zeros(size),
     })  # fmt: skip
     curved = bool(np.any(g))  # (without gravity every second derivative stays 0)
@@ -308,8 +313,9 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
             searched[own[fails]] = True
             return ~fails
 
-    def track(i, p, give_up=False):
-        return _track(*(a[i] for a in flat), p, settings, give_up=give_up)
+    def track(i, p, end, give_up=False):  # (the root ahead is wanted up to end, p < end)
+        horizon = 2.0 * (end - p) + 1e-9  # (a root past it leaves p + root past end)
+        return _track(*(a[i] for a in flat), p, settings, give_up=give_up, horizon=horizon)
 
     def run(i, p):
         names = ("substeps", "slop", "processing_threshold", "velocity_restitution",
@@ -322,7 +328,7 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
     lo, hi = np.tile(grid[:-1], size), np.tile(grid[1:], size)
     # the pattern, roots ahead and end state where each grid interval starts; at the last
     # grid point only the pattern (a plain run: the same numbers, without the tracking)
-    k_lo, r_lo, end_state = track(own, lo, give_up=budget is not None)
+    k_lo, r_lo, end_state = track(own, lo, hi, give_up=budget is not None)
     s_lo = lo.copy()  # where the pattern of the piece starting at lo was read
     if budget is not None:  # the first piece's start (at 0: a stick there ends the search)
         keep = drop(~_final_at(lo - s_lo, k_lo["end"], end_state, budget[own], flat[5][own]))
@@ -356,7 +362,7 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
         # the pattern just before each root (a plain run), and the pattern, root ahead
         # and end state after it
         key_a = run(own, a)
-        key_b, r_b, end_b = track(own, b)
+        key_b, r_b, end_b = track(own, b, hi)
         # the pieces meet at the root; the patterns either side are read _GAP away
         end, r_b = np.where(split, cut, a), r_b + (b - np.where(split, cut, b))
         bad = ~split | (key_a != k_lo)
@@ -375,7 +381,7 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
             j = np.flatnonzero(bad)
             searched[own[j]] = True
             end[j], b[j] = _multisect(run, own[j], lo[j], hi[j], k_lo[j])
-            key_b[j], r_b[j], end_b[:, j] = track(own[j], b[j])
+            key_b[j], r_b[j], end_b[:, j] = track(own[j], b[j], hi[j])
         pieces.append((lo, end, s_lo, np.where(bad, end, a), k_lo, own, end_state))
         lo, s_lo, k_lo, r_lo, end_state = np.where(bad, b, cut), b, key_b, r_b, end_b
     else:
