@@ -30,9 +30,10 @@ found to ~1e-14 of a phase, so the means agree with the bisection's to ~1e-13 an
 ranges to ~1e-12 (tested). The roots are solved only at the sub-steps where one can
 lie within a phase (a bound from the quadratic's coefficients), the few next to a
 change of branch; the piece search seeks them only up to twice what is left of its
-interval (a root past its end changes no piece). A processing threshold or velocity restitution adds roots whose changes the
-pattern may not show (then searched, slower than the old search): the callers use this
-module with PyBullet's defaults for both. All arrays, SI.
+interval (a root past its end changes no piece). A processing threshold or velocity
+restitution adds roots whose changes the pattern may not show (then searched, slower
+than the old search): the callers use this module with PyBullet's defaults for both.
+All arrays, SI.
 
 Without gravity (and with those defaults) the grid is not needed where a proof takes its
 place, and the pieces are searched from one interval ``[0, 1)`` first: every branch
