@@ -4,11 +4,6 @@ the pattern itself read on either side of every root."""
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -362,38 +357,6 @@ def test_the_finality_proof_reads_both_ends_of_every_piece():
     pieces = (p0, p1, s0, p1, key, np.arange(3), state)
     budget = np.full(3, 40.0)  # at the end x / (-w H) = 50 calls: past the budget
     np.testing.assert_array_equal(_ends_final(pieces, budget, np.full(3, H)), [False, False, True])
-
-
-_CHURN = """
-import resource, sys
-import numpy as np
-from impactsym.engines.pybullet import phase_means
-if sys.argv[1] == "keep":
-    phase_means._keep_freed_pages()
-np.ones(1)
-before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
-for _ in range(20):  # a pass's temporaries, freed together: 8 x 1 MiB, written
-    block = [np.ones(2**17) for _ in range(8)]
-    del block
-print(resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)
-"""
-
-
-@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="glibc's malloc thresholds")
-def test_the_passes_reuse_the_pages_their_temporaries_freed():
-    # root_summary's passes free their temporaries pass after pass; after
-    # _keep_freed_pages glibc keeps that memory for the next pass instead of mapping and
-    # faulting in fresh pages each time (a fresh interpreter each: the thresholds are
-    # per process)
-    faults = {}
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).parents[1])}
-    for mode in ("keep", "plain"):
-        run = subprocess.run([sys.executable, "-c", _CHURN, mode], capture_output=True,
-                             text=True, check=True, env=env)  # fmt: skip
-        faults[mode] = int(run.stdout)
-    one_pass = 8 * 2**20 // 4096
-    assert faults["keep"] < 2 * one_pass  # the first pass's pages, then reused
-    assert faults["plain"] > 5 * one_pass  # (glibc's default: fresh pages again)
 
 
 @pytest.mark.parametrize(("gravity", "substeps"), [(9.81, 1), (9.81, 2), (0.0, 1)])

@@ -55,6 +55,7 @@ from collections.abc import Callable
 import numpy as np
 from scipy.spatial import cKDTree
 
+from impactsym.numeric.memory import keep_freed_pages
 from impactsym.numeric.poly import cubic_lagrange_weights
 
 __all__ = ["table_designs"]
@@ -103,6 +104,7 @@ def table_designs(
     >>> [round(float(zeta), 9) for zeta in np.exp(x[1])]  # zeta = -ln e
     [0.916290732, 1.203972804]
     """
+    keep_freed_pages()  # (the passes below reuse the pages their temporaries free)
     n = target.shape[1]
     lo = np.array([start[0].min() - _PAD_U[0], start[1].min() - _PAD_Z[0]])
     hi = np.array([start[0].max() + _PAD_U[1], start[1].max() + _PAD_Z[1]])

@@ -67,7 +67,6 @@ from impactsym.engines.phase_pieces import reduce_at
 from impactsym.engines.pybullet.stepping import (
     DEFAULT_RESTITUTION_THRESHOLD,
     MAX_STEPS,
-    PATTERN,
     close_state,
     end_final,
     pattern_code,
@@ -77,6 +76,8 @@ from impactsym.engines.pybullet.stepping import (
     step_budget,
     substep_impulse,
 )
+from impactsym.numeric.memory import keep_freed_pages
+from impactsym.numeric.poly import quadratic_at, quadratic_roots_ahead
 
 __all__ = ["CHUNK", "break_pieces", "root_summary", "tracked_pattern"]
 
@@ -96,28 +97,6 @@ _SECTION_ROUNDS = 11  # rounds of it: 16^-11 = 2^-44 of an interval
 _REACH = 1.0  # roots ahead further than this (in phase) lie past every phase range
 _GAP = 1e-12  # the patterns either side of a root are read this far (in phase) from it
 _END_STATE = ("w_end", "w1_end", "w2_end", "x_end", "x1_end")  # the tracked run's end state
-#: bytes of the block :func:`_keep_freed_pages` frees (glibc raises its thresholds to the
-#: size of a freed mapped block of at most 32 MiB)
-_KEEP = 30 * 2**20
-
-
-def _roots(q0, q1, q2):
-    """Both roots ``D > 0`` of ``q0 + q1 D + q2 D^2 / 2`` (``inf`` where there is none),
-    by the stable quadratic formula (``q2 = 0``: the linear root)."""
-    a = 0.5 * q2
-    with np.errstate(all="ignore"):
-        disc = q1 * q1 - 4.0 * a * q0
-        qq = -0.5 * (q1 + np.copysign(np.sqrt(disc), q1))
-        out = []
-        for r in (qq / a, q0 / qq):
-            out.append(np.where(np.isfinite(r) & (r > 0) & (disc >= 0), r, np.inf))
-    return out
-
-
-def _at(q0, q1, q2, D):
-    """The quadratic at ``D`` (``nan`` where ``D`` is ``inf``)."""
-    with np.errstate(all="ignore"):
-        return np.where(np.isfinite(D), q0 + q1 * D + 0.5 * q2 * D * D, np.nan)
 
 
 def tracked_pattern(
@@ -156,9 +135,7 @@ def _track(k, c, m, v, g, H, p, settings, *, give_up=False, horizon=np.inf):
     with the first (where the contact ended). ``give_up`` (no gravity): a run also stops
     where its end fails :func:`_final_at` there (``u = 0``), its pattern then not read
     further: for the start of a piece whose element :func:`_grid_pieces` gives up.
-    ``horizon`` (per element): the root ahead is sought no further (the distance is at
-    most this; a caller that needs it only inside its interval saves the roots past it,
-    :func:`_ahead` solving only where one can lie before the distance so far)."""
+    ``horizon``: the root ahead is sought no further (fewer roots solved, :func:`_ahead`)."""
     substeps = settings[0]
     fixed, state = start_state(k, c, m, v, g, H, p, substeps)
     # the phase derivatives ride along: x = x0 + x1 dp + x2 dp^2 / 2, w likewise
@@ -166,8 +143,7 @@ def _track(k, c, m, v, g, H, p, settings, *, give_up=False, horizon=np.inf):
     state.update({
         "x1": state["w"] * H, "x2": g * H * H, "w1": g * H, "w2": np.zeros(size),
         "first": np.broadcast_to(np.asarray(horizon, float), size).copy(),
-        "w1_end": np.zeros(size), "w2_end": np.zeros(size),
-        "x1_end": np.zeros(size),
+        "w1_end": np.zeros(size), "w2_end": np.zeros(size), "x1_end": np.zeros(size),
     })  # fmt: skip
     curved = bool(np.any(g))  # (without gravity every second derivative stays 0)
     if give_up:
@@ -468,10 +444,10 @@ def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
             return q if np.ndim(q) == 0 else q[j]
 
         best = first[j]
-        for root in _roots(q0[j], q1[j], pick(q2)):
+        for root in quadratic_roots_ahead(q0[j], q1[j], pick(q2)):
             if valid is not None:  # the root counts where the side quantity allows it
                 v0, v1, v2, positive = valid
-                side = _at(v0[j], v1[j], pick(v2), root)
+                side = quadratic_at(v0[j], v1[j], pick(v2), root)
                 root = np.where(side > 0 if positive else side <= 0, root, np.inf)
             best = np.minimum(best, root)
         first[j] = best
@@ -527,7 +503,7 @@ def root_summary(
         # passes of contacts of like length (sorted by the period^2 m / k, then the damping
         # time c / k), so that a pass's runs end together instead of stepping the short
         # contacts' arrays until the long ones end
-        _keep_freed_pages()
+        keep_freed_pages()  # (the passes reuse the pages their temporaries free)
         k, c, m = flat[:3]
         order = np.lexsort((c / k, m / k))
         parts = [root_summary(*(a[order[i : i + chunk]] for a in flat), **settings)
@@ -572,27 +548,11 @@ def root_summary(
     return PhaseSummary(*(np.reshape(f, shape) for f in fields))
 
 
-def _keep_freed_pages():
-    """Let the passes reuse the pages their temporaries freed: under glibc (``mallopt(3)``,
-    its dynamic mmap threshold) a block above the mmap threshold (128 kB at the start)
-    is mapped fresh, its pages faulted in at first touch, and freed heap beyond twice the
-    threshold goes back to the system; freeing a mapped block of up to 32 MiB raises both
-    to its size. A pass's temporaries (0.5 MB arrays, tens of MB in all) otherwise went
-    through fresh pages pass after pass: ~3e5 page faults, a third of the time of 10^5
-    designs under gravity. Freeing an untouched block of :data:`_KEEP` bytes raises them
-    (no page of it is touched: no cost; elsewhere than glibc a plain allocation); the
-    process then keeps up to twice that of freed memory for reuse. The numbers are the
-    same either way."""
-    np.empty(_KEEP // 8)
-
-
 def _merge(p0, p1, s0, s1, key, own, speed):
     """The pieces sorted by owner and start, adjacent ones of one pattern joined (the
     pattern and the end speed's quadratic are those of the first)."""
-    # by owner and grid interval (stable): the order by owner and start where the pieces
-    # of each owner's interval came in order of their start, as the rounds of the piece
-    # search append them (checked; else sorted by both): a sort of integers, where the
-    # sort by both took most of the time of the merge
+    # by owner and grid interval (stable, integers): by owner and start where each
+    # interval's pieces came in order of their start, as the rounds append them (checked)
     cell = np.clip(np.floor(p0 * _GRID), 0, _GRID - 1).astype(np.int64)
     order = np.argsort(own * _GRID + cell, kind="stable")
     mine, start = own[order], p0[order]
@@ -600,9 +560,8 @@ def _merge(p0, p1, s0, s1, key, own, speed):
         order = np.lexsort((p0, own))
         mine, start = own[order], p0[order]
     own, p0, p1 = mine, start, p1[order]
-    # the patterns moved as rows of integers (a gather of records is several times slower)
-    rows = np.ascontiguousarray(key).view(np.int64).reshape(key.size, len(PATTERN.names))
-    key = rows.take(order, axis=0).view(PATTERN).ravel()
+    rows = np.ascontiguousarray(key).view(np.int64).reshape(key.size, len(key.dtype.names))
+    key = rows.take(order, axis=0).view(key.dtype).ravel()
     joins = np.zeros(p0.size, bool)
     joins[1:] = (own[1:] == own[:-1]) & (key[1:] == key[:-1]) & (p0[1:] == p1[:-1])
     starts = np.flatnonzero(~joins)
