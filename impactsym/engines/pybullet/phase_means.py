@@ -257,7 +257,9 @@ def break_pieces(
         j = np.flatnonzero(~coarse)
         pieces, _ = _grid_pieces([a[j] for a in flat], settings, _GRID)
         found.append([*pieces[:5], j[pieces[5]], pieces[6]])
-    parts = [np.concatenate(part, axis=-1) for part in zip(*found, strict=True)]
+    parts = found[0]  # (one search: its arrays as they are, not copied by a concatenate)
+    if len(found) > 1:
+        parts = [np.concatenate(part, axis=-1) for part in zip(*found, strict=True)]
     parts[6] = parts[6][:3]  # the end speed's quadratic (the penetration's rows checked)
     return _merge(*parts)
 
