@@ -72,7 +72,9 @@ _MAX_STEP = 0.5  # largest step in u or z
 #: columns per pass of the interpolant and its inverse: a pass's temporaries (~1 kB a
 #: column) stay in the cache, where 10^5 columns at once spent most of their time on
 #: fresh memory; every column's numbers are its own, so the passes change none
-_PASS = 2048
+#: (measured, inversions per 10^5 designs: 0.25 s in passes of 1024, 0.20 of 2048,
+#: 0.17 of 4096 and 8192)
+_PASS = 8192
 
 
 def table_designs(
