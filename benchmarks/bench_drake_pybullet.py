@@ -66,7 +66,8 @@ many brackets), the factor over the 2 s target after:
 * PyBullet, the same numbers for less (designs and predictions bit-identical on these
   four cases and 406 random calls): the table's interpolant and inverse in passes of
   8192 columns (a coarse box that grows inverted only at its edge targets), glibc's
-  malloc thresholds raised once (``numeric.memory``: the passes had faulted in fresh
+  malloc thresholds raised once (``numeric.memory``; the interpolation's 25 MB
+  temporaries had raised them by accident, without which the passes fault in fresh
   pages, 1.5-3.4e5 faults a call), the roots ahead sought only within the piece
   search's interval, the pieces merged by an integer sort. CPU seconds per 10^5 (the
   ``_cases(100000)`` timing below, main and this back to back, 2 x 3 runs each, load
