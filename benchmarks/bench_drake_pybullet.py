@@ -63,6 +63,17 @@ many brackets), the factor over the 2 s target after:
   one and two sub-steps, main vs this (best of 2, load 1-1.8): 3.3 vs 3.3 s and 5.1 vs
   5.2 s (2-3 x main before); the map's loop iterations 102456 vs 106512 and 104034 vs
   109711, its element-steps 8-9% fewer.
+* PyBullet, the same numbers for less (designs and predictions bit-identical on these
+  four cases and 406 random calls): the table's interpolant and inverse in passes of
+  8192 columns (a coarse box that grows inverted only at its edge targets), glibc's
+  malloc thresholds raised once (``numeric.memory``; the interpolation's 25 MB
+  temporaries had raised them by accident, without which the passes fault in fresh
+  pages, 1.5-3.4e5 faults a call), the roots ahead sought only within the piece
+  search's interval, the pieces merged by an integer sort. CPU seconds per 10^5 (the
+  ``_cases(100000)`` timing below, main and this back to back, 2 x 3 runs each, load
+  4-6), before -> after: g = 0 array 1.80-1.97 -> 1.62-1.82, default 0.74-0.77 ->
+  0.67-0.75; under gravity 1.60-1.74 -> 1.26-1.42 (array) and 1.75-1.94 -> 1.41-1.58
+  (default).
 * Drake continuous, g = 0: 0.015 (0.76 x: under the target).
 * Drake continuous, g = 9.81: 11.0 -> 5.1 (contact_time, 254 x), 5.7 (max_penetration);
   from 128 targets per call the designs are read off one Chebyshev table in (s, b)

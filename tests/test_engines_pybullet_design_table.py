@@ -201,3 +201,69 @@ def test_table_designs_without_gravity_hit_their_targets_by_the_bisection():
     assert np.max(np.abs(np.log(bisected.contact_time / t[pick]))) < 1.1e-9
     np.testing.assert_allclose(d.restitution[pick], bisected.restitution, rtol=1e-11)
     np.testing.assert_allclose(d.contact_time[pick], bisected.contact_time, rtol=1e-11)
+
+
+def _known_map(u, z):
+    """A map with a known inverse (``e = exp(-zeta)``, ``ln t = -u/2 + z/10``), ``inf``
+    contact time (a sticking point) where ``zeta > 2``."""
+    return np.exp(-np.exp(z)), np.where(z > np.log(2.0), np.inf, -0.5 * u + 0.1 * z)
+
+
+def test_the_tables_inverse_in_passes_gives_each_target_its_own_numbers():
+    # at and invert run in passes of _PASS columns: every column's numbers are those of
+    # a call of its own, and the interpolant meets the known map to its cubic's error
+    from impactsym.engines.pybullet import design_table as dt
+
+    table = dt._Table(_known_map, np.array([4.0, -2.0]), np.array([7.0, 1.0]), (24, 24))
+    rng = np.random.default_rng(3)
+    n = 2 * dt._PASS + 37
+    x = np.stack([rng.uniform(4.0, 7.0, n), rng.uniform(-2.0, 1.0, n)])
+    val, jac = table.at(x)
+    e, lnt = _known_map(*x)
+    ok = np.isfinite(val[0])
+    assert ok.sum() > n / 2
+    assert not np.any(ok & (x[1] > np.log(2.0)))  # sticking: nan
+    np.testing.assert_allclose(val[0, ok], e[ok], rtol=1e-4)
+    np.testing.assert_allclose(val[1, ok], lnt[ok], rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(jac[1, 0, ok], -0.5, rtol=1e-9)
+    target = np.stack([e, lnt])
+    target[1] = np.where(np.isfinite(lnt), lnt, -2.5)
+    full = table.invert(target, table.nearest(target))
+    assert np.isfinite(full[0]).sum() > n / 2
+    for cols in (rng.choice(n, 5, replace=False), np.arange(dt._PASS - 2, dt._PASS + 3)):
+        alone = np.concatenate([table.invert(target[:, [i]], table.nearest(target[:, [i]]))
+                                for i in cols], axis=1)  # fmt: skip
+        np.testing.assert_array_equal(alone, full[:, cols])
+        np.testing.assert_array_equal(np.concatenate([table.at(x[:, [i]])[1] for i in cols], -1),
+                                      jac[..., cols])  # fmt: skip
+
+
+@pytest.mark.parametrize("last", [False, True])
+def test_the_coarse_box_grows_as_the_inverse_of_every_target_says(last):
+    # the coarse table inverts its edge targets first and stops once no further growth
+    # can show; the growth (and, where the box stays or the table is the last, the
+    # designs) are those of the whole inverse, by the rule applied to every target
+    from impactsym.engines.pybullet import design_table as dt
+
+    rng = np.random.default_rng(4)
+    n = 3 * dt._PASS
+    # designs below the first box's z, then (after the first pass) a few beyond its u
+    u = np.concatenate([rng.uniform(5.2, 5.8, n), rng.uniform(6.5, 7.0, 20)])
+    z = np.log(np.concatenate([rng.uniform(0.3, 0.42, n), rng.uniform(0.6, 1.0, 20)]))
+    target = np.stack(_known_map(u, z))
+    for lo, hi in (([5.0, -0.8], [6.0, 0.3]), ([3.0, -2.0], [8.0, 1.0])):  # grows; stays
+        table = dt._Table(_known_map, np.array(lo), np.array(hi), (dt._COARSE, dt._COARSE))
+        nearest = table.nearest(target)
+        full = table.invert(target, nearest)
+        grid = np.stack(np.unravel_index(nearest, table.shape))[:, ~np.all(np.isfinite(full), 0)]
+        x, low, high = dt._coarse_designs(table, target, last=last)
+        np.testing.assert_array_equal(low, np.any(grid == 0, axis=1))
+        np.testing.assert_array_equal(high, np.any(grid == dt._COARSE - 1, axis=1))
+        if low.any() or high.any():  # the growth shows in the first pass and after it
+            assert low[1]
+            assert high[0]
+            assert grid.shape[1] > dt._PASS
+        if last or not (low.any() or high.any()):
+            np.testing.assert_array_equal(x, full)
+        else:
+            assert x is None

@@ -357,3 +357,67 @@ def test_the_finality_proof_reads_both_ends_of_every_piece():
     pieces = (p0, p1, s0, p1, key, np.arange(3), state)
     budget = np.full(3, 40.0)  # at the end x / (-w H) = 50 calls: past the budget
     np.testing.assert_array_equal(_ends_final(pieces, budget, np.full(3, H)), [False, False, True])
+
+
+@pytest.mark.parametrize(("gravity", "substeps"), [(9.81, 1), (9.81, 2), (0.0, 1)])
+def test_roots_sought_only_inside_the_interval_change_no_number(monkeypatch, gravity, substeps):
+    # the tracked runs of the piece search seek the root ahead only up to twice what is
+    # left of their interval: every piece, mean and range as with the roots sought a
+    # whole phase ahead (the tracked runs without a horizon)
+    from impactsym.engines.pybullet import phase_means as pm
+
+    k, c, m, v, g = _contacts(300, gravity)
+    settings = {**BASE, "substeps": substeps}
+    near = root_summary(k, c, m, v, g, H, **settings)
+    track = pm._track
+
+    def whole_phase(*args, horizon, **options):
+        assert np.all(horizon < 2.1)  # (the horizon is in use)
+        return track(*args, **options)
+
+    monkeypatch.setattr(pm, "_track", whole_phase)
+    far = root_summary(k, c, m, v, g, H, **settings)
+    for name in ("restitution", "contact_time", "stick_fraction", "restitution_min",
+                 "restitution_max", "contact_time_min", "contact_time_max"):  # fmt: skip
+        np.testing.assert_array_equal(getattr(near, name), getattr(far, name), err_msg=name)
+
+
+def _merged_by_lexsort(p0, p1, s0, s1, key, own, speed):
+    """The pieces sorted by owner and start (``np.lexsort``) and joined, record arrays
+    gathered as such: the merge as it was written first."""
+    order = np.lexsort((p0, own))
+    p0, p1, s0, s1, key, own = (a[order] for a in (p0, p1, s0, s1, key, own))
+    speed = speed[:, order]
+    joins = np.zeros(p0.size, bool)
+    joins[1:] = (own[1:] == own[:-1]) & (key[1:] == key[:-1]) & (p0[1:] == p1[:-1])
+    starts = np.flatnonzero(~joins)
+    lasts = np.append(starts[1:], p0.size) - 1
+    return p0[starts], p1[lasts], s0[starts], s1[lasts], own[starts], key[starts], speed[:, starts]
+
+
+@pytest.mark.parametrize("gravity", [9.81, 0.0])
+def test_the_merge_of_the_pieces_is_that_of_a_sort_by_owner_and_start(monkeypatch, gravity):
+    # the merge sorts by owner and grid interval where that orders the starts (checked),
+    # else by owner and start; both give the pieces of the plain sort, in the rounds'
+    # order and shuffled
+    from impactsym.engines.pybullet import phase_means as pm
+
+    seen = []
+    merge = pm._merge
+
+    def recording(*pieces):
+        seen.append(pieces)
+        return merge(*pieces)
+
+    monkeypatch.setattr(pm, "_merge", recording)
+    k, c, m, v, g = _contacts(200, gravity)
+    root_summary(k, c, m, v, g, H, **BASE, substeps=1)
+    (pieces,) = seen
+    shuffle = RNG.permutation(pieces[0].size)
+    shuffled = [a[..., shuffle] for a in pieces]
+    for args in (pieces, shuffled):
+        assert np.any(np.diff(args[5]) < 0)  # (the owners come unsorted)
+        for got, want in zip(merge(*args), _merged_by_lexsort(*args), strict=True):
+            np.testing.assert_array_equal(got, want)
+    if gravity:  # (the grid's pieces of one pattern were joined)
+        assert merge(*pieces)[0].size < pieces[0].size

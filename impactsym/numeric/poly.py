@@ -247,3 +247,30 @@ def taylor_shift(c: np.ndarray, u: float) -> np.ndarray:
     """
     c = np.asarray(c, dtype=float)
     return shift_matrix(c.size, u) @ c if c.size > 1 else c.copy()
+
+
+def quadratic_roots_ahead(q0, q1, q2):
+    """Both roots ``D > 0`` of ``q0 + q1 D + q2 D^2 / 2`` (arrays; ``inf`` where there is
+    none), by the stable quadratic formula (``q2 = 0``: the linear root).
+
+    >>> [r.tolist() for r in quadratic_roots_ahead(np.array([-2.0]), np.array([1.0]), 2.0)]
+    [[inf], [1.0]]
+    """
+    a = 0.5 * q2
+    with np.errstate(all="ignore"):
+        disc = q1 * q1 - 4.0 * a * q0
+        qq = -0.5 * (q1 + np.copysign(np.sqrt(disc), q1))
+        out = []
+        for r in (qq / a, q0 / qq):
+            out.append(np.where(np.isfinite(r) & (r > 0) & (disc >= 0), r, np.inf))
+    return out
+
+
+def quadratic_at(q0, q1, q2, D):
+    """``q0 + q1 D + q2 D^2 / 2`` (``nan`` where ``D`` is ``inf``).
+
+    >>> quadratic_at(np.array([-2.0]), np.array([1.0]), 2.0, np.array([1.0, np.inf])).tolist()
+    [0.0, nan]
+    """
+    with np.errstate(all="ignore"):
+        return np.where(np.isfinite(D), q0 + q1 * D + 0.5 * q2 * D * D, np.nan)

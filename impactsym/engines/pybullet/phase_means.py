@@ -29,9 +29,11 @@ that read a piece's pattern carries the quadratic's three coefficients. The root
 found to ~1e-14 of a phase, so the means agree with the bisection's to ~1e-13 and the
 ranges to ~1e-12 (tested). The roots are solved only at the sub-steps where one can
 lie within a phase (a bound from the quadratic's coefficients), the few next to a
-change of branch. A processing threshold or velocity restitution adds roots whose changes the
-pattern may not show (then searched, slower than the old search): the callers use this
-module with PyBullet's defaults for both. All arrays, SI.
+change of branch; the piece search seeks them only up to twice what is left of its
+interval (a root past its end changes no piece). A processing threshold or velocity
+restitution adds roots whose changes the pattern may not show (then searched, slower
+than the old search): the callers use this module with PyBullet's defaults for both.
+All arrays, SI.
 
 Without gravity (and with those defaults) the grid is not needed where a proof takes its
 place, and the pieces are searched from one interval ``[0, 1)`` first: every branch
@@ -74,6 +76,8 @@ from impactsym.engines.pybullet.stepping import (
     step_budget,
     substep_impulse,
 )
+from impactsym.numeric.memory import keep_freed_pages
+from impactsym.numeric.poly import quadratic_at, quadratic_roots_ahead
 
 __all__ = ["CHUNK", "break_pieces", "root_summary", "tracked_pattern"]
 
@@ -93,25 +97,6 @@ _SECTION_ROUNDS = 11  # rounds of it: 16^-11 = 2^-44 of an interval
 _REACH = 1.0  # roots ahead further than this (in phase) lie past every phase range
 _GAP = 1e-12  # the patterns either side of a root are read this far (in phase) from it
 _END_STATE = ("w_end", "w1_end", "w2_end", "x_end", "x1_end")  # the tracked run's end state
-
-
-def _roots(q0, q1, q2):
-    """Both roots ``D > 0`` of ``q0 + q1 D + q2 D^2 / 2`` (``inf`` where there is none),
-    by the stable quadratic formula (``q2 = 0``: the linear root)."""
-    a = 0.5 * q2
-    with np.errstate(all="ignore"):
-        disc = q1 * q1 - 4.0 * a * q0
-        qq = -0.5 * (q1 + np.copysign(np.sqrt(disc), q1))
-        out = []
-        for r in (qq / a, q0 / qq):
-            out.append(np.where(np.isfinite(r) & (r > 0) & (disc >= 0), r, np.inf))
-    return out
-
-
-def _at(q0, q1, q2, D):
-    """The quadratic at ``D`` (``nan`` where ``D`` is ``inf``)."""
-    with np.errstate(all="ignore"):
-        return np.where(np.isfinite(D), q0 + q1 * D + 0.5 * q2 * D * D, np.nan)
 
 
 def tracked_pattern(
@@ -143,21 +128,22 @@ def tracked_pattern(
     return pattern, first, end[:3]
 
 
-def _track(k, c, m, v, g, H, p, settings, *, give_up=False):
+def _track(k, c, m, v, g, H, p, settings, *, give_up=False, horizon=np.inf):
     """:func:`tracked_pattern` of flat arrays (``settings``: ``substeps, slop,
     processing_threshold, velocity_restitution, restitution_threshold``), the end state
     ``(5, n)``: its speed ``w`` with two phase derivatives, then its penetration ``x``
     with the first (where the contact ended). ``give_up`` (no gravity): a run also stops
     where its end fails :func:`_final_at` there (``u = 0``), its pattern then not read
-    further: for the start of a piece whose element :func:`_grid_pieces` gives up."""
+    further: for the start of a piece whose element :func:`_grid_pieces` gives up.
+    ``horizon``: the root ahead is sought no further (fewer roots solved, :func:`_ahead`)."""
     substeps = settings[0]
     fixed, state = start_state(k, c, m, v, g, H, p, substeps)
     # the phase derivatives ride along: x = x0 + x1 dp + x2 dp^2 / 2, w likewise
     size = k.size
     state.update({
         "x1": state["w"] * H, "x2": g * H * H, "w1": g * H, "w2": np.zeros(size),
-        "first": np.full(size, np.inf), "w1_end": np.zeros(size), "w2_end": np.zeros(size),
-        "x1_end": np.zeros(size),
+        "first": np.broadcast_to(np.asarray(horizon, float), size).copy(),
+        "w1_end": np.zeros(size), "w2_end": np.zeros(size), "x1_end": np.zeros(size),
     })  # fmt: skip
     curved = bool(np.any(g))  # (without gravity every second derivative stays 0)
     if give_up:
@@ -271,7 +257,9 @@ def break_pieces(
         j = np.flatnonzero(~coarse)
         pieces, _ = _grid_pieces([a[j] for a in flat], settings, _GRID)
         found.append([*pieces[:5], j[pieces[5]], pieces[6]])
-    parts = [np.concatenate(part, axis=-1) for part in zip(*found, strict=True)]
+    parts = found[0]  # (one search: its arrays as they are, not copied by a concatenate)
+    if len(found) > 1:
+        parts = [np.concatenate(part, axis=-1) for part in zip(*found, strict=True)]
     parts[6] = parts[6][:3]  # the end speed's quadratic (the penetration's rows checked)
     return _merge(*parts)
 
@@ -305,8 +293,9 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
             searched[own[fails]] = True
             return ~fails
 
-    def track(i, p, give_up=False):
-        return _track(*(a[i] for a in flat), p, settings, give_up=give_up)
+    def track(i, p, end, give_up=False):  # (the root ahead is wanted up to end, p < end)
+        horizon = 2.0 * (end - p) + 1e-9  # (a root past it leaves p + root past end)
+        return _track(*(a[i] for a in flat), p, settings, give_up=give_up, horizon=horizon)
 
     def run(i, p):
         names = ("substeps", "slop", "processing_threshold", "velocity_restitution",
@@ -319,7 +308,7 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
     lo, hi = np.tile(grid[:-1], size), np.tile(grid[1:], size)
     # the pattern, roots ahead and end state where each grid interval starts; at the last
     # grid point only the pattern (a plain run: the same numbers, without the tracking)
-    k_lo, r_lo, end_state = track(own, lo, give_up=budget is not None)
+    k_lo, r_lo, end_state = track(own, lo, hi, give_up=budget is not None)
     s_lo = lo.copy()  # where the pattern of the piece starting at lo was read
     if budget is not None:  # the first piece's start (at 0: a stick there ends the search)
         keep = drop(~_final_at(lo - s_lo, k_lo["end"], end_state, budget[own], flat[5][own]))
@@ -353,7 +342,7 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
         # the pattern just before each root (a plain run), and the pattern, root ahead
         # and end state after it
         key_a = run(own, a)
-        key_b, r_b, end_b = track(own, b)
+        key_b, r_b, end_b = track(own, b, hi)
         # the pieces meet at the root; the patterns either side are read _GAP away
         end, r_b = np.where(split, cut, a), r_b + (b - np.where(split, cut, b))
         bad = ~split | (key_a != k_lo)
@@ -372,7 +361,7 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
             j = np.flatnonzero(bad)
             searched[own[j]] = True
             end[j], b[j] = _multisect(run, own[j], lo[j], hi[j], k_lo[j])
-            key_b[j], r_b[j], end_b[:, j] = track(own[j], b[j])
+            key_b[j], r_b[j], end_b[:, j] = track(own[j], b[j], hi[j])
         pieces.append((lo, end, s_lo, np.where(bad, end, a), k_lo, own, end_state))
         lo, s_lo, k_lo, r_lo, end_state = np.where(bad, b, cut), b, key_b, r_b, end_b
     else:
@@ -457,10 +446,10 @@ def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
             return q if np.ndim(q) == 0 else q[j]
 
         best = first[j]
-        for root in _roots(q0[j], q1[j], pick(q2)):
+        for root in quadratic_roots_ahead(q0[j], q1[j], pick(q2)):
             if valid is not None:  # the root counts where the side quantity allows it
                 v0, v1, v2, positive = valid
-                side = _at(v0[j], v1[j], pick(v2), root)
+                side = quadratic_at(v0[j], v1[j], pick(v2), root)
                 root = np.where(side > 0 if positive else side <= 0, root, np.inf)
             best = np.minimum(best, root)
         first[j] = best
@@ -516,6 +505,7 @@ def root_summary(
         # passes of contacts of like length (sorted by the period^2 m / k, then the damping
         # time c / k), so that a pass's runs end together instead of stepping the short
         # contacts' arrays until the long ones end
+        keep_freed_pages()  # (the passes reuse the pages their temporaries free)
         k, c, m = flat[:3]
         order = np.lexsort((c / k, m / k))
         parts = [root_summary(*(a[order[i : i + chunk]] for a in flat), **settings)
@@ -563,19 +553,23 @@ def root_summary(
 def _merge(p0, p1, s0, s1, key, own, speed):
     """The pieces sorted by owner and start, adjacent ones of one pattern joined (the
     pattern and the end speed's quadratic are those of the first)."""
-    # by owner (stable): the order by owner and start where each owner's pieces came in
-    # order of their start, as from one interval (checked; else sorted by both)
-    order = np.argsort(own, kind="stable")
+    # by owner and grid interval (stable, integers): by owner and start where each
+    # interval's pieces came in order of their start, as the rounds append them (checked)
+    cell = np.clip(np.floor(p0 * _GRID), 0, _GRID - 1).astype(np.int64)
+    order = np.argsort(own * _GRID + cell, kind="stable")
     mine, start = own[order], p0[order]
     if np.any((mine[1:] == mine[:-1]) & (start[1:] < start[:-1])):
         order = np.lexsort((p0, own))
-    p0, p1, s0, s1, key, own = (a[order] for a in (p0, p1, s0, s1, key, own))
-    speed = speed[:, order]
+        mine, start = own[order], p0[order]
+    own, p0, p1 = mine, start, p1[order]
+    rows = np.ascontiguousarray(key).view(np.int64).reshape(key.size, len(key.dtype.names))
+    key = rows.take(order, axis=0).view(key.dtype).ravel()
     joins = np.zeros(p0.size, bool)
     joins[1:] = (own[1:] == own[:-1]) & (key[1:] == key[:-1]) & (p0[1:] == p1[:-1])
     starts = np.flatnonzero(~joins)
     lasts = np.append(starts[1:], p0.size) - 1
-    return p0[starts], p1[lasts], s0[starts], s1[lasts], own[starts], key[starts], speed[:, starts]
+    first, last = order[starts], order[lasts]  # (s0, s1 and speed are needed there alone)
+    return p0[starts], p1[lasts], s0[first], s1[last], own[starts], key[starts], speed[:, first]
 
 
 def _multisect(run, own, lo, hi, k_lo):
