@@ -54,6 +54,8 @@ _BATCH = 32_000  # contacts per call above which the searches take fewer phases 
 _ZOOM = 33  # phases per zoom round of an interior extreme
 _NODES = 5  # Gauss-Legendre nodes per piece (against 12: 1e-15, short contacts 9e-14; 4: 5e-13)
 _WIDTH = 2.0**-45  # a change of the end state is located to this (1/8 of a phase / 64^7)
+_FAN = 64  # phases per bracket and call of the root search at most
+_FAN_ROWS = 512  # ... while fewer brackets than this are left (then calls cost more)
 _ROOT_CALLS = 40  # calls of the root search at most (measured: up to 25), then the multisection
 
 
@@ -288,17 +290,30 @@ def _roots(flat, run, key, ii, a, c, left, right):
             est = xs - curv * (xs - la) * (xs - lc) / (slope + curv * (2.0 * xs - la - lc))
         est = np.where((s_a > 0) & (s_c > 0) & (est > la) & (est < lc), est, xs)
         far = np.where(lc - est > est - la, 1.0, -1.0)
-        x = est + far * (0.25 * _WIDTH) * 2.0 ** short[live]
-        mid = ~((x > la) & (x < lc)) | halve[live]  # (also where est is nan)
-        x = np.where(mid, 0.5 * (la + lc), x)
-        f, is_left, ok = side(live, x[:, None])
-        f, is_left = f[:, 0], is_left[:, 0]
-        fell = ~mid & ((far > 0) == is_left)
-        short[live] = np.where(mid, short[live], np.where(fell, short[live] + 1, 0))
-        r, s = live[ok & is_left], ok & is_left
-        p[r], fp[r], a[r], fa[r] = a[r], fa[r], x[s], f[s]
-        r, s = live[ok & ~is_left], ok & ~is_left
-        p[r], fp[r], c[r], fc[r] = c[r], fc[r], x[s], f[s]
+        # q phases per bracket: few brackets left take a fan of them (calls cost more
+        # than phases there), past the estimate towards the far end and before it
+        q = int(np.clip(_FAN_ROWS // live.size, 1, _FAN))
+        before = q // 2
+        fan = np.concatenate([-(2.0 ** np.arange(before))[::-1], 2.0 ** np.arange(q - before)])
+        x = est[:, None] + (far * (0.25 * _WIDTH) * 2.0 ** short[live])[:, None] * fan
+        x = np.sort(x, axis=1)
+        inside = (x > la[:, None]) & (x < lc[:, None])
+        mid = ~inside.any(axis=1) | halve[live]  # (also where est is nan): multisection
+        x = np.where(inside, x, np.clip(x, la[:, None], lc[:, None]))
+        split = la[:, None] + (lc - la)[:, None] * (np.arange(1, q + 1) / (q + 1))
+        x[mid] = split[mid]
+        f, is_left, ok = side(live, x)
+        # the first change, as the multisection keeps it
+        i = np.where(is_left.all(axis=1), q, np.argmin(is_left, axis=1))
+        rows = np.arange(live.size)
+        xf, ff = np.column_stack([la, x, lc]), np.column_stack([lfa, f, lfc])
+        missed = ~mid & ((i == 0) | (i == q)) & ((q > 1) | ((far > 0) == (i == q)))
+        short[live] = np.where(mid, short[live], np.where(missed, short[live] + q - before, 0))
+        nxt = np.where(i < q, i + 2, np.maximum(i - 1, 0))  # the point beyond the moved end
+        r = live[ok]
+        a[r], fa[r] = xf[rows, i][ok], ff[rows, i][ok]
+        c[r], fc[r] = xf[rows, i + 1][ok], ff[rows, i + 1][ok]
+        p[r], fp[r] = xf[rows, nxt][ok], ff[rows, nxt][ok]
         width = c[live] - a[live]
         halve[live] = (width > 0.5 * widths[-1, live]) & (short[live] >= 2)
         widths[1:, live] = widths[:-1, live]
