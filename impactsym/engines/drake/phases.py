@@ -7,14 +7,18 @@ a grid of phases and locates each change of the end state between grid points to
 ``2^-45`` (``2^-42`` of a grid interval). Where neither side sticks (``"tamsi"``,
 ``"similar"``, ``"lagged"``) the change is where the earlier end state ``j`` starts or
 stops ending, a zero of its end margin
-(:func:`~impactsym.engines.drake.stepping.end_margin`, smooth in the phase): regula
-falsi steps straddling the root, then trisection where rounding blurs the margin
-(~1e-11 of a phase; where the contact ends on the impulse floor, damping numbers
-``d v`` above ~5.5, the end state flips back and forth over ~2e-10 of a phase, and the
-change found may lie anywhere in that band, as the multisection's may: mean contact
-times then agree with it to ~1e-10 of a step), about 20 margins per change instead of 63
-(large batches) or 441 contacts; the full contact's end states at the bracket's ends
-confirm it. Elsewhere, or
+(:func:`~impactsym.engines.drake.stepping.end_margin`, smooth in the phase): one margin
+per bracket and call, at a quadratic-corrected regula falsi estimate stepped just past
+it towards the bracket's farther end, so that consecutive phases straddle the root
+(:func:`_roots`). Where rounding blurs the margin (1e-13 to 1e-11 of a phase, wider
+with the damping number ``d v``; where the contact ends on the impulse floor, ``d v``
+above ~5.5, ~2e-10) the end state flips back and forth, and the change found may lie
+anywhere in that band, as the multisection's may: mean contact times then agree with it
+to ~2e-11 of a step, ~3e-10 on the floor, as before. About 10 margins per change
+(measured over 10^4 random contacts: 9.1 for ``d v`` up to 4, 11.5-12 above; the
+former falsi, two phases per call, took 18 and 24-25) instead of 63 (large batches)
+or 441 contacts; the full contact's end states at the bracket's ends confirm it.
+Elsewhere, or
 where that fails, multisection on the full contact's end state (63 phases per call, 7
 calls, up to ~500 brackets; 3 phases, 21 calls, for more). Each smooth piece is
 integrated by 5-point Gauss–Legendre (the restitution is an algebraic, smooth function
@@ -224,20 +228,26 @@ def _roots(flat, run, key, ii, a, c, left, right):
     zero where state ``j`` stops or starts ending), to the width :data:`_WIDTH` of the
     multisection.
 
-    One margin per bracket and call: the root estimate is the regula falsi on the
-    bracket, corrected by a Newton step on the quadratic through the bracket's ends and
-    the end it last replaced (where those three points rise; superlinear, the bracket
-    closing from both sides), and the phase evaluated lies past it, towards the bracket's
-    farther end, by a quarter of the width, doubled after each such phase that fell
-    short: so consecutive phases straddle the root and the last two, a width apart,
-    shut the bracket. Where the margin is rounding (~1e-13-1e-11 of a phase, ~2e-10 on
-    the impulse floor) the end test flips back and forth: the doubling finds the other
-    side and, where the bracket has not halved in three calls while phases keep falling
-    short, bisection steps (the bracket keeps ``left`` at ``a`` and another state at
-    ``c``, as the multisection's does; which flip of the band it ends on is rounding).
-    Measured over 4300 changes of random contacts of 2-100 steps: 9.0 margins per
-    change for ``d v`` up to 4, 11.5-12 above (the old two-phase regula falsi with
-    trisection: 18 and 24.5). The phases' side is
+    Each call evaluates one margin per bracket (a margin costs a full contact run, and
+    large batches pay per phase): the estimate is the regula falsi on the bracket,
+    corrected by a Newton step on the quadratic through the bracket's ends and the
+    phase beyond the end moved last (where those three rise; superlinear), and the
+    phase evaluated lies past it, towards the bracket's farther end, by a quarter of
+    the width, doubled after each one that fell short. Consecutive phases then straddle
+    the root and the bracket closes from both sides; the last two, a width apart, shut
+    it (the two straddling phases of a certificate, one per call). Where the margin is
+    rounding the end test flips back and forth over a band of the phase (module
+    docstring): the doubling reaches past the band, and where the bracket has not
+    halved in three calls while phases keep falling short, a bisection step. Few
+    brackets left (under :data:`_FAN_ROWS`) take a fan of ``q`` phases per call
+    instead (up to :data:`_FAN`: a call costs ~0.8 ms whatever its few rows), at the
+    same step doubled outwards past the estimate and before it (``q = 2``: the two
+    straddling it by a quarter width). Of the phases of one call the first change is
+    kept, as the multisection keeps it. Measured over 10^4 random contacts of 2-100
+    steps (large batches: one phase per call): 9.1 margins per change for ``d v`` up
+    to 4, 11.5 for 4-5.5, 12.1 above (the former falsi, two phases per call straddling
+    its estimate, then trisection: 18.2, 24.1, 24.8); small batches take ~25% fewer
+    calls (all phases of a call run together). The phases' side is
     :func:`~impactsym.engines.drake.stepping.step_contact`'s own end test at state ``j``.
     Returns ``(found, a, c, at_found)``; ``found`` is False where a state before ``j``
     ends, a bracket sticks at an end, a margin is not finite, or the bracket is not
@@ -274,7 +284,7 @@ def _roots(flat, run, key, ii, a, c, left, right):
     live = live[ok]
     fa, fc = np.zeros(n), np.zeros(n)
     fa[live], fc[live] = f[ok, 0], f[ok, 1]
-    p, fp = np.full(n, np.nan), np.full(n, np.nan)  # the end replaced last
+    p, fp = np.full(n, np.nan), np.full(n, np.nan)  # the phase beyond the end moved last
     short = np.zeros(n)  # phases in a row that fell short of the root
     widths = np.tile(c - a, (3, 1))  # the bracket's width after the last three calls
     halve = np.zeros(n, bool)  # bisection next
