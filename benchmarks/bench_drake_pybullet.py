@@ -100,6 +100,14 @@ many brackets), the factor over the 2 s target after:
 * A refusal from a big call under gravity (256 lagged targets over 8-100 steps, one with
   e = 0.999): 136 s CPU -> 2.3 s (the table's box reached settled corners stepped to
   2e6 updates; they are now decided by their energy).
+* Drake lagged 1e-3, the phase means' root search one margin per bracket and call
+  (``drake.phases._roots``: a quadratic-corrected falsi stepped just past its estimate;
+  fans of phases for the last few brackets): ~10 margins per change instead of ~21, half
+  the calls for small batches. CPU seconds per 10^4 targets (``time.process_time``,
+  main and this back to back 3 times, load 3-3.5), before -> after: 2.83-3.11 ->
+  2.34-2.56 and 2.85-2.97 -> 2.44-2.69 (g = 0), 3.39-3.48 -> 2.81-3.28 and
+  2.87-2.94 -> 2.49-2.88 (g = 9.81); designs as before to 1.2e-13 for 99% (2000 per
+  case; a few in 10^3 move within the iteration's 1e-10).
 
 What stays over the target is the exact phase mean itself: one evaluation for 10^5 designs
 takes ~0.6-1.5 s (PyBullet, ``root_summary``, in passes of 8192; ~4 s, and ~25 s, before:
