@@ -14,7 +14,9 @@ it towards the bracket's farther end, so that consecutive phases straddle the ro
 with the damping number ``d v``; where the contact ends on the impulse floor, ``d v``
 above ~5.5, ~2e-10) the end state flips back and forth, and the change found may lie
 anywhere in that band, as the multisection's may: mean contact times then agree with it
-to ~2e-11 of a step, ~3e-10 on the floor, as before. About 10 margins per change
+to ~2e-11 of a step, ~3e-10 on the floor, as before (the band widens with ``d v``: ~1e-4
+of a phase at ``d v`` ~19 on contacts of ~250 steps, thousands of flips, where either
+search and the multisection land 1e-5 of a step apart). About 10 margins per change
 (measured over 10^4 random contacts: 9.1 for ``d v`` up to 4, 11.5-12 above; the
 former falsi, two phases per call, took 18 and 24-25) instead of 63 (large batches)
 or 441 contacts; the full contact's end states at the bracket's ends confirm it.
@@ -305,7 +307,8 @@ def _roots(flat, run, key, ii, a, c, left, right):
         q = int(np.clip(_FAN_ROWS // live.size, 1, _FAN))
         before = q // 2
         fan = np.concatenate([-(2.0 ** np.arange(before))[::-1], 2.0 ** np.arange(q - before)])
-        x = est[:, None] + (far * (0.25 * _WIDTH) * 2.0 ** short[live])[:, None] * fan
+        step = 0.25 * _WIDTH * 2.0 ** np.minimum(short[live], 64.0)  # (64: past any bracket)
+        x = est[:, None] + (far * step)[:, None] * fan
         x = np.sort(x, axis=1)
         inside = (x > la[:, None]) & (x < lc[:, None])
         mid = ~inside.any(axis=1) | halve[live]  # (also where est is nan): multisection
