@@ -78,7 +78,7 @@ def test_the_changes_found_are_the_multisections(approximation, seed, monkeypatc
     # 2e-10 on the impulse floor; a wrong change would be ~1e-3 away)
     dv = d * v
     gap = np.abs(a_r[found] - a_m[found])
-    assert np.median(gap) <= 2 * phases._WIDTH
+    assert np.mean(gap <= 1e-12) > 0.75  # (measured 0.85-0.88; half within 2 widths)
     assert np.all(gap[dv < 2.0] < 3e-12)
     assert np.all(gap[dv < 5.5] < 5e-11)
     assert np.all(gap < 5e-10)
