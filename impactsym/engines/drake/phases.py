@@ -22,22 +22,24 @@ former falsi, two phases per call, took 18 and 24-25) instead of 63 (large batch
 or 441 contacts; the full contact's end states at the bracket's ends confirm it.
 Elsewhere, or
 where that fails, multisection on the full contact's end state (63 phases per call, 7
-calls, up to ~500 brackets; 3 phases, 21 calls, for more). Each smooth piece is
-integrated by 5-point Gauss–Legendre (the restitution is an algebraic, smooth function
-of the phase there; against 12 nodes the mean moves by 1e-15 over 2500 random contacts
-of 2-100 steps, by up to 8.5e-14 on short contacts of ~2.4 steps with ``d v`` 3.5-4,
-by 5e-13 with 4 nodes and 2e-10 with 3, too much for designs held to 1e-12) and
-bounded by the piece ends (the one-sided limits at the jumps), the nodes, and
+calls, up to ~500 brackets; 3 phases, 21 calls, for more). The pieces are the quarters
+of the phase (two grid intervals each) cut at the changes, each integrated by 7-point
+Gauss–Legendre (the restitution is an algebraic, smooth function of the phase there;
+the error behaves as ``~1e-2 (L/2.5)^(2N)`` for ``N`` nodes on a length ``L``). Against
+16 nodes per quarter, over 12000 random contacts of 2.2-100 steps, ``d v`` up to 5,
+gravity 0 and 9.81 m/s^2, steps 1e-3 and 1e-4, the mean restitution moves by 0.8-1.4e-14
+at the 99th percentile (the former 5 nodes per eighth, 45 runs per design instead of
+35: 3-5e-14; 6 nodes per quarter: up to 2e-11 on the shortest contacts, too much for
+designs held to 1e-12; a few contacts in 10^4 whose end state changes inside a grid
+interval more than once, narrower than the grid, move by far more under either rule).
+The pieces are bounded by their ends (the one-sided limits at the jumps), the nodes, and
 a zoom search (33 phases per call) where an interior node is extreme. The piece ends
 are the grid phases and the located brackets' ends, whose contacts were run already:
 only the nodes are run again. Those runs take
 :func:`~impactsym.engines.drake.stepping.contact_ends` (``"sap"``: ``step_contact``),
-the same numbers bit for bit. A panel rule spanning several grid intervals of a smooth
-piece would run fewer nodes (one 10-node rule over a whole piece misses the mean by
-9e-11; that and the errors for 3, 4, 5 nodes per eighth, 2e-10, 5e-13, 1e-15, are
-consistent with ``~1e-2 (L/2.5)^(2N)`` for ``N`` nodes on a length ``L``: ~10 nodes per
-half, ~20 per design instead of ~45, not tried), but the
-largest overlap is sampled at the nodes, and the designs by it read that sample.
+the same numbers bit for bit. The largest overlap is the deepest sample; that is the
+last grid phase's (measured on every contact: the body enters almost a whole step deep
+before the first force), a piece end under either rule.
 All designs and pieces are evaluated together on whole arrays.
 """
 
@@ -58,7 +60,7 @@ _GRID = 8
 _SPLIT = 64  # multisection: 6 bits of the jump phase per call (2^-42: 7 calls)
 _BATCH = 32_000  # contacts per call above which the searches take fewer phases per call
 _ZOOM = 33  # phases per zoom round of an interior extreme
-_NODES = 5  # Gauss-Legendre nodes per piece (against 12: 1e-15, short contacts 9e-14; 4: 5e-13)
+_NODES = 7  # Gauss-Legendre nodes per piece (a quarter of the phase at most)
 _WIDTH = 2.0**-45  # a change of the end state is located to this (1/8 of a phase / 64^7)
 _FAN = 64  # phases per bracket and call of the root search at most
 _FAN_ROWS = 512  # ... while fewer brackets than this are left (then calls cost more)
@@ -126,7 +128,6 @@ def phase_summary(
     grid[-1] = 1.0 - 1e-15  # phases lie in [0, 1)
     lo = np.tile(grid[:-1], (size, 1))
     hi = np.tile(grid[1:], (size, 1))
-    i_all = np.repeat(np.arange(size), _GRID)
     i_grid = np.repeat(np.arange(size), _GRID + 1)
     at = np.tile(grid, size)
     at_grid = _fields(run(i_grid, at))
@@ -150,19 +151,30 @@ def phase_summary(
         rows, p = np.repeat(ii[todo], 2), np.column_stack([a[todo], c[todo]]).ravel()
         for f, g in zip(at_jump, _fields(run(rows, p)), strict=True):
             f[todo] = g.reshape(-1, 2)
-    ends = np.where(jump, np.nan, hi)
+    # the pieces: quarters of the phase (two grid intervals each), cut at the changes;
+    # the records at their ends come from the grid and the changes' brackets (run there)
+    ends = np.where(jump, np.nan, hi)  # of each interval's first piece, and its record
     ends[ii, kk] = a
-    p0 = np.concatenate([lo.ravel(), c])
-    p1 = np.concatenate([ends.ravel(), hi[ii, kk]])
-    own = np.concatenate([i_all, ii])
-    # the records at the piece ends, from the grid and the jumps' brackets (run there)
-    at_p0, at_p1 = [], []
+    f_ends = []
     for f, g in zip(at_grid, at_jump, strict=True):
-        f = f.reshape(size, _GRID + 1)
-        f_end = f[:, 1:].copy()
+        f_end = f.reshape(size, _GRID + 1)[:, 1:].copy()
         f_end[ii, kk] = g[:, 0]
-        at_p0.append(np.concatenate([f[:, :-1].ravel(), g[:, 1]]))
-        at_p1.append(np.concatenate([f_end.ravel(), f[ii, kk + 1]]))
+        f_ends.append(f_end)
+    even = np.arange(0, _GRID, 2)
+    # an even interval's first piece runs on through the odd one where it has no change
+    first_end = np.where(jump[:, even], ends[:, even], ends[:, even + 1])
+    odd_jump = kk % 2 == 1  # a change's second piece ends at its interval's end, or at
+    jump_end = np.where(odd_jump, hi[ii, kk], ends[ii, np.minimum(kk + 1, _GRID - 1)])
+    p0 = np.concatenate([lo[:, even].ravel(), c])  # the odd interval's end where even
+    p1 = np.concatenate([first_end.ravel(), jump_end])
+    own = np.concatenate([np.repeat(np.arange(size), even.size), ii])
+    at_p0, at_p1 = [], []
+    for f, f_end, g in zip(at_grid, f_ends, at_jump, strict=True):
+        f = f.reshape(size, _GRID + 1)
+        end_first = np.where(jump[:, even], f_end[:, even], f_end[:, even + 1])
+        end_jump = np.where(odd_jump, f[ii, kk + 1], f_end[ii, np.minimum(kk + 1, _GRID - 1)])
+        at_p0.append(np.concatenate([f[:, even].ravel(), g[:, 1]]))
+        at_p1.append(np.concatenate([end_first.ravel(), end_jump]))
 
     def run_inner(i, p):
         """``run`` at the pieces' samples (start, nodes, end), run at the nodes only."""
