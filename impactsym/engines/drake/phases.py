@@ -11,17 +11,18 @@ stops ending, a zero of its end margin
 per bracket and call, at a quadratic-corrected regula falsi estimate stepped just past
 it towards the bracket's farther end, so that consecutive phases straddle the root
 (:func:`_roots`). Where rounding blurs the margin (1e-13 to 1e-11 of a phase, wider
-with the damping number ``d v``; where the contact ends on the impulse floor, ``d v``
-above ~5.5, ~2e-10) the end state flips back and forth, and the change found may lie
-anywhere in that band, as the multisection's may: mean contact times then agree with it
-to ~2e-11 of a step, ~3e-10 on the floor, as before (the band widens with ``d v``: ~1e-4
-of a phase at ``d v`` ~19 on contacts of ~250 steps, thousands of flips, where either
-search and the multisection land 1e-5 of a step apart). About 10 margins per change
-(measured over 10^4 random contacts: 9.1 for ``d v`` up to 4, 11.5-12 above; the
-former falsi, two phases per call, took 18 and 24-25) instead of 63 (large batches)
-or 441 contacts; the full contact's end states at the bracket's ends confirm it.
-Elsewhere, or
-where that fails, multisection on the full contact's end state (63 phases per call, 7
+with the damping number ``d v``) the end state flips back and forth, and the change
+found may lie anywhere in that band, as the multisection's may: mean contact times then
+agree with it to ~2e-11 of a step for ``d v`` below 2 and ~2e-10 up to 5.5 (contacts of
+2-100 steps; 3e-10 on contacts of 300-500). About 10 margins per change (measured over
+10^4 random contacts: 9.1 for ``d v`` up to 4, 11.5 for 4-5.5; the former falsi, two
+phases per call, took 18 and 24) instead of 63 (large batches) or 441 contacts; the
+full contact's end states at the bracket's ends confirm it. Where the contact may end on
+the impulse floor (``d v`` above :data:`_FLOOR`) the end state can change several
+times inside one grid interval, and the margin of one state does not see an earlier
+change of another: on a contact of 2.7 steps at ``d v = 18.8`` it found the third of
+three changes, the mean contact time 3.8e-3 steps off (found by review); there, and
+where the search fails, multisection on the full contact's end state (63 phases per call, 7
 calls, up to ~500 brackets; 3 phases, 21 calls, for more). The pieces are the quarters
 of the phase (two grid intervals each) cut at the changes, each integrated by 7-point
 Gauss–Legendre (the restitution is an algebraic, smooth function of the phase there;
@@ -63,8 +64,9 @@ _ZOOM = 33  # phases per zoom round of an interior extreme
 _NODES = 7  # Gauss-Legendre nodes per piece (a quarter of the phase at most)
 _WIDTH = 2.0**-45  # a change of the end state is located to this (1/8 of a phase / 64^7)
 _FAN = 64  # phases per bracket and call of the root search at most
-_FAN_ROWS = 512  # ... while fewer brackets than this are left (then calls cost more)
-_ROOT_CALLS = 40  # calls of the root search at most (measured: up to 25), then the multisection
+_FAN_ROWS = 512  # fans of _FAN_ROWS // brackets phases (from 2: 256 brackets or fewer left)
+_ROOT_CALLS = 40  # calls of the root search at most (measured: up to 35), then the multisection
+_FLOOR = 5.5  # damping numbers d v above which the multisection locates the changes
 
 
 @dataclass(frozen=True, eq=False)
@@ -260,11 +262,14 @@ def _roots(flat, run, key, ii, a, c, left, right):
     kept, as the multisection keeps it. Measured over 10^4 random contacts of 2-100
     steps (large batches: one phase per call): 9.1 margins per change for ``d v`` up
     to 4, 11.5 for 4-5.5, 12.1 above (the former falsi, two phases per call straddling
-    its estimate, then trisection: 18.2, 24.1, 24.8); small batches take ~25% fewer
-    calls (all phases of a call run together). The phases' side is
+    its estimate, then trisection: 18.2, 24.1, 24.8); small batches take about half the
+    calls (20 designs: 6-9 against 13-19; all phases of a call run together). Brackets
+    of contacts with ``d v`` above :data:`_FLOOR` are left to the multisection (module
+    docstring). The phases' side is
     :func:`~impactsym.engines.drake.stepping.step_contact`'s own end test at state ``j``.
     Returns ``(found, a, c, at_found)``; ``found`` is False where a state before ``j``
-    ends, a bracket sticks at an end, a margin is not finite, or the bracket is not
+    ends, the contact's ``d v`` exceeds :data:`_FLOOR`, a bracket sticks at an end, a margin
+    is not finite, or the bracket is not
     shut after :data:`_ROOT_CALLS` calls; and where the end states of
     :func:`step_contact` at the final ``a`` and ``c`` are not ``left`` and another
     (then the multisection decides); ``at_found`` holds the contact's record at
@@ -276,7 +281,7 @@ def _roots(flat, run, key, ii, a, c, left, right):
     # the records at the final (a, c) where found
     at_found = ContactEnds(*(np.zeros((n, 2), t) for t in (float, float, bool, float)))
     j = np.minimum(left, right)
-    live = np.flatnonzero(j >= 0)
+    live = np.flatnonzero((j >= 0) & (flat[1][ii] * flat[5][ii] <= _FLOOR))
     if live.size == 0:
         return found, a, c, at_found
     sign = np.where(left == j, 1.0, -1.0)  # f = sign * margin: f <= 0 at the left end
