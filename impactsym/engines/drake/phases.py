@@ -25,22 +25,24 @@ three changes, the mean contact time 3.8e-3 steps off (found by review); there, 
 where the search fails, multisection on the full contact's end state (63 phases per call, 7
 calls, up to ~500 brackets; 3 phases, 21 calls, for more). The pieces are the quarters
 of the phase (two grid intervals each) cut at the changes, each integrated by 7-point
-Gauss–Legendre (the restitution is an algebraic, smooth function of the phase there;
-the error behaves as ``~1e-2 (L/2.5)^(2N)`` for ``N`` nodes on a length ``L``). Against
-16 nodes per quarter, over 12000 random contacts of 2.2-100 steps, ``d v`` up to 5,
-gravity 0 and 9.81 m/s^2, steps 1e-3 and 1e-4, the mean restitution moves by 0.8-1.4e-14
-at the 99th percentile (the former 5 nodes per eighth, 45 runs per design instead of
-35: 3-5e-14; 6 nodes per quarter: up to 2e-11 on the shortest contacts, too much for
-designs held to 1e-12; a few contacts in 10^4 whose end state changes inside a grid
-interval more than once, narrower than the grid, move by far more under either rule).
-The pieces are bounded by their ends (the one-sided limits at the jumps), the nodes, and
-a zoom search (33 phases per call) where an interior node is extreme. The piece ends
-are the grid phases and the located brackets' ends, whose contacts were run already:
-only the nodes are run again. Those runs take
+Gauss–Legendre (the restitution is an algebraic, smooth function of the phase there; the
+error of a typical contact behaves as ``~1e-2 (L/2.5)^(2N)`` for ``N`` nodes on a length
+``L``; contacts of under 3 steps do worse: 5e-13 at most). Against 16 nodes per quarter,
+over 12000 random contacts of 2.2-100 steps (log-uniform), ``d v`` up to 5, gravity 0
+and 9.81 m/s^2, steps 1e-3 and 1e-4, the mean restitution moves by 0.8-1.4e-14 at the
+99th percentile (the former 5 nodes per eighth, 45 runs per design instead of 35:
+3-5e-14; 6 nodes per quarter: up to 2e-11 on the shortest contacts, too much for designs
+held to 1e-12; contacts whose end state changes more than once inside a grid interval,
+narrower than the grid, move by far more under either rule: a few in 10^4, about 1 % of
+those of 2-4 steps). The bounds are over the piece ends (the one-sided limits at the
+jumps), the nodes and every grid phase (the odd ones lie inside the quarters), and a
+zoom search (33 phases per call) where an interior node is extreme. The piece ends are
+the grid phases and the located brackets' ends, whose contacts were run already: only
+the nodes are run again. Those runs take
 :func:`~impactsym.engines.drake.stepping.contact_ends` (``"sap"``: ``step_contact``),
 the same numbers bit for bit. The largest overlap is the deepest sample; that is the
-last grid phase's (measured on every contact: the body enters almost a whole step deep
-before the first force), a piece end under either rule.
+last grid phase's on every contact that does not stick (measured: the body enters almost
+a whole step deep before the first force).
 All designs and pieces are evaluated together on whole arrays.
 """
 
@@ -165,9 +167,12 @@ def phase_summary(
     even = np.arange(0, _GRID, 2)
     # an even interval's first piece runs on through the odd one where it has no change
     first_end = np.where(jump[:, even], ends[:, even], ends[:, even + 1])
-    odd_jump = kk % 2 == 1  # a change's second piece ends at its interval's end, or at
+    # a change's second piece ends at its interval's end where that is odd, else at the
+    # odd interval's first end (its change where it has one; the index is clipped only
+    # to keep the branch not taken in range)
+    odd_jump = kk % 2 == 1
     jump_end = np.where(odd_jump, hi[ii, kk], ends[ii, np.minimum(kk + 1, _GRID - 1)])
-    p0 = np.concatenate([lo[:, even].ravel(), c])  # the odd interval's end where even
+    p0 = np.concatenate([lo[:, even].ravel(), c])
     p1 = np.concatenate([first_end.ravel(), jump_end])
     own = np.concatenate([np.repeat(np.arange(size), even.size), ii])
     at_p0, at_p1 = [], []
@@ -199,14 +204,17 @@ def phase_summary(
         e_lo = np.fmin(e_lo, _interior_extreme(run, own, pts, e, -1.0))
         e_hi = np.fmax(e_hi, _interior_extreme(run, own, pts, e, 1.0))
     pen = res.max_penetration.reshape(pts.shape).max(axis=1)
+    # the bounds over every sample: the pieces' and the grid's (the odd grid phases lie
+    # inside the quarters)
+    e_g, t_g, _, pen_g = (f.reshape(size, _GRID + 1) for f in at_grid)
     fields = (
         e_mean,
         t_mean,
-        reduce_at(np.minimum, own, e_lo, size, np.inf),
-        reduce_at(np.maximum, own, e_hi, size, -np.inf),
-        reduce_at(np.minimum, own, t.min(axis=1), size, np.inf),
-        reduce_at(np.maximum, own, t.max(axis=1), size, -np.inf),
-        reduce_at(np.maximum, own, pen, size, 0.0),
+        np.fmin(reduce_at(np.minimum, own, e_lo, size, np.inf), e_g.min(axis=1)),
+        np.fmax(reduce_at(np.maximum, own, e_hi, size, -np.inf), e_g.max(axis=1)),
+        np.fmin(reduce_at(np.minimum, own, t.min(axis=1), size, np.inf), t_g.min(axis=1)),
+        np.fmax(reduce_at(np.maximum, own, t.max(axis=1), size, -np.inf), t_g.max(axis=1)),
+        np.fmax(reduce_at(np.maximum, own, pen, size, 0.0), pen_g.max(axis=1)),
         stick_frac,
     )
     return PhaseSummary(*(np.reshape(f, shape) for f in fields))
