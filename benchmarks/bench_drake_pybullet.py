@@ -111,15 +111,27 @@ many brackets), the factor over the 2 s target after:
 * A refusal from a big call under gravity (256 lagged targets over 8-100 steps, one with
   e = 0.999): 136 s CPU -> 2.3 s (the table's box reached settled corners stepped to
   2e6 updates; they are now decided by their energy).
+* Drake lagged 1e-3, the phase means' root search one margin per bracket and call
+  (``drake.phases._roots``: a quadratic-corrected falsi stepped just past its estimate;
+  fans of phases for the last few brackets): ~10 margins per change instead of ~21, half
+  the calls for small batches. CPU seconds per 10^4 targets (``time.process_time``,
+  main and this back to back 3 times, load 3-3.5), before -> after: 2.83-3.11 ->
+  2.34-2.56 and 2.85-2.97 -> 2.44-2.69 (g = 0), 3.39-3.48 -> 2.81-3.28 and
+  2.87-2.94 -> 2.49-2.88 (g = 9.81); designs as before to 1.2e-13 for 99% (2000 per
+  case; a few in 10^3 move within the iteration's 1e-10).
+* Drake lagged 1e-3, the phase summary's pieces the quarters of the phase cut at the
+  changes, 7 Gauss nodes each (35 runs per design instead of 45; the mean 0.8-1.4e-14
+  from 16 nodes at the 99th percentile, the former 5 per eighth 3-5e-14): ``predict``
+  of 10^5 designs of 20-40 steps (CPU seconds, one run each, load ~3-4), main -> the
+  root search -> the quarters: 4.65 -> 3.49 -> 2.62 (g = 0), 5.43 -> 4.29 -> 3.59
+  (g = 9.81).
 
 What stays over the target is the exact phase mean itself: one evaluation for 10^5 designs
 takes ~0.6-1.5 s (PyBullet, ``root_summary``, in passes of 8192; ~4 s, and ~25 s, before:
 tracked runs of the map from 8 grid phases and each root, ~10 per design) and 16-20 s CPU
 (Drake lagged, without the range search, designs of 20-40 steps, g = 0 and 9.81; 22-26 s
-with the multisection; ~3 s since the lean loop, about half of it the Gauss nodes of the
-eight phase intervals, a quarter the margins of the root search; the nodes cannot move
-to fewer panels: one rule over each smooth piece, 10 nodes, misses the mean by 9e-11,
-and the designs by largest overlap read its sample at the nodes), and
+with the multisection; ~3 s since the lean loop; ~2 s since the one-margin root search
+and the quarter pieces, most of it the Gauss nodes and the grid), and
 a design takes 10-50 of them (Drake lagged from a table: ~5.5, PyBullet from a table: 2,
 or ~3 for the contact_time array, whose table cells mostly hold a kink; its prediction
 comes free). A table per step ratio (the targets share speed and mass), inverted, cuts

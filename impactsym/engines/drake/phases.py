@@ -7,31 +7,42 @@ a grid of phases and locates each change of the end state between grid points to
 ``2^-45`` (``2^-42`` of a grid interval). Where neither side sticks (``"tamsi"``,
 ``"similar"``, ``"lagged"``) the change is where the earlier end state ``j`` starts or
 stops ending, a zero of its end margin
-(:func:`~impactsym.engines.drake.stepping.end_margin`, smooth in the phase): regula
-falsi steps straddling the root, then trisection where rounding blurs the margin
-(~1e-11 of a phase; where the contact ends on the impulse floor, damping numbers
-``d v`` above ~5.5, the end state flips back and forth over ~2e-10 of a phase, and the
-change found may lie anywhere in that band, as the multisection's may: mean contact
-times then agree with it to ~1e-10 of a step), about 20 margins per change instead of 63
-(large batches) or 441 contacts; the full contact's end states at the bracket's ends
-confirm it. Elsewhere, or
-where that fails, multisection on the full contact's end state (63 phases per call, 7
-calls, up to ~500 brackets; 3 phases, 21 calls, for more). Each smooth piece is
-integrated by 5-point Gauss–Legendre (the restitution is an algebraic, smooth function
-of the phase there; against 12 nodes the mean moves by 1e-15 over 2500 random contacts
-of 2-100 steps, by up to 8.5e-14 on short contacts of ~2.4 steps with ``d v`` 3.5-4,
-by 5e-13 with 4 nodes and 2e-10 with 3, too much for designs held to 1e-12) and
-bounded by the piece ends (the one-sided limits at the jumps), the nodes, and
-a zoom search (33 phases per call) where an interior node is extreme. The piece ends
-are the grid phases and the located brackets' ends, whose contacts were run already:
-only the nodes are run again. Those runs take
+(:func:`~impactsym.engines.drake.stepping.end_margin`, smooth in the phase): one margin
+per bracket and call, at a quadratic-corrected regula falsi estimate stepped just past
+it towards the bracket's farther end, so that consecutive phases straddle the root
+(:func:`_roots`). Where rounding blurs the margin (1e-13 to 1e-11 of a phase, wider
+with the damping number ``d v``) the end state flips back and forth, and the change
+found may lie anywhere in that band, as the multisection's may: mean contact times then
+agree with it to ~2e-11 of a step for ``d v`` below 2 and ~2e-10 up to 5.5 (contacts of
+2-100 steps; 3e-10 on contacts of 300-500). About 10 margins per change (measured over
+10^4 random contacts: 9.1 for ``d v`` up to 4, 11.5 for 4-5.5; the former falsi, two
+phases per call, took 18 and 24) instead of 63 (large batches) or 441 contacts; the
+full contact's end states at the bracket's ends confirm it. Where the contact may end on
+the impulse floor (``d v`` above :data:`_FLOOR`) the end state can change several
+times inside one grid interval, and the margin of one state does not see an earlier
+change of another: on a contact of 2.7 steps at ``d v = 18.8`` it found the third of
+three changes, the mean contact time 3.8e-3 steps off (found by review); there, and
+where the search fails, multisection on the full contact's end state (63 phases per call, 7
+calls, up to ~500 brackets; 3 phases, 21 calls, for more). The pieces are the quarters
+of the phase (two grid intervals each) cut at the changes, each integrated by 7-point
+Gauss–Legendre (the restitution is an algebraic, smooth function of the phase there; the
+error of a typical contact behaves as ``~1e-2 (L/2.5)^(2N)`` for ``N`` nodes on a length
+``L``; contacts of under 3 steps do worse: 5e-13 at most). Against 16 nodes per quarter,
+over 12000 random contacts of 2.2-100 steps (log-uniform), ``d v`` up to 5, gravity 0
+and 9.81 m/s^2, steps 1e-3 and 1e-4, the mean restitution moves by 0.8-1.4e-14 at the
+99th percentile (the former 5 nodes per eighth, 45 runs per design instead of 35:
+3-5e-14; 6 nodes per quarter: up to 2e-11 on the shortest contacts, too much for designs
+held to 1e-12; contacts whose end state changes more than once inside a grid interval,
+narrower than the grid, move by far more under either rule: a few in 10^4, about 1 % of
+those of 2-4 steps). The bounds are over the piece ends (the one-sided limits at the
+jumps), the nodes and every grid phase (the odd ones lie inside the quarters), and a
+zoom search (33 phases per call) where an interior node is extreme. The piece ends are
+the grid phases and the located brackets' ends, whose contacts were run already: only
+the nodes are run again. Those runs take
 :func:`~impactsym.engines.drake.stepping.contact_ends` (``"sap"``: ``step_contact``),
-the same numbers bit for bit. A panel rule spanning several grid intervals of a smooth
-piece would run fewer nodes (one 10-node rule over a whole piece misses the mean by
-9e-11; that and the errors for 3, 4, 5 nodes per eighth, 2e-10, 5e-13, 1e-15, are
-consistent with ``~1e-2 (L/2.5)^(2N)`` for ``N`` nodes on a length ``L``: ~10 nodes per
-half, ~20 per design instead of ~45, not tried), but the
-largest overlap is sampled at the nodes, and the designs by it read that sample.
+the same numbers bit for bit. The largest overlap is the deepest sample; that is the
+last grid phase's on every contact that does not stick (measured: the body enters almost
+a whole step deep before the first force).
 All designs and pieces are evaluated together on whole arrays.
 """
 
@@ -52,10 +63,12 @@ _GRID = 8
 _SPLIT = 64  # multisection: 6 bits of the jump phase per call (2^-42: 7 calls)
 _BATCH = 32_000  # contacts per call above which the searches take fewer phases per call
 _ZOOM = 33  # phases per zoom round of an interior extreme
-_NODES = 5  # Gauss-Legendre nodes per piece (against 12: 1e-15, short contacts 9e-14; 4: 5e-13)
+_NODES = 7  # Gauss-Legendre nodes per piece (a quarter of the phase at most)
 _WIDTH = 2.0**-45  # a change of the end state is located to this (1/8 of a phase / 64^7)
-_ROOT_CALLS = 20  # calls of the root search at most, then the multisection
-_NOISE = 1e-8  # brackets (of a phase) below which a stalled falsi turns to trisection
+_FAN = 64  # phases per bracket and call of the root search at most
+_FAN_ROWS = 512  # fans of _FAN_ROWS // brackets phases (from 2: 256 brackets or fewer left)
+_ROOT_CALLS = 40  # calls of the root search at most (measured: up to 35), then the multisection
+_FLOOR = 5.5  # damping numbers d v above which the multisection locates the changes
 
 
 @dataclass(frozen=True, eq=False)
@@ -119,7 +132,6 @@ def phase_summary(
     grid[-1] = 1.0 - 1e-15  # phases lie in [0, 1)
     lo = np.tile(grid[:-1], (size, 1))
     hi = np.tile(grid[1:], (size, 1))
-    i_all = np.repeat(np.arange(size), _GRID)
     i_grid = np.repeat(np.arange(size), _GRID + 1)
     at = np.tile(grid, size)
     at_grid = _fields(run(i_grid, at))
@@ -143,19 +155,33 @@ def phase_summary(
         rows, p = np.repeat(ii[todo], 2), np.column_stack([a[todo], c[todo]]).ravel()
         for f, g in zip(at_jump, _fields(run(rows, p)), strict=True):
             f[todo] = g.reshape(-1, 2)
-    ends = np.where(jump, np.nan, hi)
+    # the pieces: quarters of the phase (two grid intervals each), cut at the changes;
+    # the records at their ends come from the grid and the changes' brackets (run there)
+    ends = np.where(jump, np.nan, hi)  # of each interval's first piece, and its record
     ends[ii, kk] = a
-    p0 = np.concatenate([lo.ravel(), c])
-    p1 = np.concatenate([ends.ravel(), hi[ii, kk]])
-    own = np.concatenate([i_all, ii])
-    # the records at the piece ends, from the grid and the jumps' brackets (run there)
-    at_p0, at_p1 = [], []
+    f_ends = []
     for f, g in zip(at_grid, at_jump, strict=True):
-        f = f.reshape(size, _GRID + 1)
-        f_end = f[:, 1:].copy()
+        f_end = f.reshape(size, _GRID + 1)[:, 1:].copy()
         f_end[ii, kk] = g[:, 0]
-        at_p0.append(np.concatenate([f[:, :-1].ravel(), g[:, 1]]))
-        at_p1.append(np.concatenate([f_end.ravel(), f[ii, kk + 1]]))
+        f_ends.append(f_end)
+    even = np.arange(0, _GRID, 2)
+    # an even interval's first piece runs on through the odd one where it has no change
+    first_end = np.where(jump[:, even], ends[:, even], ends[:, even + 1])
+    # a change's second piece ends at its interval's end where that is odd, else at the
+    # odd interval's first end (its change where it has one; the index is clipped only
+    # to keep the branch not taken in range)
+    odd_jump = kk % 2 == 1
+    jump_end = np.where(odd_jump, hi[ii, kk], ends[ii, np.minimum(kk + 1, _GRID - 1)])
+    p0 = np.concatenate([lo[:, even].ravel(), c])
+    p1 = np.concatenate([first_end.ravel(), jump_end])
+    own = np.concatenate([np.repeat(np.arange(size), even.size), ii])
+    at_p0, at_p1 = [], []
+    for f, f_end, g in zip(at_grid, f_ends, at_jump, strict=True):
+        f = f.reshape(size, _GRID + 1)
+        end_first = np.where(jump[:, even], f_end[:, even], f_end[:, even + 1])
+        end_jump = np.where(odd_jump, f[ii, kk + 1], f_end[ii, np.minimum(kk + 1, _GRID - 1)])
+        at_p0.append(np.concatenate([f[:, even].ravel(), g[:, 1]]))
+        at_p1.append(np.concatenate([end_first.ravel(), end_jump]))
 
     def run_inner(i, p):
         """``run`` at the pieces' samples (start, nodes, end), run at the nodes only."""
@@ -178,14 +204,17 @@ def phase_summary(
         e_lo = np.fmin(e_lo, _interior_extreme(run, own, pts, e, -1.0))
         e_hi = np.fmax(e_hi, _interior_extreme(run, own, pts, e, 1.0))
     pen = res.max_penetration.reshape(pts.shape).max(axis=1)
+    # the bounds over every sample: the pieces' and the grid's (the odd grid phases lie
+    # inside the quarters)
+    e_g, t_g, _, pen_g = (f.reshape(size, _GRID + 1) for f in at_grid)
     fields = (
         e_mean,
         t_mean,
-        reduce_at(np.minimum, own, e_lo, size, np.inf),
-        reduce_at(np.maximum, own, e_hi, size, -np.inf),
-        reduce_at(np.minimum, own, t.min(axis=1), size, np.inf),
-        reduce_at(np.maximum, own, t.max(axis=1), size, -np.inf),
-        reduce_at(np.maximum, own, pen, size, 0.0),
+        np.fmin(reduce_at(np.minimum, own, e_lo, size, np.inf), e_g.min(axis=1)),
+        np.fmax(reduce_at(np.maximum, own, e_hi, size, -np.inf), e_g.max(axis=1)),
+        np.fmin(reduce_at(np.minimum, own, t.min(axis=1), size, np.inf), t_g.min(axis=1)),
+        np.fmax(reduce_at(np.maximum, own, t.max(axis=1), size, -np.inf), t_g.max(axis=1)),
+        np.fmax(reduce_at(np.maximum, own, pen, size, 0.0), pen_g.max(axis=1)),
         stick_frac,
     )
     return PhaseSummary(*(np.reshape(f, shape) for f in fields))
@@ -223,19 +252,36 @@ def _roots(flat, run, key, ii, a, c, left, right):
     zero where state ``j`` stops or starts ending), to the width :data:`_WIDTH` of the
     multisection.
 
-    Regula falsi with Illinois weights, each call evaluating two phases per bracket that
-    straddle the estimate (by a quarter of the last move, or 16 times its square
-    over the bracket, at least a quarter of the width), so that the bracket closes from
-    both sides; once that fails to shrink the bracket fourfold (the margin is
-    rounding noise below ~1e-11 of a phase) trisection finishes it. The phases' side is
+    Each call evaluates one margin per bracket (a margin costs a full contact run, and
+    large batches pay per phase): the estimate is the regula falsi on the bracket,
+    corrected by a Newton step on the quadratic through the bracket's ends and the
+    phase beyond the end moved last (where those three rise; superlinear), and the
+    phase evaluated lies past it, towards the bracket's farther end, by a quarter of
+    the width, doubled after each one that fell short. Consecutive phases then straddle
+    the root and the bracket closes from both sides; the last two, a width apart, shut
+    it (the two straddling phases of a certificate, one per call). Where the margin is
+    rounding the end test flips back and forth over a band of the phase (module
+    docstring): the doubling reaches past the band, and where the bracket has not
+    halved in three calls while phases keep falling short, a bisection step. Few
+    brackets left (under :data:`_FAN_ROWS`) take a fan of ``q`` phases per call
+    instead (up to :data:`_FAN`: a call costs ~0.8 ms whatever its few rows), at the
+    same step doubled outwards past the estimate and before it (``q = 2``: the two
+    straddling it by a quarter width). Of the phases of one call the first change is
+    kept, as the multisection keeps it. Measured over 10^4 random contacts of 2-100
+    steps (large batches: one phase per call): 9.1 margins per change for ``d v`` up
+    to 4, 11.5 for 4-5.5, 12.1 above (the former falsi, two phases per call straddling
+    its estimate, then trisection: 18.2, 24.1, 24.8); small batches take about half the
+    calls (20 designs: 6-9 against 13-19; all phases of a call run together). Brackets
+    of contacts with ``d v`` above :data:`_FLOOR` are left to the multisection (module
+    docstring). The phases' side is
     :func:`~impactsym.engines.drake.stepping.step_contact`'s own end test at state ``j``.
-    Returns ``(found, a, c, at_found)``; ``found`` is False where a
-    state before ``j`` ends, a bracket sticks at an end, a margin is not finite, or the
-    bracket is not shut after
-    :data:`_ROOT_CALLS` calls; and where the end states of :func:`step_contact` at the
-    final ``a`` and ``c`` are not ``left`` and another (then the multisection decides);
-    ``at_found`` holds the contact's record at ``(a, c)`` (``n x 2``) where found (the
-    pieces' ends: not run again).
+    Returns ``(found, a, c, at_found)``; ``found`` is False where a state before ``j``
+    ends, the contact's ``d v`` exceeds :data:`_FLOOR`, a bracket sticks at an end, a margin
+    is not finite, or the bracket is not
+    shut after :data:`_ROOT_CALLS` calls; and where the end states of
+    :func:`step_contact` at the final ``a`` and ``c`` are not ``left`` and another
+    (then the multisection decides); ``at_found`` holds the contact's record at
+    ``(a, c)`` (``n x 2``) where found (the pieces' ends: not run again).
     """
     n = ii.size
     found = np.zeros(n, bool)
@@ -243,68 +289,74 @@ def _roots(flat, run, key, ii, a, c, left, right):
     # the records at the final (a, c) where found
     at_found = ContactEnds(*(np.zeros((n, 2), t) for t in (float, float, bool, float)))
     j = np.minimum(left, right)
-    live = np.flatnonzero(j >= 0)
+    live = np.flatnonzero((j >= 0) & (flat[1][ii] * flat[5][ii] <= _FLOOR))
     if live.size == 0:
         return found, a, c, at_found
     sign = np.where(left == j, 1.0, -1.0)  # f = sign * margin: f <= 0 at the left end
 
     def side(rows, p):
-        """``f`` at phases ``p`` (2 per bracket ``rows``), whether each is on the left
-        side, and whether the margin decides there."""
-        r2 = np.repeat(rows, 2)
-        k, d, _, m, g, v, h = (x[ii[r2]] for x in flat)  # (no relaxation time)
-        margin, ends, valid = end_margin(k, d, m, g, v, h, p, j[r2])
-        f = (sign[r2] * margin).reshape(-1, 2)
-        is_left = (ends == (left[r2] == j[r2])).reshape(-1, 2)
-        ok = (valid & np.isfinite(margin)).reshape(-1, 2).all(axis=1)
+        """``f`` at phases ``p`` (``len(rows) x q``: ``q`` per bracket ``rows``),
+        whether each is on the left side, and whether the margin decides there."""
+        q = p.shape[1]
+        r = np.repeat(rows, q)
+        k, d, _, m, g, v, h = (x[ii[r]] for x in flat)  # (no relaxation time)
+        margin, ends, valid = end_margin(k, d, m, g, v, h, p.ravel(), j[r])
+        f = (sign[r] * margin).reshape(-1, q)
+        is_left = (ends == (left[r] == j[r])).reshape(-1, q)
+        ok = (valid & np.isfinite(margin)).reshape(-1, q).all(axis=1)
         return f, is_left, ok
 
-    f, is_left, ok = side(live, np.column_stack([a[live], c[live]]).ravel())
+    f, is_left, ok = side(live, np.column_stack([a[live], c[live]]))
     ok &= is_left[:, 0] & ~is_left[:, 1] & (f[:, 0] <= 0) & (f[:, 1] > 0)
     live = live[ok]
     fa, fc = np.zeros(n), np.zeros(n)
     fa[live], fc[live] = f[ok, 0], f[ok, 1]
-    wa, wc = fa.copy(), fc.copy()  # the Illinois weights
-    moved = np.zeros(n, int)  # 1: a moved last, -1: c, 0: both
-    last = np.full(n, np.nan)
-    stalls = np.zeros(n, int)
+    p, fp = np.full(n, np.nan), np.full(n, np.nan)  # the phase beyond the end moved last
+    short = np.zeros(n)  # phases in a row that fell short of the root
+    widths = np.tile(c - a, (3, 1))  # the bracket's width after the last three calls
+    halve = np.zeros(n, bool)  # bisection next
     for _ in range(_ROOT_CALLS):
         if live.size == 0:
             break
-        la, lc = a[live], c[live]
+        la, lc, lfa, lfc, lp, lfp = (y[live] for y in (a, c, fa, fc, p, fp))
         with np.errstate(all="ignore"):
-            x = la - wa[live] * (lc - la) / (wc[live] - wa[live])
-        x = np.where(np.isfinite(x) & (x > la) & (x < lc), x, 0.5 * (la + lc))
-        move = np.abs(x - last[live])
-        delta = np.where(np.isfinite(move), np.minimum(0.25 * move, 16.0 * move**2 / (lc - la)),
-                         (lc - la) / 32.0)  # fmt: skip
-        delta = np.maximum(delta, 0.25 * _WIDTH)
-        last[live] = x
-        x1, x2 = np.maximum(x - delta, la), np.minimum(x + delta, lc)
-        # where the falsi stalls in a narrow bracket (a call without shrinking it fourfold:
-        # the margin is rounding there, ~1e-11 of a phase), trisection
-        third = (stalls[live] >= 1) & (lc - la < _NOISE)
-        x1 = np.where(third, la + (lc - la) / 3.0, x1)
-        x2 = np.where(third, la + 2.0 * (lc - la) / 3.0, x2)
-        f, is_left, ok = side(live, np.column_stack([x1, x2]).ravel())
-        # the first change, as the multisection keeps it (rounding may add more)
-        none = ok & ~is_left[:, 0]
-        both = ok & is_left[:, 0] & is_left[:, 1]
-        cut = ok & is_left[:, 0] & ~is_left[:, 1]
-        r = live[both]
-        a[r], fa[r], wa[r] = x2[both], f[both, 1], f[both, 1]
-        wc[r] = np.where(moved[r] == 1, 0.5 * wc[r], wc[r])
-        moved[r] = 1
-        r = live[none]
-        c[r], fc[r], wc[r] = x1[none], f[none, 0], f[none, 0]
-        wa[r] = np.where(moved[r] == -1, 0.5 * wa[r], wa[r])
-        moved[r] = -1
-        r = live[cut]
-        a[r], fa[r], wa[r], c[r], fc[r], wc[r] = (x1[cut], f[cut, 0], f[cut, 0], x2[cut],
-                                                   f[cut, 1], f[cut, 1])  # fmt: skip
-        moved[r] = 0
-        stalls[live] += c[live] - a[live] > 0.25 * (lc - la)
-        shut = ok & (c[live] - a[live] <= _WIDTH)
+            xs = la - lfa * (lc - la) / (lfc - lfa)  # regula falsi
+            slope = (lfc - lfa) / (lc - la)
+            s_a, s_c = (lfp - lfa) / (lp - la), (lfp - lfc) / (lp - lc)
+            curv = (s_a - slope) / (lp - lc)  # f[a, c, p]
+            est = xs - curv * (xs - la) * (xs - lc) / (slope + curv * (2.0 * xs - la - lc))
+        est = np.where((s_a > 0) & (s_c > 0) & (est > la) & (est < lc), est, xs)
+        far = np.where(lc - est > est - la, 1.0, -1.0)
+        # q phases per bracket: few brackets left take a fan of them (calls cost more
+        # than phases there), past the estimate towards the far end and before it
+        q = int(np.clip(_FAN_ROWS // live.size, 1, _FAN))
+        before = q // 2
+        fan = np.concatenate([-(2.0 ** np.arange(before))[::-1], 2.0 ** np.arange(q - before)])
+        step = 0.25 * _WIDTH * 2.0 ** np.minimum(short[live], 64.0)  # (64: past any bracket)
+        x = est[:, None] + (far * step)[:, None] * fan
+        x = np.sort(x, axis=1)
+        inside = (x > la[:, None]) & (x < lc[:, None])
+        mid = ~inside.any(axis=1) | halve[live]  # (also where est is nan): multisection
+        x = np.where(inside, x, np.clip(x, la[:, None], lc[:, None]))
+        split = la[:, None] + (lc - la)[:, None] * (np.arange(1, q + 1) / (q + 1))
+        x[mid] = split[mid]
+        f, is_left, ok = side(live, x)
+        # the first change, as the multisection keeps it
+        i = np.where(is_left.all(axis=1), q, np.argmin(is_left, axis=1))
+        rows = np.arange(live.size)
+        xf, ff = np.column_stack([la, x, lc]), np.column_stack([lfa, f, lfc])
+        missed = ~mid & ((i == 0) | (i == q)) & ((q > 1) | ((far > 0) == (i == q)))
+        short[live] = np.where(mid, short[live], np.where(missed, short[live] + q - before, 0))
+        nxt = np.where(i < q, i + 2, np.maximum(i - 1, 0))  # the point beyond the moved end
+        r = live[ok]
+        a[r], fa[r] = xf[rows, i][ok], ff[rows, i][ok]
+        c[r], fc[r] = xf[rows, i + 1][ok], ff[rows, i + 1][ok]
+        p[r], fp[r] = xf[rows, nxt][ok], ff[rows, nxt][ok]
+        width = c[live] - a[live]
+        halve[live] = (width > 0.5 * widths[-1, live]) & (short[live] >= 2)
+        widths[1:, live] = widths[:-1, live]
+        widths[0, live] = width
+        shut = ok & (width <= _WIDTH)
         found[live[shut]] = True
         live = live[ok & ~shut]
     done = np.flatnonzero(found)
