@@ -67,6 +67,7 @@ import numpy as np
 
 from impactsym.contact.lawclosed import hunt_crossley_parameter
 from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
+from impactsym.engines.drake.jump_means import jump_holds, jump_means
 from impactsym.engines.drake.phases import phase_summary
 
 __all__ = [
@@ -100,6 +101,9 @@ STEPS = 16
 #: Exact phase means at most along the contour for the designs next to a plateau's edge.
 EDGE_STEPS = 80
 _E_TOL, _Q_TOL = 1e-12, 1e-10  # a design is done within these (as the iteration's)
+# the designs by contact time on the equations of a change at a given phase: within these
+# (a tenth and a tenth of those: the exact means agree with them to ~2e-14 and ~1e-12 steps)
+_JUMP_TOL = (1e-13, 1e-11)
 
 
 def stepped_designs(
@@ -178,12 +182,22 @@ def _group(e, v, m, g, target, h, approx, size_name):
         # the next box: the starts found, widened by a cell and a margin
         cell = (s_nodes[1] - s_nodes[0], w_nodes[1] - w_nodes[0])
         box = tuple(_widened(x[found], c) for x, c in zip((s, w), cell, strict=True))
+    if size_name == "contact_time":  # the size fixes where the end state changes
+        s_j, w_j, done_j = _broyden(_jump_rows(m, v, g, h, q), s, w, jac.copy(), e, q, *box,
+                                    tol=_JUMP_TOL)  # fmt: skip
+        rows = np.flatnonzero(done_j)
+        held = rows[jump_holds(*(a[rows] for a in (m * (w_j / h) ** 2, s_j / v, m, g, v)),
+                               h, q[rows])]  # fmt: skip
+        ok[held] = True
+        k_out[held], d_out[held] = m[held] * (w_j[held] / h) ** 2, s_j[held] / v[held]
+        s, w = s.copy(), w.copy()
+        s[held] = w[held] = np.nan  # done: the exact phase means leave them
     s, w, done = _broyden(mean_rows, s, w, jac, e, q, *box)
     rest = np.flatnonzero(~done & np.isfinite(s) & np.isfinite(w))
     if rest.size:  # next to a plateau's edge: a bracket in w along the contour
         s[rest], w[rest], done[rest] = _edge(mean_rows, rest, s[rest], w[rest], jac[rest],
                                              e[rest], q[rest], box[1])  # fmt: skip
-    ok[done] = True
+    ok[done] = True  # (done holds none of the jump's: they were left out)
     k_out[done] = m[done] * (w[done] / h) ** 2
     d_out[done] = s[done] / v[done]
     return ok, k_out, d_out
@@ -195,6 +209,18 @@ def _widened(x, cell):
     lo, hi = x.min(), x.max()
     pad = cell + MARGIN * (hi - lo)
     return (max(lo - pad, 0.5 * lo), hi + pad)
+
+
+def _jump_rows(m, v, g, h, q):
+    """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows`` by
+    contact time if their end state changes once, where the target puts it
+    (:func:`~impactsym.engines.drake.jump_means.jump_means`)."""
+
+    def mean(s, w, rows):
+        mr = m[rows]
+        return jump_means(mr * (w / h) ** 2, s / v[rows], mr, g[rows], v[rows], h, q[rows])
+
+    return mean
 
 
 def _means_rows(m, v, g, h, approx, size_name, unit):
@@ -256,9 +282,10 @@ def _start(s_nodes, w_nodes, E, Q, e, q):
     return s, w, jac
 
 
-def _broyden(mean, s, w, jac, e, q, s_box, w_box):
-    """Broyden's method on ``(E, Q)(s, w) = (e, q)`` with the exact phase means (module
-    docstring): the designs and where they are done."""
+def _broyden(mean, s, w, jac, e, q, s_box, w_box, tol=(_E_TOL, _Q_TOL)):
+    """Broyden's method on ``(E, Q)(s, w) = (e, q)`` with the phase means ``mean``
+    (module docstring): the designs and where they are done (within ``tol``: of the
+    restitution, and relative of the size)."""
     n = e.size
     done = np.zeros(n, bool)
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
@@ -269,7 +296,7 @@ def _broyden(mean, s, w, jac, e, q, s_box, w_box):
             break
         e_t, q_t = mean(x[live, 0], x[live, 1], live)
         f = np.stack([e_t - e[live], q_t - q[live]], axis=1)
-        hit = (np.abs(f[:, 0]) <= _E_TOL) & (np.abs(f[:, 1]) <= _Q_TOL * q[live])
+        hit = (np.abs(f[:, 0]) <= tol[0]) & (np.abs(f[:, 1]) <= tol[1] * q[live])
         done[live[hit]] = True
         finite = np.all(np.isfinite(f), axis=1)
         if f_prev is not None:  # Broyden's update of the Jacobian along the last step

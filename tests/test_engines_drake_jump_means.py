@@ -1,0 +1,96 @@
+"""The phase means of a Drake contact whose end state changes once, where the size puts
+the change: the equations of the table's designs by contact time.
+
+Checked against what did not make them: ``phase_summary``, which samples the phases,
+searches for the change and integrates its own pieces.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from impactsym.engines import drake
+from impactsym.engines.drake import step_table
+from impactsym.engines.drake.jump_means import jump_holds, jump_means
+from impactsym.engines.drake.phases import phase_summary
+from impactsym.engines.drake.step_table import MIN_TARGETS, stepped_designs
+
+H = 1e-3
+
+
+def _contacts(n, gravity, seed):
+    """Random contacts of 5-60 steps, damping numbers d v of 0-3, and their exact means
+    (those that do not stick at any phase)."""
+    rng = np.random.default_rng(seed)
+    m, v = rng.uniform(0.05, 2.0, n), rng.uniform(0.2, 3.0, n)
+    w = np.pi / rng.uniform(5.0, 60.0, n)  # the step in units of sqrt(m/k)
+    k, d, g = m * (w / H) ** 2, rng.uniform(0.0, 3.0, n) / v, np.full(n, gravity)
+    exact = phase_summary(k, d, 0.0, m, g, v, H, approximation="lagged", bounds=False)
+    free = np.isfinite(exact.contact_time)
+    return [a[free] for a in (k, d, m, g, v)], (exact.restitution[free], exact.contact_time[free])
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+def test_at_the_change_the_means_are_the_searched_ones(gravity):
+    rows, (e, t) = _contacts(1500, gravity, 11)
+    q = t / H
+    held = jump_holds(*rows, H, q)
+    assert held.mean() > 0.75  # most contacts change their end state once
+    r = jump_means(*rows, H, q)
+    np.testing.assert_allclose(r.restitution[held], e[held], rtol=0,
+                               atol=5e-14)  # fmt: skip
+    np.testing.assert_allclose(r.size[held], q[held], rtol=0, atol=1e-11)
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+def test_off_the_change_the_means_are_right_to_second_order(gravity):
+    # the target puts the change delta away from where it lies: the estimates miss the
+    # searched means by O(delta^2), about 5 delta^2 in the size (steps), 0.1 delta^2 in e
+    # (the restitution is continuous at the change without gravity; under it, the
+    # offset's share h g/v per phase counts)
+    rows, (e, t) = _contacts(1500, gravity, 12)
+    q = t / H
+    phi = q - 0.5 - np.floor(q - 0.5)
+    held = jump_holds(*rows, H, q) & (phi > 0.05) & (phi < 0.95)
+    assert held.sum() > 900
+    for delta in (1e-2, 1e-3, 1e-4):
+        r = jump_means(*rows, H, q + delta)
+        assert np.max(np.abs(r.size - q)[held]) < 20.0 * delta**2
+        assert np.max(np.abs(r.restitution - e)[held]) < 0.5 * delta**2 + 1e-13
+        # first order would be off: the offset's share matters
+        assert np.max(np.abs(r.size - q - delta)[held]) > 0.5 * delta
+
+
+def test_the_structure_is_refused_where_it_does_not_hold():
+    rows, (_, t) = _contacts(400, 0.0, 13)
+    q = t / H
+    held = jump_holds(*rows, H, q)
+    # the change put a third of a phase away: a grid phase between sees the other end
+    moved = jump_holds(*rows, H, np.where(q - np.floor(q) < 0.5, q + 0.3, q - 0.3))
+    assert held.mean() > 0.75
+    assert not moved[held].any()
+    # a heavily damped contact under gravity that sticks at every phase
+    one = np.ones(1)
+    assert not jump_holds(1e3 * one, 50.0 * one, one, 9.81 * one, 0.1 * one, H, 30.5 * one)[0]
+
+
+@pytest.mark.parametrize("jump", [True, False])
+def test_designs_by_contact_time_from_the_change_or_the_searched_means(jump, monkeypatch):
+    rng = np.random.default_rng(14)
+    n = MIN_TARGETS
+    e, t = rng.uniform(0.3, 0.6, n), rng.uniform(2e-2, 4e-2, n)
+    calls = []
+
+    def holds(*args):
+        calls.append(args[0].size)
+        return jump_holds(*args) & jump
+
+    monkeypatch.setattr(step_table, "jump_holds", holds)
+    one = np.ones(n)
+    ok, k, d = stepped_designs(e, one, 0.1 * one, 0 * one, t, H, "lagged", "contact_time")
+    assert calls[0] > 0.9 * n  # the change's equations met nearly every target
+    assert ok.mean() > 0.9
+    p = drake.predict(stiffness=k[ok], dissipation=d[ok], mass=0.1, speed=1.0, time_step=H)
+    np.testing.assert_allclose(p.restitution, e[ok], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(p.contact_time, t[ok], rtol=1e-10)
