@@ -94,3 +94,23 @@ def test_designs_by_contact_time_from_the_change_or_the_searched_means(jump, mon
     p = drake.predict(stiffness=k[ok], dissipation=d[ok], mass=0.1, speed=1.0, time_step=H)
     np.testing.assert_allclose(p.restitution, e[ok], rtol=0, atol=1e-12)
     np.testing.assert_allclose(p.contact_time, t[ok], rtol=1e-10)
+
+
+def test_the_change_s_jacobian_lets_a_design_converge_in_few_evaluations(monkeypatch):
+    # from the differences of the cheap rule Broyden's steps converge by ~1e3 each (the
+    # table's cell, across the kinks, gives ~1e2: about 6 evaluations a design)
+    rng = np.random.default_rng(15)
+    n = 4 * MIN_TARGETS
+    e, t = rng.uniform(0.3, 0.6, n), rng.uniform(2e-2, 4e-2, n)
+    sizes = {"full": 0, "cheap": 0}
+
+    def spy(*args, **rule):
+        sizes["cheap" if rule else "full"] += args[0].size
+        return jump_means(*args, **rule)
+
+    monkeypatch.setattr(step_table, "jump_means", spy)
+    one = np.ones(n)
+    ok, _, _ = stepped_designs(e, one, 0.1 * one, 0 * one, t, H, "lagged", "contact_time")
+    assert ok.mean() > 0.95
+    assert sizes["full"] < 5.0 * n
+    assert sizes["cheap"] <= 3 * n  # one start and two differences each

@@ -58,8 +58,6 @@ from impactsym.engines.drake.stepping import contact_ends, end_state, margin_at
 __all__ = ["JumpMeans", "jump_holds", "jump_means"]
 
 _NODES = 8  # Gauss-Legendre nodes per panel
-_X, _W = np.polynomial.legendre.leggauss(_NODES)
-_X, _W = 0.5 * (_X + 1.0), 0.5 * _W  # on [0, 1]
 _DPHASE = 2.0**-20  # the difference in the phase for the margin's slope
 _GRID = np.linspace(0.0, 1.0, 9)  # phase_summary's grid
 _GRID[-1] = 1.0 - 1e-15
@@ -71,6 +69,12 @@ class JumpMeans(NamedTuple):
 
     restitution: np.ndarray
     size: np.ndarray
+
+
+def _gauss(nodes):
+    """Gauss–Legendre nodes and weights on ``[0, 1]``."""
+    x, w = np.polynomial.legendre.leggauss(nodes)
+    return 0.5 * (x + 1.0), 0.5 * w
 
 
 def _split(q):
@@ -95,24 +99,26 @@ def _panels(phi, base):
 
 def jump_means(
     k: np.ndarray, d: np.ndarray, m: np.ndarray, g: np.ndarray, v: np.ndarray, h: float,
-    q: np.ndarray,
+    q: np.ndarray, *, nodes: int = _NODES,
 ) -> JumpMeans:  # fmt: skip
     """The phase means of the contacts ``(k, d, m, g, v)`` at step ``h`` if their end
     state changes once, from ``B + 1`` to ``B``, where the size in steps ``q`` puts it
     (module docstring): to second order in the change's offset, exact at the design.
-    Flat arrays of one length."""
+    Flat arrays of one length. ``nodes``: Gauss nodes per panel (fewer: a cheaper rule
+    whose error is smooth in the parameters, for differences of the means)."""
     n = k.size
     base, phi = _split(q)
     a, b, step = _panels(phi, base)
-    nodes = a[:, :, None] + (b - a)[:, :, None] * _X
-    weights = ((b - a)[:, :, None] * _W).reshape(n, -1)
+    x01, w01 = _gauss(nodes)
+    phases_in = a[:, :, None] + (b - a)[:, :, None] * x01
+    weights = ((b - a)[:, :, None] * w01).reshape(n, -1)
     toward = np.where(phi < 0.5, _DPHASE, -_DPHASE)  # the slope's difference, inwards
-    phases = np.concatenate([nodes.ravel(), phi, phi + toward, phi])
-    steps = np.concatenate([np.repeat(step.ravel(), _NODES), base, base, base + 1])
-    rows = np.concatenate([np.repeat(np.arange(n), 3 * _NODES), np.tile(np.arange(n), 3)])
+    phases = np.concatenate([phases_in.ravel(), phi, phi + toward, phi])
+    steps = np.concatenate([np.repeat(step.ravel(), nodes), base, base, base + 1])
+    rows = np.concatenate([np.repeat(np.arange(n), 3 * nodes), np.tile(np.arange(n), 3)])
     x, u, _, flat = end_state(*(a[rows] for a in (k, d, m, g, v)), h, phases, steps)
     e = -u / flat[4]
-    inner = n * 3 * _NODES
+    inner = n * 3 * nodes
     restitution = np.einsum("ij,ij->i", weights, e[:inner].reshape(n, -1))
     at = slice(inner, inner + 2 * n)
     margin, _ = margin_at(x[at], u[at], *(a[at] for a in flat))
@@ -135,10 +141,11 @@ def jump_holds(
     n = k.size
     base, phi = _split(q)
     a, b, _ = _panels(phi, base)
+    x01, _ = _gauss(_NODES)
     # the nodes next to the change: the last of the panel ending at it, the first after
-    last_before = np.where(phi > 0.5, a[:, 1] + (b[:, 1] - a[:, 1]) * _X[-1], b[:, 0] * _X[-1])
-    first_after = np.where(phi > 0.5, a[:, 2] + (b[:, 2] - a[:, 2]) * _X[0],
-                           a[:, 1] + (b[:, 1] - a[:, 1]) * _X[0])  # fmt: skip
+    last_before = np.where(phi > 0.5, a[:, 1] + (b[:, 1] - a[:, 1]) * x01[-1], b[:, 0] * x01[-1])
+    first_after = np.where(phi > 0.5, a[:, 2] + (b[:, 2] - a[:, 2]) * x01[0],
+                           a[:, 1] + (b[:, 1] - a[:, 1]) * x01[0])  # fmt: skip
     phases = np.concatenate([np.tile(_GRID, (n, 1)), last_before[:, None], first_after[:, None]],
                             axis=1)  # fmt: skip
     rows = np.repeat(np.arange(n), phases.shape[1])

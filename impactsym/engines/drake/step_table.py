@@ -27,6 +27,21 @@ and the exact phase means finish it:
   damping, so the contour ``E = e`` crosses it once (linear interpolation), and along the
   contour ``Q`` falls with ``w``; the first sign change of ``Q - q`` along it (linear
   interpolation again) is the start, the table's cell there gives the Jacobian.
+* **Designs by contact time** first: the size in steps ``q`` fixes where the end state
+  changes (:mod:`~impactsym.engines.drake.jump_means`), and on that change's two
+  equations, smooth in ``(s, w)`` (no plateau, no search for the change), Broyden's
+  steps run from the Jacobian of forward differences (:data:`_DIFF` relative) of a rule
+  of :data:`_DIFF_NODES` Gauss nodes per panel, good to about ``1e-5`` where the
+  table's cell, across the kinks, is good to about a percent. A design is done within
+  ``1e-13`` of the restitution and ``1e-11`` relative of the size (a tenth of the
+  tolerances below each, so that the exact phase means, which agree with the change's
+  to ``~2e-14`` and ``~1e-12`` steps, meet those), and kept where the full contact
+  confirms the change at the phase grid
+  (:func:`~impactsym.engines.drake.jump_means.jump_holds`). Measured on the
+  benchmark's targets (20-40 steps): about 4.4 evaluations of 27 state runs and three
+  of 9 per design, against about six phase means of ~85 runs and ~19 margins with the
+  table's Jacobian; 98-100 % of the targets kept. The others, and every design by
+  largest overlap, take the steps below from the table's start.
 * **The steps**: Broyden's method on the exact phase means (one
   :func:`~impactsym.engines.drake.phases.phase_summary` per step for all designs at
   once), at most :data:`STEPS` evaluations. Where a step leaves the contact time
@@ -44,9 +59,10 @@ and the exact phase means finish it:
   narrower than the phase grid of :func:`~impactsym.engines.drake.phases.phase_summary`,
   reaching a grid phase) is left to the caller's iteration.
 
-The steps converge about a hundredfold each (the table's Jacobian is good to about a
-percent: the kinks), so a design takes about five and a half phase means instead of the
-twenty-odd of the nested iteration; a few targets in a thousand, within a few
+On the exact phase means the steps converge about a hundredfold each (the table's
+Jacobian is good to about a percent: the kinks), so a design takes about five and a
+half phase means instead of the twenty-odd of the nested iteration; a few targets in a
+thousand, within a few
 hundredths of a step of a plateau's edge (the contact time in steps near ``N + 1/2``),
 take the contour search, and fewer still are left to the iteration. The tables cost
 ``16 * 16 + NODES_S * NODES_W`` phase means per group. The caller
@@ -104,6 +120,7 @@ _E_TOL, _Q_TOL = 1e-12, 1e-10  # a design is done within these (as the iteration
 # the designs by contact time on the equations of a change at a given phase: within these
 # (a tenth and a tenth of those: the exact means agree with them to ~2e-14 and ~1e-12 steps)
 _JUMP_TOL = (1e-13, 1e-11)
+_DIFF, _DIFF_NODES = 1e-6, 2  # the differences of the change's Jacobian, and their rule
 
 
 def stepped_designs(
@@ -183,7 +200,8 @@ def _group(e, v, m, g, target, h, approx, size_name):
         cell = (s_nodes[1] - s_nodes[0], w_nodes[1] - w_nodes[0])
         box = tuple(_widened(x[found], c) for x, c in zip((s, w), cell, strict=True))
     if size_name == "contact_time":  # the size fixes where the end state changes
-        s_j, w_j, done_j = _broyden(_jump_rows(m, v, g, h, q), s, w, jac.copy(), e, q, *box,
+        jac_j = _jump_jacobian(m, v, g, h, q, s, w, jac)
+        s_j, w_j, done_j = _broyden(_jump_rows(m, v, g, h, q), s, w, jac_j, e, q, *box,
                                     tol=_JUMP_TOL)  # fmt: skip
         rows = np.flatnonzero(done_j)
         held = rows[jump_holds(*(a[rows] for a in (m * (w_j / h) ** 2, s_j / v, m, g, v)),
@@ -211,16 +229,41 @@ def _widened(x, cell):
     return (max(lo - pad, 0.5 * lo), hi + pad)
 
 
-def _jump_rows(m, v, g, h, q):
+def _jump_rows(m, v, g, h, q, **rule):
     """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows`` by
     contact time if their end state changes once, where the target puts it
-    (:func:`~impactsym.engines.drake.jump_means.jump_means`)."""
+    (:func:`~impactsym.engines.drake.jump_means.jump_means`, with ``rule``)."""
 
     def mean(s, w, rows):
         mr = m[rows]
-        return jump_means(mr * (w / h) ** 2, s / v[rows], mr, g[rows], v[rows], h, q[rows])
+        return jump_means(mr * (w / h) ** 2, s / v[rows], mr, g[rows], v[rows], h, q[rows],
+                          **rule)  # fmt: skip
 
     return mean
+
+
+def _jump_jacobian(m, v, g, h, q, s, w, jac):
+    """The Jacobian of the change's equations at the starts ``(s, w)`` (``n x 2 x 2``;
+    the table's ``jac`` where a start is not finite): forward differences over
+    :data:`_DIFF` relative of a rule of :data:`_DIFF_NODES` Gauss nodes per panel, whose
+    error is smooth in the parameters (good to ~1e-5; the table's cell, across the kinks,
+    to about a percent: Broyden's steps converge about a hundredfold each from it)."""
+    out = jac.copy()
+    live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
+    if live.size == 0:
+        return out
+    ds, dw = _DIFF * s[live], _DIFF * w[live]
+    sl, wl = s[live], w[live]
+    mean = _jump_rows(m, v, g, h, q, nodes=_DIFF_NODES)
+    e_t, q_t = mean(np.concatenate([sl, sl + ds, sl]), np.concatenate([wl, wl, wl + dw]),
+                    np.tile(live, 3))  # fmt: skip
+    n = live.size
+    for f, F in enumerate((e_t, q_t)):
+        out[live, f, 0] = (F[n : 2 * n] - F[:n]) / ds
+        out[live, f, 1] = (F[2 * n :] - F[:n]) / dw
+    bad = ~np.isfinite(out[live]).all(axis=(1, 2))
+    out[live[bad]] = jac[live[bad]]
+    return out
 
 
 def _means_rows(m, v, g, h, approx, size_name, unit):
