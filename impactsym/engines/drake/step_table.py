@@ -31,15 +31,16 @@ and the exact phase means finish it:
   changes (:mod:`~impactsym.engines.drake.jump_means`), and on that change's two
   equations, smooth in ``(s, w)`` (no plateau, no search for the change), Broyden's
   steps run from the Jacobian of forward differences (:data:`_DIFF` relative) of a rule
-  of :data:`_DIFF_NODES` Gauss nodes per panel, good to about ``1e-5`` where the
-  table's cell, across the kinks, is good to about a percent. A design is done within
+  of :data:`_DIFF_NODES` Gauss node per panel (the panels' midpoints), good to about
+  ``1e-6`` (median; 3e-3 at the 99th percentile) where the table's cell, across the
+  kinks, is good to about a percent. A design is done within
   ``1e-13`` of the restitution and ``1e-11`` relative of the size (a tenth of the
   tolerances below each, so that the exact phase means, which agree with the change's
   to ``~2e-14`` and ``~1e-12`` steps, meet those), and kept where the full contact
   confirms the change at the phase grid
   (:func:`~impactsym.engines.drake.jump_means.jump_holds`). Measured on the
   benchmark's targets (20-40 steps): about 4.4 evaluations of 27 state runs and three
-  of 9 per design, against about six phase means of ~85 runs and ~19 margins with the
+  of 6 per design, against about six phase means of ~85 runs and ~19 margins with the
   table's Jacobian; 98-100 % of the targets kept. The others, and every design by
   largest overlap, take the steps below from the table's start.
 * **The steps**: Broyden's method on the exact phase means (one
@@ -120,7 +121,7 @@ _E_TOL, _Q_TOL = 1e-12, 1e-10  # a design is done within these (as the iteration
 # the designs by contact time on the equations of a change at a given phase: within these
 # (a tenth and a tenth of those: the exact means agree with them to ~2e-14 and ~1e-12 steps)
 _JUMP_TOL = (1e-13, 1e-11)
-_DIFF, _DIFF_NODES = 1e-6, 2  # the differences of the change's Jacobian, and their rule
+_DIFF, _DIFF_NODES = 1e-6, 1  # the differences of the change's Jacobian, and their rule
 
 
 def stepped_designs(
@@ -245,9 +246,11 @@ def _jump_rows(m, v, g, h, q, **rule):
 def _jump_jacobian(m, v, g, h, q, s, w, jac):
     """The Jacobian of the change's equations at the starts ``(s, w)`` (``n x 2 x 2``;
     the table's ``jac`` where a start is not finite): forward differences over
-    :data:`_DIFF` relative of a rule of :data:`_DIFF_NODES` Gauss nodes per panel, whose
-    error is smooth in the parameters (good to ~1e-5; the table's cell, across the kinks,
-    to about a percent: Broyden's steps converge about a hundredfold each from it)."""
+    :data:`_DIFF` relative of a rule of :data:`_DIFF_NODES` Gauss node per panel, whose
+    error is smooth in the parameters (against central differences of the full rule:
+    1e-6 median, 3e-3 at the 99th percentile, as good as two nodes in the steps it
+    saves; the table's cell, across the kinks, is good to about a percent: Broyden's
+    steps converge about a hundredfold each from it)."""
     out = jac.copy()
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
     if live.size == 0:
