@@ -55,7 +55,7 @@ import numpy as np
 
 from impactsym.engines.drake.stepping import contact_ends, end_state, margin_at
 
-__all__ = ["JumpMeans", "jump_holds", "jump_means"]
+__all__ = ["JumpMeans", "jump_holds", "jump_means", "last_overlap"]
 
 _NODES = 8  # Gauss-Legendre nodes per panel
 _DPHASE = 2.0**-20  # the difference in the phase for the margin's slope
@@ -65,10 +65,12 @@ _CLEAR = 1e-9  # grid phases this close to the change are not checked (the nodes
 
 
 class JumpMeans(NamedTuple):
-    """:func:`jump_means`: the phase-mean restitution and contact time in steps."""
+    """:func:`jump_means`: the phase-mean restitution and contact time in steps, and the
+    restitution without the change's offset (``fixed``: the two pieces' integrals)."""
 
     restitution: np.ndarray
     size: np.ndarray
+    fixed: np.ndarray
 
 
 def _gauss(nodes):
@@ -126,18 +128,31 @@ def jump_means(
     with np.errstate(all="ignore"):  # (a flat margin: no finite size, the step refuses it)
         offset = -mu * toward / (mu_next - mu)
     e_before, e_after = e[inner + 2 * n :], e[inner : inner + n]
-    return JumpMeans(restitution + (e_before - e_after) * offset, base + 0.5 + phi + offset)
+    return JumpMeans(restitution + (e_before - e_after) * offset, base + 0.5 + phi + offset,
+                     restitution)  # fmt: skip
+
+
+def last_overlap(
+    k: np.ndarray, d: np.ndarray, m: np.ndarray, g: np.ndarray, v: np.ndarray, h: float
+) -> np.ndarray:
+    """The largest overlap of the contact at the last phase of the grid of
+    :func:`~impactsym.engines.drake.phases.phase_summary` (``1 - 1e-15``), the very
+    number it samples there (``nan`` where it sticks): the phase summary's largest
+    overlap where it is the deepest of its samples (module docstring). Flat arrays."""
+    r = contact_ends(k, d, m, g, v, h, _GRID[-1], stuck_peaks=False)
+    return np.where(r.sticks, np.nan, r.max_penetration)
 
 
 def jump_holds(
     k: np.ndarray, d: np.ndarray, m: np.ndarray, g: np.ndarray, v: np.ndarray, h: float,
-    q: np.ndarray,
+    q: np.ndarray, *, deepest_last: bool = False,
 ) -> np.ndarray:  # fmt: skip
     """Where the contacts' end state is ``B + 1`` before the phase the size ``q`` puts the
     change at and ``B`` after it, nothing sticking, at the phase grid of
     :func:`~impactsym.engines.drake.phases.phase_summary` (those within ``1e-9`` of the
     change left out) and at the Gauss nodes next to it: :func:`jump_means` then holds the
-    means (module docstring). Flat arrays of one length."""
+    means (module docstring). ``deepest_last``: and no phase run overlaps deeper than the
+    last grid phase (:func:`last_overlap`). Flat arrays of one length."""
     n = k.size
     base, phi = _split(q)
     a, b, _ = _panels(phi, base)
@@ -157,4 +172,8 @@ def jump_holds(
     check[:, -2] = phi > 0.0  # the nodes (none before an empty first piece)
     check[:, -1] = True
     good = (ends == want) | ~check
-    return good.all(axis=1) & ~r.sticks.reshape(phases.shape).any(axis=1)
+    held = good.all(axis=1) & ~r.sticks.reshape(phases.shape).any(axis=1)
+    if deepest_last:
+        depth = r.max_penetration.reshape(phases.shape)
+        held &= depth.max(axis=1) <= depth[:, _GRID.size - 1]
+    return held

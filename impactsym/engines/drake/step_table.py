@@ -84,7 +84,7 @@ import numpy as np
 
 from impactsym.contact.lawclosed import hunt_crossley_parameter
 from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
-from impactsym.engines.drake.jump_means import jump_holds, jump_means
+from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
 from impactsym.engines.drake.phases import phase_summary
 
 __all__ = [
@@ -121,7 +121,8 @@ _E_TOL, _Q_TOL = 1e-12, 1e-10  # a design is done within these (as the iteration
 # the designs by contact time on the equations of a change at a given phase: within these
 # (a tenth and a tenth of those: the exact means agree with them to ~2e-14 and ~1e-12 steps)
 _JUMP_TOL = (1e-13, 1e-11)
-_DIFF, _DIFF_NODES = 1e-6, 1  # the differences of the change's Jacobian, and their rule
+_SETTLED = 1e-6  # steps the change's estimate may move in a design's last evaluation
+_DIFF, _CHEAP = 1e-6, {"nodes": 1}  # the differences of the change's Jacobian, their rule
 
 
 def stepped_designs(
@@ -185,14 +186,14 @@ def _group(e, v, m, g, target, h, approx, size_name):
     mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
 
     def mean(s, w):
-        return mean_rows(s, w, np.zeros(s.size, int))
+        return mean_rows(s, w, np.zeros(s.size, int), steps=True)
 
     for nodes in (COARSE, (NODES_S, NODES_W)):
         s_nodes, w_nodes = (
             np.linspace(*side, count) for side, count in zip(box, nodes, strict=True)
         )
         S, W = np.meshgrid(s_nodes, w_nodes, indexing="ij")
-        E, Q = (a.reshape(S.shape) for a in mean(S.ravel(), W.ravel()))
+        E, Q, T = (a.reshape(S.shape) for a in mean(S.ravel(), W.ravel()))
         s, w, jac = _start(s_nodes, w_nodes, E, Q, e, q)
         found = np.isfinite(s)
         if not found.any():
@@ -200,17 +201,21 @@ def _group(e, v, m, g, target, h, approx, size_name):
         # the next box: the starts found, widened by a cell and a margin
         cell = (s_nodes[1] - s_nodes[0], w_nodes[1] - w_nodes[0])
         box = tuple(_widened(x[found], c) for x, c in zip((s, w), cell, strict=True))
-    if size_name == "contact_time":  # the size fixes where the end state changes
-        jac_j = _jump_jacobian(m, v, g, h, q, s, w, jac)
-        s_j, w_j, done_j = _broyden(_jump_rows(m, v, g, h, q), s, w, jac_j, e, q, *box,
-                                    tol=_JUMP_TOL)  # fmt: skip
-        rows = np.flatnonzero(done_j)
-        held = rows[jump_holds(*(a[rows] for a in (m * (w_j / h) ** 2, s_j / v, m, g, v)),
-                               h, q[rows])]  # fmt: skip
-        ok[held] = True
-        k_out[held], d_out[held] = m[held] * (w_j[held] / h) ** 2, s_j[held] / v[held]
-        s, w = s.copy(), w.copy()
-        s[held] = w[held] = np.nan  # done: the exact phase means leave them
+    # first on the equations of the end state's change: where the target puts it (by
+    # contact time), or where the design's estimate follows it (by largest overlap)
+    timed = size_name == "contact_time"
+    change = q.copy() if timed else _table_at(s_nodes, w_nodes, T, s, w)
+    slopes = np.full((n, 2), np.nan)  # of the change's estimate in (s, w)
+    rules = [_change_rows(m, v, g, h, change, unit, timed, slopes, **r) for r in ({}, _CHEAP)]
+    jac_j = _differences(rules[1], s, w, jac, slopes)
+    s_j, w_j, done_j = _broyden(rules[0], s, w, jac_j, e, q, *box, tol=_JUMP_TOL)
+    rows = np.flatnonzero(done_j & np.isfinite(change))
+    k_j, d_j = m[rows] * (w_j[rows] / h) ** 2, s_j[rows] / v[rows]
+    held = jump_holds(k_j, d_j, *(a[rows] for a in (m, g, v)), h, change[rows],
+                      deepest_last=not timed)  # fmt: skip
+    ok[rows[held]], k_out[rows[held]], d_out[rows[held]] = True, k_j[held], d_j[held]
+    s, w = s.copy(), w.copy()
+    s[rows[held]] = w[rows[held]] = np.nan  # done: the exact phase means leave them
     s, w, done = _broyden(mean_rows, s, w, jac, e, q, *box)
     rest = np.flatnonzero(~done & np.isfinite(s) & np.isfinite(w))
     if rest.size:  # next to a plateau's edge: a bracket in w along the contour
@@ -230,49 +235,95 @@ def _widened(x, cell):
     return (max(lo - pad, 0.5 * lo), hi + pad)
 
 
-def _jump_rows(m, v, g, h, q, **rule):
-    """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows`` by
-    contact time if their end state changes once, where the target puts it
-    (:func:`~impactsym.engines.drake.jump_means.jump_means`, with ``rule``)."""
+def _change_rows(m, v, g, h, change, unit, timed, slopes, **rule):
+    """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows`` if their
+    end state changes once, where the contact time in steps ``change`` puts it
+    (:func:`~impactsym.engines.drake.jump_means.jump_means` with ``rule``). By contact
+    time (``timed``) ``Q`` is that function's size. By largest overlap ``Q`` is
+    :func:`~impactsym.engines.drake.jump_means.last_overlap` over ``unit``; the cheap
+    ``rule`` adds the change's estimate (for its ``slopes``), and the full rule moves
+    ``change`` with the design along the ``slopes`` before, and to its estimate after
+    (in place), and adds where that held still (within :data:`_SETTLED`)."""
+    last = np.full((change.size, 2), np.nan)  # the design of each row's last evaluation
 
     def mean(s, w, rows):
-        mr = m[rows]
-        return jump_means(mr * (w / h) ** 2, s / v[rows], mr, g[rows], v[rows], h, q[rows],
-                          **rule)  # fmt: skip
+        mr, gr, vr = m[rows], g[rows], v[rows]
+        k, d = mr * (w / h) ** 2, s / vr
+        if not timed and not rule:  # the change moves with the design, to first order
+            moved = np.einsum("ij,ij->i", slopes[rows], np.column_stack([s, w]) - last[rows])
+            change[rows] += np.where(np.isfinite(moved), moved, 0.0)
+        r = jump_means(k, d, mr, gr, vr, h, change[rows], **rule)
+        if timed:
+            return r.restitution, r.size
+        size = last_overlap(k, d, mr, gr, vr, h) / unit[rows]
+        if rule:
+            return r.restitution, size, r.size
+        last[rows] = np.column_stack([s, w])
+        # where the change's estimate leaves the phase interval every phase ends alike
+        # (the contact time rests on a plateau): the mean is one end state's integral
+        base = np.floor(change[rows] - 0.5)
+        later = r.size - base - 0.5 >= 1.0
+        plateau = later | (r.size < base + 0.5)
+        estimate = np.where(plateau, base + 0.5 + later, r.size)
+        restitution = r.restitution
+        if plateau.any():
+            i = np.flatnonzero(plateau)
+            restitution[i] = jump_means(k[i], d[i], mr[i], gr[i], vr[i], h, estimate[i]).fixed
+        # the restitution is the mean to second order in how far the change moved
+        # (~0.1 per step squared): held only where that is below ~1e-13
+        settled = np.abs(estimate - change[rows]) <= _SETTLED
+        change[rows] = np.where(np.isfinite(estimate), estimate, change[rows])
+        return restitution, size, settled
 
     return mean
 
 
-def _jump_jacobian(m, v, g, h, q, s, w, jac):
-    """The Jacobian of the change's equations at the starts ``(s, w)`` (``n x 2 x 2``;
-    the table's ``jac`` where a start is not finite): forward differences over
-    :data:`_DIFF` relative of a rule of :data:`_DIFF_NODES` Gauss node per panel, whose
-    error is smooth in the parameters (against central differences of the full rule:
-    1e-6 median, 3e-3 at the 99th percentile, as good as two nodes in the steps it
-    saves; the table's cell, across the kinks, is good to about a percent: Broyden's
-    steps converge about a hundredfold each from it)."""
+def _differences(mean, s, w, jac, slopes):
+    """The Jacobian of ``mean`` at the starts ``(s, w)`` (``n x 2 x 2``; the table's
+    ``jac`` where a start is not finite or a difference is not), and into ``slopes``
+    those of a third output where ``mean`` returns one: forward differences
+    over :data:`_DIFF` relative, for the change's equations with the rule
+    :data:`_CHEAP` of one Gauss node per panel (the panels' midpoints), whose error is
+    smooth in the parameters (against central differences of the full rule: 1e-6
+    median, 3e-3 at the 99th percentile, as good as two nodes in the steps it saves;
+    the table's cell, across the kinks, is good to about a percent: Broyden's steps
+    converge about a hundredfold each from it)."""
     out = jac.copy()
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
     if live.size == 0:
         return out
     ds, dw = _DIFF * s[live], _DIFF * w[live]
     sl, wl = s[live], w[live]
-    mean = _jump_rows(m, v, g, h, q, nodes=_DIFF_NODES)
-    e_t, q_t = mean(np.concatenate([sl, sl + ds, sl]), np.concatenate([wl, wl, wl + dw]),
-                    np.tile(live, 3))  # fmt: skip
+    values = mean(np.concatenate([sl, sl + ds, sl]), np.concatenate([wl, wl, wl + dw]),
+                  np.tile(live, 3))  # fmt: skip
     n = live.size
-    for f, F in enumerate((e_t, q_t)):
+    for f, F in enumerate(values[:2]):
         out[live, f, 0] = (F[n : 2 * n] - F[:n]) / ds
         out[live, f, 1] = (F[2 * n :] - F[:n]) / dw
+    for F in values[2:]:
+        slopes[live] = np.column_stack([(F[n : 2 * n] - F[:n]) / ds, (F[2 * n :] - F[:n]) / dw])
     bad = ~np.isfinite(out[live]).all(axis=(1, 2))
     out[live[bad]] = jac[live[bad]]
     return out
 
 
-def _means_rows(m, v, g, h, approx, size_name, unit):
-    """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows``."""
+def _table_at(s_nodes, w_nodes, F, s, w):
+    """The table ``F`` interpolated bilinearly at ``(s, w)`` (``nan`` where a start is
+    not finite or a corner of its cell is not)."""
+    i = np.clip(np.searchsorted(s_nodes, s) - 1, 0, s_nodes.size - 2)
+    j = np.clip(np.searchsorted(w_nodes, w) - 1, 0, w_nodes.size - 2)
+    with np.errstate(invalid="ignore"):
+        a = (s - s_nodes[i]) / (s_nodes[1] - s_nodes[0])
+        b = (w - w_nodes[j]) / (w_nodes[1] - w_nodes[0])
+        return ((1 - a) * (1 - b) * F[i, j] + a * (1 - b) * F[i + 1, j]
+                + (1 - a) * b * F[i, j + 1] + a * b * F[i + 1, j + 1])  # fmt: skip
 
-    def mean(s, w, rows):
+
+def _means_rows(m, v, g, h, approx, size_name, unit):
+    """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows`` (and
+    the contact time in steps, ``steps=True``)."""
+
+    def mean(s, w, rows, *, steps=False):
         mr = m[rows]
         r = phase_summary(mr * (w / h) ** 2, s / v[rows], 0.0, mr, g[rows], v[rows], h,
                           approximation=approx, bounds=False, stuck_peaks=False)  # fmt: skip
@@ -282,6 +333,8 @@ def _means_rows(m, v, g, h, approx, size_name, unit):
             # else be stepped to 2e6 updates): such a node gives no start, such a design is
             # left to the caller's iteration
             size = np.where(r.stick_fraction > 0, np.nan, size)
+        if steps:  # and the contact time in steps
+            return r.restitution, size, r.contact_time / h
         return r.restitution, size
 
     return mean
@@ -331,7 +384,8 @@ def _start(s_nodes, w_nodes, E, Q, e, q):
 def _broyden(mean, s, w, jac, e, q, s_box, w_box, tol=(_E_TOL, _Q_TOL)):
     """Broyden's method on ``(E, Q)(s, w) = (e, q)`` with the phase means ``mean``
     (module docstring): the designs and where they are done (within ``tol``: of the
-    restitution, and relative of the size)."""
+    restitution, and relative of the size; and where ``mean`` returns a third array,
+    where that holds)."""
     n = e.size
     done = np.zeros(n, bool)
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
@@ -340,9 +394,11 @@ def _broyden(mean, s, w, jac, e, q, s_box, w_box, tol=(_E_TOL, _Q_TOL)):
     for _ in range(STEPS):
         if live.size == 0:
             break
-        e_t, q_t = mean(x[live, 0], x[live, 1], live)
+        e_t, q_t, *settled = mean(x[live, 0], x[live, 1], live)
         f = np.stack([e_t - e[live], q_t - q[live]], axis=1)
         hit = (np.abs(f[:, 0]) <= tol[0]) & (np.abs(f[:, 1]) <= tol[1] * q[live])
+        if settled:  # the means hold only where they say so
+            hit &= settled[0]
         done[live[hit]] = True
         finite = np.all(np.isfinite(f), axis=1)
         if f_prev is not None:  # Broyden's update of the Jacobian along the last step
