@@ -1,5 +1,5 @@
 r"""The phase means of a discrete contact whose end state changes once, at a given phase:
-the equations of the designs by contact time, without searching for the change.
+the equations of the discrete designs, without searching for the change.
 
 At a step ``h`` the contact of touch phase :math:`\varphi` ends at the state
 :math:`N(\varphi)` and lasts :math:`(N(\varphi) + \varphi)\, h`
@@ -39,6 +39,12 @@ designs of 20-40 steps). A run of the states costs ``B`` updates, as a full cont
 does; an evaluation is 24 nodes and 3 states at :math:`\varphi^*`, against about 85 runs
 of a phase mean that searches for its changes
 (:func:`~impactsym.engines.drake.phases.phase_summary`).
+
+The designs by largest overlap read it where
+:func:`~impactsym.engines.drake.phases.phase_summary` samples it deepest: at its last
+grid phase, ``1 - 1e-15`` (:func:`last_overlap`; the body enters a whole step deep
+before the first force, and over 12000 random contacts, steps ``1e-3`` and ``1e-4``,
+gravity 0 to ``50`` m/s^2, no other sample was deeper).
 
 The structure is an assumption until checked: :func:`jump_holds` runs the full contact
 (:func:`~impactsym.engines.drake.stepping.contact_ends`) at the phase grid of

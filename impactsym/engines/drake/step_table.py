@@ -7,15 +7,15 @@ At a step ``h`` the ``"tamsi"``/``"similar"``/``"lagged"`` update of
 :math:`w = h / T` and the pressing number :math:`b = g T / v = (g / v)\, h / w`
 (``docs/physics.md``, "Drake point contact"). So the targets of one call that share
 ``g / v`` share two functions of ``(s, w)``: the phase-mean restitution ``E`` and the
-phase-mean size ``Q`` (the contact time in steps, :math:`t_c / h`, or the largest
-overlap in units of :math:`v h`), and a target ``(e, q)`` asks for
+size ``Q`` (the phase-mean contact time in steps, :math:`t_c / h`, or the largest
+overlap over the phases in units of :math:`v h`), and a target ``(e, q)`` asks for
 :math:`E(s, w) = e`, :math:`Q(s, w) = q`, then :math:`k = m (w / h)^2`, :math:`d = s / v`.
 
 These functions are continuous but only piecewise smooth: the mean has a kink wherever
 an end step enters or leaves the phase interval (about every step of contact time), and
 the contact time rests on plateaus where every phase lasts the same number of steps. So
 the table does not give the designs themselves; it gives each a start and a Jacobian,
-and the exact phase means finish it:
+and exact evaluations finish it:
 
 * **The tables** hold ``E`` and ``Q`` on equally spaced nodes, from one exact call of
   :func:`~impactsym.engines.drake.phases.phase_summary` (means only) each: a coarse one
@@ -27,22 +27,32 @@ and the exact phase means finish it:
   damping, so the contour ``E = e`` crosses it once (linear interpolation), and along the
   contour ``Q`` falls with ``w``; the first sign change of ``Q - q`` along it (linear
   interpolation again) is the start, the table's cell there gives the Jacobian.
-* **Designs by contact time** first: the size in steps ``q`` fixes where the end state
-  changes (:mod:`~impactsym.engines.drake.jump_means`), and on that change's two
-  equations, smooth in ``(s, w)`` (no plateau, no search for the change), Broyden's
-  steps run from the Jacobian of forward differences (:data:`_DIFF` relative) of a rule
-  of :data:`_DIFF_NODES` Gauss node per panel (the panels' midpoints), good to about
-  ``1e-6`` (median; 3e-3 at the 99th percentile) where the table's cell, across the
-  kinks, is good to about a percent. A design is done within
-  ``1e-13`` of the restitution and ``1e-11`` relative of the size (a tenth of the
-  tolerances below each, so that the exact phase means, which agree with the change's
-  to ``~2e-14`` and ``~1e-12`` steps, meet those), and kept where the full contact
-  confirms the change at the phase grid
+* **The change's equations** first (:mod:`~impactsym.engines.drake.jump_means`): where
+  the end state changes once over the phase, the restitution's mean is two pieces'
+  integrals, smooth in ``(s, w)`` for a given phase of the change (no plateau, no
+  search for it). By contact time the target itself fixes that phase. By largest
+  overlap the change's estimate follows the design: moved along its slopes in ``(s, w)``
+  before an evaluation, set to the evaluation's Newton estimate after it, a design done
+  only once that estimate held still (:data:`_SETTLED` steps: the restitution is the
+  mean to second order in its move); where the estimate leaves the phase interval
+  every phase ends alike (the contact time rests on a plateau) and the mean is one end
+  state's integral. The overlap is the phase summary's own sample at its last grid
+  phase (:func:`~impactsym.engines.drake.jump_means.last_overlap`, one run: the deepest
+  of its samples on every contact measured). Broyden's steps run from the Jacobian of
+  forward differences (:data:`_DIFF` relative) of the rule :data:`_CHEAP` (one Gauss
+  node per panel, the panels' midpoints), good to about ``1e-6`` (median; 3e-3 at the
+  99th percentile) where the table's cell, across the kinks, is good to about a
+  percent. A design is done within ``1e-13`` of the restitution and ``1e-11`` relative
+  of the size (a tenth of the tolerances below each, so that the exact phase means,
+  which agree with the change's to ``~2e-14`` and ``~1e-12`` steps, meet those), and
+  kept where the full contact confirms the change at the phase grid, and by largest
+  overlap that no phase run overlaps deeper than the last
   (:func:`~impactsym.engines.drake.jump_means.jump_holds`). Measured on the
-  benchmark's targets (20-40 steps): about 4.4 evaluations of 27 state runs and three
-  of 6 per design, against about six phase means of ~85 runs and ~19 margins with the
-  table's Jacobian; 98-100 % of the targets kept. The others, and every design by
-  largest overlap, take the steps below from the table's start.
+  benchmark's targets (20-40 steps; 10^4 each): 4.2-4.4 evaluations of about 27 state
+  runs and three of 6 per design, against about six phase means of ~85 runs and ~19
+  margins with the table's Jacobian; 98-100 % of the targets kept. The others take the
+  steps below from the table's start. The caller predicts every design and designs
+  again, by its iteration, any that its prediction finds off the target.
 * **The steps**: Broyden's method on the exact phase means (one
   :func:`~impactsym.engines.drake.phases.phase_summary` per step for all designs at
   once), at most :data:`STEPS` evaluations. Where a step leaves the contact time
