@@ -217,8 +217,10 @@ def _group(e, v, m, g, target, h, approx, size_name):
     change = q.copy() if timed else _table_at(s_nodes, w_nodes, T, s, w)
     slopes = np.full((n, 2), np.nan)  # of the change's estimate in (s, w)
     rules = [_change_rows(m, v, g, h, change, unit, timed, slopes, **r) for r in ({}, _CHEAP)]
-    jac_j = _differences(rules[1], s, w, jac, slopes)
-    s_j, w_j, done_j = _broyden(rules[0], s, w, jac_j, e, q, *box, tol=_JUMP_TOL)
+    known = np.isfinite(change)  # (a start whose table cell sticks somewhere: none)
+    s_c, w_c = np.where(known, s, np.nan), np.where(known, w, np.nan)
+    jac_j = _differences(rules[1], s_c, w_c, jac, slopes)
+    s_j, w_j, done_j = _broyden(rules[0], s_c, w_c, jac_j, e, q, *box, tol=_JUMP_TOL)
     rows = np.flatnonzero(done_j & np.isfinite(change))
     k_j, d_j = m[rows] * (w_j[rows] / h) ** 2, s_j[rows] / v[rows]
     held = jump_holds(k_j, d_j, *(a[rows] for a in (m, g, v)), h, change[rows],
