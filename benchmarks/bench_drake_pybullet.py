@@ -104,7 +104,7 @@ many brackets), the factor over the 2 s target after:
   changes once over the phase, so by contact time the target fixes where, and by
   largest overlap the design carries its estimate; the restitution's pieces and the end
   margin there are smooth in the parameters (no plateau, no search), 27 state runs per
-  evaluation instead of ~85 runs and ~19 margins, from a Jacobian of differences of the
+  evaluation instead of ~65 contact runs and ~19 margins, from a Jacobian of differences of the
   panels' midpoint rule (~4.3 evaluations per design instead of ~6), the overlap read at
   the last grid phase (one run). CPU seconds per 10^5, ``_cases(100000)``, main and this
   back to back (load 1.5-3), before -> after: 28.9 -> 10.8 and 28.5 -> 13.8 (g = 0,

@@ -49,8 +49,8 @@ and exact evaluations finish it:
   overlap that no phase run overlaps deeper than the last
   (:func:`~impactsym.engines.drake.jump_means.jump_holds`). Measured on the
   benchmark's targets (20-40 steps; 10^4 each): 4.2-4.4 evaluations of about 27 state
-  runs and three of 6 per design, against about six phase means of ~85 runs and ~19
-  margins with the table's Jacobian; 98-100 % of the targets kept. The others take the
+  runs and three of 6 per design, against about six phase means of ~65 contact runs and
+  ~19 margins with the table's Jacobian; 98-100 % of the targets kept. The others take the
   steps below from the table's start. The caller predicts every design and designs
   again, by its iteration, any that its prediction finds off the target.
 * **The steps**: Broyden's method on the exact phase means (one

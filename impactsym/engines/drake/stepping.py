@@ -388,7 +388,7 @@ def _block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
 
 
 def _margin_states(k, d, m, g, v, h, x, u, step, valid):
-    """:func:`end_margin`'s states ``step`` into ``x``, ``u`` (views, in place), and its
+    """:func:`end_state`'s states ``step`` into ``x``, ``u`` (views, in place), and its
     ``valid``: the update of
     :func:`~impactsym.engines.drake.update.hunt_crossley_velocity` (no contact test), the
     same operations."""
