@@ -322,10 +322,11 @@ def _iterate(e, v, m, g, target, h, approx, size_name):
         log_prev, q_prev = log_k, log_q
         trial = log_k - stride * f / slope
         low, high = np.minimum(below, above), np.maximum(below, above)
-        with np.errstate(all="ignore"):
+        with np.errstate(all="ignore"):  # (unbracketed: inf - inf, not used below)
             false_pos = (below * f_above - above * f_below) / (f_above - f_below)
+            middle = 0.5 * (below + above)
         inside = (false_pos > low) & (false_pos < high)
-        false_pos = np.where(inside, false_pos, 0.5 * (below + above))
+        false_pos = np.where(inside, false_pos, middle)
         # the secant while it stays inside and at least halves the miss, else Illinois
         fast = (trial > low) & (trial < high) & (np.abs(f) <= 0.5 * f_last)
         trial = np.where(bracketed & ~fast & ~converged, false_pos, trial)
