@@ -207,11 +207,20 @@ def point_contact_for(
     else:  # the full prediction (with the ranges) once, in the shape of the input
         p = _predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),
                      h, approx)  # fmt: skip
-        missed = read & _missed(p, e, target, size_name)
-        if h > 0 and missed.any():  # a table's design stands where its prediction holds
-            rows = (a[missed] for a in (e, v, m, g, target))
-            k[missed], damp[missed] = _iterate_apart(*rows, h, approx, size_name)
+        missed = _missed(p, e, target, size_name) if h > 0 else np.zeros(e.size, bool)
+        if (again := missed & read).any():  # a table's design stands where it holds
+            rows = (a[again] for a in (e, v, m, g, target))
+            k[again], damp[again] = _iterate_apart(*rows, h, approx, size_name)
             p = _predict(*(a.reshape(shape) for a in (k, damp, m, v, g)), h, approx)
+            missed = _missed(p, e, target, size_name)
+        if missed.any():  # the iteration's damping root shut on a jump of the restitution
+            bad = np.flatnonzero(missed)[0]
+            raise ValueError(
+                f"restitution {float(e[bad])!r} is out of reach with {approx!r} at time_step "
+                f"{h!r} and {size_name} {float(target[bad])!r}: the phase-mean restitution "
+                f"jumps across it as the damping moves (nearest design: "
+                f"{float(np.ravel(p.restitution)[bad]):.9g}); use a smaller time_step"
+            )
     return PointContact(
         point_contact_stiffness=out(k),
         hunt_crossley_dissipation=out(np.zeros_like(k) if sap else damp),
@@ -225,11 +234,8 @@ def point_contact_for(
 
 
 def _missed(p, e, target, size_name) -> np.ndarray:
-    """Where the prediction ``p`` misses a target (flat) by more than the tolerances of
-    the designs (``1e-12`` in the restitution, ``1e-10`` relative in the size; 5 % more
-    for the rounding of a prediction in another batch): a discrete table's design
-    assumes a structure of the contact over the phase that its checks confirm at
-    sampled phases only."""
+    """Where ``p`` misses a target (flat) by more than ``1e-12`` in ``e`` or ``1e-10``
+    relative in the size, the designs' tolerances (5 % more: rounding in another batch)."""
     got_e, got = np.ravel(p.restitution), np.ravel(getattr(p, size_name))
     with np.errstate(invalid="ignore"):
         return ~((np.abs(got_e - e) <= 1.05e-12) & (np.abs(got / target - 1.0) <= 1.05e-10))
