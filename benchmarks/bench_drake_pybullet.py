@@ -125,6 +125,17 @@ many brackets), the factor over the 2 s target after:
   of 10^5 designs of 20-40 steps (CPU seconds, one run each, load ~3-4), main -> the
   root search -> the quarters: 4.65 -> 3.49 -> 2.62 (g = 0), 5.43 -> 4.29 -> 3.59
   (g = 9.81).
+* Drake lagged 1e-3, the change's equations (``drake.jump_means``): the end state
+  changes once over the phase, so by contact time the target fixes where, and by largest
+  overlap the design carries its estimate; the restitution's pieces and the end margin
+  there are smooth in the parameters (no plateau, no search), 27 state runs per
+  evaluation instead of ~65 contact runs and ~19 margins, from a Jacobian of differences
+  of the panels' midpoint rule (~4.3 evaluations per design instead of ~6), the overlap
+  read at the last grid phase (one run). CPU seconds per 10^5, ``_cases(100000)``, main
+  and this back to back (load 1.5-3), before -> after: 28.9 -> 10.8 and 28.5 -> 13.8 (g
+  = 0, contact_time and max_penetration), 26.0 -> 13.3 and 27.9 -> 14.9 (g = 9.81).
+  About 4 s of each is the prediction the designs return (one phase summary with
+  ranges).
 
 What stays over the target is the exact phase mean itself: one evaluation for 10^5 designs
 takes ~0.6-1.5 s (PyBullet, ``root_summary``, in passes of 8192; ~4 s, and ~25 s, before:
@@ -143,8 +154,8 @@ targets, then the call timed by ``time.process_time``; this machine's run-to-run
 is up to 40 %, so each case was run 2-4 times, old and new code alike): PyBullet
 1.74-2.02 (g = 0, contact_time array), 0.78 (g = 0, default), 1.85-1.93 and 1.88-2.0
 (under gravity; single runs up to 2.8 for the old code as for the new); Drake
-continuous 0.02-0.8; Drake lagged 1e-3 27-35 (g = 0 and 9.81, contact_time and
-max_penetration), 14-18 x the target.
+continuous 0.02-0.8; Drake lagged 1e-3 11-15 (g = 0 and 9.81, contact_time and
+max_penetration), 5-7 x the target, of which ~4 s is the exact prediction alone.
 """
 
 from __future__ import annotations

@@ -126,3 +126,13 @@ def test_a_target_the_load_makes_stick_is_refused_for_the_load():
     p = drake.predict(stiffness=k, dissipation=0.0, speed=0.03294, mass=0.0664, gravity=9.81,
                       time_step=0.002, approximation="similar")  # fmt: skip
     assert p.stick_fraction == pytest.approx(1.0, abs=1e-12)
+
+
+def test_a_restitution_the_damping_jumps_across_is_refused_not_missed():
+    # at the stiffness this overlap needs, the phase-mean restitution jumps from
+    # e + 6.3e-5 to e - 8.3e-4 within 1e-12 of the damping: the damping root shut on the
+    # jump and the design missed e by 6.3e-5 without a word (found by review)
+    with pytest.raises(ValueError, match="jumps across it as the damping moves"):
+        drake.point_contact_for(restitution=0.10172259476059209,
+                                max_penetration=0.003685475808634121, speed=2.0,
+                                mass=2.4257340466467445, gravity=50.0, time_step=1e-3)  # fmt: skip

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from impactsym.engines import drake
-from impactsym.engines.drake import design, phases, stepping
-from impactsym.engines.drake.stepping import contact_ends
+from impactsym.engines.drake import design, jump_means, phases, stepping
+from impactsym.engines.drake.stepping import contact_ends, end_state
 
 H = 1e-3
 BAD = 7
@@ -33,20 +33,26 @@ def _call():
 
 def _counted_updates(monkeypatch):
     """The updates of the step loop (``stepping._update``: the phase summaries' runs and
-    ``end_margin``'s) in a list with one entry per run of the phase summaries (all
+    ``end_margin``'s, and the runs of the change's equations, ``jump_means``) in a list
+    with one entry per run of the phase summaries or the change's equations (all
     blocks), each update counted on the last run begun (a phase summary always runs its
     grid before any end margin)."""
     updates, lean_update = [], stepping._update
 
-    def counted(*args, **options):
-        updates.append(0)
-        return contact_ends(*args, **options)
+    def counting(run):
+        def counted(*args, **options):
+            updates.append(0)
+            return run(*args, **options)
+
+        return counted
 
     def update(*args, **options):
         updates[-1] += 1
         return lean_update(*args, **options)
 
-    monkeypatch.setattr(phases, "contact_ends", counted)
+    monkeypatch.setattr(phases, "contact_ends", counting(contact_ends))
+    monkeypatch.setattr(jump_means, "contact_ends", counting(contact_ends))
+    monkeypatch.setattr(jump_means, "end_state", counting(end_state))
     monkeypatch.setattr(stepping, "_update", update)
     return updates
 

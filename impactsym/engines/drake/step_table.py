@@ -7,15 +7,15 @@ At a step ``h`` the ``"tamsi"``/``"similar"``/``"lagged"`` update of
 :math:`w = h / T` and the pressing number :math:`b = g T / v = (g / v)\, h / w`
 (``docs/physics.md``, "Drake point contact"). So the targets of one call that share
 ``g / v`` share two functions of ``(s, w)``: the phase-mean restitution ``E`` and the
-phase-mean size ``Q`` (the contact time in steps, :math:`t_c / h`, or the largest
-overlap in units of :math:`v h`), and a target ``(e, q)`` asks for
+size ``Q`` (the phase-mean contact time in steps, :math:`t_c / h`, or the largest
+overlap over the phases in units of :math:`v h`), and a target ``(e, q)`` asks for
 :math:`E(s, w) = e`, :math:`Q(s, w) = q`, then :math:`k = m (w / h)^2`, :math:`d = s / v`.
 
 These functions are continuous but only piecewise smooth: the mean has a kink wherever
 an end step enters or leaves the phase interval (about every step of contact time), and
 the contact time rests on plateaus where every phase lasts the same number of steps. So
 the table does not give the designs themselves; it gives each a start and a Jacobian,
-and the exact phase means finish it:
+and exact evaluations finish it:
 
 * **The tables** hold ``E`` and ``Q`` on equally spaced nodes, from one exact call of
   :func:`~impactsym.engines.drake.phases.phase_summary` (means only) each: a coarse one
@@ -27,6 +27,32 @@ and the exact phase means finish it:
   damping, so the contour ``E = e`` crosses it once (linear interpolation), and along the
   contour ``Q`` falls with ``w``; the first sign change of ``Q - q`` along it (linear
   interpolation again) is the start, the table's cell there gives the Jacobian.
+* **The change's equations** first (:mod:`~impactsym.engines.drake.jump_means`): where
+  the end state changes once over the phase, the restitution's mean is two pieces'
+  integrals, smooth in ``(s, w)`` for a given phase of the change (no plateau, no
+  search for it). By contact time the target itself fixes that phase. By largest
+  overlap the change's estimate follows the design: moved along its slopes in ``(s, w)``
+  before an evaluation, set to the evaluation's Newton estimate after it, a design done
+  only once that estimate held still (:data:`_SETTLED` steps: the restitution is the
+  mean to second order in its move); where the estimate leaves the phase interval
+  every phase ends alike (the contact time rests on a plateau) and the mean is one end
+  state's integral. The overlap is the phase summary's own sample at its last grid
+  phase (:func:`~impactsym.engines.drake.jump_means.last_overlap`, one run: the deepest
+  of its samples on every contact measured). Broyden's steps run from the Jacobian of
+  forward differences (:data:`_DIFF` relative) of the rule :data:`_CHEAP` (one Gauss
+  node per panel, the panels' midpoints), good to about ``1e-6`` (median; 3e-3 at the
+  99th percentile) where the table's cell, across the kinks, is good to about a
+  percent. A design is done within ``1e-13`` of the restitution and ``1e-11`` relative
+  of the size (a tenth of the tolerances below each, so that the exact phase means,
+  which agree with the change's to ``~2e-14`` and ``~1e-12`` steps, meet those), and
+  kept where the full contact confirms the change at the phase grid, and by largest
+  overlap that no phase run overlaps deeper than the last
+  (:func:`~impactsym.engines.drake.jump_means.jump_holds`). Measured on the
+  benchmark's targets (20-40 steps; 10^4 each): 4.2-4.4 evaluations of about 27 state
+  runs and three of 6 per design, against about six phase means of ~65 contact runs and
+  ~19 margins with the table's Jacobian; 98-100 % of the targets kept. The others take the
+  steps below from the table's start. The caller predicts every design and designs
+  again, by its iteration, any that its prediction finds off the target.
 * **The steps**: Broyden's method on the exact phase means (one
   :func:`~impactsym.engines.drake.phases.phase_summary` per step for all designs at
   once), at most :data:`STEPS` evaluations. Where a step leaves the contact time
@@ -44,9 +70,10 @@ and the exact phase means finish it:
   narrower than the phase grid of :func:`~impactsym.engines.drake.phases.phase_summary`,
   reaching a grid phase) is left to the caller's iteration.
 
-The steps converge about a hundredfold each (the table's Jacobian is good to about a
-percent: the kinks), so a design takes about five and a half phase means instead of the
-twenty-odd of the nested iteration; a few targets in a thousand, within a few
+On the exact phase means the steps converge about a hundredfold each (the table's
+Jacobian is good to about a percent: the kinks), so a design takes about five and a
+half phase means instead of the twenty-odd of the nested iteration; a few targets in a
+thousand, within a few
 hundredths of a step of a plateau's edge (the contact time in steps near ``N + 1/2``),
 take the contour search, and fewer still are left to the iteration. The tables cost
 ``16 * 16 + NODES_S * NODES_W`` phase means per group. The caller
@@ -67,6 +94,7 @@ import numpy as np
 
 from impactsym.contact.lawclosed import hunt_crossley_parameter
 from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
+from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
 from impactsym.engines.drake.phases import phase_summary
 
 __all__ = [
@@ -100,6 +128,11 @@ STEPS = 16
 #: Exact phase means at most along the contour for the designs next to a plateau's edge.
 EDGE_STEPS = 80
 _E_TOL, _Q_TOL = 1e-12, 1e-10  # a design is done within these (as the iteration's)
+# the designs by contact time on the equations of a change at a given phase: within these
+# (a tenth and a tenth of those: the exact means agree with them to ~2e-14 and ~1e-12 steps)
+_JUMP_TOL = (1e-13, 1e-11)
+_SETTLED = 1e-6  # steps the change's estimate may move in a design's last evaluation
+_DIFF, _CHEAP = 1e-6, {"nodes": 1}  # the differences of the change's Jacobian, their rule
 
 
 def stepped_designs(
@@ -163,14 +196,14 @@ def _group(e, v, m, g, target, h, approx, size_name):
     mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
 
     def mean(s, w):
-        return mean_rows(s, w, np.zeros(s.size, int))
+        return mean_rows(s, w, np.zeros(s.size, int), steps=True)
 
     for nodes in (COARSE, (NODES_S, NODES_W)):
         s_nodes, w_nodes = (
             np.linspace(*side, count) for side, count in zip(box, nodes, strict=True)
         )
         S, W = np.meshgrid(s_nodes, w_nodes, indexing="ij")
-        E, Q = (a.reshape(S.shape) for a in mean(S.ravel(), W.ravel()))
+        E, Q, T = (a.reshape(S.shape) for a in mean(S.ravel(), W.ravel()))
         s, w, jac = _start(s_nodes, w_nodes, E, Q, e, q)
         found = np.isfinite(s)
         if not found.any():
@@ -178,12 +211,29 @@ def _group(e, v, m, g, target, h, approx, size_name):
         # the next box: the starts found, widened by a cell and a margin
         cell = (s_nodes[1] - s_nodes[0], w_nodes[1] - w_nodes[0])
         box = tuple(_widened(x[found], c) for x, c in zip((s, w), cell, strict=True))
+    # first on the equations of the end state's change: where the target puts it (by
+    # contact time), or where the design's estimate follows it (by largest overlap)
+    timed = size_name == "contact_time"
+    change = q.copy() if timed else _table_at(s_nodes, w_nodes, T, s, w)
+    slopes = np.full((n, 2), np.nan)  # of the change's estimate in (s, w)
+    rules = [_change_rows(m, v, g, h, change, unit, timed, slopes, **r) for r in ({}, _CHEAP)]
+    known = np.isfinite(change)  # (a start whose table cell sticks somewhere: none)
+    s_c, w_c = np.where(known, s, np.nan), np.where(known, w, np.nan)
+    jac_j = _differences(rules[1], s_c, w_c, jac, slopes)
+    s_j, w_j, done_j = _broyden(rules[0], s_c, w_c, jac_j, e, q, *box, tol=_JUMP_TOL)
+    rows = np.flatnonzero(done_j & np.isfinite(change))
+    k_j, d_j = m[rows] * (w_j[rows] / h) ** 2, s_j[rows] / v[rows]
+    held = jump_holds(k_j, d_j, *(a[rows] for a in (m, g, v)), h, change[rows],
+                      deepest_last=not timed)  # fmt: skip
+    ok[rows[held]], k_out[rows[held]], d_out[rows[held]] = True, k_j[held], d_j[held]
+    s, w = s.copy(), w.copy()
+    s[rows[held]] = w[rows[held]] = np.nan  # done: the exact phase means leave them
     s, w, done = _broyden(mean_rows, s, w, jac, e, q, *box)
     rest = np.flatnonzero(~done & np.isfinite(s) & np.isfinite(w))
     if rest.size:  # next to a plateau's edge: a bracket in w along the contour
         s[rest], w[rest], done[rest] = _edge(mean_rows, rest, s[rest], w[rest], jac[rest],
                                              e[rest], q[rest], box[1])  # fmt: skip
-    ok[done] = True
+    ok[done] = True  # (done holds none of the jump's: they were left out)
     k_out[done] = m[done] * (w[done] / h) ** 2
     d_out[done] = s[done] / v[done]
     return ok, k_out, d_out
@@ -197,10 +247,97 @@ def _widened(x, cell):
     return (max(lo - pad, 0.5 * lo), hi + pad)
 
 
-def _means_rows(m, v, g, h, approx, size_name, unit):
-    """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows``."""
+def _change_rows(m, v, g, h, change, unit, timed, slopes, **rule):
+    """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows`` if their
+    end state changes once, where the contact time in steps ``change`` puts it
+    (:func:`~impactsym.engines.drake.jump_means.jump_means` with ``rule``). By contact
+    time (``timed``) ``Q`` is that function's size. By largest overlap ``Q`` is
+    :func:`~impactsym.engines.drake.jump_means.last_overlap` over ``unit``; the cheap
+    ``rule`` adds the change's estimate (for its ``slopes``), and the full rule moves
+    ``change`` with the design along the ``slopes`` before, and to its estimate after
+    (in place), and adds where that held still (within :data:`_SETTLED`)."""
+    last = np.full((change.size, 2), np.nan)  # the design of each row's last evaluation
 
     def mean(s, w, rows):
+        mr, gr, vr = m[rows], g[rows], v[rows]
+        k, d = mr * (w / h) ** 2, s / vr
+        if not timed and not rule:  # the change moves with the design, to first order
+            moved = np.einsum("ij,ij->i", slopes[rows], np.column_stack([s, w]) - last[rows])
+            # (at most half a step: next to a plateau the margin is flat, the estimate's
+            # slopes huge, and a state 10^5 steps on would be stepped; found by review)
+            change[rows] += np.clip(np.where(np.isfinite(moved), moved, 0.0), -0.5, 0.5)
+        r = jump_means(k, d, mr, gr, vr, h, change[rows], **rule)
+        if timed:
+            return r.restitution, r.size
+        size = last_overlap(k, d, mr, gr, vr, h) / unit[rows]
+        if rule:
+            return r.restitution, size, r.size
+        last[rows] = np.column_stack([s, w])
+        # where the change's estimate leaves the phase interval every phase ends alike
+        # (the contact time rests on a plateau): the mean is one end state's integral
+        base = np.floor(change[rows] - 0.5)
+        later = r.size - base - 0.5 >= 1.0
+        plateau = later | (r.size < base + 0.5)
+        estimate = np.where(plateau, base + 0.5 + later, r.size)
+        restitution = r.restitution
+        if plateau.any():
+            i = np.flatnonzero(plateau)
+            restitution[i] = jump_means(k[i], d[i], mr[i], gr[i], vr[i], h, estimate[i]).fixed
+        # the restitution is the mean to second order in how far the change moved
+        # (~0.1 per step squared): held only where that is below ~1e-13
+        settled = np.abs(estimate - change[rows]) <= _SETTLED
+        change[rows] = np.where(np.isfinite(estimate), estimate, change[rows])
+        return restitution, size, settled
+
+    return mean
+
+
+def _differences(mean, s, w, jac, slopes):
+    """The Jacobian of ``mean`` at the starts ``(s, w)`` (``n x 2 x 2``; the table's
+    ``jac`` where a start is not finite or a difference is not), and into ``slopes``
+    those of a third output where ``mean`` returns one: forward differences
+    over :data:`_DIFF` relative, for the change's equations with the rule
+    :data:`_CHEAP` of one Gauss node per panel (the panels' midpoints), whose error is
+    smooth in the parameters (against central differences of the full rule: 1e-6
+    median, 3e-3 at the 99th percentile, as good as two nodes in the steps it saves;
+    the table's cell, across the kinks, is good to about a percent: Broyden's steps
+    converge about a hundredfold each from it)."""
+    out = jac.copy()
+    live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
+    if live.size == 0:
+        return out
+    ds, dw = _DIFF * s[live], _DIFF * w[live]
+    sl, wl = s[live], w[live]
+    values = mean(np.concatenate([sl, sl + ds, sl]), np.concatenate([wl, wl, wl + dw]),
+                  np.tile(live, 3))  # fmt: skip
+    n = live.size
+    for f, F in enumerate(values[:2]):
+        out[live, f, 0] = (F[n : 2 * n] - F[:n]) / ds
+        out[live, f, 1] = (F[2 * n :] - F[:n]) / dw
+    for F in values[2:]:
+        slopes[live] = np.column_stack([(F[n : 2 * n] - F[:n]) / ds, (F[2 * n :] - F[:n]) / dw])
+    bad = ~np.isfinite(out[live]).all(axis=(1, 2))
+    out[live[bad]] = jac[live[bad]]
+    return out
+
+
+def _table_at(s_nodes, w_nodes, F, s, w):
+    """The table ``F`` interpolated bilinearly at ``(s, w)`` (``nan`` where a start is
+    not finite or a corner of its cell is not)."""
+    i = np.clip(np.searchsorted(s_nodes, s) - 1, 0, s_nodes.size - 2)
+    j = np.clip(np.searchsorted(w_nodes, w) - 1, 0, w_nodes.size - 2)
+    with np.errstate(invalid="ignore"):
+        a = (s - s_nodes[i]) / (s_nodes[1] - s_nodes[0])
+        b = (w - w_nodes[j]) / (w_nodes[1] - w_nodes[0])
+        return ((1 - a) * (1 - b) * F[i, j] + a * (1 - b) * F[i + 1, j]
+                + (1 - a) * b * F[i, j + 1] + a * b * F[i + 1, j + 1])  # fmt: skip
+
+
+def _means_rows(m, v, g, h, approx, size_name, unit):
+    """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows`` (and
+    the contact time in steps, ``steps=True``)."""
+
+    def mean(s, w, rows, *, steps=False):
         mr = m[rows]
         r = phase_summary(mr * (w / h) ** 2, s / v[rows], 0.0, mr, g[rows], v[rows], h,
                           approximation=approx, bounds=False, stuck_peaks=False)  # fmt: skip
@@ -210,6 +347,8 @@ def _means_rows(m, v, g, h, approx, size_name, unit):
             # else be stepped to 2e6 updates): such a node gives no start, such a design is
             # left to the caller's iteration
             size = np.where(r.stick_fraction > 0, np.nan, size)
+        if steps:  # and the contact time in steps
+            return r.restitution, size, r.contact_time / h
         return r.restitution, size
 
     return mean
@@ -256,9 +395,11 @@ def _start(s_nodes, w_nodes, E, Q, e, q):
     return s, w, jac
 
 
-def _broyden(mean, s, w, jac, e, q, s_box, w_box):
-    """Broyden's method on ``(E, Q)(s, w) = (e, q)`` with the exact phase means (module
-    docstring): the designs and where they are done."""
+def _broyden(mean, s, w, jac, e, q, s_box, w_box, tol=(_E_TOL, _Q_TOL)):
+    """Broyden's method on ``(E, Q)(s, w) = (e, q)`` with the phase means ``mean``
+    (module docstring): the designs and where they are done (within ``tol``: of the
+    restitution, and relative of the size; and where ``mean`` returns a third array,
+    where that holds)."""
     n = e.size
     done = np.zeros(n, bool)
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
@@ -267,9 +408,11 @@ def _broyden(mean, s, w, jac, e, q, s_box, w_box):
     for _ in range(STEPS):
         if live.size == 0:
             break
-        e_t, q_t = mean(x[live, 0], x[live, 1], live)
+        e_t, q_t, *settled = mean(x[live, 0], x[live, 1], live)
         f = np.stack([e_t - e[live], q_t - q[live]], axis=1)
-        hit = (np.abs(f[:, 0]) <= _E_TOL) & (np.abs(f[:, 1]) <= _Q_TOL * q[live])
+        hit = (np.abs(f[:, 0]) <= tol[0]) & (np.abs(f[:, 1]) <= tol[1] * q[live])
+        if settled:  # the means hold only where they say so
+            hit &= settled[0]
         done[live[hit]] = True
         finite = np.all(np.isfinite(f), axis=1)
         if f_prev is not None:  # Broyden's update of the Jacobian along the last step

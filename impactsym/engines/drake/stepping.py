@@ -96,7 +96,15 @@ from impactsym.engines.drake.update import (
 )
 from impactsym.engines.mujoco.stepping import StepContact
 
-__all__ = ["MAX_STEPS", "ContactEnds", "contact_ends", "end_margin", "step_contact"]
+__all__ = [
+    "MAX_STEPS",
+    "ContactEnds",
+    "contact_ends",
+    "end_margin",
+    "end_state",
+    "margin_at",
+    "step_contact",
+]
 
 #: Updates stepped before a contact that has not ended is declared sticking.
 MAX_STEPS = 2_000_000
@@ -285,13 +293,28 @@ def end_margin(
     ``"tamsi"``/``"similar"``/``"lagged"`` contact is from ending, as a smooth function of
     the phase, for locating where the end state changes (flat arrays, SI).
 
-    Returns ``(margin, ends, valid)``: ``margin`` (m/s) is the smaller of ``x/h`` and the
-    update's impulse over ``m`` less the floor ``1e-12 v``, the impulse taken from the
-    larger root of the quadratic without clipping (negative where the update is free, and
-    through zero there: the larger root is ``u*`` at ``u* = max(-x/h, -1/d)``);
-    ``ends`` is :func:`step_contact`'s end test at that state (no contact, or no impulse
-    above the floor); ``valid`` is False where an earlier state already ended or turned
-    back (then ``margin`` does not decide the end at ``step``).
+    Returns ``(margin, ends, valid)``: ``margin`` and ``ends`` of :func:`margin_at` at
+    the state :func:`end_state` steps to, ``valid`` as there (False where an earlier
+    state already ended or turned back: then ``margin`` does not decide the end at
+    ``step``).
+    """
+    x, u, valid, (k, d, m, g, v, h) = end_state(k, d, m, g, v, h, phase, step)
+    margin, ends = margin_at(x, u, k, d, m, g, v, h)
+    return margin, ends, valid
+
+
+def end_state(
+    k: Any, d: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, step: Any
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
+    """The state ``step`` (0 the first detecting state) of a
+    ``"tamsi"``/``"similar"``/``"lagged"`` contact at touch phase ``phase``, stepped by
+    the update of :func:`~impactsym.engines.drake.update.hunt_crossley_velocity` whatever
+    the states before it (no end test): smooth in the phase and the parameters while
+    they all carry an impulse, and then the very numbers of :func:`contact_ends`.
+
+    Returns ``(x, u, valid, flat)`` (flat arrays): the penetration and approach rate of
+    that state, whether no state before it ended (no contact, or no impulse above the
+    floor) or turned back, and the flat broadcast ``(k, d, m, g, v, h)``.
     """
     k, d, m, g, v, h, phase = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (k, d, m, g, v, h, phase))
@@ -304,11 +327,23 @@ def end_margin(
     for lo in range(0, k.size, _BLOCK):  # blocks that stay in the cache while stepped
         block = slice(lo, min(lo + _BLOCK, k.size))
         _margin_states(*(a[block] for a in (k, d, m, g, v, h, x, u, step, valid)))
+    return x, u, valid, (k, d, m, g, v, h)
+
+
+def margin_at(
+    x: Any, u: Any, k: Any, d: Any, m: Any, g: Any, v: Any, h: Any
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(margin, ends)`` of the state ``(x, u)`` (arrays broadcast, SI): ``margin``
+    (m/s) is the smaller of ``x/h`` and the update's impulse over ``m`` less the floor
+    ``1e-12 v``, the impulse taken from the larger root of the quadratic without
+    clipping (negative where the update is free, and through zero there: the larger
+    root is ``u*`` at ``u* = max(-x/h, -1/d)``); ``ends`` is :func:`step_contact`'s end
+    test at that state (no contact, or no impulse above the floor)."""
     ustar, root = hunt_crossley_root(x, u, k, d, m, g, h, clip=False)
     margin = np.minimum(x / h, ustar - root - _ZERO * v)
     _, impulse = hunt_crossley_velocity(x, u, k, d, m, g, h)
     ends = (x < 0.0) | (impulse <= _ZERO * m * v)
-    return margin, ends, valid
+    return margin, ends
 
 
 def contact_ends(
@@ -353,7 +388,7 @@ def _block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
 
 
 def _margin_states(k, d, m, g, v, h, x, u, step, valid):
-    """:func:`end_margin`'s states ``step`` into ``x``, ``u`` (views, in place), and its
+    """:func:`end_state`'s states ``step`` into ``x``, ``u`` (views, in place), and its
     ``valid``: the update of
     :func:`~impactsym.engines.drake.update.hunt_crossley_velocity` (no contact test), the
     same operations."""
