@@ -151,11 +151,11 @@ table whose error is bounded without a per-design evaluation, or a compiled step
 
 Where it stands (CPU seconds per 10^5, ``_cases(100000)``, one warm-up call of 10
 targets, then the call timed by ``time.process_time``; this machine's run-to-run noise
-is up to 40 %, so each case was run 2-4 times, old and new code alike): PyBullet
-1.74-2.02 (g = 0, contact_time array), 0.78 (g = 0, default), 1.85-1.93 and 1.88-2.0
-(under gravity; single runs up to 2.8 for the old code as for the new); Drake
-continuous 0.02-0.8; Drake lagged 1e-3 11-15 (g = 0 and 9.81, contact_time and
-max_penetration), 5-7 x the target, of which ~4 s is the exact prediction alone.
+is up to 40 %, so each case was run 2-4 times, old and new code alike; the last row of
+figures one run at load 1.4): PyBullet 1.63 (g = 0, contact_time array), 0.68 (g = 0,
+default), 1.33 and 1.42 (under gravity); Drake continuous 0.1-0.9; Drake lagged 1e-3
+8.8, 11.7 (g = 0, contact_time and max_penetration), 9.7, 12.0 (g = 9.81): 4.4-6 x the
+target, of which 2.6-3.6 s is the exact prediction the designs return.
 """
 
 from __future__ import annotations
