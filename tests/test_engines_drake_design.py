@@ -136,3 +136,16 @@ def test_a_restitution_the_damping_jumps_across_is_refused_not_missed():
         drake.point_contact_for(restitution=0.10172259476059209,
                                 max_penetration=0.003685475808634121, speed=2.0,
                                 mass=2.4257340466467445, gravity=50.0, time_step=1e-3)  # fmt: skip
+
+
+def test_a_target_of_a_real_contact_is_designed_not_refused():
+    # the overlap and restitution of a contact of 9.6 steps (k = 35587.88 N/m,
+    # d = 0.0640 s/m): started from the undamped scale the stiffness iteration's first
+    # damping root sat where the step restitutes 0.596 < 0.611 and refused the target
+    # (found by review); from the continuous damped law it finds the contact again
+    k, d, m, v = 35587.880356554335, 0.06404482152278752, 0.3431348857969162, 1.4579533408727512
+    p = drake.predict(stiffness=k, dissipation=d, mass=m, speed=v, time_step=1e-3)
+    c = drake.point_contact_for(restitution=p.restitution, max_penetration=p.max_penetration,
+                                speed=v, mass=m, time_step=1e-3)  # fmt: skip
+    assert abs(c.point_contact_stiffness / k - 1.0) < 1e-6
+    assert abs(c.hunt_crossley_dissipation / d - 1.0) < 1e-6

@@ -48,12 +48,14 @@ import numpy as np
 from impactsym.contact.lawclosed import hunt_crossley_parameter
 from impactsym.contact.lawdesign import damping_for
 from impactsym.contact.nonlinear import normalized_impact
+from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
 from impactsym.engines.drake.phases import phase_summary
 from impactsym.engines.drake.prediction import (
     Prediction,
     check_approximation,
     check_time_step,
     predict,
+    read_prediction,
 )
 from impactsym.engines.drake.pressed_table import MIN_TARGETS, pressed_designs
 from impactsym.engines.drake.step_table import MIN_TARGETS as STEPPED_MIN
@@ -203,7 +205,7 @@ def point_contact_for(
 
     sap = approx == "sap"
     if values_read is not None and read.any():  # the table's values, the exact elsewhere
-        p = _merged(shape, read, values_read, (k, damp, m, v, g))
+        p = read_prediction(shape, read, values_read, k, damp, m, v, g)
     else:  # the full prediction (with the ranges) once, in the shape of the input
         p = _predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),
                      h, approx)  # fmt: skip
@@ -263,8 +265,13 @@ def _iterate(e, v, m, g, target, h, approx, size_name):
     """The stiffness and damping of each target (flat arrays) by the exact iteration: the
     fixed point in the stiffness, a damping root at each (module docstring); raises
     where a target is out of reach."""
-    # the undamped-law scale: t_c ~ pi sqrt(m/k), x_max ~ v sqrt(m/k)
+    # the undamped-law scale: t_c ~ pi sqrt(m/k), x_max ~ v sqrt(m/k); at a step the
+    # continuous damped law's (an undamped start may lie where the step restitutes less
+    # than the target, which the damping root refuses: a reachable target was refused)
     unit = np.pi if size_name == "contact_time" else v
+    if approx is not None:
+        _, tau0, z0 = hunt_crossley_free(np.minimum(hunt_crossley_parameter(e), S_MAX))
+        unit = tau0 if size_name == "contact_time" else z0 * v
     k = k_start = m * (unit / target) ** 2
     damp = np.zeros_like(k)
     if approx is None and np.all(g > 0):
@@ -372,23 +379,6 @@ def _iterate(e, v, m, g, target, h, approx, size_name):
             "time_step or a larger restitution"
         )
     return k, damp
-
-
-def _merged(shape, read, values, rows) -> Prediction:
-    """The continuous prediction: ``values`` (restitution, contact time, deepest overlap)
-    read off the table where ``read``, :func:`predict` elsewhere (flat ``rows``)."""
-    e, t_c, pen = (np.empty(read.size) for _ in range(3))
-    e[read], t_c[read], pen[read] = values
-    rest = np.flatnonzero(~read)
-    if rest.size:
-        p = _predict(*(a[rest] for a in rows), 0.0, None)
-        e[rest], t_c[rest], pen[rest] = p.restitution, p.contact_time, p.max_penetration
-    stuck = np.isinf(t_c)
-    e, t_c, pen = (a.reshape(shape) for a in (e, t_c, pen))
-    return Prediction(time_step=0.0, approximation=None, phase=None, restitution=e,
-                      contact_time=t_c, sticks=stuck.reshape(shape), max_penetration=pen,
-                      restitution_range=(e, e), contact_time_range=(t_c, t_c),
-                      stick_fraction=stuck.astype(float).reshape(shape))  # fmt: skip
 
 
 def _predict(k, damp, m, v, g, h, approx) -> Prediction:

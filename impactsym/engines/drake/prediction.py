@@ -33,7 +33,13 @@ from impactsym.engines.drake.update import APPROXIMATIONS, DEFAULT_RELAXATION_TI
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, finish, real_array
 
-__all__ = ["DEFAULT_APPROXIMATION", "Prediction", "check_approximation", "predict"]
+__all__ = [
+    "DEFAULT_APPROXIMATION",
+    "Prediction",
+    "check_approximation",
+    "predict",
+    "read_prediction",
+]
 
 #: Drake 1.51's ``MultibodyPlantConfig.discrete_contact_approximation`` default.
 DEFAULT_APPROXIMATION = "lagged"
@@ -212,6 +218,26 @@ def predict(
         contact_time_range=(out(t_lo), out(t_hi)),
         stick_fraction=out(frac),
     )
+
+
+def read_prediction(
+    shape: tuple[int, ...], read: np.ndarray, values: Any, k: np.ndarray, d: np.ndarray,
+    m: np.ndarray, v: np.ndarray, g: np.ndarray,
+) -> Prediction:  # fmt: skip
+    """The continuous prediction of the designs ``(k, d)`` (flat, with ``m, v, g``):
+    ``values`` (restitution, contact time, deepest overlap of the ``read`` rows) read off
+    a table where ``read``, :func:`predict` elsewhere; in ``shape``."""
+    e, t_c, pen = (np.empty(read.size) for _ in range(3))
+    e[read], t_c[read], pen[read] = values
+    rest = np.flatnonzero(~read)
+    if rest.size:
+        e[rest], t_c[rest], pen[rest] = _continuous(*(a[rest] for a in (k, d, m, v, g)))
+    stuck = np.isinf(t_c)
+    e, t_c, pen = (a.reshape(shape) for a in (e, t_c, pen))
+    return Prediction(time_step=0.0, approximation=None, phase=None, restitution=e,
+                      contact_time=t_c, sticks=stuck.reshape(shape), max_penetration=pen,
+                      restitution_range=(e, e), contact_time_range=(t_c, t_c),
+                      stick_fraction=stuck.astype(float).reshape(shape))  # fmt: skip
 
 
 def _continuous(k, d, m, v, g):
