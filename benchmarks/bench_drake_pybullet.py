@@ -143,7 +143,8 @@ tracked runs of the map from 8 grid phases and each root, ~10 per design) and 16
 (Drake lagged, without the range search, designs of 20-40 steps, g = 0 and 9.81; 22-26 s
 with the multisection; ~3 s since the lean loop; ~2 s since the one-margin root search
 and the quarter pieces, most of it the Gauss nodes and the grid), and
-a design takes 10-50 of them (Drake lagged from a table: ~5.5, PyBullet from a table: 2,
+a design takes 10-50 of them (Drake lagged from a table: ~5.5, since the change's
+equations ~4.3 of a quarter the cost; PyBullet from a table: 2,
 or ~3 for the contact_time array, whose table cells mostly hold a kink; its prediction
 comes free). A table per step ratio (the targets share speed and mass), inverted, cuts
 the evaluations to one or two per design; below 2 s needs more: designs read from a

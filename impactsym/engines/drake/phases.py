@@ -263,14 +263,15 @@ def _roots(flat, run, key, ii, a, c, left, right):
     rounding the end test flips back and forth over a band of the phase (module
     docstring): the doubling reaches past the band, and where the bracket has not
     halved in three calls while phases keep falling short, a bisection step. Few
-    brackets left (under :data:`_FAN_ROWS`) take a fan of ``q`` phases per call
+    brackets left (``q = _FAN_ROWS // brackets`` from 2: 256 brackets or fewer) take a
+    fan of ``q`` phases per call
     instead (up to :data:`_FAN`: a call costs ~0.8 ms whatever its few rows), at the
     same step doubled outwards past the estimate and before it (``q = 2``: the two
     straddling it by a quarter width). Of the phases of one call the first change is
     kept, as the multisection keeps it. Measured over 10^4 random contacts of 2-100
     steps (large batches: one phase per call): 9.1 margins per change for ``d v`` up
-    to 4, 11.5 for 4-5.5, 12.1 above (the former falsi, two phases per call straddling
-    its estimate, then trisection: 18.2, 24.1, 24.8); small batches take about half the
+    to 4, 11.5 for 4-5.5 (the former falsi, two phases per call straddling its estimate,
+    then trisection: 18.2 and 24.1); small batches take about half the
     calls (20 designs: 6-9 against 13-19; all phases of a call run together). Brackets
     of contacts with ``d v`` above :data:`_FLOOR` are left to the multisection (module
     docstring). The phases' side is
