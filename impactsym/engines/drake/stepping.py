@@ -141,9 +141,7 @@ def step_contact(
     shape = arrays[0].shape
     k, d, tau, m, g, v, h, phase = (a.ravel() for a in arrays)
     n = k.size
-    t0 = phase * h
-    x = v * t0 + 0.5 * g * t0 * t0
-    u = v + g * t0
+    t0, x, u = _touch(v, g, h, phase)
     e = np.zeros(n)
     t_c = np.full(n, np.inf)
     sticks = np.zeros(n, bool)
@@ -213,6 +211,13 @@ def step_contact(
     by_position[sticks] = False
     fields = (e, t_c, sticks, by_position, departure, steps, x_max, peak / m)
     return StepContact(*(f.reshape(shape) for f in fields))
+
+
+def _touch(v, g, h, phase):
+    """``(t0, x, u)``: the time from touch to the first detecting state, and that state's
+    free-flight penetration and approach rate (module docstring, the touch phase)."""
+    t0 = phase * h
+    return t0, v * t0 + 0.5 * g * t0 * t0, v + g * t0
 
 
 def _settled(x, u, k, d, m, g, h, v, x_max, peak, stuck_peaks):
@@ -321,8 +326,7 @@ def end_state(
     )
     k, d, m, g, v, h, phase = (a.ravel() for a in (k, d, m, g, v, h, phase))
     step = np.broadcast_to(np.asarray(step, np.int64), k.shape).ravel()
-    t0 = phase * h
-    x, u = v * t0 + 0.5 * g * t0 * t0, v + g * t0
+    _, x, u = _touch(v, g, h, phase)
     valid = np.ones(k.size, bool)
     for lo in range(0, k.size, _BLOCK):  # blocks that stay in the cache while stepped
         block = slice(lo, min(lo + _BLOCK, k.size))
@@ -377,9 +381,7 @@ def contact_ends(
 def _block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
     """:func:`contact_ends` of one block, into ``out``."""
     with np.errstate(all="ignore"):  # the finished contacts step on until gathered
-        t0 = phase * h
-        x = v * t0 + 0.5 * g * t0 * t0
-        u = v + g * t0
+        t0, x, u = _touch(v, g, h, phase)
         consts = _constants(k, d, m, g, v, h)
         coast = _ends_loop(np.arange(k.size), x, u, consts, (k, d, m, g, h, v, t0), out,
                            stuck_peaks=stuck_peaks)  # fmt: skip
