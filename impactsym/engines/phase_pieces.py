@@ -18,11 +18,13 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["PieceSamples", "integrate_pieces", "reduce_at", "vertex"]
+__all__ = ["PieceSamples", "gauss_legendre", "integrate_pieces", "reduce_at", "vertex"]
 
 
 @cache
-def _gauss(nodes: int) -> tuple[np.ndarray, np.ndarray]:
+def gauss_legendre(nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss–Legendre nodes and weights on ``[-1, 1]`` (cached: the pieces of every
+    summary share them)."""
     return np.polynomial.legendre.leggauss(nodes)
 
 
@@ -61,7 +63,7 @@ def integrate_pieces(
     ``run(i, p)`` is the contact of elements ``i`` at phases ``p`` (a record with
     ``restitution``, ``contact_time`` and ``sticks``); ``size`` is the number of elements.
     """
-    x, weights = _gauss(nodes)
+    x, weights = gauss_legendre(nodes)
     half, centre = 0.5 * (p1 - p0), 0.5 * (p1 + p0)
     inner = centre[:, None] + half[:, None] * x[None, :]
     pts = np.concatenate([p0[:, None], inner, p1[:, None]], axis=1)

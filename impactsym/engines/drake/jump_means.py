@@ -65,14 +65,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from impactsym.engines.drake.stepping import contact_ends, end_state, margin_at
+from impactsym.engines.drake.phases import GRID_PHASES
+from impactsym.engines.drake.stepping import contact_ends, end_state, end_steps, margin_at
+from impactsym.engines.phase_pieces import gauss_legendre
 
 __all__ = ["JumpMeans", "jump_holds", "jump_means", "last_overlap"]
 
 _NODES = 8  # Gauss-Legendre nodes per panel
 _DPHASE = 2.0**-20  # the difference in the phase for the margin's slope
-_GRID = np.linspace(0.0, 1.0, 9)  # phase_summary's grid
-_GRID[-1] = 1.0 - 1e-15
 _CLEAR = 1e-9  # grid phases this close to the change are not checked (the nodes are)
 
 
@@ -87,7 +87,7 @@ class JumpMeans(NamedTuple):
 
 def _gauss(nodes):
     """Gauss–Legendre nodes and weights on ``[0, 1]``."""
-    x, w = np.polynomial.legendre.leggauss(nodes)
+    x, w = gauss_legendre(nodes)
     return 0.5 * (x + 1.0), 0.5 * w
 
 
@@ -152,7 +152,7 @@ def last_overlap(
     :func:`~impactsym.engines.drake.phases.phase_summary` (``1 - 1e-15``), the very
     number it samples there (``nan`` where it sticks): the phase summary's largest
     overlap where it is the deepest of its samples (module docstring). Flat arrays."""
-    r = contact_ends(k, d, m, g, v, h, _GRID[-1], stuck_peaks=False)
+    r = contact_ends(k, d, m, g, v, h, GRID_PHASES[-1], stuck_peaks=False)
     return np.where(r.sticks, np.nan, r.max_penetration)
 
 
@@ -174,12 +174,11 @@ def jump_holds(
     last_before = np.where(phi > 0.5, a[:, 1] + (b[:, 1] - a[:, 1]) * x01[-1], b[:, 0] * x01[-1])
     first_after = np.where(phi > 0.5, a[:, 2] + (b[:, 2] - a[:, 2]) * x01[0],
                            a[:, 1] + (b[:, 1] - a[:, 1]) * x01[0])  # fmt: skip
-    phases = np.concatenate([np.tile(_GRID, (n, 1)), last_before[:, None], first_after[:, None]],
-                            axis=1)  # fmt: skip
+    phases = np.concatenate([np.tile(GRID_PHASES, (n, 1)), last_before[:, None],
+                             first_after[:, None]], axis=1)  # fmt: skip
     rows = np.repeat(np.arange(n), phases.shape[1])
     r = contact_ends(*(a[rows] for a in (k, d, m, g, v)), h, phases.ravel())
-    with np.errstate(invalid="ignore"):
-        ends = np.rint(r.contact_time / h - phases.ravel()).reshape(phases.shape)
+    ends = end_steps(r.contact_time, r.sticks, h, phases.ravel()).reshape(phases.shape)
     want = np.where(phases < phi[:, None], base[:, None] + 1, base[:, None])
     check = np.abs(phases - phi[:, None]) > _CLEAR
     check[:, -2] = phi > 0.0  # the nodes (none before an empty first piece)
@@ -188,5 +187,5 @@ def jump_holds(
     held = good.all(axis=1) & ~r.sticks.reshape(phases.shape).any(axis=1)
     if deepest_last:
         depth = r.max_penetration.reshape(phases.shape)
-        held &= depth.max(axis=1) <= depth[:, _GRID.size - 1]
+        held &= depth.max(axis=1) <= depth[:, GRID_PHASES.size - 1]
     return held

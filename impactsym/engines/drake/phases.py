@@ -53,13 +53,24 @@ from typing import Any
 
 import numpy as np
 
-from impactsym.engines.drake.stepping import ContactEnds, contact_ends, end_margin, step_contact
+from impactsym.engines.drake.stepping import (
+    ContactEnds,
+    contact_ends,
+    end_margin,
+    end_steps,
+    step_contact,
+)
 from impactsym.engines.phase_pieces import integrate_pieces, reduce_at
 from impactsym.records import ArrayRecord
 
-__all__ = ["PhaseSummary", "phase_summary"]
+__all__ = ["GRID_PHASES", "PhaseSummary", "phase_summary"]
 
 _GRID = 8
+#: The phases every summary runs first: ``_GRID`` equal intervals of ``[0, 1)`` (the last
+#: phase ``1 - 1e-15``).
+GRID_PHASES = np.linspace(0.0, 1.0, _GRID + 1)
+GRID_PHASES[-1] = 1.0 - 1e-15
+GRID_PHASES.flags.writeable = False
 _SPLIT = 64  # multisection: 6 bits of the jump phase per call (2^-42: 7 calls)
 _BATCH = 32_000  # contacts per call above which the searches take fewer phases per call
 _ZOOM = 33  # phases per zoom round of an interior extreme
@@ -124,12 +135,9 @@ def phase_summary(
         return contact_ends(k, d, m, g, v, h, p, stuck_peaks=stuck_peaks)
 
     def key(res, p, i):
-        with np.errstate(invalid="ignore", over="ignore"):
-            index = np.rint(res.contact_time / dt[i] - p)
-        return np.where(res.sticks, -1, index)
+        return end_steps(res.contact_time, res.sticks, dt[i], p)
 
-    grid = np.linspace(0.0, 1.0, _GRID + 1)
-    grid[-1] = 1.0 - 1e-15  # phases lie in [0, 1)
+    grid = GRID_PHASES
     lo = np.tile(grid[:-1], (size, 1))
     hi = np.tile(grid[1:], (size, 1))
     i_grid = np.repeat(np.arange(size), _GRID + 1)

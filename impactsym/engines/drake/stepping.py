@@ -102,6 +102,7 @@ __all__ = [
     "contact_ends",
     "end_margin",
     "end_state",
+    "end_steps",
     "margin_at",
     "step_contact",
 ]
@@ -211,6 +212,15 @@ def step_contact(
     by_position[sticks] = False
     fields = (e, t_c, sticks, by_position, departure, steps, x_max, peak / m)
     return StepContact(*(f.reshape(shape) for f in fields))
+
+
+def end_steps(contact_time: Any, sticks: Any, h: Any, phase: Any) -> np.ndarray:
+    """The end state of contacts that last ``contact_time`` from touch at ``phase``
+    (``(phase + count) h``: the state ``count``, 0 the first detecting one), ``-1`` where
+    they stick (arrays broadcast): what the phase summaries compare across phases."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        index = np.rint(np.asarray(contact_time) / h - phase)
+    return np.where(sticks, -1, index)
 
 
 def _touch(v, g, h, phase):
