@@ -221,7 +221,7 @@ def _group(e, v, m, g, target, h, approx, size_name):
     s_c, w_c = np.where(known, s, np.nan), np.where(known, w, np.nan)
     jac_j = _differences(rules[1], s_c, w_c, jac, slopes)
     s_j, w_j, done_j = _broyden(rules[0], s_c, w_c, jac_j, e, q, *box, tol=_JUMP_TOL)
-    rows = np.flatnonzero(done_j & np.isfinite(change))
+    rows = np.flatnonzero(done_j)  # (their change is known: it stays finite)
     k_j, d_j = m[rows] * (w_j[rows] / h) ** 2, s_j[rows] / v[rows]
     held = jump_holds(k_j, d_j, *(a[rows] for a in (m, g, v)), h, change[rows],
                       deepest_last=not timed)  # fmt: skip
