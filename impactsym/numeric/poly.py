@@ -14,6 +14,7 @@ Internal: none of these names is part of the public interface of the package.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -249,7 +250,7 @@ def taylor_shift(c: np.ndarray, u: float) -> np.ndarray:
     return shift_matrix(c.size, u) @ c if c.size > 1 else c.copy()
 
 
-def quadratic_roots_ahead(q0, q1, q2):
+def quadratic_roots_ahead(q0: Any, q1: Any, q2: Any) -> list[np.ndarray]:
     """Both roots ``D > 0`` of ``q0 + q1 D + q2 D^2 / 2`` (arrays; ``inf`` where there is
     none), by the stable quadratic formula (``q2 = 0``: the linear root).
 
@@ -266,7 +267,7 @@ def quadratic_roots_ahead(q0, q1, q2):
     return out
 
 
-def quadratic_at(q0, q1, q2, D):
+def quadratic_at(q0: Any, q1: Any, q2: Any, D: Any) -> np.ndarray:
     """``q0 + q1 D + q2 D^2 / 2`` (``nan`` where ``D`` is ``inf``).
 
     >>> quadratic_at(np.array([-2.0]), np.array([1.0]), 2.0, np.array([1.0, np.inf])).tolist()
