@@ -103,25 +103,33 @@ def _hidden_changes(e, x_end, k, d, tau, m, g, v, h, pts):
         flag |= _toward_zero(f, pts)
     # F3 rising through zero and F4 falling through it between two samples (or the
     # reverse): linearly, a gap between their zeros where both are positive
-    a3, b3, a4, b4 = f3[:, :-1], f3[:, 1:], f4[:, :-1], f4[:, 1:]
+    both = np.flatnonzero(
+        (f3.min(axis=1) <= 0) & (f3.max(axis=1) > 0) & (f4.min(axis=1) <= 0) & (f4.max(axis=1) > 0)
+    )
+    a3, b3, a4, b4 = f3[both, :-1], f3[both, 1:], f4[both, :-1], f4[both, 1:]
     with np.errstate(divide="ignore", invalid="ignore"):
         z3, z4 = a3 / (a3 - b3), a4 / (a4 - b4)  # fractions of the sample interval
         up = (a3 <= 0) & (b3 > 0) & (a4 > 0) & (b4 <= 0) & (z3 < z4 + 0.25)
         down = (a4 <= 0) & (b4 > 0) & (a3 > 0) & (b3 <= 0) & (z4 < z3 + 0.25)
-    flag |= (up | down).any(axis=1)
+    flag[both] |= (up | down).any(axis=1)
     return flag & np.isfinite(x_end).all(axis=1)
 
 
 def _toward_zero(f, pts):
     """Rows of ``f`` (samples at ``pts``) of one sign whose quadratic through the sample
-    nearest zero and its two neighbours reaches more than half way to zero."""
+    nearest zero and its two neighbours reaches more than half way to zero. That
+    quadratic falls below its least sample by at most a quarter of the samples' spread,
+    so only rows whose spread exceeds twice their least magnitude are fitted."""
     sign = np.where(f[:, :1] > 0, 1.0, -1.0)
     a = sign * f  # positive at every sample of a one-signed row
-    one = (a > 0).all(axis=1) & np.isfinite(a).all(axis=1)
-    j = np.clip(np.argmin(a, axis=1), 1, f.shape[1] - 2)
-    rows = np.arange(f.shape[0])
-    three = np.stack([j - 1, j, j + 1], axis=1)
-    p, y = pts[rows[:, None], three], a[rows[:, None], three]
+    low, high = a.min(axis=1), a.max(axis=1)
+    rows = np.flatnonzero((low > 0) & (high > 3.0 * low) & np.isfinite(high))
+    out = np.zeros(f.shape[0], bool)
+    if rows.size == 0:
+        return out
+    a, pts = a[rows], pts[rows]
+    j = np.clip(np.argmin(a, axis=1), 1, f.shape[1] - 2)[:, None] + np.arange(-1, 2)
+    p, y = np.take_along_axis(pts, j, axis=1), np.take_along_axis(a, j, axis=1)
     with np.errstate(all="ignore"):
         d01 = (y[:, 1] - y[:, 0]) / (p[:, 1] - p[:, 0])
         d12 = (y[:, 2] - y[:, 1]) / (p[:, 2] - p[:, 1])
@@ -129,7 +137,8 @@ def _toward_zero(f, pts):
         pv = 0.5 * (p[:, 0] + p[:, 1]) - 0.5 * d01 / c2  # the vertex
         yv = y[:, 0] + d01 * (pv - p[:, 0]) + c2 * (pv - p[:, 0]) * (pv - p[:, 1])
     inside = (c2 > 0) & (pv > p[:, 0]) & (pv < p[:, 2])
-    return one & inside & (yv < 0.5 * a.min(axis=1))
+    out[rows] = inside & (yv < 0.5 * low[rows])
+    return out
 
 
 def _grid(intervals):
