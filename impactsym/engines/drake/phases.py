@@ -69,7 +69,7 @@ from impactsym.engines.drake.stepping import (
     end_steps,
     step_contact,
 )
-from impactsym.engines.phase_pieces import integrate_pieces, reduce_at
+from impactsym.engines.phase_pieces import gauss_legendre, integrate_pieces, reduce_at
 from impactsym.records import ArrayRecord
 
 __all__ = ["GRID_PHASES", "PhaseSummary", "phase_summary"]
@@ -77,68 +77,84 @@ __all__ = ["GRID_PHASES", "PhaseSummary", "phase_summary"]
 _GRID = 8
 
 
-def _hidden_changes(e, x_end, k, d, tau, m, g, v, h, pts):
-    """Pieces (rows of the samples ``pts``, restitution ``e`` and end penetration
-    ``x_end``; parameters per piece) whose end state may change between samples.
+def _hidden_changes(e, x_end, d, g, v, h):
+    """Pieces (columns of the samples' restitution ``e`` and end penetration ``x_end``,
+    ``samples x pieces``: the piece start, its Gauss nodes, its end; parameters per
+    piece) whose end state may change between samples.
 
     The end state ``B`` of a piece ends because its update is free: ``F3 = x/h + u*``
-    or ``F4 = u* + 1/d`` is at most zero (``u* = u + h g``), and the state before it was
-    not, which for a state reached by a contact update is ``F1 = x > 0`` and
-    ``F2 = 1 + d u > 0`` (the previous state's two margins are ``F1 (1/h + h k F2/m)``
+    or ``F4 = u* + 1/d`` is at most zero (``u* = u + h g``, ``u = -e v``), and the state
+    before it was not, which for a state reached by a contact update is ``F1 = x > 0``
+    and ``F2 = 1 + d u > 0`` (the previous state's two margins are ``F1 (1/h + h k F2/m)``
     and ``F2 (1/d + h k F1/m)``). All four are smooth in the phase along the piece,
     however its contacts end. A function of one sign at every sample that the
-    quadratic through its extreme sample and the two next to it takes more than half
-    way to zero, or ``F3`` and ``F4`` whose zeros between two samples interpolate in
-    the order that leaves both positive, flags the piece; its element is then done on
-    a finer grid. Pieces that stick, and ``"sap"`` (no end penetration), are skipped.
+    quadratic through a least sample and the two next to it takes more than half way to
+    zero (:func:`_toward_zero`), or ``F3`` and ``F4`` whose zeros between two samples
+    interpolate in the order that leaves both positive, flags the piece; its element is
+    then done on a finer grid. Pieces that stick, and ``"sap"`` (no end penetration),
+    are skipped. Column bounds come first (``F2`` and ``F4`` fall as ``e`` rises), the
+    fits only on the pieces they leave (a few in a hundred).
     """
-    u = -e * v[:, None]
-    us = u + (h * g)[:, None]
     with np.errstate(divide="ignore", invalid="ignore"):
-        inv_d = np.where(d > 0, 1.0 / d, np.inf)[:, None]
-        f1, f2 = x_end, 1.0 + d[:, None] * u
-        f3, f4 = x_end / h[:, None] + us, us + inv_d
-    flag = np.zeros(e.shape[0], bool)
-    for f in (f1, f2, f3, f4):
-        flag |= _toward_zero(f, pts)
+        inv_d = np.where(d > 0, 1.0 / d, np.inf)
+        f3 = x_end / h + (h * g - v * e)
+    e_lo, e_hi = e.min(axis=0), e.max(axis=0)
+
+    def f2(i):
+        return 1.0 - d[i] * v[i] * e[:, i]
+
+    def f4(i):
+        return h[i] * g[i] + inv_d[i] - v[i] * e[:, i]
+
+    functions = (  # each with its least and largest sample per piece
+        (lambda i: x_end[:, i], x_end.min(axis=0), x_end.max(axis=0)),
+        (f2, 1.0 - d * v * e_hi, 1.0 - d * v * e_lo),
+        (lambda i: f3[:, i], f3.min(axis=0), f3.max(axis=0)),
+        (f4, h * g + inv_d - v * e_hi, h * g + inv_d - v * e_lo),
+    )
+    flag = np.zeros(e.shape[1], bool)
+    for f, low, high in functions:
+        with np.errstate(invalid="ignore"):  # one sign, a spread over twice the least
+            up = (low > 0) & (high > 3.0 * low)  # (module docstring of _toward_zero)
+            down = (high < 0) & (low < 3.0 * high)
+        for i, sign in ((np.flatnonzero(up), 1.0), (np.flatnonzero(down), -1.0)):
+            if i.size:
+                flag[i] |= _toward_zero(sign * f(i))
     # F3 rising through zero and F4 falling through it between two samples (or the
     # reverse): linearly, a gap between their zeros where both are positive
-    both = np.flatnonzero(
-        (f3.min(axis=1) <= 0) & (f3.max(axis=1) > 0) & (f4.min(axis=1) <= 0) & (f4.max(axis=1) > 0)
-    )
-    a3, b3, a4, b4 = f3[both, :-1], f3[both, 1:], f4[both, :-1], f4[both, 1:]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        z3, z4 = a3 / (a3 - b3), a4 / (a4 - b4)  # fractions of the sample interval
-        up = (a3 <= 0) & (b3 > 0) & (a4 > 0) & (b4 <= 0) & (z3 < z4 + 0.25)
-        down = (a4 <= 0) & (b4 > 0) & (a3 > 0) & (b3 <= 0) & (z4 < z3 + 0.25)
-    flag[both] |= (up | down).any(axis=1)
-    return flag & np.isfinite(x_end).all(axis=1)
+    lo3, hi3, lo4, hi4 = functions[2][1], functions[2][2], functions[3][1], functions[3][2]
+    both = np.flatnonzero((lo3 <= 0) & (hi3 > 0) & (lo4 <= 0) & (hi4 > 0))
+    if both.size:
+        g3, g4 = f3[:, both], f4(both)
+        a3, b3, a4, b4 = g3[:-1], g3[1:], g4[:-1], g4[1:]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            z3, z4 = a3 / (a3 - b3), a4 / (a4 - b4)  # fractions of the sample interval
+            up = (a3 <= 0) & (b3 > 0) & (a4 > 0) & (b4 <= 0) & (z3 < z4 + 0.25)
+            down = (a4 <= 0) & (b4 > 0) & (a3 > 0) & (b3 <= 0) & (z4 < z3 + 0.25)
+        flag[both] |= (up | down).any(axis=0)
+    return flag & np.isfinite(functions[0][1])
 
 
-def _toward_zero(f, pts):
-    """Rows of ``f`` (samples at ``pts``) of one sign whose quadratic through the sample
-    nearest zero and its two neighbours reaches more than half way to zero. That
-    quadratic falls below its least sample by at most a quarter of the samples' spread,
-    so only rows whose spread exceeds twice their least magnitude are fitted."""
-    sign = np.where(f[:, :1] > 0, 1.0, -1.0)
-    a = sign * f  # positive at every sample of a one-signed row
-    low, high = a.min(axis=1), a.max(axis=1)
-    rows = np.flatnonzero((low > 0) & (high > 3.0 * low) & np.isfinite(high))
-    out = np.zeros(f.shape[0], bool)
-    if rows.size == 0:
-        return out
-    a, pts = a[rows], pts[rows]
-    j = np.clip(np.argmin(a, axis=1), 1, f.shape[1] - 2)[:, None] + np.arange(-1, 2)
-    p, y = np.take_along_axis(pts, j, axis=1), np.take_along_axis(a, j, axis=1)
+def _toward_zero(a):
+    """Columns of ``a`` (positive samples at the pieces' relative positions: start,
+    :data:`_NODES` Gauss nodes, end) whose quadratic through a least sample and the two
+    next to it (the first or last three where the least is an end) reaches below half
+    the least sample. That quadratic falls below the least of its three samples by at
+    most a quarter of their spread, so only columns whose spread exceeds twice their
+    least are passed."""
+    x, _ = gauss_legendre(_NODES)
+    s = np.concatenate([[-1.0], x, [1.0]])
+    j = np.clip(np.argmin(a, axis=0), 1, s.size - 2)
+    cols = np.arange(a.shape[1])
+    y0, y1, y2 = a[j - 1, cols], a[j, cols], a[j + 1, cols]
+    s0, s1, s2 = s[j - 1], s[j], s[j + 1]
     with np.errstate(all="ignore"):
-        d01 = (y[:, 1] - y[:, 0]) / (p[:, 1] - p[:, 0])
-        d12 = (y[:, 2] - y[:, 1]) / (p[:, 2] - p[:, 1])
-        c2 = (d12 - d01) / (p[:, 2] - p[:, 0])
-        pv = 0.5 * (p[:, 0] + p[:, 1]) - 0.5 * d01 / c2  # the vertex
-        yv = y[:, 0] + d01 * (pv - p[:, 0]) + c2 * (pv - p[:, 0]) * (pv - p[:, 1])
-    inside = (c2 > 0) & (pv > p[:, 0]) & (pv < p[:, 2])
-    out[rows] = inside & (yv < 0.5 * low[rows])
-    return out
+        d01, d12 = (y1 - y0) / (s1 - s0), (y2 - y1) / (s2 - s1)
+        c2 = (d12 - d01) / (s2 - s0)
+        sv = 0.5 * (s0 + s1) - 0.5 * d01 / c2  # the vertex
+        yv = y0 + d01 * (sv - s0) + c2 * (sv - s0) * (sv - s1)
+    inside = (c2 > 0) & (sv > s0) & (sv < s2)
+    return inside & (yv < 0.5 * a.min(axis=0))
 
 
 def _grid(intervals):
@@ -321,8 +337,9 @@ def _summary(flat, approximation, bounds, stuck_peaks, intervals):
     keys = key(res, pts.ravel(), np.repeat(own, pts.shape[1])).reshape(pts.shape)
     mixed = np.zeros(size, bool)
     mixed[own[(keys != keys[:, :1]).any(axis=1)]] = True
-    x_end = res.end_penetration.reshape(pts.shape)
-    mixed[own[_hidden_changes(e, x_end, *(a[own] for a in flat), pts)]] = True
+    x_end = np.ascontiguousarray(res.end_penetration.reshape(pts.shape).T)
+    d_p, g_p, v_p, h_p = (flat[i][own] for i in (1, 4, 5, 6))
+    mixed[own[_hidden_changes(np.ascontiguousarray(e.T), x_end, d_p, g_p, v_p, h_p)]] = True
     redo = np.flatnonzero(mixed)
     if redo.size and intervals < _GRID * 4**3:
         sub = [a[redo] for a in flat]
