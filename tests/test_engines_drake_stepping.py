@@ -194,7 +194,7 @@ def test_the_lean_loop_is_step_contact_bit_for_bit(h, stuck_peaks, monkeypatch):
     assert coasted.any()  # ended by the impulse inside the overlap, then left
     assert old.sticks.any()
     assert not old.sticks.all()
-    for name in new._fields[:-1]:
+    for name in set(new._fields) - {"end_penetration"}:
         np.testing.assert_array_equal(getattr(new, name), getattr(old, name), err_msg=name)
     # the end state's penetration: end_state's loop stepped to step_contact's end state
     ended = ~old.sticks
@@ -241,7 +241,7 @@ def test_the_lean_loop_decides_creeping_contacts_as_step_contact(stuck_peaks, mo
     assert len(updates) < 2_000  # decided by the rules, not stepped to MAX_STEPS
     assert old.sticks.all()
     assert np.count_nonzero(old.max_penetration == m * 9.81 / k) >= 8  # the creep rule
-    for name in new._fields[:-1]:
+    for name in set(new._fields) - {"end_penetration"}:
         np.testing.assert_array_equal(getattr(new, name), getattr(old, name), err_msg=name)
     assert np.all(np.isnan(new.end_penetration))
     # settling to rest to the last bit, its peaks wanted (found in a random search)
@@ -262,6 +262,6 @@ def test_the_lean_loop_decides_creeping_contacts_as_step_contact(stuck_peaks, mo
     monkeypatch.setattr(stepping, "_update", lean_update)
     assert len(updates) < 5_000  # decided at rest, not stepped to MAX_STEPS
     assert old.sticks.all()
-    for name in new._fields[:-1]:
+    for name in set(new._fields) - {"end_penetration"}:
         np.testing.assert_array_equal(getattr(new, name), getattr(old, name), err_msg=name)
     assert np.all(np.isnan(new.end_penetration))

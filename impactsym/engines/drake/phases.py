@@ -32,18 +32,23 @@ over 12000 random contacts of 2.2-100 steps (log-uniform), ``d v`` up to 5, grav
 and 9.81 m/s^2, steps 1e-3 and 1e-4, the mean restitution moves by 0.8-1.4e-14 at the
 99th percentile (the former 5 nodes per eighth, 45 runs per design instead of 35:
 3-5e-14; 6 nodes per quarter: up to 2e-11 on the shortest contacts, too much for designs
-held to 1e-12). *Two changes inside one grid interval* (the end state ``B`` ends one
-state early, or one late, over a band of 0.02-0.1 of a phase: a few contacts in 10^4,
-about 1 % of those of 2-4 steps, ``d v`` 1-4) leave the grid's end states alike; the
-base grid's mean was up to 3.5e-2 steps and 3.4e-4 in the restitution off. Each piece is
-therefore checked (:func:`_hidden_changes`): the end state's margins and the state
-before's, closed-form in the end state (its penetration and speed, which the runs
-record), are smooth along the piece, and a piece where one of them comes near zero
-between samples, or where the node samples' end states differ, is done again on a grid
-four times finer (as :mod:`impactsym.engines.mujoco.discrete` does). Against a midpoint
-mean over 2^14 phases with its own error bound, 13 of 6000 random contacts of 2-8 steps
-were off before and none after (nor of 1500 of 8-60 steps); about 4 pieces in 10^4 are
-redone. The bounds are over the piece ends (the one-sided limits at the
+held to 1e-12). *Two changes inside one grid interval* (the end state ends one state
+early or late over a band of 0.02-0.1 of a phase, or steps twice) leave the grid's end
+states alike, or the root search finds only the first: before this check, random
+contacts of 2-10 steps were off in 5 of 4000 (``d v = 0``) to 5 % (``d v`` 8-10),
+up to 4e-2 steps in the mean contact time and 2.5e-3 in the restitution. Each piece is
+therefore checked: its node samples' end states, and the end state's margins and the
+state before's, closed-form in the end state (its penetration and speed, which the
+runs record) and smooth along the piece (:func:`_hidden_changes`); a flagged element
+is summed again on a grid four times finer, down to :data:`_FINEST` intervals (as
+:mod:`impactsym.engines.mujoco.discrete` does). Against a midpoint mean over 2^14
+phases with its own error bound (two reviews, ~40000 contacts, ``d v`` 0-10, both
+gravities, steps 1e-3 and 1e-4) none is off after; about 2 % of the elements of 2-4
+steps are summed again, 0.07 % of those of 10-60, none of 2*10^4 of 20-40. Left: a band
+that does not stick inside a sticking piece is seen only where a node falls in it (1 of
+6000 contacts of 2-4 steps that mostly stick: 2.4e-3 in e), and contacts ending on the
+impulse floor at ``d v`` above 10 (4 of 1500, up to 1.2e-2 steps; the margins there are
+rounding). The bounds are over the piece ends (the one-sided limits at the
 jumps), the nodes and every grid phase (the odd ones lie inside the quarters), and a
 zoom search (33 phases per call) where an interior node is extreme. The piece ends are
 the grid phases and the located brackets' ends, whose contacts were run already: only
@@ -69,7 +74,7 @@ from impactsym.engines.drake.stepping import (
     end_steps,
     step_contact,
 )
-from impactsym.engines.phase_pieces import gauss_legendre, integrate_pieces, reduce_at
+from impactsym.engines.phase_pieces import gauss_legendre, integrate_pieces, reduce_at, vertex
 from impactsym.records import ArrayRecord
 
 __all__ = ["GRID_PHASES", "PhaseSummary", "phase_summary"]
@@ -82,18 +87,22 @@ def _hidden_changes(e, x_end, d, g, v, h):
     ``samples x pieces``: the piece start, its Gauss nodes, its end; parameters per
     piece) whose end state may change between samples.
 
-    The end state ``B`` of a piece ends because its update is free: ``F3 = x/h + u*``
-    or ``F4 = u* + 1/d`` is at most zero (``u* = u + h g``, ``u = -e v``), and the state
-    before it was not, which for a state reached by a contact update is ``F1 = x > 0``
-    and ``F2 = 1 + d u > 0`` (the previous state's two margins are ``F1 (1/h + h k F2/m)``
-    and ``F2 (1/d + h k F1/m)``). All four are smooth in the phase along the piece,
-    however its contacts end. A function of one sign at every sample that the
-    quadratic through a least sample and the two next to it takes more than half way to
-    zero (:func:`_toward_zero`), or ``F3`` and ``F4`` whose zeros between two samples
-    interpolate in the order that leaves both positive, flags the piece; its element is
-    then done on a finer grid. Pieces that stick, and ``"sap"`` (no end penetration),
-    are skipped. Column bounds come first (``F2`` and ``F4`` fall as ``e`` rises), the
-    fits only on the pieces they leave (a few in a hundred).
+    The end state ``B`` of a piece ends where its update is free, ``F3 = x/h + u*`` or
+    ``F4 = u* + 1/d`` at most zero (``u* = u + h g``, ``u = -e v``), or its impulse is
+    below the floor ``1e-12 m v``; the state before it did not, which for a state
+    reached by a contact update means ``F1 = x > 0`` and ``F2 = 1 + d u > 0`` (the
+    previous state's two margins are ``F1 (1/h + h k F2/m)`` and ``F2 (1/d + h k F1/m)``).
+    All four are smooth in the phase along the piece, however its contacts end. A
+    function of one sign at every sample whose quadratic through a least sample and the
+    two next to it falls below :data:`_NEAR` of that sample (:func:`_toward_zero`), or
+    ``F3`` and ``F4`` whose zeros between two samples interpolate in the order that
+    leaves both positive (within :data:`_LAG` of the interval), flags the piece. The
+    margins do not see changes of a contact that ends on the impulse floor (both
+    positive; mostly ``d v`` above 5.5): the node samples' end states do. Pieces that
+    stick, and ``"sap"`` (no end penetration), are skipped (a band that does not stick
+    inside a sticking piece is seen only where a node falls in it). Column bounds come
+    first (``F2`` and ``F4`` fall as ``e`` rises), the fits only on the pieces they
+    leave.
     """
     with np.errstate(divide="ignore", invalid="ignore"):
         inv_d = np.where(d > 0, 1.0 / d, np.inf)
@@ -114,9 +123,10 @@ def _hidden_changes(e, x_end, d, g, v, h):
     )
     flag = np.zeros(e.shape[1], bool)
     for f, low, high in functions:
-        with np.errstate(invalid="ignore"):  # one sign, a spread over twice the least
-            up = (low > 0) & (high > 3.0 * low)  # (module docstring of _toward_zero)
-            down = (high < 0) & (low < 3.0 * high)
+        reach = 1.0 + 4.0 * _NEAR  # a spread over 4 _NEAR times the least (_toward_zero)
+        with np.errstate(invalid="ignore"):
+            up = (low > 0) & (high > reach * low)
+            down = (high < 0) & (low < reach * high)
         for i, sign in ((np.flatnonzero(up), 1.0), (np.flatnonzero(down), -1.0)):
             if i.size:
                 flag[i] |= _toward_zero(sign * f(i))
@@ -129,8 +139,8 @@ def _hidden_changes(e, x_end, d, g, v, h):
         a3, b3, a4, b4 = g3[:-1], g3[1:], g4[:-1], g4[1:]
         with np.errstate(divide="ignore", invalid="ignore"):
             z3, z4 = a3 / (a3 - b3), a4 / (a4 - b4)  # fractions of the sample interval
-            up = (a3 <= 0) & (b3 > 0) & (a4 > 0) & (b4 <= 0) & (z3 < z4 + 0.25)
-            down = (a4 <= 0) & (b4 > 0) & (a3 > 0) & (b3 <= 0) & (z4 < z3 + 0.25)
+            up = (a3 <= 0) & (b3 > 0) & (a4 > 0) & (b4 <= 0) & (z3 < z4 + _LAG)
+            down = (a4 <= 0) & (b4 > 0) & (a3 > 0) & (b3 <= 0) & (z4 < z3 + _LAG)
         flag[both] |= (up | down).any(axis=0)
     return flag & np.isfinite(functions[0][1])
 
@@ -138,23 +148,17 @@ def _hidden_changes(e, x_end, d, g, v, h):
 def _toward_zero(a):
     """Columns of ``a`` (positive samples at the pieces' relative positions: start,
     :data:`_NODES` Gauss nodes, end) whose quadratic through a least sample and the two
-    next to it (the first or last three where the least is an end) reaches below half
-    the least sample. That quadratic falls below the least of its three samples by at
-    most a quarter of their spread, so only columns whose spread exceeds twice their
-    least are passed."""
+    next to it (the first or last three where the least is an end) has its vertex
+    between them and below :data:`_NEAR` of the least sample. That quadratic falls
+    below the least of its three samples by at most a quarter of their spread, so only
+    columns whose spread exceeds ``4 _NEAR`` times their least can be flagged."""
     x, _ = gauss_legendre(_NODES)
     s = np.concatenate([[-1.0], x, [1.0]])
-    j = np.clip(np.argmin(a, axis=0), 1, s.size - 2)
-    cols = np.arange(a.shape[1])
-    y0, y1, y2 = a[j - 1, cols], a[j, cols], a[j + 1, cols]
-    s0, s1, s2 = s[j - 1], s[j], s[j + 1]
-    with np.errstate(all="ignore"):
-        d01, d12 = (y1 - y0) / (s1 - s0), (y2 - y1) / (s2 - s1)
-        c2 = (d12 - d01) / (s2 - s0)
-        sv = 0.5 * (s0 + s1) - 0.5 * d01 / c2  # the vertex
-        yv = y0 + d01 * (sv - s0) + c2 * (sv - s0) * (sv - s1)
-    inside = (c2 > 0) & (sv > s0) & (sv < s2)
-    return inside & (yv < 0.5 * a.min(axis=0))
+    j = np.clip(np.argmin(a, axis=0), 1, s.size - 2)[:, None] + np.arange(-1, 2)
+    y = np.take_along_axis(a, j.T, axis=0).T
+    low = vertex(s[j], y, s[j[:, 0]], s[j[:, 2]])  # nan where outside
+    with np.errstate(invalid="ignore"):
+        return low < _NEAR * a.min(axis=0)
 
 
 def _grid(intervals):
@@ -177,6 +181,9 @@ _FAN = 64  # phases per bracket and call of the root search at most
 _FAN_ROWS = 512  # fans of _FAN_ROWS // brackets phases (from 2: 256 brackets or fewer left)
 _ROOT_CALLS = 40  # calls of the root search at most (measured: up to 35), then the multisection
 _FLOOR = 5.5  # damping numbers d v above which the multisection locates the changes
+_FINEST = _GRID * 4**5  # grid intervals at most where pieces hide changes (1/8192 of a phase)
+_NEAR = 0.5  # a margin whose fit between samples falls below this share of its least sample
+_LAG = 0.25  # linear zeros of F3, F4 closer than this share of a sample interval: a gap
 
 
 @dataclass(frozen=True, eq=False)
@@ -227,10 +234,13 @@ def phase_summary(
 def _summary(flat, approximation, bounds, stuck_peaks, intervals):
     """:func:`phase_summary`'s fields (a ``(8, size)`` array) of the flat arrays, on a
     grid of ``intervals`` equal phase intervals. A grid interval can hold two changes
-    of the end state (the grid sees neither); a piece whose samples do not all share
-    one end state shows it, and its element is done again on a grid four times finer
-    (up to ``_GRID * 4**3`` intervals), as :mod:`impactsym.engines.mujoco.discrete`
-    does."""
+    of the end state (the grid sees neither, or the search finds one of them): a piece
+    whose samples do not all share one end state shows it (the only sign where the
+    contact ends on the impulse floor), or one whose end-state margins come near zero
+    between its samples (:func:`_hidden_changes`), and its element is done again on a
+    grid four times finer, up to :data:`_FINEST` intervals (changes closer than that
+    are integrated as one piece: off by at most their distance times the jump), as
+    :mod:`impactsym.engines.mujoco.discrete` does."""
     size = flat[0].size
     dt = flat[-1]
 
@@ -341,7 +351,7 @@ def _summary(flat, approximation, bounds, stuck_peaks, intervals):
     d_p, g_p, v_p, h_p = (flat[i][own] for i in (1, 4, 5, 6))
     mixed[own[_hidden_changes(np.ascontiguousarray(e.T), x_end, d_p, g_p, v_p, h_p)]] = True
     redo = np.flatnonzero(mixed)
-    if redo.size and intervals < _GRID * 4**3:
+    if redo.size and intervals < _FINEST:
         sub = [a[redo] for a in flat]
         out[:, redo] = _summary(sub, approximation, bounds, stuck_peaks, 4 * intervals)
     return out
