@@ -35,8 +35,9 @@ design), the few others by Broyden steps on the exact phase means
 (:mod:`~impactsym.engines.drake.step_table`). The targets a table does not serve, and
 every smaller call, take the iteration above (at a step from the continuous damped
 design). Every discrete design is predicted: a table's design that misses its target is
-designed again by the iteration, and one that still misses (the phase mean jumps across
-the target as the damping moves) is refused. Its
+designed again by the iteration, and one that still misses is refused (a safety net:
+with the phase summary's two changes inside one grid interval found, no target is known
+to reach it). Its
 stopping rules act on its whole batch: where it refuses the targets a table left, they
 are iterated in halves, down to the target refused alone, which the refusal names with
 its reason (the call is not iterated again as a whole: that cost as much as designing it
@@ -137,7 +138,7 @@ def point_contact_for(
     ValueError
         For bad input, or a target out of reach, saying why (the rebound bound
         ``e v < 1/d``, the restitution of the undamped step, a contact too short for the
-        step, sticking under gravity, a phase mean that jumps across the target).
+        step, sticking under gravity, a design whose prediction misses the target).
 
     Examples
     --------
@@ -220,12 +221,12 @@ def point_contact_for(
             k[again], damp[again] = _iterate_apart(*rows, h, approx, size_name)
             p = _predict(*(a.reshape(shape) for a in (k, damp, m, v, g)), h, approx)
             missed = _missed(p, e, target, size_name)
-        if missed.any():  # the iteration's damping root shut on a jump of the restitution
+        if missed.any():  # a safety net: the design the iteration found misses the target
             bad = np.flatnonzero(missed)[0]
             raise ValueError(
                 f"restitution {float(e[bad])!r} is out of reach with {approx!r} at time_step "
-                f"{h!r} and {size_name} {float(target[bad])!r}: the phase mean jumps across it as "
-                f"the damping moves (nearest design: e {float(np.ravel(p.restitution)[bad]):.9g}, "
+                f"{h!r} and {size_name} {float(target[bad])!r}: the design found misses it "
+                f"(its prediction: e {float(np.ravel(p.restitution)[bad]):.9g}, "
                 f"{size_name} {float(np.ravel(getattr(p, size_name))[bad]):.9g}); use a smaller "
                 "time_step"
             )

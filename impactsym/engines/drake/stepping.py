@@ -376,7 +376,9 @@ def contact_ends(
     arrays = np.broadcast_arrays(*(np.asarray(a, float) for a in (k, d, m, g, v, h, phase)))
     k, d, m, g, v, h, phase = (a.ravel() for a in arrays)
     n = k.size
-    out = ContactEnds(np.zeros(n), np.full(n, np.inf), np.zeros(n, bool), np.zeros(n))
+    out = ContactEnds(
+        np.zeros(n), np.full(n, np.inf), np.zeros(n, bool), np.zeros(n), np.full(n, np.nan)
+    )
     for lo in range(0, n, _BLOCK):  # blocks that stay in the cache while stepped
         block = slice(lo, min(lo + _BLOCK, n))
         rows = (a[block] for a in (k, d, m, g, v, h, phase))
@@ -384,6 +386,7 @@ def contact_ends(
         _block_ends(*rows, part, stuck_peaks=stuck_peaks)
     out.restitution[out.sticks] = 0.0
     out.contact_time[out.sticks] = np.inf
+    out.end_penetration[out.sticks] = np.nan
     shape = arrays[0].shape
     return ContactEnds(*(a.reshape(shape) for a in out))
 
@@ -454,12 +457,16 @@ def _constants(k, d, m, g, v, h):
 
 
 class ContactEnds(NamedTuple):
-    """:func:`contact_ends`: the fields of :class:`StepContact` that phase means read."""
+    """:func:`contact_ends`: the fields of :class:`StepContact` that phase means read,
+    and ``end_penetration``, the penetration of the end state (``nan`` where it
+    sticks), from which the phase summary sees changes of the end state between its
+    samples (:mod:`impactsym.engines.drake.phases`)."""
 
     restitution: np.ndarray
     contact_time: np.ndarray
     sticks: np.ndarray
     max_penetration: np.ndarray
+    end_penetration: np.ndarray
 
 
 def _update(x, u, consts, *, contact=True):
@@ -510,6 +517,7 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
             out.restitution[i] = -u[ends] / v[i]
             out.contact_time[i] = t0[i] + count * h[i]
             out.max_penetration[i] = x_max[ends]
+            out.end_penetration[i] = x[ends]
             stay = ends & (x >= 0.0)  # no impulse inside the overlap: it coasts on
             if stay.any():
                 start = np.full(np.count_nonzero(stay), count + 1)
