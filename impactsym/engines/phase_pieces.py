@@ -18,7 +18,14 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["PieceSamples", "gauss_legendre", "integrate_pieces", "reduce_at", "vertex"]
+__all__ = [
+    "PieceSamples",
+    "gauss_legendre",
+    "integrate_pieces",
+    "reduce_at",
+    "vertex",
+    "vertex_point",
+]
 
 
 @cache
@@ -90,6 +97,14 @@ def reduce_at(op: np.ufunc, owner: np.ndarray, values: np.ndarray, size: int, st
 
 def vertex(p: np.ndarray, e: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Value at the vertex of the quadratic through three points, where inside the piece."""
+    xv, yv = vertex_point(p, e)
+    inside = np.isfinite(yv) & (xv > lo) & (xv < hi)
+    return np.where(inside, yv, np.nan)
+
+
+def vertex_point(p: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(phase, value)`` of the vertex of the quadratic through the three points of each
+    row of ``(p, e)`` (``nan`` or ``inf`` where they lie on a line or coincide)."""
     (x0, x1, x2), (y0, y1, y2) = p.T, e.T
     with np.errstate(all="ignore"):
         d01, d12 = (y1 - y0) / (x1 - x0), (y2 - y1) / (x2 - x1)
@@ -97,5 +112,4 @@ def vertex(p: np.ndarray, e: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.n
         c1 = d01 - c2 * (x0 + x1)
         xv = -c1 / (2.0 * c2)
         yv = y0 + d01 * (xv - x0) + c2 * (xv - x0) * (xv - x1)
-    inside = np.isfinite(yv) & (xv > lo) & (xv < hi)
-    return np.where(inside, yv, np.nan)
+    return xv, yv

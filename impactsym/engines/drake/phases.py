@@ -50,7 +50,9 @@ that does not stick inside a sticking piece is seen only where a node falls in i
 impulse floor at ``d v`` above 10 (4 of 1500, up to 1.2e-2 steps; the margins there are
 rounding). The bounds are over the piece ends (the one-sided limits at the
 jumps), the nodes and every grid phase (the odd ones lie inside the quarters), and a
-zoom search (33 phases per call) where an interior node is extreme. The piece ends are
+search where an interior node is extreme (two zoom rounds, then two parabolic steps:
+22 runs per piece instead of the 135 of a zoom to 1e-9 of a piece, the same bounds to
+1e-15; 17 % of a summary under gravity). The piece ends are
 the grid phases and the located brackets' ends, whose contacts were run already: only
 the nodes are run again. Those runs take
 :func:`~impactsym.engines.drake.stepping.contact_ends` (``"sap"``: ``step_contact``),
@@ -74,7 +76,13 @@ from impactsym.engines.drake.stepping import (
     end_steps,
     step_contact,
 )
-from impactsym.engines.phase_pieces import gauss_legendre, integrate_pieces, reduce_at, vertex
+from impactsym.engines.phase_pieces import (
+    gauss_legendre,
+    integrate_pieces,
+    reduce_at,
+    vertex,
+    vertex_point,
+)
 from impactsym.records import ArrayRecord
 
 __all__ = ["GRID_PHASES", "PhaseSummary", "phase_summary"]
@@ -515,10 +523,15 @@ def _roots(flat, run, key, ii, a, c, left, right):
 
 def _interior_extreme(run, own, pts, e, sign):
     """Largest (``sign = 1``) or smallest (``-1``) restitution inside each piece where an
-    interior node holds the extreme sample; ``nan`` elsewhere. Zoom search: sample
-    ``_ZOOM`` phases (9 for large batches) between the extreme's neighbours, keep the
-    best and its neighbours, until the bracket is ``1e-9`` of a piece (the error of a
-    smooth extreme is quadratic in that)."""
+    interior node holds the extreme sample; ``nan`` elsewhere. Two zoom rounds (sample
+    ``_ZOOM`` phases, 9 for large batches, between the extreme's neighbours; keep the
+    best and its neighbours: the bracket 16 times narrower at least), then two steps of
+    successive parabolic interpolation: the restitution is smooth there, so the vertex
+    of the quadratic through the best sample and its neighbours is off the extreme by
+    the cube of the bracket, and its value by twice that order (the former 15 zoom
+    rounds, to 1e-9 of a piece, gave the same bounds to 1e-15 in 2*10^4 random contacts,
+    at 135 runs per piece instead of 22). The result is a sampled value: never beyond
+    the extreme."""
     j = np.argmax(sign * e, axis=1)
     inner = np.flatnonzero((j > 0) & (j < pts.shape[1] - 1))
     out = np.full(e.shape[0], np.nan)
@@ -530,13 +543,25 @@ def _interior_extreme(run, own, pts, e, sign):
     best = sign * e[inner, j[inner]]
     frac = np.linspace(0.0, 1.0, points)
     rows = np.arange(inner.size)
-    # the bracket shrinks (points - 1)/2-fold per round: to ~1e-9 of a piece
-    for _ in range(int(np.ceil(9.0 / np.log10((points - 1) / 2.0)))):
+    for _ in range(2):  # zoom: the bracket shrinks (points - 1)/2-fold per round
         x = a[:, None] + (c - a)[:, None] * frac[None, :]
         f = (sign * run(owner, x.ravel()).restitution).reshape(x.shape)
-        b = np.argmax(f, axis=1)
+        b = np.clip(np.argmax(f, axis=1), 1, points - 2)
         best = np.fmax(best, f[rows, b])
-        a = x[rows, np.maximum(b - 1, 0)]
-        c = x[rows, np.minimum(b + 1, points - 1)]
+        three = b[:, None] + np.arange(-1, 2)
+        a, c = x[rows, b - 1], x[rows, b + 1]
+    p3, f3 = np.take_along_axis(x, three, axis=1), np.take_along_axis(f, three, axis=1)
+    for _ in range(2):  # successive parabolic interpolation
+        at, _ = vertex_point(p3, f3)
+        inside = (at > p3[:, 0]) & (at < p3[:, 2])  # (False where nan)
+        at = np.where(inside, at, p3[:, 1])
+        f_at = sign * run(own[inner], at).restitution
+        best = np.fmax(best, f_at)
+        # the three best of the four samples, in phase order
+        p4, f4 = np.column_stack([p3, at]), np.column_stack([f3, f_at])
+        keep = np.sort(np.argsort(-f4, axis=1, kind="stable")[:, :3], axis=1)
+        p3, f3 = np.take_along_axis(p4, keep, axis=1), np.take_along_axis(f4, keep, axis=1)
+        order = np.argsort(p3, axis=1)
+        p3, f3 = np.take_along_axis(p3, order, axis=1), np.take_along_axis(f3, order, axis=1)
     out[inner] = sign * best
     return out
