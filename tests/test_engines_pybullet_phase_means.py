@@ -7,9 +7,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from impactsym.engines.pybullet.phase_means import root_summary, tracked_pattern
+from impactsym.engines.pybullet.phase_means import root_summary
 from impactsym.engines.pybullet.phases import phase_summary
 from impactsym.engines.pybullet.stepping import step_pattern
+from impactsym.engines.pybullet.tracking import tracked_pattern
 
 
 def phase_means(*args, **settings):
@@ -310,6 +311,7 @@ def test_a_contact_that_sticks_at_some_phases_leaves_the_one_interval_pass_at_on
     the map little more than the grid alone, and gives the grid's pieces."""
     import impactsym.engines.pybullet.phase_means as means_module
     import impactsym.engines.pybullet.stepping as stepping_module
+    import impactsym.engines.pybullet.tracking as tracking_module
     from impactsym.engines.pybullet.stepping import DEFAULT_RESTITUTION_THRESHOLD
 
     steps = []
@@ -322,7 +324,7 @@ def test_a_contact_that_sticks_at_some_phases_leaves_the_one_interval_pass_at_on
 
         return run_live(fixed, state, step)
 
-    monkeypatch.setattr(means_module, "run_live", counted)
+    monkeypatch.setattr(tracking_module, "run_live", counted)
     monkeypatch.setattr(stepping_module, "run_live", counted)
     args, opts = (1e3, 200.0, 0.1, 1e-3, 0.0, H), {**BASE, "substeps": substeps}
     assert root_summary(*args, **opts).stick_fraction > 0.0
@@ -369,13 +371,13 @@ def test_roots_sought_only_inside_the_interval_change_no_number(monkeypatch, gra
     k, c, m, v, g = _contacts(300, gravity)
     settings = {**BASE, "substeps": substeps}
     near = root_summary(k, c, m, v, g, H, **settings)
-    track = pm._track
+    track = pm.tracked_run
 
     def whole_phase(*args, horizon, **options):
         assert np.all(horizon < 2.1)  # (the horizon is in use)
         return track(*args, **options)
 
-    monkeypatch.setattr(pm, "_track", whole_phase)
+    monkeypatch.setattr(pm, "tracked_run", whole_phase)
     far = root_summary(k, c, m, v, g, H, **settings)
     for name in ("restitution", "contact_time", "stick_fraction", "restitution_min",
                  "restitution_max", "contact_time_min", "contact_time_max"):  # fmt: skip
