@@ -99,6 +99,7 @@ def track(
         "x1": state["w"] * H, "x2": g * H * H, "w1": g * H, "w2": np.zeros(size),
         "first": np.broadcast_to(np.asarray(horizon, float), size).copy(),
         "w1_end": np.zeros(size), "w2_end": np.zeros(size), "x1_end": np.zeros(size),
+        "first_out": np.full(size, np.inf),
     })  # fmt: skip
     curved = bool(np.any(g))  # (without gravity every second derivative stays 0)
     if give_up:
@@ -111,7 +112,8 @@ def track(
     sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
     n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
     pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
-    return pattern, state["first"], np.stack([state[key] for key in END_STATE])
+    first = np.where(sticks, np.minimum(state["first"], state["first_out"]), state["first"])
+    return pattern, first, np.stack([state[key] for key in END_STATE])
 
 
 def _advance(a, n, limit, curved, give_up, substeps, slop, threshold, rest_coef, rest_threshold):
@@ -124,6 +126,9 @@ def _advance(a, n, limit, curved, give_up, substeps, slop, threshold, rest_coef,
     x1, w1 = a["x1"], a["w1"]
     x2, w2 = (a["x2"], a["w2"]) if curved else (0.0, 0.0)
     watching = ~a["ended"] & ~a["done"]
+    if curved:  # with gravity the coast after the end state too: the force can come back
+        coasting = a["ended"] & ~a["done"] & (a["g"] != 0.0)
+        watching |= coasting
     first = a["first"]  # (lowered in place)
     settings = (slop, threshold, rest_coef, rest_threshold)
     for _ in range(substeps):
@@ -149,7 +154,16 @@ def _advance(a, n, limit, curved, give_up, substeps, slop, threshold, rest_coef,
     a["x"], a["w"], a["x1"], a["w1"], a["first"] = x, w, x1, w1, first
     if curved:
         a["x2"], a["w2"] = x2, w2
+    was_done = a["done"]
     close_state(a, n, limit, dv * a["m"] / h, extremes=False)  # (the pattern alone)
+    if curved:  # the coast's length: where the state's penetration changes sign
+        out = a["ended"] & ~was_done & (a["g"] != 0.0)
+        if out.any():
+            reach = np.minimum(first, _REACH) * (1.0 + 1e-9)
+            left = (x, x1, x2, w, w1, w2, reach, a["g"], h, substeps, a["erp"], slop)
+            inside = x > 0.0  # a root shortens the coast: a change where the run sticks
+            _lower(a["first_out"], out & inside, x, x1, x2, reach)
+            _lower(first, out & ~inside & ~_leaves_next(*left), x, x1, x2, reach)
     stop = a["ended"] & (a["n_end"] == n)  # the end state: its speed's phase derivatives
     if stop.any():
         np.copyto(a["w1_end"], w1, where=stop)
@@ -180,6 +194,22 @@ def final_at(
     return ok & (np.asarray(n_end) >= 0)
 
 
+def _leaves_next(x, x1, x2, w, w1, w2, reach, g, h, substeps, erp, slop):
+    """Where a coast that left the overlap at this state (``x <= 0``) would, at every
+    phase within ``reach`` where ``x > 0``, leave at the next state without a force: the
+    root of ``x`` changes no pattern there. With ``X >= x`` and ``W >= w`` bounds over
+    the reach, the next state's sub-steps have ``w* <= W + g H <= 0`` (``H = substeps
+    h``), so ``x`` falls and every bias is ``<= w* + erp max(X - slop, 0) / h``; if that
+    is ``<= 0`` no impulse acts and the next state's ``x <= X + H W + g h^2 S (S + 1) /
+    2`` (``S`` sub-steps), if that is ``<= 0`` the coast ends there."""
+    H = h * substeps
+    X = x + np.abs(x1) * reach + np.abs(x2) * (0.5 * reach * reach)
+    W = w + np.abs(w1) * reach + np.abs(w2) * (0.5 * reach * reach)
+    margin = 1e-9 * (np.abs(w) + np.abs(w1) + np.abs(w2) + g * H)
+    quiet = W + g * H + erp * np.maximum(X - slop, 0.0) / h < -margin
+    return quiet & (X + H * W + g * h * h * (0.5 * substeps * (substeps + 1)) < -margin * H)
+
+
 def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
     """Lower ``first`` (in place) to the first root ahead of the branch quantities of one
     sub-step (module docstring) where ``watch``: ``b`` on the side of ``d`` whose formula
@@ -200,26 +230,35 @@ def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
     if rest_coef:
         q += [(w_star - rest_threshold, w1, w2, None), (w_star, w1, w2, None)]
     reach = np.minimum(first, _REACH) * (1.0 + 1e-9)  # (the slack covers rounding)
-    half = 0.5 * reach
     # (without a processing threshold every contact is within it: no mask to apply)
     inside = watch if threshold == np.inf else watch & within
     for q0, q1, q2, valid in q:
-        with np.errstate(invalid="ignore", over="ignore"):
-            slope = np.abs(q1) if np.ndim(q2) == 0 and q2 == 0 else np.abs(q1) + np.abs(q2) * half
-            near = np.abs(q0) <= slope * reach
-        near &= watch if valid is None else inside
-        j = np.flatnonzero(near)
-        if j.size == 0:
-            continue
+        _lower(first, watch if valid is None else inside, q0, q1, q2, reach, valid)
 
-        def pick(q, j=j):  # (a second derivative may be the scalar 0.0)
-            return q if np.ndim(q) == 0 else q[j]
 
-        best = first[j]
-        for root in quadratic_roots_ahead(q0[j], q1[j], pick(q2)):
-            if valid is not None:  # the root counts where the side quantity allows it
-                v0, v1, v2, positive = valid
-                side = quadratic_at(v0[j], v1[j], pick(v2), root)
-                root = np.where(side > 0 if positive else side <= 0, root, np.inf)
-            best = np.minimum(best, root)
-        first[j] = best
+def _lower(first, watch, q0, q1, q2, reach, valid=None):
+    """Lower ``first`` (in place) to the first root ahead of the quadratic ``q0 + q1 u +
+    q2 u^2 / 2`` where ``watch`` and a root can lie before ``reach`` (:func:`_ahead`);
+    ``valid`` ``(v0, v1, v2, positive)``: a root counts only where that quadratic is
+    positive (``positive``) or not."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        slope = (
+            np.abs(q1) if np.ndim(q2) == 0 and q2 == 0 else np.abs(q1) + np.abs(q2) * (0.5 * reach)
+        )
+        near = np.abs(q0) <= slope * reach
+    near &= watch
+    j = np.flatnonzero(near)
+    if j.size == 0:
+        return
+
+    def pick(q):  # (a second derivative may be the scalar 0.0)
+        return q if np.ndim(q) == 0 else q[j]
+
+    best = first[j]
+    for root in quadratic_roots_ahead(q0[j], q1[j], pick(q2)):
+        if valid is not None:  # the root counts where the side quantity allows it
+            v0, v1, v2, positive = valid
+            side = quadratic_at(v0[j], v1[j], pick(v2), root)
+            root = np.where(side > 0 if positive else side <= 0, root, np.inf)
+        best = np.minimum(best, root)
+    first[j] = best
