@@ -478,3 +478,46 @@ def test_a_stick_band_inside_a_grid_interval_is_found(case):
     jumps = np.abs(np.diff(e)[changes]).sum()
     bound = jumps / (2 * n) + 1e-9
     np.testing.assert_allclose(summary.restitution, e.mean(), rtol=0, atol=bound)
+
+
+@pytest.mark.parametrize("case", STICK_BANDS)
+def test_with_gravity_the_pattern_holds_up_to_the_root_ahead(case):
+    """The root ahead of a tracked run under gravity (the coast after the end state
+    watched too) is never past a change: at 24 phases between each of 256 phases and its
+    root ahead the map's pattern is the run's (at the band's edges the roots tracked only
+    up to the end state skipped the band)."""
+    args = tuple(float(case[key]) for key in ("stiffness", "damping", "mass", "speed"))
+    args += (case["gravity"], case["timestep"])
+    k, c, m, v, g, h = args
+    c += 0.1  # (the pair's damping, as ``predict`` combines it)
+    opts = {**BASE, "substeps": case["substeps"]}
+    p = (np.arange(256) + 0.5) / 256
+    key, ahead, _ = tracked_pattern(k, c, m, v, g, h, p, **opts)
+    assert np.any(key["end"] < 0)
+    assert np.any(key["end"] >= 0)
+    reach = np.minimum(ahead, np.nextafter(1.0, 0.0) - p)
+    between = p[:, None] + reach[:, None] * np.linspace(0.0, 1.0 - 1e-9, 24)[None, :]
+    same = step_pattern(k, c, m, v, g, h, between, **opts)[1]
+    np.testing.assert_array_equal(same, np.broadcast_to(key[:, None], between.shape))
+
+
+@pytest.mark.parametrize("substeps", [1, 2])
+def test_with_gravity_random_short_contacts_hold_their_pattern_up_to_the_root(substeps):
+    """As above over 150 random short contacts under gravity (stiffness 3e3-1e6 N/m,
+    damping ratio 0.01-10, speed 0.01-5 m/s, m = 1 kg: some stick after the end state),
+    64 phases each."""
+    rng = np.random.default_rng(77 + substeps)
+    n = 150
+    k = np.exp(rng.uniform(np.log(3e3), np.log(1e6), n))
+    c = 2.0 * np.exp(rng.uniform(np.log(0.01), np.log(10.0), n)) * np.sqrt(k)
+    v = np.exp(rng.uniform(np.log(0.01), np.log(5.0), n))
+    p = (np.arange(64) + rng.uniform(0.0, 1.0, 64)) / 64
+    k, c, v, p = (a.ravel() for a in np.broadcast_arrays(k[:, None], c[:, None], v[:, None], p))
+    opts = {**BASE, "substeps": substeps}
+    key, ahead, _ = tracked_pattern(k, c, 1.0, v, 9.81, H, p, **opts)
+    assert np.any(key["end"] < 0)
+    reach = np.minimum(ahead, np.nextafter(1.0, 0.0) - p)
+    between = p[:, None] + reach[:, None] * np.linspace(0.0, 1.0 - 1e-9, 12)[None, :]
+    rows = (k[:, None], c[:, None], 1.0, v[:, None], 9.81, H, between)
+    same = step_pattern(*rows, **opts)[1]
+    np.testing.assert_array_equal(same, np.broadcast_to(key[:, None], between.shape))

@@ -14,17 +14,18 @@ The roots are checked, never trusted: the pattern ``1e-12`` of a phase before a 
 must be that of the piece (the pattern ``1e-12`` after it starts the next piece, and
 both are the one-sided limits a range needs), and a piece ends at one of 8 grid points
 only where the grid's pattern is the piece's; everything else (a change the roots do
-not see, such as a contact that starts sticking after its end state) is searched
-as before, 15 phases a round (to ``2^-44`` of a grid interval in 11 runs of the map).
-Pieces meet at the roots; adjacent pieces of one pattern are merged (the end speed is
-one quadratic there) and integrated in closed form (:func:`root_summary`): the run
-that read a piece's pattern carries the quadratic's three coefficients. The roots are
-found to ~1e-14 of a phase, so the means agree with the bisection's to ~1e-13 and the
-ranges to ~1e-12 (tested). The piece search seeks the roots only up to twice what is
-left of its interval (a root past its end changes no piece). A processing threshold or velocity
-restitution adds roots whose changes the pattern may not show (then searched, slower
-than the old search): the callers use this module with PyBullet's defaults for both.
-All arrays, SI.
+not see: without gravity past the end state, where the proof below takes over; with
+gravity the tracked run watches the coast after it, where a band of sticking phases
+inside one grid interval once went unseen) is searched as before, 15 phases a round
+(to ``2^-44`` of a grid interval in 11 runs of the map). Pieces meet at the roots;
+adjacent pieces of one pattern are merged (the end speed is one quadratic there) and
+integrated in closed form (:func:`root_summary`): the run that read a piece's pattern
+carries the quadratic's three coefficients. The roots are found to ~1e-14 of a phase,
+so the means agree with the bisection's to ~1e-13 and the ranges to ~1e-12 (tested).
+The piece search seeks the roots only up to twice what is left of its interval (a root
+past its end changes no piece). A processing threshold or velocity restitution adds
+roots whose changes the pattern may not show (then searched, slower than the old
+search): the callers use this module with PyBullet's defaults for both. All arrays, SI.
 
 Without gravity (and with those defaults) the grid is not needed where a proof takes its
 place, and the pieces are searched from one interval ``[0, 1)`` first: every branch
