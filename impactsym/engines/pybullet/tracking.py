@@ -21,8 +21,8 @@ contact over, moves on inside the overlap, and gravity can bring the force back 
 it leaves (``x <= 0`` at a state): it sticks, a change of the pattern after the end
 state that no root up to it shows (a band of sticking phases inside one of the piece
 search's 8 grid intervals went unseen: stick fraction 0 and a finite mean contact time
-where the truth is ``inf``; 29 of ~30,000 random short contacts, up to 1e-2 in the mean
-restitution). The coast's sub-steps follow the same branch rules, so their biases are
+where the truth is ``inf``; 38 of ~38,000 random short contacts, up to 1.5e-2 in the
+mean restitution). The coast's sub-steps follow the same branch rules, so their biases are
 watched as before, and the coast's length is the other thing that can change: the
 penetration ``x`` at each of its states, a quadratic too, whose root moves the state
 where the body leaves. A root that lengthens the coast (``x <= 0`` here) counts always;
