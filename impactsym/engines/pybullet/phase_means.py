@@ -5,35 +5,27 @@ of :func:`~impactsym.engines.pybullet.stepping.step_pattern` changes by bisectio
 runs of the map per change, on 32 grid intervals) for any map; for PyBullet's own
 :func:`break_pieces` finds the same pieces from a few runs and :func:`root_summary`
 integrates them in closed form (the summary the designs need many times over). Where the
-pattern is constant the state of every (sub)step is an affine map of the free-flight
-state ``-1``, itself quadratic in the phase ``p`` (``x = v t + g t^2/2``, ``w = v + g
-t``, ``t = (p - 1) h``), so every quantity whose sign picks a branch (the gap ``d = s -
-x`` of the speculative branch, the bias ``b`` of the clipped impulse, the processing
-threshold ``x + threshold``, the restitution threshold) is a quadratic in ``p``, and
-:func:`tracked_pattern` carries the first and second phase derivatives of the state
-along the run: the first root ahead of a phase, over the (sub)steps up to the end state,
-is the next point where the pattern can change. ``b`` is followed across a change of the
-speculative branch it does not feel (where ``b <= 0`` at ``d = 0`` the impulse is zero
-on both sides, so ``b`` changes formula but the pattern not): its root counts on the
-side of ``d`` whose formula gives it.
+pattern is constant every quantity whose sign picks a branch is a quadratic in the
+phase, and the tracked run of :mod:`~impactsym.engines.pybullet.tracking` carries the
+phase derivatives of the state along it: the first root ahead of a phase, over the
+(sub)steps up to the end state, is the next point where the pattern can change.
 
 The roots are checked, never trusted: the pattern ``1e-12`` of a phase before a root
 must be that of the piece (the pattern ``1e-12`` after it starts the next piece, and
 both are the one-sided limits a range needs), and a piece ends at one of 8 grid points
 only where the grid's pattern is the piece's; everything else (a change the roots do
-not see, such as a contact that starts sticking after its end state) is searched
-as before, 15 phases a round (to ``2^-44`` of a grid interval in 11 runs of the map).
-Pieces meet at the roots; adjacent pieces of one pattern are merged (the end speed is
-one quadratic there) and integrated in closed form (:func:`root_summary`): the run
-that read a piece's pattern carries the quadratic's three coefficients. The roots are
-found to ~1e-14 of a phase, so the means agree with the bisection's to ~1e-13 and the
-ranges to ~1e-12 (tested). The roots are solved only at the sub-steps where one can
-lie within a phase (a bound from the quadratic's coefficients), the few next to a
-change of branch; the piece search seeks them only up to twice what is left of its
-interval (a root past its end changes no piece). A processing threshold or velocity
-restitution adds roots whose changes the pattern may not show (then searched, slower
-than the old search): the callers use this module with PyBullet's defaults for both.
-All arrays, SI.
+not see: without gravity past the end state, where the proof below takes over; with
+gravity the tracked run watches the coast after it, where a band of sticking phases
+inside one grid interval once went unseen) is searched as before, 15 phases a round
+(to ``2^-44`` of a grid interval in 11 runs of the map). Pieces meet at the roots;
+adjacent pieces of one pattern are merged (the end speed is one quadratic there) and
+integrated in closed form (:func:`root_summary`): the run that read a piece's pattern
+carries the quadratic's three coefficients. The roots are found to ~1e-14 of a phase,
+so the means agree with the bisection's to ~1e-13 and the ranges to ~1e-12 (tested).
+The piece search seeks the roots only up to twice what is left of its interval (a root
+past its end changes no piece). A processing threshold or velocity restitution adds
+roots whose changes the pattern may not show (then searched, slower than the old
+search): the callers use this module with PyBullet's defaults for both. All arrays, SI.
 
 Without gravity (and with those defaults) the grid is not needed where a proof takes its
 place, and the pieces are searched from one interval ``[0, 1)`` first: every branch
@@ -67,19 +59,14 @@ from impactsym.engines.phase_pieces import reduce_at
 from impactsym.engines.pybullet.stepping import (
     DEFAULT_RESTITUTION_THRESHOLD,
     MAX_STEPS,
-    close_state,
-    end_final,
-    pattern_code,
-    run_live,
     run_pattern,
-    start_state,
     step_budget,
-    substep_impulse,
 )
+from impactsym.engines.pybullet.tracking import final_at
+from impactsym.engines.pybullet.tracking import track as tracked_run
 from impactsym.numeric.memory import keep_freed_pages
-from impactsym.numeric.poly import quadratic_at, quadratic_roots_ahead
 
-__all__ = ["CHUNK", "break_pieces", "root_summary", "tracked_pattern"]
+__all__ = ["CHUNK", "break_pieces", "root_summary"]
 
 #: elements per pass of :func:`root_summary` and of the phase summary: every element's
 #: numbers are its own, but a pass over 10^5 elements at once runs out of the cache
@@ -94,119 +81,7 @@ _COARSE_PASS = 4  # CHUNK times this many elements per pass where each runs one 
 _ROUNDS = 12
 _SECTIONS = 16  # the fallback search cuts an interval into this many parts per round
 _SECTION_ROUNDS = 11  # rounds of it: 16^-11 = 2^-44 of an interval
-_REACH = 1.0  # roots ahead further than this (in phase) lie past every phase range
 _GAP = 1e-12  # the patterns either side of a root are read this far (in phase) from it
-_END_STATE = ("w_end", "w1_end", "w2_end", "x_end", "x1_end")  # the tracked run's end state
-
-
-def tracked_pattern(
-    stiffness: Any,
-    damping: Any,
-    mass: Any,
-    speed: Any,
-    gravity: Any,
-    timestep: Any,
-    phase: Any,
-    *,
-    substeps: int,
-    slop: float,
-    processing_threshold: float,
-    velocity_restitution: float = 0.0,
-    restitution_threshold: float = DEFAULT_RESTITUTION_THRESHOLD,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The pattern of :func:`~impactsym.engines.pybullet.stepping.step_pattern` (the
-    same numbers), the phase distance to the first root ahead (``inf``: none within a
-    whole phase, so none before the end of the phase range; module docstring) and
-    ``(3, n)``: the end state's speed ``w`` and its first and second derivatives in the
-    phase (where the contact ended; while the pattern holds, ``w`` is that quadratic in
-    the phase). Flat arrays, broadcast together."""
-    arrays = np.broadcast_arrays(
-        *(np.asarray(a, float) for a in (stiffness, damping, mass, speed, gravity, timestep, phase))
-    )
-    settings = (substeps, slop, processing_threshold, velocity_restitution, restitution_threshold)
-    pattern, first, end = _track(*(a.ravel().copy() for a in arrays), settings)
-    return pattern, first, end[:3]
-
-
-def _track(k, c, m, v, g, H, p, settings, *, give_up=False, horizon=np.inf):
-    """:func:`tracked_pattern` of flat arrays (``settings``: ``substeps, slop,
-    processing_threshold, velocity_restitution, restitution_threshold``), the end state
-    ``(5, n)``: its speed ``w`` with two phase derivatives, then its penetration ``x``
-    with the first (where the contact ended). ``give_up`` (no gravity): a run also stops
-    where its end fails :func:`_final_at` there (``u = 0``), its pattern then not read
-    further: for the start of a piece whose element :func:`_grid_pieces` gives up.
-    ``horizon``: the root ahead is sought no further (fewer roots solved, :func:`_ahead`)."""
-    substeps = settings[0]
-    fixed, state = start_state(k, c, m, v, g, H, p, substeps)
-    # the phase derivatives ride along: x = x0 + x1 dp + x2 dp^2 / 2, w likewise
-    size = k.size
-    state.update({
-        "x1": state["w"] * H, "x2": g * H * H, "w1": g * H, "w2": np.zeros(size),
-        "first": np.broadcast_to(np.asarray(horizon, float), size).copy(),
-        "w1_end": np.zeros(size), "w2_end": np.zeros(size), "x1_end": np.zeros(size),
-    })  # fmt: skip
-    curved = bool(np.any(g))  # (without gravity every second derivative stays 0)
-    if give_up:
-        state["H"] = H
-
-    def advance(a, n, limit):
-        _advance(a, n, limit, curved, give_up, *settings)
-
-    state = run_live(fixed, state, advance)
-    sticks, n_end, n_first = state["sticks"], state["n_end"], state["n_first"]
-    n_spec, n_pos, n_rest = state["n_spec"], state["n_pos"], state["n_rest"]
-    pattern = pattern_code(sticks, n_end, n_first, n_spec, n_pos, n_rest)
-    return pattern, state["first"], np.stack([state[key] for key in _END_STATE])
-
-
-def _advance(a, n, limit, curved, give_up, substeps, slop, threshold, rest_coef, rest_threshold):
-    """State ``n``: the map of :func:`~impactsym.engines.pybullet.stepping.step_pattern`
-    (the same operations), the derivatives of ``x`` and ``w`` in the phase, and the first
-    root of the branch quantities while the contact has not ended. Not ``curved`` (no
-    gravity): the second derivatives are zeros, carried as the scalar ``0.0``."""
-    h, erp, gain = a["h"], a["erp"], a["gain"]
-    x, w = a["x"], a["w"]
-    x1, w1 = a["x1"], a["w1"]
-    x2, w2 = (a["x2"], a["w2"]) if curved else (0.0, 0.0)
-    watching = ~a["ended"] & ~a["done"]
-    first = a["first"]  # (lowered in place)
-    settings = (slop, threshold, rest_coef, rest_threshold)
-    for _ in range(substeps):
-        w_star, d, spec, b_spec, b_pos, rest, within, dv = substep_impulse(a, x, w, *settings)
-        s1, p1 = w1 + x1 / h, w1 + erp * x1 / h  # derivatives of b_spec, b_pos
-        s2, p2 = (w2 + x2 / h, w2 + erp * x2 / h) if curved else (0.0, 0.0)
-        if rest is not None:  # the restitution term's
-            r0 = np.where(rest, rest_coef, 0.0)
-            s1, s2, p1, p2 = s1 + r0 * w1, s2 + r0 * w2, p1 + r0 * w1, p2 + r0 * w2
-        on = dv > 0
-        quantities = (x, x1, x2, w_star, w1, w2, d, within, b_spec, s1, s2, b_pos, p1, p2)
-        if watching.any():  # the roots ahead, for the contacts not yet ended
-            _ahead(first, watching, quantities, threshold, rest_coef, rest_threshold)
-        # the derivatives through the branch taken
-        gb = np.where(on, gain, 0.0)
-        w1 = w1 - gb * np.where(spec, s1, p1)
-        x1 = x1 + h * w1
-        if curved:
-            w2 = w2 - gb * np.where(spec, s2, p2)
-            x2 = x2 + h * w2
-        w = w_star - dv
-        x = x + h * w
-    a["x"], a["w"], a["x1"], a["w1"], a["first"] = x, w, x1, w1, first
-    if curved:
-        a["x2"], a["w2"] = x2, w2
-    close_state(a, n, limit, dv * a["m"] / h, extremes=False)  # (the pattern alone)
-    stop = a["ended"] & (a["n_end"] == n)  # the end state: its speed's phase derivatives
-    if stop.any():
-        np.copyto(a["w1_end"], w1, where=stop)
-        np.copyto(a["x1_end"], x1, where=stop)
-        np.copyto(a["w2_end"], w2, where=stop)  # (0.0 where not curved)
-        if not curved:  # without gravity what a run that ended final reports is final
-            final = end_final(a, n, stop, substeps)
-            if give_up:  # and one that fails _final_at is given up (_track)
-                j = np.flatnonzero(stop & ~final)
-                ends = np.stack([a[key][j] for key in _END_STATE])
-                final[j] = ~_final_at(0.0, n, ends, a["budget"][j], a["H"][j])
-            a["done"] |= final
 
 
 def break_pieces(
@@ -229,8 +104,9 @@ def break_pieces(
     and its pattern was read ``_GAP`` inside, at ``sampled_start`` (``sampled_end``):
     there the map gives the one-sided limits at the jump (elsewhere the sampled end is
     the end). ``end_speed`` (``(3, pieces)``) is the end state's speed at
-    ``sampled_start`` and its two phase derivatives (:func:`tracked_pattern`): the
-    quadratic the end speed follows over the piece. Arguments as in
+    ``sampled_start`` and its two phase derivatives
+    (:func:`~impactsym.engines.pybullet.tracking.tracked_pattern`): the quadratic the end
+    speed follows over the piece. Arguments as in
     :func:`root_summary`, flattened (``owner`` indexes the flat arrays). Without gravity
     from one phase interval where the ends are final, else from ``_GRID`` (module
     docstring)."""
@@ -279,7 +155,7 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
 
     With the step ``budget`` (one interval without gravity, for :func:`_ends_final`): an
     element is given up (counted as searched, its pieces incomplete) as soon as a piece
-    fails the finality test at one of its ends (:func:`_final_at`; a sticking piece
+    fails the finality test at one of its ends (:func:`final_at`; a sticking piece
     does) or a change the roots missed would have to be searched, since its pieces then
     come from the grid anyway: its later rounds (each a run to its step budget where it
     sticks) and the search are not run. The others' pieces are the same numbers (every
@@ -295,7 +171,7 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
 
     def track(i, p, end, give_up=False):  # (the root ahead is wanted up to end, p < end)
         horizon = 2.0 * (end - p) + 1e-9  # (a root past it leaves p + root past end)
-        return _track(*(a[i] for a in flat), p, settings, give_up=give_up, horizon=horizon)
+        return tracked_run(*(a[i] for a in flat), p, settings, give_up=give_up, horizon=horizon)
 
     def run(i, p):
         names = ("substeps", "slop", "processing_threshold", "velocity_restitution",
@@ -311,7 +187,7 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
     k_lo, r_lo, end_state = track(own, lo, hi, give_up=budget is not None)
     s_lo = lo.copy()  # where the pattern of the piece starting at lo was read
     if budget is not None:  # the first piece's start (at 0: a stick there ends the search)
-        keep = drop(~_final_at(lo - s_lo, k_lo["end"], end_state, budget[own], flat[5][own]))
+        keep = drop(~final_at(lo - s_lo, k_lo["end"], end_state, budget[own], flat[5][own]))
         if not keep.all():
             lo, hi, s_lo, k_lo, r_lo, own = (arr[keep] for arr in (lo, hi, s_lo, k_lo, r_lo, own))
             end_state = end_state[:, keep]
@@ -348,8 +224,8 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
         bad = ~split | (key_a != k_lo)
         if budget is not None:  # given up: a search, a piece's end or the next's start fails
             room = (budget[own], flat[5][own])
-            keep = drop(bad | ~_final_at(end - s_lo, k_lo["end"], end_state, *room)
-                        | ~_final_at(cut - b, key_b["end"], end_b, *room))  # fmt: skip
+            keep = drop(bad | ~final_at(end - s_lo, k_lo["end"], end_state, *room)
+                        | ~final_at(cut - b, key_b["end"], end_b, *room))  # fmt: skip
             if not keep.all():
                 lo, s_lo, k_lo, own, end_state, a, b, cut, hi, k_hi = (
                     arr[..., keep] for arr in (lo, s_lo, k_lo, own, end_state, a, b, cut, hi, k_hi)
@@ -368,19 +244,6 @@ def _grid_pieces(flat, settings, intervals, *, budget=None):
         pieces.append((lo, hi, s_lo, hi, k_lo, own, end_state))  # left after _ROUNDS
         searched[own] = True
     return [np.concatenate(part, axis=-1) for part in zip(*pieces, strict=True)], searched
-
-
-def _final_at(u, n_end, state, budget, H):
-    """Per piece: whether at ``u`` from the phase where its pattern was read (end state
-    ``n_end``, ``-1`` where it sticks; ``state`` that state and its phase derivatives, as
-    :func:`_grid_pieces` keeps them) the contact ends separating within the step
-    ``budget`` (:func:`_ends_final`)."""
-    w0, w1, _, x0, x1 = state
-    room = (budget - np.asarray(n_end, float) - 2.0) * H
-    w, x = w0 + w1 * u, x0 + x1 * u
-    slack = 1e-9 * (np.abs(w0) + np.abs(w1))
-    ok = (w + slack < 0.0) & (x + 1e-9 * (np.abs(x0) + np.abs(x1)) < room * (-w - slack))
-    return ok & (np.asarray(n_end) >= 0)
 
 
 def _ends_final(pieces, budget, H):
@@ -406,53 +269,8 @@ def _ends_final(pieces, budget, H):
     p0, p1, s0, _, key, own, state = pieces
     ok = np.ones(own.size, bool)
     for u in (p0 - s0, p1 - s0):
-        ok &= _final_at(u, key["end"], state, budget[own], H[own])
+        ok &= final_at(u, key["end"], state, budget[own], H[own])
     return np.bincount(own, ~ok, minlength=budget.size) == 0
-
-
-def _ahead(first, watch, quantities, threshold, rest_coef, rest_threshold):
-    """Lower ``first`` (in place) to the first root ahead of the branch quantities of one
-    sub-step (module docstring) where ``watch``: ``b`` on the side of ``d`` whose formula
-    it is, ``d`` where the impulse is on at ``d = 0`` (there ``b = w*``, plus the
-    restitution term), the thresholds. Roots are solved only where one can lie before
-    ``min(first, 1)``: ``|q0| <= (|q1| + |q2| D / 2) D`` at that ``D`` (a root further
-    than a whole phase lies past the end of every phase range, and one past ``first``
-    changes nothing), which leaves the few sub-steps next to a change of branch."""
-    x, x1, x2, w_star, w1, w2, d, within, b_spec, s1, s2, b_pos, p1, p2 = quantities
-    mx1, mx2 = -x1, -x2
-    q = [
-        (b_spec, s1, s2, (d, mx1, mx2, True)),
-        (b_pos, p1, p2, (d, mx1, mx2, False)),
-        (d, mx1, mx2, (w_star, w1, w2, True)),
-    ]
-    if np.isfinite(threshold):
-        q.append((x + threshold, x1, x2, None))
-    if rest_coef:
-        q += [(w_star - rest_threshold, w1, w2, None), (w_star, w1, w2, None)]
-    reach = np.minimum(first, _REACH) * (1.0 + 1e-9)  # (the slack covers rounding)
-    half = 0.5 * reach
-    # (without a processing threshold every contact is within it: no mask to apply)
-    inside = watch if threshold == np.inf else watch & within
-    for q0, q1, q2, valid in q:
-        with np.errstate(invalid="ignore", over="ignore"):
-            slope = np.abs(q1) if np.ndim(q2) == 0 and q2 == 0 else np.abs(q1) + np.abs(q2) * half
-            near = np.abs(q0) <= slope * reach
-        near &= watch if valid is None else inside
-        j = np.flatnonzero(near)
-        if j.size == 0:
-            continue
-
-        def pick(q, j=j):  # (a second derivative may be the scalar 0.0)
-            return q if np.ndim(q) == 0 else q[j]
-
-        best = first[j]
-        for root in quadratic_roots_ahead(q0[j], q1[j], pick(q2)):
-            if valid is not None:  # the root counts where the side quantity allows it
-                v0, v1, v2, positive = valid
-                side = quadratic_at(v0[j], v1[j], pick(v2), root)
-                root = np.where(side > 0 if positive else side <= 0, root, np.inf)
-            best = np.minimum(best, root)
-        first[j] = best
 
 
 def root_summary(
@@ -474,7 +292,8 @@ def root_summary(
 
     On a piece the end speed is the quadratic ``w(p) = w0 + w1 u + w2 u^2 / 2``,
     ``u = p - s`` about the phase ``s`` where the piece's pattern was read (its three
-    coefficients tracked along that run, :func:`tracked_pattern`), the restitution
+    coefficients tracked along that run,
+    :func:`~impactsym.engines.pybullet.tracking.tracked_pattern`), the restitution
     ``-w / v`` and the contact time ``(p + n) h`` (``n`` the end state): the mean is the
     exact integral of each over ``[start, end]``, the range the values at the sampled ends
     (the one-sided limits at the jumps) and at the quadratic's vertex where it lies
