@@ -42,6 +42,7 @@ from impactsym.engines.mujoco.model import (
     impedance_at,
     is_flat,
 )
+from impactsym.engines.mujoco.phase_secant import secant_bracket
 from impactsym.engines.mujoco.rk4 import rk4_contact
 from impactsym.engines.mujoco.rk4_entry import rk4_entry_phases
 from impactsym.engines.mujoco.stepping import StepContact
@@ -66,7 +67,6 @@ ENTRY_PHASES = {"rk4": rk4_entry_phases}
 _GRID = 8  # phase intervals searched for jumps of the end step
 _WAYS, _ROUNDS = 8, 14  # search per jump: 8 sub-intervals a round (8^-14 = 2^-42 < 1e-12)
 _MARGIN = 64.0  # lattice cells on each side of the secant bracket sampled all the same
-_SECANT = 12  # bracketed secant rounds per jump before bisection (Euler)
 _GOLDEN = 40  # golden-section steps for an extreme inside a piece
 _NODES = 5  # Gauss-Legendre nodes per piece
 
@@ -335,7 +335,7 @@ def _split_and_integrate(
         sec = np.flatnonzero((left_key >= 0) & (right_key >= 0))
         if sec.size:
             width = (c[sec] - a[sec]) * float(_WAYS) ** -_ROUNDS
-            a_s[sec], c_s[sec], secant[sec] = _secant_jump(
+            a_s[sec], c_s[sec], secant[sec] = secant_bracket(
                 lambda j, p, m: value(sec[j], p), a[sec], c[sec], m_end[sec],
                 rising[sec], width,
             )  # fmt: skip
@@ -456,67 +456,6 @@ def _lattice_search(run, dt, ii, a, c, left_key, narrowed, a_s, c_s, value, risi
         rows = np.arange(ii.size)
         a, c = pts[rows, j], pts[rows, j + 1]
     return a, c
-
-
-def _secant_jump(value, a, c, m, rising, width):
-    """Brackets ``[a, c]`` no wider than ``width`` of the root of ``value(i, p, m)``.
-
-    ``value <= 0`` (the end step is ``m``) holds at ``a`` where ``rising``, at ``c``
-    elsewhere. Illinois steps on ``s value`` (``s = +-1``: negative at ``a``), each with
-    a second point ``0.4 width`` from the secant point towards the far end of the
-    bracket, so that a secant point within that of the root closes the bracket at once;
-    at most ``_SECANT`` rounds, then bisection. Returns ``(a, c, ok)``; ``ok`` where
-    the bracket closed with the sign change kept (else ``a, c`` are returned unchanged).
-    """
-    a0, c0 = a.copy(), c.copy()
-    n = a.size
-    idx = np.arange(n)
-    sign = np.where(rising, 1.0, -1.0)
-
-    def on_a_side(h, j):
-        return (h <= 0) == rising[j]
-
-    both = value(np.concatenate([idx, idx]), np.concatenate([a, c]), np.concatenate([m, m]))
-    ok = on_a_side(both[:n], idx) & ~on_a_side(both[n:], idx)
-    fa, fc = sign * both[:n], sign * both[n:]
-    live = np.flatnonzero(ok & (c - a > width))
-    side = np.zeros(n)  # which end was kept last (-1: a, +1: c) for the Illinois halving
-    for r in range(_SECANT + 60):
-        if live.size == 0:
-            break
-        al, cl, fal, fcl, w = a[live], c[live], fa[live], fc[live], width[live]
-        x = 0.5 * (al + cl)
-        if r < _SECANT:
-            with np.errstate(all="ignore"):
-                sec = cl - fcl * (cl - al) / (fcl - fal)
-            x = np.where(np.isfinite(sec), sec, x)
-        x = np.clip(x, al + 0.05 * w, cl - 0.05 * w)
-        # the second point: towards the larger part of the bracket
-        toward_c = (cl - x) > (x - al)
-        x2 = np.where(toward_c, np.minimum(x + 0.4 * w, cl - 0.01 * w),
-                      np.maximum(x - 0.4 * w, al + 0.01 * w))  # fmt: skip
-        lo_pt, hi_pt = np.minimum(x, x2), np.maximum(x, x2)
-        f = value(np.concatenate([live, live]), np.concatenate([lo_pt, hi_pt]),
-                  np.concatenate([m[live], m[live]]))  # fmt: skip
-        h_lo, h_hi = f[: live.size], f[live.size :]
-        # the new bracket: [a, lo], [lo, hi] or [hi, c] by the sides
-        in_left = ~on_a_side(h_lo, live)
-        in_mid = ~in_left & ~on_a_side(h_hi, live)
-        s = sign[live]
-        new_a = np.where(in_left, al, np.where(in_mid, lo_pt, hi_pt))
-        new_c = np.where(in_left, lo_pt, np.where(in_mid, hi_pt, cl))
-        new_fa = np.where(in_left, fal, np.where(in_mid, s * h_lo, s * h_hi))
-        new_fc = np.where(in_left, s * h_lo, np.where(in_mid, s * h_hi, fcl))
-        # Illinois: an end kept twice in a row has its value halved
-        kept = np.where(in_left, -1.0, np.where(in_mid, 0.0, 1.0))
-        twice = (kept != 0) & (kept == side[live])
-        new_fa = np.where(twice & (kept == -1.0), 0.5 * new_fa, new_fa)
-        new_fc = np.where(twice & (kept == 1.0), 0.5 * new_fc, new_fc)
-        side[live] = kept
-        a[live], c[live], fa[live], fc[live] = new_a, new_c, new_fa, new_fc
-        live = live[(c[live] - a[live]) > width[live]]
-    ok &= (c - a) <= width
-    return np.where(ok, a, a0), np.where(ok, c, c0), ok
 
 
 def _interior_extreme(run, own, pts, e, sign):
