@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from impactsym.engines.mujoco.euler import euler_contact, euler_end_value
+from impactsym.engines.mujoco.euler_kinks import kink_cuts, split_pieces
 from impactsym.engines.mujoco.euler_phase import flat_phases
 from impactsym.engines.mujoco.model import (
     Coefficients,
@@ -364,6 +365,16 @@ def _split_and_integrate(
     ends.append(hi[ii, kk])
     owner.append(ii)
     p0, p1, own = np.concatenate(starts), np.concatenate(ends), np.concatenate(owner)
+    # Euler at a varying impedance: the pieces are cut where a state that pushes crosses
+    # a kink of the impedance (euler_kinks), so that Gauss-Legendre sees smooth pieces
+    parent = np.arange(p0.size)
+    if integrator in ("euler", "implicitfast") and not is_flat(solimp):
+        steps = np.where(jump, key_lo, np.maximum(key_lo, key_hi)).ravel()
+        steps = np.concatenate([steps, key_hi[ii, kk]])
+        c_own = Coefficients(b[own], k[own])
+        cuts = kink_cuts(c_own, solimp, rho[own], g[own], v[own], dt[own], p0, p1, steps)
+        p0, p1, parent = split_pieces(p0, p1, *cuts)
+        own = own[parent]
     run_pieces = run
     if at_edges is not None:  # the piece ends on the grid were run already: reused
         edge = np.arange(size)[:, None] * (n_pieces + 1) + np.arange(n_pieces)[None, :]
@@ -371,6 +382,9 @@ def _split_and_integrate(
         end[jump.ravel()] = -1  # the jump's left side ends at a: not run yet
         start = np.concatenate([edge.ravel(), np.full(ii.size, -1)])  # c: not run yet
         end = np.concatenate([end, ii * (n_pieces + 1) + kk + 1])
+        new = np.diff(parent, prepend=-1, append=parent.size) != 0  # cuts: not run yet
+        start = np.where(new[:-1], start[parent], -1)
+        end = np.where(new[1:], end[parent], -1)
         run_pieces = _reuse_ends(run, at_edges, start, end, _NODES + 2)
     pieces = integrate_pieces(run_pieces, p0, p1, own, size, nodes=_NODES)
     pts, res, e, t = pieces.pts, pieces.result, pieces.restitution, pieces.contact_time
