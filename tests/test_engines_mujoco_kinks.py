@@ -66,7 +66,7 @@ def test_cuts_are_where_a_state_crosses_mid_width_or_width(solref, speed, gravit
             want.append(0.5 * (p[i] + p[i + 1]))
     c = coefficients(solref, simp, dt)
     one = np.ones(1)
-    piece, cut = kink_cuts(
+    piece, cut, _ = kink_cuts(
         c.__class__(c.damping * one, c.stiffness * one), simp, one, gravity * one,
         speed * one, dt * one, np.array([p[0]]), np.array([p[-1]]), np.array([steps]),
     )  # fmt: skip
@@ -96,3 +96,52 @@ def test_split_pieces_cuts_in_order():
     np.testing.assert_array_equal(q0, [0.0, 0.1, 0.3, 0.5, 0.7, 0.9])
     np.testing.assert_array_equal(q1, [0.1, 0.3, 0.5, 0.7, 0.9, 1.0])
     np.testing.assert_array_equal(parent, [0, 0, 0, 1, 2, 2])
+
+
+def _flags(solref, speed, gravity, dt, p0, p1, steps):
+    simp = check_solimp(DEFAULT)
+    c = coefficients(solref, simp, dt)
+    one = np.ones(len(p0))
+    return kink_cuts(
+        c.__class__(c.damping * one, c.stiffness * one), simp, one, gravity * one,
+        speed * one, dt * one, np.array(p0), np.array(p1), np.array(steps),
+    )[2]  # fmt: skip
+
+
+def test_pieces_with_a_band_of_another_end_step_between_samples_are_flagged():
+    """The end steps over the phase by a scan of the plain loop: 3 -> 2 -> 3 -> 2 at
+    0.00142, 0.00893, 0.02643, and 4 -> 5 -> 4 at 0.04360, 0.04741 (bands narrower than
+    the samples' spacing 1/32): those pieces are flagged, pieces of one end step not."""
+    a = ((0.022914556416744388, 0.5488991515373116), 4.430008325332154, 9.81, 0.01)
+    b = ((0.028064687511759747, 0.5370509861658027), 1.9253745430890092, 9.81, 0.01)
+    for contact, changes, hidden, smooth in (
+        (a, (0.00142, 0.00893, 0.02643), ([0.0, 0.125], 3), ([0.25, 0.375], 2)),
+        (b, (0.04360, 0.04741), ([0.0, 0.125], 4), ([0.25, 0.375], 3)),
+    ):
+        solref, speed, g, dt = contact
+        simp = check_solimp(DEFAULT)
+        p = (np.arange(4096) + 0.5) / 4096 * 0.375
+        ends = np.array([_plain_end(solref, simp, speed, g, dt, q) for q in p])
+        at = 0.5 * (p[1:] + p[:-1])[ends[1:] != ends[:-1]]
+        np.testing.assert_allclose(at[: len(changes)], changes, atol=1e-4)
+        assert not np.any(at > 0.25)  # the second piece has one end step
+        (h0, h1), h_steps = hidden
+        (s0, s1), s_steps = smooth
+        got = _flags(solref, speed, g, dt, [h0, s0], [h1, s1], [h_steps, s_steps])
+        np.testing.assert_array_equal(got, [True, False])
+
+
+def _plain_end(solref, simp, speed, gravity, dt, phase):
+    """The end state of the plain loop (counted from the first detecting one)."""
+    k, b, law = contact_law(solref, DEFAULT, dt)
+    t = phase * dt
+    x, u = speed * t + 0.5 * gravity * t * t, speed + gravity * t
+    n = 0
+    while True:
+        d = impedance(-x, law)
+        f = (gravity + b * u + k * d * x) * d
+        if n > 0 and (x <= 0 or f <= 0):
+            return n
+        u += dt * (gravity - max(f, 0.0))
+        x += dt * u
+        n += 1

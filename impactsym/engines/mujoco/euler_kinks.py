@@ -9,8 +9,8 @@ with its slope there, but its second derivative jumps (for ``power = 2``, from
 ``X_k(phi), Y_k(phi)`` (:mod:`~impactsym.engines.mujoco.euler`) are smooth in the touch
 phase ``phi`` until the penetration of some state ``k`` crosses such a depth; there the
 restitution has a kink of the same order, and Gauss-Legendre across it converges only
-like ``h^3`` (5 nodes on a grid interval of ``1/8``: up to ``7e-5`` in the mean
-restitution, measured against a dense midpoint scan). The phase summary
+like ``h^3`` (5 nodes on a grid interval of ``1/8``: up to ``7.4e-5`` in the mean
+restitution, measured against a dense midpoint mean). The phase summary
 (:mod:`~impactsym.engines.mujoco.discrete`) therefore cuts its pieces at these phases.
 
 A piece whose end step is ``N`` cuts where ``X_k = level * width / (v_0 dt)`` for a state
@@ -25,6 +25,19 @@ the jump of the second derivative, so that is ample. Two crossings of one state
 between neighbouring samples (a state whose deepest point over the phase just reaches
 the level) are missed.
 
+The same samples show end-step changes hidden between the summary's node samples (a
+band of another end step inside one piece: measured 0.0038 and 0.0175 of a phase wide,
+with node samples up to 0.034 apart; 1.75e-2 steps off in the mean contact time). Along
+a piece of end step ``N`` the margins ``min(X_k, F_k)`` of the states ``1 .. N-1`` stay
+positive and that of state ``N`` at most zero (``F`` the constraint's force per step,
+as in :func:`~impactsym.engines.mujoco.euler.euler_end_value`), and both are smooth in
+the phase. A piece is flagged where the least pushing margin or the end margin's
+negative, over the samples, comes near zero between them: the quadratic through the
+least sample and its two neighbours dips below ``_NEAR`` of it, or the least sample is
+an inner one and below ``_NEAR`` times the samples' spread. The summary sums a flagged
+element again on a finer grid. Pieces that stick are not checked (a band that does not
+stick inside a sticking piece is seen only where a node falls in it).
+
 Internal. Dimensionless: phases in ``[0, 1]``, ``X`` in ``speed * timestep``.
 """
 
@@ -36,11 +49,13 @@ import numpy as np
 
 from impactsym.engines.mujoco.model import Coefficients, effective_impedance, impedance_at
 from impactsym.engines.mujoco.phase_secant import secant_bracket
+from impactsym.engines.phase_pieces import vertex
 
 __all__ = ["euler_depth", "kink_cuts", "split_pieces"]
 
 _SAMPLES = 4  # sub-intervals per piece sampled for a change of side
 _TOLERANCE = 1e-10  # bracket width (phase) at which a kink is placed at its middle
+_NEAR = 0.5  # a margin whose fit between samples falls below this share of its least
 
 
 def euler_depth(
@@ -93,13 +108,15 @@ def kink_cuts(
     p0: np.ndarray,
     p1: np.ndarray,
     steps: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
-    """The kink phases inside the pieces ``[p0, p1]`` (module docstring).
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The kink phases inside the pieces ``[p0, p1]``, and the pieces whose end step may
+    change between samples (module docstring).
 
     All arguments are 1-D per piece (SI), ``solimp`` a checked varying one; ``steps`` is
     the piece's end step (the states ``k < steps`` count; ``< 1``: none, as for a piece
-    that sticks). Returns ``(piece, phase)``: the piece of each cut and its phase, sorted
-    by piece, then phase, strictly inside its piece.
+    that sticks). Returns ``(piece, phase, hidden)``: the piece of each cut and its
+    phase, sorted by piece, then phase, strictly inside its piece; and per piece whether
+    its margins come near zero between its samples.
     """
     consts = _constants(coeffs.damping, coeffs.stiffness, rho, gravity, speed, timestep)
     width, mid = solimp[2], solimp[3]
@@ -110,22 +127,35 @@ def kink_cuts(
     live, left = use, steps[use]
     consts = tuple(c[use, None] for c in consts)
     found = []  # (piece, sub-interval, state, level, below at the sub-interval's start)
-    for k in range(int(left.max(initial=0))):
+    push = np.full(
+        (p0.size, _SAMPLES + 1), np.inf
+    )  # least margin min(X_k, F_k) of the states 1 .. N-1
+    end = np.zeros((p0.size, _SAMPLES + 1))
+    for k in range(int(left.max(initial=0)) + 1):
+        pushes = left > k
         for j in range(levels.shape[1]):
             side = x > levels[live, j, None]
-            r, s = np.nonzero(side[:, 1:] != side[:, :-1])
+            r, s = np.nonzero((side[:, 1:] != side[:, :-1]) & pushes[:, None])
             if r.size:
                 row = (live[r], s, np.full(r.size, k), np.full(r.size, j), ~side[r, s])
                 found.append(np.stack(row))
-        more = left > k + 1
-        if not more.all():
-            live, left, x, y = live[more], left[more], x[more], y[more]
-            consts = tuple(c[more] for c in consts)
+        F = _force(x, y, consts, solimp)
+        if k > 0:
+            margin = np.minimum(x, F)
+            i = np.flatnonzero(pushes)
+            push[live[i]] = np.minimum(push[live[i]], margin[i])
+            end[live[~pushes]] = margin[~pushes]
+        if not pushes.all():
+            live, left, x, y, F = live[pushes], left[pushes], x[pushes], y[pushes], F[pushes]
+            consts = tuple(c[pushes] for c in consts)
         if live.size == 0:
             break
-        x, y = _step(x, y, consts, solimp)
+        y = y + consts[0] - np.maximum(F, 0.0)
+        x = x + y
+    hidden = np.zeros(p0.size, bool)
+    hidden[use] = _toward_zero(push[use]) | _toward_zero(-end[use])
     if not found:
-        return np.zeros(0, np.int64), np.zeros(0)
+        return np.zeros(0, np.int64), np.zeros(0), hidden
     piece, sub, state, lev, rising = np.concatenate(found, axis=1)
     frac = (p1 - p0)[piece] / _SAMPLES
     a, c = p0[piece] + sub * frac, p0[piece] + (sub + 1) * frac
@@ -146,7 +176,22 @@ def kink_cuts(
     inside = (cut > p0[piece]) & (cut < p1[piece])
     piece, cut = piece[inside], cut[inside]
     order = np.lexsort((cut, piece))
-    return piece[order], cut[order]
+    return piece[order], cut[order], hidden
+
+
+def _toward_zero(a):
+    """Rows of ``a`` (positive samples at the piece's equally spaced phases) whose
+    quadratic through a least sample and the two next to it (the first or last three
+    where the least is an end) has its vertex between them and below ``_NEAR`` of the
+    least sample: a margin that may reach zero between the samples."""
+    s = np.linspace(-1.0, 1.0, _SAMPLES + 1)
+    j = np.clip(np.argmin(a, axis=1), 1, _SAMPLES - 1)[:, None] + np.arange(-1, 2)
+    y = np.take_along_axis(a, j, axis=1)
+    least = a.min(axis=1)
+    inner = (a[:, 0] > least) & (a[:, -1] > least)
+    with np.errstate(invalid="ignore"):
+        low = vertex(s[j], y, s[j[:, 0]], s[j[:, 2]])  # nan where outside
+        return (low < _NEAR * least) | (inner & (least < _NEAR * (a.max(axis=1) - least)))
 
 
 def split_pieces(
@@ -178,10 +223,14 @@ def _first_state(p, G):
     return p + 0.5 * G * p * p, 1.0 + G * p
 
 
-def _step(x, y, consts, solimp):
-    """One Euler step in contact (:func:`~impactsym.engines.mujoco.euler.euler_contact`)."""
+def _force(x, y, consts, solimp):
+    """The constraint's ``F`` per step at state ``(x, y)`` (before the clip at zero)."""
     G, bdt, kdt2, L, rho = consts
     d = impedance_at(x * L, solimp)
-    F = effective_impedance(d, rho) * (G + bdt * y + d * kdt2 * x)
-    y = y + G - np.maximum(F, 0.0)
+    return effective_impedance(d, rho) * (G + bdt * y + d * kdt2 * x)
+
+
+def _step(x, y, consts, solimp):
+    """One Euler step in contact (:func:`~impactsym.engines.mujoco.euler.euler_contact`)."""
+    y = y + consts[0] - np.maximum(_force(x, y, consts, solimp), 0.0)
     return x + y, y
