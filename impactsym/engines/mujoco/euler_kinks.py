@@ -124,36 +124,35 @@ def kink_cuts(
     use = np.flatnonzero((steps >= 1) & (p1 > p0))
     q = p0[use, None] + (p1 - p0)[use, None] * np.linspace(0.0, 1.0, _SAMPLES + 1)[None, :]
     x, y = _first_state(q, consts[0][use, None])
-    live, left = use, steps[use]
+    live, left, lev = use, steps[use], levels[use, None, :]
     consts = tuple(c[use, None] for c in consts)
     found = []  # (piece, sub-interval, state, level, below at the sub-interval's start)
-    push = np.full(
-        (p0.size, _SAMPLES + 1), np.inf
-    )  # least margin min(X_k, F_k) of the states 1 .. N-1
-    end = np.zeros((p0.size, _SAMPLES + 1))
+    # the least margin min(X_k, F_k) of the states 1 .. N-1, and that of the end state N
+    push = np.full(x.shape, np.inf)
+    push_out, end_out = np.zeros((p0.size, x.shape[1])), np.zeros((p0.size, x.shape[1]))
     for k in range(int(left.max(initial=0)) + 1):
         pushes = left > k
-        for j in range(levels.shape[1]):
-            side = x > levels[live, j, None]
-            r, s = np.nonzero((side[:, 1:] != side[:, :-1]) & pushes[:, None])
-            if r.size:
-                row = (live[r], s, np.full(r.size, k), np.full(r.size, j), ~side[r, s])
-                found.append(np.stack(row))
+        side = x[:, :, None] > lev  # (pieces, samples, levels)
+        change = (side[:, 1:] != side[:, :-1]) & pushes[:, None, None]
+        if change.any():
+            r, s, j = np.nonzero(change)
+            found.append(np.stack((live[r], s, np.full(r.size, k), j, ~side[r, s, j])))
         F = _force(x, y, consts, solimp)
-        if k > 0:
-            margin = np.minimum(x, F)
-            i = np.flatnonzero(pushes)
-            push[live[i]] = np.minimum(push[live[i]], margin[i])
-            end[live[~pushes]] = margin[~pushes]
-        if not pushes.all():
-            live, left, x, y, F = live[pushes], left[pushes], x[pushes], y[pushes], F[pushes]
+        margin = np.minimum(x, F) if k > 0 else np.full(x.shape, np.inf)
+        if not pushes.all():  # the end states: out with their margins
+            done = ~pushes
+            push_out[live[done]], end_out[live[done]] = push[done], margin[done]
+            live, left, lev, x, y, F, push, margin = (
+                a[pushes] for a in (live, left, lev, x, y, F, push, margin)
+            )
             consts = tuple(c[pushes] for c in consts)
         if live.size == 0:
             break
+        np.minimum(push, margin, out=push)
         y = y + consts[0] - np.maximum(F, 0.0)
         x = x + y
     hidden = np.zeros(p0.size, bool)
-    hidden[use] = _toward_zero(push[use]) | _toward_zero(-end[use])
+    hidden[use] = _toward_zero(push_out[use]) | _toward_zero(-end_out[use])
     if not found:
         return np.zeros(0, np.int64), np.zeros(0), hidden
     piece, sub, state, lev, rising = np.concatenate(found, axis=1)
