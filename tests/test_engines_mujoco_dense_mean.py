@@ -22,12 +22,12 @@ from impactsym.engines.mujoco.model import DEFAULT_SOLIMP, check_solimp, coeffic
 DEFAULT = DEFAULT_SOLIMP  # (0.9, 0.95, 0.001, 0.5, 2)
 
 
-def _dense_mean(solref, speed, gravity, dt, n=2**14, m=2**10):
+def _dense_mean(solref, speed, gravity, dt, solimp=DEFAULT, n=2**14, m=2**10):
     """Midpoint means over the phase of restitution and contact time (steps) from the
     per-phase model, the cells where the end step changes redone with ``m`` midpoints;
     and the bound on their error: per cell ``|second difference| / 24`` (smooth) or
     the end-step and restitution jumps over ``2 m`` (a cell with a change)."""
-    simp = check_solimp(DEFAULT)
+    simp = check_solimp(solimp)
     c = coefficients(solref, simp, dt)
 
     def run(p):
@@ -59,24 +59,30 @@ def _dense_mean(solref, speed, gravity, dt, n=2**14, m=2**10):
     return e_cell.mean(), t_cell.mean(), bound.sum() / n
 
 
+OTHER = (0.5, 0.99, 0.01, 0.3, 3.0)  # a wider, cubic impedance
+
+
 @pytest.mark.parametrize(
-    ("solref", "speed", "gravity", "dt"),
+    ("solref", "speed", "gravity", "dt", "solimp"),
     [
         # 7.4e-5 in e before: the kinks of the first state in the first grid cell
-        ((0.03983713160728383, 0.18858158549730225), 4.796796172383586, 9.81, 0.01),
-        ((0.028929455888798045, 0.3149149594834228), 2.6591509850016326, 0.0, 0.01),
+        ((0.03983713160728383, 0.18858158549730225), 4.796796172383586, 9.81, 0.01, DEFAULT),
+        ((0.028929455888798045, 0.3149149594834228), 2.6591509850016326, 0.0, 0.01, DEFAULT),
         # end step 3 -> 2 -> 3 -> 2 in the first grid cell: 1.75e-2 steps off before
-        ((0.022914556416744388, 0.5488991515373116), 4.430008325332154, 9.81, 0.01),
+        ((0.022914556416744388, 0.5488991515373116), 4.430008325332154, 9.81, 0.01, DEFAULT),
         # 4 -> 5 -> 4 in it: 3.8e-3 steps off before
-        ((0.028064687511759747, 0.5370509861658027), 1.9253745430890092, 9.81, 0.01),
+        ((0.028064687511759747, 0.5370509861658027), 1.9253745430890092, 9.81, 0.01, DEFAULT),
+        # another solimp: 2.45e-2 steps and 8.9e-4 in e, 7.5e-3 steps and 9.4e-4 before
+        ((0.037886624313443126, 0.6068297066952789), 2.71098844660873, 9.81, 0.01, OTHER),
+        ((0.021772034978625926, 0.3457845588123717), 0.7828534778314574, 9.81, 0.01, OTHER),
     ],
 )
-def test_phase_mean_against_a_dense_midpoint_mean(solref, speed, gravity, dt):
+def test_phase_mean_against_a_dense_midpoint_mean(solref, speed, gravity, dt, solimp):
     got = mujoco.predict(
-        solref=solref, solimp=DEFAULT, speed=speed, gravity=gravity, timestep=dt,
+        solref=solref, solimp=solimp, speed=speed, gravity=gravity, timestep=dt,
         integrator="euler",
     )  # fmt: skip
-    e_ref, t_ref, bound = _dense_mean(solref, speed, gravity, dt)
+    e_ref, t_ref, bound = _dense_mean(solref, speed, gravity, dt, solimp)
     assert bound < 2e-7  # the reference resolves what is checked
     assert abs(got.restitution - e_ref) <= bound + 1e-9
     assert abs(got.contact_time / dt - t_ref) <= bound + 1e-9
