@@ -1,4 +1,4 @@
-"""MuJoCo's Euler phase mean at the default ``solimp`` against a dense midpoint mean.
+"""MuJoCo's Euler phase mean at a varying ``solimp`` against a dense midpoint mean.
 
 The contacts an independent investigation found off (scripts of a dense midpoint mean
 over 2^14 phases): Gauss-Legendre across the phases where a state crosses a kink of the
