@@ -182,7 +182,11 @@ def _toward_zero(a):
     """Rows of ``a`` (positive samples at the piece's equally spaced phases) whose
     quadratic through a least sample and the two next to it (the first or last three
     where the least is an end) has its vertex between them and below ``_NEAR`` of the
-    least sample: a margin that may reach zero between the samples."""
+    least sample, or whose least sample is an inner one and below ``_NEAR`` times their
+    spread (a sharp dip the quadratic misses: a 4 -> 5 -> 4 band 0.0038 wide between
+    samples 0.031 apart): a margin that may reach zero between the samples. A false
+    flag costs only the element's sum on a finer grid (about 40 of 63,000 pieces of
+    random short contacts are flagged)."""
     s = np.linspace(-1.0, 1.0, _SAMPLES + 1)
     j = np.clip(np.argmin(a, axis=1), 1, _SAMPLES - 1)[:, None] + np.arange(-1, 2)
     y = np.take_along_axis(a, j, axis=1)
