@@ -131,18 +131,18 @@ def test_secant_jump_search_gives_the_sampled_search_bit_for_bit(monkeypatch):
     g[0], rho[0] = 9.81, 1.0885323324878693
     c = coefficients((tc, dr), simp, dt)
     args = (euler_contact, "euler", simp, c.damping, c.stiffness, rho, g, v, np.full(n, dt))
-    real, narrowed = discrete._secant_jump, []
+    real, narrowed = discrete.secant_bracket, []
 
     def spy(*a):
         out = real(*a)
         narrowed.append(int(out[2].sum()))
         return out
 
-    monkeypatch.setattr(discrete, "_secant_jump", spy)
+    monkeypatch.setattr(discrete, "secant_bracket", spy)
     got = discrete._split_and_integrate(*args)
     assert sum(narrowed) > 20  # the secant did narrow jumps
     monkeypatch.setattr(
-        discrete, "_secant_jump", lambda value, a, c, m, r, w: (a, c, np.zeros(a.size, bool))
+        discrete, "secant_bracket", lambda value, a, c, m, r, w: (a, c, np.zeros(a.size, bool))
     )
     ref = discrete._split_and_integrate(*args)
     assert np.array_equal(got, ref, equal_nan=True)
