@@ -239,6 +239,28 @@ def test_agrees_with_mujoco_state_by_state(dt, integrator, solimp):
         assert float(got.max_penetration) == pytest.approx(run["max_penetration"], rel=tol)
 
 
+@pytest.mark.parametrize("integrator", ["euler", "rk4"])
+@pytest.mark.parametrize(
+    "solimp",
+    [(5e-5, 0.9, 0.001, 0.5, 2.0), (0.9, 0.99995, 0.001, 0.5, 2.0), (0.5, 0.95, 0.001, 5e-5, 2.0)],
+)
+def test_solimp_beyond_mujocos_range_is_clamped_as_mujoco_does(integrator, solimp):
+    # MuJoCo clamps d_min, d_max and the midpoint to [1e-4, 0.9999] before it
+    # interpolates (the reference loop, checked against MuJoCo itself); clamping the
+    # interpolated impedance instead was 2.2e-2 off in e at d_min = 5e-5 (found by review)
+    simp = check_solimp(solimp)
+    for (solref, speed), gravity, phase in zip(CASES[:3], (0.0, 9.81, 0.0), (0.13, 0.37, 0.81),
+                                               strict=True):  # fmt: skip
+        run = mujoco_steps(solref=solref, solimp=solimp, speed=speed, gravity=gravity,
+                           timestep=0.002, integrator=integrator, phase=phase)  # fmt: skip
+        got = step_contact(coefficients(solref, simp, 0.002), simp, 1.0, gravity, speed, 0.002,
+                           phase, integrator=integrator)  # fmt: skip
+        assert bool(got.sticks) == run["sticks"]
+        if not run["sticks"]:
+            assert float(got.restitution) == pytest.approx(run["restitution"], rel=1e-6)
+            assert float(got.max_penetration) == pytest.approx(run["max_penetration"], rel=1e-6)
+
+
 def test_stick_verdict_agrees_with_mujoco():
     simp = check_solimp(FLAT)
     for speed in (0.3, 0.02):
