@@ -24,11 +24,13 @@ Measured here (2-core machine, load 1-5 from other jobs; CPU seconds per 1e5 tar
   continuous, default solimp, contact_time      0.64    2
   dt = 0.002, flat, gravity 9.81                0.35    1
   dt = 0.002, flat, contact_time 0.02 s         0.29    2
-  dt = 0.002, default solimp, gravity 9.81      0.95    3
+  dt = 0.002, default solimp, gravity 9.81      1.22    3
   ============================================  ======  ======
 
 The continuous default-solimp designs took 3.06 and 2.12 s before their targets started
-from a table of node designs (``impactsym.engines.mujoco.varying_design``).
+from a table of node designs (``impactsym.engines.mujoco.varying_design``). The discrete
+default-solimp designs went from 0.95 to 1.22 s when the phase means began to cut the
+pieces at the impedance's kinks (their mean restitution had been up to 4e-4 off).
 
 Run: python benchmarks/bench_engines.py [--quick]
 """

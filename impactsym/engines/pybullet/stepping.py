@@ -397,7 +397,7 @@ def substep_impulse(
     processing threshold (``True`` where it is ``+inf``: none; ``-inf`` processes
     nothing) and the velocity change ``dv = lambda / m``; the caller makes
     ``w' = w_star - dv``, ``x' = x + h w'``. Shared by :func:`step_pattern` and the
-    phase-derivative tracker of :mod:`~impactsym.engines.pybullet.phase_means`."""
+    phase-derivative tracker of :mod:`~impactsym.engines.pybullet.tracking`."""
     g, h, erp, gain, ended = a["g"], a["h"], a["erp"], a["gain"], a["ended"]
     w_star = w + g * h
     d = slop - x

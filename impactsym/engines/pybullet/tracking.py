@@ -108,7 +108,8 @@ def track(
     ``(5, n)``: its speed ``w`` with two phase derivatives, then its penetration ``x``
     with the first (where the contact ended). ``give_up`` (no gravity): a run also stops
     where its end fails :func:`final_at` there (``u = 0``), its pattern then not read
-    further: for the start of a piece whose element :func:`_grid_pieces` gives up.
+    further: for the start of a piece whose element the phase means' grid search gives
+    up (:mod:`~impactsym.engines.pybullet.phase_means`).
     ``horizon``: the root ahead is sought no further (fewer roots solved, :func:`_ahead`).
     With gravity the coast after the end state is watched too (module docstring): the
     roots of ``x`` at its states that shorten it, kept apart (``first_out``), count
@@ -207,8 +208,8 @@ def final_at(
     """Per piece: whether at ``u`` from the phase where its pattern was read (end state
     ``n_end``, ``-1`` where it sticks; ``state`` that state and its phase derivatives,
     the ``(5, n)`` of :func:`track`) the contact ends separating within the step
-    ``budget``: the finality test of
-    :mod:`~impactsym.engines.pybullet.phase_means` (``_ends_final``)."""
+    ``budget``: the finality test of the phase means' one-interval path
+    (:mod:`~impactsym.engines.pybullet.phase_means`)."""
     w0, w1, _, x0, x1 = state
     room = (budget - np.asarray(n_end, float) - 2.0) * H
     w, x = w0 + w1 * u, x0 + x1 * u
