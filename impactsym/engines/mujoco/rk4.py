@@ -46,6 +46,7 @@ from impactsym.engines.mujoco.model import (
     impedance_at,
     is_flat,
 )
+from impactsym.engines.mujoco.rk4_peak import row_max
 from impactsym.engines.mujoco.stepping import StepContact
 
 __all__ = ["rk4_contact", "rk4_spectral_radius"]
@@ -365,39 +366,6 @@ def _first_exit(interior: _Interior, x, v):
     return np.where(exact, n_exit, bound), exact
 
 
-def _row_max(row: _Row, last):
-    """Largest value of ``row`` at the integers ``1 .. last`` (closed-form candidates)."""
-    lm, rate = row.lm, row.rate
-    end = np.minimum(last, 1e15)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # continuous local maxima: oscillating, at theta t + u0 = atan(ln m / theta) mod 2 pi
-        amp_s = row.w / np.sin(rate)
-        u0 = -np.angle(row.q + 1j * amp_s)
-        twist = np.arctan(lm / rate)
-        first = 1 + np.mod(twist - (rate + u0), _TWO_PI) / rate
-        final = end - np.mod(rate * end + u0 - twist, _TWO_PI) / rate
-        sd = np.sinh(rate)
-        sdc = np.where(rate == 0, 1.0, sd / np.where(rate == 0, 1.0, rate))
-        t_d = -(row.q * sdc * lm + row.w) / (row.w * lm + rate * row.q * sd)
-        tau = t_d * rate
-        atc = np.where(tau == 0, 1.0, np.arctanh(tau) / np.where(tau == 0, 1.0, tau))
-        t_e = atc * t_d
-    first = np.where(row.osc, first, t_e)
-    final = np.where(row.osc, final, t_e)
-    best = np.full(lm.shape, -np.inf)
-    for t in (
-        np.ones_like(end),
-        end,
-        np.floor(first),
-        np.ceil(first),
-        np.floor(final),
-        np.ceil(final),
-    ):
-        t = np.where(np.isfinite(t), np.clip(t, 1.0, end), 1.0)
-        best = np.maximum(best, row.value(t))
-    return np.where(last >= 1, best, -np.inf)
-
-
 def rk4_spectral_radius(
     coeffs: Coefficients, solimp: tuple[float, ...], rho: Any, timestep: Any
 ) -> np.ndarray:
@@ -575,8 +543,8 @@ def rk4_contact(
             last = np.where(stuck, np.inf, n - 1)
             qx, wx = cf.coefficients(cf.rows[0], xa[jx], va[jx])
             qf, wf = cf.coefficients(cf.force_row, xa[jx], va[jx])
-            pen = _row_max(_Row(cf.x_star + 0 * qx, qx, wx, cf.lm, cf.rate, cf.osc), last)
-            frc = _row_max(_Row(cf.force_star + 0 * qf, qf, wf, cf.lm, cf.rate, cf.osc), last)
+            pen = row_max(_Row(cf.x_star + 0 * qx, qx, wx, cf.lm, cf.rate, cf.osc), last)
+            frc = row_max(_Row(cf.force_star + 0 * qf, qf, wf, cf.lm, cf.rate, cf.osc), last)
             res["max_penetration"][ij] = np.maximum(res["max_penetration"][ij], pen)
             res["peak_accel"][ij] = np.maximum(res["peak_accel"][ij], lj.dp_in * frc)
             res["steps"][ij] += np.where(stuck, 0, np.maximum(n - 1, 0)).astype(np.int64)
