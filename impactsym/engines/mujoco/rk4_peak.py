@@ -24,7 +24,7 @@ _TWO_PI = 2.0 * np.pi
 
 
 def row_max(row: Any, last: np.ndarray) -> np.ndarray:
-    """Largest value of ``row`` at the integers ``1 .. last`` (``-inf`` where ``last < 1``).
+    """Largest value of ``row`` at the integers from 1 to ``last`` (``-inf`` where ``last < 1``).
 
     ``row`` holds ``s, q, w, lm, rate, osc`` and ``value(n)`` (module docstring); the
     candidates are ``1``, ``last`` and the integers either side of the first and the last
