@@ -523,8 +523,14 @@ def _end_step(res: StepContact, phase: np.ndarray, dt: np.ndarray) -> np.ndarray
     """The end state's index counted from touch, ``contact_time / dt - phase`` (-1: sticks).
 
     The key of a smooth piece: unlike ``steps`` it does not depend on which state first
-    detects the contact (at a phase of ``1e-300`` rounding can leave the first one out).
+    detects the contact. An RK4 record also jumps (or has a kink) where a stage gains or
+    loses the force with the end step unchanged
+    (:mod:`~impactsym.engines.mujoco.rk4_record`): its key is ``index * 2^28`` plus its
+    stage pattern (below ``2^28``).
     """
     with np.errstate(invalid="ignore", over="ignore"):
         index = np.rint(res.contact_time / dt - phase)
+    pattern = getattr(res, "stage_pattern", None)
+    if pattern is not None:
+        index = index * 2.0**28 + pattern
     return np.where(res.sticks, -1, index)

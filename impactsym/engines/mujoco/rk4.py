@@ -46,7 +46,9 @@ from impactsym.engines.mujoco.model import (
     impedance_at,
     is_flat,
 )
-from impactsym.engines.mujoco.stepping import StepContact
+from impactsym.engines.mujoco.rk4_entry import entering_step
+from impactsym.engines.mujoco.rk4_peak import row_max
+from impactsym.engines.mujoco.rk4_record import RK4Contact, pattern_bits, stage_bits
 
 __all__ = ["rk4_contact", "rk4_spectral_radius"]
 
@@ -93,7 +95,8 @@ class _Law:
         return acc, drive, dp, interior
 
     def step(self, x, v, h):
-        """One RK4 step stage by stage; whether all four stages were interior, or free."""
+        """One RK4 step stage by stage; whether all four stages were interior, or free,
+        and its :func:`stage_bits`."""
         a0, _, _, i0 = self.stage(x, v)
         x1, v1 = x + 0.5 * h * v, v + 0.5 * h * a0
         a1, _, _, i1 = self.stage(x1, v1)
@@ -104,7 +107,8 @@ class _Law:
         x_new = x + h * (v / 6.0 + v1 / 3.0 + v2 / 3.0 + v3 / 6.0)
         v_new = v + h * (a0 / 6.0 + a1 / 3.0 + a2 / 3.0 + a3 / 6.0)
         free = (a0 == self.g) & (a1 == self.g) & (a2 == self.g) & (a3 == self.g)
-        return x_new, v_new, i0 & i1 & i2 & i3, free
+        inside = stage_bits(x, x1, x2, x3)
+        return x_new, v_new, i0 & i1 & i2 & i3, free, inside
 
 
 def _mat(a, b):
@@ -365,39 +369,6 @@ def _first_exit(interior: _Interior, x, v):
     return np.where(exact, n_exit, bound), exact
 
 
-def _row_max(row: _Row, last):
-    """Largest value of ``row`` at the integers ``1 .. last`` (closed-form candidates)."""
-    lm, rate = row.lm, row.rate
-    end = np.minimum(last, 1e15)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # continuous local maxima: oscillating, at theta t + u0 = atan(ln m / theta) mod 2 pi
-        amp_s = row.w / np.sin(rate)
-        u0 = -np.angle(row.q + 1j * amp_s)
-        twist = np.arctan(lm / rate)
-        first = 1 + np.mod(twist - (rate + u0), _TWO_PI) / rate
-        final = end - np.mod(rate * end + u0 - twist, _TWO_PI) / rate
-        sd = np.sinh(rate)
-        sdc = np.where(rate == 0, 1.0, sd / np.where(rate == 0, 1.0, rate))
-        t_d = -(row.q * sdc * lm + row.w) / (row.w * lm + rate * row.q * sd)
-        tau = t_d * rate
-        atc = np.where(tau == 0, 1.0, np.arctanh(tau) / np.where(tau == 0, 1.0, tau))
-        t_e = atc * t_d
-    first = np.where(row.osc, first, t_e)
-    final = np.where(row.osc, final, t_e)
-    best = np.full(lm.shape, -np.inf)
-    for t in (
-        np.ones_like(end),
-        end,
-        np.floor(first),
-        np.ceil(first),
-        np.floor(final),
-        np.ceil(final),
-    ):
-        t = np.where(np.isfinite(t), np.clip(t, 1.0, end), 1.0)
-        best = np.maximum(best, row.value(t))
-    return np.where(last >= 1, best, -np.inf)
-
-
 def rk4_spectral_radius(
     coeffs: Coefficients, solimp: tuple[float, ...], rho: Any, timestep: Any
 ) -> np.ndarray:
@@ -431,7 +402,7 @@ def rk4_contact(
     speed: Any,
     timestep: Any,
     phase: Any,
-) -> StepContact:
+) -> RK4Contact:
     r"""One contact as MuJoCo's RK4 steps it, at a given touch phase (arrays broadcast, SI).
 
     Parameters
@@ -449,9 +420,10 @@ def rk4_contact(
 
     Returns
     -------
-    StepContact
+    RK4Contact
         Exact per phase: the engine's states under the definitions of
-        :mod:`~impactsym.engines.mujoco.stepping`. Where the entering step throws the body
+        :mod:`~impactsym.engines.mujoco.stepping`, and which stages were in contact
+        (:mod:`~impactsym.engines.mujoco.rk4_record`). Where the entering step throws the body
         back out before the first state (only beyond the stability limit,
         :func:`rk4_spectral_radius`), the contact ends at that state (``steps = 0``).
         Where the body settles, ``max_penetration`` is the supremum over all states and
@@ -463,8 +435,11 @@ def rk4_contact(
 
     Notes
     -----
-    Stage by stage where any stage is outside the constant-impedance interior, by the
-    closed-form power of the interior map elsewhere (module docstring;
+    Stage by stage where any stage is outside the constant-impedance interior (the
+    entering step in the cancellation-free form of
+    :func:`~impactsym.engines.mujoco.rk4_entry.entering_step`: at phase ``1e-300`` it is
+    the limit ``phase -> 0+``, at phase 0 the first state sits at distance 0 and does not
+    detect), by the closed-form power of the interior map elsewhere (module docstring;
     `docs/physics.md`, *MuJoCo's RK4 step*). Inputs are not validated here (the public
     ``predict`` does).
 
@@ -494,6 +469,7 @@ def rk4_contact(
     res = {key: np.zeros(size) for key in floats}
     res.update(contact_time=np.full(size, np.inf), steps=np.zeros(size, dtype=np.int64))
     res.update(sticks=np.zeros(size, bool), released_by_position=np.zeros(size, bool))
+    res.update(stage_pattern=np.zeros(size, dtype=np.int64))
     act = np.arange(size)
     while act.size:
         law = law_all.take(act)
@@ -535,7 +511,10 @@ def rk4_contact(
         if not act.size:
             break
         # advance: one exact step, or the closed-form jump through the interior
-        xn, vn, inner, free = law.step(xa, va, h[act])
+        xn, vn, inner, free, inside = law.step(xa, va, h[act])
+        if k[act[0]] < 0:  # the first pass, every contact's entering step: cancellation-free
+            xn, vn, inside = entering_step(law.stage, law.g, speed[act], h[act], phase[act])
+        res["stage_pattern"][act] ^= pattern_bits(inside, k[act] + 1, ended[act])
         pressed = touched[act] & ~ended[act]
         jump = inner & pressed & (k[act] >= _SHORT)
         # settled: the map returns to a state (fixed point, 2-cycle), or the speed died to
@@ -575,8 +554,8 @@ def rk4_contact(
             last = np.where(stuck, np.inf, n - 1)
             qx, wx = cf.coefficients(cf.rows[0], xa[jx], va[jx])
             qf, wf = cf.coefficients(cf.force_row, xa[jx], va[jx])
-            pen = _row_max(_Row(cf.x_star + 0 * qx, qx, wx, cf.lm, cf.rate, cf.osc), last)
-            frc = _row_max(_Row(cf.force_star + 0 * qf, qf, wf, cf.lm, cf.rate, cf.osc), last)
+            pen = row_max(_Row(cf.x_star + 0 * qx, qx, wx, cf.lm, cf.rate, cf.osc), last)
+            frc = row_max(_Row(cf.force_star + 0 * qf, qf, wf, cf.lm, cf.rate, cf.osc), last)
             res["max_penetration"][ij] = np.maximum(res["max_penetration"][ij], pen)
             res["peak_accel"][ij] = np.maximum(res["peak_accel"][ij], lj.dp_in * frc)
             res["steps"][ij] += np.where(stuck, 0, np.maximum(n - 1, 0)).astype(np.int64)
@@ -596,5 +575,5 @@ def rk4_contact(
             keep[jx[stuck]] = False
             act = act[keep]
     if shape == ():
-        return StepContact(**{key: val.reshape(()).item() for key, val in res.items()})
-    return StepContact(**{key: val.reshape(shape) for key, val in res.items()})
+        return RK4Contact(**{key: val.reshape(()).item() for key, val in res.items()})
+    return RK4Contact(**{key: val.reshape(shape) for key, val in res.items()})
