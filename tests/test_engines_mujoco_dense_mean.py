@@ -75,6 +75,15 @@ OTHER = (0.5, 0.99, 0.01, 0.3, 3.0)  # a wider, cubic impedance
         # another solimp: 2.45e-2 steps and 8.9e-4 in e, 7.5e-3 steps and 9.4e-4 before
         ((0.037886624313443126, 0.6068297066952789), 2.71098844660873, 9.81, 0.01, OTHER),
         ((0.021772034978625926, 0.3457845588123717), 0.7828534778314574, 9.81, 0.01, OTHER),
+        # two jumps about 1/2000 of a phase apart: 1.96e-4 steps off while the finer
+        # grids stopped at 512 intervals (found by review)
+        (
+            (0.01726865978920799, 0.24454090019819963),
+            0.35320674222928133,
+            9.81,
+            0.005,
+            (0.2, 0.9, 0.002, 0.7, 2.0),
+        ),
     ],
 )
 def test_phase_mean_against_a_dense_midpoint_mean(solref, speed, gravity, dt, solimp):
