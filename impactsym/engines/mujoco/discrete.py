@@ -51,6 +51,7 @@ from impactsym.engines.mujoco.model import (
 from impactsym.engines.mujoco.phase_secant import secant_bracket
 from impactsym.engines.mujoco.rk4 import rk4_contact
 from impactsym.engines.mujoco.rk4_entry import rk4_entry_phases
+from impactsym.engines.mujoco.rk4_record import PATTERN_BITS
 from impactsym.engines.mujoco.stepping import StepContact
 from impactsym.engines.phase_pieces import integrate_pieces, reduce_at, vertex
 from impactsym.records import ArrayRecord
@@ -538,5 +539,5 @@ def _end_step(res: StepContact, phase: np.ndarray, dt: np.ndarray) -> np.ndarray
         index = np.rint(res.contact_time / dt - phase)
     pattern = getattr(res, "stage_pattern", None)
     if pattern is not None:
-        index = index * 2.0**28 + pattern
+        index = index * 2.0**PATTERN_BITS + pattern
     return np.where(res.sticks, -1, index)
