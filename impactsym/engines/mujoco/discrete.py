@@ -51,6 +51,7 @@ from impactsym.engines.mujoco.model import (
 from impactsym.engines.mujoco.phase_secant import secant_bracket
 from impactsym.engines.mujoco.rk4 import rk4_contact
 from impactsym.engines.mujoco.rk4_entry import rk4_entry_phases
+from impactsym.engines.mujoco.rk4_record import PATTERN_BITS
 from impactsym.engines.mujoco.stepping import StepContact
 from impactsym.engines.phase_pieces import integrate_pieces, reduce_at, vertex
 from impactsym.records import ArrayRecord
@@ -72,6 +73,9 @@ ENTRY_PHASES = {"rk4": rk4_entry_phases}
 
 _GRID = 8  # phase intervals searched for jumps of the end step
 _FINEST = _GRID * 4**5  # grid intervals at most where pieces hide jumps (1/8192 of a phase)
+# RK4 at most 512: its stage patterns put slivers next to end-step changes (3e-5 of a
+# phase, 3.5e-7 in e) that a finer grid never separates, at 2x the cost per level
+_FINEST_RK4 = _GRID * 4**3
 _WAYS, _ROUNDS = 8, 14  # search per jump: 8 sub-intervals a round (8^-14 = 2^-42 < 1e-12)
 _MARGIN = 64.0  # lattice cells on each side of the secant bracket sampled all the same
 _GOLDEN = 40  # golden-section steps for an extreme inside a piece
@@ -264,8 +268,8 @@ def _split_and_integrate(
     whose samples do not all share one end step shows it, and its element is done again
     on a grid four times finer, up to :data:`_FINEST` intervals (jumps closer than that
     are integrated as one piece: at 512 intervals, two jumps 1/2000 of a phase apart
-    were 1.5e-4 steps off, found by review). Euler at a varying
-    impedance first cuts the pieces at the impedance's kinks (``kink_cuts``, more node
+    were 1.5e-4 steps off, found by review); RK4 down to :data:`_FINEST_RK4`. Euler at a
+    varying impedance first cuts the pieces at the impedance's kinks (``kink_cuts``, more node
     samples), and its states' margins flag a piece whose end step may change between
     samples all the same (a band narrower than the samples' spacing). ``skip_stuck``:
     an element that sticks at a grid phase is left there (contact time ``inf``, the rest
@@ -419,7 +423,7 @@ def _split_and_integrate(
     t_max = reduce_at(np.maximum, own, t.max(axis=1), size, -np.inf)
     out = np.stack([e_mean, t_mean, e_min, e_max, t_min, t_max, stick_frac])
     redo = np.flatnonzero(mixed)
-    if redo.size and intervals < _FINEST:
+    if redo.size and intervals < (_FINEST_RK4 if integrator == "rk4" else _FINEST):
         out[:, redo] = _split_and_integrate(
             model, integrator, solimp, b[redo], k[redo], rho[redo], g[redo], v[redo],
             dt[redo], 4 * intervals, bounds, skip_stuck,
@@ -535,5 +539,5 @@ def _end_step(res: StepContact, phase: np.ndarray, dt: np.ndarray) -> np.ndarray
         index = np.rint(res.contact_time / dt - phase)
     pattern = getattr(res, "stage_pattern", None)
     if pattern is not None:
-        index = index * 2.0**28 + pattern
+        index = index * 2.0**PATTERN_BITS + pattern
     return np.where(res.sticks, -1, index)
