@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from impactsym.engines.mujoco.euler_kinks import euler_depth, kink_cuts, split_pieces
+from impactsym.engines.mujoco.euler import euler_state
+from impactsym.engines.mujoco.euler_kinks import kink_cuts, split_pieces
 from impactsym.engines.mujoco.model import DEFAULT_SOLIMP, check_solimp, coefficients
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -82,11 +83,11 @@ def test_cuts_are_where_a_state_crosses_mid_width_or_width(solref, speed, gravit
         assert miss < 1e-9 * (1.0 + speed * dt / 1e-3) * 1e-3
 
 
-def test_euler_depth_is_the_plain_loops_penetration():
+def test_euler_state_penetration_is_the_plain_loops():
     simp = check_solimp(DEFAULT)
     solref, speed, g, dt, phase = (0.02, 0.4), 1.3, 9.81, 0.002, 0.37
     c = coefficients(solref, simp, dt)
-    got = euler_depth(c, simp, 1.0, g, speed, dt, phase, np.arange(8)) * speed * dt
+    got = euler_state(c, simp, 1.0, g, speed, dt, phase, np.arange(8))[0] * speed * dt
     np.testing.assert_allclose(got, _plain_depths(solref, speed, g, dt, phase, 8), rtol=1e-12)
 
 

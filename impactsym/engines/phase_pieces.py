@@ -22,6 +22,7 @@ __all__ = [
     "PieceSamples",
     "gauss_legendre",
     "integrate_pieces",
+    "least_vertex",
     "reduce_at",
     "vertex",
     "vertex_point",
@@ -113,3 +114,13 @@ def vertex_point(p: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         xv = -c1 / (2.0 * c2)
         yv = y0 + d01 * (xv - x0) + c2 * (xv - x0) * (xv - x1)
     return xv, yv
+
+
+def least_vertex(a: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Per row of the samples ``a`` at the positions ``s``: the value at the vertex of the
+    quadratic through the row's least sample and the two next to it (the first or last
+    three where the least is an end), ``nan`` where the vertex lies outside them: how far
+    a smooth function may dip below its samples (the phase summaries' margin checks)."""
+    j = np.clip(np.argmin(a, axis=1), 1, s.size - 2)[:, None] + np.arange(-1, 2)
+    y = np.take_along_axis(a, j, axis=1)
+    return vertex(s[j], y, s[j[:, 0]], s[j[:, 2]])

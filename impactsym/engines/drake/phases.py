@@ -79,8 +79,8 @@ from impactsym.engines.drake.stepping import (
 from impactsym.engines.phase_pieces import (
     gauss_legendre,
     integrate_pieces,
+    least_vertex,
     reduce_at,
-    vertex,
     vertex_point,
 )
 from impactsym.records import ArrayRecord
@@ -161,10 +161,7 @@ def _toward_zero(a):
     below the least of its three samples by at most a quarter of their spread, so only
     columns whose spread exceeds ``4 _NEAR`` times their least can be flagged."""
     x, _ = gauss_legendre(_NODES)
-    s = np.concatenate([[-1.0], x, [1.0]])
-    j = np.clip(np.argmin(a, axis=0), 1, s.size - 2)[:, None] + np.arange(-1, 2)
-    y = np.take_along_axis(a, j.T, axis=0).T
-    low = vertex(s[j], y, s[j[:, 0]], s[j[:, 2]])  # nan where outside
+    low = least_vertex(a.T, np.concatenate([[-1.0], x, [1.0]]))  # nan where outside
     with np.errstate(invalid="ignore"):
         return low < _NEAR * a.min(axis=0)
 

@@ -46,7 +46,15 @@ from impactsym.engines.mujoco.model import (
 from impactsym.engines.mujoco.stepmap import Sequence, first_hit, sequence_max
 from impactsym.engines.mujoco.stepping import StepContact
 
-__all__ = ["coast_flat", "euler_contact", "euler_end_value"]
+__all__ = [
+    "coast_flat",
+    "euler_constants",
+    "euler_contact",
+    "euler_end_value",
+    "euler_first_state",
+    "euler_force",
+    "euler_state",
+]
 
 _MAX_STEPS = 2_000_000  # recurrence steps refused beyond this (a contact that never settles)
 _PROOF_EVERY = 32  # recurrence steps between attempts to prove rest
@@ -153,7 +161,26 @@ def euler_end_value(
     is zero; :func:`euler_contact`), and it is continuous in the phase while the states
     before ``m`` are in contact with a positive force, so a jump of the end step from or
     to ``m`` is a root of it in the phase: the phase summary locates such jumps by a
-    bracketed secant on it rather than by sampling the end step. Same arithmetic as
+    bracketed secant on it rather than by sampling the end step. The state of
+    :func:`euler_state` (arrays broadcast; dimensionless). Internal.
+    """
+    return np.minimum(*euler_state(coeffs, solimp, rho, gravity, speed, timestep, phase, step))
+
+
+def euler_state(
+    coeffs: Coefficients,
+    solimp: tuple[float, ...],
+    rho: Any,
+    gravity: Any,
+    speed: Any,
+    timestep: Any,
+    phase: Any,
+    step: Any,
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(X_m, F_m)``: the penetration and the constraint's force per step (before its
+    clip at zero) of the state ``m = step`` after the first detecting one (phase > 0),
+    stepped in contact (``Y' = Y + G - max(F, 0)``, ``X' = X + Y'``) whatever the states
+    before it: continuous in the phase while they push. Same arithmetic as
     :func:`euler_contact` (arrays broadcast; dimensionless: ``X`` in ``speed *
     timestep``, ``F`` per step in ``speed``). Internal.
     """
@@ -165,24 +192,41 @@ def euler_end_value(
     )
     shape = arrays[0].shape
     b, kbar, rho, g, v0, dt, p, m = (a.ravel() for a in arrays)
-    G = g * dt / v0
-    x, y = p + 0.5 * G * p * p, 1.0 + G * p
-    bdt, kdt2, L = b * dt, kbar * dt * dt, v0 * dt
-    out = np.full(x.size, np.nan)
+    consts = euler_constants(b, kbar, rho, g, v0, dt)
+    x, y = euler_first_state(p, consts[0])
+    x_out, f_out = np.full(x.size, np.nan), np.full(x.size, np.nan)
     live = np.arange(x.size)
     for k in range(int(m.max(initial=0.0)) + 1):
-        d = impedance_at(x * L, solimp)
-        F = effective_impedance(d, rho) * (G + bdt * y + d * kdt2 * x)
+        F = euler_force(x, y, consts, solimp)
         at = m[live] == k
         if at.any():
-            out[live[at]] = np.minimum(x[at], F[at])
+            x_out[live[at]], f_out[live[at]] = x[at], F[at]
             more = ~at
-            live, x, y, F, G, bdt, kdt2, L, rho = (
-                a[more] for a in (live, x, y, F, G, bdt, kdt2, L, rho)
-            )
-        y = y + G - np.maximum(F, 0.0)
+            live, x, y, F = live[more], x[more], y[more], F[more]
+            consts = tuple(c[more] for c in consts)
+        y = y + consts[0] - np.maximum(F, 0.0)
         x = x + y
-    return out.reshape(shape)
+    return x_out.reshape(shape), f_out.reshape(shape)
+
+
+def euler_constants(b: Any, kbar: Any, rho: Any, g: Any, v0: Any, dt: Any) -> tuple:
+    """``(G, b dt, kbar dt^2, v0 dt, rho)``: the constants of the recurrence in contact
+    (dimensionless; :func:`euler_force`). Internal."""
+    return g * dt / v0, b * dt, kbar * dt * dt, v0 * dt, rho
+
+
+def euler_first_state(p: Any, G: Any) -> tuple[np.ndarray, np.ndarray]:
+    """``(X, Y)`` of the first detecting state at phase ``p > 0``: free flight for ``p``
+    steps (dimensionless). Internal."""
+    return p + 0.5 * G * p * p, 1.0 + G * p
+
+
+def euler_force(x: Any, y: Any, consts: tuple, solimp: tuple[float, ...]) -> np.ndarray:
+    """The constraint's ``F`` per step at the state ``(x, y)``, before the clip at zero
+    (``consts`` of :func:`euler_constants`). Internal."""
+    G, bdt, kdt2, L, rho = consts
+    d = impedance_at(x * L, solimp)
+    return effective_impedance(d, rho) * (G + bdt * y + d * kdt2 * x)
 
 
 def _take(state: dict, i: np.ndarray) -> dict:

@@ -43,59 +43,23 @@ Internal. Dimensionless: phases in ``[0, 1]``, ``X`` in ``speed * timestep``.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
-from impactsym.engines.mujoco.model import Coefficients, effective_impedance, impedance_at
+from impactsym.engines.mujoco.euler import (
+    euler_constants,
+    euler_first_state,
+    euler_force,
+    euler_state,
+)
+from impactsym.engines.mujoco.model import Coefficients
 from impactsym.engines.mujoco.phase_secant import secant_bracket
-from impactsym.engines.phase_pieces import vertex
+from impactsym.engines.phase_pieces import least_vertex
 
-__all__ = ["euler_depth", "kink_cuts", "split_pieces"]
+__all__ = ["kink_cuts", "split_pieces"]
 
 _SAMPLES = 4  # sub-intervals per piece sampled for a change of side
 _TOLERANCE = 1e-10  # bracket width (phase) at which a kink is placed at its middle
 _NEAR = 0.5  # a margin whose fit between samples falls below this share of its least
-
-
-def euler_depth(
-    coeffs: Coefficients,
-    solimp: tuple[float, ...],
-    rho: Any,
-    gravity: Any,
-    speed: Any,
-    timestep: Any,
-    phase: Any,
-    state: Any,
-) -> np.ndarray:
-    """The penetration ``X_m`` of the state ``m = state`` after the first detecting one,
-    in ``speed * timestep`` (phase > 0; arrays broadcast, SI arguments).
-
-    The recurrence of :func:`~impactsym.engines.mujoco.euler.euler_contact` in contact
-    (``Y' = Y + G - max(F, 0)``, ``X' = X + Y'``), continuous in the phase while the
-    states before ``m`` push. Internal.
-    """
-    arrays = np.broadcast_arrays(
-        *(
-            np.asarray(a, float)
-            for a in (coeffs.damping, coeffs.stiffness, rho, gravity, speed, timestep, phase, state)
-        )
-    )
-    shape = arrays[0].shape
-    b, kbar, rho, g, v0, dt, p, m = (a.ravel() for a in arrays)
-    consts = _constants(b, kbar, rho, g, v0, dt)
-    x, y = _first_state(p, consts[0])
-    out = np.full(x.size, np.nan)
-    live = np.arange(x.size)
-    for k in range(int(m.max(initial=0.0)) + 1):
-        at = m[live] == k
-        if at.any():
-            out[live[at]] = x[at]
-            more = ~at
-            live, x, y = live[more], x[more], y[more]
-            consts = tuple(c[more] for c in consts)
-        x, y = _step(x, y, consts, solimp)
-    return out.reshape(shape)
 
 
 def kink_cuts(
@@ -118,12 +82,12 @@ def kink_cuts(
     phase, sorted by piece, then phase, strictly inside its piece; and per piece whether
     its margins come near zero between its samples.
     """
-    consts = _constants(coeffs.damping, coeffs.stiffness, rho, gravity, speed, timestep)
+    consts = euler_constants(coeffs.damping, coeffs.stiffness, rho, gravity, speed, timestep)
     width, mid = solimp[2], solimp[3]
     levels = np.array([mid, 1.0])[None, :] * (width / (speed * timestep))[:, None]
     use = np.flatnonzero((steps >= 1) & (p1 > p0))
     q = p0[use, None] + (p1 - p0)[use, None] * np.linspace(0.0, 1.0, _SAMPLES + 1)[None, :]
-    x, y = _first_state(q, consts[0][use, None])
+    x, y = euler_first_state(q, consts[0][use, None])
     live, left, lev = use, steps[use], levels[use, None, :]
     consts = tuple(c[use, None] for c in consts)
     found = []  # (piece, sub-interval, state, level, below at the sub-interval's start)
@@ -137,7 +101,7 @@ def kink_cuts(
         if change.any():
             r, s, j = np.nonzero(change)
             found.append(np.stack((live[r], s, np.full(r.size, k), j, ~side[r, s, j])))
-        F = _force(x, y, consts, solimp)
+        F = euler_force(x, y, consts, solimp)
         margin = np.minimum(x, F) if k > 0 else np.full(x.shape, np.inf)
         if not pushes.all():  # the end states: out with their margins
             done = ~pushes
@@ -163,7 +127,7 @@ def kink_cuts(
 
     def value(i, p, m):
         j = piece[i]
-        x = euler_depth(
+        x, _ = euler_state(
             Coefficients(coeffs.damping[j], coeffs.stiffness[j]), solimp, rho[j], gravity[j],
             speed[j], timestep[j], p, m,
         )  # fmt: skip
@@ -187,13 +151,10 @@ def _toward_zero(a):
     samples 0.031 apart): a margin that may reach zero between the samples. A false
     flag costs only the element's sum on a finer grid (about 40 of 63,000 pieces of
     random short contacts are flagged)."""
-    s = np.linspace(-1.0, 1.0, _SAMPLES + 1)
-    j = np.clip(np.argmin(a, axis=1), 1, _SAMPLES - 1)[:, None] + np.arange(-1, 2)
-    y = np.take_along_axis(a, j, axis=1)
+    low = least_vertex(a, np.linspace(-1.0, 1.0, _SAMPLES + 1))  # nan where outside
     least = a.min(axis=1)
     inner = (a[:, 0] > least) & (a[:, -1] > least)
     with np.errstate(invalid="ignore"):
-        low = vertex(s[j], y, s[j[:, 0]], s[j[:, 2]])  # nan where outside
         return (low < _NEAR * least) | (inner & (least < _NEAR * (a.max(axis=1) - least)))
 
 
@@ -214,26 +175,3 @@ def split_pieces(
     new0[first], new1[first + counts] = p0, p1
     new1[at], new0[at + 1] = cut, cut
     return new0, new1, parent
-
-
-def _constants(b, kbar, rho, g, v0, dt):
-    """``(G, b dt, kbar dt^2, v0 dt, rho)``: the recurrence's constants."""
-    return g * dt / v0, b * dt, kbar * dt * dt, v0 * dt, rho
-
-
-def _first_state(p, G):
-    """The first detecting state at phase ``p > 0``: free flight for ``p`` steps."""
-    return p + 0.5 * G * p * p, 1.0 + G * p
-
-
-def _force(x, y, consts, solimp):
-    """The constraint's ``F`` per step at state ``(x, y)`` (before the clip at zero)."""
-    G, bdt, kdt2, L, rho = consts
-    d = impedance_at(x * L, solimp)
-    return effective_impedance(d, rho) * (G + bdt * y + d * kdt2 * x)
-
-
-def _step(x, y, consts, solimp):
-    """One Euler step in contact (:func:`~impactsym.engines.mujoco.euler.euler_contact`)."""
-    y = y + consts[0] - np.maximum(_force(x, y, consts, solimp), 0.0)
-    return x + y, y
