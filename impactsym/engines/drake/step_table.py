@@ -11,6 +11,12 @@ size ``Q`` (the phase-mean contact time in steps, :math:`t_c / h`, or the larges
 overlap over the phases in units of :math:`v h`), and a target ``(e, q)`` asks for
 :math:`E(s, w) = e`, :math:`Q(s, w) = q`, then :math:`k = m (w / h)^2`, :math:`d = s / v`.
 
+By contact time, the targets that share an end state with many others are first read
+off that end state's table of exact designs, in the restitution and the phase of the
+change, where the designs are smooth, and confirmed by one exact evaluation each
+(:mod:`~impactsym.engines.drake.change_table`); the rest of this docstring is the path
+of the others, and of the tables' own nodes.
+
 These functions are continuous but only piecewise smooth: the mean has a kink wherever
 an end step enters or leaves the phase interval (about every step of contact time), and
 the contact time rests on plateaus where every phase lasts the same number of steps. So
@@ -93,6 +99,7 @@ from __future__ import annotations
 import numpy as np
 
 from impactsym.contact.lawclosed import hunt_crossley_parameter
+from impactsym.engines.drake.change_table import table_designs
 from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
 from impactsym.engines.drake.phases import phase_summary
@@ -157,11 +164,48 @@ def stepped_designs(
     for label, count in enumerate(counts):
         if count < MIN_TARGETS:
             continue
-        for rows in _chunks(np.flatnonzero(inverse == label), q):
-            done, k_r, d_r = _group(*(a[rows] for a in (e, v, m, g, target)), h, approx,
-                                    size_name)  # fmt: skip
+        rows = np.flatnonzero(inverse == label)
+        if size_name == "contact_time":  # first off the tables of the end states
+            done, k_r, d_r = table_designs(
+                *(a[rows] for a in (e, v, m, g)),
+                q[rows],
+                h,
+                _node_designs(v[rows[0]], m[rows[0]], g[rows[0]], h, approx),
+            )
             ok[rows], k[rows], d[rows] = done, k_r, d_r
+            rows = rows[~done]
+            if rows.size < MIN_TARGETS:  # a few left: the caller's iteration
+                continue
+        done, k_r, d_r = _chunked(*(a[rows] for a in (e, v, m, g, target, q)), h, approx,
+                                  size_name)  # fmt: skip
+        ok[rows], k[rows], d[rows] = done, k_r, d_r
     return ok, k, d
+
+
+def _chunked(e, v, m, g, target, q, h, approx, size_name):
+    """``(ok, k, d)`` of targets sharing ``g / v`` by :func:`_group`, in the chunks of
+    :func:`_chunks` (``q``: the sizes in steps)."""
+    ok, k, d = np.zeros(e.size, bool), np.full(e.size, np.nan), np.full(e.size, np.nan)
+    for rows in _chunks(np.arange(e.size), q):
+        done, k_r, d_r = _group(*(a[rows] for a in (e, v, m, g, target)), h, approx,
+                                size_name)  # fmt: skip
+        ok[rows], k[rows], d[rows] = done, k_r, d_r
+    return ok, k, d
+
+
+def _node_designs(v, m, g, h, approx):
+    """``design(e, q)``: the exact designs ``(s, w)`` by contact time of the targets
+    ``(e, q)`` (``q`` in steps) for one mass, speed and gravity, by :func:`_group`
+    (``nan`` where it leaves them), for the tables of
+    :func:`~impactsym.engines.drake.change_table.table_designs`."""
+
+    def design(e, q):
+        one = np.ones(e.size)
+        ok, k, d = _chunked(e, v * one, m * one, g * one, q * h, q, h, approx,
+                            "contact_time")  # fmt: skip
+        return np.where(ok, d * v, np.nan), np.where(ok, h * np.sqrt(k / m), np.nan)
+
+    return design
 
 
 def _chunks(rows, q):

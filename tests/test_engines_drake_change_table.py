@@ -1,0 +1,132 @@
+"""Discrete Drake designs by contact time read off one table of exact designs per end
+state, each confirmed by one exact evaluation.
+
+Checked by what did not make them: a fresh exact ``predict`` at each design (the phase
+summary's root search and its own Gauss pieces, not the change's equations), and the
+designs of the same targets with the tables turned off (the per-call table of phase
+means and Broyden's steps).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from impactsym.engines import drake
+from impactsym.engines.drake import change_table, step_table
+from impactsym.engines.drake.change_table import (
+    MIN_TARGETS,
+    NODES_E,
+    NODES_PHASE,
+    PHASES_PRESSED,
+    table_designs,
+)
+
+H, V, M = 1e-3, 1.0, 0.1
+
+
+def _targets(base, n, rng, phases=(0.0, 1.0)):
+    """``n`` targets of one end state ``base``: e 0.3..0.6, the change anywhere in
+    ``phases``."""
+    e = rng.uniform(0.3, 0.6, n)
+    q = base + 0.5 + rng.uniform(*phases, n)
+    return e, q
+
+
+def _spy(monkeypatch):
+    """Records ``(targets, designed here)`` of every call of ``table_designs``."""
+    seen = []
+
+    def spy(e, *args):
+        out = table_designs(e, *args)
+        seen.append((e.size, int(out[0].sum())))
+        return out
+
+    monkeypatch.setattr(step_table, "table_designs", spy)
+    return seen
+
+
+@pytest.mark.parametrize(("gravity", "base"), [(0.0, 29), (9.81, 22)])
+def test_designs_off_the_tables_meet_their_targets_by_a_fresh_prediction(
+    gravity, base, monkeypatch
+):
+    rng = np.random.default_rng(37)
+    e, q = _targets(base, MIN_TARGETS + 64, rng, PHASES_PRESSED if gravity else (0.0, 1.0))
+    seen = _spy(monkeypatch)
+    c = drake.point_contact_for(restitution=e, contact_time=q * H, speed=V, mass=M,
+                                gravity=gravity, time_step=H)  # fmt: skip
+    assert seen == [(e.size, e.size)]  # every target read off its table
+    p = drake.predict(stiffness=c.point_contact_stiffness, dissipation=c.hunt_crossley_dissipation,
+                      mass=M, speed=V, gravity=gravity, time_step=H)  # fmt: skip
+    assert np.abs(p.restitution - e).max() <= 1e-12
+    assert np.abs(p.contact_time / (q * H) - 1.0).max() <= 1e-10
+    assert not np.any(p.sticks)
+
+
+def test_designs_off_the_tables_are_those_without_them(monkeypatch):
+    rng = np.random.default_rng(38)
+    e, q = _targets(25, MIN_TARGETS, rng)
+    c = drake.point_contact_for(restitution=e, contact_time=q * H, speed=V, mass=M,
+                                time_step=H)  # fmt: skip
+    seen = _spy(monkeypatch)
+    monkeypatch.setattr(change_table, "MIN_TARGETS", 10**9)  # no table: Broyden's steps
+    x = drake.point_contact_for(restitution=e, contact_time=q * H, speed=V, mass=M,
+                                time_step=H)  # fmt: skip
+    assert seen == [(e.size, 0)]
+    # two designs that each meet the tolerances (1e-12 in e) are as close as those allow
+    np.testing.assert_allclose(c.hunt_crossley_dissipation, x.hunt_crossley_dissipation,
+                               rtol=2e-11)  # fmt: skip
+    np.testing.assert_allclose(c.point_contact_stiffness, x.point_contact_stiffness, rtol=2e-10)
+
+
+def test_an_end_state_with_too_few_targets_gets_no_table(monkeypatch):
+    rng = np.random.default_rng(39)
+    e1, q1 = _targets(24, MIN_TARGETS, rng)
+    e2, q2 = _targets(33, MIN_TARGETS - 1, rng)
+    e, q = np.concatenate([e1, e2]), np.concatenate([q1, q2])
+    one = np.ones(e.size)
+
+    def design(e_n, q_n):  # a stand-in for the caller's path: the nodes' exact designs
+        # (by the nested iteration, to its tolerance of 1e-12: a table a little coarser)
+        c = drake.point_contact_for(restitution=e_n, contact_time=q_n * H, speed=V, mass=M,
+                                    time_step=H)  # fmt: skip
+        s = c.hunt_crossley_dissipation * V
+        return s, H * np.sqrt(c.point_contact_stiffness / M)
+
+    ok, k, d = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    assert ok[: e1.size].mean() > 0.9
+    assert not ok[e1.size :].any()
+    assert np.isnan(k[e1.size :]).all()
+    assert np.isnan(d[e1.size :]).all()
+
+
+def test_a_table_with_a_node_left_undesigned_designs_nothing():
+    rng = np.random.default_rng(40)
+    e, q = _targets(24, MIN_TARGETS, rng)
+    one = np.ones(e.size)
+    asked = []
+
+    def design(e_n, q_n):  # as if the caller's path left one node to its iteration
+        asked.append(e_n.size)
+        s, w = 1.0 + 0 * e_n, 0.1 + 0 * e_n
+        s[7] = np.nan
+        return s, w
+
+    ok, k, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    assert asked == [NODES_E * NODES_PHASE]
+    assert not ok.any()
+    assert np.isnan(k).all()
+
+
+def test_a_wrong_table_designs_nothing():
+    """Where the table is off (here: every node the same design), the one exact
+    evaluation refuses each target instead of passing the table's value on."""
+    rng = np.random.default_rng(41)
+    e, q = _targets(24, MIN_TARGETS, rng)
+    one = np.ones(e.size)
+
+    def design(e_n, q_n):
+        return 1.0 + 0 * e_n, 0.13 + 0 * e_n
+
+    ok, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    assert not ok.any()
