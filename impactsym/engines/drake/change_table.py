@@ -19,6 +19,18 @@ of the contact time lies between the designs at :math:`\varphi^* \to 1` and at t
   the interpolated ``(s, w)`` are within ``2e-14`` (median) and ``5e-13`` (largest) of
   exact designs at random targets, which is the exact designs' own spread: they meet
   their tolerances, not a point.
+* **By largest overlap** the target does not say its end state: the caller's coarse
+  table of phase means tells each its contact time about, and it asks the tables of
+  that end state and its two neighbours. A table also holds the overlap (over ``v h``)
+  at the last grid phase of each state that is deepest at some node, and one more on
+  either side: each is smooth in the design, their largest, the largest overlap
+  (:func:`~impactsym.engines.drake.jump_means.last_overlap`), is not (which state is
+  deepest changes; one table of the largest was ``2e-5`` off). The target's phase is
+  where their largest meets its overlap (safeguarded Newton steps in the phase), and
+  the table's design there is evaluated exactly: the change's equations, the overlap
+  (one run), the change's estimate within :data:`SETTLED` of the phase, and the full
+  contact overlapping no deeper at any grid phase than at the last. Targets between
+  two tables (every phase ending alike: a plateau of the contact time) are left.
 * **One exact evaluation** of the change's equations
   (:func:`~impactsym.engines.drake.jump_means.jump_means`, the full rule) at the table's
   design: it is done where the restitution is within :data:`TOLERANCE` of the target
@@ -40,7 +52,9 @@ import numpy as np
 from numpy.polynomial import chebyshev
 
 from impactsym.contact.lawtable import chebyshev_points, chebyshev_transform
-from impactsym.engines.drake.jump_means import jump_holds, jump_means
+from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
+from impactsym.engines.drake.phases import GRID_PHASES
+from impactsym.engines.drake.stepping import end_state
 
 __all__ = [
     "MIN_TARGETS",
@@ -48,6 +62,7 @@ __all__ = [
     "NODES_PHASE",
     "PHASES",
     "PHASES_PRESSED",
+    "SETTLED",
     "TOLERANCE",
     "table_designs",
 ]
@@ -63,64 +78,158 @@ PHASES, PHASES_PRESSED = (0.0, 1.0), (0.05, 0.95)
 #: (``1e-12``, ``1e-10``), which the exact phase means meet where the change's
 #: equations do (they agree to ``~2e-14`` and ``~1e-12`` steps).
 TOLERANCE = (5e-13, 5e-11)
+#: By largest overlap, the change's estimate may be this far (steps) from where the table
+#: put it: the restitution is the mean to second order in that offset (``~0.1`` per
+#: step squared, :mod:`~impactsym.engines.drake.jump_means`), here below ``1e-13``.
+SETTLED = 1e-6
+_NEWTON = 12  # safeguarded Newton steps for the phase of a target overlap
 
 
 def table_designs(
     e: np.ndarray, v: np.ndarray, m: np.ndarray, g: np.ndarray, q: np.ndarray, h: float,
     design: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]],
+    *, steps: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
-    """``(ok, k, d)`` of the targets ``(e, q)`` (restitution, contact time in steps) that
-    share ``g / v``, read off the tables of their end states where those hold enough
-    targets, each confirmed by one exact evaluation (module docstring); ``ok`` marks
-    the targets designed here. ``design(e, q)`` gives the exact designs ``(s, w)`` of
-    the tables' nodes (``nan`` where it has none) for the first target's ``m, v, g``.
+    """``(ok, k, d)`` of the targets ``(e, q)`` (restitution, and contact time in steps
+    or, given ``steps``, largest overlap over ``v h``) that share ``g / v``, read off the
+    tables of their end states where those hold enough targets, each confirmed by one
+    exact evaluation (module docstring); ``ok`` marks the targets designed here.
+    ``design(e, q)`` gives the exact designs ``(s, w)`` by contact time in steps of the
+    tables' nodes (``nan`` where it has none) for the first target's ``m, v, g``. By
+    largest overlap, ``steps`` are the designs' contact times in steps about (within a
+    step or so): each target asks the tables of that end state and its two neighbours.
     """
+    by_overlap = steps is not None
     n = e.size
     ok, k, d = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
-    base = np.floor(q - 0.5)
-    phase = q - 0.5 - base
     lo, hi = PHASES_PRESSED if g[0] > 0 else PHASES
-    inside = (phase >= lo) & (phase < hi)
-    bases, counts = np.unique(base[inside], return_counts=True)
-    bases = bases[counts >= MIN_TARGETS]
+    if by_overlap:  # each target asks its likely end state and its neighbours
+        asks = np.floor(steps - 0.5)[None, :] + np.array([-1.0, 0.0, 1.0])[:, None]
+    else:
+        asks = np.floor(q - 0.5)[None, :]
+    bases, counts = np.unique(asks, return_counts=True)
+    bases = bases[(counts >= MIN_TARGETS) & np.isfinite(bases)]
     if bases.size == 0:
         return ok, k, d
-    groups = [np.flatnonzero(inside & (base == b)) for b in bases]
-    boxes = [_box(e[rows]) for rows in groups]
+    member = (m[0], v[0], g[0])
+    boxes = [_box(e[(asks == b).any(axis=0)]) for b in bases]
+    tables = _tables(bases, boxes, (lo, hi), design, member, h, by_overlap)
+    s, w, phase, base = (np.full(n, np.nan) for _ in range(4))
+    for b, box, table in zip(bases, boxes, tables, strict=True):
+        if table is None:
+            continue
+        rows = np.flatnonzero((asks == b).any(axis=0) & np.isnan(s))
+        x = (2.0 * e[rows] - (box[0] + box[1])) / (box[1] - box[0])
+        if by_overlap:  # the phase where the table's largest overlap is the target's
+            y = _phase_of(table[1][1], x, q[rows])
+        else:
+            y = (2.0 * (q[rows] - 0.5 - b) - (lo + hi)) / (hi - lo)
+        y = np.where((y >= -1.0) & (y < 1.0), y, np.nan)
+        s[rows], w[rows] = _evaluate(table[0], x, y)
+        phase[rows], base[rows] = 0.5 * (lo + hi) + 0.5 * (hi - lo) * y, b
+    live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
+    if live.size == 0:
+        return ok, k, d
+    k_t, d_t = m[live] * (w[live] / h) ** 2, s[live] / v[live]
+    rows = [a[live] for a in (m, g, v)]
+    change = base[live] + 0.5 + phase[live]  # the contact time in steps there
+    r = jump_means(k_t, d_t, *rows, h, change)
+    if by_overlap:  # the overlap, and the change where the table put it
+        size = last_overlap(k_t, d_t, *rows, h) / (rows[2] * h)
+        hit = np.abs(r.size - change) <= SETTLED
+    else:
+        size, hit = r.size, True
+    hit &= (np.abs(r.restitution - e[live]) <= TOLERANCE[0]) & (
+        np.abs(size - q[live]) <= TOLERANCE[1] * q[live]
+    )
+    live, k_t, d_t, change = live[hit], k_t[hit], d_t[hit], change[hit]
+    held = jump_holds(k_t, d_t, *(a[live] for a in (m, g, v)), h, change,
+                      deepest_last=by_overlap)  # fmt: skip
+    live = live[held]
+    ok[live], k[live], d[live] = True, k_t[held], d_t[held]
+    return ok, k, d
+
+
+def _tables(bases, boxes, phases, design, member, h, by_overlap):
+    """Each end state's table: the Chebyshev coefficients ``(2, NODES_E, NODES_PHASE)``
+    of ``(s, w)`` and, ``by_overlap``, ``(j0, coef)`` of the overlaps over ``v h`` of the
+    states ``j0, j0 + 1, ...`` at the last grid phase (``coef`` ``(J, NODES_E,
+    NODES_PHASE)``: the largest overlap is their largest, :func:`_overlaps`), from one
+    call of ``design`` for every node (``None`` where a node is not designed)."""
+    lo, hi = phases
     x_e, x_p = chebyshev_points(NODES_E), chebyshev_points(NODES_PHASE)
     node_phase = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x_p
     node_e = np.concatenate(
         [np.repeat(0.5 * (a + b) + 0.5 * (b - a) * x_e, NODES_PHASE) for a, b in boxes]
     )
     node_q = np.concatenate([np.tile(b + 0.5 + node_phase, NODES_E) for b in bases])
-    s_nodes, w_nodes = design(node_e, node_q)
     shape = (bases.size, NODES_E, NODES_PHASE)
-    s_nodes, w_nodes = s_nodes.reshape(shape), w_nodes.reshape(shape)
-    s, w = np.full(n, np.nan), np.full(n, np.nan)
-    m_e, m_p = chebyshev_transform(NODES_E), chebyshev_transform(NODES_PHASE)
-    for i, rows in enumerate(groups):
-        values = np.stack([s_nodes[i], w_nodes[i]])
-        if not np.isfinite(values).all():  # a node the caller's path leaves: no table
+    s, w = (a.reshape(shape) for a in design(node_e, node_q))
+    out = []
+    for i, base in enumerate(bases):
+        if not (np.isfinite(s[i]).all() and np.isfinite(w[i]).all()):
+            out.append(None)
             continue
-        coef = np.einsum("ij,fjk,lk->fil", m_e, values, m_p)
-        a, b = boxes[i]
-        x = (2.0 * e[rows] - (a + b)) / (b - a)
-        y = (2.0 * phase[rows] - (lo + hi)) / (hi - lo)
-        s[rows], w[rows] = _evaluate(coef, x, y)
-    live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
-    if live.size == 0:
-        return ok, k, d
-    k_t, d_t = m[live] * (w[live] / h) ** 2, s[live] / v[live]
-    rows = (a[live] for a in (m, g, v))
-    r = jump_means(k_t, d_t, *rows, h, q[live])
-    hit = (np.abs(r.restitution - e[live]) <= TOLERANCE[0]) & (
-        np.abs(r.size - q[live]) <= TOLERANCE[1] * q[live]
-    )
-    live, k_t, d_t = live[hit], k_t[hit], d_t[hit]
-    held = jump_holds(k_t, d_t, *(a[live] for a in (m, g, v)), h, q[live])
-    live = live[held]
-    ok[live], k[live], d[live] = True, k_t[held], d_t[held]
-    return ok, k, d
+        coef = _coefficients(np.stack([s[i], w[i]]))
+        out.append((coef, _overlaps(s[i], w[i], int(base), member, h)) if by_overlap else (coef,))
+    return out
+
+
+def _overlaps(s, w, base, member, h):
+    """``(j0, coef)``: the Chebyshev coefficients of the overlaps (over ``v h``) of the
+    states ``j0 ... j1`` at the last grid phase of the nodes' designs ``(s, w)``
+    (``NODES_E x NODES_PHASE``), the states that are deepest at some node and one more
+    on either side. Each is smooth in the design, their largest (the largest overlap,
+    :func:`~impactsym.engines.drake.jump_means.last_overlap`, the numbers of the same
+    update) is not: which state is deepest changes."""
+    m, v, g = member
+    steps = np.arange(base + 2)  # the states before the end state B + 1, and it
+    k, d = m * (w.ravel() / h) ** 2, s.ravel() / v
+    size = steps.size
+    x, _, _, _ = end_state(np.repeat(k, size), np.repeat(d, size), m, g, v, h,
+                           GRID_PHASES[-1], np.tile(steps, k.size))  # fmt: skip
+    x = x.reshape(k.size, steps.size) / (v * h)
+    deepest = np.argmax(x, axis=1)
+    j0, j1 = max(int(deepest.min()) - 1, 0), min(int(deepest.max()) + 1, base)
+    values = np.moveaxis(x[:, j0 : j1 + 1].reshape(NODES_E, NODES_PHASE, -1), 2, 0)
+    return j0, _coefficients(values)
+
+
+def _coefficients(values):
+    """Chebyshev coefficients ``(fields, NODES_E, NODES_PHASE)`` of the node values."""
+    m_e, m_p = chebyshev_transform(NODES_E), chebyshev_transform(NODES_PHASE)
+    return np.einsum("ij,fjk,lk->fil", m_e, values, m_p)
+
+
+def _phase_of(coef, x, target):
+    """The phase ``y`` in ``[-1, 1]`` where the largest of the tables ``coef``
+    (``(J, NODES_E, NODES_PHASE)``) at the restitutions ``x`` equals ``target``
+    (``nan`` where its ends do not bracket it): safeguarded Newton steps (the largest
+    is smooth but where the deepest state changes) from the chord."""
+    c = np.einsum("ij,fjk->ifk", chebyshev.chebvander(x, coef.shape[1] - 1), coef)
+    dc = chebyshev.chebder(c, axis=2)
+    rows = np.arange(x.size)
+
+    def f(y):
+        vy = chebyshev.chebvander(y, coef.shape[2] - 1)
+        values = np.einsum("ifk,ik->if", c, vy)
+        top = np.argmax(values, axis=1)
+        slope = np.einsum("ik,ik->i", dc[rows, top], vy[:, :-1])
+        return values[rows, top] - target, slope
+
+    a, b = np.full(x.size, -1.0), np.full(x.size, 1.0)
+    f_a, _ = f(a)
+    f_b, _ = f(b)
+    inside = (f_a <= 0.0) & (f_b >= 0.0) & (f_b > f_a)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        y = np.where(inside, a - f_a * (b - a) / (f_b - f_a), 0.0)
+        for _ in range(_NEWTON):
+            f_y, slope = f(y)
+            below = f_y < 0.0
+            a, b = np.where(below, y, a), np.where(below, b, y)
+            step = y - f_y / slope
+            y = np.where((step > a) & (step < b), step, 0.5 * (a + b))
+    return np.where(inside, y, np.nan)
 
 
 def _box(e):

@@ -165,17 +165,17 @@ def stepped_designs(
         if count < MIN_TARGETS:
             continue
         rows = np.flatnonzero(inverse == label)
-        if size_name == "contact_time":  # first off the tables of the end states
-            done, k_r, d_r = table_designs(
-                *(a[rows] for a in (e, v, m, g)),
-                q[rows],
-                h,
-                _node_designs(v[rows[0]], m[rows[0]], g[rows[0]], h, approx),
-            )
-            ok[rows], k[rows], d[rows] = done, k_r, d_r
-            rows = rows[~done]
-            if rows.size < MIN_TARGETS:  # a few left: the caller's iteration
-                continue
+        # first off the tables of the end states
+        group = [a[rows] for a in (e, v, m, g)]
+        steps = None if size_name == "contact_time" else _likely_steps(*group, q[rows], h, approx)
+        done, k_r, d_r = table_designs(
+            *group, q[rows], h, _node_designs(v[rows[0]], m[rows[0]], g[rows[0]], h, approx),
+            steps=steps,
+        )  # fmt: skip
+        ok[rows], k[rows], d[rows] = done, k_r, d_r
+        rows = rows[~done]
+        if rows.size < MIN_TARGETS:  # a few left: the caller's iteration
+            continue
         done, k_r, d_r = _chunked(*(a[rows] for a in (e, v, m, g, target, q)), h, approx,
                                   size_name)  # fmt: skip
         ok[rows], k[rows], d[rows] = done, k_r, d_r
@@ -231,24 +231,10 @@ def _group(e, v, m, g, target, h, approx, size_name):
     ok, k_out, d_out = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
     unit = np.full(n, h) if size_name == "contact_time" else v * h  # Q = size / unit
     q = target / unit
-    # the continuous designs without gravity, and a wide box around them
-    s0 = hunt_crossley_parameter(e)
-    _, tau0, z0 = hunt_crossley_free(np.minimum(s0, S_MAX))
-    w0 = (tau0 if size_name == "contact_time" else z0) / q
-    box = ((s0.min() / WIDE, s0.max() * WIDE), (w0.min() / WIDE, w0.max() * WIDE))
-    # one member's mass, speed and gravity: the means depend on (s, w, g/v) alone
     mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
-
-    def mean(s, w):
-        return mean_rows(s, w, np.zeros(s.size, int), steps=True)
-
+    box = _wide_box(e, q, size_name)
     for nodes in (COARSE, (NODES_S, NODES_W)):
-        s_nodes, w_nodes = (
-            np.linspace(*side, count) for side, count in zip(box, nodes, strict=True)
-        )
-        S, W = np.meshgrid(s_nodes, w_nodes, indexing="ij")
-        E, Q, T = (a.reshape(S.shape) for a in mean(S.ravel(), W.ravel()))
-        s, w, jac = _start(s_nodes, w_nodes, E, Q, e, q)
+        s_nodes, w_nodes, T, s, w, jac = _table(mean_rows, box, nodes, e, q)
         found = np.isfinite(s)
         if not found.any():
             return ok, k_out, d_out
@@ -281,6 +267,41 @@ def _group(e, v, m, g, target, h, approx, size_name):
     k_out[done] = m[done] * (w[done] / h) ** 2
     d_out[done] = s[done] / v[done]
     return ok, k_out, d_out
+
+
+def _wide_box(e, q, size_name):
+    """The box ``((s_lo, s_hi), (w_lo, w_hi))`` of the first table: the continuous designs
+    without gravity of the targets ``(e, q)``, :data:`WIDE` times either way."""
+    s0 = hunt_crossley_parameter(e)
+    _, tau0, z0 = hunt_crossley_free(np.minimum(s0, S_MAX))
+    w0 = (tau0 if size_name == "contact_time" else z0) / q
+    return (s0.min() / WIDE, s0.max() * WIDE), (w0.min() / WIDE, w0.max() * WIDE)
+
+
+def _table(mean_rows, box, nodes, e, q):
+    """A table of the phase means on ``nodes`` equally spaced nodes of ``box``, and the
+    starts it gives the targets ``(e, q)``: ``(s_nodes, w_nodes, T, s, w, jac)`` with
+    ``T`` the table's contact times in steps (``nan`` starts where it does not hold
+    the target; :func:`_start`). The means of one member's mass, speed and gravity:
+    they depend on ``(s, w, g / v)`` alone."""
+    s_nodes, w_nodes = (np.linspace(*side, count) for side, count in zip(box, nodes, strict=True))
+    S, W = np.meshgrid(s_nodes, w_nodes, indexing="ij")
+    E, Q, T = (
+        a.reshape(S.shape)
+        for a in mean_rows(S.ravel(), W.ravel(), np.zeros(S.size, int), steps=True)
+    )
+    s, w, jac = _start(s_nodes, w_nodes, E, Q, e, q)
+    return s_nodes, w_nodes, T, s, w, jac
+
+
+def _likely_steps(e, v, m, g, q, h, approx):
+    """The contact times in steps of the designs by largest overlap ``q`` (over ``v h``)
+    of the targets, about (a step or so): read off the coarse table at its starts
+    (``nan`` where it has none)."""
+    mean_rows = _means_rows(m, v, g, h, approx, "max_penetration", v * h)
+    box = _wide_box(e, q, "max_penetration")
+    s_nodes, w_nodes, T, s, w, _ = _table(mean_rows, box, COARSE, e, q)
+    return _table_at(s_nodes, w_nodes, T, s, w)
 
 
 def _widened(x, cell):
