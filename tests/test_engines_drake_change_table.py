@@ -116,7 +116,7 @@ def test_an_end_state_with_too_few_targets_gets_no_table(monkeypatch):
         s = c.hunt_crossley_dissipation * V
         return s, H * np.sqrt(c.point_contact_stiffness / M)
 
-    ok, k, d = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    ok, k, d, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
     assert ok[: e1.size].mean() > 0.9
     assert not ok[e1.size :].any()
     assert np.isnan(k[e1.size :]).all()
@@ -135,7 +135,7 @@ def test_a_table_with_a_node_left_undesigned_designs_nothing():
         s[7] = np.nan
         return s, w
 
-    ok, k, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    ok, k, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
     assert asked == [NODES_E * NODES_PHASE]
     assert not ok.any()
     assert np.isnan(k).all()
@@ -151,5 +151,5 @@ def test_a_wrong_table_designs_nothing():
     def design(e_n, q_n):
         return 1.0 + 0 * e_n, 0.13 + 0 * e_n
 
-    ok, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    ok, _, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
     assert not ok.any()

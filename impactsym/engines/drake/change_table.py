@@ -47,13 +47,15 @@ Internal to :mod:`impactsym.engines.drake`.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import fields
+from itertools import pairwise
 
 import numpy as np
 from numpy.polynomial import chebyshev
 
 from impactsym.contact.lawtable import chebyshev_points, chebyshev_transform
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
-from impactsym.engines.drake.phases import GRID_PHASES
+from impactsym.engines.drake.phases import GRID_PHASES, PhaseSummary
 from impactsym.engines.drake.stepping import end_state
 
 __all__ = [
@@ -64,11 +66,14 @@ __all__ = [
     "PHASES_PRESSED",
     "SETTLED",
     "TOLERANCE",
+    "WIDTH",
     "table_designs",
 ]
 
 #: Chebyshev nodes of a table in the restitution and in the phase of the change.
-NODES_E, NODES_PHASE = 20, 12
+NODES_E, NODES_PHASE = 16, 10
+#: Widest restitution box of one table (wider ranges: several tables side by side).
+WIDTH = 0.3
 #: Targets sharing one end state ``B`` from which they are read off a table.
 MIN_TARGETS = 1024
 #: The phases of the change a table covers without gravity, and under it.
@@ -89,8 +94,8 @@ def table_designs(
     e: np.ndarray, v: np.ndarray, m: np.ndarray, g: np.ndarray, q: np.ndarray, h: float,
     design: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]],
     *, steps: np.ndarray | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
-    """``(ok, k, d)`` of the targets ``(e, q)`` (restitution, and contact time in steps
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """``(ok, k, d, summaries)`` of the targets ``(e, q)`` (restitution, and contact time in steps
     or, given ``steps``, largest overlap over ``v h``) that share ``g / v``, read off the
     tables of their end states where those hold enough targets, each confirmed by one
     exact evaluation (module docstring); ``ok`` marks the targets designed here.
@@ -102,23 +107,27 @@ def table_designs(
     by_overlap = steps is not None
     n = e.size
     ok, k, d = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
+    summaries = np.full((len(fields(PhaseSummary)), n), np.nan)
     lo, hi = PHASES_PRESSED if g[0] > 0 else PHASES
     if by_overlap:  # each target asks its likely end state and its neighbours
         asks = np.floor(steps - 0.5)[None, :] + np.array([-1.0, 0.0, 1.0])[:, None]
     else:
         asks = np.floor(q - 0.5)[None, :]
-    bases, counts = np.unique(asks, return_counts=True)
-    bases = bases[(counts >= MIN_TARGETS) & np.isfinite(bases)]
-    if bases.size == 0:
-        return ok, k, d
-    member = (m[0], v[0], g[0])
-    boxes = [_box(e[(asks == b).any(axis=0)]) for b in bases]
-    tables = _tables(bases, boxes, (lo, hi), design, member, h, by_overlap)
+    keys = []  # (end state, restitution box) of each table, the targets it serves
+    for b in np.unique(asks[np.isfinite(asks)]):
+        asking = (asks == b).any(axis=0)
+        for box in _boxes(e[asking]):
+            serves = asking & (e >= box[0]) & (e <= box[1])
+            if np.count_nonzero(serves) >= MIN_TARGETS:
+                keys.append((b, box, serves))
+    if not keys:
+        return ok, k, d, summaries
+    tables = _tables(keys, (lo, hi), design, (m[0], v[0], g[0]), h, by_overlap)
     s, w, phase, base = (np.full(n, np.nan) for _ in range(4))
-    for b, box, table in zip(bases, boxes, tables, strict=True):
+    for (b, box, serves), table in zip(keys, tables, strict=True):
         if table is None:
             continue
-        rows = np.flatnonzero((asks == b).any(axis=0) & np.isnan(s))
+        rows = np.flatnonzero(serves & np.isnan(s))
         x = (2.0 * e[rows] - (box[0] + box[1])) / (box[1] - box[0])
         if by_overlap:  # the phase where the table's largest overlap is the target's
             y = _phase_of(table[1][1], x, q[rows])
@@ -129,7 +138,7 @@ def table_designs(
         phase[rows], base[rows] = 0.5 * (lo + hi) + 0.5 * (hi - lo) * y, b
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
     if live.size == 0:
-        return ok, k, d
+        return ok, k, d, summaries
     k_t, d_t = m[live] * (w[live] / h) ** 2, s[live] / v[live]
     rows = [a[live] for a in (m, g, v)]
     change = base[live] + 0.5 + phase[live]  # the contact time in steps there
@@ -147,26 +156,27 @@ def table_designs(
                       deepest_last=by_overlap)  # fmt: skip
     live = live[held]
     ok[live], k[live], d[live] = True, k_t[held], d_t[held]
-    return ok, k, d
+    return ok, k, d, summaries
 
 
-def _tables(bases, boxes, phases, design, member, h, by_overlap):
-    """Each end state's table: the Chebyshev coefficients ``(2, NODES_E, NODES_PHASE)``
-    of ``(s, w)`` and, ``by_overlap``, ``(j0, coef)`` of the overlaps over ``v h`` of the
-    states ``j0, j0 + 1, ...`` at the last grid phase (``coef`` ``(J, NODES_E,
-    NODES_PHASE)``: the largest overlap is their largest, :func:`_overlaps`), from one
-    call of ``design`` for every node (``None`` where a node is not designed)."""
+def _tables(keys, phases, design, member, h, by_overlap):
+    """Each table (``keys``: end state, restitution box, targets): the Chebyshev
+    coefficients ``(2, NODES_E, NODES_PHASE)`` of ``(s, w)`` and, ``by_overlap``,
+    ``(j0, coef)`` of the overlaps over ``v h`` of the states ``j0, j0 + 1, ...`` at the
+    last grid phase (``coef`` ``(J, NODES_E, NODES_PHASE)``: the largest overlap is
+    their largest, :func:`_overlaps`), from one call of ``design`` for every node
+    (``None`` where a node is not designed)."""
     lo, hi = phases
     x_e, x_p = chebyshev_points(NODES_E), chebyshev_points(NODES_PHASE)
     node_phase = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x_p
     node_e = np.concatenate(
-        [np.repeat(0.5 * (a + b) + 0.5 * (b - a) * x_e, NODES_PHASE) for a, b in boxes]
+        [np.repeat(0.5 * (a + b) + 0.5 * (b - a) * x_e, NODES_PHASE) for _, (a, b), _ in keys]
     )
-    node_q = np.concatenate([np.tile(b + 0.5 + node_phase, NODES_E) for b in bases])
-    shape = (bases.size, NODES_E, NODES_PHASE)
+    node_q = np.concatenate([np.tile(b + 0.5 + node_phase, NODES_E) for b, _, _ in keys])
+    shape = (len(keys), NODES_E, NODES_PHASE)
     s, w = (a.reshape(shape) for a in design(node_e, node_q))
     out = []
-    for i, base in enumerate(bases):
+    for i, (base, _, _) in enumerate(keys):
         if not (np.isfinite(s[i]).all() and np.isfinite(w[i]).all()):
             out.append(None)
             continue
@@ -232,12 +242,14 @@ def _phase_of(coef, x, target):
     return np.where(inside, y, np.nan)
 
 
-def _box(e):
-    """The restitutions a table covers: those of its targets (a point widened a
-    little)."""
+def _boxes(e):
+    """The restitution boxes of the tables of one end state: the range of its targets'
+    ``e`` cut into equal boxes at most :data:`WIDTH` wide (a point widened a little)."""
     a, b = float(e.min()), float(e.max())
     pad = max(0.0, 1e-6 - 0.5 * (b - a))
-    return a - pad, b + pad
+    a, b = a - pad, b + pad
+    edges = np.linspace(a, b, int(np.ceil((b - a) / WIDTH)) + 1)
+    return list(pairwise(edges))
 
 
 def _evaluate(coef, x, y):

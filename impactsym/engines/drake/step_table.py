@@ -96,13 +96,15 @@ targets over 8-100 steps took 136 s of table, now 2 s).
 
 from __future__ import annotations
 
+from dataclasses import fields
+
 import numpy as np
 
 from impactsym.contact.lawclosed import hunt_crossley_parameter
 from impactsym.engines.drake.change_table import table_designs
 from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
-from impactsym.engines.drake.phases import phase_summary
+from impactsym.engines.drake.phases import PhaseSummary, phase_summary
 
 __all__ = [
     "COARSE",
@@ -145,19 +147,23 @@ _DIFF, _CHEAP = 1e-6, {"nodes": 1}  # the differences of the change's Jacobian, 
 def stepped_designs(
     e: np.ndarray, v: np.ndarray, m: np.ndarray, g: np.ndarray, target: np.ndarray,
     h: float, approx: str, size_name: str,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
-    """``(ok, k, d)`` of the discrete designs (flat arrays; module docstring), ``ok``
-    marking the targets designed here.
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """``(ok, k, d, summaries)`` of the discrete designs (flat arrays; module docstring),
+    ``ok`` marking the targets designed here, ``summaries`` the fields of their
+    :class:`~impactsym.engines.drake.phases.PhaseSummary` (``(8, size)``) where the
+    design came with it (read off a table of
+    :mod:`~impactsym.engines.drake.change_table`), ``nan`` elsewhere.
 
     >>> e, t = np.linspace(0.35, 0.55, 256), np.linspace(0.022, 0.038, 256)
     >>> one = np.ones(256)
-    >>> ok, k, d = stepped_designs(e, one, 0.1 * one, 0 * one, t, 1e-3, "lagged",
-    ...                            "contact_time")
+    >>> ok, k, d, _ = stepped_designs(e, one, 0.1 * one, 0 * one, t, 1e-3, "lagged",
+    ...                               "contact_time")
     >>> bool(ok.mean() > 0.9)
     True
     """
     n = e.size
     ok, k, d = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
+    summaries = np.full((len(fields(PhaseSummary)), n), np.nan)
     ratio = g / v
     q = target / (h if size_name == "contact_time" else v * h)  # the size in steps
     _, inverse, counts = np.unique(ratio, return_inverse=True, return_counts=True)
@@ -168,7 +174,7 @@ def stepped_designs(
         # first off the tables of the end states
         group = [a[rows] for a in (e, v, m, g)]
         steps = None if size_name == "contact_time" else _likely_steps(*group, q[rows], h, approx)
-        done, k_r, d_r = table_designs(
+        done, k_r, d_r, summaries[:, rows] = table_designs(
             *group, q[rows], h, _node_designs(v[rows[0]], m[rows[0]], g[rows[0]], h, approx),
             steps=steps,
         )  # fmt: skip
@@ -179,7 +185,7 @@ def stepped_designs(
         done, k_r, d_r = _chunked(*(a[rows] for a in (e, v, m, g, target, q)), h, approx,
                                   size_name)  # fmt: skip
         ok[rows], k[rows], d[rows] = done, k_r, d_r
-    return ok, k, d
+    return ok, k, d, summaries
 
 
 def _chunked(e, v, m, g, target, q, h, approx, size_name):
