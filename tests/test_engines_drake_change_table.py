@@ -18,6 +18,7 @@ from impactsym.engines.drake.change_table import (
     MIN_TARGETS,
     NODES_E,
     NODES_PHASE,
+    PHASES,
     PHASES_PRESSED,
     table_designs,
 )
@@ -51,7 +52,7 @@ def test_designs_off_the_tables_meet_their_targets_by_a_fresh_prediction(
     gravity, base, monkeypatch
 ):
     rng = np.random.default_rng(37)
-    e, q = _targets(base, MIN_TARGETS + 64, rng, PHASES_PRESSED if gravity else (0.0, 1.0))
+    e, q = _targets(base, MIN_TARGETS + 64, rng, PHASES_PRESSED[0] if gravity else PHASES[0])
     seen = _spy(monkeypatch)
     c = drake.point_contact_for(restitution=e, contact_time=q * H, speed=V, mass=M,
                                 gravity=gravity, time_step=H)  # fmt: skip
@@ -136,7 +137,7 @@ def test_a_table_with_a_node_left_undesigned_designs_nothing():
         return s, w
 
     ok, k, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
-    assert asked == [NODES_E * NODES_PHASE]
+    assert asked == [NODES_E * NODES_PHASE] * len(PHASES)  # each window of phases tried
     assert not ok.any()
     assert np.isnan(k).all()
 
@@ -153,3 +154,30 @@ def test_a_wrong_table_designs_nothing():
 
     ok, _, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
     assert not ok.any()
+
+
+def test_a_table_across_a_second_change_is_refused_for_a_narrower_window(monkeypatch):
+    """Under gravity, near the ends of the phase interval, the larger restitutions' designs
+    change a second time: a table over those phases has a tail of ~1e-6 and is built
+    again over the next window of phases."""
+    rng = np.random.default_rng(43)
+    e, q = _targets(22, MIN_TARGETS, rng)
+    e = 0.5 + 0.1 * (e - 0.3) / 0.3  # 0.5..0.6
+    monkeypatch.setattr(change_table, "PHASES_PRESSED", ((0.005, 0.995), (0.05, 0.95)))
+    one = np.ones(e.size)
+    asked = []
+
+    def design(e_n, q_n):
+        asked.append(q_n - 22.5)
+        c = drake.point_contact_for(restitution=e_n, contact_time=q_n * H, speed=V, mass=M,
+                                    gravity=9.81, time_step=H)  # fmt: skip
+        return c.hunt_crossley_dissipation * V, H * np.sqrt(c.point_contact_stiffness / M)
+
+    ok, _, _, _ = table_designs(e, V * one, M * one, 9.81 * one, q, H, design)
+    assert len(asked) == 2  # the wide window's table refused
+    assert asked[1].min() > 0.05
+    assert asked[1].max() < 0.95
+    phase = q - 22.5
+    inside = (phase >= 0.05) & (phase < 0.95)
+    assert not ok[~inside].any()
+    assert ok[inside].mean() > 0.8
