@@ -59,31 +59,29 @@ def test_designs_off_the_tables_meet_their_targets_by_a_fresh_prediction(
     assert seen == [(e.size, e.size)]  # every target read off its table
     p = drake.predict(stiffness=c.point_contact_stiffness, dissipation=c.hunt_crossley_dissipation,
                       mass=M, speed=V, gravity=gravity, time_step=H)  # fmt: skip
-    assert np.abs(p.restitution - e).max() <= 1e-12
-    assert np.abs(p.contact_time / (q * H) - 1.0).max() <= 1e-10
+    assert np.abs(p.restitution - e).max() <= 1.05e-12  # the designs' tolerance
+    assert np.abs(p.contact_time / (q * H) - 1.0).max() <= 1.05e-10
     assert not np.any(p.sticks)
 
 
-@pytest.mark.parametrize(("gravity", "depth", "share"), [(0.0, 9.9e-3, 0.9), (9.81, 6e-3, 0.6)])
-def test_designs_by_largest_overlap_off_the_tables_meet_their_targets(
-    gravity, depth, share, monkeypatch
-):
+@pytest.mark.parametrize(("gravity", "depth"), [(0.0, 9.9e-3), (9.81, 6e-3), (9.81, 8e-3)])
+def test_designs_by_largest_overlap_off_the_tables_meet_their_targets(gravity, depth, monkeypatch):
     """The overlap is the deepest state's; which state that is changes over a table, so
     each state's overlap has its own table and a target's phase is where their largest
-    meets it. (Under gravity the coarse table that tells each target its likely end
-    state holds about three in four of these: the others are left to the other paths.)"""
+    meets it. (Under gravity the coarse table that tells each target its likely end state
+    reached none of these before its box was widened by the pressing number.)"""
     rng = np.random.default_rng(42)
-    e, x = rng.uniform(0.42, 0.5, 1200), rng.uniform(depth, 1.01 * depth, 1200)
+    e, x = rng.uniform(0.45, 0.47, 1200), rng.uniform(depth, 1.01 * depth, 1200)
     seen = _spy(monkeypatch)
     monkeypatch.setattr(change_table, "MIN_TARGETS", 100)  # (these span a few end states)
     c = drake.point_contact_for(restitution=e, max_penetration=x, speed=V, mass=M,
                                 gravity=gravity, time_step=H)  # fmt: skip
     assert seen[0][0] == e.size
-    assert seen[0][1] > share * e.size
+    assert seen[0][1] > 0.8 * e.size
     p = drake.predict(stiffness=c.point_contact_stiffness, dissipation=c.hunt_crossley_dissipation,
                       mass=M, speed=V, gravity=gravity, time_step=H)  # fmt: skip
-    assert np.abs(p.restitution - e).max() <= 1e-12
-    assert np.abs(p.max_penetration / x - 1.0).max() <= 1e-10
+    assert np.abs(p.restitution - e).max() <= 1.05e-12  # the designs' tolerance
+    assert np.abs(p.max_penetration / x - 1.0).max() <= 1.05e-10
     assert not np.any(p.sticks)
 
 
