@@ -15,13 +15,16 @@ import pytest
 from impactsym.engines import drake
 from impactsym.engines.drake import change_table, step_table
 from impactsym.engines.drake.change_table import (
+    MIN_STEPS,
     MIN_TARGETS,
+    NODES,
     NODES_E,
     NODES_PHASE,
     PHASES,
     PHASES_PRESSED,
     table_designs,
 )
+from impactsym.engines.drake.jump_means import jump_holds, jump_means
 
 H, V, M = 1e-3, 1.0, 0.1
 
@@ -179,3 +182,20 @@ def test_a_table_across_a_second_change_is_refused_for_a_narrower_window(monkeyp
     inside = (phase >= 0.05) & (phase < 0.95)
     assert not ok[~inside].any()
     assert ok[inside].mean() > 0.8
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+def test_the_evaluations_few_gauss_nodes_give_the_mean_to_rounding(gravity):
+    """The one evaluation takes ``NODES`` Gauss nodes per panel: on contacts of at least
+    ``MIN_STEPS`` steps whose change holds, the same mean as 16 nodes to rounding."""
+    rng = np.random.default_rng(44)
+    e, q = rng.uniform(0.3, 0.6, 300), rng.uniform(MIN_STEPS, 60.0, 300) + 0.5
+    c = drake.point_contact_for(restitution=e, contact_time=q * H, speed=V, mass=M,
+                                gravity=gravity, time_step=H)  # fmt: skip
+    k, d, one = c.point_contact_stiffness, c.hunt_crossley_dissipation, np.ones(e.size)
+    rows = (k, d, M * one, gravity * one, V * one)
+    held = jump_holds(*rows, H, q)
+    assert held.mean() > 0.9
+    few = jump_means(*rows, H, q, nodes=NODES).restitution
+    many = jump_means(*rows, H, q, nodes=16).restitution
+    assert np.abs(few - many)[held].max() <= 1e-15
