@@ -199,3 +199,26 @@ def test_the_evaluations_few_gauss_nodes_give_the_mean_to_rounding(gravity):
     few = jump_means(*rows, H, q, nodes=NODES).restitution
     many = jump_means(*rows, H, q, nodes=16).restitution
     assert np.abs(few - many)[held].max() <= 1e-15
+
+
+def test_designs_by_largest_overlap_on_a_plateau_are_read_off_its_own_table(monkeypatch):
+    """Between the tables of two neighbouring end states lie the designs where every phase
+    ends alike (their mean contact time rests at ``(N + 1/2) h``): a table of their own
+    serves them."""
+    rng = np.random.default_rng(45)
+    e, x = rng.uniform(0.3, 0.35, 3000), rng.uniform(9e-3, 1e-2, 3000)  # (plateaus wider)
+    monkeypatch.setattr(change_table, "MIN_TARGETS", 300)
+    read = []
+    for least in (10**9, 32):  # without the plateaus' tables, then with them
+        monkeypatch.setattr(change_table, "MIN_PLATEAU", least)
+        seen = _spy(monkeypatch)
+        c = drake.point_contact_for(restitution=e, max_penetration=x, speed=V, mass=M,
+                                    time_step=H)  # fmt: skip
+        read.append(seen[0][1])
+    p = drake.predict(stiffness=c.point_contact_stiffness, dissipation=c.hunt_crossley_dissipation,
+                      mass=M, speed=V, time_step=H)  # fmt: skip
+    assert np.abs(p.restitution - e).max() <= 1.05e-12
+    assert np.abs(p.max_penetration / x - 1.0).max() <= 1.05e-10
+    steps = p.contact_time / H - 0.5
+    on_plateau = np.count_nonzero(np.abs(steps - np.round(steps)) < 1e-9)
+    assert read[1] - read[0] > 0.5 * on_plateau > 0.03 * e.size

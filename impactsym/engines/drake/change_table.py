@@ -32,8 +32,16 @@ of the contact time lies between the designs at :math:`\varphi^* \to 1` and at t
   where their largest meets its overlap (safeguarded Newton steps in the phase), and
   the table's design there is evaluated exactly: the change's equations, the overlap
   (one run), the change's estimate within :data:`SETTLED` of the phase, and the full
-  contact overlapping no deeper at any grid phase than at the last. Targets between
-  two tables (every phase ending alike: a plateau of the contact time) are left.
+  contact overlapping no deeper at any grid phase than at the last. A target whose
+  overlap lies between the tables of ``B`` (at phase 1) and ``B + 1`` (at phase 0) has
+  its design on the plateau between, where every phase ends at ``N = B + 1``: where at
+  least :data:`MIN_PLATEAU` do, the plateau gets a table of its own, in the restitution
+  and the step's share of the way from one edge to the other (the edges' designs off
+  the two tables), each node's damping the secant root of that one state's mean
+  restitution; a design off it is confirmed as the others, the change's estimate
+  outside the phase interval instead of at the phase. (The phase solve stopped after
+  12 safeguarded steps before, and returned the bracket's midpoint at an exact root:
+  its overlaps were up to ``1e-7`` off and a few percent of these designs missed.)
 * **One exact evaluation** of the change's equations
   (:func:`~impactsym.engines.drake.jump_means.jump_means`, the full rule) at the table's
   design: it is done where the restitution is within :data:`TOLERANCE` of the target
@@ -51,7 +59,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import fields
-from itertools import pairwise
+from itertools import pairwise, product
 
 import numpy as np
 from numpy.polynomial import chebyshev
@@ -62,6 +70,7 @@ from impactsym.engines.drake.phases import GRID_PHASES, PhaseSummary
 from impactsym.engines.drake.stepping import end_state
 
 __all__ = [
+    "MIN_PLATEAU",
     "MIN_STEPS",
     "MIN_TARGETS",
     "NODES",
@@ -107,7 +116,9 @@ TOLERANCE = (5e-13, 5e-11)
 #: put it: the restitution is the mean to second order in that offset (``~0.1`` per
 #: step squared, :mod:`~impactsym.engines.drake.jump_means`), here below ``1e-13``.
 SETTLED = 1e-6
-_NEWTON = 12  # safeguarded Newton steps for the phase of a target overlap
+#: Targets on one plateau between two tables from which it gets a table of its own.
+MIN_PLATEAU = 128
+_NEWTON = 60  # Newton steps (or bisections) at most for a phase, and for a damping
 
 
 def table_designs(
@@ -150,9 +161,13 @@ def table_designs(
         y = np.where((y >= -1.0) & (y < 1.0), y, np.nan)
         s[rows], w[rows] = _evaluate(coef, x, y)
         change[rows] = b + 0.5 + 0.5 * (lo + hi) + 0.5 * (hi - lo) * y  # in steps
+    plateau = np.zeros(n, bool)
+    if by_overlap:  # the designs on a plateau between two tables
+        plateau = _plateau_starts(e, q, keys, tables, (m[0], v[0], g[0]), h, s, w, change)
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
     k_t, d_t = m[live] * (w[live] / h) ** 2, s[live] / v[live]
-    held = _confirmed(k_t, d_t, *(a[live] for a in (m, g, v, e, q, change)), h, by_overlap)
+    rows = (a[live] for a in (m, g, v, e, q, change, plateau))
+    held = _confirmed(k_t, d_t, *rows, h, by_overlap)
     live = live[held]
     ok[live], k[live], d[live] = True, k_t[held], d_t[held]
     return ok, k, d, summaries
@@ -172,16 +187,18 @@ def _keys(e, asks):
     return keys
 
 
-def _confirmed(k, d, m, g, v, e, q, change, h, by_overlap):
+def _confirmed(k, d, m, g, v, e, q, change, plateau, h, by_overlap):
     """Where the designs ``(k, d)`` meet their targets ``(e, q)`` by one exact evaluation
     of the change's equations at ``change`` (steps; module docstring) and the full
-    contact confirms the change at the phase grid."""
+    contact confirms the change at the phase grid (on a ``plateau``: that every phase
+    ends at the state ``change - 1/2``)."""
     if k.size == 0:
         return np.zeros(0, bool)
     r = jump_means(k, d, m, g, v, h, change, nodes=NODES)
-    if by_overlap:  # the overlap, and the change where the table put it
+    if by_overlap:  # the overlap, and the change where the table put it (on a plateau:
+        # outside the phase interval, every phase ending at the same state)
         size = last_overlap(k, d, m, g, v, h) / (v * h)
-        hit = np.abs(r.size - change) <= SETTLED
+        hit = np.where(plateau, r.size <= change, np.abs(r.size - change) <= SETTLED)
     else:
         size, hit = r.size, True
     hit &= (np.abs(r.restitution - e) <= TOLERANCE[0]) & (np.abs(size - q) <= TOLERANCE[1] * q)
@@ -190,6 +207,102 @@ def _confirmed(k, d, m, g, v, e, q, change, h, by_overlap):
     held[rows] = jump_holds(*(a[rows] for a in (k, d, m, g, v)), h, change[rows],
                             deepest_last=by_overlap)  # fmt: skip
     return held
+
+
+def _plateau_starts(e, q, keys, tables, member, h, s, w, change):
+    """The starts ``s, w, change`` (in place) of the targets by largest overlap ``q`` left
+    without one whose overlap lies between two tables of neighbouring end states ``B``
+    and ``B + 1`` over the whole phase interval: their designs lie on the plateau between
+    (every phase ends at ``N = B + 1``), read off a table of its own
+    (:func:`_plateau_table`) where at least :data:`MIN_PLATEAU` targets lie on it.
+    Returns where a start is a plateau's."""
+    plateau = np.zeros(e.size, bool)
+    whole = {}  # end state: its tables over the whole phase interval
+    for (b, box, _), table in zip(keys, tables, strict=True):
+        if table is not None and table[0] == (0.0, 1.0):
+            whole.setdefault(b, []).append((box, table))
+    for b, lower in whole.items():
+        for (box_l, (_, coef_l, over_l)), (box_u, (_, coef_u, over_u)) in product(
+            lower, whole.get(b + 1, [])
+        ):
+            box = (max(box_l[0], box_u[0]), min(box_l[1], box_u[1]))
+            rows = np.flatnonzero(np.isnan(s) & (e >= box[0]) & (e <= box[1]))
+            # deeper than the lower table at phase 1, shallower than the upper at phase 0
+            top = _largest(over_l, _unit(e[rows], box_l), 1.0)
+            bottom = _largest(over_u, _unit(e[rows], box_u), -1.0)
+            rows = rows[(q[rows] > top) & (q[rows] < bottom)]
+            if rows.size < MIN_PLATEAU:
+                continue
+            ends = ((coef_l, box_l, 1.0), (coef_u, box_u, -1.0))
+            table = _plateau_table(int(b) + 1, box, ends, member, h)
+            if table is None:
+                continue
+            x = _unit(e[rows], box)
+            y = _phase_of(table[1], x, q[rows])
+            s[rows], w[rows] = _evaluate(table[0], x, np.where(np.abs(y) <= 1.0, y, np.nan))
+            change[rows], plateau[rows] = b + 1.5, True  # every phase ends at b + 1
+    return plateau
+
+
+def _plateau_table(state, box, ends, member, h):
+    """``(coef, overlaps)`` (as :func:`_tables`) of the plateau where every phase ends at
+    ``state``, over the restitution ``box`` and its width ``t`` in ``(0, 1)``: at each
+    restitution node the step ``w`` runs from the lower table's design at phase 1 to the
+    upper's at phase 0 (``ends``: each table's coefficients, box and phase), and the
+    damping is the root of the one state's mean restitution by the secant from the
+    line between the two (:func:`_plateau_damping`); ``None`` where a node has none or a
+    tail is above :data:`TAIL`."""
+    e_nodes = 0.5 * (box[0] + box[1]) + 0.5 * (box[1] - box[0]) * chebyshev_points(NODES_E)
+    width = 0.5 + 0.5 * chebyshev_points(NODES_PHASE)
+    (s1, w1), (s0, w0) = (
+        _evaluate(coef, _unit(e_nodes, where), np.full(NODES_E, y)) for coef, where, y in ends
+    )
+    w = w1[:, None] + width[None, :] * (w0 - w1)[:, None]
+    s = s1[:, None] + width[None, :] * (s0 - s1)[:, None]
+    s = _plateau_damping(np.repeat(e_nodes, NODES_PHASE), s.ravel(), w.ravel(), state,
+                         member, h).reshape(w.shape)  # fmt: skip
+    if not np.isfinite(s).all():
+        return None
+    coef = _coefficients(np.stack([s, w]))
+    overlaps = _overlaps(s, w, state - 1, member, h)
+    return None if coef is None or overlaps is None else (coef, overlaps)
+
+
+def _plateau_damping(e, s, w, state, member, h):
+    """The damping numbers at which the mean restitution of the contacts ``(s, w)`` that
+    all end at ``state`` (:func:`~impactsym.engines.drake.jump_means.jump_means`' one
+    state's integral) is ``e``: secant steps from ``s`` (``nan`` where they do not meet
+    it to ``1e-14``)."""
+    m, v, g = member
+    one = np.ones(e.size)
+
+    def f(s):
+        k, d = m * (w / h) ** 2, s / v
+        return jump_means(k, d, m * one, g * one, v * one, h, (state + 0.5) * one,
+                          nodes=NODES).fixed - e  # fmt: skip
+
+    f_s = f(s)
+    s_prev, f_prev = s * (1.0 + 1e-6), f(s * (1.0 + 1e-6))
+    with np.errstate(all="ignore"):
+        for _ in range(_NEWTON):
+            step = f_s * (s - s_prev) / (f_s - f_prev)
+            s_prev, f_prev = s, f_s
+            s = s - np.where(np.isfinite(step), step, 0.0)
+            f_s = f(s)
+            if np.all(np.abs(f_s) <= 1e-15):
+                break
+    return np.where(np.abs(f_s) <= 1e-14, s, np.nan)
+
+
+def _largest(coef, x, y):
+    """The largest of the overlap tables ``coef`` at the restitutions ``x`` (in
+    ``[-1, 1]``) and the phase ``y`` (``-1`` or ``1``)."""
+    return _evaluate(coef, x, np.full(x.size, y)).max(axis=0)
+
+
+def _unit(e, box):
+    """The restitutions ``e`` in the ``box`` mapped to ``[-1, 1]``."""
+    return (2.0 * e - (box[0] + box[1])) / (box[1] - box[0])
 
 
 def _built(keys, windows, design, member, h, by_overlap):
@@ -267,32 +380,40 @@ def _coefficients(values):
 def _phase_of(coef, x, target):
     """The phase ``y`` in ``[-1, 1]`` where the largest of the tables ``coef``
     (``(J, NODES_E, NODES_PHASE)``) at the restitutions ``x`` equals ``target``
-    (``nan`` where its ends do not bracket it): safeguarded Newton steps (the largest
-    is smooth but where the deepest state changes) from the chord."""
+    (``nan`` where its ends do not bracket it): Newton steps from the chord, kept inside
+    the bracket (else bisection: the largest is not smooth where the deepest state
+    changes), each phase until its step is below ``1e-15``, :data:`_NEWTON` at most."""
     c = np.einsum("ij,fjk->ifk", chebyshev.chebvander(x, coef.shape[1] - 1), coef)
     dc = chebyshev.chebder(c, axis=2)
-    rows = np.arange(x.size)
 
-    def f(y):
+    def f(rows, y):
         vy = chebyshev.chebvander(y, coef.shape[2] - 1)
-        values = np.einsum("ifk,ik->if", c, vy)
+        values = np.einsum("ifk,ik->if", c[rows], vy)
         top = np.argmax(values, axis=1)
         slope = np.einsum("ik,ik->i", dc[rows, top], vy[:, :-1])
-        return values[rows, top] - target, slope
+        return values[np.arange(rows.size), top] - target[rows], slope
 
-    a, b = np.full(x.size, -1.0), np.full(x.size, 1.0)
-    f_a, _ = f(a)
-    f_b, _ = f(b)
-    inside = (f_a <= 0.0) & (f_b >= 0.0) & (f_b > f_a)
+    everyone = np.arange(x.size)
+    f_a, _ = f(everyone, np.full(x.size, -1.0))
+    f_b, _ = f(everyone, np.full(x.size, 1.0))
+    live = np.flatnonzero((f_a <= 0.0) & (f_b >= 0.0) & (f_b > f_a))
+    out = np.full(x.size, np.nan)
+    a, b = np.full(live.size, -1.0), np.full(live.size, 1.0)
     with np.errstate(invalid="ignore", divide="ignore"):
-        y = np.where(inside, a - f_a * (b - a) / (f_b - f_a), 0.0)
+        y = a - f_a[live] * (b - a) / (f_b[live] - f_a[live])
         for _ in range(_NEWTON):
-            f_y, slope = f(y)
+            if live.size == 0:
+                break
+            f_y, slope = f(live, y)
             below = f_y < 0.0
             a, b = np.where(below, y, a), np.where(below, b, y)
             step = y - f_y / slope
-            y = np.where((step > a) & (step < b), step, 0.5 * (a + b))
-    return np.where(inside, y, np.nan)
+            new = np.where((step > a) & (step < b), step, 0.5 * (a + b))
+            new = np.where(f_y == 0.0, y, new)  # (a root: it is an end of the bracket now)
+            done = np.abs(new - y) <= 1e-15
+            out[live[done]] = new[done]
+            live, y, a, b = live[~done], new[~done], a[~done], b[~done]
+    return out
 
 
 def _boxes(e):
