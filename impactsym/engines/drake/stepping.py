@@ -406,36 +406,36 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid):
     """:func:`end_state`'s states ``step`` into ``x``, ``u`` (views, in place), and its
     ``valid``: the update of
     :func:`~impactsym.engines.drake.update.hunt_crossley_velocity` (no contact test), the
-    same operations."""
+    same operations, and its end test without clipping the impulse of a free update at
+    0 (it is ``m (u* - u*) = 0`` there already, ``u*`` finite)."""
     live = np.flatnonzero(step > 0)  # stepped; gathered when a quarter reached their step
     with np.errstate(all="ignore"):  # (those that reached it step on until gathered)
-        consts = tuple(a[live] for a in _constants(k, d, m, g, v, h))
-        xl, ul, sl = x[live], u[live], step[live]
+        consts = _constants(*(a.take(live) for a in (k, d, m, g, v, h)))
+        xl, ul, sl = x.take(live), u.take(live), step.take(live)
         bad = np.zeros(live.size, bool)  # a state so far ended or turned back
         arrivals = np.bincount(sl)  # how many reach their step at each count
         done, count = 0, 0  # those reached among the gathered, and the count
         while live.size:
-            ustar, new, free = _update(xl, ul, consts, contact=False)
-            impulse = ustar - new
+            impulse, new, _ = _update(xl, ul, consts, contact=False)
+            impulse -= new  # u* - new
             impulse *= consts[1]
-            ended = np.where(free, 0.0, impulse) <= consts[8]
-            ended |= xl < 0.0
+            bad |= impulse <= consts[8]  # an end state: no impulse, no contact, turned
+            bad |= xl < 0.0
             turned = ul < 0.0
             turned &= new > 0.0
-            ended |= turned
-            bad |= ended
-            xl += consts[9] * new
+            bad |= turned
+            xl -= np.multiply(consts[6], new, out=impulse)  # x + h u' = x - (-h) u'
             ul = new
             count += 1
             if arrivals[count]:  # its state, and whether a state before it ended
-                reached = sl == count
-                i = live[reached]
-                x[i], u[i], valid[i] = xl[reached], ul[reached], ~bad[reached]
+                reached = np.flatnonzero(sl == count)
+                i = live.take(reached)
+                x[i], u[i], valid[i] = xl.take(reached), ul.take(reached), ~bad.take(reached)
                 done += int(arrivals[count])
                 if 4 * done >= live.size:
-                    rest = sl > count
-                    live, xl, ul, sl, bad = live[rest], xl[rest], ul[rest], sl[rest], bad[rest]
-                    consts = tuple(a[rest] for a in consts)
+                    rest = np.flatnonzero(sl > count)
+                    live, xl, ul, sl, bad = (a.take(rest) for a in (live, xl, ul, sl, bad))
+                    consts = tuple(a.take(rest) for a in consts)
                     done = 0
 
 
@@ -449,10 +449,9 @@ def _constants(k, d, m, g, v, h):
         m + h * h * k,  # b = m + h^2 k + (h k d) x
         hk * d,
         4.0 * (h * h * k * d),  # disc = b^2 + (4 a) c
-        -h,  # limit = max(-x/h, -1/d), -x/h = x/(-h)
+        -h,  # limit = max(-x/h, -1/d), -x/h = x/(-h); x + h u' = x - (-h) u'
         np.where(d > 0, -1.0 / d, -np.inf),
         _ZERO * m * v,  # the impulse floor
-        h,
     )
 
 
@@ -471,32 +470,38 @@ class ContactEnds(NamedTuple):
 
 def _update(x, u, consts, *, contact=True):
     """``(u*, new, free)`` of
-    :func:`~impactsym.engines.drake.update.hunt_crossley_velocity`, the same operations;
-    ``contact``: ``new = u*`` where the contact ``x >= 0`` is gone too (``free``)."""
+    :func:`~impactsym.engines.drake.update.hunt_crossley_velocity`, the same operations
+    (into fewer arrays); ``contact``: ``new = u*`` where the contact ``x >= 0`` is gone
+    too (``free``)."""
     hg, m, hk, b0, hkd, a4, nh, nd = consts[:8]
     ustar = u + hg
     c = m * ustar
-    c -= hk * x
-    b = hkd * x
+    b = np.multiply(hk, x)
+    c -= b
+    np.multiply(hkd, x, out=b)
     b += b0
     disc = b * b
-    disc += a4 * c
+    limit = np.multiply(a4, c)
+    disc += limit
     np.maximum(disc, 0.0, out=disc)
     np.sqrt(disc, out=disc)
     disc += b
     c *= 2.0
     c /= disc  # the root
-    limit = x / nh
+    np.divide(x, nh, out=limit)
     np.maximum(limit, nd, out=limit)
     free = ustar <= limit
     if contact:
         free |= x < 0.0
-    return ustar, np.where(free, ustar, c), free
+    np.copyto(c, ustar, where=free)
+    return ustar, c, free
 
 
 def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
     """Steps the contacts ``live`` to their end state (:func:`step_contact`'s loop) into
-    ``out``; returns those that end without leaving the overlap, to coast."""
+    ``out``; returns those that end without leaving the overlap, to coast. The largest
+    impulse is kept, and divided by ``h`` for the rules only when they are checked (the
+    largest of the impulses over ``h``: rounding keeps the order)."""
     k, d, m, g, h, v, t0 = raw
     settle = bool(np.any(g > 0))  # the settled, creep and rest rules (module docstring)
     x_max, peak = np.zeros(live.size), np.zeros(live.size) if settle else None
@@ -521,19 +526,20 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
             stay = ends & (x >= 0.0)  # no impulse inside the overlap: it coasts on
             if stay.any():
                 start = np.full(np.count_nonzero(stay), count + 1)
-                coasting.append((live[stay], x[stay] + consts[9][stay] * new[stay],
+                coasting.append((live[stay], x[stay] - consts[6][stay] * new[stay],
                                  new[stay], start))  # fmt: skip
             going &= ~ends
             finished += int(np.count_nonzero(ends))
         np.maximum(x_max, x, out=x_max)
         if settle:
-            np.maximum(peak, impulse / consts[9], out=peak)
+            np.maximum(peak, impulse, out=peak)
         turned = u < 0.0
         turned &= new > 0.0
         turned &= going
         if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:  # step_contact's checks
-            rows = (a[live] for a in (k, d, m, g, h, v))
-            stuck, x_max = _stuck_early(going, x, u, new, *rows, x_max, peak, stuck_peaks)
+            rows = [a.take(live) for a in (k, d, m, g, h, v)]
+            stuck, x_max = _stuck_early(going, x, u, new, *rows, x_max, peak / rows[4],
+                                        stuck_peaks)  # fmt: skip
             turned |= stuck
         if turned.any():
             i = live[turned]
@@ -541,12 +547,13 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
             out.max_penetration[i] = x_max[turned]
             going &= ~turned
             finished += int(np.count_nonzero(turned))
-        x += consts[9] * new
+        x -= np.multiply(consts[6], new, out=impulse)  # x + h u' = x - (-h) u'
         u = new
         if 4 * finished >= live.size:  # drop the finished ones
-            live, x, u, x_max = live[going], x[going], u[going], x_max[going]
-            consts = tuple(a[going] for a in consts)
-            peak = peak[going] if settle else None
+            keep = np.flatnonzero(going)
+            live, x, u, x_max = (a.take(keep) for a in (live, x, u, x_max))
+            consts = tuple(a.take(keep) for a in consts)
+            peak = peak.take(keep) if settle else None
             going = np.ones(live.size, bool)
             finished = 0
     i = live[going]
@@ -571,6 +578,6 @@ def _coast(live, x, u, start, consts, out):
         back = (x >= 0.0) & (impulse > consts[8])
         out.sticks[live[back | (start + j >= MAX_STEPS)]] = True
         keep = (x >= 0.0) & ~back & (start + j < MAX_STEPS)
-        x = x + consts[9] * new
+        x = x - consts[6] * new
         live, x, u, start = live[keep], x[keep], new[keep], start[keep]
         consts = tuple(a[keep] for a in consts)
