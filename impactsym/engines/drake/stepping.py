@@ -407,15 +407,17 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid):
     ``valid``: the update of
     :func:`~impactsym.engines.drake.update.hunt_crossley_velocity` (no contact test), the
     same operations, and its end test without clipping the impulse of a free update at
-    0 (it is ``m (u* - u*) = 0`` there already, ``u*`` finite)."""
-    live = np.flatnonzero(step > 0)  # stepped; gathered when a quarter reached their step
-    with np.errstate(all="ignore"):  # (those that reached it step on until gathered)
+    0 (it is ``m (u* - u*) = 0`` there already, ``u*`` finite). The contacts are stepped
+    in the order of their ``step``, so that those reaching it are the first ones: cut
+    off at once (slices), not stepped on until gathered."""
+    live = np.flatnonzero(step > 0)
+    live = live[np.argsort(step[live], kind="stable")]
+    with np.errstate(all="ignore"):
         consts = _constants(*(a.take(live) for a in (k, d, m, g, v, h)))
-        xl, ul, sl = x.take(live), u.take(live), step.take(live)
+        xl, ul = x.take(live), u.take(live)
         bad = np.zeros(live.size, bool)  # a state so far ended or turned back
-        arrivals = np.bincount(sl)  # how many reach their step at each count
-        done, count = 0, 0  # those reached among the gathered, and the count
-        while live.size:
+        arrivals = np.bincount(step.take(live))  # how many reach their step at each count
+        for count in range(1, arrivals.size):
             impulse, new, _ = _update(xl, ul, consts, contact=False)
             impulse -= new  # u* - new
             impulse *= consts[1]
@@ -426,17 +428,12 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid):
             bad |= turned
             xl -= np.multiply(consts[6], new, out=impulse)  # x + h u' = x - (-h) u'
             ul = new
-            count += 1
-            if arrivals[count]:  # its state, and whether a state before it ended
-                reached = np.flatnonzero(sl == count)
-                i = live.take(reached)
-                x[i], u[i], valid[i] = xl.take(reached), ul.take(reached), ~bad.take(reached)
-                done += int(arrivals[count])
-                if 4 * done >= live.size:
-                    rest = np.flatnonzero(sl > count)
-                    live, xl, ul, sl, bad = (a.take(rest) for a in (live, xl, ul, sl, bad))
-                    consts = tuple(a.take(rest) for a in consts)
-                    done = 0
+            n = arrivals[count]
+            if n:  # its state, and whether a state before it ended
+                i = live[:n]
+                x[i], u[i], valid[i] = xl[:n], ul[:n], ~bad[:n]
+                live, xl, ul, bad = live[n:], xl[n:], ul[n:], bad[n:]
+                consts = tuple(a[n:] for a in consts)
 
 
 def _constants(k, d, m, g, v, h):
@@ -452,6 +449,7 @@ def _constants(k, d, m, g, v, h):
         -h,  # limit = max(-x/h, -1/d), -x/h = x/(-h); x + h u' = x - (-h) u'
         np.where(d > 0, -1.0 / d, -np.inf),
         _ZERO * m * v,  # the impulse floor
+        np.zeros(k.size),  # (np.maximum with an array: 3x faster than with 0.0)
     )
 
 
@@ -473,7 +471,7 @@ def _update(x, u, consts, *, contact=True):
     :func:`~impactsym.engines.drake.update.hunt_crossley_velocity`, the same operations
     (into fewer arrays); ``contact``: ``new = u*`` where the contact ``x >= 0`` is gone
     too (``free``)."""
-    hg, m, hk, b0, hkd, a4, nh, nd = consts[:8]
+    hg, m, hk, b0, hkd, a4, nh, nd, _, zero = consts
     ustar = u + hg
     c = m * ustar
     b = np.multiply(hk, x)
@@ -483,7 +481,7 @@ def _update(x, u, consts, *, contact=True):
     disc = b * b
     limit = np.multiply(a4, c)
     disc += limit
-    np.maximum(disc, 0.0, out=disc)
+    np.maximum(disc, zero, out=disc)
     np.sqrt(disc, out=disc)
     disc += b
     c *= 2.0
@@ -518,18 +516,20 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
         # going, and no impulse above the floor (or no contact): the end state
         ends = np.greater(going, impulse > consts[8])
         if ends.any():  # the end state: separation speed, and the time
-            i = live[ends]
-            out.restitution[i] = -u[ends] / v[i]
-            out.contact_time[i] = t0[i] + count * h[i]
-            out.max_penetration[i] = x_max[ends]
-            out.end_penetration[i] = x[ends]
-            stay = ends & (x >= 0.0)  # no impulse inside the overlap: it coasts on
+            j = np.flatnonzero(ends)
+            i, xj = live.take(j), x.take(j)
+            out.restitution[i] = -u.take(j) / v.take(i)
+            out.contact_time[i] = t0.take(i) + count * h.take(i)
+            out.max_penetration[i] = x_max.take(j)
+            out.end_penetration[i] = xj
+            stay = xj >= 0.0  # no impulse inside the overlap: it coasts on
             if stay.any():
-                start = np.full(np.count_nonzero(stay), count + 1)
-                coasting.append((live[stay], x[stay] - consts[6][stay] * new[stay],
-                                 new[stay], start))  # fmt: skip
+                js, xs = j[stay], xj[stay]
+                start = np.full(js.size, count + 1)
+                ns = new.take(js)
+                coasting.append((live.take(js), xs - consts[6].take(js) * ns, ns, start))
             going &= ~ends
-            finished += int(np.count_nonzero(ends))
+            finished += j.size
         np.maximum(x_max, x, out=x_max)
         if settle:
             np.maximum(peak, impulse, out=peak)
