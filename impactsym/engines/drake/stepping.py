@@ -411,7 +411,7 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid):
     in the order of their ``step``, so that those reaching it are the first ones: cut
     off at once (slices), not stepped on until gathered."""
     live = np.flatnonzero(step > 0)
-    live = live[np.argsort(step[live], kind="stable")]
+    live = live[np.argsort(step[live])]  # (any order among equal steps: they are apart)
     with np.errstate(all="ignore"):
         consts = _constants(*(a.take(live) for a in (k, d, m, g, v, h)))
         xl, ul = x.take(live), u.take(live)
@@ -568,16 +568,22 @@ def _coast(live, x, u, start, consts, out):
     """Steps the contacts ``live`` that ended without impulse inside the overlap (at the
     state before ``start``) until they leave it; where the impulse comes back first, or
     the count reaches :data:`MAX_STEPS`, they stick (:func:`step_contact`)."""
-    consts = tuple(a[live] for a in consts)
+    consts = tuple(a.take(live) for a in consts)
     for j in range(MAX_STEPS):
         if live.size == 0:
             break
-        ustar, new, _ = _update(x, u, consts)
-        impulse = ustar - new
+        impulse, new, _ = _update(x, u, consts)
+        impulse -= new  # u* - new
         impulse *= consts[1]
-        back = (x >= 0.0) & (impulse > consts[8])
-        out.sticks[live[back | (start + j >= MAX_STEPS)]] = True
-        keep = (x >= 0.0) & ~back & (start + j < MAX_STEPS)
-        x = x - consts[6] * new
-        live, x, u, start = live[keep], x[keep], new[keep], start[keep]
-        consts = tuple(a[keep] for a in consts)
+        inside = x >= 0.0
+        back = inside & (impulse > consts[8])
+        over = start + j >= MAX_STEPS
+        out.sticks[live[back | over]] = True
+        x -= np.multiply(consts[6], new, out=impulse)  # x + h u' = x - (-h) u'
+        u = new
+        inside &= ~back
+        inside &= ~over
+        if not inside.all():  # drop those that left or stick
+            keep = np.flatnonzero(inside)
+            live, x, u, start = (a.take(keep) for a in (live, x, u, start))
+            consts = tuple(a.take(keep) for a in consts)
