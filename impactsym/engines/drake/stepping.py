@@ -76,10 +76,12 @@ contact never ends and its peaks are final, those of the full loop. Checked ever
 
 :func:`contact_ends` is the same loop for the phase means (the restitution, contact
 time, stick verdict and largest overlap of ``"tamsi"``/``"similar"``/``"lagged"``), bit
-for bit, about four times faster: the update's constants once per contact, the finished
-contacts gathered out when a quarter have finished (not masked field by field at every
-step), blocks of :data:`_BLOCK` contacts that stay in the cache (twice as fast as 4e5 at
-once); :func:`end_margin` steps its states the same way.
+for bit, about 4.5 times faster: the update's constants once per contact, the finished
+contacts gathered out (by one index) when a quarter have finished (not masked field by
+field at every step), the largest impulse kept rather than force (over ``h`` only where
+the rules read it), blocks of :data:`_BLOCK` contacts that stay in the cache (twice as
+fast as 4e5 at once). :func:`end_margin` steps its states the same way, in the order of
+their ``step``, so that those reaching it are cut off by a slice.
 All quantities are SI. Internal to :mod:`impactsym.engines.drake`.
 """
 
@@ -516,7 +518,7 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
         # going, and no impulse above the floor (or no contact): the end state
         ends = np.greater(going, impulse > consts[8])
         if ends.any():  # the end state: separation speed, and the time
-            j = np.flatnonzero(ends)
+            j = ends.nonzero()[0]
             i, xj = live.take(j), x.take(j)
             out.restitution[i] = -u.take(j) / v.take(i)
             out.contact_time[i] = t0.take(i) + count * h.take(i)
@@ -550,7 +552,7 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
         x -= np.multiply(consts[6], new, out=impulse)  # x + h u' = x - (-h) u'
         u = new
         if 4 * finished >= live.size:  # drop the finished ones
-            keep = np.flatnonzero(going)
+            keep = going.nonzero()[0]
             live, x, u, x_max = (a.take(keep) for a in (live, x, u, x_max))
             consts = tuple(a.take(keep) for a in consts)
             peak = peak.take(keep) if settle else None
@@ -584,6 +586,6 @@ def _coast(live, x, u, start, consts, out):
         inside &= ~back
         inside &= ~over
         if not inside.all():  # drop those that left or stick
-            keep = np.flatnonzero(inside)
+            keep = inside.nonzero()[0]
             live, x, u, start = (a.take(keep) for a in (live, x, u, start))
             consts = tuple(a.take(keep) for a in consts)
