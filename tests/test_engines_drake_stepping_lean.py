@@ -1,0 +1,272 @@
+"""The lean step loops of :mod:`impactsym.engines.drake.stepping` (``contact_ends``,
+``end_state``, ``end_margin``) against a frozen copy of them as they were before
+(fewer array operations per update), below: the same numbers, bit for bit (float
+fields compared as their 64-bit patterns, so signs of zero and NaNs too), on random
+contacts of 2-100 steps at ``h = 1e-3`` and ``1e-4`` under ``g = 0, 9.81, 50``, with
+``d v`` from 0 to 10 (a tenth undamped), sticking ones, ones leaving the overlap and ones
+whose impulse ends inside it (then coasting), ``d v > 5.5`` among them, at touch phases
+in ``[0, 1)`` including 0 and ``1 - 1e-15``, with ``stuck_peaks`` True and False."""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import pytest
+
+from impactsym.engines.drake import stepping
+from impactsym.engines.drake.stepping import (
+    ContactEnds,
+    _stuck_early,
+    _touch,
+    contact_ends,
+    end_margin,
+    end_state,
+    margin_at,
+)
+
+MAX_STEPS = stepping.MAX_STEPS
+_ZERO = 1e-12
+_SETTLE_EVERY = 64
+_BLOCK = 16_384  # (the old loops in the old blocks)
+
+
+def _designs(n, seed):
+    """Random contacts: ``(k, d, m, g, v, h, phase, steps)`` (``steps`` about the
+    contact's length in updates)."""
+    rng = np.random.default_rng(seed)
+    h = rng.choice([1e-3, 1e-4], n)
+    steps = rng.uniform(2.0, 100.0, n)
+    m, v = rng.uniform(0.05, 2.0, n), 10 ** rng.uniform(-2.0, 0.5, n)
+    k = m * (np.pi / (steps * h)) ** 2
+    dv = rng.uniform(0.0, 10.0, n)
+    dv[rng.uniform(size=n) < 0.1] = 0.0
+    g = rng.choice([0.0, 9.81, 50.0], n)
+    p = rng.uniform(0.0, 1.0, n)
+    p[: n // 10], p[n // 10 : n // 5] = 0.0, 1.0 - 1e-15
+    return k, dv / v, m, g, v, h, p, steps
+
+
+def _old(run, *args, **options):
+    """``run`` (``contact_ends`` or ``end_state``, whose wrappers did not change) with
+    the frozen loops below, in the blocks of before."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(stepping, "_block_ends", ref_block_ends)
+        patch.setattr(stepping, "_margin_states", ref_margin_states)
+        patch.setattr(stepping, "_BLOCK", _BLOCK)
+        return run(*args, **options)
+
+
+def _same(new, old, name):
+    """Bit for bit: floats as their 64-bit patterns (signs of zero, NaN), else equal."""
+    new, old = np.asarray(new), np.asarray(old)
+    assert new.dtype == old.dtype, name
+    assert new.shape == old.shape, name
+    if new.dtype == float:
+        new, old = new.view(np.uint64), old.view(np.uint64)
+    assert np.array_equal(new, old), name
+
+
+@pytest.mark.parametrize(("seed", "limit"), [(1, 20_000), (2, 20_000), (5, 60)])
+@pytest.mark.parametrize("stuck_peaks", [True, False])
+def test_contact_ends_is_the_frozen_loop_bit_for_bit(seed, limit, stuck_peaks, monkeypatch):
+    # limit: MAX_STEPS of both (20000: creeping contacts alike; 60: many stopped there,
+    # in the loop to the end state and in the coast after it)
+    monkeypatch.setattr(stepping, "_BLOCK", 1500)  # several blocks, and a short last one
+    for module in (stepping, sys.modules[__name__]):
+        monkeypatch.setattr(module, "MAX_STEPS", limit)
+    k, d, m, g, v, h, p, _ = _designs(6000, seed)
+    new = contact_ends(k, d, m, g, v, h, p, stuck_peaks=stuck_peaks)
+    old = _old(contact_ends, k, d, m, g, v, h, p, stuck_peaks=stuck_peaks)
+    for name in ContactEnds._fields:
+        _same(getattr(new, name), getattr(old, name), name)
+    assert 0.02 < np.mean(old.sticks) < 0.8
+    on_floor = old.end_penetration >= 0.0  # the impulse ended inside the overlap
+    assert 0.02 < np.mean(on_floor) < 0.9
+    assert np.any(on_floor & (g == 0.0))
+    assert np.any(on_floor & (g > 0.0))
+    assert np.any(on_floor & (d * v > 5.5))
+
+
+@pytest.mark.parametrize("seed", [3, 4])
+def test_end_state_and_margin_are_the_frozen_loop_bit_for_bit(seed, monkeypatch):
+    monkeypatch.setattr(stepping, "_BLOCK", 1500)
+    k, d, m, g, v, h, p, steps = _designs(6000, seed)
+    rng = np.random.default_rng(seed)
+    step = rng.integers(0, (1.5 * steps).astype(np.int64) + 3)
+    x, u, valid, flat = end_state(k, d, m, g, v, h, p, step)
+    x0, u0, valid0, flat0 = _old(end_state, k, d, m, g, v, h, p, step)
+    for name, a, b in (("x", x, x0), ("u", u, u0), ("valid", valid, valid0)):
+        _same(a, b, name)
+    for a, b in zip(flat, flat0, strict=True):
+        _same(a, b, "flat")
+    assert 0.2 < np.mean(valid0) < 0.9
+    margin, ends, valid = end_margin(k, d, m, g, v, h, p, step)
+    margin0, ends0 = margin_at(x0, u0, *flat0[:4], flat0[4], flat0[5])
+    for name, a, b in (("margin", margin, margin0), ("ends", ends, ends0), ("v", valid, valid0)):
+        _same(a, b, name)
+    # scalars broadcast, one phase: the same as elementwise
+    one = end_state(k[0], d[0], m[0], g[0], v[0], h[0], [0.0, 0.5], [3, 4])
+    _same(one[0], _old(end_state, k[0], d[0], m[0], g[0], v[0], h[0], [0.0, 0.5], [3, 4])[0], "x")
+
+
+# Frozen copy: the loops of contact_ends and end_state as they were (docstrings dropped),
+# run by their unchanged wrappers (_old).
+
+
+def ref_block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
+    with np.errstate(all="ignore"):  # the finished contacts step on until gathered
+        t0, x, u = _touch(v, g, h, phase)
+        consts = ref_constants(k, d, m, g, v, h)
+        coast = ref_ends_loop(np.arange(k.size), x, u, consts, (k, d, m, g, h, v, t0), out,
+                           stuck_peaks=stuck_peaks)  # fmt: skip
+        if coast is not None:
+            ref_coast(*coast, consts, out)
+
+
+def ref_margin_states(k, d, m, g, v, h, x, u, step, valid):
+    live = np.flatnonzero(step > 0)  # stepped; gathered when a quarter reached their step
+    with np.errstate(all="ignore"):  # (those that reached it step on until gathered)
+        consts = tuple(a[live] for a in ref_constants(k, d, m, g, v, h))
+        xl, ul, sl = x[live], u[live], step[live]
+        bad = np.zeros(live.size, bool)  # a state so far ended or turned back
+        arrivals = np.bincount(sl)  # how many reach their step at each count
+        done, count = 0, 0  # those reached among the gathered, and the count
+        while live.size:
+            ustar, new, free = ref_update(xl, ul, consts, contact=False)
+            impulse = ustar - new
+            impulse *= consts[1]
+            ended = np.where(free, 0.0, impulse) <= consts[8]
+            ended |= xl < 0.0
+            turned = ul < 0.0
+            turned &= new > 0.0
+            ended |= turned
+            bad |= ended
+            xl += consts[9] * new
+            ul = new
+            count += 1
+            if arrivals[count]:  # its state, and whether a state before it ended
+                reached = sl == count
+                i = live[reached]
+                x[i], u[i], valid[i] = xl[reached], ul[reached], ~bad[reached]
+                done += int(arrivals[count])
+                if 4 * done >= live.size:
+                    rest = sl > count
+                    live, xl, ul, sl, bad = live[rest], xl[rest], ul[rest], sl[rest], bad[rest]
+                    consts = tuple(a[rest] for a in consts)
+                    done = 0
+
+
+def ref_constants(k, d, m, g, v, h):
+    hk = h * k
+    return (
+        h * g,  # u* = u + h g
+        m,
+        hk,  # c = m u* - h k x
+        m + h * h * k,  # b = m + h^2 k + (h k d) x
+        hk * d,
+        4.0 * (h * h * k * d),  # disc = b^2 + (4 a) c
+        -h,  # limit = max(-x/h, -1/d), -x/h = x/(-h)
+        np.where(d > 0, -1.0 / d, -np.inf),
+        _ZERO * m * v,  # the impulse floor
+        h,
+    )
+
+
+def ref_update(x, u, consts, *, contact=True):
+    hg, m, hk, b0, hkd, a4, nh, nd = consts[:8]
+    ustar = u + hg
+    c = m * ustar
+    c -= hk * x
+    b = hkd * x
+    b += b0
+    disc = b * b
+    disc += a4 * c
+    np.maximum(disc, 0.0, out=disc)
+    np.sqrt(disc, out=disc)
+    disc += b
+    c *= 2.0
+    c /= disc  # the root
+    limit = x / nh
+    np.maximum(limit, nd, out=limit)
+    free = ustar <= limit
+    if contact:
+        free |= x < 0.0
+    return ustar, np.where(free, ustar, c), free
+
+
+def ref_ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
+    k, d, m, g, h, v, t0 = raw
+    settle = bool(np.any(g > 0))  # the settled, creep and rest rules (module docstring)
+    x_max, peak = np.zeros(live.size), np.zeros(live.size) if settle else None
+    going = np.ones(live.size, bool)  # not yet ended (the others are dropped in a while)
+    finished = 0  # of the gathered
+    coasting = []
+    count = 0
+    for count in range(MAX_STEPS):
+        if live.size == 0:
+            break
+        impulse, new, _ = ref_update(x, u, consts)
+        impulse -= new  # u* - new
+        impulse *= consts[1]
+        # going, and no impulse above the floor (or no contact): the end state
+        ends = np.greater(going, impulse > consts[8])
+        if ends.any():  # the end state: separation speed, and the time
+            i = live[ends]
+            out.restitution[i] = -u[ends] / v[i]
+            out.contact_time[i] = t0[i] + count * h[i]
+            out.max_penetration[i] = x_max[ends]
+            out.end_penetration[i] = x[ends]
+            stay = ends & (x >= 0.0)  # no impulse inside the overlap: it coasts on
+            if stay.any():
+                start = np.full(np.count_nonzero(stay), count + 1)
+                coasting.append((live[stay], x[stay] + consts[9][stay] * new[stay],
+                                 new[stay], start))  # fmt: skip
+            going &= ~ends
+            finished += int(np.count_nonzero(ends))
+        np.maximum(x_max, x, out=x_max)
+        if settle:
+            np.maximum(peak, impulse / consts[9], out=peak)
+        turned = u < 0.0
+        turned &= new > 0.0
+        turned &= going
+        if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:  # step_contact's checks
+            rows = (a[live] for a in (k, d, m, g, h, v))
+            stuck, x_max = _stuck_early(going, x, u, new, *rows, x_max, peak, stuck_peaks)
+            turned |= stuck
+        if turned.any():
+            i = live[turned]
+            out.sticks[i] = True
+            out.max_penetration[i] = x_max[turned]
+            going &= ~turned
+            finished += int(np.count_nonzero(turned))
+        x += consts[9] * new
+        u = new
+        if 4 * finished >= live.size:  # drop the finished ones
+            live, x, u, x_max = live[going], x[going], u[going], x_max[going]
+            consts = tuple(a[going] for a in consts)
+            peak = peak[going] if settle else None
+            going = np.ones(live.size, bool)
+            finished = 0
+    i = live[going]
+    out.sticks[i] = True
+    out.max_penetration[i] = x_max[going]
+    if not coasting:
+        return None
+    return tuple(np.concatenate(a) for a in zip(*coasting, strict=True))
+
+
+def ref_coast(live, x, u, start, consts, out):
+    consts = tuple(a[live] for a in consts)
+    for j in range(MAX_STEPS):
+        if live.size == 0:
+            break
+        ustar, new, _ = ref_update(x, u, consts)
+        impulse = ustar - new
+        impulse *= consts[1]
+        back = (x >= 0.0) & (impulse > consts[8])
+        out.sticks[live[back | (start + j >= MAX_STEPS)]] = True
+        keep = (x >= 0.0) & ~back & (start + j < MAX_STEPS)
+        x = x + consts[9] * new
+        live, x, u, start = live[keep], x[keep], new[keep], start[keep]
+        consts = tuple(a[keep] for a in consts)
