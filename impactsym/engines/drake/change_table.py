@@ -65,7 +65,7 @@ import numpy as np
 from numpy.polynomial import chebyshev
 
 from impactsym.contact.lawtable import chebyshev_points, chebyshev_transform
-from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
+from impactsym.engines.drake.jump_means import jump_means, jump_summary
 from impactsym.engines.drake.phases import GRID_PHASES, PhaseSummary
 from impactsym.engines.drake.stepping import end_state
 
@@ -146,14 +146,11 @@ def table_designs(
         asks = np.floor(q - 0.5)[None, :]
     keys = _keys(e, asks)
     windows = PHASES_PRESSED if g[0] > 0 else PHASES
-    tables = _built(keys, windows, design, (m[0], v[0], g[0]), h, by_overlap)
+    keys, tables = _built(keys, e, windows, design, (m[0], v[0], g[0]), h, by_overlap)
     s, w, change = (np.full(n, np.nan) for _ in range(3))
-    for (b, box, serves), table in zip(keys, tables, strict=True):
-        if table is None:
-            continue
-        (lo, hi), coef, overlaps = table
+    for (b, box, serves), ((lo, hi), coef, overlaps) in zip(keys, tables, strict=True):
         rows = np.flatnonzero(serves & np.isnan(s))
-        x = (2.0 * e[rows] - (box[0] + box[1])) / (box[1] - box[0])
+        x = _unit(e[rows], box)
         if by_overlap:  # the phase where the table's largest overlap is the target's
             y = _phase_of(overlaps, x, q[rows])
         else:
@@ -161,15 +158,15 @@ def table_designs(
         y = np.where((y >= -1.0) & (y < 1.0), y, np.nan)
         s[rows], w[rows] = _evaluate(coef, x, y)
         change[rows] = b + 0.5 + 0.5 * (lo + hi) + 0.5 * (hi - lo) * y  # in steps
-    plateau = np.zeros(n, bool)
     if by_overlap:  # the designs on a plateau between two tables
-        plateau = _plateau_starts(e, q, keys, tables, (m[0], v[0], g[0]), h, s, w, change)
+        _plateau_starts(e, q, keys, tables, (m[0], v[0], g[0]), h, s, w, change)
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
     k_t, d_t = m[live] * (w[live] / h) ** 2, s[live] / v[live]
-    rows = (a[live] for a in (m, g, v, e, q, change, plateau))
-    held = _confirmed(k_t, d_t, *rows, h, by_overlap)
+    rows = (a[live] for a in (m, g, v, e, q, change))
+    held, summary = _confirmed(k_t, d_t, *rows, h, by_overlap)
     live = live[held]
     ok[live], k[live], d[live] = True, k_t[held], d_t[held]
+    summaries[:, live] = summary[:, held]
     return ok, k, d, summaries
 
 
@@ -187,26 +184,23 @@ def _keys(e, asks):
     return keys
 
 
-def _confirmed(k, d, m, g, v, e, q, change, plateau, h, by_overlap):
-    """Where the designs ``(k, d)`` meet their targets ``(e, q)`` by one exact evaluation
-    of the change's equations at ``change`` (steps; module docstring) and the full
-    contact confirms the change at the phase grid (on a ``plateau``: that every phase
-    ends at the state ``change - 1/2``)."""
+def _confirmed(k, d, m, g, v, e, q, change, h, by_overlap):
+    """``(held, summary)``: where the designs ``(k, d)`` meet their targets ``(e, q)`` by
+    one exact evaluation of the change's equations at ``change`` (steps; module
+    docstring) that the full contact confirms, and their phase summaries
+    (:func:`~impactsym.engines.drake.jump_means.jump_summary`, ``(8, size)``)."""
     if k.size == 0:
-        return np.zeros(0, bool)
-    r = jump_means(k, d, m, g, v, h, change, nodes=NODES)
-    if by_overlap:  # the overlap, and the change where the table put it (on a plateau:
-        # outside the phase interval, every phase ending at the same state)
-        size = last_overlap(k, d, m, g, v, h) / (v * h)
-        hit = np.where(plateau, r.size <= change, np.abs(r.size - change) <= SETTLED)
-    else:
-        size, hit = r.size, True
-    hit &= (np.abs(r.restitution - e) <= TOLERANCE[0]) & (np.abs(size - q) <= TOLERANCE[1] * q)
-    held = np.zeros(k.size, bool)
-    rows = np.flatnonzero(hit)
-    held[rows] = jump_holds(*(a[rows] for a in (k, d, m, g, v)), h, change[rows],
-                            deepest_last=by_overlap)  # fmt: skip
-    return held
+        return np.zeros(0, bool), np.empty((len(fields(PhaseSummary)), 0))
+    r, held = jump_summary(k, d, m, g, v, h, change, deepest_last=by_overlap)
+    steps = r.contact_time / h
+    # by overlap: the overlap, and the change where the table put it (on a plateau, at
+    # phase 0: every phase ends at the state ``change - 1/2``)
+    size = r.max_penetration / (v * h) if by_overlap else steps
+    with np.errstate(invalid="ignore"):  # (nan where the structure does not hold)
+        held &= (np.abs(r.restitution - e) <= TOLERANCE[0]) & (np.abs(size - q) <= TOLERANCE[1] * q)
+        if by_overlap:
+            held &= np.abs(steps - change) <= SETTLED
+    return held, np.stack([getattr(r, f.name) for f in fields(r)])
 
 
 def _plateau_starts(e, q, keys, tables, member, h, s, w, change):
@@ -214,12 +208,11 @@ def _plateau_starts(e, q, keys, tables, member, h, s, w, change):
     without one whose overlap lies between two tables of neighbouring end states ``B``
     and ``B + 1`` over the whole phase interval: their designs lie on the plateau between
     (every phase ends at ``N = B + 1``), read off a table of its own
-    (:func:`_plateau_table`) where at least :data:`MIN_PLATEAU` targets lie on it.
-    Returns where a start is a plateau's."""
-    plateau = np.zeros(e.size, bool)
+    (:func:`_plateau_table`) where at least :data:`MIN_PLATEAU` targets lie on it: at
+    ``change = N + 1/2``, the phase 0 of ``N``'s change."""
     whole = {}  # end state: its tables over the whole phase interval
     for (b, box, _), table in zip(keys, tables, strict=True):
-        if table is not None and table[0] == (0.0, 1.0):
+        if table[0] == (0.0, 1.0):
             whole.setdefault(b, []).append((box, table))
     for b, lower in whole.items():
         for (box_l, (_, coef_l, over_l)), (box_u, (_, coef_u, over_u)) in product(
@@ -240,8 +233,7 @@ def _plateau_starts(e, q, keys, tables, member, h, s, w, change):
             x = _unit(e[rows], box)
             y = _phase_of(table[1], x, q[rows])
             s[rows], w[rows] = _evaluate(table[0], x, np.where(np.abs(y) <= 1.0, y, np.nan))
-            change[rows], plateau[rows] = b + 1.5, True  # every phase ends at b + 1
-    return plateau
+            change[rows] = b + 1.5  # every phase ends at b + 1
 
 
 def _plateau_table(state, box, ends, member, h):
@@ -265,7 +257,8 @@ def _plateau_table(state, box, ends, member, h):
         return None
     coef = _coefficients(np.stack([s, w]))
     overlaps = _overlaps(s, w, state - 1, member, h)
-    return None if coef is None or overlaps is None else (coef, overlaps)
+    refused = isinstance(coef, str) or isinstance(overlaps, str)
+    return None if refused else (coef, overlaps)
 
 
 def _plateau_damping(e, s, w, state, member, h):
@@ -305,18 +298,38 @@ def _unit(e, box):
     return (2.0 * e - (box[0] + box[1])) / (box[1] - box[0])
 
 
-def _built(keys, windows, design, member, h, by_overlap):
-    """Each key's table ``((lo, hi), coef, overlaps)`` (:func:`_tables`), over the first of
-    the phase ``windows`` where its tail holds (``None`` where none does)."""
-    out = [None] * len(keys)
-    for window in windows:
-        todo = [i for i, table in enumerate(out) if table is None]
-        if not todo:
-            break
-        built = _tables([keys[i] for i in todo], window, design, member, h, by_overlap)
-        for i, table in zip(todo, built, strict=True):
-            out[i] = None if table is None else (window, *table)
-    return out
+def _built(keys, e, windows, design, member, h, by_overlap):
+    """The tables of the ``keys`` (:func:`_keys`): ``(keys, tables)``, each table
+    ``((lo, hi), coef, overlaps)`` (:func:`_tables`) over the first phase ``window``
+    whose tail in the phase holds. A table refused otherwise (a node not designed, a
+    tail in the restitution, no narrower window left) is built again as the two halves
+    of its box that still serve :data:`MIN_TARGETS` (the one-change structure or the
+    caller's path can fail at one end of a box only: at ``B = 25`` the box 0.2-0.5 had a
+    tail of ``4e-5``, 0.25-0.5 one of ``4e-11``). Three rounds at most."""
+    pending, done = [(key, 0) for key in keys], []
+    for _ in range(3):
+        retry = []
+        for index in sorted({i for _, i in pending}):
+            batch = [key for key, i in pending if i == index]
+            built = _tables(batch, windows[index], design, member, h, by_overlap)
+            for key, table in zip(batch, built, strict=True):
+                if not isinstance(table, str):
+                    done.append((key, (windows[index], *table)))
+                elif table == "phase" and index + 1 < len(windows):
+                    retry.append((key, index + 1))
+                else:
+                    retry.extend((half, index) for half in _halves(key, e))
+        pending = retry
+    return [key for key, _ in done], [table for _, table in done]
+
+
+def _halves(key, e):
+    """The key's box cut in two halves, those that serve at least :data:`MIN_TARGETS` of
+    the targets' restitutions ``e``."""
+    b, (lo, hi), serves = key
+    halves = [(b, (x, y), serves & (e >= x) & (e <= y))
+              for x, y in ((lo, 0.5 * (lo + hi)), (0.5 * (lo + hi), hi))]  # fmt: skip
+    return [half for half in halves if np.count_nonzero(half[2]) >= MIN_TARGETS]
 
 
 def _tables(keys, phases, design, member, h, by_overlap):
@@ -324,8 +337,9 @@ def _tables(keys, phases, design, member, h, by_overlap):
     ``(coef, overlaps)``, the Chebyshev coefficients ``(2, NODES_E, NODES_PHASE)`` of
     ``(s, w)`` and, ``by_overlap``, those ``(J, NODES_E, NODES_PHASE)`` of the overlaps
     over ``v h`` of the states that can be deepest (:func:`_overlaps`; else ``None``),
-    from one call of ``design`` for every node; ``None`` where a node is not designed
-    or a tail is above :data:`TAIL`."""
+    from one call of ``design`` for every node; where refused, why: ``"nodes"`` (a node
+    not designed), ``"phase"`` or ``"restitution"`` (the direction of a tail above
+    :data:`TAIL`)."""
     lo, hi = phases
     x_e, x_p = chebyshev_points(NODES_E), chebyshev_points(NODES_PHASE)
     node_phase = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x_p
@@ -338,12 +352,14 @@ def _tables(keys, phases, design, member, h, by_overlap):
     out = []
     for i, (base, _, _) in enumerate(keys):
         if not (np.isfinite(s[i]).all() and np.isfinite(w[i]).all()):
-            out.append(None)
+            out.append("nodes")
             continue
         coef = _coefficients(np.stack([s[i], w[i]]))
-        overlaps = _overlaps(s[i], w[i], int(base), member, h) if by_overlap else None
-        smooth = coef is not None and (overlaps is not None or not by_overlap)
-        out.append((coef, overlaps) if smooth else None)
+        if by_overlap and not isinstance(coef, str):
+            overlaps = _overlaps(s[i], w[i], int(base), member, h)
+            out.append(overlaps if isinstance(overlaps, str) else (coef, overlaps))
+        else:
+            out.append(coef if isinstance(coef, str) else (coef, None))
     return out
 
 
@@ -369,12 +385,17 @@ def _overlaps(s, w, base, member, h):
 
 def _coefficients(values):
     """Chebyshev coefficients ``(fields, NODES_E, NODES_PHASE)`` of the node values, or
-    ``None`` where a field's tail is above :data:`TAIL`."""
+    where the last two degrees of a field in either direction sum above :data:`TAIL` of
+    its largest value, the direction of the larger such tail: ``"restitution"`` or
+    ``"phase"``."""
     m_e, m_p = chebyshev_transform(NODES_E), chebyshev_transform(NODES_PHASE)
     coef = np.einsum("ij,fjk,lk->fil", m_e, values, m_p)
-    a = np.abs(coef)
-    tail = a[:, -2:, :].sum(axis=(1, 2)) + a[:, :, -2:].sum(axis=(1, 2))
-    return coef if np.all(tail <= TAIL * np.abs(values).max(axis=(1, 2))) else None
+    top = np.abs(values).max(axis=(1, 2))
+    tail_e = (np.abs(coef[:, -2:, :]).sum(axis=(1, 2)) / top).max()
+    tail_phase = (np.abs(coef[:, :, -2:]).sum(axis=(1, 2)) / top).max()
+    if max(tail_e, tail_phase) <= TAIL:
+        return coef
+    return "phase" if tail_phase >= tail_e else "restitution"
 
 
 def _phase_of(coef, x, target):
