@@ -273,6 +273,7 @@ def test_a_table_refused_for_its_restitutions_is_built_again_in_halves(monkeypat
     rng = np.random.default_rng(46)
     e, q = rng.uniform(0.2, 0.5, 1000), 25.5 + rng.uniform(0.0, 1.0, 1000)
     monkeypatch.setattr(change_table, "MIN_TARGETS", 400)
+    monkeypatch.setattr(change_table, "RESTITUTIONS", (0.0, 1.0))  # (0.25 and up by default)
     boxes = []
 
     def design(e_n, q_n):

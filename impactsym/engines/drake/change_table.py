@@ -78,6 +78,7 @@ __all__ = [
     "NODES_PHASE",
     "PHASES",
     "PHASES_PRESSED",
+    "RESTITUTIONS",
     "SETTLED",
     "TAIL",
     "TOLERANCE",
@@ -91,6 +92,11 @@ NODES_E, NODES_PHASE = 16, 10
 WIDTH = 0.3
 #: Targets one table serves at least.
 MIN_TARGETS = 1024
+#: The restitutions tables serve: below, the one-change structure breaks (at ``B = 15``
+#: it held at 69 of 160 nodes of ``e`` 0.1-0.3); above, the caller's path leaves nodes
+#: undesigned; tables there were refused, their nodes designed for nothing (a call of
+#: 10^5 targets by overlap, ``e`` 0.1-0.9, took twice the CPU).
+RESTITUTIONS = (0.25, 0.75)
 #: End states ``B`` below this get no table (short contacts: fewer Gauss nodes do worse).
 MIN_STEPS = 10
 #: Gauss nodes per panel of the one exact evaluation: against 16, the mean restitution
@@ -172,11 +178,14 @@ def table_designs(
 
 def _keys(e, asks):
     """``(end state, restitution box, targets served)`` of each table: the end states
-    asked, each's targets' restitutions in boxes (:func:`_boxes`), where a box serves at
-    least :data:`MIN_TARGETS`."""
+    asked, each's targets' restitutions within :data:`RESTITUTIONS` in boxes
+    (:func:`_boxes`), where a box serves at least :data:`MIN_TARGETS`."""
     keys = []
+    inside = (e >= RESTITUTIONS[0]) & (e <= RESTITUTIONS[1])
     for b in np.unique(asks[np.isfinite(asks) & (asks >= MIN_STEPS)]):
-        asking = (asks == b).any(axis=0)
+        asking = (asks == b).any(axis=0) & inside
+        if not asking.any():
+            continue
         for box in _boxes(e[asking]):
             serves = asking & (e >= box[0]) & (e <= box[1])
             if np.count_nonzero(serves) >= MIN_TARGETS:
