@@ -200,7 +200,7 @@ def _confirmed(k, d, m, g, v, e, q, change, h, by_overlap):
     (:func:`~impactsym.engines.drake.jump_means.jump_summary`, ``(8, size)``)."""
     if k.size == 0:
         return np.zeros(0, bool), np.empty((len(fields(PhaseSummary)), 0))
-    r, held = jump_summary(k, d, m, g, v, h, change, deepest_last=by_overlap)
+    r, held = jump_summary(k, d, m, g, v, h, change, deepest_last=by_overlap, nodes=NODES)
     steps = r.contact_time / h
     # by overlap: the overlap, and the change where the table put it (on a plateau, at
     # phase 0: every phase ends at the state ``change - 1/2``)

@@ -293,6 +293,7 @@ def jump_summary(
     q: np.ndarray,
     *,
     deepest_last: bool = False,
+    nodes: int = _NODES,
 ) -> tuple[PhaseSummary, np.ndarray]:
     """The whole phase summary of the contacts ``(k, d, m, g, v)`` at step ``h`` whose end
     state changes once where the size in steps ``q`` puts it, from one evaluation of the
@@ -311,9 +312,9 @@ def jump_summary(
     dipping towards zero between the samples of either piece
     (:func:`~impactsym.engines.drake.phases.hidden_changes`); ``phi_j`` in ``[0, 1)``;
     ``deepest_last``: and no grid phase overlapping deeper than the last
-    (:func:`last_overlap`)."""
+    (:func:`last_overlap`). ``nodes``: Gauss nodes per panel (as :func:`jump_means`)."""
     n = k.size
-    ev = _evaluate(k, d, m, g, v, h, q, _NODES)
+    ev = _evaluate(k, d, m, g, v, h, q, nodes)
     means = _means(ev)
     # the change's estimate; at phi* = 0 one below it means every phase ends at B
     change = np.where((ev.phi == 0.0) & (ev.offset < 0.0), 0.0, ev.phi + ev.offset)
@@ -346,7 +347,7 @@ def _hidden(ev, r, sides):
     1)`` (state ``B`` there, its nodes, the grid's last phase), one panel or two halves
     (their nodes at fixed positions along the piece either way). ``sides``: the
     restitution and end penetration of states ``B + 1`` and ``B`` at the change."""
-    nodes = _NODES
+    nodes = ev.e.shape[1] // 3  # per panel
     x01, _ = gauss_legendre(nodes)
     ends = np.array([-1.0]), np.array([1.0])
     positions = {nodes: np.concatenate([ends[0], x01, ends[1]]),
@@ -376,8 +377,9 @@ def _hidden(ev, r, sides):
 def _restitution_range(k, d, m, g, v, h, ev, r, grid, held, sides, change):
     """The least and largest restitution over every sample of the held contacts (the
     nodes, both sides at the ``change``, the grid) and inside the pieces where a
-    sample between two of the same piece is extreme
-    (:func:`~impactsym.engines.drake.phases.interior_extreme`)."""
+    sample between two of the same piece is extreme, or one at an end of a piece (of
+    the phase interval, or a side of the change) is and the samples next to it say the
+    extreme lies just inside (:func:`~impactsym.engines.drake.phases.interior_extreme`)."""
     n = ev.phi.size
     # (an empty first piece, at phi* = 0, has no samples: its places take the other's)
     before, after = np.where(ev.phi > 0.0, sides[0][0], sides[0][1]), sides[0][1]
@@ -396,10 +398,21 @@ def _restitution_range(k, d, m, g, v, h, ev, r, grid, held, sides, change):
     for sign in (-1.0, 1.0):
         j = np.argmax(sign * e, axis=1)
         at_side = np.take_along_axis(side, j[:, None], axis=1)[:, 0]
-        i = np.flatnonzero(held & (at_side == 1) & (j > 0) & (j < e.shape[1] - 1))
+        # (at the interval's ends interior_extreme searches where the samples say the
+        # extreme lies just inside: 5e-7 short with 5 nodes per panel before)
+        i = np.flatnonzero(held & (at_side == 1))
         inner = np.full(n, np.nan)
         if i.size:
             inner[i] = interior_extreme(run, i, p[i], e[i], sign)
+        # at a side of the change: that piece's last (or first) three samples, the
+        # extreme may lie just inside it (4.8e-7 short before, under gravity)
+        for at, window in ((0, np.arange(-2, 1)), (2, np.arange(3))):
+            i = np.flatnonzero(held & (at_side == at) & (j + window[0] >= 0)
+                               & (j + window[-1] < e.shape[1]))  # fmt: skip
+            if i.size:
+                cols = j[i, None] + window
+                three = (np.take_along_axis(a[i], cols, axis=1) for a in (p, e))
+                inner[i] = interior_extreme(run, i, *three, sign)
         reduce = np.fmin if sign < 0 else np.fmax
         bounds.append(reduce(np.max(sign * e, axis=1) * sign, inner))
     return bounds

@@ -536,7 +536,9 @@ def interior_extreme(
     e: np.ndarray, sign: float,
 ) -> np.ndarray:  # fmt: skip
     """Largest (``sign = 1``) or smallest (``-1``) restitution inside each piece where an
-    interior node holds the extreme sample; ``nan`` elsewhere. Two zoom rounds (sample
+    interior node holds the extreme sample, or an end does and the quadratic through it
+    and its next two samples peaks between it and the next; ``nan`` elsewhere. Two zoom
+    rounds (sample
     ``_ZOOM`` phases, 9 for large batches, between the extreme's neighbours; keep the
     best and its neighbours: the bracket 16 times narrower at least), then two steps of
     successive parabolic interpolation: the restitution is smooth there, so the vertex
@@ -547,12 +549,22 @@ def interior_extreme(
     the extreme. ``pts``, ``e``: each piece's samples in phase order (rows) and their
     restitution; ``own``: the element of each piece; ``run(i, p)``: the contacts (a
     record with ``restitution``) of elements ``i`` at phases ``p``."""
-    j = np.argmax(sign * e, axis=1)
-    inner = np.flatnonzero((j > 0) & (j < pts.shape[1] - 1))
+    f, last = sign * e, pts.shape[1] - 1
+    j = np.argmax(f, axis=1)
+    # an end that holds the extreme sample, with the quadratic through it and the next
+    # two samples peaking beyond it between it and the next: the extreme lies there
+    # (sampled at the end, it was up to 5e-7 short with 5 nodes per panel)
+    x_0, f_0 = vertex_point(pts[:, :3], f[:, :3])
+    x_1, f_1 = vertex_point(pts[:, -3:], f[:, -3:])
+    with np.errstate(invalid="ignore"):
+        start = (j == 0) & (x_0 > pts[:, 0]) & (x_0 < pts[:, 1]) & (f_0 > f[:, 0])
+        end = (j == last) & (x_1 > pts[:, -2]) & (x_1 < pts[:, -1]) & (f_1 > f[:, -1])
+    inner = np.flatnonzero((j > 0) & (j < last) | start | end)
     out = np.full(e.shape[0], np.nan)
     if inner.size == 0:
         return out
-    a, c = pts[inner, j[inner] - 1], pts[inner, j[inner] + 1]
+    lo = np.clip(np.where(start, 0, np.where(end, last - 1, j - 1)), 0, last)[inner]
+    a, c = pts[inner, lo], pts[inner, np.where((start | end)[inner], lo + 1, lo + 2)]
     points = _ZOOM if inner.size * _ZOOM <= _BATCH else 9
     owner = np.repeat(own[inner], points)
     best = sign * e[inner, j[inner]]
