@@ -1,58 +1,59 @@
-r"""Many discrete designs by contact time, read off tables of exact designs: one table
-per end state, then one exact evaluation per design (:func:`table_designs`).
+r"""Many discrete designs read off tables of exact designs, one per end state (and one
+per plateau between two), each confirmed by one exact evaluation that also gives its
+phase summary (:func:`table_designs`).
 
 A target contact time of ``q`` steps fixes the end state :math:`B = \lfloor q - 1/2
 \rfloor` before which, and the phase :math:`\varphi^* = q - 1/2 - B` at which, the end
 state changes (:mod:`~impactsym.engines.drake.jump_means`). For one ``B`` (and one
 ``g / v``) the design, in the damping number :math:`s = d v` and the step
-:math:`w = h \sqrt{k/m}`, is then a smooth function of :math:`(e, \varphi^*)`: the
-change's equations have no plateau and no kink there. Across ``B`` it is not (a plateau
-of the contact time lies between the designs at :math:`\varphi^* \to 1` and at the next
-``B``'s :math:`\varphi^* \to 0`), so each ``B`` gets its own table.
+:math:`w = h \sqrt{k/m}`, is then a smooth function of :math:`(e, \varphi^*)` where
+that one change is the structure: the change's equations have no plateau and no kink
+there. Across ``B`` it is not (a plateau of the contact time lies between the designs at
+:math:`\varphi^* \to 1` and at the next ``B``'s :math:`\varphi^* \to 0`), so each ``B``
+gets its own tables.
 
-* **The table** of a ``B``: the exact designs (``design``, the caller's own path) at
-  :data:`NODES_E` by :data:`NODES_PHASE` Chebyshev points of the first kind, over a box
-  of the restitutions of that ``B``'s targets (at most :data:`WIDTH` wide; wider
-  ranges get several) and a window of the phases: the first of :data:`PHASES` (under
-  gravity :data:`PHASES_PRESSED`) whose table's last degrees are below :data:`TAIL`
-  (near the ends of the phase interval a second change can appear, and the designs
-  there lie on another branch). Measured (20 x 12 nodes, ``e`` 0.3-0.6, contacts of
-  22-35 steps, gravity 0 and 9.81): the interpolated ``(s, w)`` are within ``2e-14``
-  (median) and ``5e-13`` (largest) of exact designs at random targets, which is the
-  exact designs' own spread: they meet their tolerances, not a point. With 16 x 10
-  nodes one evaluation confirms 99.3 % of the benchmark's targets without gravity, 14
-  x 8 almost none.
-* **By largest overlap** the target does not say its end state: the caller's coarse
-  table of phase means tells each its contact time about, and it asks the tables of
-  that end state and its two neighbours. A table also holds the overlap (over ``v h``)
-  at the last grid phase of each state that is deepest at some node, and one more on
-  either side: each is smooth in the design, their largest, the largest overlap
+* **A table**: the exact designs (``design``, the caller's own path) at :data:`NODES_E`
+  by :data:`NODES_PHASE` Chebyshev points of the first kind, over a box of the
+  restitutions of that ``B``'s targets within :data:`RESTITUTIONS` (at most
+  :data:`WIDTH` wide; wider ranges get several) and a window of the phases, the first
+  of :data:`PHASES` (under gravity :data:`PHASES_PRESSED`). A table whose last degrees
+  exceed :data:`TAIL` is refused: for a tail in the phase (near the ends of the phase
+  interval a second change can appear, on another branch) it is built again over the
+  next window; otherwise (a node not designed, a tail in the restitution: below about
+  0.25 the one-change structure breaks) as the two halves of its box (:func:`_built`).
+  Measured (20 x 12 nodes, ``e`` 0.3-0.6, contacts of 22-35 steps, gravity 0 and 9.81):
+  the interpolated ``(s, w)`` lie within ``2e-14`` (median) and ``5e-13`` (largest) of
+  exact designs at random targets, which is the exact designs' own spread: they meet
+  tolerances, not a point. With 16 x 10 nodes one evaluation confirms 99.3 % of the
+  benchmark's targets by contact time without gravity, with 14 x 8 almost none.
+* **By largest overlap** the target does not name its end state: the caller's coarse
+  table of phase means tells each its contact time to a step or so, and it asks the
+  tables of that end state and both neighbours. A table also holds the overlap (over
+  ``v h``) at the last grid phase of each state that is deepest at some node, and one
+  more on either side: each is smooth in the design, their largest, the largest overlap
   (:func:`~impactsym.engines.drake.jump_means.last_overlap`), is not (which state is
   deepest changes; one table of the largest was ``2e-5`` off). The target's phase is
-  where their largest meets its overlap (safeguarded Newton steps in the phase), and
-  the table's design there is evaluated exactly: the change's equations, the overlap
-  (one run), the change's estimate within :data:`SETTLED` of the phase, and the full
-  contact overlapping no deeper at any grid phase than at the last. A target whose
-  overlap lies between the tables of ``B`` (at phase 1) and ``B + 1`` (at phase 0) has
-  its design on the plateau between, where every phase ends at ``N = B + 1``: where at
-  least :data:`MIN_PLATEAU` do, the plateau gets a table of its own, in the restitution
-  and the step's share of the way from one edge to the other (the edges' designs off
-  the two tables), each node's damping the secant root of that one state's mean
-  restitution; a design off it is confirmed as the others, the change's estimate
-  outside the phase interval instead of at the phase. (The phase solve stopped after
-  12 safeguarded steps before, and returned the bracket's midpoint at an exact root:
-  its overlaps were up to ``1e-7`` off and a few percent of these designs missed.)
-* **One exact evaluation** of the change's equations
-  (:func:`~impactsym.engines.drake.jump_means.jump_means`, the full rule) at the table's
-  design: it is done where the restitution is within :data:`TOLERANCE` of the target
-  and the size within its relative tolerance, and the full contact confirms the change
-  at the phase grid (:func:`~impactsym.engines.drake.jump_means.jump_holds`). The others
-  are left to the caller (its tables and steps).
+  where their largest meets its overlap (:func:`_phase_of`). A target whose overlap lies
+  between the tables of ``B`` (at phase 1) and ``B + 1`` (at phase 0) has its design on
+  the plateau between, where every phase ends at ``N = B + 1``: where at least
+  :data:`MIN_PLATEAU` do, the plateau gets a table of its own over the restitution and
+  the step's share of the way from one edge to the other (the edges' designs off the
+  two tables), each node's damping the secant root of that one state's mean
+  (:func:`_plateau_table`). Without gravity only: under it no window reaches the ends
+  of the phase interval.
+* **One exact evaluation** per design read off:
+  :func:`~impactsym.engines.drake.jump_means.jump_summary` at the table's design, with
+  :data:`NODES` Gauss nodes per panel (the change's equations, the phase grid's full
+  contacts, every node's end state, the margins between samples). The design is done
+  where that summary holds, its restitution is within :data:`TOLERANCE` of the target
+  and its size within its relative tolerance (by overlap: its largest overlap, and the
+  change's estimate within :data:`SETTLED` of where the table put it); the summary is
+  then the design's prediction. The others are left to the caller.
 
-A box gets a table where it serves at least :data:`MIN_TARGETS` targets: a table costs
-``NODES_E * NODES_PHASE`` designs by the caller's path, a design read off it one
-evaluation instead of about four and the steps'. All quantities SI, flat arrays.
-Internal to :mod:`impactsym.engines.drake`.
+A box gets a table where it serves at least :data:`MIN_TARGETS` targets of contacts of
+:data:`MIN_STEPS` steps or more: a table costs ``NODES_E * NODES_PHASE`` designs by the
+caller's path, a design read off it one evaluation instead of about four and a phase
+summary. All quantities SI, flat arrays. Internal to :mod:`impactsym.engines.drake`.
 """
 
 from __future__ import annotations

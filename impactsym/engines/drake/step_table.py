@@ -11,9 +11,10 @@ size ``Q`` (the phase-mean contact time in steps, :math:`t_c / h`, or the larges
 overlap over the phases in units of :math:`v h`), and a target ``(e, q)`` asks for
 :math:`E(s, w) = e`, :math:`Q(s, w) = q`, then :math:`k = m (w / h)^2`, :math:`d = s / v`.
 
-By contact time, the targets that share an end state with many others are first read
-off that end state's table of exact designs, in the restitution and the phase of the
-change, where the designs are smooth, and confirmed by one exact evaluation each
+The targets that share an end state with many others are first read off that end
+state's table of exact designs (in the restitution and the phase of the change, where
+the designs are smooth; by largest overlap, the end state each asks comes from the
+coarse table below), each confirmed by one exact evaluation that gives its phase summary
 (:mod:`~impactsym.engines.drake.change_table`); the rest of this docstring is the path
 of the others, and of the tables' own nodes.
 
