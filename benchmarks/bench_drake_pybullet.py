@@ -150,13 +150,23 @@ comes free). A table per step ratio (the targets share speed and mass), inverted
 the evaluations to one or two per design; below 2 s needs more: designs read from a
 table whose error is bounded without a per-design evaluation, or a compiled step loop.
 
+* Drake lagged 1e-3, designs read off tables of exact designs, one per end state (and
+  per plateau between two), each confirmed by one exact evaluation that is also its
+  prediction (``drake.change_table``, ``jump_means.jump_summary``), on step loops about
+  20 % cheaper per update (bit-identical). CPU seconds per 10^5 (``_cases(100000)``,
+  load ~2), before -> after: 10.0 -> 2.06 and 12.8 -> 3.64 (g = 0, contact_time and
+  max_penetration), 10.9 -> 2.26 and 13.2 -> 3.92 (g = 9.81). Read off the tables:
+  99.3 % and 96 % of the contact-time targets, 97.5 % and 96 % of the overlap ones
+  (their contacts last 36-60 steps, the others 20-40).
+
 Where it stands (CPU seconds per 10^5, ``_cases(100000)``, one warm-up call of 10
-targets, then the call timed by ``time.process_time``; this machine's run-to-run noise
-is up to 40 %, so each case was run 2-4 times, old and new code alike; the last row of
-figures one run at load 1.4): PyBullet 1.63 (g = 0, contact_time array), 0.68 (g = 0,
-default), 1.33 and 1.42 (under gravity); Drake continuous 0.1-0.9; Drake lagged 1e-3
-8.8, 11.7 (g = 0, contact_time and max_penetration), 9.7, 12.0 (g = 9.81): 4.4-6 x the
-target, of which 2.6-3.6 s is the exact prediction the designs return.
+targets, then the call timed by ``time.process_time``, load ~2; this machine's
+run-to-run noise is up to 40 %): PyBullet 1.76 (g = 0, contact_time array), 0.71 (g = 0,
+default), 1.42 and 1.60 (under gravity); Drake continuous 0.1-0.56; Drake lagged 1e-3
+2.06, 3.64 (g = 0, contact_time and max_penetration), 2.26, 3.92 (g = 9.81): 1.0-2 x the
+target. Each design's one exact evaluation is most of it (by overlap, of contacts of
+36-60 steps); below 2 s there would need fewer updates per design than that evaluation
+has, i.e. a compiled step loop.
 """
 
 from __future__ import annotations

@@ -97,7 +97,7 @@ def test_designs_by_contact_time_from_the_change_or_the_searched_means(jump, mon
 
     monkeypatch.setattr(step_table, "jump_holds", holds)
     one = np.ones(n)
-    ok, k, d = stepped_designs(e, one, 0.1 * one, 0 * one, t, H, "lagged", "contact_time")
+    ok, k, d, _ = stepped_designs(e, one, 0.1 * one, 0 * one, t, H, "lagged", "contact_time")
     assert calls[0] > 0.9 * n  # the change's equations met nearly every target
     assert ok.mean() > 0.9
     _meet_targets(k[ok], d[ok], e[ok], "contact_time", t[ok])
@@ -117,7 +117,7 @@ def test_the_change_s_jacobian_lets_a_design_converge_in_few_evaluations(monkeyp
 
     monkeypatch.setattr(step_table, "jump_means", spy)
     one = np.ones(n)
-    ok, _, _ = stepped_designs(e, one, 0.1 * one, 0 * one, t, H, "lagged", "contact_time")
+    ok, _, _, _ = stepped_designs(e, one, 0.1 * one, 0 * one, t, H, "lagged", "contact_time")
     assert ok.mean() > 0.95
     assert sizes["full"] < 5.0 * n
     assert sizes["cheap"] <= 3 * n  # one start and two differences each
@@ -167,7 +167,7 @@ def test_designs_by_largest_overlap_on_a_plateau_of_the_contact_time(monkeypatch
 
     monkeypatch.setattr(step_table, "jump_holds", holds)
     one = np.ones(pick.size)
-    ok, k_d, d_d = stepped_designs(e, one, 0.1 * one, 0 * one, x, H, "lagged", "max_penetration")
+    ok, k_d, d_d, _ = stepped_designs(e, one, 0.1 * one, 0 * one, x, H, "lagged", "max_penetration")
     change, held = calls[0]
     assert np.count_nonzero(held & (change == np.rint(change - 0.5) + 0.5)) > 20  # plateaus
     assert ok.mean() > 0.95
@@ -181,9 +181,10 @@ def test_a_table_design_that_misses_is_designed_again(monkeypatch):
     e, t = rng.uniform(0.3, 0.6, MIN_TARGETS), rng.uniform(2e-2, 4e-2, MIN_TARGETS)
 
     def off(*args):
-        ok, k, d = stepped_designs(*args)
+        ok, k, d, summaries = stepped_designs(*args)
         k[:3] *= 1.001
-        return ok, k, d
+        summaries[:, :3] = np.nan  # (they were the designs' before)
+        return ok, k, d, summaries
 
     monkeypatch.setattr(design, "stepped_designs", off)
     c = drake.point_contact_for(restitution=e, contact_time=t, speed=1.0, mass=0.1,

@@ -184,11 +184,11 @@ def test_a_margin_that_dips_to_zero_between_samples_flags_its_piece():
     assert np.all(x_end > 0)
     e = np.full_like(x_end, 0.5)  # ended by position: F3 = x - 0.5 < 0, smooth
     one = np.ones(3)
-    flags = phases._hidden_changes(e, x_end, 0.0 * one, 0.0 * one, one, one)
+    flags = phases.hidden_changes(e, x_end, 0.0 * one, 0.0 * one, one, one)
     np.testing.assert_array_equal(flags, [True, False, False])
     # a sticking piece (no end penetration) is left to the nodes' end states
     x_end[3, 0] = np.nan
-    assert not phases._hidden_changes(e, x_end, 0.0 * one, 0.0 * one, one, one)[0]
+    assert not phases.hidden_changes(e, x_end, 0.0 * one, 0.0 * one, one, one)[0]
 
 
 def test_changes_a_four_hundredth_of_a_phase_apart_are_found():
@@ -216,14 +216,14 @@ def test_interior_extremes_reach_the_dense_ones(monkeypatch):
     k, d, m, g, v, h = _designs(160)
     g = np.full_like(g, 9.81)  # interior minima come with gravity
     seen = []
-    search = phases._interior_extreme
+    search = phases.interior_extreme
 
     def spy(run, own, pts, e, sign):
         out = search(run, own, pts, e, sign)
         seen.append(np.count_nonzero(np.isfinite(out)))
         return out
 
-    monkeypatch.setattr(phases, "_interior_extreme", spy)
+    monkeypatch.setattr(phases, "interior_extreme", spy)
     summary = phases.phase_summary(k, d, 0.0, m, g, v, h, approximation="lagged")
     assert sum(seen) >= 10  # the case: pieces whose least restitution is interior
     n = 2**14

@@ -142,7 +142,7 @@ def test_targets_next_to_a_plateaus_edge_are_solved_along_the_contour():
     e = rng.uniform(0.3, 0.6, n)
     q = rng.integers(20, 40, n) + 0.5 + rng.choice([-1, 1], n) * rng.uniform(1e-4, 3e-3, n)
     one = np.ones(n)
-    ok, k, d = stepped_designs(e, one, 0.1 * one, 0 * one, q * H, H, "lagged", "contact_time")
+    ok, k, d, _ = stepped_designs(e, one, 0.1 * one, 0 * one, q * H, H, "lagged", "contact_time")
     assert ok.mean() > 0.9
     p = drake.predict(stiffness=k[ok], dissipation=d[ok], mass=0.1, speed=1.0, time_step=H)
     np.testing.assert_allclose(p.restitution, e[ok], rtol=1e-11)

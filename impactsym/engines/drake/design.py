@@ -28,20 +28,21 @@ in the damping and pressing numbers instead
 (:mod:`~impactsym.engines.drake.pressed_table`: the same numbers to about ``1e-14``,
 without an exact evaluation per design). A call with at least
 :data:`~impactsym.engines.drake.step_table.MIN_TARGETS` discrete ``"tamsi"``,
-``"similar"`` or ``"lagged"`` targets starts those sharing ``g / v`` from a table of
-the phase means and finishes them on the equations of the end state's change
-(:mod:`~impactsym.engines.drake.jump_means`, about 4.3 evaluations of 27 state runs per
-design), the few others by Broyden steps on the exact phase means
-(:mod:`~impactsym.engines.drake.step_table`). The targets a table does not serve, and
-every smaller call, take the iteration above (at a step from the continuous damped
-design). Every discrete design is predicted: a table's design that misses its target is
-designed again by the iteration, and one that still misses is refused (a safety net:
-with the phase summary's two changes inside one grid interval found, no target is known
-to reach it). Its
-stopping rules act on its whole batch: where it refuses the targets a table left, they
-are iterated in halves, down to the target refused alone, which the refusal names with
-its reason (the call is not iterated again as a whole: that cost as much as designing it
-without a table, after the table, and could name another target).
+``"similar"`` or ``"lagged"`` targets sharing ``g / v`` reads those that share an end
+state with many others off that end state's table of exact designs, one exact
+evaluation each, which also gives their phase summary
+(:mod:`~impactsym.engines.drake.change_table`), starts the others from a table of the
+phase means and finishes them on the equations of the end state's change
+(:mod:`~impactsym.engines.drake.jump_means`) or by Broyden steps on the exact phase
+means (:mod:`~impactsym.engines.drake.step_table`). The targets the tables do not
+serve, and every smaller call, take the iteration above (at a step from the continuous
+damped design). Every discrete design is predicted: a table's design that misses its
+target is designed again by the iteration, and one that still misses is refused (a
+safety net: no target is known to reach it). Its stopping rules act on its whole batch:
+where it refuses the targets a table left, they are iterated in halves, down to the
+target refused alone, which the refusal names with its reason (the call is not
+iterated again as a whole: that cost as much as designing it without a table, after
+the table, and could name another target).
 """
 
 from __future__ import annotations
@@ -62,6 +63,7 @@ from impactsym.engines.drake.prediction import (
     check_time_step,
     predict,
     read_prediction,
+    summary_prediction,
 )
 from impactsym.engines.drake.pressed_table import MIN_TARGETS, pressed_designs
 from impactsym.engines.drake.step_table import MIN_TARGETS as STEPPED_MIN
@@ -182,7 +184,7 @@ def point_contact_for(
             f"contact_time {float(target[bad])!r} is out of reach at time_step {h!r}: a contact "
             f"lasts at least two steps; use time_step <= {target[bad] / 20.0:.3g}"
         )
-    read, values_read = np.zeros(e.size, bool), None
+    read, values_read, summaries = np.zeros(e.size, bool), None, None
     if approx is None and np.count_nonzero(g > 0) >= MIN_TARGETS:
         # many continuous targets under gravity: their designs read off one table
         pressed = np.flatnonzero(g > 0)
@@ -194,7 +196,7 @@ def point_contact_for(
         values_read = [a[ok] for a in values_read]
     elif approx not in (None, "sap") and e.size >= STEPPED_MIN:
         # many discrete targets: started from a table of the phase means, a few exact steps
-        ok, k_read, d_read = stepped_designs(e, v, m, g, target, h, approx, size_name)
+        ok, k_read, d_read, summaries = stepped_designs(e, v, m, g, target, h, approx, size_name)
         read, k_read, d_read = ok, k_read[ok], d_read[ok]
     if not read.any():
         k, damp = _iterate(e, v, m, g, target, h, approx, size_name)
@@ -212,9 +214,10 @@ def point_contact_for(
     sap = approx == "sap"
     if values_read is not None and read.any():  # the table's values, the exact elsewhere
         p = read_prediction(shape, read, values_read, k, damp, m, v, g)
-    else:  # the full prediction (with the ranges) once, in the shape of the input
-        p = _predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),
-                     h, approx)  # fmt: skip
+    else:  # the full prediction (with the ranges) once, with the summaries tables gave
+        p = (_predict(*(a.item() if scalar else a.reshape(shape) for a in (k, damp, m, v, g)),
+                      h, approx) if summaries is None else
+             summary_prediction(summaries, k, damp, m, v, g, h, approx, shape, scalar))  # fmt: skip
         missed = _missed(p, e, target, size_name) if h > 0 else np.zeros(e.size, bool)
         if (again := missed & read).any():  # a table's design stands where it holds
             rows = (a[again] for a in (e, v, m, g, target))

@@ -39,7 +39,7 @@ contacts of 2-10 steps were off in 5 of 4000 (``d v = 0``) to 5 % (``d v`` 8-10)
 up to 4e-2 steps in the mean contact time and 2.5e-3 in the restitution. Each piece is
 therefore checked: its node samples' end states, and the end state's margins and the
 state before's, closed-form in the end state (its penetration and speed, which the
-runs record) and smooth along the piece (:func:`_hidden_changes`); a flagged element
+runs record) and smooth along the piece (:func:`hidden_changes`); a flagged element
 is summed again on a grid four times finer, down to :data:`_FINEST` intervals (as
 :mod:`impactsym.engines.mujoco.discrete` does). Against a midpoint mean over 2^14
 phases with its own error bound (two reviews, ~40000 contacts, ``d v`` 0-10, both
@@ -64,6 +64,7 @@ All designs and pieces are evaluated together on whole arrays.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -85,15 +86,26 @@ from impactsym.engines.phase_pieces import (
 )
 from impactsym.records import ArrayRecord
 
-__all__ = ["GRID_PHASES", "PhaseSummary", "phase_summary"]
+__all__ = [
+    "GRID_PHASES",
+    "PhaseSummary",
+    "hidden_changes",
+    "interior_extreme",
+    "phase_summary",
+]
 
 _GRID = 8
 
 
-def _hidden_changes(e, x_end, d, g, v, h):
+def hidden_changes(
+    e: np.ndarray, x_end: np.ndarray, d: np.ndarray, g: np.ndarray, v: np.ndarray,
+    h: np.ndarray, *, positions: np.ndarray | None = None,
+) -> np.ndarray:  # fmt: skip
     """Pieces (columns of the samples' restitution ``e`` and end penetration ``x_end``,
-    ``samples x pieces``: the piece start, its Gauss nodes, its end; parameters per
-    piece) whose end state may change between samples.
+    ``samples x pieces``, the samples in phase order at the relative ``positions`` shared
+    by every piece, by default the summary's: the piece start, its :data:`_NODES` Gauss
+    nodes, its end, on ``[-1, 1]``; parameters per piece) whose end state may change
+    between samples.
 
     The end state ``B`` of a piece ends where its update is free, ``F3 = x/h + u*`` or
     ``F4 = u* + 1/d`` at most zero (``u* = u + h g``, ``u = -e v``), or its impulse is
@@ -112,6 +124,8 @@ def _hidden_changes(e, x_end, d, g, v, h):
     first (``F2`` and ``F4`` fall as ``e`` rises), the fits only on the pieces they
     leave.
     """
+    if positions is None:
+        positions = np.concatenate([[-1.0], gauss_legendre(_NODES)[0], [1.0]])
     with np.errstate(divide="ignore", invalid="ignore"):
         inv_d = np.where(d > 0, 1.0 / d, np.inf)
         f3 = x_end / h + (h * g - v * e)
@@ -137,7 +151,7 @@ def _hidden_changes(e, x_end, d, g, v, h):
             down = (high < 0) & (low < reach * high)
         for i, sign in ((np.flatnonzero(up), 1.0), (np.flatnonzero(down), -1.0)):
             if i.size:
-                flag[i] |= _toward_zero(sign * f(i))
+                flag[i] |= _toward_zero(sign * f(i), positions)
     # F3 rising through zero and F4 falling through it between two samples (or the
     # reverse): linearly, a gap between their zeros where both are positive
     lo3, hi3, lo4, hi4 = functions[2][1], functions[2][2], functions[3][1], functions[3][2]
@@ -153,15 +167,14 @@ def _hidden_changes(e, x_end, d, g, v, h):
     return flag & np.isfinite(functions[0][1])
 
 
-def _toward_zero(a):
-    """Columns of ``a`` (positive samples at the pieces' relative positions: start,
-    :data:`_NODES` Gauss nodes, end) whose quadratic through a least sample and the two
-    next to it (the first or last three where the least is an end) has its vertex
-    between them and below :data:`_NEAR` of the least sample. That quadratic falls
-    below the least of its three samples by at most a quarter of their spread, so only
-    columns whose spread exceeds ``4 _NEAR`` times their least can be flagged."""
-    x, _ = gauss_legendre(_NODES)
-    low = least_vertex(a.T, np.concatenate([[-1.0], x, [1.0]]))  # nan where outside
+def _toward_zero(a, positions):
+    """Columns of ``a`` (positive samples at the pieces' relative ``positions``) whose
+    quadratic through a least sample and the two next to it (the first or last three
+    where the least is an end) has its vertex between them and below :data:`_NEAR` of
+    the least sample. That quadratic falls below the least of its three samples by at
+    most a quarter of their spread, so only columns whose spread exceeds ``4 _NEAR``
+    times their least can be flagged."""
+    low = least_vertex(a.T, positions)  # nan where outside
     with np.errstate(invalid="ignore"):
         return low < _NEAR * a.min(axis=0)
 
@@ -242,7 +255,7 @@ def _summary(flat, approximation, bounds, stuck_peaks, intervals):
     of the end state (the grid sees neither, or the search finds one of them): a piece
     whose samples do not all share one end state shows it (the only sign where the
     contact ends on the impulse floor), or one whose end-state margins come near zero
-    between its samples (:func:`_hidden_changes`), and its element is done again on a
+    between its samples (:func:`hidden_changes`), and its element is done again on a
     grid four times finer, up to :data:`_FINEST` intervals (changes closer than that
     are integrated as one piece: off by at most their distance times the jump), as
     :mod:`impactsym.engines.mujoco.discrete` does."""
@@ -331,8 +344,8 @@ def _summary(flat, approximation, bounds, stuck_peaks, intervals):
     )  # fmt: skip
     e_lo, e_hi = e.min(axis=1), e.max(axis=1)
     if bounds:
-        e_lo = np.fmin(e_lo, _interior_extreme(run, own, pts, e, -1.0))
-        e_hi = np.fmax(e_hi, _interior_extreme(run, own, pts, e, 1.0))
+        e_lo = np.fmin(e_lo, interior_extreme(run, own, pts, e, -1.0))
+        e_hi = np.fmax(e_hi, interior_extreme(run, own, pts, e, 1.0))
     pen = res.max_penetration.reshape(pts.shape).max(axis=1)
     # the bounds over every sample: the pieces' and the grid's (the odd grid phases lie
     # inside the quarters)
@@ -354,7 +367,7 @@ def _summary(flat, approximation, bounds, stuck_peaks, intervals):
     mixed[own[(keys != keys[:, :1]).any(axis=1)]] = True
     x_end = np.ascontiguousarray(res.end_penetration.reshape(pts.shape).T)
     d_p, g_p, v_p, h_p = (flat[i][own] for i in (1, 4, 5, 6))
-    mixed[own[_hidden_changes(np.ascontiguousarray(e.T), x_end, d_p, g_p, v_p, h_p)]] = True
+    mixed[own[hidden_changes(np.ascontiguousarray(e.T), x_end, d_p, g_p, v_p, h_p)]] = True
     redo = np.flatnonzero(mixed)
     if redo.size and intervals < _FINEST:
         sub = [a[redo] for a in flat]
@@ -518,9 +531,14 @@ def _roots(flat, run, key, ii, a, c, left, right):
     return found, a, c, at_found
 
 
-def _interior_extreme(run, own, pts, e, sign):
+def interior_extreme(
+    run: Callable[[np.ndarray, np.ndarray], Any], own: np.ndarray, pts: np.ndarray,
+    e: np.ndarray, sign: float,
+) -> np.ndarray:  # fmt: skip
     """Largest (``sign = 1``) or smallest (``-1``) restitution inside each piece where an
-    interior node holds the extreme sample; ``nan`` elsewhere. Two zoom rounds (sample
+    interior node holds the extreme sample, or an end does and the quadratic through it
+    and its next two samples peaks between it and the next; ``nan`` elsewhere. Two zoom
+    rounds (sample
     ``_ZOOM`` phases, 9 for large batches, between the extreme's neighbours; keep the
     best and its neighbours: the bracket 16 times narrower at least), then two steps of
     successive parabolic interpolation: the restitution is smooth there, so the vertex
@@ -528,13 +546,25 @@ def _interior_extreme(run, own, pts, e, sign):
     the cube of the bracket, and its value by twice that order (the former 15 zoom
     rounds, to 1e-9 of a piece, gave the same bounds to 1e-15 in 2*10^4 random contacts,
     at 135 runs per piece instead of 22). The result is a sampled value: never beyond
-    the extreme."""
-    j = np.argmax(sign * e, axis=1)
-    inner = np.flatnonzero((j > 0) & (j < pts.shape[1] - 1))
+    the extreme. ``pts``, ``e``: each piece's samples in phase order (rows) and their
+    restitution; ``own``: the element of each piece; ``run(i, p)``: the contacts (a
+    record with ``restitution``) of elements ``i`` at phases ``p``."""
+    f, last = sign * e, pts.shape[1] - 1
+    j = np.argmax(f, axis=1)
+    # an end that holds the extreme sample, with the quadratic through it and the next
+    # two samples peaking beyond it between it and the next: the extreme lies there
+    # (sampled at the end, it was up to 5e-7 short with 5 nodes per panel)
+    x_0, f_0 = vertex_point(pts[:, :3], f[:, :3])
+    x_1, f_1 = vertex_point(pts[:, -3:], f[:, -3:])
+    with np.errstate(invalid="ignore"):
+        start = (j == 0) & (x_0 > pts[:, 0]) & (x_0 < pts[:, 1]) & (f_0 > f[:, 0])
+        end = (j == last) & (x_1 > pts[:, -2]) & (x_1 < pts[:, -1]) & (f_1 > f[:, -1])
+    inner = np.flatnonzero((j > 0) & (j < last) | start | end)
     out = np.full(e.shape[0], np.nan)
     if inner.size == 0:
         return out
-    a, c = pts[inner, j[inner] - 1], pts[inner, j[inner] + 1]
+    lo = np.clip(np.where(start, 0, np.where(end, last - 1, j - 1)), 0, last)[inner]
+    a, c = pts[inner, lo], pts[inner, np.where((start | end)[inner], lo + 1, lo + 2)]
     points = _ZOOM if inner.size * _ZOOM <= _BATCH else 9
     owner = np.repeat(own[inner], points)
     best = sign * e[inner, j[inner]]

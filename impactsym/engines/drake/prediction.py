@@ -20,6 +20,7 @@ geometries in series, :func:`~impactsym.engines.drake.pair.combine`), ``d`` the 
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
@@ -27,7 +28,7 @@ import numpy as np
 
 from impactsym.contact.nonlinear import impact
 from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
-from impactsym.engines.drake.phases import phase_summary
+from impactsym.engines.drake.phases import PhaseSummary, phase_summary
 from impactsym.engines.drake.stepping import step_contact
 from impactsym.engines.drake.update import APPROXIMATIONS, DEFAULT_RELAXATION_TIME
 from impactsym.records import ArrayRecord
@@ -39,6 +40,7 @@ __all__ = [
     "check_approximation",
     "predict",
     "read_prediction",
+    "summary_prediction",
 ]
 
 #: Drake 1.51's ``MultibodyPlantConfig.discrete_contact_approximation`` default.
@@ -201,15 +203,53 @@ def predict(
         fields = (r.restitution, r.contact_time, r.sticks, r.max_penetration, r.restitution,
                   r.restitution, r.contact_time, r.contact_time, r.sticks)  # fmt: skip
     else:
-        r = phase_summary(k, d, tau, m, g, v, h, approximation=approx)
-        fields = (r.restitution, r.contact_time, r.stick_fraction > 0, r.max_penetration,
-                  r.restitution_min, r.restitution_max, r.contact_time_min,
-                  r.contact_time_max, r.stick_fraction)  # fmt: skip
+        fields = _summary_fields(phase_summary(k, d, tau, m, g, v, h, approximation=approx))
+    return _prediction(fields, h, approx, None if phase is None else out(flat["phase"]), out,
+                       flag)  # fmt: skip
+
+
+def summary_prediction(
+    summaries: np.ndarray, k: np.ndarray, d: np.ndarray, m: np.ndarray, v: np.ndarray,
+    g: np.ndarray, h: float, approx: str, shape: tuple[int, ...], scalar: bool,
+) -> Prediction:  # fmt: skip
+    """The phase-mean prediction at a step of the designs ``(k, d)`` (flat, with
+    ``m, v, g``; ``"tamsi"``/``"similar"``/``"lagged"``): ``summaries`` (the fields of
+    :class:`~impactsym.engines.drake.phases.PhaseSummary` stacked, ``(8, size)``) where
+    their restitution is finite, :func:`~impactsym.engines.drake.phases.phase_summary`
+    elsewhere; in ``shape`` (floats where ``scalar``)."""
+    fields = summaries.copy()
+    rest = np.flatnonzero(~np.isfinite(fields[0]))
+    if rest.size:
+        r = phase_summary(*(a[rest] for a in (k, d)), 0.0, *(a[rest] for a in (m, g, v)), h,
+                          approximation=approx)  # fmt: skip
+        fields[:, rest] = np.stack([getattr(r, f.name) for f in dataclasses.fields(r)])
+
+    def out(a):
+        return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
+
+    def flag(a):
+        a = np.asarray(a, bool).reshape(shape)
+        return bool(a) if scalar else a
+
+    return _prediction(_summary_fields(PhaseSummary(*fields)), h, approx, None, out, flag)
+
+
+def _summary_fields(r):
+    """The prediction's fields (in :func:`_prediction`'s order) of a phase summary."""
+    return (r.restitution, r.contact_time, r.stick_fraction > 0, r.max_penetration,
+            r.restitution_min, r.restitution_max, r.contact_time_min, r.contact_time_max,
+            r.stick_fraction)  # fmt: skip
+
+
+def _prediction(fields, h, approx, phase, out, flag):
+    """The :class:`Prediction` of ``fields`` (restitution, contact time, sticks, overlap,
+    the restitution's and the contact time's bounds, stick fraction), shaped by ``out``
+    and ``flag``."""
     e, t_c, stuck, pen, e_lo, e_hi, t_lo, t_hi, frac = fields
     return Prediction(
         time_step=h,
         approximation=approx,
-        phase=None if phase is None else out(flat["phase"]),
+        phase=phase,
         restitution=out(e),
         contact_time=out(t_c),
         sticks=flag(stuck),

@@ -11,6 +11,13 @@ size ``Q`` (the phase-mean contact time in steps, :math:`t_c / h`, or the larges
 overlap over the phases in units of :math:`v h`), and a target ``(e, q)`` asks for
 :math:`E(s, w) = e`, :math:`Q(s, w) = q`, then :math:`k = m (w / h)^2`, :math:`d = s / v`.
 
+The targets that share an end state with many others are first read off that end
+state's table of exact designs (in the restitution and the phase of the change, where
+the designs are smooth; by largest overlap, the end state each asks comes from the
+coarse table below), each confirmed by one exact evaluation that gives its phase summary
+(:mod:`~impactsym.engines.drake.change_table`); the rest of this docstring is the path
+of the others, and of the tables' own nodes.
+
 These functions are continuous but only piecewise smooth: the mean has a kink wherever
 an end step enters or leaves the phase interval (about every step of contact time), and
 the contact time rests on plateaus where every phase lasts the same number of steps. So
@@ -90,12 +97,15 @@ targets over 8-100 steps took 136 s of table, now 2 s).
 
 from __future__ import annotations
 
+from dataclasses import fields
+
 import numpy as np
 
 from impactsym.contact.lawclosed import hunt_crossley_parameter
+from impactsym.engines.drake.change_table import table_designs
 from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
-from impactsym.engines.drake.phases import phase_summary
+from impactsym.engines.drake.phases import PhaseSummary, phase_summary
 
 __all__ = [
     "COARSE",
@@ -138,30 +148,71 @@ _DIFF, _CHEAP = 1e-6, {"nodes": 1}  # the differences of the change's Jacobian, 
 def stepped_designs(
     e: np.ndarray, v: np.ndarray, m: np.ndarray, g: np.ndarray, target: np.ndarray,
     h: float, approx: str, size_name: str,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
-    """``(ok, k, d)`` of the discrete designs (flat arrays; module docstring), ``ok``
-    marking the targets designed here.
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """``(ok, k, d, summaries)`` of the discrete designs (flat arrays; module docstring),
+    ``ok`` marking the targets designed here, ``summaries`` the fields of their
+    :class:`~impactsym.engines.drake.phases.PhaseSummary` (``(8, size)``) where the
+    design came with it (read off a table of
+    :mod:`~impactsym.engines.drake.change_table`), ``nan`` elsewhere.
 
     >>> e, t = np.linspace(0.35, 0.55, 256), np.linspace(0.022, 0.038, 256)
     >>> one = np.ones(256)
-    >>> ok, k, d = stepped_designs(e, one, 0.1 * one, 0 * one, t, 1e-3, "lagged",
-    ...                            "contact_time")
+    >>> ok, k, d, _ = stepped_designs(e, one, 0.1 * one, 0 * one, t, 1e-3, "lagged",
+    ...                               "contact_time")
     >>> bool(ok.mean() > 0.9)
     True
     """
     n = e.size
     ok, k, d = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
+    summaries = np.full((len(fields(PhaseSummary)), n), np.nan)
     ratio = g / v
     q = target / (h if size_name == "contact_time" else v * h)  # the size in steps
     _, inverse, counts = np.unique(ratio, return_inverse=True, return_counts=True)
     for label, count in enumerate(counts):
         if count < MIN_TARGETS:
             continue
-        for rows in _chunks(np.flatnonzero(inverse == label), q):
-            done, k_r, d_r = _group(*(a[rows] for a in (e, v, m, g, target)), h, approx,
-                                    size_name)  # fmt: skip
-            ok[rows], k[rows], d[rows] = done, k_r, d_r
+        rows = np.flatnonzero(inverse == label)
+        # first off the tables of the end states
+        group = [a[rows] for a in (e, v, m, g)]
+        steps = None if size_name == "contact_time" else _likely_steps(*group, q[rows], h, approx)
+        done, k_r, d_r, summaries[:, rows] = table_designs(
+            *group, q[rows], h, _node_designs(v[rows[0]], m[rows[0]], g[rows[0]], h, approx),
+            steps=steps,
+        )  # fmt: skip
+        ok[rows], k[rows], d[rows] = done, k_r, d_r
+        rows = rows[~done]
+        if rows.size < MIN_TARGETS:  # a few left: the caller's iteration
+            continue
+        done, k_r, d_r = _chunked(*(a[rows] for a in (e, v, m, g, target, q)), h, approx,
+                                  size_name)  # fmt: skip
+        ok[rows], k[rows], d[rows] = done, k_r, d_r
+    return ok, k, d, summaries
+
+
+def _chunked(e, v, m, g, target, q, h, approx, size_name):
+    """``(ok, k, d)`` of targets sharing ``g / v`` by :func:`_group`, in the chunks of
+    :func:`_chunks` (``q``: the sizes in steps)."""
+    ok, k, d = np.zeros(e.size, bool), np.full(e.size, np.nan), np.full(e.size, np.nan)
+    for rows in _chunks(np.arange(e.size), q):
+        done, k_r, d_r = _group(*(a[rows] for a in (e, v, m, g, target)), h, approx,
+                                size_name)  # fmt: skip
+        ok[rows], k[rows], d[rows] = done, k_r, d_r
     return ok, k, d
+
+
+def _node_designs(v, m, g, h, approx):
+    """``design(e, q)``: the exact designs ``(s, w)`` by contact time of the targets
+    ``(e, q)`` (``q`` in steps) for one mass, speed and gravity, by :func:`_group`
+    (``nan`` where it leaves them), for the tables of
+    :func:`~impactsym.engines.drake.change_table.table_designs`."""
+
+    def design(e, q):
+        one = np.ones(e.size)
+        ok, k, d = _chunked(e, v * one, m * one, g * one, q * h, q, h, approx,
+                            "contact_time")  # fmt: skip
+        return np.where(ok, d * v, np.nan), np.where(ok, h * np.sqrt(k / m), np.nan)
+
+    return design
 
 
 def _chunks(rows, q):
@@ -187,24 +238,10 @@ def _group(e, v, m, g, target, h, approx, size_name):
     ok, k_out, d_out = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
     unit = np.full(n, h) if size_name == "contact_time" else v * h  # Q = size / unit
     q = target / unit
-    # the continuous designs without gravity, and a wide box around them
-    s0 = hunt_crossley_parameter(e)
-    _, tau0, z0 = hunt_crossley_free(np.minimum(s0, S_MAX))
-    w0 = (tau0 if size_name == "contact_time" else z0) / q
-    box = ((s0.min() / WIDE, s0.max() * WIDE), (w0.min() / WIDE, w0.max() * WIDE))
-    # one member's mass, speed and gravity: the means depend on (s, w, g/v) alone
     mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
-
-    def mean(s, w):
-        return mean_rows(s, w, np.zeros(s.size, int), steps=True)
-
+    box = _wide_box(e, q, size_name, g[0] / v[0] * h)
     for nodes in (COARSE, (NODES_S, NODES_W)):
-        s_nodes, w_nodes = (
-            np.linspace(*side, count) for side, count in zip(box, nodes, strict=True)
-        )
-        S, W = np.meshgrid(s_nodes, w_nodes, indexing="ij")
-        E, Q, T = (a.reshape(S.shape) for a in mean(S.ravel(), W.ravel()))
-        s, w, jac = _start(s_nodes, w_nodes, E, Q, e, q)
+        s_nodes, w_nodes, T, s, w, jac = _table(mean_rows, box, nodes, e, q)
         found = np.isfinite(s)
         if not found.any():
             return ok, k_out, d_out
@@ -237,6 +274,47 @@ def _group(e, v, m, g, target, h, approx, size_name):
     k_out[done] = m[done] * (w[done] / h) ** 2
     d_out[done] = s[done] / v[done]
     return ok, k_out, d_out
+
+
+def _wide_box(e, q, size_name, pressing):
+    """The box ``((s_lo, s_hi), (w_lo, w_hi))`` of the first table: the continuous designs
+    without gravity of the targets ``(e, q)``, :data:`WIDE` times either way, and under
+    gravity (``pressing = g h / v``) wider toward less damping and more stiffness by the
+    largest pressing number ``g T / v``, ``T = h / w`` (the designs lie there: at
+    ``e = 0.45``, 22 steps, ``g = 9.81``, ``s = 1.03`` against ``1.73`` without gravity,
+    where no box had a start)."""
+    s0 = hunt_crossley_parameter(e)
+    _, tau0, z0 = hunt_crossley_free(np.minimum(s0, S_MAX))
+    w0 = (tau0 if size_name == "contact_time" else z0) / q
+    s_lo, s_hi, w_lo, w_hi = s0.min() / WIDE, s0.max() * WIDE, w0.min() / WIDE, w0.max() * WIDE
+    wider = 1.0 + pressing / w_lo
+    return (s_lo / wider, s_hi), (w_lo, w_hi * wider)
+
+
+def _table(mean_rows, box, nodes, e, q):
+    """A table of the phase means on ``nodes`` equally spaced nodes of ``box``, and the
+    starts it gives the targets ``(e, q)``: ``(s_nodes, w_nodes, T, s, w, jac)`` with
+    ``T`` the table's contact times in steps (``nan`` starts where it does not hold
+    the target; :func:`_start`). The means of one member's mass, speed and gravity:
+    they depend on ``(s, w, g / v)`` alone."""
+    s_nodes, w_nodes = (np.linspace(*side, count) for side, count in zip(box, nodes, strict=True))
+    S, W = np.meshgrid(s_nodes, w_nodes, indexing="ij")
+    E, Q, T = (
+        a.reshape(S.shape)
+        for a in mean_rows(S.ravel(), W.ravel(), np.zeros(S.size, int), steps=True)
+    )
+    s, w, jac = _start(s_nodes, w_nodes, E, Q, e, q)
+    return s_nodes, w_nodes, T, s, w, jac
+
+
+def _likely_steps(e, v, m, g, q, h, approx):
+    """The contact times in steps of the designs by largest overlap ``q`` (over ``v h``)
+    of the targets, about (a step or so): read off the coarse table at its starts
+    (``nan`` where it has none)."""
+    mean_rows = _means_rows(m, v, g, h, approx, "max_penetration", v * h)
+    box = _wide_box(e, q, "max_penetration", g[0] / v[0] * h)
+    s_nodes, w_nodes, T, s, w, _ = _table(mean_rows, box, COARSE, e, q)
+    return _table_at(s_nodes, w_nodes, T, s, w)
 
 
 def _widened(x, cell):

@@ -420,7 +420,7 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid):
         bad = np.zeros(live.size, bool)  # a state so far ended or turned back
         arrivals = np.bincount(step.take(live))  # how many reach their step at each count
         for count in range(1, arrivals.size):
-            impulse, new, _ = _update(xl, ul, consts, contact=False)
+            impulse, new = _update(xl, ul, consts, contact=False)
             impulse -= new  # u* - new
             impulse *= consts[1]
             bad |= impulse <= consts[8]  # an end state: no impulse, no contact, turned
@@ -469,10 +469,9 @@ class ContactEnds(NamedTuple):
 
 
 def _update(x, u, consts, *, contact=True):
-    """``(u*, new, free)`` of
-    :func:`~impactsym.engines.drake.update.hunt_crossley_velocity`, the same operations
-    (into fewer arrays); ``contact``: ``new = u*`` where the contact ``x >= 0`` is gone
-    too (``free``)."""
+    """``(u*, new)`` of :func:`~impactsym.engines.drake.update.hunt_crossley_velocity`,
+    the same operations (into fewer arrays): ``new = u*`` where the update is free, and
+    with ``contact`` where the contact ``x >= 0`` is gone too."""
     hg, m, hk, b0, hkd, a4, nh, nd, _, zero = consts
     ustar = u + hg
     c = m * ustar
@@ -488,13 +487,13 @@ def _update(x, u, consts, *, contact=True):
     disc += b
     c *= 2.0
     c /= disc  # the root
-    np.divide(x, nh, out=limit)
+    np.divide(x, nh, out=limit)  # (the buffer of a4 c above, reused)
     np.maximum(limit, nd, out=limit)
     free = ustar <= limit
     if contact:
         free |= x < 0.0
     np.copyto(c, ustar, where=free)
-    return ustar, c, free
+    return ustar, c
 
 
 def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
@@ -512,7 +511,7 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
     for count in range(MAX_STEPS):
         if live.size == 0:
             break
-        impulse, new, _ = _update(x, u, consts)
+        impulse, new = _update(x, u, consts)
         impulse -= new  # u* - new
         impulse *= consts[1]
         # going, and no impulse above the floor (or no contact): the end state
@@ -574,7 +573,7 @@ def _coast(live, x, u, start, consts, out):
     for j in range(MAX_STEPS):
         if live.size == 0:
             break
-        impulse, new, _ = _update(x, u, consts)
+        impulse, new = _update(x, u, consts)
         impulse -= new  # u* - new
         impulse *= consts[1]
         inside = x >= 0.0

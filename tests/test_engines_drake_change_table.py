@@ -1,0 +1,291 @@
+"""Discrete Drake designs read off tables of exact designs (one per end state, and per
+plateau between two), each confirmed by one exact evaluation that also gives its phase
+summary.
+
+Checked by what did not make them, on the tables' own output (not through
+``point_contact_for``, whose safety net would design a miss again): a fresh exact
+``predict`` at each design (the phase summary's root search and its own Gauss pieces,
+not the change's equations), and the designs of the same targets with the tables turned
+off (the per-call table of phase means and Broyden's steps).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from impactsym.engines import drake
+from impactsym.engines.drake import change_table, step_table
+from impactsym.engines.drake.change_table import (
+    MIN_STEPS,
+    MIN_TARGETS,
+    NODES,
+    NODES_E,
+    NODES_PHASE,
+    PHASES,
+    PHASES_PRESSED,
+    table_designs,
+)
+from impactsym.engines.drake.jump_means import jump_holds, jump_means
+from impactsym.engines.drake.prediction import summary_prediction
+from impactsym.engines.drake.step_table import stepped_designs
+
+H, V, M = 1e-3, 1.0, 0.1
+
+
+def _targets(base, n, rng, phases=(0.0, 1.0)):
+    """``n`` targets of one end state ``base``: e 0.3..0.6, the change anywhere in
+    ``phases``."""
+    e = rng.uniform(0.3, 0.6, n)
+    q = base + 0.5 + rng.uniform(*phases, n)
+    return e, q
+
+
+def _read_off(e, size, gravity, size_name):
+    """Where ``stepped_designs`` read the targets off a table (they came with a summary),
+    the prediction they came with, and a fresh ``predict`` of those designs."""
+    one = np.ones(e.size)
+    ok, k, d, summaries = stepped_designs(e, V * one, M * one, gravity * one, size, H,
+                                          "lagged", size_name)  # fmt: skip
+    read = np.isfinite(summaries[0])
+    assert ok[read].all()
+    k, d = k[read], d[read]
+    fresh = drake.predict(stiffness=k, dissipation=d, mass=M, speed=V, gravity=gravity,
+                          time_step=H)  # fmt: skip
+    rest = [a[read] for a in (M * one, V * one, gravity * one)]
+    mine = summary_prediction(summaries[:, read], k, d, *rest, H, "lagged", (k.size,), False)
+    return read, mine, fresh
+
+
+def _same_prediction(mine, fresh):
+    """The prediction a table's design came with (its one evaluation) is the searched
+    phase summary's: the means to rounding, the restitution's range to its sampling,
+    the rest alike."""
+    np.testing.assert_allclose(mine.restitution, fresh.restitution, rtol=0, atol=2e-13)
+    np.testing.assert_allclose(mine.contact_time, fresh.contact_time, rtol=1e-12)
+    np.testing.assert_allclose(mine.contact_time_range, fresh.contact_time_range, rtol=1e-12)
+    np.testing.assert_array_equal(mine.max_penetration, fresh.max_penetration)
+    np.testing.assert_array_equal(mine.sticks, fresh.sticks)
+    np.testing.assert_array_equal(mine.stick_fraction, fresh.stick_fraction)
+    # (both sampled bounds, searched where their samples show an extreme inside a
+    # piece or just inside its ends: each was up to 5e-7 short before)
+    np.testing.assert_allclose(mine.restitution_range, fresh.restitution_range, rtol=0,
+                               atol=1e-13)  # fmt: skip
+
+
+def _spy(monkeypatch):
+    """Records ``(targets, designed here)`` of every call of ``table_designs``."""
+    seen = []
+
+    def spy(e, *args, **options):
+        out = table_designs(e, *args, **options)
+        seen.append((e.size, int(out[0].sum())))
+        return out
+
+    monkeypatch.setattr(step_table, "table_designs", spy)
+    return seen
+
+
+@pytest.mark.parametrize(("gravity", "base"), [(0.0, 29), (9.81, 22)])
+def test_designs_off_the_tables_meet_their_targets_by_a_fresh_prediction(gravity, base):
+    rng = np.random.default_rng(37)
+    e, q = _targets(base, MIN_TARGETS + 64, rng, PHASES_PRESSED[0] if gravity else PHASES[0])
+    read, mine, fresh = _read_off(e, q * H, gravity, "contact_time")
+    assert read.all()  # every target read off its table
+    assert np.abs(fresh.restitution - e).max() <= 1.05e-12  # the designs' tolerance
+    assert np.abs(fresh.contact_time / (q * H) - 1.0).max() <= 1.05e-10
+    assert not np.any(fresh.sticks)
+    _same_prediction(mine, fresh)
+
+
+@pytest.mark.parametrize(("gravity", "depth"), [(0.0, 9.9e-3), (9.81, 6e-3), (9.81, 8e-3)])
+def test_designs_by_largest_overlap_off_the_tables_meet_their_targets(gravity, depth, monkeypatch):
+    """The overlap is the deepest state's; which state that is changes over a table, so
+    each state's overlap has its own table and a target's phase is where their largest
+    meets it. (Under gravity the coarse table that tells each target its likely end state
+    reached none of these before its box was widened by the pressing number.)"""
+    rng = np.random.default_rng(42)
+    e, x = rng.uniform(0.45, 0.47, 1200), rng.uniform(depth, 1.01 * depth, 1200)
+    monkeypatch.setattr(change_table, "MIN_TARGETS", 100)  # (these span a few end states)
+    read, mine, fresh = _read_off(e, x, gravity, "max_penetration")
+    assert read.mean() > 0.8
+    assert np.abs(fresh.restitution - e[read]).max() <= 1.05e-12  # the designs' tolerance
+    assert np.abs(fresh.max_penetration / x[read] - 1.0).max() <= 1.05e-10
+    assert not np.any(fresh.sticks)
+    _same_prediction(mine, fresh)
+
+
+def test_designs_by_largest_overlap_on_a_plateau_are_read_off_its_own_table(monkeypatch):
+    """Between the tables of two neighbouring end states lie the designs where every phase
+    ends alike (their mean contact time rests at ``(N + 1/2) h``): a table of their own
+    serves them."""
+    rng = np.random.default_rng(45)
+    e, x = rng.uniform(0.3, 0.35, 3000), rng.uniform(9e-3, 1e-2, 3000)  # (plateaus wider)
+    monkeypatch.setattr(change_table, "MIN_TARGETS", 300)
+    monkeypatch.setattr(change_table, "MIN_PLATEAU", 10**9)  # without the plateaus' tables
+    without, _, _ = _read_off(e, x, 0.0, "max_penetration")
+    monkeypatch.setattr(change_table, "MIN_PLATEAU", 32)
+    read, mine, fresh = _read_off(e, x, 0.0, "max_penetration")
+    assert np.abs(fresh.restitution - e[read]).max() <= 1.05e-12
+    assert np.abs(fresh.max_penetration / x[read] - 1.0).max() <= 1.05e-10
+    _same_prediction(mine, fresh)
+    steps = fresh.contact_time / H - 0.5
+    on_plateau = np.abs(steps - np.round(steps)) < 1e-9
+    assert on_plateau.sum() > 0.03 * e.size
+    assert not np.any(without[read][on_plateau])  # (the change's tables never give them)
+
+
+def test_a_slightly_wrong_table_designs_nothing():
+    """Where the table is off by 1e-10 (the exact designs' damping so biased), the one
+    exact evaluation refuses every target instead of passing the table's design on."""
+    rng = np.random.default_rng(47)
+    e, q = _targets(24, MIN_TARGETS, rng)
+    one = np.ones(e.size)
+
+    def design(e_n, q_n):
+        c = drake.point_contact_for(restitution=e_n, contact_time=q_n * H, speed=V, mass=M,
+                                    time_step=H)  # fmt: skip
+        s = c.hunt_crossley_dissipation * V
+        return (1.0 + 1e-10) * s, H * np.sqrt(c.point_contact_stiffness / M)
+
+    ok, _, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    assert not ok.any()
+
+
+def test_designs_off_the_tables_are_those_without_them(monkeypatch):
+    rng = np.random.default_rng(38)
+    e, q = _targets(25, MIN_TARGETS, rng)
+    c = drake.point_contact_for(restitution=e, contact_time=q * H, speed=V, mass=M,
+                                time_step=H)  # fmt: skip
+    seen = _spy(monkeypatch)
+    monkeypatch.setattr(change_table, "MIN_TARGETS", 10**9)  # no table: Broyden's steps
+    x = drake.point_contact_for(restitution=e, contact_time=q * H, speed=V, mass=M,
+                                time_step=H)  # fmt: skip
+    assert seen == [(e.size, 0)]
+    # two designs that each meet the tolerances (1e-12 in e) are as close as those allow
+    np.testing.assert_allclose(c.hunt_crossley_dissipation, x.hunt_crossley_dissipation,
+                               rtol=2e-11)  # fmt: skip
+    np.testing.assert_allclose(c.point_contact_stiffness, x.point_contact_stiffness, rtol=2e-10)
+
+
+def test_an_end_state_with_too_few_targets_gets_no_table(monkeypatch):
+    rng = np.random.default_rng(39)
+    e1, q1 = _targets(24, MIN_TARGETS, rng)
+    e2, q2 = _targets(33, MIN_TARGETS - 1, rng)
+    e, q = np.concatenate([e1, e2]), np.concatenate([q1, q2])
+    one = np.ones(e.size)
+
+    def design(e_n, q_n):  # a stand-in for the caller's path: the nodes' exact designs
+        # (by the nested iteration, to its tolerance of 1e-12: a table a little coarser)
+        c = drake.point_contact_for(restitution=e_n, contact_time=q_n * H, speed=V, mass=M,
+                                    time_step=H)  # fmt: skip
+        s = c.hunt_crossley_dissipation * V
+        return s, H * np.sqrt(c.point_contact_stiffness / M)
+
+    ok, k, d, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    assert ok[: e1.size].mean() > 0.9
+    assert not ok[e1.size :].any()
+    assert np.isnan(k[e1.size :]).all()
+    assert np.isnan(d[e1.size :]).all()
+
+
+def test_a_table_with_a_node_left_undesigned_designs_nothing():
+    rng = np.random.default_rng(40)
+    e, q = _targets(24, MIN_TARGETS, rng)
+    one = np.ones(e.size)
+    asked = []
+
+    def design(e_n, q_n):  # as if the caller's path left one node to its iteration
+        asked.append(e_n.size)
+        s, w = 1.0 + 0 * e_n, 0.1 + 0 * e_n
+        s[7] = np.nan
+        return s, w
+
+    ok, k, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    assert asked == [NODES_E * NODES_PHASE]  # (no window of phases helps it; its halves
+    # would serve too few targets to be tried)
+    assert not ok.any()
+    assert np.isnan(k).all()
+
+
+def test_a_wrong_table_designs_nothing():
+    """Where the table is off (here: every node the same design), the one exact
+    evaluation refuses each target instead of passing the table's value on."""
+    rng = np.random.default_rng(41)
+    e, q = _targets(24, MIN_TARGETS, rng)
+    one = np.ones(e.size)
+
+    def design(e_n, q_n):
+        return 1.0 + 0 * e_n, 0.13 + 0 * e_n
+
+    ok, _, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    assert not ok.any()
+
+
+def test_a_table_across_a_second_change_is_refused_for_a_narrower_window(monkeypatch):
+    """Under gravity, near the ends of the phase interval, the larger restitutions' designs
+    change a second time: a table over those phases has a tail of ~1e-6 and is built
+    again over the next window of phases."""
+    rng = np.random.default_rng(43)
+    e, q = _targets(22, MIN_TARGETS, rng)
+    e = 0.5 + 0.1 * (e - 0.3) / 0.3  # 0.5..0.6
+    monkeypatch.setattr(change_table, "PHASES_PRESSED", ((0.005, 0.995), (0.05, 0.95)))
+    one = np.ones(e.size)
+    asked = []
+
+    def design(e_n, q_n):
+        asked.append(q_n - 22.5)
+        c = drake.point_contact_for(restitution=e_n, contact_time=q_n * H, speed=V, mass=M,
+                                    gravity=9.81, time_step=H)  # fmt: skip
+        return c.hunt_crossley_dissipation * V, H * np.sqrt(c.point_contact_stiffness / M)
+
+    ok, _, _, _ = table_designs(e, V * one, M * one, 9.81 * one, q, H, design)
+    assert len(asked) == 2  # the wide window's table refused
+    assert asked[1].min() > 0.05
+    assert asked[1].max() < 0.95
+    phase = q - 22.5
+    inside = (phase >= 0.05) & (phase < 0.95)
+    assert not ok[~inside].any()
+    assert ok[inside].mean() > 0.8
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+def test_the_evaluations_few_gauss_nodes_give_the_mean_to_rounding(gravity):
+    """The one evaluation takes ``NODES`` Gauss nodes per panel: on contacts of at least
+    ``MIN_STEPS`` steps whose change holds, the same mean as 16 nodes to rounding."""
+    rng = np.random.default_rng(44)
+    e, q = rng.uniform(0.3, 0.6, 300), rng.uniform(MIN_STEPS, 60.0, 300) + 0.5
+    c = drake.point_contact_for(restitution=e, contact_time=q * H, speed=V, mass=M,
+                                gravity=gravity, time_step=H)  # fmt: skip
+    k, d, one = c.point_contact_stiffness, c.hunt_crossley_dissipation, np.ones(e.size)
+    rows = (k, d, M * one, gravity * one, V * one)
+    held = jump_holds(*rows, H, q)
+    assert held.mean() > 0.9
+    few = jump_means(*rows, H, q, nodes=NODES).restitution
+    many = jump_means(*rows, H, q, nodes=16).restitution
+    assert np.abs(few - many)[held].max() <= 1e-15
+
+
+def test_a_table_refused_for_its_restitutions_is_built_again_in_halves(monkeypatch):
+    """At low restitutions the change's structure breaks (a box 0.2-0.5 has a tail of
+    ~1e-5, 0.25-0.5 of ~1e-11): where no narrower window of phases helps, the box is
+    built again as two halves, and the upper one serves its targets."""
+    rng = np.random.default_rng(46)
+    e, q = rng.uniform(0.2, 0.5, 1000), 25.5 + rng.uniform(0.0, 1.0, 1000)
+    monkeypatch.setattr(change_table, "MIN_TARGETS", 400)
+    monkeypatch.setattr(change_table, "RESTITUTIONS", (0.0, 1.0))  # (0.25 and up by default)
+    boxes = []
+
+    def design(e_n, q_n):
+        boxes.append((round(float(e_n.min()), 2), round(float(e_n.max()), 2)))
+        c = drake.point_contact_for(restitution=e_n, contact_time=q_n * H, speed=V, mass=M,
+                                    time_step=H)  # fmt: skip
+        return c.hunt_crossley_dissipation * V, H * np.sqrt(c.point_contact_stiffness / M)
+
+    one = np.ones(e.size)
+    ok, k, d, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    assert len(boxes) == 3  # the whole box over two windows of phases, then its halves
+    assert ok[e > 0.36].mean() > 0.9
+    p = drake.predict(stiffness=k[ok], dissipation=d[ok], mass=M, speed=V, time_step=H)
+    assert np.abs(p.restitution - e[ok]).max() <= 1.05e-12
+    assert np.abs(p.contact_time / (q[ok] * H) - 1.0).max() <= 1.05e-10
