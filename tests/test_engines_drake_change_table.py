@@ -68,9 +68,10 @@ def _same_prediction(mine, fresh):
     np.testing.assert_array_equal(mine.sticks, fresh.sticks)
     np.testing.assert_array_equal(mine.stick_fraction, fresh.stick_fraction)
     # (both sampled bounds, searched where their samples show an extreme inside a
-    # piece or just inside its ends: each was up to 5e-7 short before)
+    # piece or just inside its ends: each was up to 5e-7 short before; jump_summary's
+    # can be 4e-13 short next to a change evaluated off the true one)
     np.testing.assert_allclose(mine.restitution_range, fresh.restitution_range, rtol=0,
-                               atol=1e-13)  # fmt: skip
+                               atol=1e-12)  # fmt: skip
 
 
 def _spy(monkeypatch):
@@ -266,26 +267,27 @@ def test_the_evaluations_few_gauss_nodes_give_the_mean_to_rounding(gravity):
     assert np.abs(few - many)[held].max() <= 1e-15
 
 
-def test_a_table_refused_for_its_restitutions_is_built_again_in_halves(monkeypatch):
-    """At low restitutions the change's structure breaks (a box 0.2-0.5 has a tail of
-    ~1e-5, 0.25-0.5 of ~1e-11): where no narrower window of phases helps, the box is
-    built again as two halves, and the upper one serves its targets."""
+def test_a_table_with_nodes_left_at_one_end_is_built_again_in_halves(monkeypatch):
+    """Where the caller's path leaves nodes at one end of a box undesigned (or the
+    one-change structure breaks there), the box is built again as two halves, and the
+    other half serves its targets."""
     rng = np.random.default_rng(46)
-    e, q = rng.uniform(0.2, 0.5, 1000), 25.5 + rng.uniform(0.0, 1.0, 1000)
+    e, q = rng.uniform(0.3, 0.5, 1000), 25.5 + rng.uniform(0.0, 1.0, 1000)
     monkeypatch.setattr(change_table, "MIN_TARGETS", 400)
-    monkeypatch.setattr(change_table, "RESTITUTIONS", (0.0, 1.0))  # (0.25 and up by default)
     boxes = []
 
-    def design(e_n, q_n):
+    def design(e_n, q_n):  # as if the caller's path left the nodes below 0.35
         boxes.append((round(float(e_n.min()), 2), round(float(e_n.max()), 2)))
         c = drake.point_contact_for(restitution=e_n, contact_time=q_n * H, speed=V, mass=M,
                                     time_step=H)  # fmt: skip
-        return c.hunt_crossley_dissipation * V, H * np.sqrt(c.point_contact_stiffness / M)
+        s = np.where(e_n < 0.35, np.nan, c.hunt_crossley_dissipation * V)
+        return s, H * np.sqrt(c.point_contact_stiffness / M)
 
     one = np.ones(e.size)
     ok, k, d, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
-    assert len(boxes) == 3  # the whole box over two windows of phases, then its halves
-    assert ok[e > 0.36].mean() > 0.9
+    assert len(boxes) == 2  # the whole box, then its halves together
+    assert not ok[e < 0.4].any()
+    assert ok[e > 0.4].mean() > 0.9
     p = drake.predict(stiffness=k[ok], dissipation=d[ok], mass=M, speed=V, time_step=H)
     assert np.abs(p.restitution - e[ok]).max() <= 1.05e-12
     assert np.abs(p.contact_time / (q[ok] * H) - 1.0).max() <= 1.05e-10

@@ -311,11 +311,11 @@ def _unit(e, box):
 def _built(keys, e, windows, design, member, h, by_overlap):
     """The tables of the ``keys`` (:func:`_keys`): ``(keys, tables)``, each table
     ``((lo, hi), coef, overlaps)`` (:func:`_tables`) over the first phase ``window``
-    whose tail in the phase holds. A table refused otherwise (a node not designed, a
-    tail in the restitution, no narrower window left) is built again as the two halves
-    of its box that still serve :data:`MIN_TARGETS` (the one-change structure or the
-    caller's path can fail at one end of a box only: at ``B = 25`` the box 0.2-0.5 had a
-    tail of ``4e-5``, 0.25-0.5 one of ``4e-11``). Three rounds at most."""
+    whose tail in the phase holds (none left: given up; halving it again cost a call of
+    tables that all fail, under ``g = 30``, a third more). A table refused otherwise (a
+    node not designed, a tail in the restitution: the caller's path or the one-change
+    structure can fail at one end of a box only) is built again as the two halves of
+    its box that still serve :data:`MIN_TARGETS`. Three rounds at most."""
     pending, done = [(key, 0) for key in keys], []
     for _ in range(3):
         retry = []
@@ -325,8 +325,8 @@ def _built(keys, e, windows, design, member, h, by_overlap):
             for key, table in zip(batch, built, strict=True):
                 if not isinstance(table, str):
                     done.append((key, (windows[index], *table)))
-                elif table == "phase" and index + 1 < len(windows):
-                    retry.append((key, index + 1))
+                elif table == "phase":  # (no narrower window left: given up)
+                    retry.extend([(key, index + 1)] if index + 1 < len(windows) else [])
                 else:
                     retry.extend((half, index) for half in _halves(key, e))
         pending = retry

@@ -85,12 +85,15 @@ margin dips towards zero between the samples of either piece
 :math:`\hat\varphi_j` lies in ``[0, 1)``. There it agrees with
 :func:`~impactsym.engines.drake.phases.phase_summary` (over random designs of 2-60
 steps, both gravities, steps ``1e-3`` and ``1e-4``: the mean restitution to ``1e-13``,
-the contact times to ``3e-13`` relative, the largest overlap bit for bit), except that
-its restitution range can reach further: an extreme next to the end of one of
-:func:`~impactsym.engines.drake.phases.phase_summary`'s quarters is sampled there, up
-to ``4e-8`` short (a panel's interior node sees it and the search reaches it; checked
-against 2^16 phases). All quantities are SI. Internal to
-:mod:`impactsym.engines.drake`.
+the contact times to ``3e-13`` relative, the largest overlap bit for bit, the
+restitution's range to ``1e-15`` since both search next to their pieces' ends too; with
+5 nodes per panel and the change evaluated up to ``1e-6`` steps off the true one, an
+extreme about ``2e-5`` of a phase before the change can come out ``4e-13`` short, found
+by review). Not verified: at :math:`\varphi^* = 0` a true change within ``1e-9`` of a
+phase after 0 (the grid's phase 0 is not checked that close to the change, and no
+sample sees state ``B + 1`` before it): the means stay exact to ``1e-14``, the range
+can be off by about the change's distance (``1e-12`` at ``1e-6``). All quantities are
+SI. Internal to :mod:`impactsym.engines.drake`.
 """
 
 from __future__ import annotations
@@ -376,7 +379,8 @@ def _hidden(ev, r, sides):
 
 def _restitution_range(k, d, m, g, v, h, ev, r, grid, held, sides, change):
     """The least and largest restitution over every sample of the held contacts (the
-    nodes, both sides at the ``change``, the grid) and inside the pieces where a
+    nodes, both sides at the change's estimate ``change``, the grid) and inside the
+    pieces where a
     sample between two of the same piece is extreme, or one at an end of a piece (of
     the phase interval, or a side of the change) is and the samples next to it say the
     extreme lies just inside (:func:`~impactsym.engines.drake.phases.interior_extreme`)."""

@@ -538,8 +538,7 @@ def interior_extreme(
     """Largest (``sign = 1``) or smallest (``-1``) restitution inside each piece where an
     interior node holds the extreme sample, or an end does and the quadratic through it
     and its next two samples peaks between it and the next; ``nan`` elsewhere. Two zoom
-    rounds (sample
-    ``_ZOOM`` phases, 9 for large batches, between the extreme's neighbours; keep the
+    rounds (sample ``_ZOOM`` phases, 9 for large batches, between the extreme's neighbours; keep the
     best and its neighbours: the bracket 16 times narrower at least), then two steps of
     successive parabolic interpolation: the restitution is smooth there, so the vertex
     of the quadratic through the best sample and its neighbours is off the extreme by
