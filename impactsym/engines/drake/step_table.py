@@ -102,6 +102,7 @@ from dataclasses import fields
 import numpy as np
 
 from impactsym.contact.lawclosed import hunt_crossley_parameter
+from impactsym.engines.drake import change_table
 from impactsym.engines.drake.change_table import table_designs
 from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
@@ -172,17 +173,19 @@ def stepped_designs(
         if count < MIN_TARGETS:
             continue
         rows = np.flatnonzero(inverse == label)
-        # first off the tables of the end states
-        group = [a[rows] for a in (e, v, m, g)]
-        steps = None if size_name == "contact_time" else _likely_steps(*group, q[rows], h, approx)
-        done, k_r, d_r, summaries[:, rows] = table_designs(
-            *group, q[rows], h, _node_designs(v[rows[0]], m[rows[0]], g[rows[0]], h, approx),
-            steps=steps,
-        )  # fmt: skip
-        ok[rows], k[rows], d[rows] = done, k_r, d_r
-        rows = rows[~done]
-        if rows.size < MIN_TARGETS:  # a few left: the caller's iteration
-            continue
+        if rows.size >= change_table.MIN_TARGETS:  # first off the tables of the end states (too few
+            # for one: no coarse table for their likely end states either)
+            group = [a[rows] for a in (e, v, m, g)]
+            steps = None if size_name == "contact_time" else _likely_steps(*group, q[rows], h,
+                                                                           approx)  # fmt: skip
+            done, k_r, d_r, summaries[:, rows] = table_designs(
+                *group, q[rows], h, _node_designs(v[rows[0]], m[rows[0]], g[rows[0]], h, approx),
+                steps=steps,
+            )  # fmt: skip
+            ok[rows], k[rows], d[rows] = done, k_r, d_r
+            rows = rows[~done]
+            if rows.size < MIN_TARGETS:  # a few left: the caller's iteration
+                continue
         done, k_r, d_r = _chunked(*(a[rows] for a in (e, v, m, g, target, q)), h, approx,
                                   size_name)  # fmt: skip
         ok[rows], k[rows], d[rows] = done, k_r, d_r
