@@ -59,7 +59,6 @@ summary. All quantities SI, flat arrays. Internal to :mod:`impactsym.engines.dra
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import fields
 from itertools import pairwise, product
 
 import numpy as np
@@ -67,8 +66,9 @@ from numpy.polynomial import chebyshev
 
 from impactsym.contact.lawtable import chebyshev_points, chebyshev_transform
 from impactsym.engines.drake.jump_means import jump_means, jump_summary
-from impactsym.engines.drake.phases import GRID_PHASES, PhaseSummary
+from impactsym.engines.drake.phases import GRID_PHASES, SUMMARY_FIELDS
 from impactsym.engines.drake.stepping import end_state
+from impactsym.numeric.roots import bracketed_newton
 
 __all__ = [
     "MIN_PLATEAU",
@@ -125,7 +125,7 @@ TOLERANCE = (5e-13, 5e-11)
 SETTLED = 1e-6
 #: Targets on one plateau between two tables from which it gets a table of its own.
 MIN_PLATEAU = 128
-_NEWTON = 60  # Newton steps (or bisections) at most for a phase, and for a damping
+_SECANT = 60  # secant steps at most for a plateau node's damping
 
 
 def table_designs(
@@ -146,7 +146,7 @@ def table_designs(
     by_overlap = steps is not None
     n = e.size
     ok, k, d = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
-    summaries = np.full((len(fields(PhaseSummary)), n), np.nan)
+    summaries = np.full((SUMMARY_FIELDS, n), np.nan)
     if by_overlap:  # each target asks its likely end state and its neighbours
         asks = np.floor(steps - 0.5)[None, :] + np.array([-1.0, 0.0, 1.0])[:, None]
     else:
@@ -158,13 +158,11 @@ def table_designs(
     for (b, box, serves), ((lo, hi), coef, overlaps) in zip(keys, tables, strict=True):
         rows = np.flatnonzero(serves & np.isnan(s))
         x = _unit(e[rows], box)
-        if by_overlap:  # the phase where the table's largest overlap is the target's
-            y = _phase_of(overlaps, x, q[rows])
-        else:
-            y = (2.0 * (q[rows] - 0.5 - b) - (lo + hi)) / (hi - lo)
+        # by overlap: the phase where the table's largest overlap is the target's
+        y = _phase_of(overlaps, x, q[rows]) if by_overlap else _unit(q[rows] - 0.5 - b, (lo, hi))
         y = np.where((y >= -1.0) & (y < 1.0), y, np.nan)
         s[rows], w[rows] = _evaluate(coef, x, y)
-        change[rows] = b + 0.5 + 0.5 * (lo + hi) + 0.5 * (hi - lo) * y  # in steps
+        change[rows] = b + 0.5 + _within(y, (lo, hi))  # in steps
     if by_overlap:  # the designs on a plateau between two tables
         _plateau_starts(e, q, keys, tables, (m[0], v[0], g[0]), h, s, w, change)
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
@@ -200,7 +198,7 @@ def _confirmed(k, d, m, g, v, e, q, change, h, by_overlap):
     docstring) that the full contact confirms, and their phase summaries
     (:func:`~impactsym.engines.drake.jump_means.jump_summary`, ``(8, size)``)."""
     if k.size == 0:
-        return np.zeros(0, bool), np.empty((len(fields(PhaseSummary)), 0))
+        return np.zeros(0, bool), np.empty((SUMMARY_FIELDS, 0))
     r, held = jump_summary(k, d, m, g, v, h, change, deepest_last=by_overlap, nodes=NODES)
     steps = r.contact_time / h
     # by overlap: the overlap, and the change where the table put it (on a plateau, at
@@ -210,7 +208,7 @@ def _confirmed(k, d, m, g, v, e, q, change, h, by_overlap):
         held &= (np.abs(r.restitution - e) <= TOLERANCE[0]) & (np.abs(size - q) <= TOLERANCE[1] * q)
         if by_overlap:
             held &= np.abs(steps - change) <= SETTLED
-    return held, np.stack([getattr(r, f.name) for f in fields(r)])
+    return held, r.stacked()
 
 
 def _plateau_starts(e, q, keys, tables, member, h, s, w, change):
@@ -254,8 +252,8 @@ def _plateau_table(state, box, ends, member, h):
     damping is the root of the one state's mean restitution by the secant from the
     line between the two (:func:`_plateau_damping`); ``None`` where a node has none or a
     tail is above :data:`TAIL`."""
-    e_nodes = 0.5 * (box[0] + box[1]) + 0.5 * (box[1] - box[0]) * chebyshev_points(NODES_E)
-    width = 0.5 + 0.5 * chebyshev_points(NODES_PHASE)
+    e_nodes = _within(chebyshev_points(NODES_E), box)
+    width = _within(chebyshev_points(NODES_PHASE), (0.0, 1.0))
     (s1, w1), (s0, w0) = (
         _evaluate(coef, _unit(e_nodes, where), np.full(NODES_E, y)) for coef, where, y in ends
     )
@@ -287,7 +285,7 @@ def _plateau_damping(e, s, w, state, member, h):
     f_s = f(s)
     s_prev, f_prev = s * (1.0 + 1e-6), f(s * (1.0 + 1e-6))
     with np.errstate(all="ignore"):
-        for _ in range(_NEWTON):
+        for _ in range(_SECANT):
             step = f_s * (s - s_prev) / (f_s - f_prev)
             s_prev, f_prev = s, f_s
             s = s - np.where(np.isfinite(step), step, 0.0)
@@ -304,8 +302,13 @@ def _largest(coef, x, y):
 
 
 def _unit(e, box):
-    """The restitutions ``e`` in the ``box`` mapped to ``[-1, 1]``."""
+    """The points ``e`` of the ``box`` mapped to ``[-1, 1]`` (the tables' variables)."""
     return (2.0 * e - (box[0] + box[1])) / (box[1] - box[0])
+
+
+def _within(y, box):
+    """The points ``y`` of ``[-1, 1]`` mapped into the ``box`` (:func:`_unit`'s inverse)."""
+    return 0.5 * (box[0] + box[1]) + 0.5 * (box[1] - box[0]) * y
 
 
 def _built(keys, e, windows, design, member, h, by_overlap):
@@ -350,12 +353,8 @@ def _tables(keys, phases, design, member, h, by_overlap):
     from one call of ``design`` for every node; where refused, why: ``"nodes"`` (a node
     not designed), ``"phase"`` or ``"restitution"`` (the direction of a tail above
     :data:`TAIL`)."""
-    lo, hi = phases
-    x_e, x_p = chebyshev_points(NODES_E), chebyshev_points(NODES_PHASE)
-    node_phase = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x_p
-    node_e = np.concatenate(
-        [np.repeat(0.5 * (a + b) + 0.5 * (b - a) * x_e, NODES_PHASE) for _, (a, b), _ in keys]
-    )
+    x_e, node_phase = chebyshev_points(NODES_E), _within(chebyshev_points(NODES_PHASE), phases)
+    node_e = np.concatenate([np.repeat(_within(x_e, box), NODES_PHASE) for _, box, _ in keys])
     node_q = np.concatenate([np.tile(b + 0.5 + node_phase, NODES_E) for b, _, _ in keys])
     shape = (len(keys), NODES_E, NODES_PHASE)
     s, w = (a.reshape(shape) for a in design(node_e, node_q))
@@ -411,39 +410,27 @@ def _coefficients(values):
 def _phase_of(coef, x, target):
     """The phase ``y`` in ``[-1, 1]`` where the largest of the tables ``coef``
     (``(J, NODES_E, NODES_PHASE)``) at the restitutions ``x`` equals ``target``
-    (``nan`` where its ends do not bracket it): Newton steps from the chord, kept inside
-    the bracket (else bisection: the largest is not smooth where the deepest state
-    changes), each phase until its step is below ``1e-15``, :data:`_NEWTON` at most."""
+    (``nan`` where its ends do not bracket it): safeguarded Newton steps
+    (:func:`~impactsym.numeric.roots.bracketed_newton`: the largest is not smooth where
+    the deepest state changes)."""
     c = np.einsum("ij,fjk->ifk", chebyshev.chebvander(x, coef.shape[1] - 1), coef)
     dc = chebyshev.chebder(c, axis=2)
 
-    def f(rows, y):
+    def f(y, rows):  # (rows: the targets' indices, as floats)
+        i = rows.astype(np.int64)
         vy = chebyshev.chebvander(y, coef.shape[2] - 1)
-        values = np.einsum("ifk,ik->if", c[rows], vy)
+        values = np.einsum("ifk,ik->if", c[i], vy)
         top = np.argmax(values, axis=1)
-        slope = np.einsum("ik,ik->i", dc[rows, top], vy[:, :-1])
-        return values[np.arange(rows.size), top] - target[rows], slope
+        slope = np.einsum("ik,ik->i", dc[i, top], vy[:, :-1])
+        return values[np.arange(i.size), top] - target[i], slope
 
-    everyone = np.arange(x.size)
-    f_a, _ = f(everyone, np.full(x.size, -1.0))
-    f_b, _ = f(everyone, np.full(x.size, 1.0))
+    everyone = np.arange(x.size, dtype=float)
+    f_a, _ = f(np.full(x.size, -1.0), everyone)
+    f_b, _ = f(np.full(x.size, 1.0), everyone)
     live = np.flatnonzero((f_a <= 0.0) & (f_b >= 0.0) & (f_b > f_a))
     out = np.full(x.size, np.nan)
-    a, b = np.full(live.size, -1.0), np.full(live.size, 1.0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        y = a - f_a[live] * (b - a) / (f_b[live] - f_a[live])
-        for _ in range(_NEWTON):
-            if live.size == 0:
-                break
-            f_y, slope = f(live, y)
-            below = f_y < 0.0
-            a, b = np.where(below, y, a), np.where(below, b, y)
-            step = y - f_y / slope
-            new = np.where((step > a) & (step < b), step, 0.5 * (a + b))
-            new = np.where(f_y == 0.0, y, new)  # (a root: it is an end of the bracket now)
-            done = np.abs(new - y) <= 1e-15
-            out[live[done]] = new[done]
-            live, y, a, b = live[~done], new[~done], a[~done], b[~done]
+    out[live] = bracketed_newton(f, None, -1.0, 1.0, [everyone[live]], g_lo=f_a[live],
+                                 g_hi=f_b[live])  # fmt: skip
     return out
 
 

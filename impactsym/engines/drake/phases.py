@@ -65,7 +65,7 @@ All designs and pieces are evaluated together on whole arrays.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
@@ -88,6 +88,7 @@ from impactsym.records import ArrayRecord
 
 __all__ = [
     "GRID_PHASES",
+    "SUMMARY_FIELDS",
     "PhaseSummary",
     "hidden_changes",
     "interior_extreme",
@@ -228,6 +229,14 @@ class PhaseSummary(ArrayRecord):
     contact_time_max: np.ndarray
     max_penetration: np.ndarray
     stick_fraction: np.ndarray
+
+    def stacked(self) -> np.ndarray:
+        """The fields stacked in their order: the form the designs pass summaries in."""
+        return np.stack([getattr(self, f.name) for f in fields(self)])
+
+
+#: The rows of :meth:`PhaseSummary.stacked`.
+SUMMARY_FIELDS = len(fields(PhaseSummary))
 
 
 def phase_summary(
@@ -550,9 +559,7 @@ def interior_extreme(
     record with ``restitution``) of elements ``i`` at phases ``p``."""
     f, last = sign * e, pts.shape[1] - 1
     j = np.argmax(f, axis=1)
-    # an end that holds the extreme sample, with the quadratic through it and the next
-    # two samples peaking beyond it between it and the next: the extreme lies there
-    # (sampled at the end, it was up to 5e-7 short with 5 nodes per panel)
+    # the ends whose quadratic peaks inside (sampled at the end: up to 5e-7 short)
     x_0, f_0 = vertex_point(pts[:, :3], f[:, :3])
     x_1, f_1 = vertex_point(pts[:, -3:], f[:, -3:])
     with np.errstate(invalid="ignore"):

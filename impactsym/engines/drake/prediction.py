@@ -20,7 +20,6 @@ geometries in series, :func:`~impactsym.engines.drake.pair.combine`), ``d`` the 
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
@@ -222,7 +221,7 @@ def summary_prediction(
     if rest.size:
         r = phase_summary(*(a[rest] for a in (k, d)), 0.0, *(a[rest] for a in (m, g, v)), h,
                           approximation=approx)  # fmt: skip
-        fields[:, rest] = np.stack([getattr(r, f.name) for f in dataclasses.fields(r)])
+        fields[:, rest] = r.stacked()
 
     def out(a):
         return finish(np.asarray(a, dtype=float).reshape(shape), scalar)

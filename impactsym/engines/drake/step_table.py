@@ -97,8 +97,6 @@ targets over 8-100 steps took 136 s of table, now 2 s).
 
 from __future__ import annotations
 
-from dataclasses import fields
-
 import numpy as np
 
 from impactsym.contact.lawclosed import hunt_crossley_parameter
@@ -106,7 +104,7 @@ from impactsym.engines.drake import change_table
 from impactsym.engines.drake.change_table import table_designs
 from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
-from impactsym.engines.drake.phases import PhaseSummary, phase_summary
+from impactsym.engines.drake.phases import SUMMARY_FIELDS, phase_summary
 
 __all__ = [
     "COARSE",
@@ -165,7 +163,7 @@ def stepped_designs(
     """
     n = e.size
     ok, k, d = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
-    summaries = np.full((len(fields(PhaseSummary)), n), np.nan)
+    summaries = np.full((SUMMARY_FIELDS, n), np.nan)
     ratio = g / v
     q = target / (h if size_name == "contact_time" else v * h)  # the size in steps
     _, inverse, counts = np.unique(ratio, return_inverse=True, return_counts=True)
