@@ -451,9 +451,8 @@ def _phase_of(coef, x, target, ends=(-1.0, 1.0)):
     (:func:`~impactsym.numeric.roots.bracketed_newton`: the largest is not smooth where
     the deepest state changes) from the secant's root between the ends."""
     vx = chebyshev.chebvander(x, coef.shape[1] - 1)
-    # (targets, J, phase), by matrix products (einsum's loop was most of the time)
-    c, dc = (np.ascontiguousarray(np.matmul(vx, a).transpose(1, 0, 2))
-             for a in (coef, chebyshev.chebder(coef, axis=2)))  # fmt: skip
+    c = np.einsum("ij,fjk->ifk", vx, coef)  # (targets, J, phase)
+    dc = chebyshev.chebder(c, axis=2)
 
     def f(y, rows):  # (rows: the targets' indices, as floats)
         i = rows.astype(np.int64)
