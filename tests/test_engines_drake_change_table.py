@@ -99,6 +99,22 @@ def test_designs_off_the_tables_meet_their_targets_by_a_fresh_prediction(gravity
     _same_prediction(mine, fresh)
 
 
+@pytest.mark.parametrize("phases", [(0.0, 0.02), (0.98, 1.0)])
+def test_designs_next_to_the_phase_ends_under_gravity_come_off_the_table_extrapolated(phases):
+    """Under gravity the tables cover the change's phases 0.02-0.98 (closer to the ends
+    a second change can appear); a target beyond is read off its table extrapolated, and
+    its evaluation keeps it where the one change holds there (before: none, all took
+    the caller's path)."""
+    rng = np.random.default_rng(38)
+    e, q = _targets(22, MIN_TARGETS + 64, rng, phases)
+    read, mine, fresh = _read_off(e, q * H, 9.81, "contact_time")
+    assert read.mean() > 0.3
+    assert np.abs(fresh.restitution - e[read]).max() <= 1.05e-12  # the designs' tolerance
+    assert np.abs(fresh.contact_time / (q[read] * H) - 1.0).max() <= 1.05e-10
+    assert not np.any(fresh.sticks)
+    _same_prediction(mine, fresh)
+
+
 @pytest.mark.parametrize(("gravity", "depth"), [(0.0, 9.9e-3), (9.81, 6e-3), (9.81, 8e-3)])
 def test_designs_by_largest_overlap_off_the_tables_meet_their_targets(gravity, depth, monkeypatch):
     """The overlap is the deepest state's; which state that is changes over a table, so
@@ -184,7 +200,7 @@ def test_an_end_state_with_too_few_targets_gets_no_table(monkeypatch):
         return s, H * np.sqrt(c.point_contact_stiffness / M)
 
     ok, k, d, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
-    assert ok[: e1.size].mean() > 0.9
+    assert ok[: e1.size].mean() > 0.8  # (a coarser table: 88 % of these held)
     assert not ok[e1.size :].any()
     assert np.isnan(k[e1.size :]).all()
     assert np.isnan(d[e1.size :]).all()
@@ -240,14 +256,21 @@ def test_a_table_across_a_second_change_is_refused_for_a_narrower_window(monkeyp
                                     gravity=9.81, time_step=H)  # fmt: skip
         return c.hunt_crossley_dissipation * V, H * np.sqrt(c.point_contact_stiffness / M)
 
-    ok, _, _, _ = table_designs(e, V * one, M * one, 9.81 * one, q, H, design)
+    ok, k, d, _ = table_designs(e, V * one, M * one, 9.81 * one, q, H, design)
     assert len(asked) == 2  # the wide window's table refused
     assert asked[1].min() > 0.05
     assert asked[1].max() < 0.95
     phase = q - 22.5
     inside = (phase >= 0.05) & (phase < 0.95)
-    assert not ok[~inside].any()
     assert ok[inside].mean() > 0.8
+    # beyond the window the table is extrapolated, its designs kept where their
+    # evaluation holds (across the second change it does not: it misses the target)
+    beyond = ok & ~inside
+    assert 0 < np.count_nonzero(beyond) < np.count_nonzero(~inside)
+    fresh = drake.predict(stiffness=k[beyond], dissipation=d[beyond], mass=M, speed=V,
+                          gravity=9.81, time_step=H)  # fmt: skip
+    assert np.abs(fresh.restitution - e[beyond]).max() <= 1.05e-12
+    assert np.abs(fresh.contact_time / (q[beyond] * H) - 1.0).max() <= 1.05e-10
 
 
 @pytest.mark.parametrize("gravity", [0.0, 9.81])
@@ -295,7 +318,8 @@ def test_a_table_with_nodes_left_at_one_end_is_built_again_in_halves(monkeypatch
 
 def test_a_call_too_small_for_a_table_builds_no_coarse_table_for_it(monkeypatch):
     """By overlap, the coarse table that tells targets their likely end states is built
-    only where the call could fill a table (it cost 30 % of a call of 512 for nothing)."""
+    only where the call could fill a table (it cost 30 % of a call of 512 for nothing):
+    here 512 targets spread over contacts of 24-73 steps, ~10 per step."""
     asked = []
     monkeypatch.setattr(step_table, "_likely_steps", lambda *args: asked.append(1))
     rng = np.random.default_rng(48)
@@ -306,3 +330,22 @@ def test_a_call_too_small_for_a_table_builds_no_coarse_table_for_it(monkeypatch)
     assert asked == []
     assert ok.mean() > 0.9  # (by the per-call table of phase means)
     assert np.isnan(summaries).all()
+
+
+def test_the_few_targets_the_tables_leave_are_designed_by_the_table_of_means():
+    """Targets no table serves, however few, take the per-call table of phase means
+    (cheaper than the caller's iteration even for one: 0.06-0.15 s against 0.1-0.4 s):
+    before, fewer than 256 were left to the caller."""
+    rng = np.random.default_rng(49)
+    e, q = _targets(24, MIN_TARGETS, rng)
+    e = np.concatenate([e, rng.uniform(0.15, 0.2, 20)])  # below the tables' restitutions
+    q = np.concatenate([q, 24.5 + rng.uniform(0.0, 1.0, 20)])
+    one = np.ones(e.size)
+    ok, k, d, summaries = stepped_designs(e, V * one, M * one, 0 * one, q * H, H, "lagged",
+                                          "contact_time")  # fmt: skip
+    assert np.isfinite(summaries[0, :-20]).mean() > 0.8  # the table's
+    assert np.isnan(summaries[0, -20:]).all()  # the table of means'
+    assert ok[-20:].all()
+    fresh = drake.predict(stiffness=k[-20:], dissipation=d[-20:], mass=M, speed=V, time_step=H)
+    assert np.abs(fresh.restitution - e[-20:]).max() <= 1.05e-12
+    assert np.abs(fresh.contact_time / (q[-20:] * H) - 1.0).max() <= 1.05e-10

@@ -213,3 +213,26 @@ def test_newton_system_shrink_iterates_only_unconverged_systems():
         alone, _ = newton_system(lambda w, i=i: w**3 - a[i], column, max_iter=40, tol=1e-13)
         assert abs(alone[0, 0] - u[0, i]) <= 1e-13 * u[0, i]
     assert sum(idx.size for idx in calls) < 4 * len(calls)
+
+
+def test_newton_from_given_starts_finds_the_same_roots_in_fewer_evaluations():
+    """``start``: first iterates inside the brackets (outside or nan: the midpoint); the
+    roots are brentq's either way, and starts next to them save evaluations."""
+    e, M = kepler_problems()
+    calls = []
+
+    def g(E, e, M):
+        calls.append(E.size)
+        return E - e * np.sin(E) - M, 1 - e * np.cos(E)
+
+    reference = kepler_by_brentq(e, M)
+    near = reference + 1e-6
+    far = np.where(np.arange(e.size) % 2 == 0, M - 1.0, np.nan)  # outside, and nan
+    counts = []
+    for start in (None, near, far):
+        calls.clear()
+        root = bracketed_newton(g, None, M, M + e, [e, M], start=start)
+        np.testing.assert_allclose(root, reference, rtol=0, atol=4e-15)
+        counts.append(sum(calls))
+    assert counts[1] <= counts[0] - e.size  # from next to the roots: a step fewer each
+    assert counts[2] == counts[0]  # starts outside the brackets: the midpoints

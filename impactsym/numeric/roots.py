@@ -34,6 +34,7 @@ def bracketed_newton(
     max_iter: int = 200,
     g_lo: np.ndarray | None = None,
     g_hi: np.ndarray | None = None,
+    start: np.ndarray | None = None,
 ) -> np.ndarray:
     """Solve ``g(x, *params) = 0`` elementwise for ``x`` in ``[lo, hi]``.
 
@@ -60,6 +61,9 @@ def bracketed_newton(
     g_lo, g_hi
         ``g`` at ``lo`` and ``hi`` when the caller already has them (exactly as ``g``
         would return them); else evaluated here.
+    start
+        First iterates inside the brackets (e.g. the secant's root between the ends,
+        which saves steps where ``g`` is nearly linear); else the brackets' midpoints.
 
     >>> root = bracketed_newton(lambda x, c: x**2 - c, lambda x, c: 2 * x,
     ...                         np.zeros(2), np.full(2, 3.0), [np.array([2.0, 4.0])])
@@ -80,6 +84,9 @@ def bracketed_newton(
         raise ValueError("bracketed_newton needs a finite sign change in every bracket")
     rising = g_lo < g_hi
     x = 0.5 * (lo + hi)
+    if start is not None:  # (one outside its bracket, or nan: the midpoint)
+        start = np.broadcast_to(np.asarray(start, dtype=np.float64), shape).ravel()
+        x = np.where((start > lo) & (start < hi), start, x)
     step_before_last = hi - lo  # per element, as in rtsafe
     last_step = hi - lo
     x = np.where(g_lo == 0, lo, np.where(g_hi == 0, hi, x))

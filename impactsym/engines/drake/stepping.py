@@ -114,7 +114,7 @@ MAX_STEPS = 2_000_000
 _ZERO = 1e-12  # impulses below this times m v count as zero
 _SETTLE_EVERY = 64  # updates between two checks of the settled-contact rule
 _DRIFT = 1e-6  # energy (in wells) that rounding may give back, in the rule
-_BLOCK = 16_384  # contacts stepped together by contact_ends (measured: 2x over 4e5 at once)
+_BLOCK = 32_768  # contacts stepped together (measured: 2x faster than 4e5 at once, 5 % than 16384)
 
 
 def step_contact(
