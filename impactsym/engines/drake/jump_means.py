@@ -41,7 +41,8 @@ pieces halved (no panel longer than half a phase: :math:`10^{-2} (L/2.5)^{2n}`, 
 error model of :mod:`impactsym.engines.drake.phases`, gives about ``1e-13`` for
 ``n = 8``, ``L = 1/2``; measured against 16 nodes per panel: below ``1e-14`` over
 designs of 20-40 steps). A run of the states costs ``B`` updates, as a full contact
-does; an evaluation is 24 nodes and 3 states at :math:`\varphi^*`, against about 65
+does; an evaluation is 24 nodes and 2 states ``B`` at :math:`\varphi^*` (state ``B + 1``
+there is one update on from ``B``: :func:`_next_state`), against about 65
 contacts and 19 margins of a phase mean that searches for its changes
 (:func:`~impactsym.engines.drake.phases.phase_summary`; measured before its one-margin
 root search and quarter pieces, about 50 and 10 since).
@@ -72,11 +73,17 @@ one-sided limits at the change (at :math:`\varphi^* = 0` an estimate below 0 mea
 every phase ends at ``B``: the change is taken at 0, as the mean takes it), and the
 mean :math:`(B + 1/2 + \hat\varphi_j)\, h` is the size of :func:`jump_means`. The
 restitution's range is over every sample (the nodes, the states ``B + 1`` and ``B``
-at :math:`\hat\varphi_j`, two more runs: those at :math:`\varphi^*` lie off the
-change by the design's tolerance, which moved a design's range by ``3e-11`` under
-gravity; the grid) and, where a sample between two others of its piece
-is extreme, the search of
-:func:`~impactsym.engines.drake.phases.interior_extreme` there; the largest overlap is
+at :math:`\hat\varphi_j`, one more run and an update: those at :math:`\varphi^*` lie
+off the change by the design's tolerance, which moved a design's range by ``3e-11``
+under gravity; the grid) and, where a sample between two others of its piece is
+extreme, the search of :func:`~impactsym.engines.drake.phases.interior_extreme` there:
+:data:`_STEPS` steps of successive parabolic interpolation from the samples
+themselves, which lie at most 0.14 of a phase apart (its zoom rounds first, as
+:func:`~impactsym.engines.drake.phases.phase_summary` searches, took 20 runs per
+extreme, and the bookkeeping around them cost as much again: 0.11-0.30 s of CPU per
+10^5 designs then, 0.05-0.09 s now; the bounds agree to ``7e-16`` over 4*10^4 designs
+of the change tables, both gravities, and with a dense search of the pieces to
+``1e-15``, where 1 step falls ``4e-11`` and 2 ``2e-11`` short); the largest overlap is
 the grid's. It holds where the grid's end states hold (as in :func:`jump_holds`), every
 node's state is its end state (no state before it ended or turned back, it ends) and
 the body leaves the overlap at the next update (it cannot coast and stick), no end
@@ -115,6 +122,7 @@ from impactsym.engines.drake.stepping import (
     end_steps,
     margin_at,
 )
+from impactsym.engines.drake.update import hunt_crossley_velocity
 from impactsym.engines.phase_pieces import gauss_legendre
 
 __all__ = ["JumpMeans", "jump_holds", "jump_means", "jump_summary", "last_overlap"]
@@ -122,6 +130,7 @@ __all__ = ["JumpMeans", "jump_holds", "jump_means", "jump_summary", "last_overla
 _NODES = 8  # Gauss-Legendre nodes per panel
 _DPHASE = 2.0**-20  # the difference in the phase for the margin's slope
 _CLEAR = 1e-9  # grid phases this close to the change are not checked (the nodes are)
+_STEPS = 4  # parabolic steps of an interior extreme's search from the samples
 
 
 class JumpMeans(NamedTuple):
@@ -193,9 +202,9 @@ def _evaluate(k, d, m, g, v, h, q, nodes):
     phases_in = (a[:, :, None] + (b - a)[:, :, None] * x01).reshape(n, -1)
     weights = ((b - a)[:, :, None] * w01).reshape(n, -1)
     toward = np.where(phi < 0.5, _DPHASE, -_DPHASE)  # the slope's difference, inwards
-    phases = np.concatenate([phases_in.ravel(), phi, phi + toward, phi])
-    steps = np.concatenate([np.repeat(step.ravel(), nodes), base, base, base + 1])
-    rows = np.concatenate([np.repeat(np.arange(n), 3 * nodes), np.tile(np.arange(n), 3)])
+    phases = np.concatenate([phases_in.ravel(), phi, phi + toward])
+    steps = np.concatenate([np.repeat(step.ravel(), nodes), base, base])
+    rows = np.concatenate([np.repeat(np.arange(n), 3 * nodes), np.tile(np.arange(n), 2)])
     x, u, valid, flat = end_state(*(a[rows] for a in (k, d, m, g, v)), h, phases, steps)
     e = -u / flat[4]
     inner = n * 3 * nodes
@@ -205,10 +214,21 @@ def _evaluate(k, d, m, g, v, h, q, nodes):
     mu, mu_next = margin[:n], margin[n:]
     with np.errstate(all="ignore"):  # (a flat margin: no finite size, the step refuses it)
         offset = -mu * toward / (mu_next - mu)
+    at = slice(inner, inner + n)  # state B at phi*, and B + 1 after it
+    _, u_next = _next_state(x[at], u[at], *(a[at] for a in flat))
     node_rows = (a[:inner].reshape(n, -1) for a in (e, x, u, valid))
     return _Evaluation(base, phi, phases_in, weights, *node_rows,
-                       tuple(a[:inner].reshape(n, -1) for a in flat), e[inner + 2 * n :],
-                       e[inner : inner + n], offset, fixed)  # fmt: skip
+                       tuple(a[:inner].reshape(n, -1) for a in flat), -u_next / flat[4][at],
+                       e[at], offset, fixed)  # fmt: skip
+
+
+def _next_state(x, u, k, d, m, g, v, h):
+    """``(x, u)`` of the state after ``(x, u)`` (flat arrays): one update of
+    :func:`~impactsym.engines.drake.update.hunt_crossley_velocity`, which is
+    :func:`~impactsym.engines.drake.stepping.end_state`'s next state bit for bit (the same
+    operations; its ``valid`` not kept), for one update instead of a run from touch."""
+    new, _ = hunt_crossley_velocity(x, u, k, d, m, g, h)
+    return x + h * new, new
 
 
 def _means(ev):
@@ -329,15 +349,14 @@ def jump_summary(
     held &= (ev.valid & ends & out | empty).all(axis=1) & (change >= 0.0) & (change < 1.0)
     # the two sides at the change's estimate (those at phi* are off it by the design's
     # tolerance: 3e-11 in the range, under gravity)
-    rows = np.tile(np.arange(n), 2)
-    x, u, _, _ = end_state(*(a[rows] for a in (k, d, m, g, v)), h, change[rows],
-                           np.concatenate([ev.base + 1, ev.base]))  # fmt: skip
-    sides = (-u / v[rows]).reshape(2, n), x.reshape(2, n)
+    x, u, _, flat = end_state(k, d, m, g, v, h, change, ev.base)
+    x_before, u_before = _next_state(x, u, *flat)  # (state B + 1: one update on)
+    sides = np.stack([-u_before / v, -u / v]), np.stack([x_before, x])
     held &= ~_hidden(ev, r, sides)
     depth = r.max_penetration.max(axis=1)
     if deepest_last:
         held &= depth <= r.max_penetration[:, -1]
-    e_lo, e_hi = _restitution_range(k, d, m, g, v, h, ev, r, grid, held, sides, change)
+    e_lo, e_hi = _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change)
     fields = (means.restitution, (ev.base + 0.5 + change) * h, e_lo, e_hi, (ev.base + change) * h,
               (ev.base + 1 + change) * h, depth, np.zeros(n))  # fmt: skip
     return PhaseSummary(*(np.where(held, f, np.nan) for f in fields)), held
@@ -377,46 +396,58 @@ def _hidden(ev, r, sides):
     return flag
 
 
-def _restitution_range(k, d, m, g, v, h, ev, r, grid, held, sides, change):
+def _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change):
     """The least and largest restitution over every sample of the held contacts (the
     nodes, both sides at the change's estimate ``change``, the grid) and inside the
-    pieces where a
-    sample between two of the same piece is extreme, or one at an end of a piece (of
-    the phase interval, or a side of the change) is and the samples next to it say the
-    extreme lies just inside (:func:`~impactsym.engines.drake.phases.interior_extreme`)."""
+    pieces where a sample between two of the same piece is extreme, or one at an end of
+    a piece (of the phase interval, or a side of the change) is and the samples next to
+    it say the extreme lies just inside
+    (:func:`~impactsym.engines.drake.phases.interior_extreme`, from those samples: they
+    lie a tenth of a phase apart at most, :data:`_STEPS` parabolic steps reach the
+    extreme there)."""
     n = ev.phi.size
     # (an empty first piece, at phi* = 0, has no samples: its places take the other's)
     before, after = np.where(ev.phi > 0.0, sides[0][0], sides[0][1]), sides[0][1]
     nodes = np.where(ev.weights > 0.0, ev.e, before[:, None])
-    e = np.concatenate([nodes, r.restitution, before[:, None], after[:, None]], axis=1)
-    p = np.concatenate([ev.phases, grid, change[:, None], change[:, None]], axis=1)
-    side = np.ones(e.shape, np.int64)  # the change's two sides sorted apart
-    side[:, -2], side[:, -1] = 0, 2
-    order = np.lexsort((side, p))
-    e, p, side = (np.take_along_axis(a, order, axis=1) for a in (e, p, side))
+    # the samples in phase order, the change's sides apart: the side before it first and
+    # the side after it last among the samples at its phase (a stable sort of this order)
+    e = np.concatenate([before[:, None], nodes, r.restitution, after[:, None]], axis=1)
+    grid = np.broadcast_to(GRID_PHASES, (n, GRID_PHASES.size))
+    p = np.concatenate([change[:, None], ev.phases, grid, change[:, None]], axis=1)
+    width = e.shape[1]
+    rows = width * np.arange(n)
+    flat = np.argsort(p, axis=1, kind="stable")  # (then the flat indices of the order)
+    flat += rows[:, None]
+    e_sorted = e.ravel().take(flat)
+    p, e = p.ravel(), e.ravel()
 
     def run(i, phases):
         return contact_ends(*(a[i] for a in (k, d, m, g, v)), h, phases)
 
     bounds = []
     for sign in (-1.0, 1.0):
-        j = np.argmax(sign * e, axis=1)
-        at_side = np.take_along_axis(side, j[:, None], axis=1)[:, 0]
-        # (at the interval's ends interior_extreme searches where the samples say the
-        # extreme lies just inside: 5e-7 short with 5 nodes per panel before)
-        i = np.flatnonzero(held & (at_side == 1))
+        j = np.argmin(e_sorted, axis=1) if sign < 0 else np.argmax(e_sorted, axis=1)
+        at = flat.ravel().take(j + rows)  # (the extreme's flat index)
+        at_side = np.where(at == rows, 0, np.where(at == rows + width - 1, 2, 1))
         inner = np.full(n, np.nan)
-        if i.size:
-            inner[i] = interior_extreme(run, i, p[i], e[i], sign)
-        # at a side of the change: that piece's last (or first) three samples, the
-        # extreme may lie just inside it (4.8e-7 short before, under gravity)
-        for at, window in ((0, np.arange(-2, 1)), (2, np.arange(3))):
-            i = np.flatnonzero(held & (at_side == at) & (j + window[0] >= 0)
-                               & (j + window[-1] < e.shape[1]))  # fmt: skip
+        # a node or grid sample: its five nearest in phase order (interior_extreme reads
+        # the extreme's neighbours, or at an end of the interval, the next two; at the
+        # interval's ends it searches where the samples say the extreme lies just inside:
+        # 5e-7 short with 5 nodes per panel before); at a side of the change: that
+        # piece's last (or first) three samples, the extreme may lie just inside it (4.8e-7
+        # short before, under gravity)
+        for side, window in ((1, np.arange(-2, 3)), (0, np.arange(-2, 1)), (2, np.arange(3))):
+            i = np.flatnonzero(held & (at_side == side))
+            if side == 1:
+                first = np.clip(j[i] - 2, 0, width - window.size)
+            else:
+                keep = (j[i] + window[0] >= 0) & (j[i] + window[-1] < width)
+                i = i[keep]
+                first = j[i] + window[0]
             if i.size:
-                cols = j[i, None] + window
-                three = (np.take_along_axis(a[i], cols, axis=1) for a in (p, e))
-                inner[i] = interior_extreme(run, i, *three, sign)
-        reduce = np.fmin if sign < 0 else np.fmax
-        bounds.append(reduce(np.max(sign * e, axis=1) * sign, inner))
+                cols = flat.ravel().take((first + rows[i])[:, None] + np.arange(window.size))
+                inner[i] = interior_extreme(run, i, p.take(cols), e.take(cols), sign,
+                                            rounds=0, steps=_STEPS)  # fmt: skip
+        extreme = e.take(at)
+        bounds.append(sign * np.fmax(sign * extreme, sign * inner))
     return bounds
