@@ -393,20 +393,29 @@ def _hidden(ev, r, sides):
     flag = np.zeros(ev.phi.size, bool)
     long_left = ev.phi > 0.5
     for rows, cut in ((long_left, 2 * nodes), (~long_left, nodes)):
-        i = np.flatnonzero(rows)
-        first = (
-            (r.restitution[i, :1], ev.e[i, :cut], sides[0][0, i, None]),
-            (r.end_penetration[i, :1], ev.x[i, :cut], sides[1][0, i, None]),
-        )
-        second = (
-            (sides[0][1, i, None], ev.e[i, cut:], r.restitution[i, -1:]),
-            (sides[1][1, i, None], ev.x[i, cut:], r.end_penetration[i, -1:]),
-        )
-        for (e, x), width, used in ((first, cut, ev.phi[i] > 0.0),
-                                    (second, 3 * nodes - cut, True)):  # fmt: skip
-            e, x = (np.ascontiguousarray(np.concatenate(a, axis=1).T) for a in (e, x))
-            seen = hidden_changes(e, x, d[i], g[i], v[i], h[i], positions=positions[width])
-            flag[i] |= seen & used
+        all_rows = np.flatnonzero(rows)
+        for lo in range(0, all_rows.size, _ROWS):
+            i = all_rows[lo : lo + _ROWS]
+            flag[i] = _hidden_in(ev, r, sides, i, cut, positions, (d[i], g[i], v[i], h[i]))
+    return flag
+
+
+def _hidden_in(ev, r, sides, i, cut, positions, params):
+    """:func:`_hidden` of the contacts ``i`` whose first piece has ``cut`` nodes (a block
+    of :data:`_ROWS` at most: its temporaries stay in the cache)."""
+    first = (
+        (r.restitution[i, :1], ev.e[i, :cut], sides[0][0, i, None]),
+        (r.end_penetration[i, :1], ev.x[i, :cut], sides[1][0, i, None]),
+    )
+    second = (
+        (sides[0][1, i, None], ev.e[i, cut:], r.restitution[i, -1:]),
+        (sides[1][1, i, None], ev.x[i, cut:], r.end_penetration[i, -1:]),
+    )
+    flag = np.zeros(i.size, bool)
+    for (e, x), width, used in ((first, cut, ev.phi[i] > 0.0),
+                                (second, ev.e.shape[1] - cut, True)):  # fmt: skip
+        e, x = (np.ascontiguousarray(np.concatenate(a, axis=1).T) for a in (e, x))
+        flag |= hidden_changes(e, x, *params, positions=positions[width]) & used
     return flag
 
 
