@@ -272,3 +272,10 @@ def test_the_range_s_searches_reach_the_dense_extremes(step, speed, monkeypatch)
     for steps in (0, 1):
         short = np.maximum(bounds[steps][0][check] - lo, hi - bounds[steps][1][check])
         assert short.max() > 1e-12
+
+
+def test_no_contacts_give_empty_summaries():
+    empty = np.zeros(0)
+    s, held = jump_summary(*(empty,) * 5, 1e-3, empty, nodes=5)
+    assert held.shape == (0,)
+    assert s.stacked().shape == (8, 0)

@@ -201,8 +201,8 @@ def _evaluate(k, d, m, g, v, h, q, nodes):
     base, phi = _split(q)
     a, b, step = _panels(phi, base)
     x01, w01 = _gauss(nodes)
-    phases_in = (a[:, :, None] + (b - a)[:, :, None] * x01).reshape(n, -1)
-    weights = ((b - a)[:, :, None] * w01).reshape(n, -1)
+    phases_in = (a[:, :, None] + (b - a)[:, :, None] * x01).reshape(n, 3 * nodes)
+    weights = ((b - a)[:, :, None] * w01).reshape(n, 3 * nodes)
     toward = np.where(phi < 0.5, _DPHASE, -_DPHASE)  # the slope's difference, inwards
     phases = np.concatenate([phases_in.ravel(), phi, phi + toward])
     steps = np.concatenate([np.repeat(step.ravel(), nodes), base, base])
@@ -218,9 +218,9 @@ def _evaluate(k, d, m, g, v, h, q, nodes):
         offset = -mu * toward / (mu_next - mu)
     at = slice(inner, inner + n)  # state B at phi*, and B + 1 after it
     _, u_next = _next_state(x[at], u[at], *(a[at] for a in flat))
-    node_rows = (a[:inner].reshape(n, -1) for a in (e, x, u, valid))
+    node_rows = (a[:inner].reshape(n, 3 * nodes) for a in (e, x, u, valid))
     return _Evaluation(base, phi, phases_in, weights, *node_rows,
-                       tuple(a[:inner].reshape(n, -1) for a in flat), -u_next / flat[4][at],
+                       tuple(a[:inner].reshape(n, 3 * nodes) for a in flat), -u_next / flat[4][at],
                        e[at], offset, fixed)  # fmt: skip
 
 
