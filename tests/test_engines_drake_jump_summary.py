@@ -279,3 +279,21 @@ def test_no_contacts_give_empty_summaries():
     s, held = jump_summary(*(empty,) * 5, 1e-3, empty, nodes=5)
     assert held.shape == (0,)
     assert s.stacked().shape == (8, 0)
+
+
+@pytest.mark.parametrize("gravity", [0.0, 9.81])
+def test_the_next_state_is_end_state_s_next_bit_for_bit(gravity):
+    # the states B + 1 at phi* and at the change are one update on from state B, instead
+    # of a run from touch: the very numbers of end_state's run, at any phase and step
+    rng = np.random.default_rng(37)
+    n = 4000
+    m, v = rng.uniform(0.05, 2.0, n), rng.uniform(0.2, 3.0, n)
+    k = m * (np.pi / rng.uniform(2.0, 60.0, n) / 1e-3) ** 2
+    d, g, phase = rng.uniform(0.0, 6.0, n) / v, np.full(n, gravity), rng.random(n)
+    step = rng.integers(0, 70, n)  # (past the end too: free updates)
+    d[:200] = 0.0  # (no damping: the update's other form)
+    x, u, _, flat = end_state(k, d, m, g, v, 1e-3, phase, step)
+    x_next, u_next = jump_means_module._next_state(x, u, *flat)
+    x_run, u_run, _, _ = end_state(k, d, m, g, v, 1e-3, phase, step + 1)
+    np.testing.assert_array_equal(u_next, u_run)
+    np.testing.assert_array_equal(x_next, x_run)

@@ -78,16 +78,17 @@ off the change by the design's tolerance, which moved a design's range by ``3e-1
 under gravity; the grid) and, where a sample between two others of its piece is
 extreme, the search of :func:`~impactsym.engines.drake.phases.interior_extreme` there:
 :data:`_STEPS` steps of successive parabolic interpolation from the samples
-themselves, which lie at most 0.14 of a phase apart (its zoom rounds first, as
+themselves, which lie at most 0.14 of a phase apart (two zoom rounds first, as
 :func:`~impactsym.engines.drake.phases.phase_summary` searches, took 20 runs per
-extreme, and the bookkeeping around them cost as much again: 0.11-0.30 s of CPU per
-10^5 designs then, 0.05-0.09 s now; the bounds agree to ``7e-16`` over 4*10^4 designs
-of the change tables, both gravities, and with a dense search of the pieces to
-``1e-15``, where 1 step falls ``4e-11`` and 2 ``2e-11`` short); the largest overlap is
-the grid's. It holds where the grid's end states hold (as in :func:`jump_holds`), every
-node's state is its end state (no state before it ended or turned back, it ends) and
-the body leaves the overlap at the next update (it cannot coast and stick), no end
-margin dips towards zero between the samples of either piece
+extreme, and sorting all 26 samples of every contact at once cost more: 0.22-0.30 s
+of CPU per 10^5 designs of the change tables then, 0.03-0.07 s now; the bounds agree
+to ``7e-16`` over 4*10^4 of their designs, both gravities, and with a dense search of
+the pieces, at 1025 phases each refined to ``1e-10`` of a phase, to ``9e-16``, where
+1 step falls ``4e-11`` and 2 ``2e-11`` short); the largest overlap is the grid's. It
+holds where the grid's end states hold (as in :func:`jump_holds`), every node's state
+is its end state (no state before it ended or turned back, it ends) and the body
+leaves the overlap at the next update (it cannot coast and stick), no end margin dips
+towards zero between the samples of either piece
 (:func:`~impactsym.engines.drake.phases.hidden_changes` at the panels' positions), and
 :math:`\hat\varphi_j` lies in ``[0, 1)``. There it agrees with
 :func:`~impactsym.engines.drake.phases.phase_summary` (over random designs of 2-60
@@ -329,7 +330,7 @@ def jump_summary(
     structure (module docstring, "The summary"): the restitution and size of
     :func:`jump_means`; the contact time's range ``(B + phi_j) h`` to ``(B + 1 + phi_j)
     h`` at the change's estimate ``phi_j``; the restitution's range over the nodes, both
-    sides of the change at ``phi*``, the grid and the interior extremes; the grid's
+    sides of the change at ``phi_j``, the grid and the interior extremes; the grid's
     largest overlap; no sticking. ``held``: the grid's end states as in
     :func:`jump_holds`, nothing sticking; every node's state ``B + 1`` or ``B`` the end
     state (no state before it ended or turned back, and it ends) and the body out of
