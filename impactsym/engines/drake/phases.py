@@ -563,7 +563,8 @@ def interior_extreme(
     (:func:`_bracketed_steps`): for samples dense enough that the restitution is a
     quadratic between them (:func:`~impactsym.engines.drake.jump_means.jump_summary`'s
     nodes, 0.14 of a phase apart at most: 3 steps gave its zoomed bounds to ``1e-15``
-    over 4*10^4 designs)."""
+    over 4*10^4 designs of the change tables, random contacts of 2-60 steps need 5;
+    it takes 6)."""
     f, last = sign * e, pts.shape[1] - 1
     j = np.argmax(f, axis=1)
     # the ends whose quadratic peaks inside (sampled at the end: up to 5e-7 short; the
