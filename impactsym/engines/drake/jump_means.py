@@ -370,7 +370,8 @@ def _node_ends(ev):
     """Where each node's state ends (:func:`~impactsym.engines.drake.stepping.margin_at`)
     and the body is out of the overlap at the next update (it cannot coast and stick),
     ``n x nodes``: in blocks of :data:`_BLOCK` states, whose temporaries stay in the
-    cache (all at once, the test cost a sixth of :func:`jump_summary`)."""
+    cache (all at once: 0.2 s of CPU per 10^5 contacts of 5 nodes per panel, 0.035 s in
+    blocks)."""
     x, u, flat = ev.x.ravel(), ev.u.ravel(), [a.ravel() for a in ev.flat]
     ends = np.empty(x.size, bool)
     for lo in range(0, x.size, _BLOCK):
