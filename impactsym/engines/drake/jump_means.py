@@ -76,7 +76,7 @@ restitution's range is over every sample (the nodes, the states ``B + 1`` and ``
 at :math:`\hat\varphi_j`, one more run and an update: those at :math:`\varphi^*` lie
 off the change by the design's tolerance, which moved a design's range by ``3e-11``
 under gravity; the grid) and, where a sample between two others of its piece is
-extreme, the search of :func:`~impactsym.engines.drake.phases.interior_extreme` there:
+extreme, the search of :func:`~impactsym.engines.drake.extremes.interior_extreme` there:
 :data:`_STEPS` steps of successive parabolic interpolation from the samples
 themselves, which lie at most 0.14 of a phase apart (two zoom rounds first, as
 :func:`~impactsym.engines.drake.phases.phase_summary` searches, took 20 runs per
@@ -113,12 +113,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from impactsym.engines.drake.phases import (
-    GRID_PHASES,
-    PhaseSummary,
-    hidden_changes,
-    interior_extreme,
-)
+from impactsym.engines.drake.extremes import interior_extreme
+from impactsym.engines.drake.phases import GRID_PHASES, PhaseSummary, hidden_changes
 from impactsym.engines.drake.stepping import (
     ContactEnds,
     contact_ends,
@@ -430,7 +426,7 @@ def _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change):
     pieces where a sample between two of the same piece is extreme, or one at an end of
     a piece (of the phase interval, or a side of the change) is and the samples next to
     it say the extreme lies just inside
-    (:func:`~impactsym.engines.drake.phases.interior_extreme`, from those samples: they
+    (:func:`~impactsym.engines.drake.extremes.interior_extreme`, from those samples: they
     lie 0.14 of a phase apart at most, :data:`_STEPS` parabolic steps reach the extreme
     there)."""
     n = ev.phi.size

@@ -64,12 +64,12 @@ All designs and pieces are evaluated together on whole arrays.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 
+from impactsym.engines.drake.extremes import BATCH, interior_extreme
 from impactsym.engines.drake.stepping import (
     ContactEnds,
     contact_ends,
@@ -82,7 +82,6 @@ from impactsym.engines.phase_pieces import (
     integrate_pieces,
     least_vertex,
     reduce_at,
-    vertex_point,
 )
 from impactsym.records import ArrayRecord
 
@@ -91,7 +90,6 @@ __all__ = [
     "SUMMARY_FIELDS",
     "PhaseSummary",
     "hidden_changes",
-    "interior_extreme",
     "phase_summary",
 ]
 
@@ -192,8 +190,6 @@ def _grid(intervals):
 GRID_PHASES = _grid(_GRID)
 GRID_PHASES.flags.writeable = False
 _SPLIT = 64  # multisection: 6 bits of the jump phase per call (2^-42: 7 calls)
-_BATCH = 32_000  # contacts per call above which the searches take fewer phases per call
-_ZOOM = 33  # phases per zoom round of an interior extreme
 _NODES = 7  # Gauss-Legendre nodes per piece (a quarter of the phase at most)
 _WIDTH = 2.0**-45  # a change of the end state is located to this (1/8 of a phase / 64^7)
 _FAN = 64  # phases per bracket and call of the root search at most
@@ -399,7 +395,7 @@ def _multisection(run, key, ii, a, c, left):
     bracket and call, the first change kept. Many small calls cost Python overhead, few
     large ones cost work: 64 up to ~500 brackets, 4 for more (measured: 1000 designs
     0.5 s against 1.7 s with 64)."""
-    split = _SPLIT if ii.size * _SPLIT <= _BATCH else 4
+    split = _SPLIT if ii.size * _SPLIT <= BATCH else 4
     frac = np.arange(1, split) / split
     for _ in range(int(np.ceil(42 / np.log2(split)))):
         pts = a[:, None] + (c - a)[:, None] * frac[None, :]
@@ -538,103 +534,3 @@ def _roots(flat, run, key, ii, a, c, left, right):
         for f, g in zip(at_found, at_ends, strict=True):
             f[done] = g.reshape(-1, 2)
     return found, a, c, at_found
-
-
-def interior_extreme(
-    run: Callable[[np.ndarray, np.ndarray], Any], own: np.ndarray, pts: np.ndarray,
-    e: np.ndarray, sign: float, *, rounds: int = 2, steps: int = 2,
-) -> np.ndarray:  # fmt: skip
-    """Largest (``sign = 1``) or smallest (``-1``) restitution inside each piece where an
-    interior node holds the extreme sample, or an end does and the quadratic through it
-    and its next two samples peaks between it and the next; ``nan`` elsewhere. Two zoom
-    rounds (sample ``_ZOOM`` phases, 9 for large batches, between the extreme's neighbours; keep the
-    best and its neighbours: the bracket 16 times narrower at least), then two steps of
-    successive parabolic interpolation: the restitution is smooth there, so the vertex
-    of the quadratic through the best sample and its neighbours is off the extreme by
-    the cube of the bracket, and its value by twice that order (the former 15 zoom
-    rounds, to 1e-9 of a piece, gave the same bounds to 1e-15 in 2*10^4 random contacts,
-    at 135 runs per piece instead of 22). The result is a sampled value: never beyond
-    the extreme. ``pts``, ``e``: each piece's samples in phase order (rows) and their
-    restitution; ``own``: the element of each piece; ``run(i, p)``: the contacts (a
-    record with ``restitution``) of elements ``i`` at phases ``p``. ``rounds``,
-    ``steps``: the zoom rounds and parabolic steps; ``rounds=0``: ``steps`` steps from
-    the samples themselves (the best and its neighbours, or the end's three), keeping
-    the best and its neighbours among all samples so far
-    (:func:`_bracketed_steps`): for samples dense enough that the restitution is a
-    quadratic between them (:func:`~impactsym.engines.drake.jump_means.jump_summary`'s
-    nodes, 0.14 of a phase apart at most: 3 steps gave its zoomed bounds to ``1e-15``
-    over 4*10^4 designs of the change tables, random contacts of 2-60 steps need 5;
-    it takes 6)."""
-    f, last = sign * e, pts.shape[1] - 1
-    j = np.argmax(f, axis=1)
-    # the ends whose quadratic peaks inside (sampled at the end: up to 5e-7 short; the
-    # quadratics of those rows only)
-    start, end = j == 0, j == last
-    for ends, three, (lo, hi), at in ((start, slice(0, 3), (0, 1), 0),
-                                      (end, slice(-3, None), (-2, -1), -1)):  # fmt: skip
-        i = np.flatnonzero(ends)
-        x_v, f_v = vertex_point(pts[i, three], f[i, three])
-        with np.errstate(invalid="ignore"):
-            ends[i] = (x_v > pts[i, lo]) & (x_v < pts[i, hi]) & (f_v > f[i, at])
-    inner = np.flatnonzero((j > 0) & (j < last) | start | end)
-    out = np.full(e.shape[0], np.nan)
-    if inner.size == 0:
-        return out
-    best = sign * e[inner, j[inner]]
-    if rounds == 0:  # from the best sample and its neighbours (or the end's three)
-        three = np.clip(j[inner], 1, last - 1)[:, None] + np.arange(-1, 2)
-        p3, f3 = (np.take_along_axis(a[inner], three, axis=1) for a in (pts, f))
-        out[inner] = sign * np.fmax(best, _bracketed_steps(run, own[inner], p3, f3, sign, steps))
-        return out
-    lo = np.clip(np.where(start, 0, np.where(end, last - 1, j - 1)), 0, last)[inner]
-    a, c = pts[inner, lo], pts[inner, np.where((start | end)[inner], lo + 1, lo + 2)]
-    points = _ZOOM if inner.size * _ZOOM <= _BATCH else 9
-    owner = np.repeat(own[inner], points)
-    frac = np.linspace(0.0, 1.0, points)
-    rows = np.arange(inner.size)
-    for _ in range(rounds):  # zoom: the bracket shrinks (points - 1)/2-fold per round
-        x = a[:, None] + (c - a)[:, None] * frac[None, :]
-        f = (sign * run(owner, x.ravel()).restitution).reshape(x.shape)
-        b = np.clip(np.argmax(f, axis=1), 1, points - 2)
-        best = np.fmax(best, f[rows, b])
-        three = b[:, None] + np.arange(-1, 2)
-        a, c = x[rows, b - 1], x[rows, b + 1]
-    p3, f3 = np.take_along_axis(x, three, axis=1), np.take_along_axis(f, three, axis=1)
-    for _ in range(steps):  # successive parabolic interpolation
-        at, _ = vertex_point(p3, f3)
-        inside = (at > p3[:, 0]) & (at < p3[:, 2])  # (False where nan)
-        at = np.where(inside, at, p3[:, 1])
-        f_at = sign * run(own[inner], at).restitution
-        best = np.fmax(best, f_at)
-        # the three best of the four samples, in phase order
-        p4, f4 = np.column_stack([p3, at]), np.column_stack([f3, f_at])
-        keep = np.sort(np.argsort(-f4, axis=1, kind="stable")[:, :3], axis=1)
-        p3, f3 = np.take_along_axis(p4, keep, axis=1), np.take_along_axis(f4, keep, axis=1)
-        order = np.argsort(p3, axis=1)
-        p3, f3 = np.take_along_axis(p3, order, axis=1), np.take_along_axis(f3, order, axis=1)
-    out[inner] = sign * best
-    return out
-
-
-def _bracketed_steps(run, own, p3, f3, sign, steps):
-    """The best (signed) restitution of ``steps`` runs of successive parabolic
-    interpolation from the three samples ``(p3, f3)`` of each row (in phase order,
-    ``f3`` signed), each at the vertex of the quadratic through the best sample so far
-    and its two neighbours among the row's samples (a bracket where the best lies
-    between them; the three at that end where it is an end); a vertex outside the three
-    (or none: on a line) is replaced by the middle of the longer of their intervals."""
-    best = np.full(p3.shape[0], -np.inf)
-    rows = np.arange(p3.shape[0])
-    for _ in range(steps):
-        at, _ = vertex_point(p3, f3)
-        inside = (at > p3[:, 0]) & (at < p3[:, 2])  # (False where nan)
-        wide = (p3[:, 2] - p3[:, 1] >= p3[:, 1] - p3[:, 0]).astype(np.intp)
-        at = np.where(inside, at, 0.5 * (p3[rows, wide] + p3[rows, wide + 1]))
-        f_at = sign * run(own, at).restitution
-        best = np.fmax(best, f_at)
-        p4, f4 = np.column_stack([p3, at]), np.column_stack([f3, f_at])
-        order = np.argsort(p4, axis=1, kind="stable")
-        p4, f4 = np.take_along_axis(p4, order, axis=1), np.take_along_axis(f4, order, axis=1)
-        keep = np.clip(np.argmax(f4, axis=1), 1, 2)[:, None] + np.arange(-1, 2)
-        p3, f3 = np.take_along_axis(p4, keep, axis=1), np.take_along_axis(f4, keep, axis=1)
-    return best
