@@ -66,7 +66,7 @@ from impactsym.engines.drake.prediction import (
     summary_prediction,
 )
 from impactsym.engines.drake.pressed_table import MIN_TARGETS, pressed_designs
-from impactsym.engines.drake.step_table import MIN_TARGETS as STEPPED_MIN
+from impactsym.engines.drake.step_table import MIN_CALL as STEPPED_MIN
 from impactsym.engines.drake.step_table import stepped_designs
 from impactsym.records import ArrayRecord
 from impactsym.validation import broadcast, finish, real_array
