@@ -99,6 +99,20 @@ def test_designs_off_the_tables_meet_their_targets_by_a_fresh_prediction(gravity
     _same_prediction(mine, fresh)
 
 
+@pytest.mark.parametrize(("base", "phase"), [(30, 0.0), (30, 0.5), (40, 0.0)])
+def test_a_change_at_an_exact_phase_gives_the_whole_restitution_range(base, phase):
+    """At ``phi* = 0`` or ``1/2`` a Gauss node falls on a grid phase, and at 0 the empty
+    piece's side on the other's: the search around the least restitution needs its
+    neighbours apart, else it searched one side only (the least was up to 8.5e-6 too
+    high; review)."""
+    rng = np.random.default_rng(50)
+    e = rng.uniform(0.3, 0.6, 1100)
+    q = np.full(e.size, base + 0.5 + phase)
+    read, mine, fresh = _read_off(e, q * H, 5.0, "contact_time")
+    assert read.mean() > 0.7  # (at B = 40, phi* = 0: 78 %)
+    _same_prediction(mine, fresh)
+
+
 @pytest.mark.parametrize("phases", [(0.0, 0.02), (0.98, 1.0)])
 def test_designs_next_to_the_phase_ends_under_gravity_come_off_the_table_extrapolated(phases):
     """Under gravity the tables cover the change's phases 0.02-0.98 (closer to the ends
