@@ -27,8 +27,9 @@ gets its own tables.
   tolerances, not a point. With 16 x 10 nodes one evaluation confirms 99.3 % of the
   benchmark's targets by contact time without gravity, with 14 x 8 almost none. A
   target whose change lies beyond a narrower window is read off the table extrapolated
-  (no more than 0.02/0.96 of the window beyond its ends, under gravity): where the one
-  change still holds there its evaluation keeps it (61 % of the benchmark's 3994 such
+  to the ends of the phase interval (from ``0.02-0.98``, 0.02/0.96 of the window beyond
+  each end; from ``0.05-0.95`` further): where the one change still holds there its
+  evaluation keeps it (61 % of the benchmark's 3994 such
   targets by contact time under gravity; before, all took the caller's path, at about
   ten times the cost each), elsewhere it is the caller's.
 * **By largest overlap** the target does not name its end state: the caller's coarse
@@ -81,6 +82,7 @@ from impactsym.numeric.roots import bracketed_newton
 __all__ = [
     "CROWD",
     "MIN_PLATEAU",
+    "MIN_SERVED",
     "MIN_STEPS",
     "MIN_TARGETS",
     "NODES",
@@ -101,10 +103,13 @@ __all__ = [
 NODES_E, NODES_PHASE = 16, 10
 #: Widest restitution box of one table (wider ranges: several tables side by side).
 WIDTH = 0.3
-#: Targets one table serves at least: a table pays for itself from about 100 (its cost
-#: above); at 1024 a call of 3 x 10^4 targets of ``e`` 0.25-0.75 over 21 end states got
-#: none (two boxes of ~700 each) and took 2.3-2.8 s of CPU, 1.2-1.9 s with 256.
-MIN_TARGETS = 256
+#: Targets one table serves at least, and all a call's tables together: built together,
+#: a table pays for itself from about 100 targets (~15 ms of CPU); one alone costs
+#: 0.08-0.23 s (the caller's path's fixed cost for its nodes: a call of 300 targets of one
+#: end state took 0.32 s with a table, 0.12 s without; review). With 1024 per table a
+#: call of 3 x 10^4 targets of ``e`` 0.25-0.75 over 21 end states got none (two boxes of
+#: ~700 each) and took 2.3-2.8 s of CPU, 1.2-1.9 s now.
+MIN_TARGETS, MIN_SERVED = 256, 1024
 #: Steps of the continuous contact time in which targets by overlap may fill a table.
 CROWD = 7
 #: The restitutions tables serve: below, the one-change structure breaks (at ``B = 15``
@@ -194,28 +199,30 @@ def table_designs(
 
 
 def may_fill_a_table(e: np.ndarray, q: np.ndarray, *, by_overlap: bool) -> bool:
-    """Whether the targets ``(e, q)`` of one ``g / v`` (``q`` the size in steps) may crowd
-    :data:`MIN_TARGETS` into one end state: by contact time into one step, ``by_overlap``
-    into :data:`CROWD` steps of the continuous law's contact time without gravity (the
-    discrete one lies within a step or two; the likely end state asks its neighbours'
-    tables too). Else no table, and by overlap no coarse table of the caller's for their
-    likely end states (it cost 30 % of a call of 512 targets over 50 steps, for
-    nothing)."""
-    if e.size < MIN_TARGETS:
+    """Whether the targets ``(e, q)`` of one ``g / v`` (``q`` the size in steps) may get
+    tables: :data:`MIN_SERVED` of them, :data:`MIN_TARGETS` in one end state ``B =
+    floor(q - 1/2)`` by contact time, ``by_overlap`` within :data:`CROWD` end states of
+    the continuous law's contact time without gravity (the discrete one lies within a
+    step or two; the likely end state asks its neighbours' tables too). Else no table,
+    and by overlap no coarse table of the caller's for their likely end states (it cost
+    30 % of a call of 512 targets over 50 steps, for nothing)."""
+    if e.size < MIN_SERVED:
         return False
     steps = q
     if by_overlap:  # the contact time in steps of the continuous design of overlap q
         _, tau0, z0 = hunt_crossley_free(np.minimum(hunt_crossley_parameter(e), S_MAX))
         steps = tau0 / z0 * q
-    counts = np.bincount(np.floor(steps - steps.min()).astype(np.int64))
-    crowd = np.convolve(counts, np.ones(CROWD if by_overlap else 1, np.int64))
-    return bool(crowd.max() >= MIN_TARGETS)
+    states, counts = np.unique(np.floor(steps - 0.5), return_counts=True)
+    before = np.concatenate([[0], np.cumsum(counts)])
+    upto = np.searchsorted(states, states + (CROWD if by_overlap else 1))
+    return bool((before[upto] - before[:-1]).max() >= MIN_TARGETS)
 
 
 def _keys(e, asks):
     """``(end state, restitution box, targets served)`` of each table: the end states
     asked, each's targets' restitutions within :data:`RESTITUTIONS` in boxes
-    (:func:`_boxes`), where a box serves at least :data:`MIN_TARGETS`."""
+    (:func:`_boxes`), where a box serves at least :data:`MIN_TARGETS`, and none unless
+    those serve :data:`MIN_SERVED` together."""
     keys = []
     inside = (e >= RESTITUTIONS[0]) & (e <= RESTITUTIONS[1])
     for b in np.unique(asks[np.isfinite(asks) & (asks >= MIN_STEPS)]):
@@ -226,7 +233,8 @@ def _keys(e, asks):
             serves = asking & (e >= box[0]) & (e <= box[1])
             if np.count_nonzero(serves) >= MIN_TARGETS:
                 keys.append((b, box, serves))
-    return keys
+    served = np.logical_or.reduce([serves for _, _, serves in keys]) if keys else inside[:0]
+    return keys if np.count_nonzero(served) >= MIN_SERVED else []
 
 
 def _confirmed(k, d, m, g, v, e, q, change, h, by_overlap):
@@ -445,7 +453,8 @@ def _coefficients(values):
 
 
 def _phase_of(coef, x, target, ends=(-1.0, 1.0)):
-    """The phase ``y`` in ``ends`` (``[-1, 1]``: the table's window) where the largest of
+    """The phase ``y`` between ``ends`` (the table's variable; the default ``[-1, 1]`` is
+    its window, the phase interval's ends lie beyond a narrower one) where the largest of
     the tables ``coef`` (``(J, NODES_E, NODES_PHASE)``) at the restitutions ``x`` equals
     ``target`` (``nan`` where the ends do not bracket it): safeguarded Newton steps
     (:func:`~impactsym.numeric.roots.bracketed_newton`: the largest is not smooth where

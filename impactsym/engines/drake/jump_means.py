@@ -430,8 +430,7 @@ def _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change):
     lie 0.14 of a phase apart at most, :data:`_STEPS` parabolic steps reach the extreme
     there)."""
     n = ev.phi.size
-    extreme, at, place, win_p, win_e = _extremes(ev, r, sides, change)
-    width = ev.phases.shape[1] + GRID_PHASES.size + 2
+    extreme, at, place, count, win_p, win_e = _extremes(ev, r, sides, change)
 
     def run(i, phases):
         return contact_ends(*(a[i] for a in (k, d, m, g, v)), h, phases)
@@ -450,8 +449,8 @@ def _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change):
                 pts, e = win_p[s, i], win_e[s, i]
             else:  # (where the piece has three; their places among the five)
                 j = place[s, i]
-                i, j = (a[(j + window[0] >= 0) & (j + window[-1] < width)] for a in (i, j))
-                cols = (j - np.clip(j - 2, 0, width - 5))[:, None] + window
+                i, j = (a[(j + window[0] >= 0) & (j + window[-1] < count[i])] for a in (i, j))
+                cols = (j - np.clip(j - 2, 0, count[i] - 5))[:, None] + window
                 pts, e = (np.take_along_axis(a[s, i], cols, axis=1) for a in (win_p, win_e))
             if i.size:
                 inner[i] = interior_extreme(run, i, pts, e, sign, rounds=0, steps=_STEPS)
@@ -462,13 +461,19 @@ def _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change):
 def _extremes(ev, r, sides, change):
     """Per sign (least, largest) and contact, over the samples of
     :func:`_restitution_range`: the extreme restitution, whether it is the side of the
-    change before it (0), after it (2) or another sample (1), its place in phase order,
-    and the phases and restitutions of the five samples around it in phase order (those
-    from two before to two after it, within the samples). Blocks of :data:`_ROWS`
-    contacts (their temporaries stay in the cache: the samples of all at once cost up to
-    0.15 s of CPU per 10^5 contacts to sort and gather)."""
+    change before it (0), after it (2) or another sample (1), its place in phase order
+    among the distinct samples, their count, and the phases and restitutions of the
+    five distinct samples around it in phase order (those from two before to two after
+    it, within the samples). A sample of the same phase and restitution as the next is
+    left out (a Gauss node on a grid phase, at ``phi* = 0`` or ``1/2``; the empty piece's
+    side at ``phi* = 0``, whose place the side after takes): the search around the
+    extreme needs its neighbours apart (a copy for a neighbour searched one side only,
+    8.5e-6 short; review). Blocks of :data:`_ROWS` contacts (their temporaries stay in
+    the cache: the samples of all at once cost up to 0.15 s of CPU per 10^5 contacts to
+    sort and gather)."""
     n, width = ev.phi.size, ev.phases.shape[1] + GRID_PHASES.size + 2
     extreme, at, place = np.empty((2, n)), np.empty((2, n), np.int8), np.empty((2, n), np.intp)
+    count = np.empty(n, np.intp)
     win_p, win_e = np.empty((2, n, 5)), np.empty((2, n, 5))
     for lo in range(0, n, _ROWS):
         b = slice(lo, min(lo + _ROWS, n))
@@ -485,13 +490,22 @@ def _extremes(ev, r, sides, change):
         order = np.argsort(p, axis=1, kind="stable")
         order += rows[:, None]  # (flat indices)
         e, p = e.ravel(), p.ravel()
+        e_sorted, p_sorted = e.take(order), p.take(order)
+        # the distinct samples first (a copy of the next one after them, stably)
+        copy = (p_sorted[:, :-1] == p_sorted[:, 1:]) & (e_sorted[:, :-1] == e_sorted[:, 1:])
+        copy = np.concatenate([copy, np.zeros((rows.size, 1), bool)], axis=1)
+        order = np.take_along_axis(order, np.argsort(copy, axis=1, kind="stable"), axis=1)
+        m = width - np.count_nonzero(copy, axis=1)
+        count[b] = m
         e_sorted = e.take(order)
+        beyond = np.arange(width) >= m[:, None]  # (the copies, out of reach)
         for s in range(2):
-            j = np.argmin(e_sorted, axis=1) if s == 0 else np.argmax(e_sorted, axis=1)
+            f = np.where(beyond, np.inf if s == 0 else -np.inf, e_sorted)
+            j = np.argmin(f, axis=1) if s == 0 else np.argmax(f, axis=1)
             col = order.ravel().take(j + rows) - rows
             extreme[s, b] = e_sorted.ravel().take(j + rows)
             at[s, b] = np.where(col == 0, 0, np.where(col == width - 1, 2, 1))
             place[s, b] = j
-            five = order.ravel().take((np.clip(j - 2, 0, width - 5) + rows)[:, None] + np.arange(5))
+            five = order.ravel().take((np.clip(j - 2, 0, m - 5) + rows)[:, None] + np.arange(5))
             win_p[s, b], win_e[s, b] = p.take(five), e.take(five)
-    return extreme, at, place, win_p, win_e
+    return extreme, at, place, count, win_p, win_e

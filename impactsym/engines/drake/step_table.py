@@ -120,8 +120,8 @@ __all__ = [
 ]
 
 #: Targets sharing ``g / v`` per call from which a table starts their designs: from a
-#: few on it is cheaper than the nested iteration (0.06-0.15 s for 1-255 targets of 20-40
-#: steps, against 0.1-0.9 s).
+#: few on it is cheaper than the nested iteration (0.09-0.16 s for 10-255 targets of 20-40
+#: steps, against 0.22-0.87 s).
 MIN_CALL = 8
 #: Targets of one chunk at least, where a call's sizes span more than :data:`SPAN`.
 MIN_TARGETS = 256
@@ -187,7 +187,7 @@ def stepped_designs(
             ok[rows], k[rows], d[rows] = done, k_r, d_r
             rows = rows[~done]
             if rows.size == 0:  # (the others: cheaper here than by the caller's iteration,
-                continue  # even a few: 0.1-0.2 s for 1-250 targets, against 0.1-1.2 s)
+                continue  # even a few: 0.06-0.26 s for 1-250 targets, against 0.1-1.2 s)
         done, k_r, d_r = _chunked(*(a[rows] for a in (e, v, m, g, target, q)), h, approx,
                                   size_name)  # fmt: skip
         ok[rows], k[rows], d[rows] = done, k_r, d_r
