@@ -159,14 +159,29 @@ table whose error is bounded without a per-design evaluation, or a compiled step
   99.3 % and 96 % of the contact-time targets, 97.5 % and 96 % of the overlap ones
   (their contacts last 36-60 steps, the others 20-40).
 
-Where it stands (CPU seconds per 10^5, ``_cases(100000)``, one warm-up call of 10
-targets, then the call timed by ``time.process_time``, load ~2; this machine's
-run-to-run noise is up to 40 %): PyBullet 1.76 (g = 0, contact_time array), 0.71 (g = 0,
-default), 1.42 and 1.60 (under gravity); Drake continuous 0.1-0.56; Drake lagged 1e-3
-2.06, 3.64 (g = 0, contact_time and max_penetration), 2.26, 3.92 (g = 9.81): 1.0-2 x the
-target. Each design's one exact evaluation is most of it (by overlap, of contacts of
-36-60 steps); below 2 s there would need fewer updates per design than that evaluation
-has, i.e. a compiled step loop.
+* Drake lagged 1e-3, the one evaluation cheaper (``jump_summary``: the restitution's
+  range by six parabolic steps from its own samples, 0.14 of a phase apart at most,
+  instead of two zoom rounds first, ~20 runs per extreme; its bookkeeping in blocks;
+  state B + 1 one update after B instead of a run from touch), targets beyond a table's
+  narrower window of phases read off it extrapolated where the evaluation holds (61 % of
+  the 3994 phase-end targets under gravity, which all took the slow path), boxes of 256
+  targets from 1024 in a call, the tables' leftovers to the table of means whatever
+  their count, Newton for the overlap's phase from the secant root. CPU seconds per 10^5
+  (``_cases(100000)``, load 1.3-1.8, two runs each), before -> after: 2.06 -> 1.43-1.54
+  and 3.46 -> 2.84-3.01 (g = 0, contact_time and max_penetration), 2.22 -> 1.61-1.69 and
+  3.38 -> 3.08-3.13 (g = 9.81). The one evaluation: 1.4-1.75 s -> 0.9-1.2 s.
+
+Where it stands (seconds per 10^5, this script, load ~1.5; this machine's run-to-run
+noise is up to 15 %): PyBullet 1.58 (g = 0, contact_time array), 0.65 (g = 0, default),
+1.26 and 1.41 (under gravity); Drake continuous 0.10-0.32; Drake lagged 1e-3 1.48, 2.85
+(g = 0, contact_time and max_penetration), 1.61, 3.04 (g = 9.81): every case under the
+target but Drake lagged by largest overlap, 1.4-1.5 x. There the contacts last 24-73
+steps (20-40 by contact time), so a call needs twice the tables (44 end states against
+21: 0.5-0.65 s of node designs), and under gravity about 2 % of the targets (a second
+change of the end state next to the phase's ends) take the table of means (~0.9 s);
+the one evaluation per design is another 0.9-1.1 s of contact runs. Below 2 s there
+would need fewer updates per design than that evaluation has, or tables of exact
+designs across end states.
 """
 
 from __future__ import annotations
