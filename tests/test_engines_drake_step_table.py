@@ -173,3 +173,18 @@ def test_a_call_of_a_few_targets_starts_from_the_table_of_means(monkeypatch):
         assert np.abs(fresh.restitution - e).max() <= 1.05e-12
         assert np.abs(fresh.contact_time / t - 1.0).max() <= 1.05e-10
     assert calls == [MIN_CALL, 40]
+
+
+def test_a_small_call_with_a_target_out_of_reach_is_refused_before_any_table(monkeypatch):
+    """Below ``MIN_TARGETS`` a call whose target the undamped contact cannot reach at the
+    iteration's first stiffness goes straight to the iteration, which refuses it at its
+    first check (a table of phase means first took 0.1-2 s; review), naming the target."""
+    from impactsym.engines.drake import step_table
+
+    built = []
+    monkeypatch.setattr(step_table, "_chunked", lambda *args: built.append(args))
+    e = np.append(np.full(20, 0.4), 0.97)
+    with pytest.raises(ValueError, match="restitution 0.97 is out of reach"):
+        drake.point_contact_for(restitution=e, contact_time=0.03, speed=1.0, mass=0.1,
+                                time_step=1e-3)  # fmt: skip
+    assert built == []

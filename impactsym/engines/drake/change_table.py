@@ -57,8 +57,9 @@ gets its own tables.
   then the design's prediction. The others are left to the caller.
 
 A box gets a table where it serves at least :data:`MIN_TARGETS` targets of contacts of
-:data:`MIN_STEPS` steps or more: a table costs ``NODES_E * NODES_PHASE`` designs by the
-caller's path (about 15 ms of CPU), a design read off it one evaluation instead of about
+:data:`MIN_STEPS` steps or more, and a call's boxes serve :data:`MIN_SERVED` together: a
+table costs ``NODES_E * NODES_PHASE`` designs by the caller's path (about 15 ms of CPU
+among many, 0.08-0.23 s alone), a design read off it one evaluation instead of about
 four and a phase summary (about 15 us against 150-250 us). All quantities SI, flat
 arrays. Internal to :mod:`impactsym.engines.drake`.
 """
@@ -105,8 +106,8 @@ NODES_E, NODES_PHASE = 16, 10
 WIDTH = 0.3
 #: Targets one table serves at least, and all a call's tables together: built together,
 #: a table pays for itself from about 100 targets (~15 ms of CPU); one alone costs
-#: 0.08-0.23 s (the caller's path's fixed cost for its nodes: a call of 300 targets of one
-#: end state took 0.32 s with a table, 0.12 s without; review). With 1024 per table a
+#: 0.08-0.23 s (the caller's path's fixed cost for its nodes: calls of 300 targets of one
+#: end state took 0.09-0.32 s with a table, 0.09-0.13 s without; reviews). With 1024 per table a
 #: call of 3 x 10^4 targets of ``e`` 0.25-0.75 over 21 end states got none (two boxes of
 #: ~700 each) and took 2.3-2.8 s of CPU, 1.2-1.9 s now.
 MIN_TARGETS, MIN_SERVED = 256, 1024

@@ -38,9 +38,9 @@ from functools import cache
 import numpy as np
 from numpy.polynomial import chebyshev
 
-from impactsym.contact.lawclosed import hunt_crossley_restitution
+from impactsym.contact.lawclosed import hunt_crossley_parameter, hunt_crossley_restitution
 
-__all__ = ["S_MAX", "contact_time_quadrature", "hunt_crossley_free"]
+__all__ = ["S_MAX", "contact_time_quadrature", "hunt_crossley_free", "start_stiffness"]
 
 #: Largest damping number ``s = d v0`` the quadrature serves (module docstring).
 S_MAX = 3.0
@@ -135,3 +135,21 @@ def _contact_time(s: np.ndarray, e: np.ndarray, nodes: int) -> np.ndarray:
     wl, sl, el = w[low], ss[low], ee[low]
     h[low] = -2.0 * _mean(-el, wl + el, sl) / (1.0 - wl)
     return np.pi / nodes * np.sum(1.0 / (np.sqrt(h) * (1.0 + ss * w)), axis=1)
+
+
+def start_stiffness(
+    e: np.ndarray, v: np.ndarray, m: np.ndarray, size: np.ndarray, *, size_name: str,
+    damped: bool,
+) -> np.ndarray:  # fmt: skip
+    """The stiffness (N/m) at which the continuous law without gravity gives the contact
+    time or largest overlap ``size`` (``size_name``): ``k = m (T/size)^2`` with ``T`` the
+    dimensionless contact time ``tau0`` or ``z0 v`` of :func:`hunt_crossley_free` at the
+    damping number of the restitution ``e`` (``damped``), else the undamped ``pi`` and
+    ``v``. The exact designs' first stiffness (at a step the damped law's: an undamped
+    start may lie where the step restitutes less than the target). Flat arrays, SI."""
+    timed = size_name == "contact_time"
+    unit = np.pi if timed else v
+    if damped:
+        _, tau0, z0 = hunt_crossley_free(np.minimum(hunt_crossley_parameter(e), S_MAX))
+        unit = tau0 if timed else z0 * v
+    return m * (unit / size) ** 2

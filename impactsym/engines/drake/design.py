@@ -27,16 +27,18 @@ gravity (``g > 0``) reads their designs off one Chebyshev table of the normalize
 in the damping and pressing numbers instead
 (:mod:`~impactsym.engines.drake.pressed_table`: the same numbers to about ``1e-14``,
 without an exact evaluation per design). A call with at least
-:data:`~impactsym.engines.drake.step_table.MIN_TARGETS` discrete ``"tamsi"``,
-``"similar"`` or ``"lagged"`` targets sharing ``g / v`` reads those that share an end
-state with many others off that end state's table of exact designs, one exact
-evaluation each, which also gives their phase summary
-(:mod:`~impactsym.engines.drake.change_table`), starts the others from a table of the
-phase means and finishes them on the equations of the end state's change
+:data:`~impactsym.engines.drake.step_table.MIN_CALL` discrete ``"tamsi"``,
+``"similar"`` or ``"lagged"`` targets sharing ``g / v`` (below
+:data:`~impactsym.engines.drake.step_table.MIN_TARGETS`, only where the undamped
+contact reaches each) reads those that share an end state with many others off that
+end state's table of exact designs (:mod:`~impactsym.engines.drake.change_table`: boxes
+of ``MIN_TARGETS`` that serve ``MIN_SERVED`` together), one exact evaluation each,
+which also gives their phase summary, starts the others from a table of the phase
+means and finishes them on the equations of the end state's change
 (:mod:`~impactsym.engines.drake.jump_means`) or by Broyden steps on the exact phase
-means (:mod:`~impactsym.engines.drake.step_table`). The targets the tables do not
-serve, and every smaller call, take the iteration above (at a step from the continuous
-damped design). Every discrete design is predicted: a table's design that misses its
+means (:mod:`~impactsym.engines.drake.step_table`). The targets those leave, and every
+smaller call, take the iteration above (at a step from the continuous damped design).
+Every discrete design is predicted: a table's design that misses its
 target is designed again by the iteration, and one that still misses is refused (a
 safety net: no target is known to reach it). Its stopping rules act on its whole batch:
 where it refuses the targets a table left, they are iterated in halves, down to the
@@ -55,7 +57,7 @@ import numpy as np
 from impactsym.contact.lawclosed import hunt_crossley_parameter
 from impactsym.contact.lawdesign import damping_for
 from impactsym.contact.nonlinear import normalized_impact
-from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
+from impactsym.engines.drake.continuous import start_stiffness
 from impactsym.engines.drake.phases import phase_summary
 from impactsym.engines.drake.prediction import (
     Prediction,
@@ -275,14 +277,9 @@ def _iterate(e, v, m, g, target, h, approx, size_name):
     """The stiffness and damping of each target (flat arrays) by the exact iteration: the
     fixed point in the stiffness, a damping root at each (module docstring); raises
     where a target is out of reach."""
-    # the undamped-law scale: t_c ~ pi sqrt(m/k), x_max ~ v sqrt(m/k); at a step the
-    # continuous damped law's (an undamped start may lie where the step restitutes less
-    # than the target, which the damping root refuses: a reachable target was refused)
-    unit = np.pi if size_name == "contact_time" else v
-    if approx is not None:
-        _, tau0, z0 = hunt_crossley_free(np.minimum(hunt_crossley_parameter(e), S_MAX))
-        unit = tau0 if size_name == "contact_time" else z0 * v
-    k = k_start = m * (unit / target) ** 2
+    # the undamped law's scale, at a step the damped law's (an undamped start may lie
+    # where the step restitutes less than the target: a reachable target was refused)
+    k = k_start = start_stiffness(e, v, m, target, size_name=size_name, damped=approx is not None)
     damp = np.zeros_like(k)
     if approx is None and np.all(g > 0):
         # the first damping bracket around the root without gravity (d v = s(e), Lambert

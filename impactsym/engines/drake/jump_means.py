@@ -133,6 +133,7 @@ _CLEAR = 1e-9  # grid phases this close to the change are not checked (the nodes
 _STEPS = 6  # parabolic steps of an interior extreme's search from the samples (docstring)
 _BLOCK = 16_384  # node states tested together (:func:`_node_ends`)
 _ROWS = 4096  # contacts whose samples are sorted together (:func:`_extremes`)
+_APART = 1e-7  # phases closer than this are one place for the range's search (_extremes)
 
 
 class JumpMeans(NamedTuple):
@@ -460,17 +461,17 @@ def _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change):
 
 def _extremes(ev, r, sides, change):
     """Per sign (least, largest) and contact, over the samples of
-    :func:`_restitution_range`: the extreme restitution, whether it is the side of the
-    change before it (0), after it (2) or another sample (1), its place in phase order
-    among the distinct samples, their count, and the phases and restitutions of the
-    five distinct samples around it in phase order (those from two before to two after
-    it, within the samples). A sample of the same phase and restitution as the next is
-    left out (a Gauss node on a grid phase, at ``phi* = 0`` or ``1/2``; the empty piece's
-    side at ``phi* = 0``, whose place the side after takes): the search around the
-    extreme needs its neighbours apart (a copy for a neighbour searched one side only,
-    8.5e-6 short; review). Blocks of :data:`_ROWS` contacts (their temporaries stay in
-    the cache: the samples of all at once cost up to 0.15 s of CPU per 10^5 contacts to
-    sort and gather)."""
+    :func:`_restitution_range`: the extreme restitution, whether the sample nearest it
+    among those apart (below) is the side of the change before it (0), after it (2) or
+    another sample (1), that sample's place in phase order among them, their count, and
+    the phases and restitutions of the five around it (from two before to two after it,
+    within the samples). Samples within :data:`_APART` of the next in phase are not
+    apart: of such a pair the one that is not a side of the change is left out (a Gauss
+    node or grid phase on another, at ``phi*`` near ``k/8``; the empty piece's side at
+    ``phi* = 0``): the search around the extreme needs its neighbours apart (two
+    samples 1e-12 apart made it search one side only, up to 1e-5 short; review).
+    Blocks of :data:`_ROWS` contacts (their temporaries stay in the cache: the samples
+    of all at once cost up to 0.15 s of CPU per 10^5 contacts to sort and gather)."""
     n, width = ev.phi.size, ev.phases.shape[1] + GRID_PHASES.size + 2
     extreme, at, place = np.empty((2, n)), np.empty((2, n), np.int8), np.empty((2, n), np.intp)
     count = np.empty(n, np.intp)
@@ -488,24 +489,44 @@ def _extremes(ev, r, sides, change):
         grid = np.broadcast_to(GRID_PHASES, (rows.size, GRID_PHASES.size))
         p = np.concatenate([change[b, None], ev.phases[b], grid, change[b, None]], axis=1)
         order = np.argsort(p, axis=1, kind="stable")
+        side = (order == 0) | (order == width - 1)
         order += rows[:, None]  # (flat indices)
         e, p = e.ravel(), p.ravel()
         e_sorted, p_sorted = e.take(order), p.take(order)
-        # the distinct samples first (a copy of the next one after them, stably)
-        copy = (p_sorted[:, :-1] == p_sorted[:, 1:]) & (e_sorted[:, :-1] == e_sorted[:, 1:])
-        copy = np.concatenate([copy, np.zeros((rows.size, 1), bool)], axis=1)
-        order = np.take_along_axis(order, np.argsort(copy, axis=1, kind="stable"), axis=1)
-        m = width - np.count_nonzero(copy, axis=1)
+        kept = _apart(p_sorted, side, ev.phi[b] == 0.0)
+        m = np.count_nonzero(kept, axis=1)
         count[b] = m
-        e_sorted = e.take(order)
-        beyond = np.arange(width) >= m[:, None]  # (the copies, out of reach)
+        # each sample's nearest kept one: its own place, or the next's or the last's
+        rank = np.cumsum(kept, axis=1) - 1  # (the place of the last kept at or before)
+        nxt = np.minimum(rank + ~kept, m[:, None] - 1)
+        prev = np.maximum(rank, 0)
+        kept_order = np.take_along_axis(order, np.argsort(~kept, axis=1, kind="stable"), axis=1)
+        kept_p = p.take(kept_order)
+        near = np.where(np.abs(np.take_along_axis(kept_p, nxt, axis=1) - p_sorted)
+                        <= np.abs(np.take_along_axis(kept_p, prev, axis=1) - p_sorted),
+                        nxt, prev)  # fmt: skip
         for s in range(2):
-            f = np.where(beyond, np.inf if s == 0 else -np.inf, e_sorted)
-            j = np.argmin(f, axis=1) if s == 0 else np.argmax(f, axis=1)
-            col = order.ravel().take(j + rows) - rows
+            j = np.argmin(e_sorted, axis=1) if s == 0 else np.argmax(e_sorted, axis=1)
             extreme[s, b] = e_sorted.ravel().take(j + rows)
+            k = near.ravel().take(j + rows)
+            col = kept_order.ravel().take(k + rows) - rows
             at[s, b] = np.where(col == 0, 0, np.where(col == width - 1, 2, 1))
-            place[s, b] = j
-            five = order.ravel().take((np.clip(j - 2, 0, m - 5) + rows)[:, None] + np.arange(5))
+            place[s, b] = k
+            five = kept_order.ravel().take((np.clip(k - 2, 0, m - 5) + rows)[:, None]
+                                           + np.arange(5))  # fmt: skip
             win_p[s, b], win_e[s, b] = p.take(five), e.take(five)
     return extreme, at, place, count, win_p, win_e
+
+
+def _apart(p, side, empty):
+    """Which of the samples (rows in phase order ``p``; ``side``: the change's sides) are
+    kept apart: of two within :data:`_APART` in phase, the one that is not a side (the
+    first where neither is; the sides themselves, at one phase, both); and not the side
+    before the change where its piece is ``empty`` (at ``phi* = 0``: its place is the
+    other's)."""
+    close = p[:, 1:] - p[:, :-1] <= _APART
+    left, right = side[:, :-1], side[:, 1:]
+    drop = np.zeros(p.shape, bool)
+    drop[:, :-1] = close & ~left
+    drop[:, 1:] |= close & left & ~right
+    return ~(drop | (side & empty[:, None] & (np.cumsum(side, axis=1) == 1)))

@@ -101,7 +101,7 @@ import numpy as np
 
 from impactsym.contact.lawclosed import hunt_crossley_parameter
 from impactsym.engines.drake.change_table import may_fill_a_table, table_designs
-from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
+from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free, start_stiffness
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
 from impactsym.engines.drake.phases import SUMMARY_FIELDS, phase_summary
 
@@ -119,9 +119,9 @@ __all__ = [
     "stepped_designs",
 ]
 
-#: Targets sharing ``g / v`` per call from which a table starts their designs: from a
-#: few on it is cheaper than the nested iteration (0.09-0.16 s for 10-255 targets of 20-40
-#: steps, against 0.22-0.87 s).
+#: Targets sharing ``g / v`` per call from which a table starts their designs: cheaper
+#: than the iteration from a few on (0.09-0.16 s for 10-255 targets, 0.22-0.87 s), where
+#: they are reached (else the iteration refuses at once: :func:`_undamped_reach`).
 MIN_CALL = 8
 #: Targets of one chunk at least, where a call's sizes span more than :data:`SPAN`.
 MIN_TARGETS = 256
@@ -175,6 +175,9 @@ def stepped_designs(
         if count < MIN_CALL:
             continue
         rows = np.flatnonzero(inverse == label)
+        if count < MIN_TARGETS and not _undamped_reach(*(a[rows] for a in (e, v, m, g, target)),
+                                                       h, approx, size_name):  # fmt: skip
+            continue  # (the caller's iteration refuses them at once; a table took 0.1-2 s)
         if may_fill_a_table(e[rows], q[rows], by_overlap=size_name != "contact_time"):
             # first off the tables of the end states (none: no coarse table either)
             group = [a[rows] for a in (e, v, m, g)]
@@ -192,6 +195,17 @@ def stepped_designs(
                                   size_name)  # fmt: skip
         ok[rows], k[rows], d[rows] = done, k_r, d_r
     return ok, k, d, summaries
+
+
+def _undamped_reach(e, v, m, g, target, h, approx, size_name):
+    """Whether every target's restitution lies below its undamped phase mean at the
+    iteration's first stiffness (:func:`~impactsym.engines.drake.continuous.start_stiffness`):
+    where one does not, the caller's iteration refuses the call at its first check (the
+    same phase means), in milliseconds."""
+    k = start_stiffness(e, v, m, target, size_name=size_name, damped=True)
+    r = phase_summary(k, np.zeros(e.size), 0.0, m, g, v, h, approximation=approx, bounds=False,
+                      stuck_peaks=size_name != "contact_time")  # fmt: skip
+    return bool(np.all(r.restitution > e))
 
 
 def _chunked(e, v, m, g, target, q, h, approx, size_name):
