@@ -496,19 +496,21 @@ def _extremes(ev, r, sides, change):
         kept = _apart(p_sorted, side, ev.phi[b] == 0.0)
         m = np.count_nonzero(kept, axis=1)
         count[b] = m
-        # each sample's nearest kept one: its own place, or the next's or the last's
-        rank = np.cumsum(kept, axis=1) - 1  # (the place of the last kept at or before)
-        nxt = np.minimum(rank + ~kept, m[:, None] - 1)
-        prev = np.maximum(rank, 0)
-        kept_order = np.take_along_axis(order, np.argsort(~kept, axis=1, kind="stable"), axis=1)
-        kept_p = p.take(kept_order)
-        near = np.where(np.abs(np.take_along_axis(kept_p, nxt, axis=1) - p_sorted)
-                        <= np.abs(np.take_along_axis(kept_p, prev, axis=1) - p_sorted),
-                        nxt, prev)  # fmt: skip
+        kept_order, near = order, None
+        if not kept.all():  # each sample's nearest kept one: itself, the next or the last
+            rank = np.cumsum(kept, axis=1) - 1  # (the place of the last kept at or before)
+            nxt = np.minimum(rank + ~kept, m[:, None] - 1)
+            prev = np.maximum(rank, 0)
+            kept_order = np.take_along_axis(order, np.argsort(~kept, axis=1, kind="stable"),
+                                            axis=1)  # fmt: skip
+            kept_p = p.take(kept_order)
+            near = np.where(np.abs(np.take_along_axis(kept_p, nxt, axis=1) - p_sorted)
+                            <= np.abs(np.take_along_axis(kept_p, prev, axis=1) - p_sorted),
+                            nxt, prev).ravel()  # fmt: skip
         for s in range(2):
             j = np.argmin(e_sorted, axis=1) if s == 0 else np.argmax(e_sorted, axis=1)
             extreme[s, b] = e_sorted.ravel().take(j + rows)
-            k = near.ravel().take(j + rows)
+            k = j if near is None else near.take(j + rows)
             col = kept_order.ravel().take(k + rows) - rows
             at[s, b] = np.where(col == 0, 0, np.where(col == width - 1, 2, 1))
             place[s, b] = k
@@ -529,4 +531,6 @@ def _apart(p, side, empty):
     drop = np.zeros(p.shape, bool)
     drop[:, :-1] = close & ~left
     drop[:, 1:] |= close & left & ~right
-    return ~(drop | (side & empty[:, None] & (np.cumsum(side, axis=1) == 1)))
+    if empty.any():  # (the first side in phase order is the one before the change)
+        drop |= side & empty[:, None] & (np.cumsum(side, axis=1) == 1)
+    return ~drop
