@@ -167,15 +167,16 @@ table whose error is bounded without a per-design evaluation, or a compiled step
   the 3994 phase-end targets under gravity, which all took the slow path), boxes of 256
   targets from 1024 in a call, the tables' leftovers to the table of means whatever
   their count, Newton for the overlap's phase from the secant root. CPU seconds per 10^5
-  (``_cases(100000)``, load 1.3-1.8, two runs each), before -> after: 2.06 -> 1.43-1.54
-  and 3.46 -> 2.84-3.01 (g = 0, contact_time and max_penetration), 2.22 -> 1.61-1.69 and
-  3.38 -> 3.08-3.13 (g = 9.81). The one evaluation: 1.4-1.75 s -> 0.9-1.2 s.
+  (``_cases(100000)``, load 1.4-1.9, two runs each, after the reviews' mends), before ->
+  after: 2.06 -> 1.51-1.55 and 3.46 -> 3.01-3.17 (g = 0, contact_time and
+  max_penetration), 2.22 -> 1.70-1.75 and 3.38 -> 3.10-3.19 (g = 9.81). The one
+  evaluation: 1.4-1.75 s -> 0.9-1.2 s.
 
-Where it stands (seconds per 10^5, this script, load ~1.5; this machine's run-to-run
-noise is up to 15 %): PyBullet 1.58 (g = 0, contact_time array), 0.65 (g = 0, default),
-1.26 and 1.41 (under gravity); Drake continuous 0.10-0.32; Drake lagged 1e-3 1.48, 2.85
-(g = 0, contact_time and max_penetration), 1.61, 3.04 (g = 9.81): every case under the
-target but Drake lagged by largest overlap, 1.4-1.5 x. There the contacts last 24-73
+Where it stands (seconds per 10^5, this script, load 1.4-1.9; this machine's run-to-run
+noise is up to 15 %): PyBullet 1.73 (g = 0, contact_time array), 0.67 (g = 0, default),
+1.30 and 1.44 (under gravity); Drake continuous 0.10-0.32; Drake lagged 1e-3 1.57, 2.97
+(g = 0, contact_time and max_penetration), 1.74, 3.35 (g = 9.81): every case under the
+target but Drake lagged by largest overlap, 1.5-1.7 x. There the contacts last 24-73
 steps (20-40 by contact time), so a call needs twice the tables (44 end states against
 21: 0.5-0.65 s of node designs), and under gravity about 2 % of the targets (a second
 change of the end state next to the phase's ends) take the table of means (~0.9 s);
