@@ -72,9 +72,8 @@ from itertools import pairwise, product
 import numpy as np
 from numpy.polynomial import chebyshev
 
-from impactsym.contact.lawclosed import hunt_crossley_parameter
 from impactsym.contact.lawtable import chebyshev_points, chebyshev_transform
-from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
+from impactsym.engines.drake.continuous import free_scales
 from impactsym.engines.drake.jump_means import jump_means, jump_summary
 from impactsym.engines.drake.phases import GRID_PHASES, SUMMARY_FIELDS
 from impactsym.engines.drake.stepping import end_state
@@ -211,7 +210,7 @@ def may_fill_a_table(e: np.ndarray, q: np.ndarray, *, by_overlap: bool) -> bool:
         return False
     steps = q
     if by_overlap:  # the contact time in steps of the continuous design of overlap q
-        _, tau0, z0 = hunt_crossley_free(np.minimum(hunt_crossley_parameter(e), S_MAX))
+        _, tau0, z0 = free_scales(e)
         steps = tau0 / z0 * q
     states, counts = np.unique(np.floor(steps - 0.5), return_counts=True)
     before = np.concatenate([[0], np.cumsum(counts)])
@@ -224,7 +223,7 @@ def _keys(e, asks):
     asked, each's targets' restitutions within :data:`RESTITUTIONS` in boxes
     (:func:`_boxes`), where a box serves at least :data:`MIN_TARGETS`, and none unless
     those serve :data:`MIN_SERVED` together."""
-    keys = []
+    keys, served = [], np.zeros(e.size, bool)
     inside = (e >= RESTITUTIONS[0]) & (e <= RESTITUTIONS[1])
     for b in np.unique(asks[np.isfinite(asks) & (asks >= MIN_STEPS)]):
         asking = (asks == b).any(axis=0) & inside
@@ -234,7 +233,7 @@ def _keys(e, asks):
             serves = asking & (e >= box[0]) & (e <= box[1])
             if np.count_nonzero(serves) >= MIN_TARGETS:
                 keys.append((b, box, serves))
-    served = np.logical_or.reduce([serves for _, _, serves in keys]) if keys else inside[:0]
+                served |= serves
     return keys if np.count_nonzero(served) >= MIN_SERVED else []
 
 

@@ -40,7 +40,13 @@ from numpy.polynomial import chebyshev
 
 from impactsym.contact.lawclosed import hunt_crossley_parameter, hunt_crossley_restitution
 
-__all__ = ["S_MAX", "contact_time_quadrature", "hunt_crossley_free", "start_stiffness"]
+__all__ = [
+    "S_MAX",
+    "contact_time_quadrature",
+    "free_scales",
+    "hunt_crossley_free",
+    "start_stiffness",
+]
 
 #: Largest damping number ``s = d v0`` the quadrature serves (module docstring).
 S_MAX = 3.0
@@ -150,6 +156,16 @@ def start_stiffness(
     timed = size_name == "contact_time"
     unit = np.pi if timed else v
     if damped:
-        _, tau0, z0 = hunt_crossley_free(np.minimum(hunt_crossley_parameter(e), S_MAX))
+        _, tau0, z0 = free_scales(e)
         unit = tau0 if timed else z0 * v
     return m * (unit / size) ** 2
+
+
+def free_scales(e: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(s, tau0, z0)``: the damping number of the restitution ``e`` without gravity
+    (:func:`~impactsym.contact.lawclosed.hunt_crossley_parameter`), and the normalized
+    contact time and deepest overlap of :func:`hunt_crossley_free` there (at
+    :data:`S_MAX` beyond it: the scales designs start from, not designs). Flat arrays."""
+    s = hunt_crossley_parameter(e)
+    _, tau0, z0 = hunt_crossley_free(np.minimum(s, S_MAX))
+    return s, tau0, z0

@@ -185,14 +185,6 @@ def predict(
     flat = {name: np.broadcast_to(a, shape).ravel() for name, (a, _) in values.items()}
     k, d, m, v, g, tau = (flat[n] for n in ("stiffness", "dissipation", "mass", "speed",
                                             "gravity", "relaxation_time"))  # fmt: skip
-
-    def out(a):
-        return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
-
-    def flag(a):
-        a = np.asarray(a, bool).reshape(shape)
-        return bool(a) if scalar else a
-
     if approx is None:
         e, t_c, pen = _continuous(k, d, m, v, g)
         stuck = np.isinf(t_c)
@@ -203,8 +195,7 @@ def predict(
                   r.restitution, r.contact_time, r.contact_time, r.sticks)  # fmt: skip
     else:
         fields = _summary_fields(phase_summary(k, d, tau, m, g, v, h, approximation=approx))
-    return _prediction(fields, h, approx, None if phase is None else out(flat["phase"]), out,
-                       flag)  # fmt: skip
+    return _prediction(fields, h, approx, flat.get("phase"), shape, scalar)
 
 
 def summary_prediction(
@@ -222,15 +213,7 @@ def summary_prediction(
         r = phase_summary(*(a[rest] for a in (k, d)), 0.0, *(a[rest] for a in (m, g, v)), h,
                           approximation=approx)  # fmt: skip
         fields[:, rest] = r.stacked()
-
-    def out(a):
-        return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
-
-    def flag(a):
-        a = np.asarray(a, bool).reshape(shape)
-        return bool(a) if scalar else a
-
-    return _prediction(_summary_fields(PhaseSummary(*fields)), h, approx, None, out, flag)
+    return _prediction(_summary_fields(PhaseSummary(*fields)), h, approx, None, shape, scalar)
 
 
 def _summary_fields(r):
@@ -240,15 +223,23 @@ def _summary_fields(r):
             r.stick_fraction)  # fmt: skip
 
 
-def _prediction(fields, h, approx, phase, out, flag):
+def _prediction(fields, h, approx, phase, shape, scalar):
     """The :class:`Prediction` of ``fields`` (restitution, contact time, sticks, overlap,
-    the restitution's and the contact time's bounds, stick fraction), shaped by ``out``
-    and ``flag``."""
+    the restitution's and the contact time's bounds, stick fraction) and ``phase`` (or
+    ``None``), flat arrays put in ``shape`` (floats and bools where ``scalar``)."""
+
+    def out(a):
+        return finish(np.asarray(a, dtype=float).reshape(shape), scalar)
+
+    def flag(a):
+        a = np.asarray(a, bool).reshape(shape)
+        return bool(a) if scalar else a
+
     e, t_c, stuck, pen, e_lo, e_hi, t_lo, t_hi, frac = fields
     return Prediction(
         time_step=h,
         approximation=approx,
-        phase=phase,
+        phase=None if phase is None else out(phase),
         restitution=out(e),
         contact_time=out(t_c),
         sticks=flag(stuck),

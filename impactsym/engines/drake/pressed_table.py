@@ -57,10 +57,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.polynomial import chebyshev
 
-from impactsym.contact.lawclosed import hunt_crossley_parameter
 from impactsym.contact.lawtable import chebyshev_points, chebyshev_transform
 from impactsym.contact.nonlinear import normalized_impact
-from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free
+from impactsym.engines.drake.continuous import free_scales
 
 __all__ = [
     "MIN_GROUP",
@@ -104,8 +103,7 @@ def pressed_designs(
     n = e.size
     out = [np.zeros(n, bool), *(np.full(n, np.nan) for _ in range(5))]
     # the design without gravity, and the box gravity moves it in
-    s0 = hunt_crossley_parameter(e)
-    _, tau0, z0 = hunt_crossley_free(np.minimum(s0, S_MAX))
+    s0, tau0, z0 = free_scales(e)
     per_b = target * g / v if size_name == "contact_time" else target * g / v**2
     b0 = per_b / (tau0 if size_name == "contact_time" else z0)
     column = 1 if size_name == "contact_time" else 2

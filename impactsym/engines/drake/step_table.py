@@ -99,9 +99,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from impactsym.contact.lawclosed import hunt_crossley_parameter
 from impactsym.engines.drake.change_table import may_fill_a_table, table_designs
-from impactsym.engines.drake.continuous import S_MAX, hunt_crossley_free, start_stiffness
+from impactsym.engines.drake.continuous import free_scales, start_stiffness
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
 from impactsym.engines.drake.phases import SUMMARY_FIELDS, phase_summary
 
@@ -302,8 +301,7 @@ def _wide_box(e, q, size_name, pressing):
     largest pressing number ``g T / v``, ``T = h / w`` (the designs lie there: at
     ``e = 0.45``, 22 steps, ``g = 9.81``, ``s = 1.03`` against ``1.73`` without gravity,
     where no box had a start)."""
-    s0 = hunt_crossley_parameter(e)
-    _, tau0, z0 = hunt_crossley_free(np.minimum(s0, S_MAX))
+    s0, tau0, z0 = free_scales(e)
     w0 = (tau0 if size_name == "contact_time" else z0) / q
     s_lo, s_hi, w_lo, w_hi = s0.min() / WIDE, s0.max() * WIDE, w0.min() / WIDE, w0.max() * WIDE
     wider = 1.0 + pressing / w_lo
