@@ -185,7 +185,7 @@ def test_a_slightly_wrong_table_designs_nothing():
         s = c.hunt_crossley_dissipation * V
         return (1.0 + 1e-10) * s, H * np.sqrt(c.point_contact_stiffness / M)
 
-    ok, _, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    ok, _, _, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
     assert not ok.any()
 
 
@@ -219,7 +219,7 @@ def test_an_end_state_with_too_few_targets_gets_no_table(monkeypatch):
         s = c.hunt_crossley_dissipation * V
         return s, H * np.sqrt(c.point_contact_stiffness / M)
 
-    ok, k, d, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    ok, k, d, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
     assert ok[: e1.size].mean() > 0.9
     assert not ok[e1.size :].any()
     assert np.isnan(k[e1.size :]).all()
@@ -239,7 +239,7 @@ def test_a_table_with_a_node_left_undesigned_designs_nothing(monkeypatch):
         s[7] = np.nan
         return s, w
 
-    ok, k, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    ok, k, _, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
     assert asked == [NODES_E * NODES_PHASE]  # (no window of phases helps it; its halves
     # would serve too few targets to be tried)
     assert not ok.any()
@@ -256,7 +256,7 @@ def test_a_wrong_table_designs_nothing():
     def design(e_n, q_n):
         return 1.0 + 0 * e_n, 0.13 + 0 * e_n
 
-    ok, _, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    ok, _, _, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
     assert not ok.any()
 
 
@@ -277,7 +277,7 @@ def test_a_table_across_a_second_change_is_refused_for_a_narrower_window(monkeyp
                                     gravity=9.81, time_step=H)  # fmt: skip
         return c.hunt_crossley_dissipation * V, H * np.sqrt(c.point_contact_stiffness / M)
 
-    ok, k, d, _ = table_designs(e, V * one, M * one, 9.81 * one, q, H, design)
+    ok, k, d, _, _ = table_designs(e, V * one, M * one, 9.81 * one, q, H, design)
     assert len(asked) == 2  # the wide window's table refused
     assert asked[1].min() > 0.05
     assert asked[1].max() < 0.95
@@ -329,7 +329,7 @@ def test_a_table_with_nodes_left_at_one_end_is_built_again_in_halves(monkeypatch
         return s, H * np.sqrt(c.point_contact_stiffness / M)
 
     one = np.ones(e.size)
-    ok, k, d, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
+    ok, k, d, _, _ = table_designs(e, V * one, M * one, 0 * one, q, H, design)
     assert len(boxes) == 2  # the whole box, then its halves together
     assert not ok[e < 0.4].any()
     assert ok[e > 0.4].mean() > 0.9

@@ -68,6 +68,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from itertools import pairwise, product
+from typing import NamedTuple
 
 import numpy as np
 from numpy.polynomial import chebyshev
@@ -143,59 +144,111 @@ TOLERANCE = (5e-13, 5e-11)
 #: step squared, :mod:`~impactsym.engines.drake.jump_means`), here below ``1e-13``.
 SETTLED = 1e-6
 #: Targets on one plateau between two tables from which it gets a table of its own.
-MIN_PLATEAU = 128
+MIN_PLATEAU = 32
+#: Chebyshev nodes of a plateau's table across it (its step's share of the way).
+PLATEAU_NODES = 6
 _SECANT = 60  # secant steps at most for a plateau node's damping
+_TABLE_DIFF = 1e-6  # the differences of a start's Jacobian off its table (relative)
+
+
+class Starts(NamedTuple):
+    """The table's starts of the targets its one evaluation did not keep (:func:`table_designs`):
+    the designs read off it, ``s = d v`` and ``w = h sqrt(k/m)``, and ``jac``, the Jacobian
+    ``n x 2 x 2`` of the target's restitution and size ``(e, q)`` in ``(s, w)``, from the
+    table's differences (``nan`` where none: no table, a plateau's, or a difference
+    leaving the table)."""
+
+    s: np.ndarray
+    w: np.ndarray
+    jac: np.ndarray
 
 
 def table_designs(
     e: np.ndarray, v: np.ndarray, m: np.ndarray, g: np.ndarray, q: np.ndarray, h: float,
     design: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]],
     *, steps: np.ndarray | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
-    """``(ok, k, d, summaries)`` of the targets ``(e, q)`` (restitution, and contact time
-    in steps or, given ``steps``, largest overlap over ``v h``) that share ``g / v``,
-    read off the tables of their end states where those serve enough targets, each
-    confirmed by one exact evaluation (module docstring); ``ok`` marks the targets
-    designed here, ``summaries`` their phase summaries (``nan`` elsewhere).
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Starts]:  # fmt: skip
+    """``(ok, k, d, summaries, starts)`` of the targets ``(e, q)`` (restitution, and
+    contact time in steps or, given ``steps``, largest overlap over ``v h``) that share
+    ``g / v``, read off the tables of their end states where those serve enough targets,
+    each confirmed by one exact evaluation (module docstring); ``ok`` marks the targets
+    designed here, ``summaries`` their phase summaries (``nan`` elsewhere), ``starts``
+    the table's designs of those its evaluation did not keep, with the Jacobian of the
+    targets in them (:class:`Starts`: where the one-change structure fails next to the
+    ends of the phase interval, the design is still close to the table's).
     ``design(e, q)`` gives the exact designs ``(s, w)`` by contact time in steps of the
     tables' nodes (``nan`` where it has none) for the first target's ``m, v, g``. By
     largest overlap, ``steps`` are the designs' contact times in steps about (within a
-    step or so): each target asks the tables of that end state and its two neighbours.
+    step or so): each target asks the table of that end state, then those of its two
+    neighbours.
     """
     by_overlap = steps is not None
     n = e.size
     ok, k, d = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
     summaries = np.full((SUMMARY_FIELDS, n), np.nan)
-    if by_overlap:  # each target asks its likely end state and its neighbours
-        asks = np.floor(steps - 0.5)[None, :] + np.array([-1.0, 0.0, 1.0])[:, None]
-    else:
-        asks = np.floor(q - 0.5)[None, :]
+    likely = np.floor((q if steps is None else steps) - 0.5)
+    offsets = ((0.0,), (-1.0, 1.0)) if by_overlap else ((0.0,),)  # asked in turn
+    asks = likely[None, :] + np.array([o for group in offsets for o in group])[:, None]
     keys = _keys(e, asks)
     windows = PHASES_PRESSED if g[0] > 0 else PHASES
     keys, tables = _built(keys, e, windows, design, (m[0], v[0], g[0]), h, by_overlap)
     s, w, change = (np.full(n, np.nan) for _ in range(3))
-    for (b, box, serves), ((lo, hi), coef, overlaps) in zip(keys, tables, strict=True):
-        rows = np.flatnonzero(serves & np.isnan(s))
-        x = _unit(e[rows], box)
-        # the whole phase interval: beyond a narrower window the table is extrapolated
-        # (the evaluation decides; where the one change holds there, it holds them)
-        ends = (_unit(0.0, (lo, hi)), _unit(1.0, (lo, hi)))
-        # by overlap: the phase where the table's largest overlap is the target's
-        y = (_phase_of(overlaps, x, q[rows], ends) if by_overlap
-             else _unit(q[rows] - 0.5 - b, (lo, hi)))  # fmt: skip
-        y = np.where((y >= ends[0]) & (y < ends[1]), y, np.nan)
-        s[rows], w[rows] = _evaluate(coef, x, y)
-        change[rows] = b + 0.5 + _within(y, (lo, hi))  # in steps
+    source = np.full(n, -1)  # the table each start was read off
+    for group in offsets:  # the likely end state's table first: fewer phases to solve
+        for index, ((b, box, serves), table) in enumerate(zip(keys, tables, strict=True)):
+            asked = (likely + np.array(group)[:, None] == b).any(axis=0)
+            rows = np.flatnonzero(serves & asked & np.isnan(s))
+            s[rows], w[rows], change[rows] = _read(b, box, table, e[rows], q[rows], by_overlap)
+            source[rows] = index
     if by_overlap:  # the designs on a plateau between two tables
         _plateau_starts(e, q, keys, tables, (m[0], v[0], g[0]), h, s, w, change)
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
     k_t, d_t = m[live] * (w[live] / h) ** 2, s[live] / v[live]
     rows = (a[live] for a in (m, g, v, e, q, change))
     held, summary = _confirmed(k_t, d_t, *rows, h, by_overlap)
-    live = live[held]
-    ok[live], k[live], d[live] = True, k_t[held], d_t[held]
-    summaries[:, live] = summary[:, held]
-    return ok, k, d, summaries
+    ok[live[held]], k[live[held]], d[live[held]] = True, k_t[held], d_t[held]
+    summaries[:, live[held]] = summary[:, held]
+    refused = live[~held]
+    starts = Starts(np.full(n, np.nan), np.full(n, np.nan), np.full((n, 2, 2), np.nan))
+    for index in np.unique(source[refused]):
+        if index < 0:  # (a plateau's start: no table of the target's change)
+            continue
+        rows = refused[source[refused] == index]
+        (b, box, _), table = keys[index], tables[index]
+        starts.s[rows], starts.w[rows] = s[rows], w[rows]
+        starts.jac[rows] = _target_slopes(b, box, table, e[rows], q[rows], s[rows], w[rows],
+                                          by_overlap)  # fmt: skip
+    return ok, k, d, summaries, starts
+
+
+def _read(b, box, table, e, q, by_overlap):
+    """``(s, w, change)``: the designs of the targets ``(e, q)`` read off the table of end
+    state ``b`` over the restitution ``box`` (``nan`` where the table has none), and the
+    change in steps where it puts them."""
+    (lo, hi), coef, overlaps = table
+    x = _unit(e, box)
+    # the whole phase interval: beyond a narrower window the table is extrapolated
+    # (the evaluation decides; where the one change holds there, it holds them)
+    ends = (_unit(0.0, (lo, hi)), _unit(1.0, (lo, hi)))
+    # by overlap: the phase where the table's largest overlap is the target's
+    y = _phase_of(overlaps, x, q, ends) if by_overlap else _unit(q - 0.5 - b, (lo, hi))
+    y = np.where((y >= ends[0]) & (y < ends[1]), y, np.nan)
+    s, w = _evaluate(coef, x, y)
+    return s, w, b + 0.5 + _within(y, (lo, hi))  # (the change in steps)
+
+
+def _target_slopes(b, box, table, e, q, s, w, by_overlap):
+    """The Jacobians ``n x 2 x 2`` of the targets ``(e, q)`` in the designs ``(s, w)``
+    read off one table: the inverse of the table's forward differences of ``(s, w)`` in
+    ``(e, q)`` (:data:`_TABLE_DIFF`, relative to the table's box and the size)."""
+    de, dq = _TABLE_DIFF * (box[1] - box[0]), _TABLE_DIFF * q
+    s_e, w_e, _ = _read(b, box, table, e + de, q, by_overlap)
+    s_q, w_q, _ = _read(b, box, table, e, q + dq, by_overlap)
+    ds_de, ds_dq = (s_e - s) / de, (s_q - s) / dq
+    dw_de, dw_dq = (w_e - w) / de, (w_q - w) / dq
+    with np.errstate(all="ignore"):  # (the 2 x 2 inverse; nan where a read failed)
+        inverse = np.array([[dw_dq, -ds_dq], [-dw_de, ds_de]]) / (ds_de * dw_dq - ds_dq * dw_de)
+    return np.moveaxis(inverse, 2, 0)
 
 
 def may_fill_a_table(e: np.ndarray, q: np.ndarray, *, by_overlap: bool) -> bool:
@@ -298,13 +351,13 @@ def _plateau_table(state, box, ends, member, h):
     line between the two (:func:`_plateau_damping`); ``None`` where a node has none or a
     tail is above :data:`TAIL`."""
     e_nodes = _within(chebyshev_points(NODES_E), box)
-    width = _within(chebyshev_points(NODES_PHASE), (0.0, 1.0))
+    width = _within(chebyshev_points(PLATEAU_NODES), (0.0, 1.0))
     (s1, w1), (s0, w0) = (
         _evaluate(coef, _unit(e_nodes, where), np.full(NODES_E, y)) for coef, where, y in ends
     )
     w = w1[:, None] + width[None, :] * (w0 - w1)[:, None]
     s = s1[:, None] + width[None, :] * (s0 - s1)[:, None]
-    s = _plateau_damping(np.repeat(e_nodes, NODES_PHASE), s.ravel(), w.ravel(), state,
+    s = _plateau_damping(np.repeat(e_nodes, PLATEAU_NODES), s.ravel(), w.ravel(), state,
                          member, h).reshape(w.shape)  # fmt: skip
     if not np.isfinite(s).all():
         return None
@@ -334,8 +387,10 @@ def _plateau_damping(e, s, w, state, member, h):
             step = f_s * (s - s_prev) / (f_s - f_prev)
             s_prev, f_prev = s, f_s
             s = s - np.where(np.isfinite(step), step, 0.0)
-            f_s = f(s)
-            if np.all(np.abs(f_s) <= 1e-15):
+            worst, f_s = np.abs(f_s).max(), f(s)
+            # done, or every node within the acceptance and no better (rounding: a node
+            # may hover at 2e-15, which took the secant to its last step at 10x the cost)
+            if np.all(np.abs(f_s) <= 1e-15) or np.abs(f_s).max() <= min(worst, 1e-14):
                 break
     return np.where(np.abs(f_s) <= 1e-14, s, np.nan)
 
@@ -433,7 +488,7 @@ def _overlaps(s, w, base, member, h):
     x = x.reshape(k.size, steps.size) / (v * h)
     deepest = np.argmax(x, axis=1)
     j0, j1 = max(int(deepest.min()) - 1, 0), min(int(deepest.max()) + 1, base)
-    values = np.moveaxis(x[:, j0 : j1 + 1].reshape(NODES_E, NODES_PHASE, -1), 2, 0)
+    values = np.moveaxis(x[:, j0 : j1 + 1].reshape(*s.shape, -1), 2, 0)
     return _coefficients(values)
 
 
@@ -442,7 +497,7 @@ def _coefficients(values):
     where the last two degrees of a field in either direction sum above :data:`TAIL` of
     its largest value, the direction of the larger such tail: ``"restitution"`` or
     ``"phase"``."""
-    m_e, m_p = chebyshev_transform(NODES_E), chebyshev_transform(NODES_PHASE)
+    m_e, m_p = (chebyshev_transform(count) for count in values.shape[1:])
     coef = np.einsum("ij,fjk,lk->fil", m_e, values, m_p)
     top = np.abs(values).max(axis=(1, 2))
     tail_e = (np.abs(coef[:, -2:, :]).sum(axis=(1, 2)) / top).max()
