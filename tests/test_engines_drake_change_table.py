@@ -172,6 +172,46 @@ def test_designs_by_largest_overlap_on_a_plateau_are_read_off_its_own_table(monk
     assert not np.any(without[read][on_plateau])  # (the change's tables never give them)
 
 
+def test_targets_by_overlap_their_evaluation_refuses_are_designed_from_the_tables_start(
+    monkeypatch,
+):
+    """Under gravity a target by overlap whose change lies next to an end of the phase
+    interval can have a second change there: its one evaluation refuses the table's
+    design, which is still close (the restitution ~1e-4 off), and Broyden's steps on the
+    exact phase means from it, with the table's Jacobian, design it (before: the per-call
+    table of phase means, twice the cost). Checked with that table turned off for them,
+    by a fresh ``predict``."""
+    rng = np.random.default_rng(51)
+    e, x = rng.uniform(0.5, 0.6, 2000), rng.uniform(6e-3, 7e-3, 2000)
+    monkeypatch.setattr(change_table, "MIN_TARGETS", 100)
+    chunked, from_starts, seen = step_table._chunked, step_table._from_starts, []
+
+    def leftovers_refused(e, *args, **options):  # (the tables' nodes still designed)
+        if options:
+            return chunked(e, *args, **options)
+        return np.zeros(e.size, bool), np.full(e.size, np.nan), np.full(e.size, np.nan)
+
+    def spy(e, *args):
+        out = from_starts(e, *args)
+        seen.append(e)
+        return out
+
+    monkeypatch.setattr(step_table, "_chunked", leftovers_refused)
+    monkeypatch.setattr(step_table, "_from_starts", spy)
+    one = np.ones(e.size)
+    ok, k, d, summaries = stepped_designs(e, V * one, M * one, 9.81 * one, x, H, "lagged",
+                                          "max_penetration")  # fmt: skip
+    rows = np.flatnonzero(np.isin(e, np.concatenate(seen)))
+    assert rows.size >= 20
+    assert ok[rows].all()
+    assert np.isnan(summaries[0, rows]).all()  # (no summary: not read off a table)
+    fresh = drake.predict(stiffness=k[rows], dissipation=d[rows], mass=M, speed=V,
+                          gravity=9.81, time_step=H)  # fmt: skip
+    assert np.abs(fresh.restitution - e[rows]).max() <= 1.05e-12
+    assert np.abs(fresh.max_penetration / x[rows] - 1.0).max() <= 1.05e-10
+    assert not np.any(fresh.sticks)
+
+
 def test_a_slightly_wrong_table_designs_nothing():
     """Where the table is off by 1e-10 (the exact designs' damping so biased), the one
     exact evaluation refuses every target instead of passing the table's design on."""

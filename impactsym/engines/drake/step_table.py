@@ -60,7 +60,16 @@ and exact evaluations finish it:
   ~19 margins with the table's Jacobian; 98-100 % of the targets kept. The others take the
   steps below from the table's start. The caller predicts every design and designs
   again, by its iteration, any that its prediction finds off the target.
-* **The steps**: Broyden's method on the exact phase means (one
+* **A change table's refusals** by largest overlap (under gravity a second change next
+  to the ends of the phase interval, about 2 % of the benchmark's targets) start these
+  steps from the change table's own design and Jacobian
+  (:class:`~impactsym.engines.drake.change_table.Starts`: the overlap met, the
+  restitution ~1e-4 off), at most :data:`STARTS_STEPS`: 0.86 s of CPU became 0.44 s for
+  the benchmark's 2055 such targets of 10^5 (g = 9.81; 6 phase means, against 9 and the
+  tables of means from this table's cells). By contact time such a target lies next to a
+  plateau's edge, where these steps stall (393 of 1567 done): it takes the path here.
+* **The steps**: Broyden's method on the exact phase means
+  (:func:`~impactsym.engines.drake.mean_steps.broyden_steps`, one
   :func:`~impactsym.engines.drake.phases.phase_summary` per step for all designs at
   once), at most :data:`STEPS` evaluations. Where a step leaves the contact time
   unchanged (it landed on a plateau) the Jacobian's row of the size is not updated: a
@@ -69,9 +78,10 @@ and exact evaluations finish it:
   restitution is within ``1e-12`` of the target and its size within ``1e-10`` relative
   (the tolerances of the caller's own iteration).
 * **Next to a plateau's edge** (a design Broyden's steps leave) the designs are solved
-  along the contour ``E = e`` (:func:`_edge`): each step moves ``w`` and corrects ``s``
-  by Newton's step on ``E``; ``w`` first walks off the plateau, the step doubling, until
-  ``Q - q`` changes sign, then Illinois steps narrow that bracket, at most
+  along the contour ``E = e``
+  (:func:`~impactsym.engines.drake.mean_steps.contour_steps`): each step moves ``w`` and
+  corrects ``s`` by Newton's step on ``E``; ``w`` first walks off the plateau, the step
+  doubling, until ``Q - q`` changes sign, then Illinois steps narrow that bracket, at most
   :data:`EDGE_STEPS` phase means. A design that leaves the box, sticks, or is not done
   by then (e.g. where ``Q`` jumps: an interval of phases with another end step,
   narrower than the phase grid of :func:`~impactsym.engines.drake.phases.phase_summary`,
@@ -102,6 +112,7 @@ import numpy as np
 from impactsym.engines.drake.change_table import NODES, may_fill_a_table, table_designs
 from impactsym.engines.drake.continuous import free_scales, start_stiffness
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
+from impactsym.engines.drake.mean_steps import broyden_steps, contour_steps
 from impactsym.engines.drake.phases import SUMMARY_FIELDS, phase_summary
 
 __all__ = [
@@ -151,7 +162,7 @@ STEPS = 16
 STARTS_STEPS = 6
 #: Exact phase means at most along the contour for the designs next to a plateau's edge.
 EDGE_STEPS = 80
-_E_TOL, _Q_TOL = 1e-12, 1e-10  # a design is done within these (as the iteration's)
+_TOL = (1e-12, 1e-10)  # a design is done within these (as the iteration's)
 # the designs by contact time on the equations of a change at a given phase: within these
 # (a tenth and a tenth of those: the exact means agree with them to ~2e-14 and ~1e-12 steps)
 _JUMP_TOL = (1e-13, 1e-11)
@@ -241,7 +252,9 @@ def _from_starts(e, v, m, g, q, s, w, jac, h, approx, size_name):
         if e.size
         else ((0, 1),) * 2
     )
-    s, w, done = _broyden(mean_rows, s.copy(), w.copy(), jac.copy(), e, q, *box, steps=STARTS_STEPS)
+    s, w, done = broyden_steps(
+        mean_rows, s.copy(), w.copy(), jac.copy(), e, q, *box, tol=_TOL, steps=STARTS_STEPS
+    )
     return done, np.where(done, m * (w / h) ** 2, np.nan), np.where(done, s / v, np.nan)
 
 
@@ -318,7 +331,7 @@ def _group(
     known = np.isfinite(change)  # (a start whose table cell sticks somewhere: none)
     s_c, w_c = np.where(known, s, np.nan), np.where(known, w, np.nan)
     jac_j = _differences(rules[1], s_c, w_c, jac, slopes)
-    s_j, w_j, done_j = _broyden(rules[0], s_c, w_c, jac_j, e, q, *box, tol=tol)
+    s_j, w_j, done_j = broyden_steps(rules[0], s_c, w_c, jac_j, e, q, *box, tol=tol, steps=STEPS)
     rows = np.flatnonzero(done_j)  # (their change is known: it stays finite)
     k_j, d_j = m[rows] * (w_j[rows] / h) ** 2, s_j[rows] / v[rows]
     held = jump_holds(k_j, d_j, *(a[rows] for a in (m, g, v)), h, change[rows],
@@ -326,11 +339,12 @@ def _group(
     ok[rows[held]], k_out[rows[held]], d_out[rows[held]] = True, k_j[held], d_j[held]
     s, w = s.copy(), w.copy()
     s[rows[held]] = w[rows[held]] = np.nan  # done: the exact phase means leave them
-    s, w, done = _broyden(mean_rows, s, w, jac, e, q, *box)
+    s, w, done = broyden_steps(mean_rows, s, w, jac, e, q, *box, tol=_TOL, steps=STEPS)
     rest = np.flatnonzero(~done & np.isfinite(s) & np.isfinite(w))
     if rest.size:  # next to a plateau's edge: a bracket in w along the contour
-        s[rest], w[rest], done[rest] = _edge(mean_rows, rest, s[rest], w[rest], jac[rest],
-                                             e[rest], q[rest], box[1])  # fmt: skip
+        s[rest], w[rest], done[rest] = contour_steps(mean_rows, rest, s[rest], w[rest], jac[rest],
+                                             e[rest], q[rest], box[1], tol=_TOL,
+                                                     steps=EDGE_STEPS)  # fmt: skip
     ok[done] = True  # (done holds none of the jump's: they were left out)
     k_out[done] = m[done] * (w[done] / h) ** 2
     d_out[done] = s[done] / v[done]
@@ -531,111 +545,3 @@ def _start(s_nodes, w_nodes, E, Q, e, q):
             jac[:, f, 1] = 0.5 * (F[i, jw + 1] - F[i, jw] + F[i + 1, jw + 1] - F[i + 1, jw]) / dw
     s, w = np.where(found, s, np.nan), np.where(found, w, np.nan)
     return s, w, jac
-
-
-def _broyden(mean, s, w, jac, e, q, s_box, w_box, tol=(_E_TOL, _Q_TOL), steps=STEPS):
-    """Broyden's method on ``(E, Q)(s, w) = (e, q)`` with the phase means ``mean``
-    (module docstring): the designs and where they are done (within ``tol``: of the
-    restitution, and relative of the size; and where ``mean`` returns a third array,
-    where that holds)."""
-    n = e.size
-    done = np.zeros(n, bool)
-    live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
-    x = np.stack([s, w], axis=1)
-    f_prev = x_prev = None
-    for _ in range(steps):
-        if live.size == 0:
-            break
-        e_t, q_t, *settled = mean(x[live, 0], x[live, 1], live)
-        f = np.stack([e_t - e[live], q_t - q[live]], axis=1)
-        hit = (np.abs(f[:, 0]) <= tol[0]) & (np.abs(f[:, 1]) <= tol[1] * q[live])
-        if settled:  # the means hold only where they say so
-            hit &= settled[0]
-        done[live[hit]] = True
-        finite = np.all(np.isfinite(f), axis=1)
-        if f_prev is not None:  # Broyden's update of the Jacobian along the last step
-            dx, df = x[live] - x_prev, f - f_prev
-            num = df - np.einsum("nij,nj->ni", jac[live], dx)
-            norm = np.einsum("ni,ni->n", dx, dx)
-            with np.errstate(all="ignore"):
-                upd = num[:, :, None] * dx[:, None, :] / norm[:, None, None]
-            # on a plateau (Q unchanged) the slope of Q is kept: it holds off the plateau
-            upd[np.abs(df[:, 1]) <= 1e-13 * q[live], 1, :] = 0.0
-            good = np.isfinite(upd).all(axis=(1, 2)) & (norm > 0)
-            jac[live[good]] += upd[good]
-        keep = ~hit & finite
-        live, f = live[keep], f[keep]
-        x_prev, f_prev = x[live].copy(), f
-        a, b, c, dd = jac[live, 0, 0], jac[live, 0, 1], jac[live, 1, 0], jac[live, 1, 1]
-        with np.errstate(all="ignore"):  # (a step that is not finite is refused below)
-            det = a * dd - b * c
-            step_s = (dd * f[:, 0] - b * f[:, 1]) / det
-            step_w = (a * f[:, 1] - c * f[:, 0]) / det
-        new = x[live] - np.stack([step_s, step_w], axis=1)
-        inside = (
-            np.isfinite(new).all(axis=1)
-            & (new[:, 0] > s_box[0]) & (new[:, 0] < s_box[1])
-            & (new[:, 1] > w_box[0]) & (new[:, 1] < w_box[1])
-        )  # fmt: skip
-        x[live[inside]] = new[inside]
-        live, x_prev, f_prev = live[inside], x_prev[inside], f_prev[inside]
-    return x[:, 0], x[:, 1], done
-
-
-def _edge(mean, rows, s, w, jac, e, q, w_box):
-    """The designs ``rows`` that Broyden's steps left, solved along the contour
-    ``E = e``: each step moves ``w`` and corrects ``s`` by Newton's step on ``E``; ``w``
-    first walks, the step doubling, until ``Q - q`` changes sign (off a plateau of
-    ``Q``, which stalls the secant), then Illinois steps in that bracket (module
-    docstring). Returns ``(s, w, done)``."""
-    n = rows.size
-    done = np.zeros(n, bool)
-    e_s, e_w = jac[:, 0, 0], jac[:, 0, 1]
-    e_t, q_t = mean(s, w, rows)
-    f_e, f_q = e_t - e, q_t - q
-    a_w, a_f = w.copy(), f_q.copy()  # the end walked from, and the far end once seen
-    b_w, b_f = np.full(n, np.nan), np.full(n, np.nan)
-    side = np.zeros(n, int)
-    step = 1e-6 * w
-    live = np.flatnonzero(np.isfinite(f_e) & np.isfinite(f_q))
-    for _ in range(EDGE_STEPS):
-        if live.size == 0:
-            break
-        bracketed = np.isfinite(b_w[live])
-        with np.errstate(all="ignore"):
-            falsi = (a_w[live] * b_f[live] - b_w[live] * a_f[live]) / (b_f[live] - a_f[live])
-        lo, hi = np.fmin(a_w[live], b_w[live]), np.fmax(a_w[live], b_w[live])
-        falsi = np.where((falsi > lo) & (falsi < hi), falsi, 0.5 * (lo + hi))
-        walk = a_w[live] + np.sign(a_f[live]) * step[live]  # Q falls with w
-        w_new = np.where(bracketed, falsi, walk)
-        s_new = s[live] - (f_e[live] + e_w[live] * (w_new - w[live])) / e_s[live]
-        inside = np.isfinite(s_new) & (w_new > w_box[0]) & (w_new < w_box[1])
-        live, w_new, s_new, bracketed = (a[inside] for a in (live, w_new, s_new, bracketed))
-        e_t, q_t = mean(s_new, w_new, rows[live])
-        s[live], w[live], f_e[live], f_q[live] = s_new, w_new, e_t - e[live], q_t - q[live]
-        fq = f_q[live]
-        hit = (np.abs(f_e[live]) <= _E_TOL) & (np.abs(fq) <= _Q_TOL * q[live])
-        done[live[hit]] = True
-        same = np.sign(fq) == np.sign(a_f[live])
-        # walking: on the same side the walk goes on, twice as far; across, the bracket
-        walked = ~bracketed & same
-        a_w[live[walked]], a_f[live[walked]] = w_new[walked], fq[walked]
-        step[live[walked]] *= 2.0
-        crossed = ~bracketed & ~same
-        i = live[crossed]
-        b_w[i], b_f[i], a_w[i], a_f[i] = a_w[i], a_f[i], w_new[crossed], fq[crossed]
-        # in the bracket: the end on the trial's side moves (Illinois: the other end's
-        # value halves where the same end moved last time too)
-        for moved, end_w, end_f, other_f, mark in (
-            (bracketed & same, a_w, a_f, b_f, 1),
-            (bracketed & ~same, b_w, b_f, a_f, -1),
-        ):
-            i = live[moved]
-            other_f[i] = np.where(side[i] == mark, 0.5 * other_f[i], other_f[i])
-            end_w[i], end_f[i], side[i] = w_new[moved], fq[moved], mark
-        # a bracket shut without the size meeting its target: the size jumps there
-        # (an interval of phases with another end step, narrower than the grid of
-        # phase_summary, enters it), the iteration decides
-        shut = np.abs(b_w[live] - a_w[live]) <= 1e-15 * a_w[live]
-        live = live[~hit & ~shut & np.isfinite(fq) & np.isfinite(f_e[live])]
-    return s, w, done
