@@ -526,25 +526,26 @@ def _phase_of(coef, x, target, ends=(-1.0, 1.0)):
     the deepest state changes) from the secant's root between the ends."""
     vx = chebyshev.chebvander(x, coef.shape[1] - 1)
     c = np.einsum("ij,fjk->ifk", vx, coef)  # (targets, J, phase)
-    dc = np.einsum("ij,fjk->ifk", vx, chebyshev.chebder(coef, axis=2))  # (smaller than c's)
+    (y_a, y_b), n = ends, x.size
+    v_a, v_b = chebyshev.chebvander(np.array(ends, float), coef.shape[2] - 1)
+    f_a = np.einsum("ifk,k->if", c, v_a).max(axis=1) - target
+    f_b = np.einsum("ifk,k->if", c, v_b).max(axis=1) - target
+    live = np.flatnonzero((f_a <= 0.0) & (f_b >= 0.0) & (f_b > f_a))
+    c, t = c[live], target[live]  # (the bracketed ones only, from here)
+    dc = np.einsum("ij,fjk->ifk", vx[live], chebyshev.chebder(coef, axis=2))
 
-    def f(y, rows):  # (rows: the targets' indices, as floats)
+    def f(y, rows):  # (rows: the bracketed targets' indices, as floats)
         i = rows.astype(np.int64)
         vy = chebyshev.chebvander(y, coef.shape[2] - 1)
         values = np.einsum("ifk,ik->if", c[i], vy)
         top = np.argmax(values, axis=1)
         slope = np.einsum("ik,ik->i", dc[i, top], vy[:, :-1])
-        return values[np.arange(i.size), top] - target[i], slope
+        return values[np.arange(i.size), top] - t[i], slope
 
-    everyone = np.arange(x.size, dtype=float)
-    (y_a, y_b), n = ends, x.size
-    f_a, _ = f(np.full(n, y_a), everyone)
-    f_b, _ = f(np.full(n, y_b), everyone)
-    live = np.flatnonzero((f_a <= 0.0) & (f_b >= 0.0) & (f_b > f_a))
     out = np.full(n, np.nan)
     start = y_a - (y_b - y_a) * f_a[live] / (f_b[live] - f_a[live])
-    out[live] = bracketed_newton(f, None, y_a, y_b, [everyone[live]], g_lo=f_a[live],
-                                 g_hi=f_b[live], start=start)  # fmt: skip
+    out[live] = bracketed_newton(f, None, y_a, y_b, [np.arange(live.size, dtype=float)],
+                                 g_lo=f_a[live], g_hi=f_b[live], start=start)  # fmt: skip
     return out
 
 
