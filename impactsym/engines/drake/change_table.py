@@ -259,19 +259,24 @@ def _target_slopes(b, box, table, e, q, s, w, by_overlap):
     return np.moveaxis(inverse, 2, 0)
 
 
-def may_fill_a_table(e: np.ndarray, q: np.ndarray, *, by_overlap: bool) -> bool:
+def may_fill_a_table(
+    e: np.ndarray, q: np.ndarray, *, by_overlap: bool,
+    scales: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+) -> bool:  # fmt: skip
     """Whether the targets ``(e, q)`` of one ``g / v`` (``q`` the size in steps) may get
     tables: :data:`MIN_SERVED` of them, :data:`MIN_TARGETS` in one end state ``B =
     floor(q - 1/2)`` by contact time, ``by_overlap`` within :data:`CROWD` end states of
     the continuous law's contact time without gravity (the discrete one lies within a
     step or two; the likely end state asks its neighbours' tables too). Else no table,
     and by overlap no coarse table of the caller's for their likely end states (it cost
-    30 % of a call of 512 targets over 50 steps, for nothing)."""
+    30 % of a call of 512 targets over 50 steps, for nothing). ``scales``:
+    :func:`~impactsym.engines.drake.continuous.free_scales` of ``e`` where the caller
+    has them."""
     if e.size < MIN_SERVED:
         return False
     steps = q
     if by_overlap:  # the contact time in steps of the continuous design of overlap q
-        _, tau0, z0 = free_scales(e)
+        _, tau0, z0 = free_scales(e) if scales is None else scales
         steps = tau0 / z0 * q
     states, counts = np.unique(np.floor(steps - 0.5), return_counts=True)
     before = np.concatenate([[0], np.cumsum(counts)])

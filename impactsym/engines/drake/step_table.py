@@ -200,11 +200,12 @@ def stepped_designs(
         if count < MIN_TARGETS and not _undamped_reach(*(a[rows] for a in (e, v, m, g, target)),
                                                        h, approx, size_name):  # fmt: skip
             continue  # (the caller's iteration refuses them at once; a table took 0.1-2 s)
-        if may_fill_a_table(e[rows], q[rows], by_overlap=size_name != "contact_time"):
+        by_overlap = size_name != "contact_time"
+        scales = free_scales(e[rows]) if by_overlap else None  # (computed once: 0.05 s)
+        if may_fill_a_table(e[rows], q[rows], by_overlap=by_overlap, scales=scales):
             # first off the tables of the end states (none: no coarse table either)
             group = [a[rows] for a in (e, v, m, g)]
-            steps = None if size_name == "contact_time" else _likely_steps(*group, q[rows], h,
-                                                                           approx)  # fmt: skip
+            steps = _likely_steps(*group, q[rows], h, approx, scales) if by_overlap else None
             done, k_r, d_r, summaries[:, rows], starts = table_designs(
                 *group, q[rows], h, _node_designs(v[rows[0]], m[rows[0]], g[rows[0]], h, approx),
                 steps=steps,
@@ -351,14 +352,15 @@ def _group(
     return ok, k_out, d_out
 
 
-def _wide_box(e, q, size_name, pressing):
+def _wide_box(e, q, size_name, pressing, scales=None):
     """The box ``((s_lo, s_hi), (w_lo, w_hi))`` of the first table: the continuous designs
     without gravity of the targets ``(e, q)``, :data:`WIDE` times either way, and under
     gravity (``pressing = g h / v``) wider toward less damping and more stiffness by the
     largest pressing number ``g T / v``, ``T = h / w`` (the designs lie there: at
     ``e = 0.45``, 22 steps, ``g = 9.81``, ``s = 1.03`` against ``1.73`` without gravity,
-    where no box had a start)."""
-    s0, tau0, z0 = free_scales(e)
+    where no box had a start). ``scales``: :func:`~impactsym.engines.drake.continuous.free_scales`
+    of ``e`` where the caller has them."""
+    s0, tau0, z0 = free_scales(e) if scales is None else scales
     w0 = (tau0 if size_name == "contact_time" else z0) / q
     s_lo, s_hi, w_lo, w_hi = s0.min() / WIDE, s0.max() * WIDE, w0.min() / WIDE, w0.max() * WIDE
     wider = 1.0 + pressing / w_lo
@@ -381,12 +383,12 @@ def _table(mean_rows, box, nodes, e, q):
     return s_nodes, w_nodes, T, s, w, jac
 
 
-def _likely_steps(e, v, m, g, q, h, approx):
+def _likely_steps(e, v, m, g, q, h, approx, scales):
     """The contact times in steps of the designs by largest overlap ``q`` (over ``v h``)
     of the targets, about (a step or so): read off the coarse table at its starts
-    (``nan`` where it has none)."""
+    (``nan`` where it has none); ``scales``: ``free_scales(e)``."""
     mean_rows = _means_rows(m, v, g, h, approx, "max_penetration", v * h)
-    box = _wide_box(e, q, "max_penetration", g[0] / v[0] * h)
+    box = _wide_box(e, q, "max_penetration", g[0] / v[0] * h, scales)
     s_nodes, w_nodes, T, s, w, _ = _table(mean_rows, box, COARSE, e, q)
     return _table_at(s_nodes, w_nodes, T, s, w)
 
