@@ -328,12 +328,13 @@ def _plateau_starts(e, q, likely, keys, tables, member, h, s, w, change):
     lies between two tables of neighbouring end states ``B`` and ``B + 1`` over the whole
     phase interval: their designs lie on the plateau between
     (every phase ends at ``N = B + 1``), read off a table of its own
-    (:func:`_plateau_table`) where at least :data:`MIN_PLATEAU` targets lie on it: at
+    (:func:`_plateau_tables`) where at least :data:`MIN_PLATEAU` targets lie on it: at
     ``change = N + 1/2``, the phase 0 of ``N``'s change."""
     whole = {}  # end state: its tables over the whole phase interval
     for (b, box, _), table in zip(keys, tables, strict=True):
         if table[0] == (0.0, 1.0):
             whole.setdefault(b, []).append((box, table))
+    plateaus = []  # (state, box, ends, rows)
     for b, lower in whole.items():
         for (box_l, (_, coef_l, over_l)), (box_u, (_, coef_u, over_u)) in product(
             lower, whole.get(b + 1, [])
@@ -345,68 +346,88 @@ def _plateau_starts(e, q, likely, keys, tables, member, h, s, w, change):
             top = _largest(over_l, _unit(e[rows], box_l), 1.0)
             bottom = _largest(over_u, _unit(e[rows], box_u), -1.0)
             rows = rows[(q[rows] > top) & (q[rows] < bottom)]
-            if rows.size < MIN_PLATEAU:
-                continue
-            ends = ((coef_l, box_l, 1.0), (coef_u, box_u, -1.0))
-            table = _plateau_table(int(b) + 1, box, ends, member, h)
-            if table is None:
-                continue
-            x = _unit(e[rows], box)
-            y = _phase_of(table[1], x, q[rows])
-            s[rows], w[rows] = _evaluate(table[0], x, np.where(np.abs(y) <= 1.0, y, np.nan))
-            change[rows] = b + 1.5  # every phase ends at b + 1
+            if rows.size >= MIN_PLATEAU:
+                ends = ((coef_l, box_l, 1.0), (coef_u, box_u, -1.0))
+                plateaus.append((int(b) + 1, box, ends, rows))
+    built = _plateau_tables([p[:3] for p in plateaus], member, h)
+    for (state, box, _, rows), table in zip(plateaus, built, strict=True):
+        rows = rows[np.isnan(s[rows])]  # (one plateau's each)
+        if table is None or rows.size == 0:
+            continue
+        x = _unit(e[rows], box)
+        y = _phase_of(table[1], x, q[rows])
+        s[rows], w[rows] = _evaluate(table[0], x, np.where(np.abs(y) <= 1.0, y, np.nan))
+        change[rows] = state + 0.5  # every phase ends at the state
 
 
-def _plateau_table(state, box, ends, member, h):
-    """``(coef, overlaps)`` (as :func:`_tables`) of the plateau where every phase ends at
-    ``state``, over the restitution ``box`` and its width ``t`` in ``(0, 1)``: at each
-    restitution node the step ``w`` runs from the lower table's design at phase 1 to the
-    upper's at phase 0 (``ends``: each table's coefficients, box and phase), and the
-    damping is the root of the one state's mean restitution by the secant from the
-    line between the two (:func:`_plateau_damping`); ``None`` where a node has none or a
-    tail is above :data:`TAIL`."""
-    e_nodes = _within(chebyshev_points(NODES_E), box)
+def _plateau_tables(plateaus, member, h):
+    """``(coef, overlaps)`` (as :func:`_tables`) of each plateau ``(state, box, ends)``
+    where every phase ends at ``state``, over the restitution ``box`` and its width
+    ``t`` in ``(0, 1)``: at each restitution node the step ``w`` runs from the lower
+    table's design at phase 1 to the upper's at phase 0 (``ends``: each table's
+    coefficients, box and phase), and the damping is the root of the one state's mean
+    restitution by the secant from the line between the two (:func:`_plateau_damping`,
+    for every plateau's nodes at once: one by one, NumPy's cost per call on a few hundred
+    nodes was most of it); ``None`` where a node has none or a tail is above
+    :data:`TAIL`."""
     width = _within(chebyshev_points(PLATEAU_NODES), (0.0, 1.0))
-    (s1, w1), (s0, w0) = (
-        _evaluate(coef, _unit(e_nodes, where), np.full(NODES_E, y)) for coef, where, y in ends
-    )
-    w = w1[:, None] + width[None, :] * (w0 - w1)[:, None]
-    s = s1[:, None] + width[None, :] * (s0 - s1)[:, None]
-    s = _plateau_damping(np.repeat(e_nodes, PLATEAU_NODES), s.ravel(), w.ravel(), state,
-                         member, h).reshape(w.shape)  # fmt: skip
-    if not np.isfinite(s).all():
-        return None
-    coef = _coefficients(np.stack([s, w]))
-    overlaps = _overlaps(s, w, state - 1, member, h)
-    refused = isinstance(coef, str) or isinstance(overlaps, str)
-    return None if refused else (coef, overlaps)
+    shape = (NODES_E, PLATEAU_NODES)
+    nodes = []  # (e, s, w, state) of each plateau's nodes
+    for state, box, ends in plateaus:
+        e_nodes = _within(chebyshev_points(NODES_E), box)
+        (s1, w1), (s0, w0) = (
+            _evaluate(coef, _unit(e_nodes, where), np.full(NODES_E, y)) for coef, where, y in ends
+        )
+        w = w1[:, None] + width[None, :] * (w0 - w1)[:, None]
+        s = s1[:, None] + width[None, :] * (s0 - s1)[:, None]
+        nodes.append((np.repeat(e_nodes, PLATEAU_NODES), s.ravel(), w.ravel(),
+                      np.full(s.size, state)))  # fmt: skip
+    if not nodes:
+        return []
+    e, s, w, state = (np.concatenate(a) for a in zip(*nodes, strict=True))
+    s = _plateau_damping(e, s, w, state, member, h).reshape(-1, *shape)
+    w = w.reshape(-1, *shape)
+    out = []
+    for i, (state, _, _) in enumerate(plateaus):
+        if not np.isfinite(s[i]).all():
+            out.append(None)
+            continue
+        coef = _coefficients(np.stack([s[i], w[i]]))
+        overlaps = _overlaps(s[i], w[i], state - 1, member, h)
+        refused = isinstance(coef, str) or isinstance(overlaps, str)
+        out.append(None if refused else (coef, overlaps))
+    return out
 
 
 def _plateau_damping(e, s, w, state, member, h):
     """The damping numbers at which the mean restitution of the contacts ``(s, w)`` that
-    all end at ``state`` (:func:`~impactsym.engines.drake.jump_means.jump_means`' one
-    state's integral) is ``e``: secant steps from ``s`` (``nan`` where they do not meet
-    it to ``1e-14``)."""
+    all end at ``state`` (per contact; :func:`~impactsym.engines.drake.jump_means.jump_means`'
+    one state's integral) is ``e``: secant steps from ``s``, each contact's until it is
+    met to ``1e-15``, or to ``1e-14`` and no longer closer (rounding: a node may hover
+    at ``2e-15``), at most :data:`_SECANT` (``nan`` where not met to ``1e-14``)."""
     m, v, g = member
-    one = np.ones(e.size)
 
-    def f(s):
-        k, d = m * (w / h) ** 2, s / v
-        return jump_means(k, d, m * one, g * one, v * one, h, (state + 0.5) * one,
-                          nodes=NODES).fixed - e  # fmt: skip
+    def f(s, i):
+        k, d = m * (w[i] / h) ** 2, s / v
+        one = np.ones(i.size)
+        return jump_means(k, d, m * one, g * one, v * one, h, state[i] + 0.5,
+                          nodes=NODES).fixed - e[i]  # fmt: skip
 
-    f_s = f(s)
-    s_prev, f_prev = s * (1.0 + 1e-6), f(s * (1.0 + 1e-6))
+    s = s.copy()
+    everyone = np.arange(e.size)
+    f_s = f(s, everyone)
+    s_prev, f_prev = s * (1.0 + 1e-6), f(s * (1.0 + 1e-6), everyone)
+    live = np.flatnonzero(np.abs(f_s) > 1e-15)
     with np.errstate(all="ignore"):
         for _ in range(_SECANT):
-            step = f_s * (s - s_prev) / (f_s - f_prev)
-            s_prev, f_prev = s, f_s
-            s = s - np.where(np.isfinite(step), step, 0.0)
-            worst, f_s = np.abs(f_s).max(), f(s)
-            # done, or every node within the acceptance and no better (rounding: a node
-            # may hover at 2e-15, which took the secant to its last step at 10x the cost)
-            if np.all(np.abs(f_s) <= 1e-15) or np.abs(f_s).max() <= min(worst, 1e-14):
+            if live.size == 0:
                 break
+            step = f_s[live] * (s[live] - s_prev[live]) / (f_s[live] - f_prev[live])
+            s_prev[live], f_prev[live] = s[live], f_s[live]
+            s[live] -= np.where(np.isfinite(step), step, 0.0)
+            f_s[live] = f(s[live], live)
+            off = np.abs(f_s[live])
+            live = live[(off > 1e-15) & ((off < np.abs(f_prev[live])) | (off > 1e-14))]
     return np.where(np.abs(f_s) <= 1e-14, s, np.nan)
 
 
