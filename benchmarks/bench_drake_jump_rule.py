@@ -1,4 +1,4 @@
-"""The Gauss rule of ``drake.jump_means`` (issue 20, item 6): the pieces' integrals of its
+"""The Gauss rule of ``drake.jump_means``: the pieces' integrals of its
 rule against an independent reference, the summary against ``phase_summary``, and the
 CPU of ``jump_summary``.
 

@@ -153,7 +153,7 @@ from impactsym.engines.phase_pieces import gauss_legendre
 __all__ = ["JumpMeans", "jump_holds", "jump_means", "jump_summary", "last_overlap"]
 
 _NODES = 10  # Gauss-Legendre nodes of the shorter piece (the longer: 2 more)
-_DPHASE = 2.0**-20  # the difference in the phase for the margin's slope
+_DPHASE = 2.0**-20  # the difference in the phase for the slopes at phi* (margin, sides)
 _CLEAR = 1e-9  # grid phases this close to the change are not checked (the nodes are)
 _STEPS = 6  # parabolic steps of an interior extreme's search from the samples (docstring)
 _BLOCK = 16_384  # node states tested together (:func:`_node_ends`)
