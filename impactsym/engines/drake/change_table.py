@@ -52,15 +52,15 @@ gets its own tables.
   that has none (half the phase solves of asking them in the order of the tables).
 * **One exact evaluation** per design read off:
   :func:`~impactsym.engines.drake.jump_means.jump_summary` at the table's design, with
-  :data:`NODES` Gauss nodes per panel (the change's equations, the phase grid's full
-  contacts, every node's end state, the margins between samples). The design is done
-  where that summary holds, its restitution is within :data:`TOLERANCE` of the target
-  and its size within its relative tolerance (by overlap: its largest overlap, and the
-  change's estimate within :data:`SETTLED` of where the table put it); the summary is
-  then the design's prediction. The others are left to the caller, with the table's
-  design and the Jacobian of the targets in it (:class:`Starts`, by forward differences
-  of the table: where a second change next to the ends of the phase interval fails the
-  evaluation, the design is still close).
+  :data:`NODES` Gauss nodes on the shorter piece and two more on the longer (the
+  change's equations, the phase grid's full contacts, every node's end state, the
+  margins between samples). The design is done where that summary holds, its restitution
+  is within :data:`TOLERANCE` of the target and its size within its relative tolerance
+  (by overlap: its largest overlap, and the change's estimate within :data:`SETTLED` of
+  where the table put it); the summary is then the design's prediction. The others are
+  left to the caller, with the table's design and the Jacobian of the targets in it
+  (:class:`Starts`, by forward differences of the table: where a second change next to
+  the ends of the phase interval fails the evaluation, the design is still close).
 
 A box gets a table where it serves at least :data:`MIN_TARGETS` targets of contacts of
 :data:`MIN_STEPS` steps or more, and a call's boxes serve :data:`MIN_SERVED` together: a

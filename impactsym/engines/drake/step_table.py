@@ -46,9 +46,9 @@ and exact evaluations finish it:
   state's integral. The overlap is the phase summary's own sample at its last grid
   phase (:func:`~impactsym.engines.drake.jump_means.last_overlap`, one run: the deepest
   of its samples on every contact measured). Broyden's steps run from the Jacobian of
-  forward differences (:data:`_DIFF` relative) of the rule :data:`_CHEAP` (one Gauss
-  node per panel, the panels' midpoints), good to about ``1e-6`` (median; 3e-3 at the
-  99th percentile) where the table's cell, across the kinks, is good to about a
+  forward differences (:data:`_DIFF` relative) of the rule :data:`_CHEAP` (one Gauss node on the
+  shorter piece, three on the longer: 4 runs), good to about ``1e-6`` (median; 3e-3 at the 99th
+  percentile) where the table's cell, across the kinks, is good to about a
   percent. A design is done within ``1e-13`` of the restitution and ``1e-11`` relative
   of the size (a tenth of the tolerances below each, so that the exact phase means,
   which agree with the change's to ``~2e-14`` and ``~1e-12`` steps, meet those), and
@@ -149,7 +149,7 @@ WIDE = 1.6
 #: Nodes of the fine table on the box of the starts the coarse one gives.
 NODES_S, NODES_W = 32, 48
 #: For the nodes of the change tables (:func:`_node_designs`): a coarser fine table and
-#: the tables' own rule of Gauss nodes per panel (contacts of ten steps or more), which
+#: the tables' own rule of Gauss nodes (contacts of ten steps or more), which
 #: the change's equations converge from as well: 0.61 s of CPU became 0.41 s for the
 #: 7840 nodes of the benchmark's 10^5 targets by overlap (g = 0), the designs within
 #: their tolerances of the others (1.8e-11 in the stiffness, 1.6e-12 in the damping).
@@ -312,7 +312,7 @@ def _group(
     e, v, m, g, target, h, approx, size_name, *, fine=(NODES_S, NODES_W), rule=None, tol=_JUMP_TOL
 ):
     """:func:`stepped_designs` for targets sharing ``g / v``: a ``fine`` table of that
-    many nodes, the change's equations with Gauss nodes per panel ``rule`` (``None``:
+    many nodes, the change's equations with ``rule`` Gauss nodes (``None``:
     :func:`~impactsym.engines.drake.jump_means.jump_means`' own)."""
     n = e.size
     ok, k_out, d_out = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
@@ -335,7 +335,8 @@ def _group(
     full = {} if rule is None else {"nodes": rule}
     change = q.copy() if timed else _table_at(s_nodes, w_nodes, T, s, w)
     slopes = np.full((n, 2), np.nan)  # of the change's estimate in (s, w)
-    rules = [_change_rows(m, v, g, h, change, unit, timed, slopes, **r) for r in (full, _CHEAP)]
+    rules = [_change_rows(m, v, g, h, change, unit, timed, slopes, r, cheap=r is _CHEAP)
+             for r in (full, _CHEAP)]  # fmt: skip
     known = np.isfinite(change)  # (a start whose table cell sticks somewhere: none)
     s_c, w_c = np.where(known, s, np.nan), np.where(known, w, np.nan)
     jac_j = _differences(rules[1], s_c, w_c, jac, slopes)
@@ -408,13 +409,13 @@ def _widened(x, cell):
     return (max(lo - pad, 0.5 * lo), hi + pad)
 
 
-def _change_rows(m, v, g, h, change, unit, timed, slopes, **rule):
+def _change_rows(m, v, g, h, change, unit, timed, slopes, rule, *, cheap=False):
     """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows`` if their
     end state changes once, where the contact time in steps ``change`` puts it
-    (:func:`~impactsym.engines.drake.jump_means.jump_means` with ``rule``). By contact
-    time (``timed``) ``Q`` is that function's size. By largest overlap ``Q`` is
-    :func:`~impactsym.engines.drake.jump_means.last_overlap` over ``unit``; the cheap
-    ``rule`` adds the change's estimate (for its ``slopes``), and the full rule moves
+    (:func:`~impactsym.engines.drake.jump_means.jump_means` with the keywords ``rule``).
+    By contact time (``timed``) ``Q`` is that function's size. By largest overlap ``Q``
+    is :func:`~impactsym.engines.drake.jump_means.last_overlap` over ``unit``; the
+    ``cheap`` rule adds the change's estimate (for its ``slopes``), and the full rule moves
     ``change`` with the design along the ``slopes`` before, and to its estimate after
     (in place), and adds where that held still (within :data:`_SETTLED`)."""
     last = np.full((change.size, 2), np.nan)  # the design of each row's last evaluation
@@ -422,7 +423,7 @@ def _change_rows(m, v, g, h, change, unit, timed, slopes, **rule):
     def mean(s, w, rows):
         mr, gr, vr = m[rows], g[rows], v[rows]
         k, d = mr * (w / h) ** 2, s / vr
-        if not timed and not rule:  # the change moves with the design, to first order
+        if not timed and not cheap:  # the change moves with the design, to first order
             moved = np.einsum("ij,ij->i", slopes[rows], np.column_stack([s, w]) - last[rows])
             # (at most half a step: next to a plateau the margin is flat, the estimate's
             # slopes huge, and a state 10^5 steps on would be stepped; found by review)
@@ -431,7 +432,7 @@ def _change_rows(m, v, g, h, change, unit, timed, slopes, **rule):
         if timed:
             return r.restitution, r.size
         size = last_overlap(k, d, mr, gr, vr, h) / unit[rows]
-        if rule:
+        if cheap:
             return r.restitution, size, r.size
         last[rows] = np.column_stack([s, w])
         # where the change's estimate leaves the phase interval every phase ends alike
@@ -456,13 +457,13 @@ def _change_rows(m, v, g, h, change, unit, timed, slopes, **rule):
 def _differences(mean, s, w, jac, slopes):
     """The Jacobian of ``mean`` at the starts ``(s, w)`` (``n x 2 x 2``; the table's
     ``jac`` where a start is not finite or a difference is not), and into ``slopes``
-    those of a third output where ``mean`` returns one: forward differences
-    over :data:`_DIFF` relative, for the change's equations with the rule
-    :data:`_CHEAP` of one Gauss node per panel (the panels' midpoints), whose error is
-    smooth in the parameters (against central differences of the full rule: 1e-6
-    median, 3e-3 at the 99th percentile, as good as two nodes in the steps it saves;
-    the table's cell, across the kinks, is good to about a percent: Broyden's steps
-    converge about a hundredfold each from it)."""
+    those of a third output where ``mean`` returns one: forward differences over
+    :data:`_DIFF` relative, for the change's equations with the rule :data:`_CHEAP` of
+    one Gauss node on the shorter piece and three on the longer, whose error is smooth
+    in the parameters (against central differences of the full rule: 1e-6 median, 3e-3
+    at the 99th percentile, as good as two nodes in the steps it saves; the table's
+    cell, across the kinks, is good to about a percent: Broyden's steps converge about a
+    hundredfold each from it)."""
     out = jac.copy()
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
     if live.size == 0:
