@@ -217,11 +217,8 @@ def stepped_designs(
                 steps=steps,
             )  # fmt: skip
             # by overlap, those the one evaluation did not keep (a second change next to the
-            # phase ends): Broyden's steps from the table's start (by contact time such a
-            # target lies next to a plateau's edge, where they stall)
-            near = np.flatnonzero(
-                ~done & np.isfinite(starts.jac).all(axis=(1, 2)) & (steps is not None)
-            )
+            # phase ends): Broyden's steps from the table's start
+            near = np.flatnonzero(~done & np.isfinite(starts.jac).all(axis=(1, 2)))
             done[near], k_r[near], d_r[near] = _from_starts(
                 *(a[rows[near]] for a in (e, v, m, g, q)), starts.s[near], starts.w[near],
                 starts.jac[near], h, approx, size_name,
