@@ -134,11 +134,15 @@ def test_end_state_and_margin_are_the_frozen_loop_bit_for_bit(seed, monkeypatch)
 
 
 @pytest.mark.parametrize("g", [0.0, 9.81])
-def test_one_member_per_call_is_the_frozen_loop_bit_for_bit(g, monkeypatch):
+@pytest.mark.parametrize("scaled", [False, True])
+def test_one_member_per_call_is_the_frozen_loop_bit_for_bit(g, scaled, monkeypatch):
     """``m``, ``g``, ``v``, ``h`` the same for every contact (a call's member; then their
     constants are 0-d arrays) and a first block of undamped contacts (its damping terms
-    0-d too): the same numbers."""
+    0-d too): the same numbers. ``scaled``: with the impulses' floor where the floor of
+    ``u* - u'`` is not exact (``stepping._floor``)."""
     monkeypatch.setattr(stepping, "_BLOCK", 1500)
+    if scaled:
+        monkeypatch.setattr(stepping, "_floor", lambda m, v: (_ZERO * m * v, True))
     k, d, _, _, _, _, p, steps = _designs(6000, 11)
     m, v, h = 0.1, 0.5, 1e-3
     k = m * (np.pi / (steps * h)) ** 2
@@ -154,6 +158,35 @@ def test_one_member_per_call_is_the_frozen_loop_bit_for_bit(g, monkeypatch):
     for name, a, b in zip(("x", "u", "valid"), new[:3], old[:3], strict=True):
         _same(a, b, name)
     assert 0.2 < np.mean(old[2]) < 0.95
+
+
+def test_the_floor_of_u_star_less_u_is_that_of_the_impulse():
+    """``stepping._floor``: ``u* - u' <= T`` exactly where ``m (u* - u') <= 1e-12 m v``
+    (rounded), checked by the products at and around ``T`` (to 3 floats either side),
+    at random differences, zeros, infinities and nan; where ``T`` is not exact for
+    every contact, the floor itself, to be compared with the products."""
+    rng = np.random.default_rng(14)
+    m = np.concatenate([rng.uniform(0.05, 2.0, 3000), 10 ** rng.uniform(-200, 200, 1000)])
+    v = 10 ** rng.uniform(-3.0, 3.0, m.size)
+    t, scaled = stepping._floor(m, v)
+    assert not scaled
+    floor = _ZERO * m * v
+    near = [t]
+    for _ in range(3):
+        near = [np.nextafter(near[0], -np.inf), *near, np.nextafter(near[-1], np.inf)]
+    odd = [np.full(m.size, a) for a in (0.0, -0.0, np.inf, -np.inf, np.nan, 1e-300, -1.0)]
+    wide = [t * 10 ** rng.uniform(-3.0, 3.0, m.size) * rng.choice([-1.0, 1.0], m.size)]
+    for delta in near + odd + wide:
+        np.testing.assert_array_equal(delta <= t, m * delta <= floor)
+        np.testing.assert_array_equal(delta > t, m * delta > floor)
+    # v = 0 (floor 0), m = 0.1: T is 5 subnormals up (0.1 T rounds to 0), beyond the
+    # search: the floor itself, for every contact (m = 0.3: 1 up, found)
+    m, v = np.array([0.3, 0.1, 1.0]), np.array([0.0, 0.0, 1.0])
+    with np.errstate(all="ignore"):
+        assert stepping._floor(m[::2], v[::2])[1:] == (False,)
+        t, scaled = stepping._floor(m, v)
+    assert scaled
+    np.testing.assert_array_equal(t, _ZERO * m * v)
 
 
 @pytest.mark.parametrize("seed", [8, 9])

@@ -242,7 +242,7 @@ def states_through(
     _, x, u = _touch(v, g, h, phase)
     out = np.empty((steps, k.size))
     with np.errstate(all="ignore"):
-        consts = _constants(*(_uniform(a) for a in (k, d, m, g, v, h)), k.size)
+        consts, _ = _constants(*(_uniform(a) for a in (k, d, m, g, v, h)), k.size)
         work, spare, _ = _buffers(k.size, 0)
         for j in range(steps):
             if j:
@@ -308,7 +308,7 @@ def _block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
         coast = _ends_loop(np.arange(k.size), x, u, consts, (k, d, m, g, h, v, t0), out,
                            stuck_peaks=stuck_peaks)  # fmt: skip
         if coast is not None:
-            _coast(*coast, consts, out)
+            _coast(*coast, *consts, out)
 
 
 def _margin_states(k, d, m, g, v, h, x, u, step, valid):
@@ -323,7 +323,8 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid):
     live = live[np.argsort(step[live])]  # (any order among equal steps: they are apart)
     with np.errstate(all="ignore"):
         rows = (_uniform(a) for a in (k, d, m, g, v, h))
-        consts = _constants(*(a if a.ndim == 0 else a.take(live) for a in rows), live.size)
+        consts, scaled = _constants(*(a if a.ndim == 0 else a.take(live) for a in rows),
+                                    live.size)  # fmt: skip
         xl, ul = x.take(live), u.take(live)
         bad = np.zeros(live.size, bool)  # a state so far ended or turned back
         work, spare, (one, two) = _buffers(live.size, 2)
@@ -331,7 +332,8 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid):
         for count in range(1, arrivals.size):
             impulse, new = _update(xl, ul, consts, (*work, spare), contact=False)
             impulse -= new  # u* - new
-            impulse *= consts[1]
+            if scaled:
+                impulse *= consts[1]
             bad |= np.less_equal(impulse, consts[8], out=one)  # an end state: no impulse,
             bad |= np.less(xl, _NIL, out=one)  # no contact, or turned back
             np.less(ul, _NIL, out=one)
@@ -351,11 +353,14 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid):
 
 
 def _constants(k, d, m, g, v, h, n):
-    """The per-contact constants of the update of ``n`` contacts, for :func:`_update`;
-    those that all hold bit for bit the same (from ``m``, ``g``, ``v``, ``h`` of a call,
-    mostly: given as 0-d arrays, :func:`_uniform`) as 0-d arrays: the same operations,
-    reading one stream less (twice as fast)."""
+    """``(consts, scaled)``: the per-contact constants of the update of ``n`` contacts,
+    for :func:`_update`, those that all hold bit for bit the same (from ``m``, ``g``,
+    ``v``, ``h`` of a call, mostly: given as 0-d arrays, :func:`_uniform`) as 0-d arrays
+    (the same operations, reading one stream less: twice as fast); the impulse floor
+    of :func:`_floor` among them, and whether the impulses are to be ``m`` times
+    ``u* - u'`` (``scaled``) or that difference."""
     hk = h * k
+    floor, scaled = _floor(m, v)
     consts = (
         h * g,  # u* = u + h g
         m,
@@ -365,10 +370,27 @@ def _constants(k, d, m, g, v, h, n):
         4.0 * (h * h * k * d),  # disc = b^2 + (4 a) c
         -h,  # limit = max(-x/h, -1/d), -x/h = x/(-h); x + h u' = x - (-h) u'
         _full(np.where(d > 0, -1.0 / d, -np.inf), n),
-        _ZERO * m * v,  # the impulse floor
+        floor,
         np.zeros(n),  # (for np.maximum, as an array: _full)
     )
-    return tuple(a if i in (7, 9) else _uniform(a) for i, a in enumerate(consts))
+    return tuple(a if i in (7, 9) else _uniform(a) for i, a in enumerate(consts)), scaled
+
+
+def _floor(m, v):
+    """``(floor, scaled)``: the impulse floor ``1e-12 m v`` (``scaled``) or, where exact
+    for every contact, the largest ``T`` whose product ``m T`` (rounded) is at most it:
+    then ``u* - u' <= T`` exactly where the impulse ``m (u* - u')`` is at most the floor
+    (for ``m > 0`` rounding is monotone in ``u* - u'``; ``nan`` is neither), and the
+    largest impulse is ``m`` times the largest ``u* - u'``, the same number; one
+    multiplication per step less."""
+    floor = _ZERO * m * v
+    t = floor / m
+    for _ in range(3):  # to the last float whose product stays at the floor (an ulp off)
+        t = np.where(m * t > floor, np.nextafter(t, -np.inf), t)
+        up = np.nextafter(t, np.inf)
+        t = np.where(m * up <= floor, up, t)
+    exact = (m > 0.0) & (m < np.inf) & (m * t <= floor) & (m * np.nextafter(t, np.inf) > floor)
+    return (t, False) if np.all(exact) else (floor, True)
 
 
 def _full(a, n):
@@ -449,12 +471,13 @@ def _update(x, u, consts, work, *, contact=True):
     return ustar, c
 
 
-def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
+def _ends_loop(live, x, u, constants, raw, out, *, stuck_peaks):
     """Steps the contacts ``live`` to their end state (:func:`step_contact`'s loop) into
     ``out``; returns those that end without leaving the overlap, to coast. The largest
-    impulse is kept, and divided by ``h`` for the rules only when they are checked (the
-    largest of the impulses over ``h``: rounding keeps the order)."""
+    impulse (or ``u* - u'``, :func:`_floor`) is kept, and made the force for the rules
+    only when they are checked (the largest of the forces: rounding keeps the order)."""
     k, d, m, g, h, v, t0 = raw
+    consts, scaled = constants
     settle = bool(np.any(g > 0))  # the rules of settling
     x_max, peak = np.zeros(live.size), np.zeros(live.size) if settle else None
     going = np.ones(live.size, bool)  # not yet ended (the others are dropped in a while)
@@ -470,7 +493,8 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
         stay = None
         impulse, new = _update(x, u, consts, (*work, spare))
         impulse -= new  # u* - new
-        impulse *= consts[1]
+        if scaled:
+            impulse *= consts[1]
         # going, and no impulse above the floor (or no contact): the end state
         np.greater(going, np.greater(impulse, consts[8], out=one), out=ends)
         if np.count_nonzero(ends):  # the end state: its count, velocity and penetration
@@ -490,8 +514,8 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
         turned &= going
         if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:  # step_contact's checks
             rows = [a.take(live) for a in (k, d, m, g, h, v)]
-            stuck, x_max = stuck_early(going, x, u, new, *rows, x_max, peak / rows[4],
-                                        stuck_peaks)  # fmt: skip
+            force = (peak if scaled else rows[2] * peak) / rows[4]
+            stuck, x_max = stuck_early(going, x, u, new, *rows, x_max, force, stuck_peaks)
             turned |= stuck
         if np.count_nonzero(turned):
             i = live[turned]
@@ -523,7 +547,7 @@ def _ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
     return tuple(np.concatenate(a) for a in zip(*coasting, strict=True))
 
 
-def _coast(live, x, u, start, consts, out):
+def _coast(live, x, u, start, consts, scaled, out):
     """Steps the contacts ``live`` that ended without impulse inside the overlap (at the
     state before ``start``) until they leave it; where the impulse comes back first, or
     the count reaches :data:`MAX_STEPS`, they stick (:func:`step_contact`)."""
@@ -535,7 +559,8 @@ def _coast(live, x, u, start, consts, out):
             break
         impulse, new = _update(x, u, consts, (*work, spare))
         impulse -= new  # u* - new
-        impulse *= consts[1]
+        if scaled:
+            impulse *= consts[1]
         inside = x >= 0.0
         back = inside & (impulse > consts[8])
         over = start + j >= MAX_STEPS
