@@ -336,6 +336,7 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid):
                                     live.size)  # fmt: skip
         xl, ul = x.take(live), u.take(live)
         bad = np.zeros(live.size, bool)  # a state so far ended or turned back
+        turns = _may_turn(consts, scaled)
         work, spare, (one, two) = _buffers(live.size, 2)
         arrivals = np.bincount(step.take(live))  # how many reach their step at each count
         for count in range(1, arrivals.size):
@@ -345,9 +346,10 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid):
                 impulse *= consts[1]
             bad |= np.less_equal(impulse, consts[8], out=one)  # an end state: no impulse,
             bad |= np.less(xl, _NIL, out=one)  # no contact, or turned back
-            np.less(ul, _NIL, out=one)
-            one &= np.greater(new, _NIL, out=two)
-            bad |= one
+            if turns:
+                np.less(ul, _NIL, out=one)
+                one &= np.greater(new, _NIL, out=two)
+                bad |= one
             xl -= np.multiply(consts[6], new, out=impulse)  # x + h u' = x - (-h) u'
             ul, spare = new, ul
             n = arrivals[count]
@@ -383,6 +385,15 @@ def _constants(k, d, m, g, v, h, n):
         np.zeros(n),  # (for np.maximum, as an array: _full)
     )
     return tuple(a if i in (7, 9) else _uniform(a) for i, a in enumerate(consts)), scaled
+
+
+def _may_turn(consts, scaled):
+    """Whether a contact may turn back inwards (``u < 0 < u'``) at a state whose update
+    carries an impulse above the floor: not where ``h g <= 0``, the floor ``>= 0`` and
+    ``m > 0`` for all, as then ``u' < u* <= u`` there (rounding is monotone); the
+    turning test decides nothing then."""
+    hg, m, floor = consts[0], consts[1], consts[8]
+    return not (np.all(hg <= 0.0) and np.all(floor >= 0.0) and np.all(m > 0.0))
 
 
 def _floor(m, v):
@@ -488,6 +499,7 @@ def _ends_loop(live, x, u, constants, raw, out, *, stuck_peaks):
     k, d, m, g, h, v, t0 = raw
     consts, scaled = constants
     settle = bool(np.any(g > 0))  # the rules of settling
+    turns = settle or _may_turn(consts, scaled)
     x_max, peak = np.zeros(live.size), np.zeros(live.size) if settle else None
     going = np.ones(live.size, bool)  # not yet ended (the others are dropped in a while)
     ended_at = np.full(live.size, -1)  # the count of the end state (its u in restitution)
@@ -518,15 +530,16 @@ def _ends_loop(live, x, u, constants, raw, out, *, stuck_peaks):
         np.maximum(x_max, x, out=x_max)
         if settle:
             np.maximum(peak, impulse, out=peak)
-        np.less(u, _NIL, out=turned)
-        turned &= np.greater(new, _NIL, out=one)
-        turned &= going
+        if turns:
+            np.less(u, _NIL, out=turned)
+            turned &= np.greater(new, _NIL, out=one)
+            turned &= going
         if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:  # step_contact's checks
             rows = [a.take(live) for a in (k, d, m, g, h, v)]
             force = (peak if scaled else rows[2] * peak) / rows[4]
             stuck, x_max = stuck_early(going, x, u, new, *rows, x_max, force, stuck_peaks)
             turned |= stuck
-        if np.count_nonzero(turned):
+        if turns and np.count_nonzero(turned):
             i = live[turned]
             out.sticks[i] = True
             out.max_penetration[i] = x_max[turned]
