@@ -226,7 +226,7 @@ def test_overlaps_are_those_of_the_frozen_end_state_bit_for_bit():
 # run by their unchanged wrappers (_old).
 
 
-def ref_block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
+def ref_block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks, **_):  # (no buffers)
     with np.errstate(all="ignore"):  # the finished contacts step on until gathered
         t0, x, u = _touch(v, g, h, phase)
         consts = ref_constants(k, d, m, g, v, h)
@@ -236,7 +236,7 @@ def ref_block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
             ref_coast(*coast, consts, out)
 
 
-def ref_margin_states(k, d, m, g, v, h, x, u, step, valid):
+def ref_margin_states(k, d, m, g, v, h, x, u, step, valid, **_):  # (no buffers)
     live = np.flatnonzero(step > 0)  # stepped; gathered when a quarter reached their step
     with np.errstate(all="ignore"):  # (those that reached it step on until gathered)
         consts = tuple(a[live] for a in ref_constants(k, d, m, g, v, h))

@@ -229,10 +229,12 @@ def end_state(
     k, d, m, g, v, h, phase = (a.ravel() for a in (k, d, m, g, v, h, phase))
     step = np.broadcast_to(np.asarray(step, np.int64), k.shape).ravel()
     x, u, valid = np.empty(k.size), np.empty(k.size), np.ones(k.size, bool)
+    buffers = _buffers(min(k.size, _BLOCK))
     for lo in range(0, k.size, _BLOCK):  # blocks that stay in the cache while stepped
         block = slice(lo, min(lo + _BLOCK, k.size))
         _, x[block], u[block] = _touch(v[block], g[block], h[block], phase[block])
-        _margin_states(*(a[block] for a in (k, d, m, g, v, h, x, u, step, valid)))
+        rows = (a[block] for a in (k, d, m, g, v, h, x, u, step, valid))
+        _margin_states(*rows, buffers=buffers)
     return x, u, valid, (k, d, m, g, v, h)
 
 
@@ -252,7 +254,7 @@ def states_through(
     out = np.empty((steps, k.size))
     with np.errstate(all="ignore"):
         consts, _ = _constants(*(_uniform(a) for a in (k, d, m, g, v, h)), k.size)
-        work, spare, _ = _buffers(k.size, 0)
+        work, spare, _, _ = _buffers(k.size)
         for j in range(steps):
             if j:
                 _, new = _update(x, u, consts, (*work, spare), contact=False)
@@ -297,11 +299,12 @@ def contact_ends(
     out = ContactEnds(
         np.zeros(n), np.full(n, np.inf), np.zeros(n, bool), np.zeros(n), np.full(n, np.nan)
     )
+    buffers = _buffers(min(n, _BLOCK))
     for lo in range(0, n, _BLOCK):  # blocks that stay in the cache while stepped
         block = slice(lo, min(lo + _BLOCK, n))
         rows = (a[block] for a in (k, d, m, g, v, h, phase))
         part = ContactEnds(*(a[block] for a in out))  # views: written in place
-        _block_ends(*rows, part, stuck_peaks=stuck_peaks)
+        _block_ends(*rows, part, stuck_peaks=stuck_peaks, buffers=buffers)
     out.restitution[out.sticks] = 0.0
     out.contact_time[out.sticks] = np.inf
     out.end_penetration[out.sticks] = np.nan
@@ -309,35 +312,36 @@ def contact_ends(
     return ContactEnds(*(a.reshape(shape) for a in out))
 
 
-def _block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
-    """:func:`contact_ends` of one block, into ``out``."""
+def _block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks, buffers):
+    """:func:`contact_ends` of one block, into ``out`` (``buffers``: :func:`_buffers`)."""
     with np.errstate(all="ignore"):  # the finished contacts step on until gathered
         t0, x, u = _touch(v, g, h, phase)
         consts = _constants(*(_uniform(a) for a in (k, d, m, g, v, h)), k.size)
         coast = _ends_loop(np.arange(k.size), x, u, consts, (k, d, m, g, h, v, t0), out,
-                           stuck_peaks=stuck_peaks)  # fmt: skip
+                           buffers, stuck_peaks=stuck_peaks)  # fmt: skip
         if coast is not None:
-            _coast(*coast, *consts, out)
+            _coast(*coast, *consts, out, buffers)
 
 
-def _margin_states(k, d, m, g, v, h, x, u, step, valid):
+def _margin_states(k, d, m, g, v, h, x, u, step, valid, *, buffers):
     """:func:`end_state`'s states ``step`` into ``x``, ``u`` (views, in place), and its
     ``valid``: the update of
     :func:`~impactsym.engines.drake.update.hunt_crossley_velocity` (no contact test), the
     same operations, and its end test without clipping the impulse of a free update at
     0 (it is ``m (u* - u*) = 0`` there already, ``u*`` finite). The contacts are stepped
     in the order of their ``step``, so that those reaching it are the first ones: cut
-    off at once (slices), not stepped on until gathered."""
+    off at once (slices), not stepped on until gathered. ``buffers``: :func:`_buffers`."""
     live = np.flatnonzero(step > 0)
     live = live[np.argsort(step[live])]  # (any order among equal steps: they are apart)
     with np.errstate(all="ignore"):
         rows = (_uniform(a) for a in (k, d, m, g, v, h))
         consts, scaled = _constants(*(a if a.ndim == 0 else a.take(live) for a in rows),
                                     live.size)  # fmt: skip
-        xl, ul = x.take(live), u.take(live)
+        work, spare, (one, two, _), (xl, ul) = _views(buffers, live.size)
+        x.take(live, out=xl, mode="clip")  # (into the buffers: no new pages)
+        u.take(live, out=ul, mode="clip")
         bad = np.zeros(live.size, bool)  # a state so far ended or turned back
         turns = _may_turn(consts, scaled)
-        work, spare, (one, two) = _buffers(live.size, 2)
         arrivals = np.bincount(step.take(live))  # how many reach their step at each count
         for count in range(1, arrivals.size):
             impulse, new = _update(xl, ul, consts, (*work, spare), contact=False)
@@ -367,7 +371,8 @@ def _constants(k, d, m, g, v, h, n):
     """``(consts, scaled)``: the per-contact constants of the update of ``n`` contacts,
     for :func:`_update`, those that all hold bit for bit the same (from ``m``, ``g``,
     ``v``, ``h`` of a call, mostly: given as 0-d arrays, :func:`_uniform`) as 0-d arrays
-    (the same operations, reading one stream less: twice as fast); the impulse floor
+    (the same operations, reading one stream less: twice as fast; those of 0-d inputs
+    only); the impulse floor
     of :func:`_floor` among them, and whether the impulses are to be ``m`` times
     ``u* - u'`` (``scaled``) or that difference."""
     hk = h * k
@@ -384,7 +389,7 @@ def _constants(k, d, m, g, v, h, n):
         floor,
         np.zeros(n),  # (for np.maximum, as an array: _full)
     )
-    return tuple(a if i in (7, 9) else _uniform(a) for i, a in enumerate(consts)), scaled
+    return consts, scaled
 
 
 def _may_turn(consts, scaled):
@@ -435,19 +440,24 @@ def _rows(consts, rows):
     return (*rest, zero)
 
 
-def _buffers(n, masks):
-    """``(work, spare, masks)``: the buffers of :func:`_update` (``u*``, three
-    temporaries, two masks), one for the next velocity, and ``masks`` more masks, of
-    ``n`` contacts (allocated once: a new array of a block's size each operation cost
-    as much as the operation)."""
+def _buffers(n):
+    """``(work, spare, masks, states)``: the buffers of :func:`_update` (``u*``, three
+    temporaries, two masks), one for the next velocity, three masks and two states, of
+    ``n`` contacts, allocated once a call (a new array of a block's size each operation
+    cost as much as the operation, its new pages too)."""
     work = (*(np.empty(n) for _ in range(4)), np.empty(n, bool), np.empty(n, bool))
-    return work, np.empty(n), tuple(np.empty(n, bool) for _ in range(masks))
+    masks = tuple(np.empty(n, bool) for _ in range(3))
+    return work, np.empty(n), masks, (np.empty(n), np.empty(n))
 
 
 def _views(buffers, n):
     """The buffers of :func:`_buffers`, their first ``n`` elements."""
-    work, spare, masks = buffers
-    return tuple(a[:n] for a in work), spare[:n], tuple(a[:n] for a in masks)
+    work, spare, masks, states = buffers
+    return (
+        tuple(a[:n] for a in work),
+        spare[:n],
+        *(tuple(a[:n] for a in b) for b in (masks, states)),
+    )
 
 
 class ContactEnds(NamedTuple):
@@ -491,7 +501,7 @@ def _update(x, u, consts, work, *, contact=True):
     return ustar, c
 
 
-def _ends_loop(live, x, u, constants, raw, out, *, stuck_peaks):
+def _ends_loop(live, x, u, constants, raw, out, buffers, *, stuck_peaks):
     """Steps the contacts ``live`` to their end state (:func:`step_contact`'s loop) into
     ``out``; returns those that end without leaving the overlap, to coast. The largest
     impulse (or ``u* - u'``, :func:`_floor`) is kept, and made the force for the rules
@@ -503,8 +513,7 @@ def _ends_loop(live, x, u, constants, raw, out, *, stuck_peaks):
     x_max, peak = np.zeros(live.size), np.zeros(live.size) if settle else None
     going = np.ones(live.size, bool)  # not yet ended (the others are dropped in a while)
     ended_at = np.full(live.size, -1)  # the count of the end state (its u in restitution)
-    full = _buffers(live.size, 3)  # (views of their first live.size elements below)
-    work, spare, (ends, turned, one) = full
+    work, spare, (ends, turned, one), _ = _views(buffers, live.size)
     finished = 0  # of the gathered
     coasting = []
     count = 0
@@ -557,7 +566,7 @@ def _ends_loop(live, x, u, constants, raw, out, *, stuck_peaks):
             peak = peak.take(keep) if settle else None
             going = np.ones(live.size, bool)
             finished = 0
-            work, spare, (ends, turned, one) = _views(full, live.size)
+            work, spare, (ends, turned, one), _ = _views(buffers, live.size)
     i = live[going]
     out.sticks[i] = True
     out.max_penetration[i] = x_max[going]
@@ -569,13 +578,12 @@ def _ends_loop(live, x, u, constants, raw, out, *, stuck_peaks):
     return tuple(np.concatenate(a) for a in zip(*coasting, strict=True))
 
 
-def _coast(live, x, u, start, consts, scaled, out):
+def _coast(live, x, u, start, consts, scaled, out, buffers):
     """Steps the contacts ``live`` that ended without impulse inside the overlap (at the
     state before ``start``) until they leave it; where the impulse comes back first, or
     the count reaches :data:`MAX_STEPS`, they stick (:func:`step_contact`)."""
     consts = _rows(consts, live)
-    full = _buffers(live.size, 0)
-    work, spare, _ = full
+    work, spare, _, _ = _views(buffers, live.size)
     for j in range(MAX_STEPS):
         if live.size == 0:
             break
@@ -595,4 +603,4 @@ def _coast(live, x, u, start, consts, scaled, out):
             keep = inside.nonzero()[0]
             live, x, u, start = (a.take(keep) for a in (live, x, u, start))
             consts = _rows(consts, keep)
-            work, spare, _ = _views(full, live.size)
+            work, spare, _, _ = _views(buffers, live.size)
