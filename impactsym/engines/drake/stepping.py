@@ -50,11 +50,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from impactsym.engines.drake.settling import IMPULSE_FLOOR, stuck_early
-from impactsym.engines.drake.update import (
-    hunt_crossley_root,
-    hunt_crossley_velocity,
-    sap_velocity,
-)
+from impactsym.engines.drake.update import hunt_crossley_root, hunt_crossley_velocity, sap_velocity
 from impactsym.engines.mujoco.stepping import StepContact
 
 __all__ = [
@@ -453,11 +449,8 @@ def _buffers(n):
 def _views(buffers, n):
     """The buffers of :func:`_buffers`, their first ``n`` elements."""
     work, spare, masks, states = buffers
-    return (
-        tuple(a[:n] for a in work),
-        spare[:n],
-        *(tuple(a[:n] for a in b) for b in (masks, states)),
-    )
+    work, masks, states = (tuple(a[:n] for a in group) for group in (work, masks, states))
+    return work, spare[:n], masks, states
 
 
 class ContactEnds(NamedTuple):
