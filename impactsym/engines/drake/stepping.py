@@ -144,7 +144,7 @@ def step_contact(
         turned = going & (ul < 0.0) & (new > 0.0)
         if loaded and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:
             stuck, x_max_l = stuck_early(going, xl, ul, new, kl, dl, ml, gl, hl, vl, x_max_l,
-                                          peak_l, stuck_peaks, hunt_crossley=not sap)  # fmt: skip
+                                         peak_l, stuck_peaks, hunt_crossley=not sap)  # fmt: skip
             turned |= stuck
         # after the end: the impulse coming back inside the overlap means sticking
         back = active & was_ended & contact & (impulse > 0.0)
@@ -364,13 +364,11 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid, *, buffers):
 
 
 def _constants(k, d, m, g, v, h, n):
-    """``(consts, scaled)``: the per-contact constants of the update of ``n`` contacts,
-    for :func:`_update`, those that all hold bit for bit the same (from ``m``, ``g``,
-    ``v``, ``h`` of a call, mostly: given as 0-d arrays, :func:`_uniform`) as 0-d arrays
-    (the same operations, reading one stream less: twice as fast; those of 0-d inputs
-    only); the impulse floor
-    of :func:`_floor` among them, and whether the impulses are to be ``m`` times
-    ``u* - u'`` (``scaled``) or that difference."""
+    """``(consts, scaled)``: the per-contact constants of the update of ``n`` contacts
+    (:func:`_update`), 0-d where their inputs are (``m``, ``g``, ``v``, ``h`` of a call,
+    mostly: :func:`_uniform`; the same operations, reading one stream less, twice as
+    fast), the impulse floor of :func:`_floor` among them and whether the impulses are
+    ``m (u* - u')`` (``scaled``) or ``u* - u'``."""
     hk = h * k
     floor, scaled = _floor(m, v)
     consts = (
