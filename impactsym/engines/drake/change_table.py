@@ -83,7 +83,7 @@ from impactsym.contact.lawtable import chebyshev_points, chebyshev_transform
 from impactsym.engines.drake.continuous import free_scales
 from impactsym.engines.drake.jump_means import jump_means, jump_summary
 from impactsym.engines.drake.phases import GRID_PHASES, SUMMARY_FIELDS, PhaseSummary
-from impactsym.engines.drake.stepping import end_state
+from impactsym.engines.drake.stepping import states_through
 from impactsym.numeric.roots import bracketed_newton
 
 __all__ = [
@@ -534,12 +534,9 @@ def _overlaps(s, w, base, member, h):
     :func:`~impactsym.engines.drake.jump_means.last_overlap`, the numbers of the same
     update) is not: which state is deepest changes."""
     m, v, g = member
-    steps = np.arange(base + 2)  # the states before the end state B + 1, and it
     k, d = m * (w.ravel() / h) ** 2, s.ravel() / v
-    size = steps.size
-    x, _, _, _ = end_state(np.repeat(k, size), np.repeat(d, size), m, g, v, h,
-                           GRID_PHASES[-1], np.tile(steps, k.size))  # fmt: skip
-    x = x.reshape(k.size, steps.size) / (v * h)
+    # the states before the end state B + 1, and it
+    x = states_through(k, d, m, g, v, h, GRID_PHASES[-1], base + 2) / (v * h)
     deepest = np.argmax(x, axis=1)
     j0, j1 = max(int(deepest.min()) - 1, 0), min(int(deepest.max()) + 1, base)
     values = np.moveaxis(x[:, j0 : j1 + 1].reshape(*s.shape, -1), 2, 0)
