@@ -35,11 +35,11 @@ recorded count, the largest impulse kept rather than force (the force only where
 rules read it), blocks of :data:`_BLOCK` contacts that stay in the cache (twice as
 fast as 4e5 at once). :func:`end_margin` steps its states the same way, in the order of
 their ``step``, so that those reaching it are cut off by a slice; :func:`states_through`
-records every state of one run. Measured (CPU, 10^5 contacts of 20-70 steps,
-``h = 10^{-3}`` s, ``g`` 0 and 9.81, before the buffers, 0-d constants, :func:`_floor`
-and the end state per block -> after): :func:`contact_ends` 11.3-12.1 -> 8.6-9.7 ns
-per contact and update, :func:`end_state` 7.5-7.6 -> 6.7-6.9 (with its set-up); the
-update alone about 5 ns, its square root 0.9 of them.
+records every state of one run. Measured (CPU per contact and update, 10^5 contacts of
+20-70 steps, ``h = 10^{-3}`` s, back to back, before the buffers, 0-d constants,
+:func:`_floor` and the end state per block -> after): :func:`contact_ends` 10.9 -> 7.9
+ns (``g = 0``), 11.3 -> 9.4 (9.81); :func:`end_state` 7.1 -> 6.2-6.4 (with its set-up);
+the update alone about 5 ns, its square root 0.9 of them.
 All quantities are SI. Internal to :mod:`impactsym.engines.drake`.
 """
 
