@@ -403,16 +403,13 @@ def _plateau_tables(plateaus, member, h):
     e, s, w, state = (np.concatenate(a) for a in zip(*nodes, strict=True))
     s = _plateau_damping(e, s, w, state, member, h).reshape(-1, *shape)
     w = w.reshape(-1, *shape)
-    out = []
-    for i, (state, _, _) in enumerate(plateaus):
-        if not np.isfinite(s[i]).all():
-            out.append(None)
-            continue
-        coef = _coefficients(np.stack([s[i], w[i]]))
-        overlaps = _overlaps(s[i], w[i], state - 1, member, h)
-        refused = isinstance(coef, str) or isinstance(overlaps, str)
-        out.append(None if refused else (coef, overlaps))
-    return out
+    out = [_coefficients(np.stack([s[i], w[i]])) if np.isfinite(s[i]).all() else None
+           for i in range(len(plateaus))]  # fmt: skip
+    todo = [i for i, c in enumerate(out) if c is not None and not isinstance(c, str)]
+    found = _overlaps([(s[i], w[i], plateaus[i][0] - 1) for i in todo], member, h)
+    for i, overlaps in zip(todo, found, strict=True):
+        out[i] = None if isinstance(overlaps, str) else (out[i], overlaps)
+    return [c if isinstance(c, tuple) else None for c in out]
 
 
 def _plateau_damping(e, s, w, state, member, h):
@@ -513,34 +510,44 @@ def _tables(keys, phases, design, member, h, by_overlap):
     shape = (len(keys), NODES_E, count)
     s, w = (a.reshape(shape) for a in design(node_e, node_q))
     out = []
-    for i, (base, _, _) in enumerate(keys):
-        if not (np.isfinite(s[i]).all() and np.isfinite(w[i]).all()):
-            out.append("nodes")
-            continue
-        coef = _coefficients(np.stack([s[i], w[i]]))
-        if by_overlap and not isinstance(coef, str):
-            overlaps = _overlaps(s[i], w[i], int(base), member, h)
-            out.append(overlaps if isinstance(overlaps, str) else (coef, overlaps))
-        else:
-            out.append(coef if isinstance(coef, str) else (coef, None))
+    for i in range(len(keys)):
+        finite = np.isfinite(s[i]).all() and np.isfinite(w[i]).all()
+        out.append(_coefficients(np.stack([s[i], w[i]])) if finite else "nodes")
+    if not by_overlap:
+        return [c if isinstance(c, str) else (c, None) for c in out]
+    todo = [i for i, c in enumerate(out) if not isinstance(c, str)]
+    found = _overlaps([(s[i], w[i], int(keys[i][0])) for i in todo], member, h)
+    for i, overlaps in zip(todo, found, strict=True):
+        out[i] = overlaps if isinstance(overlaps, str) else (out[i], overlaps)
     return out
 
 
-def _overlaps(s, w, base, member, h):
-    """The Chebyshev coefficients (:func:`_coefficients`) of the overlaps (over ``v h``)
-    of the states ``j0 ... j1`` at the last grid phase of the nodes' designs ``(s, w)``
-    (``NODES_E x NODES_PHASE``), the states that are deepest at some node and one more
-    on either side. Each is smooth in the design, their largest (the largest overlap,
-    :func:`~impactsym.engines.drake.jump_means.last_overlap`, the numbers of the same
-    update) is not: which state is deepest changes."""
+def _overlaps(tables, member, h):
+    """For each table's node designs ``(s, w, base)`` (``s``, ``w``: ``NODES_E x count``)
+    the Chebyshev coefficients (:func:`_coefficients`) of the overlaps (over ``v h``) of
+    the states ``j0 ... j1`` at the last grid phase, the states that are deepest at some
+    node and one more on either side. Each is smooth in the design, their largest (the
+    largest overlap, :func:`~impactsym.engines.drake.jump_means.last_overlap`, the
+    numbers of the same update) is not: which state is deepest changes. Every table's
+    nodes in one run (:func:`~impactsym.engines.drake.stepping.states_through`, to the
+    last table's end state; one run per table cost NumPy's per-call price at each step
+    of 100-odd nodes)."""
+    if not tables:
+        return []
     m, v, g = member
-    k, d = m * (w.ravel() / h) ** 2, s.ravel() / v
+    s, w = (np.concatenate([t[i].ravel() for t in tables]) for i in (0, 1))
+    k, d = m * (w / h) ** 2, s / v
     # the states before the end state B + 1, and it
-    x = states_through(k, d, m, g, v, h, GRID_PHASES[-1], base + 2) / (v * h)
-    deepest = np.argmax(x, axis=1)
-    j0, j1 = max(int(deepest.min()) - 1, 0), min(int(deepest.max()) + 1, base)
-    values = np.moveaxis(x[:, j0 : j1 + 1].reshape(*s.shape, -1), 2, 0)
-    return _coefficients(values)
+    x = states_through(k, d, m, g, v, h, GRID_PHASES[-1], max(t[2] for t in tables) + 2)
+    x /= v * h
+    out, start = [], 0
+    for s_t, _, base in tables:
+        rows = x[start : start + s_t.size, : base + 2]
+        start += s_t.size
+        deepest = np.argmax(rows, axis=1)
+        j0, j1 = max(int(deepest.min()) - 1, 0), min(int(deepest.max()) + 1, base)
+        out.append(_coefficients(np.moveaxis(rows[:, j0 : j1 + 1].reshape(*s_t.shape, -1), 2, 0)))
+    return out
 
 
 def _coefficients(values):
