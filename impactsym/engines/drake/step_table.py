@@ -125,6 +125,7 @@ __all__ = [
     "NODES_S",
     "NODES_W",
     "NODE_RULE",
+    "NODE_SPAN",
     "NODE_TABLE",
     "SPAN",
     "STARTS_STEPS",
@@ -155,6 +156,10 @@ NODES_S, NODES_W = 32, 48
 #: their tolerances of the others (1.8e-11 in the stiffness, 1.6e-12 in the damping).
 NODE_TABLE, NODE_RULE = (16, 24), NODES
 NODE_TOL = (2e-14, 1e-11)
+#: The span of the nodes' chunks: their designs start from the change's equations, which
+#: converge from a coarser table as well (the benchmark's 7840 nodes of 24-73 steps in
+#: one chunk: 0.34 s of CPU, in two 0.39-0.42 s; all designed either way).
+NODE_SPAN = 4.0
 #: Targets of a group from which it gets the fine table of :data:`NODES_S` by
 #: :data:`NODES_W`; fewer get that of the nodes (1536 phase means for a few hundred
 #: targets cost more than their steps: 219 targets left by the tables took 0.16 s, 0.11 s
@@ -262,11 +267,11 @@ def _from_starts(e, v, m, g, q, s, w, jac, h, approx, size_name):
     return done, np.where(done, m * (w / h) ** 2, np.nan), np.where(done, s / v, np.nan)
 
 
-def _chunked(e, v, m, g, target, q, h, approx, size_name, **options):
+def _chunked(e, v, m, g, target, q, h, approx, size_name, *, span=SPAN, **options):
     """``(ok, k, d)`` of targets sharing ``g / v`` by :func:`_group` (with its
     ``options``), in the chunks of :func:`_chunks` (``q``: the sizes in steps)."""
     ok, k, d = np.zeros(e.size, bool), np.full(e.size, np.nan), np.full(e.size, np.nan)
-    for rows in _chunks(np.arange(e.size), q):
+    for rows in _chunks(np.arange(e.size), q, span):
         done, k_r, d_r = _group(*(a[rows] for a in (e, v, m, g, target)), h, approx,
                                 size_name, **options)  # fmt: skip
         ok[rows], k[rows], d[rows] = done, k_r, d_r
@@ -282,21 +287,22 @@ def _node_designs(v, m, g, h, approx):
     def design(e, q):
         one = np.ones(e.size)
         ok, k, d = _chunked(e, v * one, m * one, g * one, q * h, q, h, approx, "contact_time",
-                            fine=NODE_TABLE, rule=NODE_RULE, tol=NODE_TOL)  # fmt: skip
+                            span=NODE_SPAN, fine=NODE_TABLE, rule=NODE_RULE,
+                            tol=NODE_TOL)  # fmt: skip
         return np.where(ok, d * v, np.nan), np.where(ok, h * np.sqrt(k / m), np.nan)
 
     return design
 
 
-def _chunks(rows, q):
+def _chunks(rows, q, span):
     """``rows`` in chunks of at least :data:`MIN_TARGETS` targets whose sizes in steps
-    ``q`` span at most a factor :data:`SPAN` where there are enough targets (each chunk
+    ``q`` span at most a factor ``span`` where there are enough targets (each chunk
     one table: a table on a wide box is coarse and reaches long contacts)."""
     order = rows[np.argsort(q[rows], kind="stable")]
     sizes = q[order]
     out, start = [], 0
     while start < order.size:
-        end = max(int(np.searchsorted(sizes, SPAN * sizes[start], side="right")),
+        end = max(int(np.searchsorted(sizes, span * sizes[start], side="right")),
                   start + MIN_TARGETS)  # fmt: skip
         if order.size - end < MIN_TARGETS:
             end = order.size
