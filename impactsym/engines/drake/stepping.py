@@ -237,7 +237,7 @@ def end_state(
 def states_through(
     k: Any, d: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, steps: int
 ) -> np.ndarray:
-    """The penetrations of the states ``0 ... steps - 1`` (0 the first detecting state)
+    """The penetrations of the states ``0`` to ``steps - 1`` (0 the first detecting state)
     of ``"tamsi"``/``"similar"``/``"lagged"`` contacts at touch phase ``phase`` (arrays
     broadcast, SI), ``(n, steps)``: :func:`end_state`'s ``x`` at each of those steps,
     bit for bit (the same update, whatever the states before), from one run instead of
