@@ -18,6 +18,7 @@ import pytest
 
 from impactsym.contact.lawtable import chebyshev_points
 from impactsym.engines.drake import change_table, stepping
+from impactsym.engines.drake.chebyshev_tables import fit
 from impactsym.engines.drake.phases import GRID_PHASES
 from impactsym.engines.drake.settling import stuck_early
 from impactsym.engines.drake.stepping import (
@@ -400,4 +401,4 @@ def ref_overlaps(s, w, base, member, h):
     j0, j1 = max(int(deepest.min()) - 1, 0), min(int(deepest.max()) + 1, base)
     shape = (change_table.NODES_E, change_table.NODES_PHASE, -1)
     values = np.moveaxis(x[:, j0 : j1 + 1].reshape(shape), 2, 0)
-    return change_table._coefficients(values)
+    return fit(values, change_table.TAIL)

@@ -34,22 +34,23 @@ gets its own tables.
   ten times the cost each), elsewhere it is the caller's.
 * **By largest overlap** the target does not name its end state: the caller's coarse
   table of phase means tells each its contact time to a step or so, and it asks the
-  tables of that end state and both neighbours. A table also holds the overlap (over
-  ``v h``) at the last grid phase of each state that is deepest at some node, and one
-  more on either side: each is smooth in the design, their largest, the largest overlap
+  tables of that end state and both neighbours. A table also holds the overlap (over ``v
+  h``) at the last grid phase of each state that is deepest at some node, and one more
+  on either side: each is smooth in the design, their largest, the largest overlap
   (:func:`~impactsym.engines.drake.jump_means.last_overlap`), is not (which state is
   deepest changes; one table of the largest was ``2e-5`` off). The target's phase is
-  where their largest meets its overlap (:func:`_phase_of`). A target whose overlap lies
-  between the tables of ``B`` (at phase 1) and ``B + 1`` (at phase 0) has its design on
-  the plateau between, where every phase ends at ``N = B + 1``: where at least
-  :data:`MIN_PLATEAU` do, the plateau gets a table of its own over the restitution and
-  the step's share of the way from one edge to the other (the edges' designs off the
+  where their largest meets its overlap
+  (:func:`~impactsym.engines.drake.chebyshev_tables.phase_where`). A target whose
+  overlap lies between the tables of ``B`` (at phase 1) and ``B + 1`` (at phase 0) has
+  its design on the plateau between, where every phase ends at ``N = B + 1``: where at
+  least :data:`MIN_PLATEAU` do, the plateau gets a table of its own over the restitution
+  and the step's share of the way from one edge to the other (the edges' designs off the
   two tables), each node's damping the secant root of that one state's mean
   (:func:`_plateau_table`, :data:`PLATEAU_NODES` nodes across: its designs are smooth
-  there, 6 held the tail of all 41 plateau tables of the benchmark by overlap as 10
-  did, 4 none). Without gravity only: under it no window reaches the ends of the phase
-  interval. A target asks its likely end state's table first, the neighbours' where
-  that has none (half the phase solves of asking them in the order of the tables).
+  there, 6 held the tail of all 41 plateau tables of the benchmark by overlap as 10 did,
+  4 none). Without gravity only: under it no window reaches the ends of the phase
+  interval. A target asks its likely end state's table first, the neighbours' where that
+  has none (half the phase solves of asking them in the order of the tables).
 * **One exact evaluation** per design read off:
   :func:`~impactsym.engines.drake.jump_means.jump_summary` at the table's design, with
   :data:`NODES` Gauss nodes on the shorter piece and two more on the longer (the
@@ -77,14 +78,20 @@ from itertools import pairwise, product
 from typing import NamedTuple
 
 import numpy as np
-from numpy.polynomial import chebyshev
 
-from impactsym.contact.lawtable import chebyshev_points, chebyshev_transform
+from impactsym.contact.lawtable import chebyshev_points
+from impactsym.engines.drake.chebyshev_tables import (
+    evaluate,
+    fit,
+    from_unit,
+    largest,
+    phase_where,
+    to_unit,
+)
 from impactsym.engines.drake.continuous import free_scales
 from impactsym.engines.drake.jump_means import jump_means, jump_summary
 from impactsym.engines.drake.phases import GRID_PHASES, SUMMARY_FIELDS, PhaseSummary
 from impactsym.engines.drake.stepping import states_through
-from impactsym.numeric.roots import bracketed_newton
 
 __all__ = [
     "CROWD",
@@ -246,15 +253,15 @@ def _read(b, box, table, e, q, by_overlap):
     state ``b`` over the restitution ``box`` (``nan`` where the table has none), and the
     change in steps where it puts them."""
     (lo, hi), coef, overlaps = table
-    x = _unit(e, box)
+    x = to_unit(e, box)
     # the whole phase interval: beyond a narrower window the table is extrapolated
     # (the evaluation decides; where the one change holds there, it holds them)
-    ends = (_unit(0.0, (lo, hi)), _unit(1.0, (lo, hi)))
+    ends = (to_unit(0.0, (lo, hi)), to_unit(1.0, (lo, hi)))
     # by overlap: the phase where the table's largest overlap is the target's
-    y = _phase_of(overlaps, x, q, ends) if by_overlap else _unit(q - 0.5 - b, (lo, hi))
+    y = phase_where(overlaps, x, q, ends) if by_overlap else to_unit(q - 0.5 - b, (lo, hi))
     y = np.where((y >= ends[0]) & (y < ends[1]), y, np.nan)
-    s, w = _evaluate(coef, x, y)
-    return s, w, b + 0.5 + _within(y, (lo, hi))  # (the change in steps)
+    s, w = evaluate(coef, x, y)
+    return s, w, b + 0.5 + from_unit(y, (lo, hi))  # (the change in steps)
 
 
 def _target_slopes(b, box, table, e, q, s, w, by_overlap):
@@ -359,8 +366,8 @@ def _plateau_starts(e, q, likely, keys, tables, member, h, s, w, change):
             near = np.abs(likely - b - 0.5) <= 2.0  # (the others: another plateau's)
             rows = np.flatnonzero(np.isnan(s) & near & (e >= box[0]) & (e <= box[1]))
             # deeper than the lower table at phase 1, shallower than the upper at phase 0
-            top = _largest(over_l, _unit(e[rows], box_l), 1.0)
-            bottom = _largest(over_u, _unit(e[rows], box_u), -1.0)
+            top = largest(over_l, to_unit(e[rows], box_l), 1.0)
+            bottom = largest(over_u, to_unit(e[rows], box_u), -1.0)
             rows = rows[(q[rows] > top) & (q[rows] < bottom)]
             if rows.size >= MIN_PLATEAU:
                 ends = ((coef_l, box_l, 1.0), (coef_u, box_u, -1.0))
@@ -370,9 +377,9 @@ def _plateau_starts(e, q, likely, keys, tables, member, h, s, w, change):
         rows = rows[np.isnan(s[rows])]  # (one plateau's each)
         if table is None or rows.size == 0:
             continue
-        x = _unit(e[rows], box)
-        y = _phase_of(table[1], x, q[rows])
-        s[rows], w[rows] = _evaluate(table[0], x, np.where(np.abs(y) <= 1.0, y, np.nan))
+        x = to_unit(e[rows], box)
+        y = phase_where(table[1], x, q[rows])
+        s[rows], w[rows] = evaluate(table[0], x, np.where(np.abs(y) <= 1.0, y, np.nan))
         change[rows] = state + 0.5  # every phase ends at the state
 
 
@@ -386,13 +393,13 @@ def _plateau_tables(plateaus, member, h):
     for every plateau's nodes at once: one by one, NumPy's cost per call on a few hundred
     nodes was most of it); ``None`` where a node has none or a tail is above
     :data:`TAIL`."""
-    width = _within(chebyshev_points(PLATEAU_NODES), (0.0, 1.0))
+    width = from_unit(chebyshev_points(PLATEAU_NODES), (0.0, 1.0))
     shape = (NODES_E, PLATEAU_NODES)
     nodes = []  # (e, s, w, state) of each plateau's nodes
     for state, box, ends in plateaus:
-        e_nodes = _within(chebyshev_points(NODES_E), box)
+        e_nodes = from_unit(chebyshev_points(NODES_E), box)
         (s1, w1), (s0, w0) = (
-            _evaluate(coef, _unit(e_nodes, where), np.full(NODES_E, y)) for coef, where, y in ends
+            evaluate(coef, to_unit(e_nodes, where), np.full(NODES_E, y)) for coef, where, y in ends
         )
         w = w1[:, None] + width[None, :] * (w0 - w1)[:, None]
         s = s1[:, None] + width[None, :] * (s0 - s1)[:, None]
@@ -403,7 +410,7 @@ def _plateau_tables(plateaus, member, h):
     e, s, w, state = (np.concatenate(a) for a in zip(*nodes, strict=True))
     s = _plateau_damping(e, s, w, state, member, h).reshape(-1, *shape)
     w = w.reshape(-1, *shape)
-    out = [_coefficients(np.stack([s[i], w[i]])) if np.isfinite(s[i]).all() else None
+    out = [fit(np.stack([s[i], w[i]]), TAIL) if np.isfinite(s[i]).all() else None
            for i in range(len(plateaus))]  # fmt: skip
     todo = [i for i, c in enumerate(out) if c is not None and not isinstance(c, str)]
     found = _overlaps([(s[i], w[i], plateaus[i][0] - 1) for i in todo], member, h)
@@ -442,22 +449,6 @@ def _plateau_damping(e, s, w, state, member, h):
             off = np.abs(f_s[live])
             live = live[(off > 1e-15) & ((off < np.abs(f_prev[live])) | (off > 1e-14))]
     return np.where(np.abs(f_s) <= 1e-14, s, np.nan)
-
-
-def _largest(coef, x, y):
-    """The largest of the overlap tables ``coef`` at the restitutions ``x`` (in
-    ``[-1, 1]``) and the phase ``y`` (``-1`` or ``1``)."""
-    return _evaluate(coef, x, np.full(x.size, y)).max(axis=0)
-
-
-def _unit(e, box):
-    """The points ``e`` of the ``box`` mapped to ``[-1, 1]`` (the tables' variables)."""
-    return (2.0 * e - (box[0] + box[1])) / (box[1] - box[0])
-
-
-def _within(y, box):
-    """The points ``y`` of ``[-1, 1]`` mapped into the ``box`` (:func:`_unit`'s inverse)."""
-    return 0.5 * (box[0] + box[1]) + 0.5 * (box[1] - box[0]) * y
 
 
 def _built(keys, e, windows, design, member, h, by_overlap):
@@ -504,15 +495,15 @@ def _tables(keys, phases, design, member, h, by_overlap):
     not designed), ``"phase"`` or ``"restitution"`` (the direction of a tail above
     :data:`TAIL`)."""
     count = NODES_PHASE_OVERLAP if by_overlap else NODES_PHASE
-    x_e, node_phase = chebyshev_points(NODES_E), _within(chebyshev_points(count), phases)
-    node_e = np.concatenate([np.repeat(_within(x_e, box), count) for _, box, _ in keys])
+    x_e, node_phase = chebyshev_points(NODES_E), from_unit(chebyshev_points(count), phases)
+    node_e = np.concatenate([np.repeat(from_unit(x_e, box), count) for _, box, _ in keys])
     node_q = np.concatenate([np.tile(b + 0.5 + node_phase, NODES_E) for b, _, _ in keys])
     shape = (len(keys), NODES_E, count)
     s, w = (a.reshape(shape) for a in design(node_e, node_q))
     out = []
     for i in range(len(keys)):
         finite = np.isfinite(s[i]).all() and np.isfinite(w[i]).all()
-        out.append(_coefficients(np.stack([s[i], w[i]])) if finite else "nodes")
+        out.append(fit(np.stack([s[i], w[i]]), TAIL) if finite else "nodes")
     if not by_overlap:
         return [c if isinstance(c, str) else (c, None) for c in out]
     todo = [i for i, c in enumerate(out) if not isinstance(c, str)]
@@ -523,15 +514,17 @@ def _tables(keys, phases, design, member, h, by_overlap):
 
 
 def _overlaps(tables, member, h):
-    """For each table's node designs ``(s, w, base)`` (``s``, ``w``: ``NODES_E x count``)
-    the Chebyshev coefficients (:func:`_coefficients`) of the overlaps (over ``v h``) of
-    the states ``j0 ... j1`` at the last grid phase, the states that are deepest at some
-    node and one more on either side. Each is smooth in the design, their largest (the
-    largest overlap, :func:`~impactsym.engines.drake.jump_means.last_overlap`, the
-    numbers of the same update) is not: which state is deepest changes. Every table's
-    nodes in one run (:func:`~impactsym.engines.drake.stepping.states_through`, to the
-    last table's end state; one run per table cost NumPy's per-call price at each step
-    of 100-odd nodes)."""
+    """For each table's node designs ``(s, w, base)`` (``s``, ``w``: ``NODES_E x
+    count``) the Chebyshev coefficients
+    (:func:`~impactsym.engines.drake.chebyshev_tables.fit`) of the overlaps (over ``v
+    h``) of the states ``j0 ... j1`` at the last grid phase, the states that are deepest
+    at some node and one more on either side. Each is smooth in the design, their
+    largest (the largest overlap,
+    :func:`~impactsym.engines.drake.jump_means.last_overlap`, the numbers of the same
+    update) is not: which state is deepest changes. Every table's nodes in one run
+    (:func:`~impactsym.engines.drake.stepping.states_through`, to the last table's end
+    state; one run per table cost NumPy's per-call price at each step of 100-odd
+    nodes)."""
     if not tables:
         return []
     m, v, g = member
@@ -546,64 +539,8 @@ def _overlaps(tables, member, h):
         start += s_t.size
         deepest = np.argmax(rows, axis=1)
         j0, j1 = max(int(deepest.min()) - 1, 0), min(int(deepest.max()) + 1, base)
-        out.append(_coefficients(np.moveaxis(rows[:, j0 : j1 + 1].reshape(*s_t.shape, -1), 2, 0)))
+        out.append(fit(np.moveaxis(rows[:, j0 : j1 + 1].reshape(*s_t.shape, -1), 2, 0), TAIL))
     return out
-
-
-def _coefficients(values):
-    """Chebyshev coefficients ``(fields, NODES_E, NODES_PHASE)`` of the node values, or
-    where the last two degrees of a field in either direction sum above :data:`TAIL` of
-    its largest value, the direction of the larger such tail: ``"restitution"`` or
-    ``"phase"``."""
-    m_e, m_p = (chebyshev_transform(count) for count in values.shape[1:])
-    coef = np.einsum("ij,fjk,lk->fil", m_e, values, m_p)
-    top = np.abs(values).max(axis=(1, 2))
-    tail_e = (np.abs(coef[:, -2:, :]).sum(axis=(1, 2)) / top).max()
-    tail_phase = (np.abs(coef[:, :, -2:]).sum(axis=(1, 2)) / top).max()
-    if max(tail_e, tail_phase) <= TAIL:
-        return coef
-    return "phase" if tail_phase >= tail_e else "restitution"
-
-
-def _phase_of(coef, x, target, ends=(-1.0, 1.0)):
-    """The phase ``y`` between ``ends`` (the table's variable; the default ``[-1, 1]`` is
-    its window, the phase interval's ends lie beyond a narrower one) where the largest of
-    the tables ``coef`` (``(J, NODES_E, NODES_PHASE)``) at the restitutions ``x`` equals
-    ``target`` (``nan`` where the ends do not bracket it): safeguarded Newton steps
-    (:func:`~impactsym.numeric.roots.bracketed_newton`: the largest is not smooth where
-    the deepest state changes) from the secant's root between the ends."""
-    vx = chebyshev.chebvander(x, coef.shape[1] - 1)
-    c = _in_restitution(vx, coef)  # (targets, J, phase)
-    (y_a, y_b), n = ends, x.size
-    v_a, v_b = chebyshev.chebvander(np.array(ends, float), coef.shape[2] - 1)
-    f_a = np.einsum("ifk,k->if", c, v_a).max(axis=1) - target
-    f_b = np.einsum("ifk,k->if", c, v_b).max(axis=1) - target
-    live = np.flatnonzero((f_a <= 0.0) & (f_b >= 0.0) & (f_b > f_a))
-    c, t = c[live], target[live]  # (the bracketed ones only, from here)
-    dc = _in_restitution(vx[live], chebyshev.chebder(coef, axis=2))
-
-    def f(y, rows):  # (rows: the bracketed targets' indices, as floats)
-        i = rows.astype(np.int64)
-        vy = chebyshev.chebvander(y, coef.shape[2] - 1)
-        values = np.einsum("ifk,ik->if", c[i], vy)
-        top = np.argmax(values, axis=1)
-        slope = np.einsum("ik,ik->i", dc[i, top], vy[:, :-1])
-        return values[np.arange(i.size), top] - t[i], slope
-
-    out = np.full(n, np.nan)
-    start = y_a - (y_b - y_a) * f_a[live] / (f_b[live] - f_a[live])
-    out[live] = bracketed_newton(f, None, y_a, y_b, [np.arange(live.size, dtype=float)],
-                                 g_lo=f_a[live], g_hi=f_b[live], start=start)  # fmt: skip
-    return out
-
-
-def _in_restitution(vx, coef):
-    """The tables ``coef`` (``(J, NODES_E, K)``) summed over the restitution's degrees
-    with ``vx`` (``(n, NODES_E)``): ``(n, J, K)``, the coefficients in the phase at each
-    target. As one matrix product (bit for bit ``einsum("ij,fjk->ifk")``, twice as
-    fast; not by BLAS, whose threads made it ten times slower on this shared machine)."""
-    flat = np.ascontiguousarray(np.moveaxis(coef, 1, 0)).reshape(coef.shape[1], -1)
-    return np.einsum("ij,jm->im", vx, flat).reshape(vx.shape[0], coef.shape[0], coef.shape[2])
 
 
 def _boxes(e):
@@ -614,11 +551,3 @@ def _boxes(e):
     a, b = a - pad, b + pad
     edges = np.linspace(a, b, int(np.ceil((b - a) / WIDTH)) + 1)
     return list(pairwise(edges))
-
-
-def _evaluate(coef, x, y):
-    """The tables ``coef`` (``(fields, NODES_E, NODES_PHASE)`` Chebyshev coefficients)
-    at ``(x, y)`` in ``[-1, 1]^2``: ``fields`` arrays."""
-    ve = chebyshev.chebvander(x, coef.shape[1] - 1)
-    vp = chebyshev.chebvander(y, coef.shape[2] - 1)
-    return np.einsum("ij,fjk,ik->fi", ve, coef, vp)
