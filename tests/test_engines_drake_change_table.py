@@ -212,6 +212,23 @@ def test_targets_by_overlap_their_evaluation_refuses_are_designed_from_the_table
     assert not np.any(fresh.sticks)
 
 
+def test_the_evaluation_in_parts_is_the_evaluation_at_once(monkeypatch):
+    """``_confirmed`` evaluates the designs in parts (their arrays below NumPy's huge-page
+    size): held and summaries the same, bit for bit, as one evaluation of them all."""
+    rng = np.random.default_rng(52)
+    e, q = _targets(24, MIN_SERVED, rng)
+    one = np.ones(e.size)
+    _, k, d, _ = stepped_designs(e, V * one, M * one, 0 * one, q * H, H, "lagged",
+                                 "contact_time")  # fmt: skip
+    rows = (M * one, 0 * one, V * one, e, q, q)
+    whole = change_table._confirmed(k, d, *rows, H, False)
+    monkeypatch.setattr(change_table, "_EVALUATED", 97)  # (parts that do not divide it)
+    parts = change_table._confirmed(k, d, *rows, H, False)
+    assert whole[0].mean() > 0.9
+    np.testing.assert_array_equal(parts[0], whole[0])
+    np.testing.assert_array_equal(parts[1], whole[1])
+
+
 def test_a_slightly_wrong_table_designs_nothing():
     """Where the table is off by 1e-10 (the exact designs' damping so biased), the one
     exact evaluation refuses every target instead of passing the table's design on."""
