@@ -172,17 +172,30 @@ table whose error is bounded without a per-design evaluation, or a compiled step
   max_penetration), 2.22 -> 1.70-1.75 and 3.38 -> 3.10-3.19 (g = 9.81). The one
   evaluation: 1.4-1.75 s -> 0.9-1.2 s.
 
-Where it stands (seconds per 10^5, this script, load 1.4-1.9; this machine's run-to-run
-noise is up to 15 %): PyBullet 1.73 (g = 0, contact_time array), 0.67 (g = 0, default),
-1.30 and 1.44 (under gravity); Drake continuous 0.10-0.32; Drake lagged 1e-3 1.57, 2.97
-(g = 0, contact_time and max_penetration), 1.74, 3.35 (g = 9.81): every case under the
-target but Drake lagged by largest overlap, 1.5-1.7 x. There the contacts last 24-73
-steps (20-40 by contact time), so a call needs twice the tables (44 end states against
-21: 0.5-0.65 s of node designs), and under gravity about 2 % of the targets (a second
-change of the end state next to the phase's ends) take the table of means (~0.9 s);
-the one evaluation per design is another 0.9-1.1 s of contact runs. Below 2 s there
-would need fewer updates per design than that evaluation has, or tables of exact
-designs across end states.
+* Drake lagged 1e-3 (stop 39): the step loops in preallocated buffers, the end test
+  against the impulse floor per block, no turning test without gravity (bit-identical;
+  ``drake.stepping``); one Gauss panel per piece in the change's equations, 12 node runs
+  per evaluation instead of 15 (``drake.jump_means``); the one evaluation in parts of
+  32768 designs (its arrays below the 4 MiB from which NumPy asks for huge pages, whose
+  faults stalled on compaction: 1.4 s -> 1.1 s in a call); by overlap 8 phase nodes per
+  table, the likely end state's table first, plateau tables from 32 targets with 6 nodes
+  solved together, the tables' overlaps from one run; the evaluation's refusals under
+  gravity (a second change next to the phase's ends) by Broyden's steps from the table's
+  own design (0.86 -> 0.44 s); the tables' nodes on a 16 x 24 table of means with the
+  evaluation's rule. CPU seconds per 10^5 (``_cases(100000)``, one case per process,
+  quiet machine), main -> this: 1.57 -> 1.00, 2.97 -> 1.85 (g = 0, contact_time and
+  max_penetration), 1.74 -> 1.46, 3.05-3.3 -> 2.13 (g = 9.81).
+
+Where it stands (seconds per 10^5, this script, load ~2.5 with another job; this
+machine's run-to-run noise is up to 15 %): PyBullet 1.61 (g = 0, contact_time array),
+0.67 (g = 0, default), 1.33 and 1.44 (under gravity); Drake continuous 0.09-0.63; Drake
+lagged 1e-3 0.83, 1.78 (g = 0, contact_time and max_penetration), 1.38, 2.03 (g =
+9.81): every case under the target but Drake lagged by largest overlap under gravity,
+at it (2.0-2.15 s). Of that case's 2.1 s the one evaluation per design takes 0.85 s,
+the ~2 % of targets with a second change 0.4 s (six phase means each), the tables'
+nodes 0.23 s, the phases read off the tables 0.19 s, the leftovers of no table 0.16 s.
+Below it with a margin there would need fewer updates per design than that evaluation
+has, or equations of the two-change structure for those 2 %.
 """
 
 from __future__ import annotations

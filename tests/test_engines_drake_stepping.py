@@ -13,12 +13,13 @@ import pytest
 from references.drake_steps import end_margin as margin_reference
 from references.drake_steps import step_contact as reference
 
-from impactsym.engines.drake import stepping
+from impactsym.engines.drake import settling, stepping
 from impactsym.engines.drake.stepping import (
     contact_ends,
     end_margin,
     end_state,
     end_steps,
+    states_through,
     step_contact,
 )
 
@@ -169,14 +170,14 @@ def test_the_creep_rule_against_the_exact_map():
         x = x_e * (rng.uniform(0.0, 1.0) if rng.uniform() < 0.8 else 10 ** rng.uniform(-16, -8))
         u = rng.uniform(-0.2, 1.0) * (x_e - x) / h * rng.uniform(0.0, 1.0) ** 4
         args = (x, u, k, d, m, g, h, v)
-        if not stepping._creeping(*args, np.inf):
+        if not settling._creeping(*args, np.inf):
             continue
         held += 1
         xs, fs = _exact_lagged(x, u, k, d, m, g, h, 400)
         assert np.all(np.diff(np.concatenate([[x], xs])) >= 0.0)
         assert np.all(xs < x_e * (1 + 1e-15))
         assert np.all(fs * h > 1e-12 * m * v)
-        assert not stepping._creeping(*args, fs.max() * (1 - 1e-7))
+        assert not settling._creeping(*args, fs.max() * (1 - 1e-7))
     assert held >= 50
 
 
@@ -217,6 +218,33 @@ def test_the_lean_margin_loop_is_the_masked_one_bit_for_bit(monkeypatch):
     assert 0.2 < np.mean(new[2]) < 0.95  # valid and not (ended or turned before the step)
     for a, b, name in zip(new, old, ("margin", "ends", "valid"), strict=True):
         np.testing.assert_array_equal(a, b, err_msg=name)
+
+
+def test_states_through_are_the_end_states_at_every_step_bit_for_bit():
+    # end_state steps on whatever the states before (no end test): contacts that end,
+    # leave, turn back or stick well before the last step, with and without gravity
+    k, d, _, m, g, v, p = _contacts(300, 0.0)
+    d[:30], p[30:60] = 0.0, 0.0  # undamped; touching exactly at a state
+    d[60:90] *= 20.0  # beyond the rebound bound: the impulse ends inside the overlap
+    h = np.where(RNG.uniform(size=k.size) < 0.5, 1e-3, 1e-2)
+    steps = 90
+    x = states_through(k, d, m, g, v, h, p, steps)
+    assert x.shape == (k.size, steps)
+    rows = (np.repeat(a, steps) for a in (k, d, m, g, v, h, p))
+    x_end, _, valid, _ = end_state(*rows, np.tile(np.arange(steps), k.size))
+    x_end, valid = x_end.reshape(x.shape), valid.reshape(x.shape)
+    np.testing.assert_array_equal(x.view(np.uint64), x_end.view(np.uint64))
+    early = ~valid[:, steps // 3]  # ended or turned back within the first third
+    assert 0.2 < np.mean(early) < 0.9
+    assert np.any(early & (g > 0))
+    assert np.any(early & (g == 0))
+    assert np.any(x < 0.0)  # some left
+    assert np.any(x[:, -1] > 0.0)  # some still inside
+    # scalars broadcast
+    one = states_through(1e4, [0.5, 0.0], 1.0, 9.81, 1.0, 1e-3, 0.25, 3)
+    two = end_state(1e4, [0.5, 0.0], 1.0, 9.81, 1.0, 1e-3, 0.25, 2)[0]
+    assert one.shape == (2, 3)
+    np.testing.assert_array_equal(one[:, 2], two)
 
 
 @pytest.mark.parametrize("stuck_peaks", [True, False])

@@ -5,7 +5,9 @@ fields compared as their 64-bit patterns, so signs of zero and NaNs too), on ran
 contacts of 2-100 steps at ``h = 1e-3`` and ``1e-4`` under ``g = 0, 9.81, 50``, with
 ``d v`` from 0 to 10 (a tenth undamped), sticking ones, ones leaving the overlap and ones
 whose impulse ends inside it (then coasting), ``d v > 5.5`` among them, at touch phases
-in ``[0, 1)`` including 0 and ``1 - 1e-15``, with ``stuck_peaks`` True and False."""
+in ``[0, 1)`` including 0 and ``1 - 1e-15``, with ``stuck_peaks`` True and False; one
+member (``m``, ``g``, ``v``, ``h``) per call too. ``states_through`` and the overlap tables
+of ``change_table`` built from it against the frozen ``end_state`` at every step."""
 
 from __future__ import annotations
 
@@ -14,15 +16,19 @@ import sys
 import numpy as np
 import pytest
 
-from impactsym.engines.drake import stepping
+from impactsym.contact.lawtable import chebyshev_points
+from impactsym.engines.drake import change_table, stepping
+from impactsym.engines.drake.chebyshev_tables import fit
+from impactsym.engines.drake.phases import GRID_PHASES
+from impactsym.engines.drake.settling import stuck_early
 from impactsym.engines.drake.stepping import (
     ContactEnds,
-    _stuck_early,
     _touch,
     contact_ends,
     end_margin,
     end_state,
     margin_at,
+    states_through,
 )
 
 MAX_STEPS = stepping.MAX_STEPS
@@ -128,11 +134,104 @@ def test_end_state_and_margin_are_the_frozen_loop_bit_for_bit(seed, monkeypatch)
     _same(one[0], _old(end_state, k[0], d[0], m[0], g[0], v[0], h[0], [0.0, 0.5], [3, 4])[0], "x")
 
 
+@pytest.mark.parametrize("g", [0.0, 9.81])
+@pytest.mark.parametrize("scaled", [False, True])
+def test_one_member_per_call_is_the_frozen_loop_bit_for_bit(g, scaled, monkeypatch):
+    """``m``, ``g``, ``v``, ``h`` the same for every contact (a call's member; then their
+    constants are 0-d arrays) and a first block of undamped contacts (its damping terms
+    0-d too): the same numbers. ``scaled``: with the impulses' floor where the floor of
+    ``u* - u'`` is not exact (``stepping._floor``)."""
+    monkeypatch.setattr(stepping, "_BLOCK", 1500)
+    if scaled:
+        monkeypatch.setattr(stepping, "_floor", lambda m, v: (_ZERO * m * v, True))
+    k, d, _, _, _, _, p, steps = _designs(6000, 11)
+    m, v, h = 0.1, 0.5, 1e-3
+    k = m * (np.pi / (steps * h)) ** 2
+    d = np.where(np.arange(k.size) < 1500, 0.0, d * v / 0.5)
+    for stuck_peaks in (True, False):
+        new = contact_ends(k, d, m, g, v, h, p, stuck_peaks=stuck_peaks)
+        old = _old(contact_ends, k, d, m, g, v, h, p, stuck_peaks=stuck_peaks)
+        for name in ContactEnds._fields:
+            _same(getattr(new, name), getattr(old, name), name)
+    assert np.any(old.end_penetration >= 0.0)  # some coasted
+    step = np.random.default_rng(12).integers(0, (1.5 * steps).astype(np.int64) + 3)
+    new, old = end_state(k, d, m, g, v, h, p, step), _old(end_state, k, d, m, g, v, h, p, step)
+    for name, a, b in zip(("x", "u", "valid"), new[:3], old[:3], strict=True):
+        _same(a, b, name)
+    assert 0.2 < np.mean(old[2]) < 0.95
+
+
+def test_the_floor_of_u_star_less_u_is_that_of_the_impulse():
+    """``stepping._floor``: ``u* - u' <= T`` exactly where ``m (u* - u') <= 1e-12 m v``
+    (rounded), checked by the products at and around ``T`` (to 3 floats either side),
+    at random differences, zeros, infinities and nan; where ``T`` is not exact for
+    every contact, the floor itself, to be compared with the products."""
+    rng = np.random.default_rng(14)
+    m = np.concatenate([rng.uniform(0.05, 2.0, 3000), 10 ** rng.uniform(-200, 200, 1000)])
+    v = 10 ** rng.uniform(-3.0, 3.0, m.size)
+    t, scaled = stepping._floor(m, v)
+    assert not scaled
+    floor = _ZERO * m * v
+    near = [t]
+    for _ in range(3):
+        near = [np.nextafter(near[0], -np.inf), *near, np.nextafter(near[-1], np.inf)]
+    odd = [np.full(m.size, a) for a in (0.0, -0.0, np.inf, -np.inf, np.nan, 1e-300, -1.0)]
+    wide = [t * 10 ** rng.uniform(-3.0, 3.0, m.size) * rng.choice([-1.0, 1.0], m.size)]
+    for delta in near + odd + wide:
+        np.testing.assert_array_equal(delta <= t, m * delta <= floor)
+        np.testing.assert_array_equal(delta > t, m * delta > floor)
+    # v = 0 (floor 0), m = 0.1: T is 5 subnormals up (0.1 T rounds to 0), beyond the
+    # search: the floor itself, for every contact (m = 0.3: 1 up, found)
+    m, v = np.array([0.3, 0.1, 1.0]), np.array([0.0, 0.0, 1.0])
+    with np.errstate(all="ignore"):
+        assert stepping._floor(m[::2], v[::2])[1:] == (False,)
+        t, scaled = stepping._floor(m, v)
+    assert scaled
+    np.testing.assert_array_equal(t, _ZERO * m * v)
+
+
+@pytest.mark.parametrize("seed", [8, 9])
+def test_states_through_is_the_frozen_loop_at_every_step_bit_for_bit(seed):
+    k, d, m, g, v, h, p, _ = _designs(500, seed)
+    n = 110  # beyond the end of most: they end, leave, turn back, stick
+    x = states_through(k, d, m, g, v, h, p, n)
+    rows = (np.repeat(a, n) for a in (k, d, m, g, v, h, p))
+    x0, _, valid0, _ = _old(end_state, *rows, np.tile(np.arange(n), k.size))
+    _same(x, x0.reshape(k.size, n), "x")
+    assert 0.3 < np.mean(~valid0.reshape(k.size, n)[:, -1]) < 0.99
+
+
+def test_overlaps_are_those_of_the_frozen_end_state_bit_for_bit():
+    """``change_table._overlaps`` (one run for every node design of several tables of one
+    member, each to the last table's end state) against the way it was (per table, the
+    frozen end state of every state, the node designs tiled): the same coefficients."""
+    rng = np.random.default_rng(13)
+    x_e, x_p = (chebyshev_points(n) for n in (change_table.NODES_E, change_table.NODES_PHASE))
+    ye, yp = np.meshgrid(x_e, x_p, indexing="ij")
+    tables = 0
+    for _ in range(4):
+        g = float(rng.choice([0.0, 9.81]))
+        member, h = (rng.uniform(0.05, 2.0), rng.uniform(0.3, 3.0), g), 1e-3
+        nodes = []
+        for base in rng.integers(15, 70, 3):
+            w = np.pi / (base + 1) * (1.0 + 0.02 * ye + rng.uniform(-0.01, 0.01) * yp)
+            s = rng.uniform(0.2, 2.0) * (1.0 + 0.1 * ye + 0.05 * yp)
+            nodes.append((s, w, int(base)))
+        for (s, w, base), new in zip(nodes, change_table._overlaps(nodes, member, h), strict=True):
+            old = ref_overlaps(s, w, base, member, h)
+            if isinstance(old, str):
+                assert new == old
+                continue
+            tables += 1
+            _same(new, old, "coefficients")
+    assert tables >= 8
+
+
 # Frozen copy: the loops of contact_ends and end_state as they were (docstrings dropped),
 # run by their unchanged wrappers (_old).
 
 
-def ref_block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
+def ref_block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks, **_):  # (no buffers)
     with np.errstate(all="ignore"):  # the finished contacts step on until gathered
         t0, x, u = _touch(v, g, h, phase)
         consts = ref_constants(k, d, m, g, v, h)
@@ -142,7 +241,7 @@ def ref_block_ends(k, d, m, g, v, h, phase, out, *, stuck_peaks):
             ref_coast(*coast, consts, out)
 
 
-def ref_margin_states(k, d, m, g, v, h, x, u, step, valid):
+def ref_margin_states(k, d, m, g, v, h, x, u, step, valid, **_):  # (no buffers)
     live = np.flatnonzero(step > 0)  # stepped; gathered when a quarter reached their step
     with np.errstate(all="ignore"):  # (those that reached it step on until gathered)
         consts = tuple(a[live] for a in ref_constants(k, d, m, g, v, h))
@@ -250,7 +349,7 @@ def ref_ends_loop(live, x, u, consts, raw, out, *, stuck_peaks):
         turned &= going
         if settle and count % _SETTLE_EVERY == _SETTLE_EVERY - 1:  # step_contact's checks
             rows = (a[live] for a in (k, d, m, g, h, v))
-            stuck, x_max = _stuck_early(going, x, u, new, *rows, x_max, peak, stuck_peaks)
+            stuck, x_max = stuck_early(going, x, u, new, *rows, x_max, peak, stuck_peaks)
             turned |= stuck
         if turned.any():
             i = live[turned]
@@ -288,3 +387,18 @@ def ref_coast(live, x, u, start, consts, out):
         x = x + consts[9] * new
         live, x, u, start = live[keep], x[keep], new[keep], start[keep]
         consts = tuple(a[keep] for a in consts)
+
+
+def ref_overlaps(s, w, base, member, h):
+    m, v, g = member
+    steps = np.arange(base + 2)  # the states before the end state B + 1, and it
+    k, d = m * (w.ravel() / h) ** 2, s.ravel() / v
+    size = steps.size
+    x, _, _, _ = _old(end_state, np.repeat(k, size), np.repeat(d, size), m, g, v, h,
+                      GRID_PHASES[-1], np.tile(steps, k.size))  # fmt: skip
+    x = x.reshape(k.size, steps.size) / (v * h)
+    deepest = np.argmax(x, axis=1)
+    j0, j1 = max(int(deepest.min()) - 1, 0), min(int(deepest.max()) + 1, base)
+    shape = (change_table.NODES_E, change_table.NODES_PHASE, -1)
+    values = np.moveaxis(x[:, j0 : j1 + 1].reshape(shape), 2, 0)
+    return fit(values, change_table.TAIL)

@@ -34,27 +34,34 @@ gets its own tables.
   ten times the cost each), elsewhere it is the caller's.
 * **By largest overlap** the target does not name its end state: the caller's coarse
   table of phase means tells each its contact time to a step or so, and it asks the
-  tables of that end state and both neighbours. A table also holds the overlap (over
-  ``v h``) at the last grid phase of each state that is deepest at some node, and one
-  more on either side: each is smooth in the design, their largest, the largest overlap
+  tables of that end state and both neighbours. A table also holds the overlap (over ``v
+  h``) at the last grid phase of each state that is deepest at some node, and one more
+  on either side: each is smooth in the design, their largest, the largest overlap
   (:func:`~impactsym.engines.drake.jump_means.last_overlap`), is not (which state is
   deepest changes; one table of the largest was ``2e-5`` off). The target's phase is
-  where their largest meets its overlap (:func:`_phase_of`). A target whose overlap lies
-  between the tables of ``B`` (at phase 1) and ``B + 1`` (at phase 0) has its design on
-  the plateau between, where every phase ends at ``N = B + 1``: where at least
-  :data:`MIN_PLATEAU` do, the plateau gets a table of its own over the restitution and
-  the step's share of the way from one edge to the other (the edges' designs off the
+  where their largest meets its overlap
+  (:func:`~impactsym.engines.drake.chebyshev_tables.phase_where`). A target whose
+  overlap lies between the tables of ``B`` (at phase 1) and ``B + 1`` (at phase 0) has
+  its design on the plateau between, where every phase ends at ``N = B + 1``: where at
+  least :data:`MIN_PLATEAU` do, the plateau gets a table of its own over the restitution
+  and the step's share of the way from one edge to the other (the edges' designs off the
   two tables), each node's damping the secant root of that one state's mean
-  (:func:`_plateau_table`). Without gravity only: under it no window reaches the ends
-  of the phase interval.
+  (:func:`_plateau_table`, :data:`PLATEAU_NODES` nodes across: its designs are smooth
+  there, 6 held the tail of all 41 plateau tables of the benchmark by overlap as 10 did,
+  4 none). Without gravity only: under it no window reaches the ends of the phase
+  interval. A target asks its likely end state's table first, the neighbours' where that
+  has none (half the phase solves of asking them in the order of the tables).
 * **One exact evaluation** per design read off:
   :func:`~impactsym.engines.drake.jump_means.jump_summary` at the table's design, with
-  :data:`NODES` Gauss nodes per panel (the change's equations, the phase grid's full
-  contacts, every node's end state, the margins between samples). The design is done
-  where that summary holds, its restitution is within :data:`TOLERANCE` of the target
-  and its size within its relative tolerance (by overlap: its largest overlap, and the
-  change's estimate within :data:`SETTLED` of where the table put it); the summary is
-  then the design's prediction. The others are left to the caller.
+  :data:`NODES` Gauss nodes on the shorter piece and two more on the longer (the
+  change's equations, the phase grid's full contacts, every node's end state, the
+  margins between samples). The design is done where that summary holds, its restitution
+  is within :data:`TOLERANCE` of the target and its size within its relative tolerance
+  (by overlap: its largest overlap, and the change's estimate within :data:`SETTLED` of
+  where the table put it); the summary is then the design's prediction. The others are
+  left to the caller, with the table's design and the Jacobian of the targets in it
+  (:class:`Starts`, by forward differences of the table: where a second change next to
+  the ends of the phase interval fails the evaluation, the design is still close).
 
 A box gets a table where it serves at least :data:`MIN_TARGETS` targets of contacts of
 :data:`MIN_STEPS` steps or more, and a call's boxes serve :data:`MIN_SERVED` together: a
@@ -68,16 +75,23 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from itertools import pairwise, product
+from typing import NamedTuple
 
 import numpy as np
-from numpy.polynomial import chebyshev
 
-from impactsym.contact.lawtable import chebyshev_points, chebyshev_transform
+from impactsym.contact.lawtable import chebyshev_points
+from impactsym.engines.drake.chebyshev_tables import (
+    evaluate,
+    fit,
+    from_unit,
+    largest,
+    phase_where,
+    to_unit,
+)
 from impactsym.engines.drake.continuous import free_scales
 from impactsym.engines.drake.jump_means import jump_means, jump_summary
-from impactsym.engines.drake.phases import GRID_PHASES, SUMMARY_FIELDS
-from impactsym.engines.drake.stepping import end_state
-from impactsym.numeric.roots import bracketed_newton
+from impactsym.engines.drake.phases import GRID_PHASES, SUMMARY_FIELDS, PhaseSummary
+from impactsym.engines.drake.stepping import states_through
 
 __all__ = [
     "CROWD",
@@ -88,6 +102,7 @@ __all__ = [
     "NODES",
     "NODES_E",
     "NODES_PHASE",
+    "NODES_PHASE_OVERLAP",
     "PHASES",
     "PHASES_PRESSED",
     "RESTITUTIONS",
@@ -101,6 +116,11 @@ __all__ = [
 
 #: Chebyshev nodes of a table in the restitution and in the phase of the change.
 NODES_E, NODES_PHASE = 16, 10
+#: In the phase by largest overlap: there the change need lie only within
+#: :data:`SETTLED` of the table's (by contact time it is the size, to ``5e-11``
+#: relative): 16 x 8 nodes confirmed as many of the benchmark's targets as 16 x 10 (99.7 %
+#: and 97.9 %, g = 0 and 9.81; by contact time 79 % and 71 %), 16 x 7 half.
+NODES_PHASE_OVERLAP = 8
 #: Widest restitution box of one table (wider ranges: several tables side by side).
 WIDTH = 0.3
 #: Targets one table serves at least, and all a call's tables together: built together,
@@ -119,10 +139,11 @@ CROWD = 7
 RESTITUTIONS = (0.25, 0.75)
 #: End states ``B`` below this get no table (short contacts: fewer Gauss nodes do worse).
 MIN_STEPS = 10
-#: Gauss nodes per panel of the one exact evaluation: against 16, the mean restitution
-#: of 3000 random designs of 10-60 steps (gravity 0 and 9.81, where the change held) moved
-#: by ``4e-16`` at most with 5 (``4e-13`` with 4; :mod:`~impactsym.engines.drake.jump_means`
-#: takes 8, for contacts of any length).
+#: Gauss nodes of the shorter piece in the one exact evaluation, 7 on the longer (12 runs;
+#: :mod:`~impactsym.engines.drake.jump_means`): against 16 on each of three panels, the
+#: pieces' integrals of 2.1*10^4 designs of 10-70 steps (gravity 0 and 9.81, where the
+#: change held) moved by ``1.9e-15`` at most, ``7e-16`` above 15 steps (5 on each of three
+#: panels, 15 runs: ``4.2e-15`` and ``4.4e-16``; 4: ``2e-12``); the default is 10.
 NODES = 5
 #: The phases of the change a table covers, tried in turn where a table's tail is above
 #: :data:`TAIL`: without gravity, and under it (closer to the ends of the phase interval
@@ -142,75 +163,139 @@ TOLERANCE = (5e-13, 5e-11)
 #: put it: the restitution is the mean to second order in that offset (``~0.1`` per
 #: step squared, :mod:`~impactsym.engines.drake.jump_means`), here below ``1e-13``.
 SETTLED = 1e-6
-#: Targets on one plateau between two tables from which it gets a table of its own.
-MIN_PLATEAU = 128
+#: Targets on one plateau between two tables from which it gets a table of its own: a
+#: table costs about 5 ms of CPU, a target left to the caller's path about 0.2 ms (with
+#: 128, 1451 of the benchmark's 10^5 targets by overlap, g = 0, were left: 0.29 s).
+MIN_PLATEAU = 32
+#: Chebyshev nodes of a plateau's table across it (its step's share of the way).
+PLATEAU_NODES = 6
 _SECANT = 60  # secant steps at most for a plateau node's damping
+#: Designs evaluated together: their arrays stay below 4 MiB, which NumPy asks the
+#: kernel to back with huge pages; with the default ``defrag=madvise`` each such fault
+#: can stall on compaction (10^5 designs at once: 1.4 s of CPU in a call, 1.05 s in parts).
+_EVALUATED = 32_768
+_TABLE_DIFF = 1e-6  # the differences of a start's Jacobian off its table (relative)
+
+
+class Starts(NamedTuple):
+    """The table's starts of the targets by largest overlap its one evaluation did not
+    keep (:func:`table_designs`; by contact time such a target lies next to a plateau's
+    edge, where steps from it stall: none): the designs read off it, ``s = d v`` and ``w
+    = h sqrt(k/m)``, and ``jac``, the Jacobian ``n x 2 x 2`` of the target's restitution
+    and size ``(e, q)`` in ``(s, w)``, from the table's differences (``nan`` where none:
+    no table, a plateau's, or a difference leaving the table)."""
+
+    s: np.ndarray
+    w: np.ndarray
+    jac: np.ndarray
 
 
 def table_designs(
     e: np.ndarray, v: np.ndarray, m: np.ndarray, g: np.ndarray, q: np.ndarray, h: float,
     design: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]],
     *, steps: np.ndarray | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
-    """``(ok, k, d, summaries)`` of the targets ``(e, q)`` (restitution, and contact time
-    in steps or, given ``steps``, largest overlap over ``v h``) that share ``g / v``,
-    read off the tables of their end states where those serve enough targets, each
-    confirmed by one exact evaluation (module docstring); ``ok`` marks the targets
-    designed here, ``summaries`` their phase summaries (``nan`` elsewhere).
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, Starts]:  # fmt: skip
+    """``(ok, k, d, summaries, starts)`` of the targets ``(e, q)`` (restitution, and
+    contact time in steps or, given ``steps``, largest overlap over ``v h``) that share
+    ``g / v``, read off the tables of their end states where those serve enough targets,
+    each confirmed by one exact evaluation (module docstring); ``ok`` marks the targets
+    designed here, ``summaries`` their phase summaries (``nan`` elsewhere), ``starts``
+    the table's designs of those its evaluation did not keep, with the Jacobian of the
+    targets in them (:class:`Starts`: where the one-change structure fails next to the
+    ends of the phase interval, the design is still close to the table's).
     ``design(e, q)`` gives the exact designs ``(s, w)`` by contact time in steps of the
     tables' nodes (``nan`` where it has none) for the first target's ``m, v, g``. By
     largest overlap, ``steps`` are the designs' contact times in steps about (within a
-    step or so): each target asks the tables of that end state and its two neighbours.
+    step or so): each target asks the table of that end state, then those of its two
+    neighbours.
     """
     by_overlap = steps is not None
     n = e.size
     ok, k, d = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
     summaries = np.full((SUMMARY_FIELDS, n), np.nan)
-    if by_overlap:  # each target asks its likely end state and its neighbours
-        asks = np.floor(steps - 0.5)[None, :] + np.array([-1.0, 0.0, 1.0])[:, None]
-    else:
-        asks = np.floor(q - 0.5)[None, :]
+    likely = np.floor((q if steps is None else steps) - 0.5)
+    offsets = ((0.0,), (-1.0, 1.0)) if by_overlap else ((0.0,),)  # asked in turn
+    asks = likely[None, :] + np.array([o for group in offsets for o in group])[:, None]
     keys = _keys(e, asks)
     windows = PHASES_PRESSED if g[0] > 0 else PHASES
     keys, tables = _built(keys, e, windows, design, (m[0], v[0], g[0]), h, by_overlap)
     s, w, change = (np.full(n, np.nan) for _ in range(3))
-    for (b, box, serves), ((lo, hi), coef, overlaps) in zip(keys, tables, strict=True):
-        rows = np.flatnonzero(serves & np.isnan(s))
-        x = _unit(e[rows], box)
-        # the whole phase interval: beyond a narrower window the table is extrapolated
-        # (the evaluation decides; where the one change holds there, it holds them)
-        ends = (_unit(0.0, (lo, hi)), _unit(1.0, (lo, hi)))
-        # by overlap: the phase where the table's largest overlap is the target's
-        y = (_phase_of(overlaps, x, q[rows], ends) if by_overlap
-             else _unit(q[rows] - 0.5 - b, (lo, hi)))  # fmt: skip
-        y = np.where((y >= ends[0]) & (y < ends[1]), y, np.nan)
-        s[rows], w[rows] = _evaluate(coef, x, y)
-        change[rows] = b + 0.5 + _within(y, (lo, hi))  # in steps
+    source = np.full(n, -1)  # the table each start was read off
+    for group in offsets:  # the likely end state's table first: fewer phases to solve
+        for index, ((b, box, serves), table) in enumerate(zip(keys, tables, strict=True)):
+            asked = (likely + np.array(group)[:, None] == b).any(axis=0)
+            rows = np.flatnonzero(serves & asked & np.isnan(s))
+            s[rows], w[rows], change[rows] = _read(b, box, table, e[rows], q[rows], by_overlap)
+            source[rows] = index
     if by_overlap:  # the designs on a plateau between two tables
-        _plateau_starts(e, q, keys, tables, (m[0], v[0], g[0]), h, s, w, change)
+        _plateau_starts(e, q, likely, keys, tables, (m[0], v[0], g[0]), h, s, w, change)
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
     k_t, d_t = m[live] * (w[live] / h) ** 2, s[live] / v[live]
     rows = (a[live] for a in (m, g, v, e, q, change))
     held, summary = _confirmed(k_t, d_t, *rows, h, by_overlap)
-    live = live[held]
-    ok[live], k[live], d[live] = True, k_t[held], d_t[held]
-    summaries[:, live] = summary[:, held]
-    return ok, k, d, summaries
+    ok[live[held]], k[live[held]], d[live[held]] = True, k_t[held], d_t[held]
+    summaries[:, live[held]] = summary[:, held]
+    refused = live[~held] if by_overlap else live[:0]  # (by contact time: none, Starts)
+    starts = Starts(np.full(n, np.nan), np.full(n, np.nan), np.full((n, 2, 2), np.nan))
+    for index in np.unique(source[refused]):
+        if index < 0:  # (a plateau's start: no table of the target's change)
+            continue
+        rows = refused[source[refused] == index]
+        (b, box, _), table = keys[index], tables[index]
+        starts.s[rows], starts.w[rows] = s[rows], w[rows]
+        starts.jac[rows] = _target_slopes(b, box, table, e[rows], q[rows], s[rows], w[rows],
+                                          by_overlap)  # fmt: skip
+    return ok, k, d, summaries, starts
 
 
-def may_fill_a_table(e: np.ndarray, q: np.ndarray, *, by_overlap: bool) -> bool:
+def _read(b, box, table, e, q, by_overlap):
+    """``(s, w, change)``: the designs of the targets ``(e, q)`` read off the table of end
+    state ``b`` over the restitution ``box`` (``nan`` where the table has none), and the
+    change in steps where it puts them."""
+    (lo, hi), coef, overlaps = table
+    x = to_unit(e, box)
+    # the whole phase interval: beyond a narrower window the table is extrapolated
+    # (the evaluation decides; where the one change holds there, it holds them)
+    ends = (to_unit(0.0, (lo, hi)), to_unit(1.0, (lo, hi)))
+    # by overlap: the phase where the table's largest overlap is the target's
+    y = phase_where(overlaps, x, q, ends) if by_overlap else to_unit(q - 0.5 - b, (lo, hi))
+    y = np.where((y >= ends[0]) & (y < ends[1]), y, np.nan)
+    s, w = evaluate(coef, x, y)
+    return s, w, b + 0.5 + from_unit(y, (lo, hi))  # (the change in steps)
+
+
+def _target_slopes(b, box, table, e, q, s, w, by_overlap):
+    """The Jacobians ``n x 2 x 2`` of the targets ``(e, q)`` in the designs ``(s, w)``
+    read off one table: the inverse of the table's forward differences of ``(s, w)`` in
+    ``(e, q)`` (:data:`_TABLE_DIFF`, relative to the table's box and the size)."""
+    de, dq = _TABLE_DIFF * (box[1] - box[0]), _TABLE_DIFF * q
+    s_e, w_e, _ = _read(b, box, table, e + de, q, by_overlap)
+    s_q, w_q, _ = _read(b, box, table, e, q + dq, by_overlap)
+    ds_de, ds_dq = (s_e - s) / de, (s_q - s) / dq
+    dw_de, dw_dq = (w_e - w) / de, (w_q - w) / dq
+    with np.errstate(all="ignore"):  # (the 2 x 2 inverse; nan where a read failed)
+        inverse = np.array([[dw_dq, -ds_dq], [-dw_de, ds_de]]) / (ds_de * dw_dq - ds_dq * dw_de)
+    return np.moveaxis(inverse, 2, 0)
+
+
+def may_fill_a_table(
+    e: np.ndarray, q: np.ndarray, *, by_overlap: bool,
+    scales: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+) -> bool:  # fmt: skip
     """Whether the targets ``(e, q)`` of one ``g / v`` (``q`` the size in steps) may get
     tables: :data:`MIN_SERVED` of them, :data:`MIN_TARGETS` in one end state ``B =
     floor(q - 1/2)`` by contact time, ``by_overlap`` within :data:`CROWD` end states of
     the continuous law's contact time without gravity (the discrete one lies within a
     step or two; the likely end state asks its neighbours' tables too). Else no table,
     and by overlap no coarse table of the caller's for their likely end states (it cost
-    30 % of a call of 512 targets over 50 steps, for nothing)."""
+    30 % of a call of 512 targets over 50 steps, for nothing). ``scales``:
+    :func:`~impactsym.engines.drake.continuous.free_scales` of ``e`` where the caller
+    has them."""
     if e.size < MIN_SERVED:
         return False
     steps = q
     if by_overlap:  # the contact time in steps of the continuous design of overlap q
-        _, tau0, z0 = free_scales(e)
+        _, tau0, z0 = free_scales(e) if scales is None else scales
         steps = tau0 / z0 * q
     states, counts = np.unique(np.floor(steps - 0.5), return_counts=True)
     before = np.concatenate([[0], np.cumsum(counts)])
@@ -242,9 +327,13 @@ def _confirmed(k, d, m, g, v, e, q, change, h, by_overlap):
     one exact evaluation of the change's equations at ``change`` (steps; module
     docstring) that the full contact confirms, and their phase summaries
     (:func:`~impactsym.engines.drake.jump_means.jump_summary`, ``(8, size)``)."""
-    if k.size == 0:
-        return np.zeros(0, bool), np.empty((SUMMARY_FIELDS, 0))
-    r, held = jump_summary(k, d, m, g, v, h, change, deepest_last=by_overlap, nodes=NODES)
+    held, summary = np.zeros(k.size, bool), np.empty((SUMMARY_FIELDS, k.size))
+    for lo in range(0, k.size, _EVALUATED):  # (in parts: module docstring)
+        part = slice(lo, lo + _EVALUATED)
+        r, held[part] = jump_summary(*(a[part] for a in (k, d, m, g, v)), h, change[part],
+                                     deepest_last=by_overlap, nodes=NODES)  # fmt: skip
+        summary[:, part] = r.stacked()
+    r = PhaseSummary(*summary)
     steps = r.contact_time / h
     # by overlap: the overlap, and the change where the table put it (on a plateau, at
     # phase 0: every phase ends at the state ``change - 1/2``)
@@ -253,107 +342,113 @@ def _confirmed(k, d, m, g, v, e, q, change, h, by_overlap):
         held &= (np.abs(r.restitution - e) <= TOLERANCE[0]) & (np.abs(size - q) <= TOLERANCE[1] * q)
         if by_overlap:
             held &= np.abs(steps - change) <= SETTLED
-    return held, r.stacked()
+    return held, summary
 
 
-def _plateau_starts(e, q, keys, tables, member, h, s, w, change):
+def _plateau_starts(e, q, likely, keys, tables, member, h, s, w, change):
     """The starts ``s, w, change`` (in place) of the targets by largest overlap ``q`` left
-    without one whose overlap lies between two tables of neighbouring end states ``B``
-    and ``B + 1`` over the whole phase interval: their designs lie on the plateau between
+    without one (their ``likely`` end states within two of the plateau's) whose overlap
+    lies between two tables of neighbouring end states ``B`` and ``B + 1`` over the whole
+    phase interval: their designs lie on the plateau between
     (every phase ends at ``N = B + 1``), read off a table of its own
-    (:func:`_plateau_table`) where at least :data:`MIN_PLATEAU` targets lie on it: at
+    (:func:`_plateau_tables`) where at least :data:`MIN_PLATEAU` targets lie on it: at
     ``change = N + 1/2``, the phase 0 of ``N``'s change."""
     whole = {}  # end state: its tables over the whole phase interval
     for (b, box, _), table in zip(keys, tables, strict=True):
         if table[0] == (0.0, 1.0):
             whole.setdefault(b, []).append((box, table))
+    plateaus = []  # (state, box, ends, rows)
     for b, lower in whole.items():
         for (box_l, (_, coef_l, over_l)), (box_u, (_, coef_u, over_u)) in product(
             lower, whole.get(b + 1, [])
         ):
             box = (max(box_l[0], box_u[0]), min(box_l[1], box_u[1]))
-            rows = np.flatnonzero(np.isnan(s) & (e >= box[0]) & (e <= box[1]))
+            near = np.abs(likely - b - 0.5) <= 2.0  # (the others: another plateau's)
+            rows = np.flatnonzero(np.isnan(s) & near & (e >= box[0]) & (e <= box[1]))
             # deeper than the lower table at phase 1, shallower than the upper at phase 0
-            top = _largest(over_l, _unit(e[rows], box_l), 1.0)
-            bottom = _largest(over_u, _unit(e[rows], box_u), -1.0)
+            top = largest(over_l, to_unit(e[rows], box_l), 1.0)
+            bottom = largest(over_u, to_unit(e[rows], box_u), -1.0)
             rows = rows[(q[rows] > top) & (q[rows] < bottom)]
-            if rows.size < MIN_PLATEAU:
-                continue
-            ends = ((coef_l, box_l, 1.0), (coef_u, box_u, -1.0))
-            table = _plateau_table(int(b) + 1, box, ends, member, h)
-            if table is None:
-                continue
-            x = _unit(e[rows], box)
-            y = _phase_of(table[1], x, q[rows])
-            s[rows], w[rows] = _evaluate(table[0], x, np.where(np.abs(y) <= 1.0, y, np.nan))
-            change[rows] = b + 1.5  # every phase ends at b + 1
+            if rows.size >= MIN_PLATEAU:
+                ends = ((coef_l, box_l, 1.0), (coef_u, box_u, -1.0))
+                plateaus.append((int(b) + 1, box, ends, rows))
+    built = _plateau_tables([p[:3] for p in plateaus], member, h)
+    for (state, box, _, rows), table in zip(plateaus, built, strict=True):
+        rows = rows[np.isnan(s[rows])]  # (one plateau's each)
+        if table is None or rows.size == 0:
+            continue
+        x = to_unit(e[rows], box)
+        y = phase_where(table[1], x, q[rows])
+        s[rows], w[rows] = evaluate(table[0], x, np.where(np.abs(y) <= 1.0, y, np.nan))
+        change[rows] = state + 0.5  # every phase ends at the state
 
 
-def _plateau_table(state, box, ends, member, h):
-    """``(coef, overlaps)`` (as :func:`_tables`) of the plateau where every phase ends at
-    ``state``, over the restitution ``box`` and its width ``t`` in ``(0, 1)``: at each
-    restitution node the step ``w`` runs from the lower table's design at phase 1 to the
-    upper's at phase 0 (``ends``: each table's coefficients, box and phase), and the
-    damping is the root of the one state's mean restitution by the secant from the
-    line between the two (:func:`_plateau_damping`); ``None`` where a node has none or a
-    tail is above :data:`TAIL`."""
-    e_nodes = _within(chebyshev_points(NODES_E), box)
-    width = _within(chebyshev_points(NODES_PHASE), (0.0, 1.0))
-    (s1, w1), (s0, w0) = (
-        _evaluate(coef, _unit(e_nodes, where), np.full(NODES_E, y)) for coef, where, y in ends
-    )
-    w = w1[:, None] + width[None, :] * (w0 - w1)[:, None]
-    s = s1[:, None] + width[None, :] * (s0 - s1)[:, None]
-    s = _plateau_damping(np.repeat(e_nodes, NODES_PHASE), s.ravel(), w.ravel(), state,
-                         member, h).reshape(w.shape)  # fmt: skip
-    if not np.isfinite(s).all():
-        return None
-    coef = _coefficients(np.stack([s, w]))
-    overlaps = _overlaps(s, w, state - 1, member, h)
-    refused = isinstance(coef, str) or isinstance(overlaps, str)
-    return None if refused else (coef, overlaps)
+def _plateau_tables(plateaus, member, h):
+    """``(coef, overlaps)`` (as :func:`_tables`) of each plateau ``(state, box, ends)``
+    where every phase ends at ``state``, over the restitution ``box`` and its width
+    ``t`` in ``(0, 1)``: at each restitution node the step ``w`` runs from the lower
+    table's design at phase 1 to the upper's at phase 0 (``ends``: each table's
+    coefficients, box and phase), and the damping is the root of the one state's mean
+    restitution by the secant from the line between the two (:func:`_plateau_damping`,
+    for every plateau's nodes at once: one by one, NumPy's cost per call on a few hundred
+    nodes was most of it); ``None`` where a node has none or a tail is above
+    :data:`TAIL`."""
+    width = from_unit(chebyshev_points(PLATEAU_NODES), (0.0, 1.0))
+    shape = (NODES_E, PLATEAU_NODES)
+    nodes = []  # (e, s, w, state) of each plateau's nodes
+    for state, box, ends in plateaus:
+        e_nodes = from_unit(chebyshev_points(NODES_E), box)
+        (s1, w1), (s0, w0) = (
+            evaluate(coef, to_unit(e_nodes, where), np.full(NODES_E, y)) for coef, where, y in ends
+        )
+        w = w1[:, None] + width[None, :] * (w0 - w1)[:, None]
+        s = s1[:, None] + width[None, :] * (s0 - s1)[:, None]
+        nodes.append((np.repeat(e_nodes, PLATEAU_NODES), s.ravel(), w.ravel(),
+                      np.full(s.size, state)))  # fmt: skip
+    if not nodes:
+        return []
+    e, s, w, state = (np.concatenate(a) for a in zip(*nodes, strict=True))
+    s = _plateau_damping(e, s, w, state, member, h).reshape(-1, *shape)
+    w = w.reshape(-1, *shape)
+    out = [fit(np.stack([s[i], w[i]]), TAIL) if np.isfinite(s[i]).all() else None
+           for i in range(len(plateaus))]  # fmt: skip
+    todo = [i for i, c in enumerate(out) if c is not None and not isinstance(c, str)]
+    found = _overlaps([(s[i], w[i], plateaus[i][0] - 1) for i in todo], member, h)
+    for i, overlaps in zip(todo, found, strict=True):
+        out[i] = None if isinstance(overlaps, str) else (out[i], overlaps)
+    return [c if isinstance(c, tuple) else None for c in out]
 
 
 def _plateau_damping(e, s, w, state, member, h):
     """The damping numbers at which the mean restitution of the contacts ``(s, w)`` that
-    all end at ``state`` (:func:`~impactsym.engines.drake.jump_means.jump_means`' one
-    state's integral) is ``e``: secant steps from ``s`` (``nan`` where they do not meet
-    it to ``1e-14``)."""
+    all end at ``state`` (per contact; :func:`~impactsym.engines.drake.jump_means.jump_means`'
+    one state's integral) is ``e``: secant steps from ``s``, each contact's until it is
+    met to ``1e-15``, or to ``1e-14`` and no longer closer (rounding: a node may hover
+    at ``2e-15``), at most :data:`_SECANT` (``nan`` where not met to ``1e-14``)."""
     m, v, g = member
-    one = np.ones(e.size)
 
-    def f(s):
-        k, d = m * (w / h) ** 2, s / v
-        return jump_means(k, d, m * one, g * one, v * one, h, (state + 0.5) * one,
-                          nodes=NODES).fixed - e  # fmt: skip
+    def f(s, i):
+        k, d = m * (w[i] / h) ** 2, s / v
+        one = np.ones(i.size)
+        return jump_means(k, d, m * one, g * one, v * one, h, state[i] + 0.5,
+                          nodes=NODES).fixed - e[i]  # fmt: skip
 
-    f_s = f(s)
-    s_prev, f_prev = s * (1.0 + 1e-6), f(s * (1.0 + 1e-6))
+    s = s.copy()
+    everyone = np.arange(e.size)
+    f_s = f(s, everyone)
+    s_prev, f_prev = s * (1.0 + 1e-6), f(s * (1.0 + 1e-6), everyone)
+    live = np.flatnonzero(np.abs(f_s) > 1e-15)
     with np.errstate(all="ignore"):
         for _ in range(_SECANT):
-            step = f_s * (s - s_prev) / (f_s - f_prev)
-            s_prev, f_prev = s, f_s
-            s = s - np.where(np.isfinite(step), step, 0.0)
-            f_s = f(s)
-            if np.all(np.abs(f_s) <= 1e-15):
+            if live.size == 0:
                 break
+            step = f_s[live] * (s[live] - s_prev[live]) / (f_s[live] - f_prev[live])
+            s_prev[live], f_prev[live] = s[live], f_s[live]
+            s[live] -= np.where(np.isfinite(step), step, 0.0)
+            f_s[live] = f(s[live], live)
+            off = np.abs(f_s[live])
+            live = live[(off > 1e-15) & ((off < np.abs(f_prev[live])) | (off > 1e-14))]
     return np.where(np.abs(f_s) <= 1e-14, s, np.nan)
-
-
-def _largest(coef, x, y):
-    """The largest of the overlap tables ``coef`` at the restitutions ``x`` (in
-    ``[-1, 1]``) and the phase ``y`` (``-1`` or ``1``)."""
-    return _evaluate(coef, x, np.full(x.size, y)).max(axis=0)
-
-
-def _unit(e, box):
-    """The points ``e`` of the ``box`` mapped to ``[-1, 1]`` (the tables' variables)."""
-    return (2.0 * e - (box[0] + box[1])) / (box[1] - box[0])
-
-
-def _within(y, box):
-    """The points ``y`` of ``[-1, 1]`` mapped into the ``box`` (:func:`_unit`'s inverse)."""
-    return 0.5 * (box[0] + box[1]) + 0.5 * (box[1] - box[0]) * y
 
 
 def _built(keys, e, windows, design, member, h, by_overlap):
@@ -393,93 +488,58 @@ def _halves(key, e):
 def _tables(keys, phases, design, member, h, by_overlap):
     """Each table (``keys``: end state, restitution box, targets) over the ``phases``:
     ``(coef, overlaps)``, the Chebyshev coefficients ``(2, NODES_E, NODES_PHASE)`` of
-    ``(s, w)`` and, ``by_overlap``, those ``(J, NODES_E, NODES_PHASE)`` of the overlaps
+    ``(s, w)`` (by overlap :data:`NODES_PHASE_OVERLAP` in the phase) and, ``by_overlap``,
+    those ``(J, NODES_E, NODES_PHASE_OVERLAP)`` of the overlaps
     over ``v h`` of the states that can be deepest (:func:`_overlaps`; else ``None``),
     from one call of ``design`` for every node; where refused, why: ``"nodes"`` (a node
     not designed), ``"phase"`` or ``"restitution"`` (the direction of a tail above
     :data:`TAIL`)."""
-    x_e, node_phase = chebyshev_points(NODES_E), _within(chebyshev_points(NODES_PHASE), phases)
-    node_e = np.concatenate([np.repeat(_within(x_e, box), NODES_PHASE) for _, box, _ in keys])
+    count = NODES_PHASE_OVERLAP if by_overlap else NODES_PHASE
+    x_e, node_phase = chebyshev_points(NODES_E), from_unit(chebyshev_points(count), phases)
+    node_e = np.concatenate([np.repeat(from_unit(x_e, box), count) for _, box, _ in keys])
     node_q = np.concatenate([np.tile(b + 0.5 + node_phase, NODES_E) for b, _, _ in keys])
-    shape = (len(keys), NODES_E, NODES_PHASE)
+    shape = (len(keys), NODES_E, count)
     s, w = (a.reshape(shape) for a in design(node_e, node_q))
     out = []
-    for i, (base, _, _) in enumerate(keys):
-        if not (np.isfinite(s[i]).all() and np.isfinite(w[i]).all()):
-            out.append("nodes")
-            continue
-        coef = _coefficients(np.stack([s[i], w[i]]))
-        if by_overlap and not isinstance(coef, str):
-            overlaps = _overlaps(s[i], w[i], int(base), member, h)
-            out.append(overlaps if isinstance(overlaps, str) else (coef, overlaps))
-        else:
-            out.append(coef if isinstance(coef, str) else (coef, None))
+    for i in range(len(keys)):
+        finite = np.isfinite(s[i]).all() and np.isfinite(w[i]).all()
+        out.append(fit(np.stack([s[i], w[i]]), TAIL) if finite else "nodes")
+    if not by_overlap:
+        return [c if isinstance(c, str) else (c, None) for c in out]
+    todo = [i for i, c in enumerate(out) if not isinstance(c, str)]
+    found = _overlaps([(s[i], w[i], int(keys[i][0])) for i in todo], member, h)
+    for i, overlaps in zip(todo, found, strict=True):
+        out[i] = overlaps if isinstance(overlaps, str) else (out[i], overlaps)
     return out
 
 
-def _overlaps(s, w, base, member, h):
-    """The Chebyshev coefficients (:func:`_coefficients`) of the overlaps (over ``v h``)
-    of the states ``j0 ... j1`` at the last grid phase of the nodes' designs ``(s, w)``
-    (``NODES_E x NODES_PHASE``), the states that are deepest at some node and one more
-    on either side. Each is smooth in the design, their largest (the largest overlap,
+def _overlaps(tables, member, h):
+    """For each table's node designs ``(s, w, base)`` (``s``, ``w``: ``NODES_E x
+    count``) the Chebyshev coefficients
+    (:func:`~impactsym.engines.drake.chebyshev_tables.fit`) of the overlaps (over ``v
+    h``) of the states ``j0 ... j1`` at the last grid phase, the states that are deepest
+    at some node and one more on either side. Each is smooth in the design, their
+    largest (the largest overlap,
     :func:`~impactsym.engines.drake.jump_means.last_overlap`, the numbers of the same
-    update) is not: which state is deepest changes."""
+    update) is not: which state is deepest changes. Every table's nodes in one run
+    (:func:`~impactsym.engines.drake.stepping.states_through`, to the last table's end
+    state; one run per table cost NumPy's per-call price at each step of 100-odd
+    nodes)."""
+    if not tables:
+        return []
     m, v, g = member
-    steps = np.arange(base + 2)  # the states before the end state B + 1, and it
-    k, d = m * (w.ravel() / h) ** 2, s.ravel() / v
-    size = steps.size
-    x, _, _, _ = end_state(np.repeat(k, size), np.repeat(d, size), m, g, v, h,
-                           GRID_PHASES[-1], np.tile(steps, k.size))  # fmt: skip
-    x = x.reshape(k.size, steps.size) / (v * h)
-    deepest = np.argmax(x, axis=1)
-    j0, j1 = max(int(deepest.min()) - 1, 0), min(int(deepest.max()) + 1, base)
-    values = np.moveaxis(x[:, j0 : j1 + 1].reshape(NODES_E, NODES_PHASE, -1), 2, 0)
-    return _coefficients(values)
-
-
-def _coefficients(values):
-    """Chebyshev coefficients ``(fields, NODES_E, NODES_PHASE)`` of the node values, or
-    where the last two degrees of a field in either direction sum above :data:`TAIL` of
-    its largest value, the direction of the larger such tail: ``"restitution"`` or
-    ``"phase"``."""
-    m_e, m_p = chebyshev_transform(NODES_E), chebyshev_transform(NODES_PHASE)
-    coef = np.einsum("ij,fjk,lk->fil", m_e, values, m_p)
-    top = np.abs(values).max(axis=(1, 2))
-    tail_e = (np.abs(coef[:, -2:, :]).sum(axis=(1, 2)) / top).max()
-    tail_phase = (np.abs(coef[:, :, -2:]).sum(axis=(1, 2)) / top).max()
-    if max(tail_e, tail_phase) <= TAIL:
-        return coef
-    return "phase" if tail_phase >= tail_e else "restitution"
-
-
-def _phase_of(coef, x, target, ends=(-1.0, 1.0)):
-    """The phase ``y`` between ``ends`` (the table's variable; the default ``[-1, 1]`` is
-    its window, the phase interval's ends lie beyond a narrower one) where the largest of
-    the tables ``coef`` (``(J, NODES_E, NODES_PHASE)``) at the restitutions ``x`` equals
-    ``target`` (``nan`` where the ends do not bracket it): safeguarded Newton steps
-    (:func:`~impactsym.numeric.roots.bracketed_newton`: the largest is not smooth where
-    the deepest state changes) from the secant's root between the ends."""
-    vx = chebyshev.chebvander(x, coef.shape[1] - 1)
-    c = np.einsum("ij,fjk->ifk", vx, coef)  # (targets, J, phase)
-    dc = chebyshev.chebder(c, axis=2)
-
-    def f(y, rows):  # (rows: the targets' indices, as floats)
-        i = rows.astype(np.int64)
-        vy = chebyshev.chebvander(y, coef.shape[2] - 1)
-        values = np.einsum("ifk,ik->if", c[i], vy)
-        top = np.argmax(values, axis=1)
-        slope = np.einsum("ik,ik->i", dc[i, top], vy[:, :-1])
-        return values[np.arange(i.size), top] - target[i], slope
-
-    everyone = np.arange(x.size, dtype=float)
-    (y_a, y_b), n = ends, x.size
-    f_a, _ = f(np.full(n, y_a), everyone)
-    f_b, _ = f(np.full(n, y_b), everyone)
-    live = np.flatnonzero((f_a <= 0.0) & (f_b >= 0.0) & (f_b > f_a))
-    out = np.full(n, np.nan)
-    start = y_a - (y_b - y_a) * f_a[live] / (f_b[live] - f_a[live])
-    out[live] = bracketed_newton(f, None, y_a, y_b, [everyone[live]], g_lo=f_a[live],
-                                 g_hi=f_b[live], start=start)  # fmt: skip
+    s, w = (np.concatenate([t[i].ravel() for t in tables]) for i in (0, 1))
+    k, d = m * (w / h) ** 2, s / v
+    # the states before the end state B + 1, and it
+    x = states_through(k, d, m, g, v, h, GRID_PHASES[-1], max(t[2] for t in tables) + 2)
+    x /= v * h
+    out, start = [], 0
+    for s_t, _, base in tables:
+        rows = x[start : start + s_t.size, : base + 2]
+        start += s_t.size
+        deepest = np.argmax(rows, axis=1)
+        j0, j1 = max(int(deepest.min()) - 1, 0), min(int(deepest.max()) + 1, base)
+        out.append(fit(np.moveaxis(rows[:, j0 : j1 + 1].reshape(*s_t.shape, -1), 2, 0), TAIL))
     return out
 
 
@@ -491,11 +551,3 @@ def _boxes(e):
     a, b = a - pad, b + pad
     edges = np.linspace(a, b, int(np.ceil((b - a) / WIDTH)) + 1)
     return list(pairwise(edges))
-
-
-def _evaluate(coef, x, y):
-    """The tables ``coef`` (``(fields, NODES_E, NODES_PHASE)`` Chebyshev coefficients)
-    at ``(x, y)`` in ``[-1, 1]^2``: ``fields`` arrays."""
-    ve = chebyshev.chebvander(x, coef.shape[1] - 1)
-    vp = chebyshev.chebvander(y, coef.shape[2] - 1)
-    return np.einsum("ij,fjk,ik->fi", ve, coef, vp)

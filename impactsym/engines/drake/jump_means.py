@@ -36,14 +36,29 @@ enters the phase interval):
   the mean is ``e_B``'s integral, as the pieces have it. Unclipped it added
   ``1.6e-12`` to a design under gravity there, found by review).
 
-The integrals are 8-point Gauss–Legendre rules on three panels, the longer of the two
-pieces halved (no panel longer than half a phase: :math:`10^{-2} (L/2.5)^{2n}`, the
-error model of :mod:`impactsym.engines.drake.phases`, gives about ``1e-13`` for
-``n = 8``, ``L = 1/2``; measured against 16 nodes per panel: below ``1e-14`` over
-designs of 20-40 steps). A run of the states costs ``B`` updates, as a full contact
-does; an evaluation is 24 nodes and 2 states ``B`` at :math:`\varphi^*` (state ``B + 1``
-there is one update on from ``B``: :func:`_next_state`), against about 65
-contacts and 19 margins of a phase mean that searches for its changes
+The integrals are Gauss–Legendre rules of one panel a piece (:func:`_layout`):
+``nodes`` on the shorter piece (half a phase at most), ``nodes + 2`` on the longer (up
+to a whole phase); 10 by default (22 nodes), 5 in the change tables (12). For contacts
+of 10 steps or more the pieces' restitution is analytic far around the phase interval:
+``n`` nodes on a panel of length ``L`` err by about :math:`(L/15)^{2n}` (5 nodes on half
+a phase ``1e-15``, 4 ``1e-12``, as measured), so the longer piece whole with 7 nodes
+(``3e-17``) does better than in two halves of 5, with 6 worse (``3e-14`` at 11 steps).
+Measured against 16 nodes on each of three panels (the longer piece halved, the rule
+before), over 2.1*10^4 held designs and random contacts of 10-70 steps (``g = 0`` and
+``9.81``, steps ``1e-3`` and ``1e-4``: ``benchmarks/bench_drake_jump_rule.py``) and
+1.1*10^5 designs of the benchmark's targets (15-70 steps), the pieces' integrals of
+the 12-node rule agree to ``1.9e-15`` (``7e-16`` above 15 steps), those of 5 nodes on
+each of three panels (15 runs) to ``4.2e-15`` (``4.4e-16``), of 4 on each to ``2e-12``
+(the reference's own spread against 20: ``3e-16``; above 15 steps both are rounding,
+the rule's fewer and heavier weights). Shorter contacts have nearer singularities:
+over 1.7*10^4 random ones of 2-17 steps the default's 10 and 12 nodes give ``3e-15``
+(8 on each of three panels ``2e-15``, 8 and 10 ``2.5e-13``, at 2-4 steps). With one
+node (the rule of :mod:`~impactsym.engines.drake.step_table`'s finite differences) it
+is 4 nodes, ``1e-4`` off and smooth in the parameters. A run of the states costs ``B``
+updates, as a full contact does; an evaluation is its nodes and 2 states ``B`` at
+:math:`\varphi^*` (state ``B + 1`` there is one update on from ``B``:
+:func:`_next_state`), against about 65 contacts and 19 margins of a phase mean that
+searches for its changes
 (:func:`~impactsym.engines.drake.phases.phase_summary`; measured before its one-margin
 root search and quarter pieces, about 50 and 10 since).
 
@@ -78,7 +93,9 @@ off the change by the design's tolerance, which moved a design's range by ``3e-1
 under gravity; the grid) and, where a sample between two others of its piece is
 extreme, the search of :func:`~impactsym.engines.drake.extremes.interior_extreme` there:
 :data:`_STEPS` steps of successive parabolic interpolation from the samples
-themselves, which lie at most 0.14 of a phase apart (two zoom rounds first, as
+themselves, which lie at most 0.125 of a phase apart with the grid (figures of three
+panels of 5 nodes; one panel a piece moved no bound by ``2e-15`` over 4*10^5 designs
+of the benchmark but the one below; two zoom rounds first, as
 :func:`~impactsym.engines.drake.phases.phase_summary` searches, took 20 runs per
 extreme, and sorting all 26 samples of every contact at once cost more: 0.22-0.30 s
 of CPU per 10^5 designs of the change tables then, 0.03-0.07 s now; the bounds agree
@@ -92,19 +109,27 @@ the grid's. It holds where the grid's end states hold (as in :func:`jump_holds`)
 every node's state is its end state (no state before it ended or turned back, it
 ends) and the body leaves the overlap at the next update (it cannot coast and stick),
 no end margin dips towards zero between the samples of either piece
-(:func:`~impactsym.engines.drake.phases.hidden_changes` at the panels' positions), and
+(:func:`~impactsym.engines.drake.phases.hidden_changes` at the pieces' nodes), and
 :math:`\hat\varphi_j` lies in ``[0, 1)``. There it agrees with
 :func:`~impactsym.engines.drake.phases.phase_summary` (over random designs of 2-60
 steps, both gravities, steps ``1e-3`` and ``1e-4``: the mean restitution to ``1e-13``,
 the contact times to ``3e-13`` relative, the largest overlap bit for bit, the
 restitution's range to ``1e-15`` since both search next to their pieces' ends too; with
-5 nodes per panel and the change evaluated up to ``1e-6`` steps off the true one, an
-extreme about ``2e-5`` of a phase before the change can come out ``4e-13`` short, found
-by review). Not verified: at :math:`\varphi^* = 0` a true change within ``1e-9`` of a
-phase after 0 (the grid's phase 0 is not checked that close to the change, and no
-sample sees state ``B + 1`` before it): the means stay exact to ``1e-14``, the range
-can be off by about the change's distance (``1e-12`` at ``1e-6``). All quantities are
-SI. Internal to :mod:`impactsym.engines.drake`.
+5 nodes on each of three panels and the change evaluated up to ``1e-6`` steps off the
+true one, an extreme about ``2e-5`` of a phase before the change can come out ``4e-13``
+short, found by review). An extreme within ``~1e-5`` of a phase of a side of the change
+is searched where the restitution's one-sided slope there, from the states of the
+change's equations, says it lies inside (:func:`_beside`): the quadratic through the
+three samples can put it just outside, ``4e-12`` short (one of 4*10^5 designs of the
+benchmark under gravity with the 12-node rule; with the 15-node rule none of them,
+luck: its samples put the vertex ``2e-6`` inside). Over those 4*10^5 designs and
+1.3*10^5 others (10-70 steps, both gravities and steps), probes at 13 phases ``3e-6``
+to ``0.03`` from the change on each side found no restitution beyond the range. Not
+verified: at :math:`\varphi^* = 0` a true change within ``1e-9`` of a phase after 0
+(the grid's phase 0 is not checked that close to the change, and no sample sees state
+``B + 1`` before it): the means stay exact to ``1e-14``, the range can be off by about
+the change's distance (``1e-12`` at ``1e-6``). All quantities are SI. Internal to
+:mod:`impactsym.engines.drake`.
 """
 
 from __future__ import annotations
@@ -127,8 +152,8 @@ from impactsym.engines.phase_pieces import gauss_legendre
 
 __all__ = ["JumpMeans", "jump_holds", "jump_means", "jump_summary", "last_overlap"]
 
-_NODES = 8  # Gauss-Legendre nodes per panel
-_DPHASE = 2.0**-20  # the difference in the phase for the margin's slope
+_NODES = 10  # Gauss-Legendre nodes of the shorter piece (the longer: 2 more)
+_DPHASE = 2.0**-20  # the difference in the phase for the slopes at phi* (margin, sides)
 _CLEAR = 1e-9  # grid phases this close to the change are not checked (the nodes are)
 _STEPS = 6  # parabolic steps of an interior extreme's search from the samples (docstring)
 _BLOCK = 16_384  # node states tested together (:func:`_node_ends`)
@@ -157,28 +182,31 @@ def _split(q):
     return base.astype(np.int64), q - 0.5 - base
 
 
-def _panels(phi, base):
-    """The three panels ``(a, b, step)`` (each ``n x 3``) of the two pieces, the longer
-    piece halved."""
-    n = phi.size
-    long_left = phi > 0.5
-    mid_left, mid_right = 0.5 * phi, 0.5 * (1.0 + phi)
-    a = np.stack([np.zeros(n), np.where(long_left, mid_left, phi),
-                  np.where(long_left, phi, mid_right)], axis=1)  # fmt: skip
-    b = np.stack([np.where(long_left, mid_left, phi), np.where(long_left, phi, mid_right),
-                  np.ones(n)], axis=1)  # fmt: skip
-    step = np.stack([base + 1, np.where(long_left, base + 1, base), base], axis=1)
-    return a, b, step
+def _layout(phi, base, nodes):
+    """The node phases, weights and end states (each ``n x (2 nodes + 2)``, in phase order)
+    of the pieces ``[0, phi*]`` (state ``B + 1``) and ``[phi*, 1]`` (``B``): the shorter
+    (half a phase at most) one Gauss panel of ``nodes``, the longer one of ``nodes + 2``
+    (module docstring)."""
+    (xs, ws), (xl, wl) = _gauss(nodes), _gauss(nodes + 2)
+    long_left = (phi > 0.5)[:, None]
+    x = np.where(long_left, np.concatenate([xl, xs]), np.concatenate([xs, xl]))
+    w = np.where(long_left, np.concatenate([wl, ws]), np.concatenate([ws, wl]))
+    first = np.arange(2 * nodes + 2) < np.where(long_left, nodes + 2, nodes)
+    start = np.where(first, 0.0, phi[:, None])
+    width = np.where(first, phi[:, None], 1.0 - phi[:, None])
+    return start + width * x, width * w, np.where(first, base[:, None] + 1, base[:, None])
 
 
 class _Evaluation(NamedTuple):
     """One evaluation of the change's equations (:func:`_evaluate`), per contact:
     ``base`` (``B``), ``phi`` (``phi*``), the node ``phases`` and their ``weights``
-    (``n x 3 nodes``, in phase order), the nodes' restitution ``e`` and end states
-    ``x``, ``u``, ``valid`` (:func:`~impactsym.engines.drake.stepping.end_state`:
-    ``n x 3 nodes``), the parameters ``flat`` of those rows, the restitution
-    ``before`` (state ``B + 1``) and ``after`` (``B``) at ``phi*``, the change's
-    ``offset`` (Newton's step from ``phi*``) and the node integral ``fixed``."""
+    (``n x (2 nodes + 2)``, in phase order: :func:`_layout`), the nodes' restitution
+    ``e`` and end states ``x``, ``u``, ``valid``
+    (:func:`~impactsym.engines.drake.stepping.end_state`, of the same shape), the
+    parameters ``flat`` of those rows, the restitution
+    ``before`` (state ``B + 1``) and ``after`` (``B``) at ``phi*`` and their
+    ``slopes`` in the phase there (``2 x n``, differences over :data:`_DPHASE`), the
+    change's ``offset`` (Newton's step from ``phi*``) and the node integral ``fixed``."""
 
     base: np.ndarray
     phi: np.ndarray
@@ -191,6 +219,7 @@ class _Evaluation(NamedTuple):
     flat: tuple[np.ndarray, ...]
     before: np.ndarray
     after: np.ndarray
+    slopes: np.ndarray
     offset: np.ndarray
     fixed: np.ndarray
 
@@ -200,29 +229,32 @@ def _evaluate(k, d, m, g, v, h, q, nodes):
     what :func:`jump_means` and :func:`jump_summary` read."""
     n = k.size
     base, phi = _split(q)
-    a, b, step = _panels(phi, base)
-    x01, w01 = _gauss(nodes)
-    phases_in = (a[:, :, None] + (b - a)[:, :, None] * x01).reshape(n, 3 * nodes)
-    weights = ((b - a)[:, :, None] * w01).reshape(n, 3 * nodes)
-    toward = np.where(phi < 0.5, _DPHASE, -_DPHASE)  # the slope's difference, inwards
+    phases_in, weights, step = _layout(phi, base, nodes)
+    width = phases_in.shape[1]
+    # the slopes' difference: back into [0, phi*], where state B + 1 is smooth (its
+    # update from B turns free at the change), but from phi* = 0 (no piece there) on
+    toward = np.where(phi >= _DPHASE, -_DPHASE, _DPHASE)
     phases = np.concatenate([phases_in.ravel(), phi, phi + toward])
-    steps = np.concatenate([np.repeat(step.ravel(), nodes), base, base])
-    rows = np.concatenate([np.repeat(np.arange(n), 3 * nodes), np.tile(np.arange(n), 2)])
+    steps = np.concatenate([step.ravel(), base, base])
+    rows = np.concatenate([np.repeat(np.arange(n), width), np.tile(np.arange(n), 2)])
     x, u, valid, flat = end_state(*(a[rows] for a in (k, d, m, g, v)), h, phases, steps)
     e = -u / flat[4]
-    inner = n * 3 * nodes
-    fixed = np.einsum("ij,ij->i", weights, e[:inner].reshape(n, 3 * nodes))
+    inner = n * width
+    fixed = np.einsum("ij,ij->i", weights, e[:inner].reshape(n, width))
     at = slice(inner, inner + 2 * n)
     margin, _ = margin_at(x[at], u[at], *(a[at] for a in flat))
     mu, mu_next = margin[:n], margin[n:]
     with np.errstate(all="ignore"):  # (a flat margin: no finite size, the step refuses it)
         offset = -mu * toward / (mu_next - mu)
-    at = slice(inner, inner + n)  # state B at phi*, and B + 1 after it
+    # state B + 1 at phi* and at the slope's phase: one update on from B
     _, u_next = _next_state(x[at], u[at], *(a[at] for a in flat))
-    node_rows = (a[:inner].reshape(n, 3 * nodes) for a in (e, x, u, valid))
+    sides = np.stack([-u_next / flat[4][at], e[at]]).reshape(2, 2, n)  # (state, phase, n)
+    slopes = (sides[:, 1] - sides[:, 0]) / toward
+    slopes[0, toward > 0.0] = np.nan  # (state B + 1 past the change)
+    node_rows = (a[:inner].reshape(n, width) for a in (e, x, u, valid))
     return _Evaluation(base, phi, phases_in, weights, *node_rows,
-                       tuple(a[:inner].reshape(n, 3 * nodes) for a in flat), -u_next / flat[4][at],
-                       e[at], offset, fixed)  # fmt: skip
+                       tuple(a[:inner].reshape(n, width) for a in flat), sides[0, 0], sides[1, 0],
+                       slopes, offset, fixed)  # fmt: skip
 
 
 def _next_state(x, u, k, d, m, g, v, h):
@@ -248,8 +280,9 @@ def jump_means(
     """The phase means of the contacts ``(k, d, m, g, v)`` at step ``h`` if their end
     state changes once, from ``B + 1`` to ``B``, where the size in steps ``q`` puts it
     (module docstring): to second order in the change's offset, exact at the design.
-    Flat arrays of one length. ``nodes``: Gauss nodes per panel (fewer: a cheaper rule
-    whose error is smooth in the parameters, for differences of the means)."""
+    Flat arrays of one length. ``nodes``: Gauss nodes of the shorter piece, 2 more on
+    the longer (fewer: a cheaper rule whose error is smooth in the parameters, for
+    differences of the means)."""
     return _means(_evaluate(k, d, m, g, v, h, q, nodes))
 
 
@@ -293,14 +326,11 @@ def jump_holds(
     last grid phase (:func:`last_overlap`). Flat arrays of one length."""
     n = k.size
     base, phi = _split(q)
-    a, b, _ = _panels(phi, base)
-    x01, _ = _gauss(_NODES)
-    # the nodes next to the change: the last of the panel ending at it, the first after
-    last_before = np.where(phi > 0.5, a[:, 1] + (b[:, 1] - a[:, 1]) * x01[-1], b[:, 0] * x01[-1])
-    first_after = np.where(phi > 0.5, a[:, 2] + (b[:, 2] - a[:, 2]) * x01[0],
-                           a[:, 1] + (b[:, 1] - a[:, 1]) * x01[0])  # fmt: skip
-    phases = np.concatenate([np.tile(GRID_PHASES, (n, 1)), last_before[:, None],
-                             first_after[:, None]], axis=1)  # fmt: skip
+    placed, _, _ = _layout(phi, base, _NODES)
+    # the nodes next to the change: the first piece's last, the second's first
+    cut = np.where(phi > 0.5, _NODES + 2, _NODES)
+    next_to = np.take_along_axis(placed, np.column_stack([cut - 1, cut]), axis=1)
+    phases = np.concatenate([np.tile(GRID_PHASES, (n, 1)), next_to], axis=1)
     # (the nodes: none before an empty first piece)
     check = np.column_stack([_grid_checked(phi), phi > 0.0, np.ones(n, bool)])
     r, held = _runs_hold(k, d, m, g, v, h, base, phi, phases, check)
@@ -338,7 +368,8 @@ def jump_summary(
     dipping towards zero between the samples of either piece
     (:func:`~impactsym.engines.drake.phases.hidden_changes`); ``phi_j`` in ``[0, 1)``;
     ``deepest_last``: and no grid phase overlapping deeper than the last
-    (:func:`last_overlap`). ``nodes``: Gauss nodes per panel (as :func:`jump_means`)."""
+    (:func:`last_overlap`). ``nodes``: Gauss nodes of the shorter piece (as
+    :func:`jump_means`)."""
     n = k.size
     ev = _evaluate(k, d, m, g, v, h, q, nodes)
     means = _means(ev)
@@ -367,7 +398,7 @@ def _node_ends(ev):
     """Where each node's state ends (:func:`~impactsym.engines.drake.stepping.margin_at`)
     and the body is out of the overlap at the next update (it cannot coast and stick),
     ``n x nodes``: in blocks of :data:`_BLOCK` states, whose temporaries stay in the
-    cache (all at once: 0.2 s of CPU per 10^5 contacts of 5 nodes per panel, 0.035 s in
+    cache (all at once: 0.2 s of CPU per 10^5 contacts of 15 nodes, 0.035 s in
     blocks)."""
     x, u, flat = ev.x.ravel(), ev.u.ravel(), [a.ravel() for a in ev.flat]
     ends = np.empty(x.size, bool)
@@ -382,19 +413,17 @@ def _hidden(ev, r, sides):
     """Where an end-state margin may dip towards zero between the samples of a piece
     (:func:`~impactsym.engines.drake.phases.hidden_changes`): the piece ``[0, phi_j]``
     (the grid's first phase, its nodes, state ``B + 1`` at the change) and ``[phi_j,
-    1)`` (state ``B`` there, its nodes, the grid's last phase), one panel or two halves
-    (their nodes at fixed positions along the piece either way). ``sides``: the
+    1)`` (state ``B`` there, its nodes, the grid's last phase), each one Gauss panel
+    (:func:`_layout`). ``sides``: the
     restitution and end penetration of states ``B + 1`` and ``B`` at the change."""
-    nodes = ev.e.shape[1] // 3  # per panel
-    x01, _ = gauss_legendre(nodes)
-    ends = np.array([-1.0]), np.array([1.0])
-    positions = {nodes: np.concatenate([ends[0], x01, ends[1]]),
-                 2 * nodes: np.concatenate([ends[0], 0.5 * (x01 - 1.0), 0.5 * (x01 + 1.0),
-                                            ends[1]])}  # fmt: skip
+    nodes = (ev.e.shape[1] - 2) // 2  # of the shorter piece
+    positions = {
+        c: np.concatenate([[-1.0], gauss_legendre(c)[0], [1.0]]) for c in (nodes, nodes + 2)
+    }
     d, g, v, h = (ev.flat[i][:, 0] for i in (1, 3, 4, 5))
     flag = np.zeros(ev.phi.size, bool)
     long_left = ev.phi > 0.5
-    for rows, cut in ((long_left, 2 * nodes), (~long_left, nodes)):
+    for rows, cut in ((long_left, nodes + 2), (~long_left, nodes)):
         all_rows = np.flatnonzero(rows)
         for lo in range(0, all_rows.size, _ROWS):
             i = all_rows[lo : lo + _ROWS]
@@ -428,8 +457,8 @@ def _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change):
     a piece (of the phase interval, or a side of the change) is and the samples next to
     it say the extreme lies just inside
     (:func:`~impactsym.engines.drake.extremes.interior_extreme`, from those samples: they
-    lie 0.14 of a phase apart at most, :data:`_STEPS` parabolic steps reach the extreme
-    there)."""
+    lie 0.125 of a phase apart at most, :data:`_STEPS` parabolic steps reach the extreme
+    there), or next to a side where its slope says so (:func:`_beside`)."""
     n = ev.phi.size
     extreme, at, place, count, win_p, win_e = _extremes(ev, r, sides, change)
 
@@ -441,7 +470,7 @@ def _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change):
         inner = np.full(n, np.nan)
         # a node or grid sample: interior_extreme reads its neighbours, or at an end of
         # the interval the next two, and searches where the samples say the extreme lies
-        # just inside (5e-7 short with 5 nodes per panel before); at a side of the
+        # just inside (5e-7 short with three panels of 5 nodes before); at a side of the
         # change: that piece's last (or first) three samples, the extreme may lie just
         # inside it (4.8e-7 short before, under gravity)
         for side, window in ((1, None), (0, np.arange(-2, 1)), (2, np.arange(3))):
@@ -455,8 +484,39 @@ def _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change):
                 pts, e = (np.take_along_axis(a[s, i], cols, axis=1) for a in (win_p, win_e))
             if i.size:
                 inner[i] = interior_extreme(run, i, pts, e, sign, rounds=0, steps=_STEPS)
+            if i.size and window is not None:
+                inner[i] = _beside(run, i, pts, e, sign, inner[i], ev.slopes[side // 2, i], side)
         bounds.append(sign * np.fmax(sign * extreme[s], sign * inner))
     return bounds
+
+
+def _beside(run, i, pts, e, sign, found, slope, side):
+    """``found`` (the searches' extremes of the contacts ``i`` whose extreme sample is a
+    side of the change: the ``side`` before it, 0, last of the three ``pts``, or after
+    it, 2, first), and where none was searched but the restitution's one-sided slope at
+    the change (``slope``, :class:`_Evaluation`'s) says it goes on towards the extreme
+    inside the piece: one run at the vertex of the quadratic through the side's value,
+    that slope and the piece's next sample (or their middle), and the search from
+    those three. The quadratic through the three samples alone can put an extreme
+    that lies within ``~1e-5`` of a phase of the side just outside: ``4e-12`` short
+    (a design of the change tables under gravity, :func:`interior_extreme`'s test of
+    an end; its slope at the side ``2e-7`` per phase)."""
+    end, near, inward = (-1, -2, -1.0) if side == 0 else (0, 1, 1.0)
+    j = np.flatnonzero(np.isnan(found) & (sign * inward * slope > 0.0))
+    if j.size == 0:
+        return found
+    p0, f0, p1, f1, s0 = pts[j, end], e[j, end], pts[j, near], e[j, near], slope[j]
+    with np.errstate(all="ignore"):
+        at = p0 - 0.5 * s0 * (p1 - p0) ** 2 / (f1 - f0 - s0 * (p1 - p0))
+    at = np.where((at - p0) * (at - p1) < 0.0, at, 0.5 * (p0 + p1))  # (strictly between)
+    e_at = run(i[j], at).restitution
+    three = [p1, at, p0] if side == 0 else [p0, at, p1]
+    values = [f1, e_at, f0] if side == 0 else [f0, e_at, f1]
+    searched = interior_extreme(run, i[j], np.column_stack(three), np.column_stack(values), sign,
+                                rounds=0, steps=_STEPS)  # fmt: skip
+    out = found.copy()
+    out[j] = sign * np.fmax(sign * e_at, sign * searched)
+    return out
 
 
 def _extremes(ev, r, sides, change):

@@ -46,9 +46,9 @@ and exact evaluations finish it:
   state's integral. The overlap is the phase summary's own sample at its last grid
   phase (:func:`~impactsym.engines.drake.jump_means.last_overlap`, one run: the deepest
   of its samples on every contact measured). Broyden's steps run from the Jacobian of
-  forward differences (:data:`_DIFF` relative) of the rule :data:`_CHEAP` (one Gauss
-  node per panel, the panels' midpoints), good to about ``1e-6`` (median; 3e-3 at the
-  99th percentile) where the table's cell, across the kinks, is good to about a
+  forward differences (:data:`_DIFF` relative) of the rule :data:`_CHEAP` (one Gauss node on the
+  shorter piece, three on the longer: 4 runs), good to about ``1e-6`` (median; 3e-3 at the 99th
+  percentile) where the table's cell, across the kinks, is good to about a
   percent. A design is done within ``1e-13`` of the restitution and ``1e-11`` relative
   of the size (a tenth of the tolerances below each, so that the exact phase means,
   which agree with the change's to ``~2e-14`` and ``~1e-12`` steps, meet those), and
@@ -60,7 +60,16 @@ and exact evaluations finish it:
   ~19 margins with the table's Jacobian; 98-100 % of the targets kept. The others take the
   steps below from the table's start. The caller predicts every design and designs
   again, by its iteration, any that its prediction finds off the target.
-* **The steps**: Broyden's method on the exact phase means (one
+* **A change table's refusals** by largest overlap (under gravity a second change next
+  to the ends of the phase interval, about 2 % of the benchmark's targets) start these
+  steps from the change table's own design and Jacobian
+  (:class:`~impactsym.engines.drake.change_table.Starts`: the overlap met, the
+  restitution ~1e-4 off), at most :data:`STARTS_STEPS`: 0.86 s of CPU became 0.44 s for
+  the benchmark's 2055 such targets of 10^5 (g = 9.81; 6 phase means, against 9 and the
+  tables of means from this table's cells). By contact time such a target lies next to a
+  plateau's edge, where these steps stall (393 of 1567 done): it takes the path here.
+* **The steps**: Broyden's method on the exact phase means
+  (:func:`~impactsym.engines.drake.mean_steps.broyden_steps`, one
   :func:`~impactsym.engines.drake.phases.phase_summary` per step for all designs at
   once), at most :data:`STEPS` evaluations. Where a step leaves the contact time
   unchanged (it landed on a plateau) the Jacobian's row of the size is not updated: a
@@ -69,9 +78,10 @@ and exact evaluations finish it:
   restitution is within ``1e-12`` of the target and its size within ``1e-10`` relative
   (the tolerances of the caller's own iteration).
 * **Next to a plateau's edge** (a design Broyden's steps leave) the designs are solved
-  along the contour ``E = e`` (:func:`_edge`): each step moves ``w`` and corrects ``s``
-  by Newton's step on ``E``; ``w`` first walks off the plateau, the step doubling, until
-  ``Q - q`` changes sign, then Illinois steps narrow that bracket, at most
+  along the contour ``E = e``
+  (:func:`~impactsym.engines.drake.mean_steps.contour_steps`): each step moves ``w`` and
+  corrects ``s`` by Newton's step on ``E``; ``w`` first walks off the plateau, the step
+  doubling, until ``Q - q`` changes sign, then Illinois steps narrow that bracket, at most
   :data:`EDGE_STEPS` phase means. A design that leaves the box, sticks, or is not done
   by then (e.g. where ``Q`` jumps: an interval of phases with another end step,
   narrower than the phase grid of :func:`~impactsym.engines.drake.phases.phase_summary`,
@@ -99,20 +109,26 @@ from __future__ import annotations
 
 import numpy as np
 
-from impactsym.engines.drake.change_table import may_fill_a_table, table_designs
+from impactsym.engines.drake.change_table import NODES, may_fill_a_table, table_designs
 from impactsym.engines.drake.continuous import free_scales, start_stiffness
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
+from impactsym.engines.drake.mean_steps import broyden_steps, contour_steps
 from impactsym.engines.drake.phases import SUMMARY_FIELDS, phase_summary
 
 __all__ = [
     "COARSE",
     "EDGE_STEPS",
+    "FINE_FROM",
     "MARGIN",
     "MIN_CALL",
     "MIN_TARGETS",
     "NODES_S",
     "NODES_W",
+    "NODE_RULE",
+    "NODE_SPAN",
+    "NODE_TABLE",
     "SPAN",
+    "STARTS_STEPS",
     "STEPS",
     "WIDE",
     "stepped_designs",
@@ -133,13 +149,31 @@ COARSE = (16, 16)
 WIDE = 1.6
 #: Nodes of the fine table on the box of the starts the coarse one gives.
 NODES_S, NODES_W = 32, 48
+#: For the nodes of the change tables (:func:`_node_designs`): a coarser fine table and
+#: the tables' own rule of Gauss nodes (contacts of ten steps or more), which
+#: the change's equations converge from as well: 0.61 s of CPU became 0.41 s for the
+#: 7840 nodes of the benchmark's 10^5 targets by overlap (g = 0), the designs within
+#: their tolerances of the others (1.8e-11 in the stiffness, 1.6e-12 in the damping).
+NODE_TABLE, NODE_RULE = (16, 24), NODES
+NODE_TOL = (2e-14, 1e-11)
+#: The span of the nodes' chunks: their designs start from the change's equations, which
+#: converge from a coarser table as well (the benchmark's 7840 nodes of 24-73 steps in
+#: one chunk: 0.34 s of CPU, in two 0.39-0.42 s; all designed either way).
+NODE_SPAN = 4.0
+#: Targets of a group from which it gets the fine table of :data:`NODES_S` by
+#: :data:`NODES_W`; fewer get that of the nodes (1536 phase means for a few hundred
+#: targets cost more than their steps: 219 targets left by the tables took 0.16 s, 0.11 s
+#: with the smaller table, all designed).
+FINE_FROM = 1024
 #: The box widened by this fraction of its width on each side.
 MARGIN = 0.25
 #: Exact phase means per design at most (Broyden's steps).
 STEPS = 16
+#: Exact phase means at most from a change table's start (its evaluation did not keep it).
+STARTS_STEPS = 6
 #: Exact phase means at most along the contour for the designs next to a plateau's edge.
 EDGE_STEPS = 80
-_E_TOL, _Q_TOL = 1e-12, 1e-10  # a design is done within these (as the iteration's)
+_TOL = (1e-12, 1e-10)  # a design is done within these (as the iteration's)
 # the designs by contact time on the equations of a change at a given phase: within these
 # (a tenth and a tenth of those: the exact means agree with them to ~2e-14 and ~1e-12 steps)
 _JUMP_TOL = (1e-13, 1e-11)
@@ -177,14 +211,22 @@ def stepped_designs(
         if count < MIN_TARGETS and not _undamped_reach(*(a[rows] for a in (e, v, m, g, target)),
                                                        h, approx, size_name):  # fmt: skip
             continue  # (the caller's iteration refuses them at once; a table took 0.1-2 s)
-        if may_fill_a_table(e[rows], q[rows], by_overlap=size_name != "contact_time"):
+        by_overlap = size_name != "contact_time"
+        scales = free_scales(e[rows]) if by_overlap else None  # (computed once: 0.05 s)
+        if may_fill_a_table(e[rows], q[rows], by_overlap=by_overlap, scales=scales):
             # first off the tables of the end states (none: no coarse table either)
             group = [a[rows] for a in (e, v, m, g)]
-            steps = None if size_name == "contact_time" else _likely_steps(*group, q[rows], h,
-                                                                           approx)  # fmt: skip
-            done, k_r, d_r, summaries[:, rows] = table_designs(
+            steps = _likely_steps(*group, q[rows], h, approx, scales) if by_overlap else None
+            done, k_r, d_r, summaries[:, rows], starts = table_designs(
                 *group, q[rows], h, _node_designs(v[rows[0]], m[rows[0]], g[rows[0]], h, approx),
                 steps=steps,
+            )  # fmt: skip
+            # by overlap, those the one evaluation did not keep (a second change next to the
+            # phase ends): Broyden's steps from the table's start
+            near = np.flatnonzero(~done & np.isfinite(starts.jac).all(axis=(1, 2)))
+            done[near], k_r[near], d_r[near] = _from_starts(
+                *(a[rows[near]] for a in (e, v, m, g, q)), starts.s[near], starts.w[near],
+                starts.jac[near], h, approx, size_name,
             )  # fmt: skip
             ok[rows], k[rows], d[rows] = done, k_r, d_r
             rows = rows[~done]
@@ -207,13 +249,31 @@ def _undamped_reach(e, v, m, g, target, h, approx, size_name):
     return bool(np.all(r.restitution > e))
 
 
-def _chunked(e, v, m, g, target, q, h, approx, size_name):
-    """``(ok, k, d)`` of targets sharing ``g / v`` by :func:`_group`, in the chunks of
-    :func:`_chunks` (``q``: the sizes in steps)."""
+def _from_starts(e, v, m, g, q, s, w, jac, h, approx, size_name):
+    """``(ok, k, d)`` of the targets ``(e, q)`` (``q`` the size in steps) by Broyden's
+    steps on the exact phase means from the starts ``(s, w)`` with the Jacobians ``jac``
+    (:class:`~impactsym.engines.drake.change_table.Starts`), at most
+    :data:`STARTS_STEPS` phase means, within a box of twice the starts' either way."""
+    unit = np.full(e.size, h) if size_name == "contact_time" else v * h
+    mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
+    box = (
+        ((0.5 * s.min(), 2.0 * s.max()), (0.5 * w.min(), 2.0 * w.max()))
+        if e.size
+        else ((0, 1),) * 2
+    )
+    s, w, done = broyden_steps(
+        mean_rows, s.copy(), w.copy(), jac.copy(), e, q, *box, tol=_TOL, steps=STARTS_STEPS
+    )
+    return done, np.where(done, m * (w / h) ** 2, np.nan), np.where(done, s / v, np.nan)
+
+
+def _chunked(e, v, m, g, target, q, h, approx, size_name, *, span=SPAN, **options):
+    """``(ok, k, d)`` of targets sharing ``g / v`` by :func:`_group` (with its
+    ``options``), in the chunks of :func:`_chunks` (``q``: the sizes in steps)."""
     ok, k, d = np.zeros(e.size, bool), np.full(e.size, np.nan), np.full(e.size, np.nan)
-    for rows in _chunks(np.arange(e.size), q):
+    for rows in _chunks(np.arange(e.size), q, span):
         done, k_r, d_r = _group(*(a[rows] for a in (e, v, m, g, target)), h, approx,
-                                size_name)  # fmt: skip
+                                size_name, **options)  # fmt: skip
         ok[rows], k[rows], d[rows] = done, k_r, d_r
     return ok, k, d
 
@@ -226,22 +286,23 @@ def _node_designs(v, m, g, h, approx):
 
     def design(e, q):
         one = np.ones(e.size)
-        ok, k, d = _chunked(e, v * one, m * one, g * one, q * h, q, h, approx,
-                            "contact_time")  # fmt: skip
+        ok, k, d = _chunked(e, v * one, m * one, g * one, q * h, q, h, approx, "contact_time",
+                            span=NODE_SPAN, fine=NODE_TABLE, rule=NODE_RULE,
+                            tol=NODE_TOL)  # fmt: skip
         return np.where(ok, d * v, np.nan), np.where(ok, h * np.sqrt(k / m), np.nan)
 
     return design
 
 
-def _chunks(rows, q):
+def _chunks(rows, q, span):
     """``rows`` in chunks of at least :data:`MIN_TARGETS` targets whose sizes in steps
-    ``q`` span at most a factor :data:`SPAN` where there are enough targets (each chunk
+    ``q`` span at most a factor ``span`` where there are enough targets (each chunk
     one table: a table on a wide box is coarse and reaches long contacts)."""
     order = rows[np.argsort(q[rows], kind="stable")]
     sizes = q[order]
     out, start = [], 0
     while start < order.size:
-        end = max(int(np.searchsorted(sizes, SPAN * sizes[start], side="right")),
+        end = max(int(np.searchsorted(sizes, span * sizes[start], side="right")),
                   start + MIN_TARGETS)  # fmt: skip
         if order.size - end < MIN_TARGETS:
             end = order.size
@@ -250,15 +311,20 @@ def _chunks(rows, q):
     return out
 
 
-def _group(e, v, m, g, target, h, approx, size_name):
-    """:func:`stepped_designs` for targets sharing ``g / v``."""
+def _group(
+    e, v, m, g, target, h, approx, size_name, *, fine=(NODES_S, NODES_W), rule=None, tol=_JUMP_TOL
+):
+    """:func:`stepped_designs` for targets sharing ``g / v``: a ``fine`` table of that
+    many nodes, the change's equations with ``rule`` Gauss nodes (``None``:
+    :func:`~impactsym.engines.drake.jump_means.jump_means`' own)."""
     n = e.size
     ok, k_out, d_out = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
     unit = np.full(n, h) if size_name == "contact_time" else v * h  # Q = size / unit
     q = target / unit
+    fine = fine if n >= FINE_FROM else min(fine, NODE_TABLE)  # (few targets: a smaller one)
     mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
     box = _wide_box(e, q, size_name, g[0] / v[0] * h)
-    for nodes in (COARSE, (NODES_S, NODES_W)):
+    for nodes in (COARSE, fine):
         s_nodes, w_nodes, T, s, w, jac = _table(mean_rows, box, nodes, e, q)
         found = np.isfinite(s)
         if not found.any():
@@ -269,13 +335,15 @@ def _group(e, v, m, g, target, h, approx, size_name):
     # first on the equations of the end state's change: where the target puts it (by
     # contact time), or where the design's estimate follows it (by largest overlap)
     timed = size_name == "contact_time"
+    full = {} if rule is None else {"nodes": rule}
     change = q.copy() if timed else _table_at(s_nodes, w_nodes, T, s, w)
     slopes = np.full((n, 2), np.nan)  # of the change's estimate in (s, w)
-    rules = [_change_rows(m, v, g, h, change, unit, timed, slopes, **r) for r in ({}, _CHEAP)]
+    rules = [_change_rows(m, v, g, h, change, unit, timed, slopes, r, cheap=r is _CHEAP)
+             for r in (full, _CHEAP)]  # fmt: skip
     known = np.isfinite(change)  # (a start whose table cell sticks somewhere: none)
     s_c, w_c = np.where(known, s, np.nan), np.where(known, w, np.nan)
     jac_j = _differences(rules[1], s_c, w_c, jac, slopes)
-    s_j, w_j, done_j = _broyden(rules[0], s_c, w_c, jac_j, e, q, *box, tol=_JUMP_TOL)
+    s_j, w_j, done_j = broyden_steps(rules[0], s_c, w_c, jac_j, e, q, *box, tol=tol, steps=STEPS)
     rows = np.flatnonzero(done_j)  # (their change is known: it stays finite)
     k_j, d_j = m[rows] * (w_j[rows] / h) ** 2, s_j[rows] / v[rows]
     held = jump_holds(k_j, d_j, *(a[rows] for a in (m, g, v)), h, change[rows],
@@ -283,25 +351,27 @@ def _group(e, v, m, g, target, h, approx, size_name):
     ok[rows[held]], k_out[rows[held]], d_out[rows[held]] = True, k_j[held], d_j[held]
     s, w = s.copy(), w.copy()
     s[rows[held]] = w[rows[held]] = np.nan  # done: the exact phase means leave them
-    s, w, done = _broyden(mean_rows, s, w, jac, e, q, *box)
+    s, w, done = broyden_steps(mean_rows, s, w, jac, e, q, *box, tol=_TOL, steps=STEPS)
     rest = np.flatnonzero(~done & np.isfinite(s) & np.isfinite(w))
     if rest.size:  # next to a plateau's edge: a bracket in w along the contour
-        s[rest], w[rest], done[rest] = _edge(mean_rows, rest, s[rest], w[rest], jac[rest],
-                                             e[rest], q[rest], box[1])  # fmt: skip
+        s[rest], w[rest], done[rest] = contour_steps(mean_rows, rest, s[rest], w[rest], jac[rest],
+                                             e[rest], q[rest], box[1], tol=_TOL,
+                                                     steps=EDGE_STEPS)  # fmt: skip
     ok[done] = True  # (done holds none of the jump's: they were left out)
     k_out[done] = m[done] * (w[done] / h) ** 2
     d_out[done] = s[done] / v[done]
     return ok, k_out, d_out
 
 
-def _wide_box(e, q, size_name, pressing):
+def _wide_box(e, q, size_name, pressing, scales=None):
     """The box ``((s_lo, s_hi), (w_lo, w_hi))`` of the first table: the continuous designs
     without gravity of the targets ``(e, q)``, :data:`WIDE` times either way, and under
     gravity (``pressing = g h / v``) wider toward less damping and more stiffness by the
     largest pressing number ``g T / v``, ``T = h / w`` (the designs lie there: at
     ``e = 0.45``, 22 steps, ``g = 9.81``, ``s = 1.03`` against ``1.73`` without gravity,
-    where no box had a start)."""
-    s0, tau0, z0 = free_scales(e)
+    where no box had a start). ``scales``: :func:`~impactsym.engines.drake.continuous.free_scales`
+    of ``e`` where the caller has them."""
+    s0, tau0, z0 = free_scales(e) if scales is None else scales
     w0 = (tau0 if size_name == "contact_time" else z0) / q
     s_lo, s_hi, w_lo, w_hi = s0.min() / WIDE, s0.max() * WIDE, w0.min() / WIDE, w0.max() * WIDE
     wider = 1.0 + pressing / w_lo
@@ -324,12 +394,12 @@ def _table(mean_rows, box, nodes, e, q):
     return s_nodes, w_nodes, T, s, w, jac
 
 
-def _likely_steps(e, v, m, g, q, h, approx):
+def _likely_steps(e, v, m, g, q, h, approx, scales):
     """The contact times in steps of the designs by largest overlap ``q`` (over ``v h``)
     of the targets, about (a step or so): read off the coarse table at its starts
-    (``nan`` where it has none)."""
+    (``nan`` where it has none); ``scales``: ``free_scales(e)``."""
     mean_rows = _means_rows(m, v, g, h, approx, "max_penetration", v * h)
-    box = _wide_box(e, q, "max_penetration", g[0] / v[0] * h)
+    box = _wide_box(e, q, "max_penetration", g[0] / v[0] * h, scales)
     s_nodes, w_nodes, T, s, w, _ = _table(mean_rows, box, COARSE, e, q)
     return _table_at(s_nodes, w_nodes, T, s, w)
 
@@ -342,13 +412,13 @@ def _widened(x, cell):
     return (max(lo - pad, 0.5 * lo), hi + pad)
 
 
-def _change_rows(m, v, g, h, change, unit, timed, slopes, **rule):
+def _change_rows(m, v, g, h, change, unit, timed, slopes, rule, *, cheap=False):
     """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows`` if their
     end state changes once, where the contact time in steps ``change`` puts it
-    (:func:`~impactsym.engines.drake.jump_means.jump_means` with ``rule``). By contact
-    time (``timed``) ``Q`` is that function's size. By largest overlap ``Q`` is
-    :func:`~impactsym.engines.drake.jump_means.last_overlap` over ``unit``; the cheap
-    ``rule`` adds the change's estimate (for its ``slopes``), and the full rule moves
+    (:func:`~impactsym.engines.drake.jump_means.jump_means` with the keywords ``rule``).
+    By contact time (``timed``) ``Q`` is that function's size. By largest overlap ``Q``
+    is :func:`~impactsym.engines.drake.jump_means.last_overlap` over ``unit``; the
+    ``cheap`` rule adds the change's estimate (for its ``slopes``), and the full rule moves
     ``change`` with the design along the ``slopes`` before, and to its estimate after
     (in place), and adds where that held still (within :data:`_SETTLED`)."""
     last = np.full((change.size, 2), np.nan)  # the design of each row's last evaluation
@@ -356,7 +426,7 @@ def _change_rows(m, v, g, h, change, unit, timed, slopes, **rule):
     def mean(s, w, rows):
         mr, gr, vr = m[rows], g[rows], v[rows]
         k, d = mr * (w / h) ** 2, s / vr
-        if not timed and not rule:  # the change moves with the design, to first order
+        if not timed and not cheap:  # the change moves with the design, to first order
             moved = np.einsum("ij,ij->i", slopes[rows], np.column_stack([s, w]) - last[rows])
             # (at most half a step: next to a plateau the margin is flat, the estimate's
             # slopes huge, and a state 10^5 steps on would be stepped; found by review)
@@ -365,7 +435,7 @@ def _change_rows(m, v, g, h, change, unit, timed, slopes, **rule):
         if timed:
             return r.restitution, r.size
         size = last_overlap(k, d, mr, gr, vr, h) / unit[rows]
-        if rule:
+        if cheap:
             return r.restitution, size, r.size
         last[rows] = np.column_stack([s, w])
         # where the change's estimate leaves the phase interval every phase ends alike
@@ -390,13 +460,13 @@ def _change_rows(m, v, g, h, change, unit, timed, slopes, **rule):
 def _differences(mean, s, w, jac, slopes):
     """The Jacobian of ``mean`` at the starts ``(s, w)`` (``n x 2 x 2``; the table's
     ``jac`` where a start is not finite or a difference is not), and into ``slopes``
-    those of a third output where ``mean`` returns one: forward differences
-    over :data:`_DIFF` relative, for the change's equations with the rule
-    :data:`_CHEAP` of one Gauss node per panel (the panels' midpoints), whose error is
-    smooth in the parameters (against central differences of the full rule: 1e-6
-    median, 3e-3 at the 99th percentile, as good as two nodes in the steps it saves;
-    the table's cell, across the kinks, is good to about a percent: Broyden's steps
-    converge about a hundredfold each from it)."""
+    those of a third output where ``mean`` returns one: forward differences over
+    :data:`_DIFF` relative, for the change's equations with the rule :data:`_CHEAP` of
+    one Gauss node on the shorter piece and three on the longer, whose error is smooth
+    in the parameters (against central differences of the full rule: 1e-6 median, 3e-3
+    at the 99th percentile, as good as two nodes in the steps it saves; the table's
+    cell, across the kinks, is good to about a percent: Broyden's steps converge about a
+    hundredfold each from it)."""
     out = jac.copy()
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
     if live.size == 0:
@@ -488,111 +558,3 @@ def _start(s_nodes, w_nodes, E, Q, e, q):
             jac[:, f, 1] = 0.5 * (F[i, jw + 1] - F[i, jw] + F[i + 1, jw + 1] - F[i + 1, jw]) / dw
     s, w = np.where(found, s, np.nan), np.where(found, w, np.nan)
     return s, w, jac
-
-
-def _broyden(mean, s, w, jac, e, q, s_box, w_box, tol=(_E_TOL, _Q_TOL)):
-    """Broyden's method on ``(E, Q)(s, w) = (e, q)`` with the phase means ``mean``
-    (module docstring): the designs and where they are done (within ``tol``: of the
-    restitution, and relative of the size; and where ``mean`` returns a third array,
-    where that holds)."""
-    n = e.size
-    done = np.zeros(n, bool)
-    live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
-    x = np.stack([s, w], axis=1)
-    f_prev = x_prev = None
-    for _ in range(STEPS):
-        if live.size == 0:
-            break
-        e_t, q_t, *settled = mean(x[live, 0], x[live, 1], live)
-        f = np.stack([e_t - e[live], q_t - q[live]], axis=1)
-        hit = (np.abs(f[:, 0]) <= tol[0]) & (np.abs(f[:, 1]) <= tol[1] * q[live])
-        if settled:  # the means hold only where they say so
-            hit &= settled[0]
-        done[live[hit]] = True
-        finite = np.all(np.isfinite(f), axis=1)
-        if f_prev is not None:  # Broyden's update of the Jacobian along the last step
-            dx, df = x[live] - x_prev, f - f_prev
-            num = df - np.einsum("nij,nj->ni", jac[live], dx)
-            norm = np.einsum("ni,ni->n", dx, dx)
-            with np.errstate(all="ignore"):
-                upd = num[:, :, None] * dx[:, None, :] / norm[:, None, None]
-            # on a plateau (Q unchanged) the slope of Q is kept: it holds off the plateau
-            upd[np.abs(df[:, 1]) <= 1e-13 * q[live], 1, :] = 0.0
-            good = np.isfinite(upd).all(axis=(1, 2)) & (norm > 0)
-            jac[live[good]] += upd[good]
-        keep = ~hit & finite
-        live, f = live[keep], f[keep]
-        x_prev, f_prev = x[live].copy(), f
-        a, b, c, dd = jac[live, 0, 0], jac[live, 0, 1], jac[live, 1, 0], jac[live, 1, 1]
-        with np.errstate(all="ignore"):  # (a step that is not finite is refused below)
-            det = a * dd - b * c
-            step_s = (dd * f[:, 0] - b * f[:, 1]) / det
-            step_w = (a * f[:, 1] - c * f[:, 0]) / det
-        new = x[live] - np.stack([step_s, step_w], axis=1)
-        inside = (
-            np.isfinite(new).all(axis=1)
-            & (new[:, 0] > s_box[0]) & (new[:, 0] < s_box[1])
-            & (new[:, 1] > w_box[0]) & (new[:, 1] < w_box[1])
-        )  # fmt: skip
-        x[live[inside]] = new[inside]
-        live, x_prev, f_prev = live[inside], x_prev[inside], f_prev[inside]
-    return x[:, 0], x[:, 1], done
-
-
-def _edge(mean, rows, s, w, jac, e, q, w_box):
-    """The designs ``rows`` that Broyden's steps left, solved along the contour
-    ``E = e``: each step moves ``w`` and corrects ``s`` by Newton's step on ``E``; ``w``
-    first walks, the step doubling, until ``Q - q`` changes sign (off a plateau of
-    ``Q``, which stalls the secant), then Illinois steps in that bracket (module
-    docstring). Returns ``(s, w, done)``."""
-    n = rows.size
-    done = np.zeros(n, bool)
-    e_s, e_w = jac[:, 0, 0], jac[:, 0, 1]
-    e_t, q_t = mean(s, w, rows)
-    f_e, f_q = e_t - e, q_t - q
-    a_w, a_f = w.copy(), f_q.copy()  # the end walked from, and the far end once seen
-    b_w, b_f = np.full(n, np.nan), np.full(n, np.nan)
-    side = np.zeros(n, int)
-    step = 1e-6 * w
-    live = np.flatnonzero(np.isfinite(f_e) & np.isfinite(f_q))
-    for _ in range(EDGE_STEPS):
-        if live.size == 0:
-            break
-        bracketed = np.isfinite(b_w[live])
-        with np.errstate(all="ignore"):
-            falsi = (a_w[live] * b_f[live] - b_w[live] * a_f[live]) / (b_f[live] - a_f[live])
-        lo, hi = np.fmin(a_w[live], b_w[live]), np.fmax(a_w[live], b_w[live])
-        falsi = np.where((falsi > lo) & (falsi < hi), falsi, 0.5 * (lo + hi))
-        walk = a_w[live] + np.sign(a_f[live]) * step[live]  # Q falls with w
-        w_new = np.where(bracketed, falsi, walk)
-        s_new = s[live] - (f_e[live] + e_w[live] * (w_new - w[live])) / e_s[live]
-        inside = np.isfinite(s_new) & (w_new > w_box[0]) & (w_new < w_box[1])
-        live, w_new, s_new, bracketed = (a[inside] for a in (live, w_new, s_new, bracketed))
-        e_t, q_t = mean(s_new, w_new, rows[live])
-        s[live], w[live], f_e[live], f_q[live] = s_new, w_new, e_t - e[live], q_t - q[live]
-        fq = f_q[live]
-        hit = (np.abs(f_e[live]) <= _E_TOL) & (np.abs(fq) <= _Q_TOL * q[live])
-        done[live[hit]] = True
-        same = np.sign(fq) == np.sign(a_f[live])
-        # walking: on the same side the walk goes on, twice as far; across, the bracket
-        walked = ~bracketed & same
-        a_w[live[walked]], a_f[live[walked]] = w_new[walked], fq[walked]
-        step[live[walked]] *= 2.0
-        crossed = ~bracketed & ~same
-        i = live[crossed]
-        b_w[i], b_f[i], a_w[i], a_f[i] = a_w[i], a_f[i], w_new[crossed], fq[crossed]
-        # in the bracket: the end on the trial's side moves (Illinois: the other end's
-        # value halves where the same end moved last time too)
-        for moved, end_w, end_f, other_f, mark in (
-            (bracketed & same, a_w, a_f, b_f, 1),
-            (bracketed & ~same, b_w, b_f, a_f, -1),
-        ):
-            i = live[moved]
-            other_f[i] = np.where(side[i] == mark, 0.5 * other_f[i], other_f[i])
-            end_w[i], end_f[i], side[i] = w_new[moved], fq[moved], mark
-        # a bracket shut without the size meeting its target: the size jumps there
-        # (an interval of phases with another end step, narrower than the grid of
-        # phase_summary, enters it), the iteration decides
-        shut = np.abs(b_w[live] - a_w[live]) <= 1e-15 * a_w[live]
-        live = live[~hit & ~shut & np.isfinite(fq) & np.isfinite(f_e[live])]
-    return s, w, done
