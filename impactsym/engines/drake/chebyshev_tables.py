@@ -32,8 +32,8 @@ __all__ = ["evaluate", "fit", "from_unit", "largest", "phase_where", "to_unit"]
 def to_unit(x: np.ndarray | float, box: tuple[float, float]) -> np.ndarray | float:
     """The points ``x`` of the ``box`` mapped to ``[-1, 1]`` (the tables' variables).
 
-    >>> to_unit(0.45, (0.3, 0.6))
-    0.0
+    >>> to_unit(0.25, (0.0, 1.0))
+    -0.5
     """
     return (2.0 * x - (box[0] + box[1])) / (box[1] - box[0])
 
