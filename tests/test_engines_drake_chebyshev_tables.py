@@ -9,14 +9,7 @@ import pytest
 from scipy.optimize import brentq
 
 from impactsym.contact.lawtable import chebyshev_points
-from impactsym.engines.drake.chebyshev_tables import (
-    evaluate,
-    fit,
-    from_unit,
-    largest,
-    phase_where,
-    to_unit,
-)
+from impactsym.engines.drake import chebyshev_tables as tables
 
 RNG = np.random.default_rng(39)
 
@@ -28,34 +21,36 @@ def _grid(f, n1=16, n2=10):
 
 def test_a_smooth_table_holds_its_function_and_the_box_maps_back():
     f = (lambda x, y: 1.0 + 0.3 * x + 0.2 * x**2 * y - 0.1 * y**3, lambda x, y: 1.0 + 0.2 * x * y)
-    coef = fit(_grid(f), 1e-9)
+    coef = tables.fit(_grid(f), 1e-9)
     assert not isinstance(coef, str)
     x, y = RNG.uniform(-1, 1, 500), RNG.uniform(-1, 1, 500)
-    values = evaluate(coef, x, y)
+    values = tables.evaluate(coef, x, y)
     np.testing.assert_allclose(values[0], f[0](x, y), rtol=0, atol=1e-14)
     np.testing.assert_allclose(values[1], f[1](x, y), rtol=0, atol=1e-14)
     e = RNG.uniform(0.3, 0.6, 50)
-    np.testing.assert_allclose(from_unit(to_unit(e, (0.3, 0.6)), (0.3, 0.6)), e, rtol=1e-15)
+    np.testing.assert_allclose(
+        tables.from_unit(tables.to_unit(e, (0.3, 0.6)), (0.3, 0.6)), e, rtol=1e-15
+    )
 
 
 @pytest.mark.parametrize(("f", "why"), [(lambda x, y: np.abs(y), "phase"),
                                         (lambda x, y: np.abs(x - 0.1), "restitution")])  # fmt: skip
 def test_a_table_across_a_kink_is_refused_in_its_direction(f, why):
-    assert fit(_grid(f), 1e-9) == why
+    assert tables.fit(_grid(f), 1e-9) == why
 
 
 def test_the_phase_where_the_largest_of_two_tables_meets_a_target_is_brentqs():
     """Two smooth tables whose largest changes over the phase (a kink inside), the
     phase where it meets each target found as brentq finds it on the evaluated largest."""
     f = (lambda x, y: 1.0 + 0.5 * y + 0.1 * x, lambda x, y: 1.2 - 0.3 * (y - 0.2) ** 2 + 0.05 * x)
-    coef = fit(_grid(f), 1e-9)
+    coef = tables.fit(_grid(f), 1e-9)
     x = RNG.uniform(-1, 1, 200)
     target = RNG.uniform(0.9, 1.6, 200)
-    y = phase_where(coef, x, target)
+    y = tables.phase_where(coef, x, target)
     for i in range(x.size):
 
         def g(t, i=i):
-            return largest(coef, x[i : i + 1], t)[0] - target[i]
+            return tables.largest(coef, x[i : i + 1], t)[0] - target[i]
 
         if g(-1.0) <= 0.0 <= g(1.0):
             assert y[i] == pytest.approx(brentq(g, -1.0, 1.0, xtol=1e-15), abs=1e-13)
