@@ -226,7 +226,7 @@ def table_designs(
             asked = (likely + np.array(group)[:, None] == b).any(axis=0)
             rows = np.flatnonzero(serves & asked & np.isnan(s))
             s[rows], w[rows], change[rows] = _read(b, box, table, e[rows], q[rows], by_overlap)
-            source[rows] = index
+            source[rows[np.isfinite(s[rows])]] = index  # (none: the plateaus' or none)
     if by_overlap:  # the designs on a plateau between two tables
         _plateau_starts(e, q, likely, keys, tables, (m[0], v[0], g[0]), h, s, w, change)
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))

@@ -118,7 +118,6 @@ from impactsym.engines.drake.phases import SUMMARY_FIELDS, phase_summary
 __all__ = [
     "COARSE",
     "EDGE_STEPS",
-    "FINE_FROM",
     "MARGIN",
     "MIN_CALL",
     "MIN_TARGETS",
@@ -160,11 +159,6 @@ NODE_TOL = (2e-14, 1e-11)
 #: converge from a coarser table as well (the benchmark's 7840 nodes of 24-73 steps in
 #: one chunk: 0.34 s of CPU, in two 0.39-0.42 s; all designed either way).
 NODE_SPAN = 4.0
-#: Targets of a group from which it gets the fine table of :data:`NODES_S` by
-#: :data:`NODES_W`; fewer get that of the nodes (1536 phase means for a few hundred
-#: targets cost more than their steps: 219 targets left by the tables took 0.16 s, 0.11 s
-#: with the smaller table, all designed).
-FINE_FROM = 1024
 #: The box widened by this fraction of its width on each side.
 MARGIN = 0.25
 #: Exact phase means per design at most (Broyden's steps).
@@ -321,7 +315,6 @@ def _group(
     ok, k_out, d_out = np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan)
     unit = np.full(n, h) if size_name == "contact_time" else v * h  # Q = size / unit
     q = target / unit
-    fine = fine if n >= FINE_FROM else min(fine, NODE_TABLE)  # (few targets: a smaller one)
     mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
     box = _wide_box(e, q, size_name, g[0] / v[0] * h)
     for nodes in (COARSE, fine):
