@@ -46,7 +46,7 @@ gets its own tables.
   least :data:`MIN_PLATEAU` do, the plateau gets a table of its own over the restitution
   and the step's share of the way from one edge to the other (the edges' designs off the
   two tables), each node's damping the secant root of that one state's mean
-  (:func:`_plateau_table`, :data:`PLATEAU_NODES` nodes across: its designs are smooth
+  (:func:`_plateau_tables`, :data:`PLATEAU_NODES` nodes across: its designs are smooth
   there, 6 held the tail of all 41 plateau tables of the benchmark by overlap as 10 did,
   4 none). Without gravity only: under it no window reaches the ends of the phase
   interval. A target asks its likely end state's table first, the neighbours' where that
@@ -226,7 +226,7 @@ def table_designs(
             asked = (likely + np.array(group)[:, None] == b).any(axis=0)
             rows = np.flatnonzero(serves & asked & np.isnan(s))
             s[rows], w[rows], change[rows] = _read(b, box, table, e[rows], q[rows], by_overlap)
-            source[rows[np.isfinite(s[rows])]] = index  # (none: the plateaus' or none)
+            source[rows[np.isfinite(s[rows])]] = index  # (-1: a plateau's start, or none)
     if by_overlap:  # the designs on a plateau between two tables
         _plateau_starts(e, q, likely, keys, tables, (m[0], v[0], g[0]), h, s, w, change)
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
@@ -243,8 +243,7 @@ def table_designs(
         rows = refused[source[refused] == index]
         (b, box, _), table = keys[index], tables[index]
         starts.s[rows], starts.w[rows] = s[rows], w[rows]
-        starts.jac[rows] = _target_slopes(b, box, table, e[rows], q[rows], s[rows], w[rows],
-                                          by_overlap)  # fmt: skip
+        starts.jac[rows] = _target_slopes(b, box, table, e[rows], q[rows], s[rows], w[rows])
     return ok, k, d, summaries, starts
 
 
@@ -264,13 +263,14 @@ def _read(b, box, table, e, q, by_overlap):
     return s, w, b + 0.5 + from_unit(y, (lo, hi))  # (the change in steps)
 
 
-def _target_slopes(b, box, table, e, q, s, w, by_overlap):
-    """The Jacobians ``n x 2 x 2`` of the targets ``(e, q)`` in the designs ``(s, w)``
-    read off one table: the inverse of the table's forward differences of ``(s, w)`` in
-    ``(e, q)`` (:data:`_TABLE_DIFF`, relative to the table's box and the size)."""
+def _target_slopes(b, box, table, e, q, s, w):
+    """The Jacobians ``n x 2 x 2`` of the targets by largest overlap ``(e, q)`` in the
+    designs ``(s, w)`` read off one table: the inverse of the table's forward differences
+    of ``(s, w)`` in ``(e, q)`` (:data:`_TABLE_DIFF`, relative to the table's box and the
+    size)."""
     de, dq = _TABLE_DIFF * (box[1] - box[0]), _TABLE_DIFF * q
-    s_e, w_e, _ = _read(b, box, table, e + de, q, by_overlap)
-    s_q, w_q, _ = _read(b, box, table, e, q + dq, by_overlap)
+    s_e, w_e, _ = _read(b, box, table, e + de, q, True)
+    s_q, w_q, _ = _read(b, box, table, e, q + dq, True)
     ds_de, ds_dq = (s_e - s) / de, (s_q - s) / dq
     dw_de, dw_dq = (w_e - w) / de, (w_q - w) / dq
     with np.errstate(all="ignore"):  # (the 2 x 2 inverse; nan where a read failed)
@@ -328,7 +328,7 @@ def _confirmed(k, d, m, g, v, e, q, change, h, by_overlap):
     docstring) that the full contact confirms, and their phase summaries
     (:func:`~impactsym.engines.drake.jump_means.jump_summary`, ``(8, size)``)."""
     held, summary = np.zeros(k.size, bool), np.empty((SUMMARY_FIELDS, k.size))
-    for lo in range(0, k.size, _EVALUATED):  # (in parts: module docstring)
+    for lo in range(0, k.size, _EVALUATED):  # (in parts: _EVALUATED)
         part = slice(lo, lo + _EVALUATED)
         r, held[part] = jump_summary(*(a[part] for a in (k, d, m, g, v)), h, change[part],
                                      deepest_last=by_overlap, nodes=NODES)  # fmt: skip

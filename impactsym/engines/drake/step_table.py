@@ -46,13 +46,13 @@ and exact evaluations finish it:
   state's integral. The overlap is the phase summary's own sample at its last grid
   phase (:func:`~impactsym.engines.drake.jump_means.last_overlap`, one run: the deepest
   of its samples on every contact measured). Broyden's steps run from the Jacobian of
-  forward differences (:data:`_DIFF` relative) of the rule :data:`_CHEAP` (one Gauss node on the
-  shorter piece, three on the longer: 4 runs), good to about ``1e-6`` (median; 3e-3 at the 99th
-  percentile) where the table's cell, across the kinks, is good to about a
-  percent. A design is done within ``1e-13`` of the restitution and ``1e-11`` relative
-  of the size (a tenth of the tolerances below each, so that the exact phase means,
-  which agree with the change's to ``~2e-14`` and ``~1e-12`` steps, meet those), and
-  kept where the full contact confirms the change at the phase grid, and by largest
+  forward differences (:data:`_DIFF` relative) of the rule :data:`_CHEAP` (one Gauss
+  node on the shorter piece, three on the longer: 4 runs), good to about ``1e-6``
+  (median; 3e-3 at the 99th percentile) where the table's cell, across the kinks, is
+  good to about a percent. A design is done within ``1e-13`` of the restitution and
+  ``1e-11`` relative of the size (a tenth of the tolerances below each, so that the
+  exact phase means, which agree with the change's to ``~2e-14`` and ``~1e-12`` steps,
+  meet those), and kept where the full contact confirms the change at the phase grid, and by largest
   overlap that no phase run overlaps deeper than the last
   (:func:`~impactsym.engines.drake.jump_means.jump_holds`). Measured on the
   benchmark's targets (20-40 steps; 10^4 each): 4.2-4.4 evaluations of about 27 state
@@ -218,10 +218,11 @@ def stepped_designs(
             # by overlap, those the one evaluation did not keep (a second change next to the
             # phase ends): Broyden's steps from the table's start
             near = np.flatnonzero(~done & np.isfinite(starts.jac).all(axis=(1, 2)))
-            done[near], k_r[near], d_r[near] = _from_starts(
-                *(a[rows[near]] for a in (e, v, m, g, q)), starts.s[near], starts.w[near],
-                starts.jac[near], h, approx, size_name,
-            )  # fmt: skip
+            if near.size:
+                done[near], k_r[near], d_r[near] = _from_starts(
+                    *(a[rows[near]] for a in (e, v, m, g, q)), starts.s[near], starts.w[near],
+                    starts.jac[near], h, approx,
+                )  # fmt: skip
             ok[rows], k[rows], d[rows] = done, k_r, d_r
             rows = rows[~done]
             if rows.size == 0:  # (the others: cheaper here than by the caller's iteration,
@@ -243,18 +244,13 @@ def _undamped_reach(e, v, m, g, target, h, approx, size_name):
     return bool(np.all(r.restitution > e))
 
 
-def _from_starts(e, v, m, g, q, s, w, jac, h, approx, size_name):
-    """``(ok, k, d)`` of the targets ``(e, q)`` (``q`` the size in steps) by Broyden's
-    steps on the exact phase means from the starts ``(s, w)`` with the Jacobians ``jac``
-    (:class:`~impactsym.engines.drake.change_table.Starts`), at most
+def _from_starts(e, v, m, g, q, s, w, jac, h, approx):
+    """``(ok, k, d)`` of the targets by largest overlap ``(e, q)`` (``q`` over ``v h``)
+    by Broyden's steps on the exact phase means from the starts ``(s, w)`` with the
+    Jacobians ``jac`` (:class:`~impactsym.engines.drake.change_table.Starts`), at most
     :data:`STARTS_STEPS` phase means, within a box of twice the starts' either way."""
-    unit = np.full(e.size, h) if size_name == "contact_time" else v * h
-    mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
-    box = (
-        ((0.5 * s.min(), 2.0 * s.max()), (0.5 * w.min(), 2.0 * w.max()))
-        if e.size
-        else ((0, 1),) * 2
-    )
+    mean_rows = _means_rows(m, v, g, h, approx, "max_penetration", v * h)
+    box = ((0.5 * s.min(), 2.0 * s.max()), (0.5 * w.min(), 2.0 * w.max()))
     s, w, done = broyden_steps(
         mean_rows, s.copy(), w.copy(), jac.copy(), e, q, *box, tol=_TOL, steps=STARTS_STEPS
     )
@@ -347,9 +343,18 @@ def _group(
     s, w, done = broyden_steps(mean_rows, s, w, jac, e, q, *box, tol=_TOL, steps=STEPS)
     rest = np.flatnonzero(~done & np.isfinite(s) & np.isfinite(w))
     if rest.size:  # next to a plateau's edge: a bracket in w along the contour
-        s[rest], w[rest], done[rest] = contour_steps(mean_rows, rest, s[rest], w[rest], jac[rest],
-                                             e[rest], q[rest], box[1], tol=_TOL,
-                                                     steps=EDGE_STEPS)  # fmt: skip
+        s[rest], w[rest], done[rest] = contour_steps(
+            mean_rows,
+            rest,
+            s[rest],
+            w[rest],
+            jac[rest],
+            e[rest],
+            q[rest],
+            box[1],
+            tol=_TOL,
+            steps=EDGE_STEPS,
+        )
     ok[done] = True  # (done holds none of the jump's: they were left out)
     k_out[done] = m[done] * (w[done] / h) ** 2
     d_out[done] = s[done] / v[done]
