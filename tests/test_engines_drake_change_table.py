@@ -179,8 +179,9 @@ def test_targets_by_overlap_their_evaluation_refuses_are_designed_from_the_table
     interval can have a second change there: its one evaluation refuses the table's
     design, which is still close (the restitution ~1e-4 off), and Broyden's steps on the
     exact phase means from it, with the table's Jacobian, design it (before: the per-call
-    table of phase means, twice the cost). Checked with that table turned off for them,
-    by a fresh ``predict``."""
+    table of phase means, twice the cost), most on the equations of two changes
+    (:mod:`~impactsym.engines.drake.two_changes`). Checked with that table turned off
+    for them, by a fresh ``predict``."""
     rng = np.random.default_rng(51)
     e, x = rng.uniform(0.5, 0.6, 2000), rng.uniform(6e-3, 7e-3, 2000)
     monkeypatch.setattr(change_table, "MIN_TARGETS", 100)
@@ -191,13 +192,26 @@ def test_targets_by_overlap_their_evaluation_refuses_are_designed_from_the_table
             return chunked(e, *args, **options)
         return np.zeros(e.size, bool), np.full(e.size, np.nan), np.full(e.size, np.nan)
 
+    means_rows, exact = step_table._means_rows, []
+
     def spy(e, *args):
-        out = from_starts(e, *args)
         seen.append(e)
-        return out
+        exact.append(0)
+        return from_starts(e, *args)
+
+    def counted(*args):  # the exact phase means asked in _from_starts
+        mean = means_rows(*args)
+
+        def count(s, w, rows, **options):
+            if exact:
+                exact[-1] += s.size
+            return mean(s, w, rows, **options)
+
+        return count
 
     monkeypatch.setattr(step_table, "_chunked", leftovers_refused)
     monkeypatch.setattr(step_table, "_from_starts", spy)
+    monkeypatch.setattr(step_table, "_means_rows", counted)
     one = np.ones(e.size)
     ok, k, d, summaries = stepped_designs(e, V * one, M * one, 9.81 * one, x, H, "lagged",
                                           "max_penetration")  # fmt: skip
@@ -205,6 +219,8 @@ def test_targets_by_overlap_their_evaluation_refuses_are_designed_from_the_table
     assert rows.size >= 20
     assert ok[rows].all()
     assert np.isnan(summaries[0, rows]).all()  # (no summary: not read off a table)
+    # most by the equations of two changes: exact phase means for a few (6 each at most)
+    assert sum(exact) <= 6 * 0.1 * rows.size
     fresh = drake.predict(stiffness=k[rows], dissipation=d[rows], mass=M, speed=V,
                           gravity=9.81, time_step=H)  # fmt: skip
     assert np.abs(fresh.restitution - e[rows]).max() <= 1.05e-12

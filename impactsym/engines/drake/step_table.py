@@ -114,6 +114,7 @@ from impactsym.engines.drake.continuous import free_scales, start_stiffness
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
 from impactsym.engines.drake.mean_steps import broyden_steps, contour_steps
 from impactsym.engines.drake.phases import SUMMARY_FIELDS, phase_summary
+from impactsym.engines.drake.two_changes import two_change_rows, two_change_starts
 
 __all__ = [
     "COARSE",
@@ -246,14 +247,30 @@ def _undamped_reach(e, v, m, g, target, h, approx, size_name):
 
 def _from_starts(e, v, m, g, q, s, w, jac, h, approx):
     """``(ok, k, d)`` of the targets by largest overlap ``(e, q)`` (``q`` over ``v h``)
-    by Broyden's steps on the exact phase means from the starts ``(s, w)`` with the
-    Jacobians ``jac`` (:class:`~impactsym.engines.drake.change_table.Starts`), at most
-    :data:`STARTS_STEPS` phase means, within a box of twice the starts' either way."""
-    mean_rows = _means_rows(m, v, g, h, approx, "max_penetration", v * h)
+    by Broyden's steps from the starts ``(s, w)`` with the Jacobians ``jac``
+    (:class:`~impactsym.engines.drake.change_table.Starts`), within a box of twice the
+    starts' either way: first on the equations of two changes where the start's end
+    state changes twice (:mod:`~impactsym.engines.drake.two_changes`), done within
+    :data:`_JUMP_TOL` and the changes settled (the caller's prediction checks them),
+    then on the exact phase means for the others, at most :data:`STARTS_STEPS` means
+    each."""
     box = ((0.5 * s.min(), 2.0 * s.max()), (0.5 * w.min(), 2.0 * w.max()))
-    s, w, done = broyden_steps(
-        mean_rows, s.copy(), w.copy(), jac.copy(), e, q, *box, tol=_TOL, steps=STARTS_STEPS
-    )
+    s, w, jac = s.copy(), w.copy(), jac.copy()
+    k, d = m * (w / h) ** 2, s / v
+    two, base, first, second = two_change_starts(k, d, m, g, v, h)
+    mean_two, cheap = (two_change_rows(m, v, g, h, base, first, second, v * h, nodes=r)
+                       for r in (None, 1))  # fmt: skip
+    s_two, w_two = np.where(two, s, np.nan), np.where(two, w, np.nan)
+    jac_two = _differences(cheap, s_two, w_two, jac, None)
+    s_two, w_two, done = broyden_steps(mean_two, s_two, w_two, jac_two, e, q, *box,
+                                       tol=_JUMP_TOL, steps=STARTS_STEPS)  # fmt: skip
+    s, w = np.where(done, s_two, s), np.where(done, w_two, w)
+    rest = ~done  # (the exact phase means for the others)
+    mean_rows = _means_rows(m, v, g, h, approx, "max_penetration", v * h)
+    s_r, w_r = np.where(rest, s, np.nan), np.where(rest, w, np.nan)
+    s_r, w_r, done_r = broyden_steps(mean_rows, s_r, w_r, jac, e, q, *box, tol=_TOL,
+                                     steps=STARTS_STEPS)  # fmt: skip
+    s, w, done = np.where(rest, s_r, s), np.where(rest, w_r, w), done | done_r
     return done, np.where(done, m * (w / h) ** 2, np.nan), np.where(done, s / v, np.nan)
 
 
@@ -464,7 +481,8 @@ def _differences(mean, s, w, jac, slopes):
     in the parameters (against central differences of the full rule: 1e-6 median, 3e-3
     at the 99th percentile, as good as two nodes in the steps it saves; the table's
     cell, across the kinks, is good to about a percent: Broyden's steps converge about a
-    hundredfold each from it)."""
+    hundredfold each from it); for the two changes' equations, one node on each short
+    piece and three on the long one (:func:`_from_starts`)."""
     out = jac.copy()
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
     if live.size == 0:
