@@ -228,6 +228,45 @@ def test_targets_by_overlap_their_evaluation_refuses_are_designed_from_the_table
     assert not np.any(fresh.sticks)
 
 
+def test_targets_by_contact_time_their_evaluation_refuses_are_designed_on_two_changes(
+    monkeypatch,
+):
+    """By contact time under gravity the targets whose contact lasts close to a whole
+    number of steps have a change next to each end of the phase interval: the evaluation
+    refuses the table's design, Broyden's steps on the equations of two changes from it
+    design them (before: the per-call table of phase means, ten times the cost), with
+    the path of the others turned off. Checked by a fresh ``predict``."""
+    rng = np.random.default_rng(52)
+    e, t = rng.uniform(0.3, 0.6, 3000), rng.uniform(2e-2, 3e-2, 3000)
+    monkeypatch.setattr(change_table, "MIN_TARGETS", 100)
+    chunked, from_starts, seen = step_table._chunked, step_table._from_starts, []
+
+    def leftovers_refused(e, *args, **options):  # (the tables' nodes still designed)
+        if options:
+            return chunked(e, *args, **options)
+        return np.zeros(e.size, bool), np.full(e.size, np.nan), np.full(e.size, np.nan)
+
+    def spy(e, *args):
+        seen.append(e)
+        return from_starts(e, *args)
+
+    monkeypatch.setattr(step_table, "_chunked", leftovers_refused)
+    monkeypatch.setattr(step_table, "_from_starts", spy)
+    one = np.ones(e.size)
+    ok, k, d, summaries = stepped_designs(e, V * one, M * one, 9.81 * one, t, H, "lagged",
+                                          "contact_time")  # fmt: skip
+    rows = np.flatnonzero(np.isin(e, np.concatenate(seen)))
+    assert rows.size >= 20
+    assert ok[rows].mean() >= 0.9
+    rows = rows[ok[rows]]
+    assert np.isnan(summaries[0, rows]).all()  # (no summary: not read off a table)
+    fresh = drake.predict(stiffness=k[rows], dissipation=d[rows], mass=M, speed=V,
+                          gravity=9.81, time_step=H)  # fmt: skip
+    assert np.abs(fresh.restitution - e[rows]).max() <= 1.05e-12
+    assert np.abs(fresh.contact_time / t[rows] - 1.0).max() <= 1.05e-10
+    assert not np.any(fresh.sticks)
+
+
 def test_the_evaluation_in_parts_is_the_evaluation_at_once(monkeypatch):
     """``_confirmed`` evaluates the designs in parts (their arrays below NumPy's huge-page
     size): held and summaries the same, bit for bit, as one evaluation of them all."""

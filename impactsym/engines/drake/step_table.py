@@ -216,13 +216,13 @@ def stepped_designs(
                 *group, q[rows], h, _node_designs(v[rows[0]], m[rows[0]], g[rows[0]], h, approx),
                 steps=steps,
             )  # fmt: skip
-            # by overlap, those the one evaluation did not keep (a second change next to the
-            # phase ends): Broyden's steps from the table's start
-            near = np.flatnonzero(~done & np.isfinite(starts.jac).all(axis=(1, 2)))
+            # those the one evaluation did not keep (a second change next to the phase
+            # ends): Broyden's steps from the table's start
+            near = np.flatnonzero(~done & np.isfinite(starts.s))
             if near.size:
                 done[near], k_r[near], d_r[near] = _from_starts(
                     *(a[rows[near]] for a in (e, v, m, g, q)), starts.s[near], starts.w[near],
-                    starts.jac[near], h, approx,
+                    starts.jac[near], h, approx, size_name,
                 )  # fmt: skip
             ok[rows], k[rows], d[rows] = done, k_r, d_r
             rows = rows[~done]
@@ -245,32 +245,35 @@ def _undamped_reach(e, v, m, g, target, h, approx, size_name):
     return bool(np.all(r.restitution > e))
 
 
-def _from_starts(e, v, m, g, q, s, w, jac, h, approx):
-    """``(ok, k, d)`` of the targets by largest overlap ``(e, q)`` (``q`` over ``v h``)
+def _from_starts(e, v, m, g, q, s, w, jac, h, approx, size_name):
+    """``(ok, k, d)`` of the targets ``(e, q)`` (``q`` the size in steps, or over ``v h``)
     by Broyden's steps from the starts ``(s, w)`` with the Jacobians ``jac``
     (:class:`~impactsym.engines.drake.change_table.Starts`), within a box of twice the
     starts' either way: first on the equations of two changes where the start's end
-    state changes twice (:mod:`~impactsym.engines.drake.two_changes`), done within
-    :data:`_JUMP_TOL` and the changes settled (the caller's prediction checks them),
-    then on the exact phase means for the others, at most :data:`STARTS_STEPS` means
-    each."""
-    box = ((0.5 * s.min(), 2.0 * s.max()), (0.5 * w.min(), 2.0 * w.max()))
+    state changes twice (:mod:`~impactsym.engines.drake.two_changes`; the Jacobian from
+    :func:`_differences` of its cheap rule), done within :data:`_JUMP_TOL` and the
+    changes settled (the caller's prediction checks them); then, by largest overlap, on
+    the exact phase means for the others from ``jac``, at most :data:`STARTS_STEPS` means
+    each (by contact time such steps stall next to a plateau's edge: the caller's path
+    of the others takes them)."""
+    timed = size_name == "contact_time"
+    box = ((0.5 * np.nanmin(s), 2.0 * np.nanmax(s)), (0.5 * np.nanmin(w), 2.0 * np.nanmax(w)))
     s, w, jac = s.copy(), w.copy(), jac.copy()
-    k, d = m * (w / h) ** 2, s / v
-    two, base, first, second = two_change_starts(k, d, m, g, v, h)
-    mean_two, cheap = (two_change_rows(m, v, g, h, base, first, second, v * h, nodes=r)
-                       for r in (None, 1))  # fmt: skip
+    two, base, first, second = two_change_starts(m * (w / h) ** 2, s / v, m, g, v, h)
+    mean_two, cheap = (two_change_rows(m, v, g, h, base, first, second, v * h, timed=timed,
+                                       nodes=r) for r in (None, 1))  # fmt: skip
     s_two, w_two = np.where(two, s, np.nan), np.where(two, w, np.nan)
     jac_two = _differences(cheap, s_two, w_two, jac, None)
     s_two, w_two, done = broyden_steps(mean_two, s_two, w_two, jac_two, e, q, *box,
                                        tol=_JUMP_TOL, steps=STARTS_STEPS)  # fmt: skip
     s, w = np.where(done, s_two, s), np.where(done, w_two, w)
-    rest = ~done  # (the exact phase means for the others)
-    mean_rows = _means_rows(m, v, g, h, approx, "max_penetration", v * h)
-    s_r, w_r = np.where(rest, s, np.nan), np.where(rest, w, np.nan)
-    s_r, w_r, done_r = broyden_steps(mean_rows, s_r, w_r, jac, e, q, *box, tol=_TOL,
-                                     steps=STARTS_STEPS)  # fmt: skip
-    s, w, done = np.where(rest, s_r, s), np.where(rest, w_r, w), done | done_r
+    if not timed:  # the exact phase means for the others
+        rest = ~done
+        mean_rows = _means_rows(m, v, g, h, approx, size_name, v * h)
+        s_r, w_r = np.where(rest, s, np.nan), np.where(rest, w, np.nan)
+        s_r, w_r, done_r = broyden_steps(mean_rows, s_r, w_r, jac, e, q, *box, tol=_TOL,
+                                         steps=STARTS_STEPS)  # fmt: skip
+        s, w, done = np.where(rest, s_r, s), np.where(rest, w_r, w), done | done_r
     return done, np.where(done, m * (w / h) ** 2, np.nan), np.where(done, s / v, np.nan)
 
 
