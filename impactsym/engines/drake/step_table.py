@@ -542,30 +542,39 @@ def _start(s_nodes, w_nodes, E, Q, e, q):
     """Starts ``(s, w)`` and Jacobians ``(n, 2, 2)`` of ``(E, Q)`` from the table
     (``nan`` starts where it does not hold the target)."""
     n, nw = e.size, w_nodes.size
-    # the contour E = e on each column: the restitution falls with the damping
-    s_c, q_c = np.full((nw, n), np.nan), np.full((nw, n), np.nan)
-    for j in range(nw):
-        col = np.where(np.isfinite(E[:, j]), E[:, j], -np.inf)
+    # column by column (one w), for the targets whose start is not yet found: the
+    # contour E = e crosses it once (the restitution falls with the damping), and along
+    # the contour Q falls with w: the start lies before the first column where Q is
+    # below the target
+    j = np.zeros(n, np.int64)  # (0: none found)
+    ends = np.full((4, n), np.nan)  # s and Q on the contour, the columns before and at j
+    live, before = np.arange(n), np.full((2, n), np.nan)
+    for col_j in range(nw):
+        col = np.where(np.isfinite(E[:, col_j]), E[:, col_j], -np.inf)
+        e_l = e[live]
         # the first crossing: on the running minimum, col[i - 1] > e >= col[i]
-        i = np.searchsorted(-np.minimum.accumulate(col), -e)
+        i = np.searchsorted(-np.minimum.accumulate(col), -e_l)
         inside = (i > 0) & (i < col.size)
         i = np.clip(i, 1, col.size - 1)
         with np.errstate(all="ignore"):  # (outside the crossing: masked just below)
-            t = (col[i - 1] - e) / (col[i - 1] - col[i])
-            s_c[j] = np.where(inside, s_nodes[i - 1] + t * (s_nodes[i] - s_nodes[i - 1]), np.nan)
-            q_c[j] = np.where(inside, Q[i - 1, j] + t * (Q[i, j] - Q[i - 1, j]), np.nan)
-    # along the contour Q falls with w: the first column where it is below the target
-    below = q_c <= q
-    j = np.argmax(below, axis=0)
-    cols = np.arange(n)
-    found = below[j, cols] & (j > 0)
+            t = (col[i - 1] - e_l) / (col[i - 1] - col[i])
+            s_c = np.where(inside, s_nodes[i - 1] + t * (s_nodes[i] - s_nodes[i - 1]), np.nan)
+            q_c = np.where(inside, Q[i - 1, col_j] + t * (Q[i, col_j] - Q[i - 1, col_j]), np.nan)
+        hit = q_c <= q[live]
+        rows = live[hit]
+        j[rows] = col_j
+        ends[:, rows] = before[0, hit], before[1, hit], s_c[hit], q_c[hit]
+        live, before = live[~hit], np.stack([s_c[~hit], q_c[~hit]])
+        if live.size == 0:
+            break
+    s_a, q_a, s_b, q_b = ends
+    found = (j > 0) & np.isfinite(q_a) & np.isfinite(q_b)
     j = np.clip(j, 1, nw - 1)
-    found &= np.isfinite(q_c[j - 1, cols]) & np.isfinite(q_c[j, cols])
     with np.errstate(all="ignore"):
-        t = (q_c[j - 1, cols] - q) / (q_c[j - 1, cols] - q_c[j, cols])
+        t = (q_a - q) / (q_a - q_b)
     t = np.where(np.isfinite(t), t, 0.5)
     w = w_nodes[j - 1] + t * (w_nodes[j] - w_nodes[j - 1])
-    s = s_c[j - 1, cols] + t * (s_c[j, cols] - s_c[j - 1, cols])
+    s = s_a + t * (s_b - s_a)
     # the Jacobian from the table's cell at the start
     i = np.clip(np.searchsorted(s_nodes, s) - 1, 0, s_nodes.size - 2)
     jw = j - 1
