@@ -172,43 +172,90 @@ def test_designs_by_largest_overlap_on_a_plateau_are_read_off_its_own_table(monk
     assert not np.any(without[read][on_plateau])  # (the change's tables never give them)
 
 
-def test_targets_by_overlap_their_evaluation_refuses_are_designed_from_the_tables_start(
-    monkeypatch,
-):
-    """Under gravity a target by overlap whose change lies next to an end of the phase
-    interval can have a second change there: its one evaluation refuses the table's
-    design, which is still close (the restitution ~1e-4 off), and Broyden's steps on the
-    exact phase means from it, with the table's Jacobian, design it (before: the per-call
-    table of phase means, twice the cost). Checked with that table turned off for them,
-    by a fresh ``predict``."""
-    rng = np.random.default_rng(51)
-    e, x = rng.uniform(0.5, 0.6, 2000), rng.uniform(6e-3, 7e-3, 2000)
+def _from_the_starts(monkeypatch, e, size, size_name):
+    """The designs of ``stepped_designs`` under gravity with the path of the targets the
+    tables leave turned off (the tables' nodes, which it designs too, kept): ``(ok, k,
+    d, summaries)``, the targets' rows that took the table's starts, and the number of
+    exact phase means asked there."""
     monkeypatch.setattr(change_table, "MIN_TARGETS", 100)
-    chunked, from_starts, seen = step_table._chunked, step_table._from_starts, []
+    chunked, from_starts, means_rows = (
+        step_table._chunked, step_table._from_starts, step_table._means_rows
+    )  # fmt: skip
+    seen, exact = [], []
 
-    def leftovers_refused(e, *args, **options):  # (the tables' nodes still designed)
+    def leftovers_refused(e, *args, **options):
         if options:
             return chunked(e, *args, **options)
         return np.zeros(e.size, bool), np.full(e.size, np.nan), np.full(e.size, np.nan)
 
     def spy(e, *args):
-        out = from_starts(e, *args)
         seen.append(e)
-        return out
+        exact.append(0)
+        return from_starts(e, *args)
+
+    def counted(*args):  # the exact phase means asked in _from_starts
+        mean = means_rows(*args)
+
+        def count(s, w, rows, **options):
+            if exact:
+                exact[-1] += s.size
+            return mean(s, w, rows, **options)
+
+        return count
 
     monkeypatch.setattr(step_table, "_chunked", leftovers_refused)
     monkeypatch.setattr(step_table, "_from_starts", spy)
+    monkeypatch.setattr(step_table, "_means_rows", counted)
     one = np.ones(e.size)
-    ok, k, d, summaries = stepped_designs(e, V * one, M * one, 9.81 * one, x, H, "lagged",
-                                          "max_penetration")  # fmt: skip
-    rows = np.flatnonzero(np.isin(e, np.concatenate(seen)))
+    out = stepped_designs(e, V * one, M * one, 9.81 * one, size, H, "lagged", size_name)
+    return out, np.flatnonzero(np.isin(e, np.concatenate(seen))), sum(exact)
+
+
+def test_targets_by_overlap_their_evaluation_refuses_are_designed_from_the_tables_start(
+    monkeypatch,
+):
+    """Under gravity a target by overlap whose change lies next to an end of the phase
+    interval can have a second change there: its one evaluation refuses the table's
+    design, which is still close (the restitution ~1e-4 off), and Broyden's steps from
+    it design it (before: the per-call table of phase means, twice the cost), most on
+    the equations of two changes (:mod:`~impactsym.engines.drake.two_changes`), the
+    others on the exact phase means with the table's Jacobian. Checked with that table
+    turned off for them, by a fresh ``predict``."""
+    rng = np.random.default_rng(51)
+    e, x = rng.uniform(0.5, 0.6, 2000), rng.uniform(6e-3, 7e-3, 2000)
+    (ok, k, d, summaries), rows, exact = _from_the_starts(monkeypatch, e, x, "max_penetration")
     assert rows.size >= 20
     assert ok[rows].all()
     assert np.isnan(summaries[0, rows]).all()  # (no summary: not read off a table)
+    # most by the equations of two changes: exact phase means for a few (6 each at most)
+    assert exact <= 6 * 0.1 * rows.size
     fresh = drake.predict(stiffness=k[rows], dissipation=d[rows], mass=M, speed=V,
                           gravity=9.81, time_step=H)  # fmt: skip
     assert np.abs(fresh.restitution - e[rows]).max() <= 1.05e-12
     assert np.abs(fresh.max_penetration / x[rows] - 1.0).max() <= 1.05e-10
+    assert not np.any(fresh.sticks)
+
+
+def test_targets_by_contact_time_their_evaluation_refuses_are_designed_on_two_changes(
+    monkeypatch,
+):
+    """By contact time under gravity the targets whose contact lasts close to a whole
+    number of steps have a change next to each end of the phase interval: the evaluation
+    refuses the table's design, Broyden's steps on the equations of two changes from it
+    design them (before: the per-call table of phase means, ten times the cost), with
+    the path of the others turned off. Checked by a fresh ``predict``."""
+    rng = np.random.default_rng(52)
+    e, t = rng.uniform(0.3, 0.6, 3000), rng.uniform(2e-2, 3e-2, 3000)
+    (ok, k, d, summaries), rows, exact = _from_the_starts(monkeypatch, e, t, "contact_time")
+    assert rows.size >= 20
+    assert exact == 0  # (by contact time no exact phase means: they stall there)
+    assert ok[rows].mean() >= 0.9
+    rows = rows[ok[rows]]
+    assert np.isnan(summaries[0, rows]).all()  # (no summary: not read off a table)
+    fresh = drake.predict(stiffness=k[rows], dissipation=d[rows], mass=M, speed=V,
+                          gravity=9.81, time_step=H)  # fmt: skip
+    assert np.abs(fresh.restitution - e[rows]).max() <= 1.05e-12
+    assert np.abs(fresh.contact_time / t[rows] - 1.0).max() <= 1.05e-10
     assert not np.any(fresh.sticks)
 
 

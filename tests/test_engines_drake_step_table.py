@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from impactsym.engines import drake
-from impactsym.engines.drake import design
+from impactsym.engines.drake import design, step_table
 from impactsym.engines.drake.step_table import MIN_CALL, MIN_TARGETS, stepped_designs
 
 H = 1e-3
@@ -188,3 +188,51 @@ def test_a_small_call_with_a_target_out_of_reach_is_refused_before_any_table(mon
         drake.point_contact_for(restitution=e, contact_time=0.03, speed=1.0, mass=0.1,
                                 time_step=1e-3)  # fmt: skip
     assert built == []
+
+
+def _scalar_start(s_nodes, w_nodes, E, Q, e, q):
+    """One target's start by the rule written out: on each column the first crossing of
+    the running minimum of ``E`` with ``e``, linear in between; the first column whose
+    contour ``Q`` is at most ``q``; linear between it and the column before."""
+    contour = []
+    for j in range(w_nodes.size):
+        col = np.where(np.isfinite(E[:, j]), E[:, j], -np.inf)
+        low = np.minimum.accumulate(col)
+        i = next((i for i in range(col.size) if low[i] <= e), None)
+        if i is None or i == 0:
+            contour.append((np.nan, np.nan))
+            continue
+        t = (col[i - 1] - e) / (col[i - 1] - col[i])
+        s = s_nodes[i - 1] + t * (s_nodes[i] - s_nodes[i - 1])
+        contour.append((s, Q[i - 1, j] + t * (Q[i, j] - Q[i - 1, j])))
+    j = next((j for j, (_, qc) in enumerate(contour) if qc <= q), None)
+    if not j or not (np.isfinite(contour[j - 1][1]) and np.isfinite(contour[j][1])):
+        return np.nan, np.nan
+    (s_a, q_a), (s_b, q_b) = contour[j - 1], contour[j]
+    t = (q_a - q) / (q_a - q_b)
+    t = t if np.isfinite(t) else 0.5
+    return s_a + t * (s_b - s_a), w_nodes[j - 1] + t * (w_nodes[j] - w_nodes[j - 1])
+
+
+def test_a_tables_starts_follow_the_rule_written_out():
+    """:func:`step_table._start`, walking the columns for the targets not yet found,
+    against the rule for one target at a time, on tables with noise, nan and inf nodes
+    and targets off the table."""
+    rng = np.random.default_rng(7)
+    for trial in range(12):
+        s_nodes, w_nodes = np.linspace(0.2, 2.0, 9 + trial), np.linspace(0.05, 0.3, 20 - trial)
+        S, W = np.meshgrid(s_nodes, w_nodes, indexing="ij")
+        E = np.exp(-S * (1.0 + 0.3 * W)) + 0.01 * rng.standard_normal(S.shape) * (trial % 2)
+        Q = 1.0 / W + 0.2 * S + 0.05 * rng.standard_normal(S.shape) * (trial % 3 == 0)
+        if trial % 4 == 0:
+            E[rng.random(E.shape) < 0.05] = np.nan
+            Q[rng.random(Q.shape) < 0.05] = np.inf
+        e, q = rng.uniform(0.0, 1.0, 300), rng.uniform(2.0, 25.0, 300)
+        s, w, _ = step_table._start(s_nodes, w_nodes, E, Q, e, q)
+        with np.errstate(all="ignore"):
+            want = np.array(
+                [_scalar_start(s_nodes, w_nodes, E, Q, *t) for t in zip(e, q, strict=True)]
+            )
+        assert np.isfinite(s).sum() > 100
+        np.testing.assert_array_equal(s, want[:, 0])
+        np.testing.assert_array_equal(w, want[:, 1])

@@ -178,12 +178,12 @@ _TABLE_DIFF = 1e-6  # the differences of a start's Jacobian off its table (relat
 
 
 class Starts(NamedTuple):
-    """The table's starts of the targets by largest overlap its one evaluation did not
-    keep (:func:`table_designs`; by contact time such a target lies next to a plateau's
-    edge, where steps from it stall: none): the designs read off it, ``s = d v`` and ``w
-    = h sqrt(k/m)``, and ``jac``, the Jacobian ``n x 2 x 2`` of the target's restitution
-    and size ``(e, q)`` in ``(s, w)``, from the table's differences (``nan`` where none:
-    no table, a plateau's, or a difference leaving the table)."""
+    """The table's starts of the targets its one evaluation did not keep
+    (:func:`table_designs`): the designs read off it, ``s = d v`` and ``w = h
+    sqrt(k/m)``, and by largest overlap ``jac``, the Jacobian ``n x 2 x 2`` of the
+    target's restitution and size ``(e, q)`` in ``(s, w)``, from the table's differences
+    (``nan`` where none: by contact time, no table, a plateau's, or a difference leaving
+    the table)."""
 
     s: np.ndarray
     w: np.ndarray
@@ -235,7 +235,7 @@ def table_designs(
     held, summary = _confirmed(k_t, d_t, *rows, h, by_overlap)
     ok[live[held]], k[live[held]], d[live[held]] = True, k_t[held], d_t[held]
     summaries[:, live[held]] = summary[:, held]
-    refused = live[~held] if by_overlap else live[:0]  # (by contact time: none, Starts)
+    refused = live[~held]
     starts = Starts(np.full(n, np.nan), np.full(n, np.nan), np.full((n, 2, 2), np.nan))
     for index in np.unique(source[refused]):
         if index < 0:  # (a plateau's start: no table of the target's change)
@@ -243,7 +243,8 @@ def table_designs(
         rows = refused[source[refused] == index]
         (b, box, _), table = keys[index], tables[index]
         starts.s[rows], starts.w[rows] = s[rows], w[rows]
-        starts.jac[rows] = _target_slopes(b, box, table, e[rows], q[rows], s[rows], w[rows])
+        if by_overlap:  # (by contact time the caller's differences give it)
+            starts.jac[rows] = _target_slopes(b, box, table, e[rows], q[rows], s[rows], w[rows])
     return ok, k, d, summaries, starts
 
 

@@ -114,6 +114,7 @@ from impactsym.engines.drake.continuous import free_scales, start_stiffness
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
 from impactsym.engines.drake.mean_steps import broyden_steps, contour_steps
 from impactsym.engines.drake.phases import SUMMARY_FIELDS, phase_summary
+from impactsym.engines.drake.two_changes import two_change_rows, two_change_starts
 
 __all__ = [
     "COARSE",
@@ -215,13 +216,13 @@ def stepped_designs(
                 *group, q[rows], h, _node_designs(v[rows[0]], m[rows[0]], g[rows[0]], h, approx),
                 steps=steps,
             )  # fmt: skip
-            # by overlap, those the one evaluation did not keep (a second change next to the
-            # phase ends): Broyden's steps from the table's start
-            near = np.flatnonzero(~done & np.isfinite(starts.jac).all(axis=(1, 2)))
+            # those the one evaluation did not keep (a second change next to the phase
+            # ends): Broyden's steps from the table's start
+            near = np.flatnonzero(~done & np.isfinite(starts.s))
             if near.size:
                 done[near], k_r[near], d_r[near] = _from_starts(
                     *(a[rows[near]] for a in (e, v, m, g, q)), starts.s[near], starts.w[near],
-                    starts.jac[near], h, approx,
+                    starts.jac[near], h, approx, size_name,
                 )  # fmt: skip
             ok[rows], k[rows], d[rows] = done, k_r, d_r
             rows = rows[~done]
@@ -244,16 +245,35 @@ def _undamped_reach(e, v, m, g, target, h, approx, size_name):
     return bool(np.all(r.restitution > e))
 
 
-def _from_starts(e, v, m, g, q, s, w, jac, h, approx):
-    """``(ok, k, d)`` of the targets by largest overlap ``(e, q)`` (``q`` over ``v h``)
-    by Broyden's steps on the exact phase means from the starts ``(s, w)`` with the
-    Jacobians ``jac`` (:class:`~impactsym.engines.drake.change_table.Starts`), at most
-    :data:`STARTS_STEPS` phase means, within a box of twice the starts' either way."""
-    mean_rows = _means_rows(m, v, g, h, approx, "max_penetration", v * h)
-    box = ((0.5 * s.min(), 2.0 * s.max()), (0.5 * w.min(), 2.0 * w.max()))
-    s, w, done = broyden_steps(
-        mean_rows, s.copy(), w.copy(), jac.copy(), e, q, *box, tol=_TOL, steps=STARTS_STEPS
-    )
+def _from_starts(e, v, m, g, q, s, w, jac, h, approx, size_name):
+    """``(ok, k, d)`` of the targets ``(e, q)`` (``q`` the size in steps, or over ``v h``)
+    by Broyden's steps from the starts ``(s, w)`` with the Jacobians ``jac``
+    (:class:`~impactsym.engines.drake.change_table.Starts`), within a box of twice the
+    starts' either way: first on the equations of two changes where the start's end
+    state changes twice (:mod:`~impactsym.engines.drake.two_changes`; the Jacobian from
+    :func:`_differences` of its cheap rule), done within :data:`_JUMP_TOL` and the
+    changes settled (the caller's prediction checks them); then, by largest overlap, on
+    the exact phase means for the others from ``jac``, at most :data:`STARTS_STEPS` means
+    each (by contact time such steps stall next to a plateau's edge: the caller's path
+    of the others takes them)."""
+    timed = size_name == "contact_time"
+    box = ((0.5 * np.nanmin(s), 2.0 * np.nanmax(s)), (0.5 * np.nanmin(w), 2.0 * np.nanmax(w)))
+    s, w, jac = s.copy(), w.copy(), jac.copy()
+    two, base, first, second = two_change_starts(m * (w / h) ** 2, s / v, m, g, v, h)
+    mean_two, cheap = (two_change_rows(m, v, g, h, base, first, second, v * h, timed=timed,
+                                       nodes=r) for r in (None, 1))  # fmt: skip
+    s_two, w_two = np.where(two, s, np.nan), np.where(two, w, np.nan)
+    jac_two = _differences(cheap, s_two, w_two, jac, None)
+    s_two, w_two, done = broyden_steps(mean_two, s_two, w_two, jac_two, e, q, *box,
+                                       tol=_JUMP_TOL, steps=STARTS_STEPS)  # fmt: skip
+    s, w = np.where(done, s_two, s), np.where(done, w_two, w)
+    if not timed:  # the exact phase means for the others
+        rest = ~done
+        mean_rows = _means_rows(m, v, g, h, approx, size_name, v * h)
+        s_r, w_r = np.where(rest, s, np.nan), np.where(rest, w, np.nan)
+        s_r, w_r, done_r = broyden_steps(mean_rows, s_r, w_r, jac, e, q, *box, tol=_TOL,
+                                         steps=STARTS_STEPS)  # fmt: skip
+        s, w, done = np.where(rest, s_r, s), np.where(rest, w_r, w), done | done_r
     return done, np.where(done, m * (w / h) ** 2, np.nan), np.where(done, s / v, np.nan)
 
 
@@ -464,7 +484,8 @@ def _differences(mean, s, w, jac, slopes):
     in the parameters (against central differences of the full rule: 1e-6 median, 3e-3
     at the 99th percentile, as good as two nodes in the steps it saves; the table's
     cell, across the kinks, is good to about a percent: Broyden's steps converge about a
-    hundredfold each from it)."""
+    hundredfold each from it); for the two changes' equations, one node on each short
+    piece and three on the long one (:func:`_from_starts`)."""
     out = jac.copy()
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
     if live.size == 0:
@@ -521,30 +542,39 @@ def _start(s_nodes, w_nodes, E, Q, e, q):
     """Starts ``(s, w)`` and Jacobians ``(n, 2, 2)`` of ``(E, Q)`` from the table
     (``nan`` starts where it does not hold the target)."""
     n, nw = e.size, w_nodes.size
-    # the contour E = e on each column: the restitution falls with the damping
-    s_c, q_c = np.full((nw, n), np.nan), np.full((nw, n), np.nan)
-    for j in range(nw):
-        col = np.where(np.isfinite(E[:, j]), E[:, j], -np.inf)
+    # column by column (one w), for the targets whose start is not yet found: the
+    # contour E = e crosses it once (the restitution falls with the damping), and along
+    # the contour Q falls with w: the start lies before the first column where Q is
+    # below the target
+    j = np.zeros(n, np.int64)  # (0: none found)
+    ends = np.full((4, n), np.nan)  # s and Q on the contour, the columns before and at j
+    live, before = np.arange(n), np.full((2, n), np.nan)
+    for col_j in range(nw):
+        col = np.where(np.isfinite(E[:, col_j]), E[:, col_j], -np.inf)
+        e_l = e[live]
         # the first crossing: on the running minimum, col[i - 1] > e >= col[i]
-        i = np.searchsorted(-np.minimum.accumulate(col), -e)
+        i = np.searchsorted(-np.minimum.accumulate(col), -e_l)
         inside = (i > 0) & (i < col.size)
         i = np.clip(i, 1, col.size - 1)
         with np.errstate(all="ignore"):  # (outside the crossing: masked just below)
-            t = (col[i - 1] - e) / (col[i - 1] - col[i])
-            s_c[j] = np.where(inside, s_nodes[i - 1] + t * (s_nodes[i] - s_nodes[i - 1]), np.nan)
-            q_c[j] = np.where(inside, Q[i - 1, j] + t * (Q[i, j] - Q[i - 1, j]), np.nan)
-    # along the contour Q falls with w: the first column where it is below the target
-    below = q_c <= q
-    j = np.argmax(below, axis=0)
-    cols = np.arange(n)
-    found = below[j, cols] & (j > 0)
+            t = (col[i - 1] - e_l) / (col[i - 1] - col[i])
+            s_c = np.where(inside, s_nodes[i - 1] + t * (s_nodes[i] - s_nodes[i - 1]), np.nan)
+            q_c = np.where(inside, Q[i - 1, col_j] + t * (Q[i, col_j] - Q[i - 1, col_j]), np.nan)
+        hit = q_c <= q[live]
+        rows = live[hit]
+        j[rows] = col_j
+        ends[:, rows] = before[0, hit], before[1, hit], s_c[hit], q_c[hit]
+        live, before = live[~hit], np.stack([s_c[~hit], q_c[~hit]])
+        if live.size == 0:
+            break
+    s_a, q_a, s_b, q_b = ends
+    found = (j > 0) & np.isfinite(q_a) & np.isfinite(q_b)
     j = np.clip(j, 1, nw - 1)
-    found &= np.isfinite(q_c[j - 1, cols]) & np.isfinite(q_c[j, cols])
     with np.errstate(all="ignore"):
-        t = (q_c[j - 1, cols] - q) / (q_c[j - 1, cols] - q_c[j, cols])
+        t = (q_a - q) / (q_a - q_b)
     t = np.where(np.isfinite(t), t, 0.5)
     w = w_nodes[j - 1] + t * (w_nodes[j] - w_nodes[j - 1])
-    s = s_c[j - 1, cols] + t * (s_c[j, cols] - s_c[j - 1, cols])
+    s = s_a + t * (s_b - s_a)
     # the Jacobian from the table's cell at the start
     i = np.clip(np.searchsorted(s_nodes, s) - 1, 0, s_nodes.size - 2)
     jw = j - 1
