@@ -250,26 +250,24 @@ def _read_in_turn(group, likely, keys, tables, served, e, q, by_overlap, out):
     table at a time; the tables asked in one turn read in one phase solve
     (:func:`_read`)."""
     s, w, change, source = out
-    index, rows = [], []  # (the table, a target asking it)
-    for i, (b, rows_i) in enumerate(zip((key[0] for key in keys), served, strict=True)):
-        rows_i = rows_i[np.isnan(s[rows_i])]
-        rows_i = rows_i[np.any([likely[rows_i] + o == b for o in group], axis=0)]
-        index.append(np.full(rows_i.size, i))
-        rows.append(rows_i)
-    index, rows = (np.concatenate(a) if a else np.zeros(0, int) for a in (index, rows))
-    order = np.lexsort((index, rows))  # by target, then its tables in their order
-    index, rows = index[order], rows[order]
-    while rows.size:  # (each turn: every target's first table not yet asked)
-        first = np.concatenate([[True], rows[1:] != rows[:-1]])
-        by = np.argsort(index[first], kind="stable")  # (by table, each's targets in order)
-        asked, at = np.unique(index[first][by], return_index=True)
-        turn = list(zip(asked, np.split(rows[first][by], at[1:]), strict=True))
-        reads = [(*keys[i][:2], tables[i], e[r], q[r]) for i, r in turn]
-        for (i, r), read in zip(turn, _read(reads, by_overlap), strict=True):
-            s[r], w[r], change[r] = read
-            source[r[np.isfinite(read[0])]] = i
-        keep = ~first & np.isnan(s[rows])
-        index, rows = index[keep], rows[keep]
+    pending = []  # (each table's targets that ask it, in order)
+    for b, rows in zip((key[0] for key in keys), served, strict=True):
+        rows = rows[np.isnan(s[rows])]
+        pending.append(rows[np.any([likely[rows] + o == b for o in group], axis=0)])
+    while True:  # (each turn: every target's first table not yet asked)
+        turn, later, claimed = [], [], np.zeros(e.size, bool)
+        for i, rows in enumerate(pending):
+            taken = claimed[rows]  # (by a table before it)
+            turn += [(i, rows[~taken])] if not taken.all() else []
+            later.append(rows[taken])
+            claimed[rows] = True
+        if not turn:
+            return
+        reads = [(*keys[i][:2], tables[i], e[rows], q[rows]) for i, rows in turn]
+        for (i, rows), read in zip(turn, _read(reads, by_overlap), strict=True):
+            s[rows], w[rows], change[rows] = read
+            source[rows[np.isfinite(read[0])]] = i
+        pending = [rows[np.isnan(s[rows])] for rows in later]
 
 
 def _read(reads, by_overlap):
