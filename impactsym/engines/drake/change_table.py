@@ -274,10 +274,10 @@ def _read(reads, by_overlap):
     """``(s, w, change)`` of each read ``(b, box, table, e, q)``: the designs of the
     targets ``(e, q)`` read off the table of end state ``b`` over the restitution
     ``box`` (``nan`` where the table has none), and the change in steps where it puts
-    them. By overlap the phases of every read in one solve
-    (:func:`~impactsym.engines.drake.chebyshev_tables.phases_where`: one Newton
-    iteration instead of one per table, whose NumPy calls cost more than their
-    arithmetic on a few thousand targets)."""
+    them. By overlap the phases of every read in one call
+    (:func:`~impactsym.engines.drake.chebyshev_tables.phases_where`: the small reads'
+    targets in one Newton iteration, whose NumPy calls cost more than their arithmetic
+    on a few hundred)."""
     x = [to_unit(e, box) for _, box, _, e, _ in reads]
     # the whole phase interval: beyond a narrower window the table is extrapolated
     # (the evaluation decides; where the one change holds there, it holds them)
