@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from numpy.polynomial import chebyshev
 from scipy.optimize import brentq
 
 from impactsym.contact.lawtable import chebyshev_points
@@ -95,3 +96,13 @@ def test_several_problems_solved_together_are_each_solved_alone(part, monkeypatc
         np.testing.assert_allclose(y, alone, rtol=0, atol=1e-14)
         found += np.count_nonzero(np.isfinite(y))
     assert found > 500
+
+
+@pytest.mark.parametrize("n2", [1, 2, 3, 8])
+def test_the_slope_of_a_series_at_each_point_is_numpys_derivative(n2):
+    """The Newton steps' slope, from each point's series by the second kind, against
+    NumPy's ``chebder`` and ``chebval`` of the same series (a slope off would leave the
+    root found, by bisection, but slowly)."""
+    c, y = RNG.normal(size=(300, n2)), RNG.uniform(-1.1, 1.1, 300)
+    expected = [chebyshev.chebval(y[i], chebyshev.chebder(c[i])) for i in range(y.size)]
+    np.testing.assert_allclose(tables._slope(c, y), expected, rtol=1e-13, atol=1e-13)

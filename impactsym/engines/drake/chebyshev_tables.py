@@ -142,21 +142,20 @@ def _solved(problems):
 
 def _newton(parts):
     """The phases of the bracketed targets of several problems (:func:`_bracketed`'s
-    ``(live, c, dc, t, f_a, f_b, ends)``), one array each: one safeguarded Newton
-    iteration from the secant's roots, the tables of each padded to the most ``J``."""
+    ``(live, c, t, f_a, f_b, ends)``), one array each: one safeguarded Newton iteration
+    from the secant's roots, the tables of each padded to the most ``J``, the slope of
+    the largest that of its series (:func:`_slope`)."""
     width = max(part[1].shape[1] for part in parts)
-    c, dc = (_joined([_padded(part[k], width) for part in parts]) for k in (1, 2))
-    t, g_lo, g_hi = (_joined([part[k] for part in parts]) for k in (3, 4, 5))
-    y_a, y_b = (_joined([np.full(part[0].size, part[6][k]) for part in parts]) for k in (0, 1))
+    c = _joined([_padded(part[1], width) for part in parts])
+    t, g_lo, g_hi = (_joined([part[k] for part in parts]) for k in (2, 3, 4))
+    y_a, y_b = (_joined([np.full(part[0].size, part[5][k]) for part in parts]) for k in (0, 1))
     n2 = c.shape[2]
 
     def f(y, rows):  # (rows: the bracketed targets' indices, as floats)
         i = rows.astype(np.int64)
-        vy = chebyshev.chebvander(y, n2 - 1)
-        values = np.einsum("ifk,ik->if", c[i], vy)
+        values = np.einsum("ifk,ik->if", c[i], chebyshev.chebvander(y, n2 - 1))
         top = np.argmax(values, axis=1)
-        slope = np.einsum("ik,ik->i", dc[i, top], vy[:, :-1])
-        return values[np.arange(i.size), top] - t[i], slope
+        return values[np.arange(i.size), top] - t[i], _slope(c[i, top], y)
 
     start = y_a - (y_b - y_a) * g_lo / (g_hi - g_lo)
     y = bracketed_newton(f, None, y_a, y_b, [np.arange(t.size, dtype=float)],
@@ -166,17 +165,30 @@ def _newton(parts):
 
 def _bracketed(coef, x, target, ends):
     """The targets of one :func:`phase_where` problem that its ``ends`` bracket:
-    ``(live, c, dc, t, f_a, f_b, ends)``, their indices, the tables' coefficients and
-    derivatives in the second variable at their points (:func:`_in_first`), their
-    targets, and the largest less the target at either end."""
-    vx = chebyshev.chebvander(x, coef.shape[1] - 1)
-    c = _in_first(vx, coef)  # (targets, J, n2)
+    ``(live, c, t, f_a, f_b, ends)``, their indices, the tables' coefficients in the
+    second variable at their points (:func:`_in_first`), their targets, and the largest
+    less the target at either end."""
+    c = _in_first(chebyshev.chebvander(x, coef.shape[1] - 1), coef)  # (targets, J, n2)
     v_a, v_b = chebyshev.chebvander(np.array(ends, float), coef.shape[2] - 1)
     f_a = np.einsum("ifk,k->if", c, v_a).max(axis=1) - target
     f_b = np.einsum("ifk,k->if", c, v_b).max(axis=1) - target
     live = np.flatnonzero((f_a <= 0.0) & (f_b >= 0.0) & (f_b > f_a))
-    dc = _in_first(vx[live], chebyshev.chebder(coef, axis=2))
-    return live, c[live], dc, target[live], f_a[live], f_b[live], ends
+    return live, c[live], target[live], f_a[live], f_b[live], ends
+
+
+def _slope(c, y):
+    r"""The derivatives at ``y`` of the Chebyshev series ``c`` (``(n, n2)``) in it:
+    :math:`\sum_k k c_k U_{k-1}(y)` (:math:`T_k' = k U_{k-1}`, the second kind by its
+    recurrence :math:`U_k = 2 y U_{k-1} - U_{k-2}`), from the series at each point
+    itself: its derivative's coefficients at every point (``chebder`` of the tables,
+    summed over the first variable as the series are) cost a quarter of the phase
+    solve's CPU."""
+    u = np.empty((y.size, c.shape[1] - 1))
+    u[:, :1] = 1.0  # (none where the series is constant)
+    u[:, 1:2] = 2.0 * y[:, None]
+    for k in range(2, u.shape[1]):
+        u[:, k] = 2.0 * y * u[:, k - 1] - u[:, k - 2]
+    return np.einsum("ik,ik->i", c[:, 1:] * np.arange(1.0, c.shape[1]), u)
 
 
 def _joined(arrays):
