@@ -50,7 +50,9 @@ gets its own tables.
   there, 6 held the tail of all 41 plateau tables of the benchmark by overlap as 10 did,
   4 none). Without gravity only: under it no window reaches the ends of the phase
   interval. A target asks its likely end state's table first, the neighbours' where that
-  has none (half the phase solves of asking them in the order of the tables).
+  has none (half the phase solves of asking them in the order of the tables), the tables
+  asked in one turn read together
+  (:func:`~impactsym.engines.drake.chebyshev_tables.phases_where`).
 * **One exact evaluation** per design read off:
   :func:`~impactsym.engines.drake.jump_means.jump_summary` at the table's design, with
   :data:`NODES` Gauss nodes on the shorter piece and two more on the longer (the
