@@ -14,8 +14,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from impactsym.contact.lawtable import chebyshev_points
 from impactsym.engines import drake
-from impactsym.engines.drake import change_table, step_table
+from impactsym.engines.drake import change_table, chebyshev_tables, step_table
 from impactsym.engines.drake.change_table import (
     MIN_SERVED,
     MIN_STEPS,
@@ -493,3 +494,74 @@ def test_whether_a_call_may_fill_a_table_counts_per_end_state():
     assert not change_table.may_fill_a_table(e, q, by_overlap=False)
     assert not change_table.may_fill_a_table(e[:MIN_SERVED - 1], q[:MIN_SERVED - 1],
                                              by_overlap=False)  # fmt: skip
+
+
+def _made_tables():
+    """Keys and tables of end states 20-22 as ``table_designs`` holds them, from
+    polynomials (the reading needs no physics): state 21 in two boxes that overlap (a
+    target in both reads the first), 20 and 22 wider, so that the targets of 21 beyond
+    its boxes ask both neighbours; ``J`` of 1-3 overlaps, two windows of phases."""
+    x, y = np.meshgrid(chebyshev_points(NODES_E), chebyshev_points(8), indexing="ij")
+    layout = [(20, (0.3, 0.65), 2, (0.0, 1.0)), (21, (0.3, 0.5), 3, (0.02, 0.98)),
+              (21, (0.4, 0.6), 1, (0.0, 1.0)), (22, (0.3, 0.65), 2, (0.02, 0.98))]  # fmt: skip
+    keys, tables = [], []
+    for i, (b, box, j, window) in enumerate(layout):
+        s = 1.0 + 0.1 * x + 0.2 * y + 0.05 * i * x * y
+        w = 0.1 + 0.01 * x * y + 0.002 * i * y**2
+        over = [b + 0.5 + 1.1 * y + 0.1 * k * x - 0.05 * k * (y - 0.2 * k) ** 2 for k in range(j)]
+        coef, overlaps = (chebyshev_tables.fit(np.stack(a), 1e-9) for a in ([s, w], over))
+        keys.append((b, box, None))
+        tables.append((window, coef, overlaps))
+    return keys, tables
+
+
+def test_the_tables_read_in_turn_are_those_read_one_at_a_time():
+    """``table_designs`` reads each offset group's tables in turns, every table of a turn
+    in one phase solve: each target's start, change and table are those of asking the
+    tables one at a time in their order (the loop it replaced), to rounding; the
+    Jacobians of all tables' starts at once are each table's alone. Targets or tables
+    out of line would be off by the tables' spread (0.01-0.2)."""
+    rng = np.random.default_rng(53)
+    keys, tables = _made_tables()
+    n = 3000
+    e, likely = rng.uniform(0.3, 0.7, n), rng.choice([20.0, 21.0, 22.0], n)
+    q = likely + 0.5 + rng.uniform(-1.6, 1.6, n)
+    keys = [(b, box, (e >= box[0]) & (e <= box[1]) & (np.abs(likely - b) <= 1)) for b, box, _
+            in keys]  # fmt: skip
+    served = [np.flatnonzero(serves) for _, _, serves in keys]
+    offsets = ((0.0,), (-1.0, 1.0))
+    turns = [np.full(n, np.nan) for _ in range(3)] + [np.full(n, -1)]
+    for group in offsets:
+        change_table._read_in_turn(group, likely, keys, tables, served, e, q, True, turns)
+    alone = [np.full(n, np.nan) for _ in range(3)] + [np.full(n, -1)]
+    s, w, change, source = alone
+    for group in offsets:  # (one table at a time, as before)
+        for index, ((b, box, serves), table) in enumerate(zip(keys, tables, strict=True)):
+            rows = np.flatnonzero(serves & np.isin(b - likely, group) & np.isnan(s))
+            read = change_table._read([(b, box, table, e[rows], q[rows])], True)[0]
+            s[rows], w[rows], change[rows] = read
+            source[rows[np.isfinite(read[0])]] = index
+    np.testing.assert_array_equal(turns[3], source)
+    for mine, theirs in zip(turns[:3], alone[:3], strict=True):
+        np.testing.assert_array_equal(np.isnan(mine), np.isnan(theirs))
+        np.testing.assert_allclose(mine, theirs, rtol=1e-13, atol=0)
+    # every kind of target: its likely table's, a neighbour's, both boxes', none
+    assert np.isin(np.arange(4), source).all()
+    assert np.count_nonzero(source < 0) > 100
+    asked_both = (e >= 0.4) & (e <= 0.5) & (likely == 21)
+    assert np.count_nonzero(asked_both & (source == 1)) > 50
+    assert np.count_nonzero((likely == 21) & np.isin(source, [0, 3])) > 50
+    rows = np.flatnonzero(source >= 0)[::3]
+    together = change_table._target_slopes(keys, tables, source[rows], e[rows], q[rows],
+                                           s[rows], w[rows])  # fmt: skip
+    assert np.isfinite(together).all(axis=(1, 2)).mean() > 0.9
+    for index, ((b, box, _), table) in enumerate(zip(keys, tables, strict=True)):
+        some = rows[source[rows] == index]
+        de, dq = 1e-6 * (box[1] - box[0]), 1e-6 * q[some]  # (the table's own differences)
+        moved = [(b, box, table, e[some] + de, q[some]), (b, box, table, e[some], q[some] + dq)]
+        (s_e, w_e, _), (s_q, w_q, _) = (change_table._read([read], True)[0] for read in moved)
+        forward = np.moveaxis([[(s_e - s[some]) / de, (s_q - s[some]) / dq],
+                               [(w_e - w[some]) / de, (w_q - w[some]) / dq]], 2, 0)  # fmt: skip
+        fine = np.isfinite(forward).all(axis=(1, 2))
+        np.testing.assert_allclose(together[source[rows] == index][fine],
+                                   np.linalg.inv(forward[fine]), rtol=1e-8, atol=0)  # fmt: skip

@@ -50,7 +50,9 @@ gets its own tables.
   there, 6 held the tail of all 41 plateau tables of the benchmark by overlap as 10 did,
   4 none). Without gravity only: under it no window reaches the ends of the phase
   interval. A target asks its likely end state's table first, the neighbours' where that
-  has none (half the phase solves of asking them in the order of the tables).
+  has none (half the phase solves of asking them in the order of the tables), the tables
+  asked in one turn read together
+  (:func:`~impactsym.engines.drake.chebyshev_tables.phases_where`).
 * **One exact evaluation** per design read off:
   :func:`~impactsym.engines.drake.jump_means.jump_summary` at the table's design, with
   :data:`NODES` Gauss nodes on the shorter piece and two more on the longer (the
@@ -86,6 +88,7 @@ from impactsym.engines.drake.chebyshev_tables import (
     from_unit,
     largest,
     phase_where,
+    phases_where,
     to_unit,
 )
 from impactsym.engines.drake.continuous import free_scales
@@ -220,13 +223,10 @@ def table_designs(
     windows = PHASES_PRESSED if g[0] > 0 else PHASES
     keys, tables = _built(keys, e, windows, design, (m[0], v[0], g[0]), h, by_overlap)
     s, w, change = (np.full(n, np.nan) for _ in range(3))
-    source = np.full(n, -1)  # the table each start was read off
+    source = np.full(n, -1)  # the table each start was read off (-1: a plateau's, or none)
+    served = [np.flatnonzero(serves) for _, _, serves in keys]
     for group in offsets:  # the likely end state's table first: fewer phases to solve
-        for index, ((b, box, serves), table) in enumerate(zip(keys, tables, strict=True)):
-            asked = (likely + np.array(group)[:, None] == b).any(axis=0)
-            rows = np.flatnonzero(serves & asked & np.isnan(s))
-            s[rows], w[rows], change[rows] = _read(b, box, table, e[rows], q[rows], by_overlap)
-            source[rows[np.isfinite(s[rows])]] = index  # (-1: a plateau's start, or none)
+        _read_in_turn(group, likely, keys, tables, served, e, q, by_overlap, (s, w, change, source))
     if by_overlap:  # the designs on a plateau between two tables
         _plateau_starts(e, q, likely, keys, tables, (m[0], v[0], g[0]), h, s, w, change)
     live = np.flatnonzero(np.isfinite(s) & np.isfinite(w))
@@ -237,41 +237,82 @@ def table_designs(
     summaries[:, live[held]] = summary[:, held]
     refused = live[~held]
     starts = Starts(np.full(n, np.nan), np.full(n, np.nan), np.full((n, 2, 2), np.nan))
-    for index in np.unique(source[refused]):
-        if index < 0:  # (a plateau's start: no table of the target's change)
-            continue
-        rows = refused[source[refused] == index]
-        (b, box, _), table = keys[index], tables[index]
-        starts.s[rows], starts.w[rows] = s[rows], w[rows]
-        if by_overlap:  # (by contact time the caller's differences give it)
-            starts.jac[rows] = _target_slopes(b, box, table, e[rows], q[rows], s[rows], w[rows])
+    refused = refused[source[refused] >= 0]  # (the others: a plateau's start, no table's)
+    starts.s[refused], starts.w[refused] = s[refused], w[refused]
+    if by_overlap:  # (by contact time the caller's differences give it)
+        starts.jac[refused] = _target_slopes(keys, tables, source[refused], e[refused],
+                                             q[refused], s[refused], w[refused])  # fmt: skip
     return ok, k, d, summaries, starts
 
 
-def _read(b, box, table, e, q, by_overlap):
-    """``(s, w, change)``: the designs of the targets ``(e, q)`` read off the table of end
-    state ``b`` over the restitution ``box`` (``nan`` where the table has none), and the
-    change in steps where it puts them."""
-    (lo, hi), coef, overlaps = table
-    x = to_unit(e, box)
+def _read_in_turn(group, likely, keys, tables, served, e, q, by_overlap, out):
+    """The starts ``out = (s, w, change, source)`` (in place) of the targets still
+    without one whose likely end state plus one of the offsets ``group`` is a table's,
+    read off those tables (``served``: the targets each serves) in turn: each target
+    asks them in the order of the tables until one gives its start, as it would one
+    table at a time; the tables asked in one turn read in one phase solve
+    (:func:`_read`)."""
+    s, w, change, source = out
+    pending = []  # (each table's targets that ask it, in order)
+    for b, rows in zip((key[0] for key in keys), served, strict=True):
+        rows = rows[np.isnan(s[rows])]
+        pending.append(rows[np.any([likely[rows] + o == b for o in group], axis=0)])
+    while True:  # (each turn: every target's first table not yet asked)
+        turn, later, claimed = [], [], np.zeros(e.size, bool)
+        for i, rows in enumerate(pending):
+            taken = claimed[rows]  # (by a table before it)
+            turn += [(i, rows[~taken])] if not taken.all() else []
+            later.append(rows[taken])
+            claimed[rows] = True
+        if not turn:
+            return
+        reads = [(*keys[i][:2], tables[i], e[rows], q[rows]) for i, rows in turn]
+        for (i, rows), read in zip(turn, _read(reads, by_overlap), strict=True):
+            s[rows], w[rows], change[rows] = read
+            source[rows[np.isfinite(read[0])]] = i
+        pending = [rows[np.isnan(s[rows])] for rows in later]
+
+
+def _read(reads, by_overlap):
+    """``(s, w, change)`` of each read ``(b, box, table, e, q)``: the designs of the
+    targets ``(e, q)`` read off the table of end state ``b`` over the restitution
+    ``box`` (``nan`` where the table has none), and the change in steps where it puts
+    them. By overlap the phases of every read in one call
+    (:func:`~impactsym.engines.drake.chebyshev_tables.phases_where`: the small reads'
+    targets in one Newton iteration, whose NumPy calls cost more than their arithmetic
+    on a few hundred)."""
+    x = [to_unit(e, box) for _, box, _, e, _ in reads]
     # the whole phase interval: beyond a narrower window the table is extrapolated
     # (the evaluation decides; where the one change holds there, it holds them)
-    ends = (to_unit(0.0, (lo, hi)), to_unit(1.0, (lo, hi)))
-    # by overlap: the phase where the table's largest overlap is the target's
-    y = phase_where(overlaps, x, q, ends) if by_overlap else to_unit(q - 0.5 - b, (lo, hi))
-    y = np.where((y >= ends[0]) & (y < ends[1]), y, np.nan)
-    s, w = evaluate(coef, x, y)
-    return s, w, b + 0.5 + from_unit(y, (lo, hi))  # (the change in steps)
+    ends = [(to_unit(0.0, window), to_unit(1.0, window)) for _, _, (window, _, _), _, _ in reads]
+    if by_overlap:  # the phase where the table's largest overlap is the target's
+        ys = phases_where([(table[2], x_i, q, ends_i) for (_, _, table, _, q), x_i, ends_i
+                           in zip(reads, x, ends, strict=True)])  # fmt: skip
+    else:
+        ys = [to_unit(q - 0.5 - b, table[0]) for b, _, table, _, q in reads]
+    out = []
+    for (b, _, (window, coef, _), _, _), x_i, (lo, hi), y in zip(reads, x, ends, ys, strict=True):
+        y = np.where((y >= lo) & (y < hi), y, np.nan)
+        out.append((*evaluate(coef, x_i, y), b + 0.5 + from_unit(y, window)))  # (change: steps)
+    return out
 
 
-def _target_slopes(b, box, table, e, q, s, w):
+def _target_slopes(keys, tables, index, e, q, s, w):
     """The Jacobians ``n x 2 x 2`` of the targets by largest overlap ``(e, q)`` in the
-    designs ``(s, w)`` read off one table: the inverse of the table's forward differences
-    of ``(s, w)`` in ``(e, q)`` (:data:`_TABLE_DIFF`, relative to the table's box and the
-    size)."""
-    de, dq = _TABLE_DIFF * (box[1] - box[0]), _TABLE_DIFF * q
-    s_e, w_e, _ = _read(b, box, table, e + de, q, True)
-    s_q, w_q, _ = _read(b, box, table, e, q + dq, True)
+    designs ``(s, w)`` read off the tables ``index``: the inverse of each table's forward
+    differences of ``(s, w)`` in ``(e, q)`` (:data:`_TABLE_DIFF`, relative to the table's
+    box and the size), every table's two reads in one phase solve (:func:`_read`)."""
+    tabled = [(i, np.flatnonzero(index == i)) for i in np.unique(index)]
+    de, dq, reads = np.empty(e.size), _TABLE_DIFF * q, []
+    for i, rows in tabled:
+        (b, box, _), table = keys[i], tables[i]
+        de[rows] = _TABLE_DIFF * (box[1] - box[0])
+        reads += [(b, box, table, e[rows] + de[rows], q[rows]),
+                  (b, box, table, e[rows], q[rows] + dq[rows])]  # fmt: skip
+    s_e, w_e, s_q, w_q = (np.empty(e.size) for _ in range(4))
+    read = _read(reads, True)
+    for k, (_, rows) in enumerate(tabled):
+        (s_e[rows], w_e[rows], _), (s_q[rows], w_q[rows], _) = read[2 * k : 2 * k + 2]
     ds_de, ds_dq = (s_e - s) / de, (s_q - s) / dq
     dw_de, dw_dq = (w_e - w) / de, (w_q - w) / dq
     with np.errstate(all="ignore"):  # (the 2 x 2 inverse; nan where a read failed)
