@@ -267,11 +267,9 @@ def ended_at(
     Where ``status < 1`` the fields of ``ends`` are those states' numbers, not the
     contact's.
     """
-    k, d, m, g, v, h, phase = (
-        a.ravel()
-        for a in np.broadcast_arrays(*(np.asarray(a, float) for a in (k, d, m, g, v, h, phase)))
-    )
-    step = np.broadcast_to(np.asarray(step, np.int64), k.shape).ravel()
+    arrays = (*(np.asarray(a, float) for a in (k, d, m, g, v, h, phase)), np.asarray(step))
+    k, d, m, g, v, h, phase, step = (a.ravel() for a in np.broadcast_arrays(*arrays))
+    step = step.astype(np.int64)
     n = k.size
     x, u, valid, x_max = np.empty(n), np.empty(n), np.ones(n, bool), np.empty(n)
     ends, leaves = np.empty(n, bool), np.empty(n, bool)
