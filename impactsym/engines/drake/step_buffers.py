@@ -27,7 +27,9 @@ __all__ = [
 ]
 
 
-def update_constants(k, d, m, g, v, h, n):
+def update_constants(
+    k: np.ndarray, d: np.ndarray, m: np.ndarray, g: np.ndarray, v: np.ndarray, h: np.ndarray, n: int
+) -> tuple[tuple[np.ndarray, ...], bool]:
     """``(consts, scaled)``: the per-contact constants of the update of ``n`` contacts
     (that of the step loops), 0-d where their inputs are (``m``, ``g``, ``v``, ``h`` of
     a call, mostly: :func:`uniform`; the same operations, reading one stream less,
@@ -50,7 +52,7 @@ def update_constants(k, d, m, g, v, h, n):
     return consts, scaled
 
 
-def may_turn(consts, scaled):
+def may_turn(consts: tuple[np.ndarray, ...], scaled: bool) -> bool:
     """Whether a contact may turn back inwards (``u < 0 < u'``) at a state whose update
     carries an impulse above the floor: not where ``h g <= 0``, the floor ``>= 0`` and
     ``m > 0`` for all, as then ``u' < u* <= u`` there (rounding is monotone); the
@@ -59,7 +61,7 @@ def may_turn(consts, scaled):
     return not (np.all(hg <= 0.0) and np.all(floor >= 0.0) and np.all(m > 0.0))
 
 
-def impulse_bound(m, v):
+def impulse_bound(m: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, bool]:
     """``(floor, scaled)``: the impulse floor ``1e-12 m v`` (``scaled``) or, where exact
     for every contact, the largest ``T`` whose product ``m T`` (rounded) is at most it:
     then ``u* - u' <= T`` exactly where the impulse ``m (u* - u')`` is at most the floor
@@ -81,7 +83,7 @@ def _full(a, n):
     return a if a.ndim else np.full(n, a)
 
 
-def uniform(a):
+def uniform(a: np.ndarray) -> np.ndarray:
     """``a``, or its one value as a 0-d array where every element has the same bits."""
     if a.ndim == 0 or a.size == 0:
         return a
@@ -89,7 +91,9 @@ def uniform(a):
     return a[:1].reshape(()) if (bits == bits[0]).all() else a
 
 
-def constant_rows(consts, rows):
+def constant_rows(
+    consts: tuple[np.ndarray, ...], rows: np.ndarray | slice
+) -> tuple[np.ndarray, ...]:
     """The constants of the contacts ``rows`` (an index array or a slice); the zeros
     their first ones."""
     take = isinstance(rows, np.ndarray)
@@ -98,7 +102,7 @@ def constant_rows(consts, rows):
     return (*rest, zero)
 
 
-def new_buffers(n):
+def new_buffers(n: int) -> tuple:
     """``(work, spare, masks, states)``: the buffers of the step loops' update (``u*``,
     three temporaries, two masks), one for the next velocity, three masks and two states, of
     ``n`` contacts, allocated once a call (a new array of a block's size each operation
@@ -108,7 +112,7 @@ def new_buffers(n):
     return work, np.empty(n), masks, (np.empty(n), np.empty(n))
 
 
-def buffer_views(buffers, n):
+def buffer_views(buffers: tuple, n: int) -> tuple:
     """The buffers of :func:`new_buffers`, their first ``n`` elements."""
     work, spare, masks, states = buffers
     work, masks, states = (tuple(a[:n] for a in group) for group in (work, masks, states))
