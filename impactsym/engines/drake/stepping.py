@@ -387,8 +387,9 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid, *, buffers, ended=None):
     live = live[np.argsort(step[live])]  # (any order among equal steps: they are apart)
     with np.errstate(all="ignore"):
         rows = (uniform(a) for a in (k, d, m, g, v, h))
-        consts, scaled = update_constants(*(a if a.ndim == 0 else a.take(live) for a in rows),
-                                    live.size)  # fmt: skip
+        consts, scaled = update_constants(
+            *(a if a.ndim == 0 else a.take(live) for a in rows), live.size
+        )
         work, spare, (one, two, _), (xl, ul) = buffer_views(buffers, live.size)
         x.take(live, out=xl, mode="clip")  # (into the buffers: no new pages)
         u.take(live, out=ul, mode="clip")
