@@ -221,7 +221,7 @@ def end_margin(
 
 
 def end_state(
-    k: Any, d: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, step: Any
+    k: Any, d: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, step: Any, *, ends: bool = False
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
     """The state ``step`` (0 the first detecting state) of a
     ``"tamsi"``/``"similar"``/``"lagged"`` contact at touch phase ``phase``, stepped by
@@ -231,7 +231,9 @@ def end_state(
 
     Returns ``(x, u, valid, flat)`` (flat arrays): the penetration and approach rate of
     that state, whether no state before it ended (no contact, or no impulse above the
-    floor) or turned back, and the flat broadcast ``(k, d, m, g, v, h)``.
+    floor) or turned back, and the flat broadcast ``(k, d, m, g, v, h)``. ``ends``: and
+    ``valid`` only where that state ends too (:func:`contact_ends`' end test there, that
+    of :func:`margin_at`; one update more per state).
     """
     k, d, m, g, v, h, phase = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (k, d, m, g, v, h, phase))
@@ -239,12 +241,15 @@ def end_state(
     k, d, m, g, v, h, phase = (a.ravel() for a in (k, d, m, g, v, h, phase))
     step = np.broadcast_to(np.asarray(step, np.int64), k.shape).ravel()
     x, u, valid = np.empty(k.size), np.empty(k.size), np.ones(k.size, bool)
+    end = np.empty(k.size, bool) if ends else None
     buffers = new_buffers(min(k.size, _BLOCK))
     for lo in range(0, k.size, _BLOCK):  # blocks that stay in the cache while stepped
         block = slice(lo, min(lo + _BLOCK, k.size))
         _, x[block], u[block] = _touch(v[block], g[block], h[block], phase[block])
         rows = (a[block] for a in (k, d, m, g, v, h, x, u, step, valid))
-        _margin_states(*rows, buffers=buffers)
+        _margin_states(*rows, buffers=buffers, ended=None if end is None else (end[block],))
+    if ends:
+        valid &= end
     return x, u, valid, (k, d, m, g, v, h)
 
 
@@ -278,7 +283,7 @@ def ended_at(
         b = slice(lo, min(lo + _BLOCK, n))
         _, x[b], u[b] = _touch(v[b], g[b], h[b], phase[b])
         rows = (a[b] for a in (k, d, m, g, v, h, x, u, step, valid))
-        _margin_states(*rows, buffers=buffers, ended=(x_max[b], ends[b], leaves[b]))
+        _margin_states(*rows, buffers=buffers, ended=(ends[b], x_max[b], leaves[b]))
     status = np.where(valid & ends, np.where(leaves, 1, 0), -1).astype(np.int8)
     out = ContactEnds(-u / v, phase * h + step * h, np.zeros(n, bool), x_max, x)
     return out, status
@@ -379,10 +384,12 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid, *, buffers, ended=None):
     in the order of their ``step``, so that those reaching it are the first ones: cut
     off at once (slices), not stepped on until gathered. ``buffers``:
     :func:`~impactsym.engines.drake.step_buffers.new_buffers`.
-    ``ended`` (:func:`ended_at`): ``(x_max, ends, leaves)`` views, filled with the
-    largest penetration before the state, its end test (:func:`contact_ends`') and
-    whether it or the next state is out of the overlap: one update more per contact."""
+    ``ended``: ``(ends,)`` (:func:`end_state`) or ``(ends, x_max, leaves)``
+    (:func:`ended_at`) views, filled with the state's end test (:func:`contact_ends`'),
+    the largest penetration before it and whether it or the next state is out of the
+    overlap: one update more per contact."""
     more = ended is not None
+    peaks = more and len(ended) > 1
     live = np.flatnonzero(step > 0) if not more else np.arange(step.size)
     live = live[np.argsort(step[live])]  # (any order among equal steps: they are apart)
     with np.errstate(all="ignore"):
@@ -394,7 +401,7 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid, *, buffers, ended=None):
         x.take(live, out=xl, mode="clip")  # (into the buffers: no new pages)
         u.take(live, out=ul, mode="clip")
         bad = np.zeros(live.size, bool)  # a state so far ended or turned back
-        deepest = np.zeros(live.size) if more else None  # the largest x so far, and 0
+        deepest = np.zeros(live.size) if peaks else None  # the largest x so far, and 0
         turns = may_turn(consts, scaled)
         arrivals = np.bincount(step.take(live) + more)  # how many reach it at each count
         for count in range(1, arrivals.size):
@@ -403,11 +410,13 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid, *, buffers, ended=None):
             if scaled:
                 impulse *= consts[1]
             n = arrivals[count]
-            if more:
-                if n:  # the state (count - 1), its end test and the largest x before it
-                    i, floor = live[:n], consts[8] if consts[8].ndim == 0 else consts[8][:n]
-                    x[i], u[i], valid[i], ended[0][i] = xl[:n], ul[:n], ~bad[:n], deepest[:n]
-                    ended[1][i] = ~(impulse[:n] > floor) | (xl[:n] < 0.0)  # (nan: ends)
+            if more and n:  # the state (count - 1), its end test (and the largest x before)
+                i, floor = live[:n], consts[8] if consts[8].ndim == 0 else consts[8][:n]
+                x[i], u[i], valid[i] = xl[:n], ul[:n], ~bad[:n]
+                ended[0][i] = ~(impulse[:n] > floor) | (xl[:n] < 0.0)  # (nan: ends)
+                if peaks:
+                    ended[1][i] = deepest[:n]
+            if peaks:
                 np.maximum(deepest, xl, out=deepest)
             bad |= np.less_equal(impulse, consts[8], out=one)  # an end state: no impulse,
             bad |= np.less(xl, _NIL, out=one)  # no contact, or turned back
@@ -419,14 +428,14 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid, *, buffers, ended=None):
             ul, spare = new, ul
             if n:  # its state, and whether a state before it ended (or its next state)
                 i = live[:n]
-                if more:
+                if peaks:
                     ended[2][i] = (x[i] < 0.0) | (xl[:n] < 0.0)
-                else:
+                elif not more:
                     x[i], u[i], valid[i] = xl[:n], ul[:n], ~bad[:n]
                 live, xl, ul, spare, bad, one, two = (
                     a[n:] for a in (live, xl, ul, spare, bad, one, two)
                 )
-                deepest = deepest[n:] if more else None
+                deepest = deepest[n:] if peaks else None
                 work = tuple(a[n:] for a in work)
                 consts = constant_rows(consts, slice(n, None))
 
