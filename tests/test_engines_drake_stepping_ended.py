@@ -132,3 +132,22 @@ def test_the_impulse_floor_as_a_bound_or_scaled_gives_the_same_verdicts(monkeypa
     np.testing.assert_array_equal(status, status_scaled)
     for a, b in zip(ends, ends_scaled, strict=True):
         np.testing.assert_array_equal(a.view(np.uint8), b.view(np.uint8))
+
+
+@pytest.mark.parametrize("g", [0.0, 9.81, 30.0])
+def test_end_state_s_end_test_is_margin_at_s(g):
+    """``end_state(..., ends=True)``: the same states, ``valid`` only where the state also
+    ends by ``margin_at``'s test (``hunt_crossley_velocity``'s impulse against the floor,
+    or out of the overlap), at states before, at and after the contacts' own end states
+    (past the end: free updates, the impulse's floor and the overlap both decide)."""
+    args, ask, _, _ = _contacts(4000, g, 1e-3, seed=6 + int(g))
+    ask = ask + np.random.default_rng(7).integers(-2, 3, ask.size)
+    ask = np.maximum(ask, 0)
+    x, u, valid, flat = stepping.end_state(*args, ask)
+    x_e, u_e, valid_e, _ = stepping.end_state(*args, ask, ends=True)
+    np.testing.assert_array_equal(x_e.view(np.uint64), x.view(np.uint64))
+    np.testing.assert_array_equal(u_e.view(np.uint64), u.view(np.uint64))
+    _, ends = stepping.margin_at(x, u, *flat)
+    np.testing.assert_array_equal(valid_e, valid & ends)
+    assert np.count_nonzero(valid & ends) > 200
+    assert np.count_nonzero(valid & ~ends) > 200
