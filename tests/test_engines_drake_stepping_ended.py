@@ -135,7 +135,7 @@ def test_the_impulse_floor_as_a_bound_or_scaled_gives_the_same_verdicts(monkeypa
 
 
 @pytest.mark.parametrize("g", [0.0, 9.81, 30.0])
-def test_end_state_s_end_test_is_margin_at_s(g):
+def test_end_state_s_end_test_is_margin_at_s_and_unchecked_its_states_are_the_same(g):
     """``end_state(..., ends=True)``: the same states, ``valid`` only where the state also
     ends by ``margin_at``'s test (``hunt_crossley_velocity``'s impulse against the floor,
     or out of the overlap), at states before, at and after the contacts' own end states
@@ -149,5 +149,10 @@ def test_end_state_s_end_test_is_margin_at_s(g):
     np.testing.assert_array_equal(u_e.view(np.uint64), u.view(np.uint64))
     _, ends = stepping.margin_at(x, u, *flat)
     np.testing.assert_array_equal(valid_e, valid & ends)
+    # unchecked (jump_means reads no validity): the same states, nothing tracked
+    x_u, u_u, valid_u, _ = stepping.end_state(*args, ask, checked=False)
+    np.testing.assert_array_equal(x_u.view(np.uint64), x.view(np.uint64))
+    np.testing.assert_array_equal(u_u.view(np.uint64), u.view(np.uint64))
+    assert valid_u.all()
     assert np.count_nonzero(valid & ends) > 200
     assert np.count_nonzero(valid & ~ends) > 200

@@ -235,10 +235,12 @@ class _Evaluation(NamedTuple):
     fixed: np.ndarray
 
 
-def _evaluate(k, d, m, g, v, h, q, nodes, *, ends=False):
+def _evaluate(k, d, m, g, v, h, q, nodes, *, summary=False):
     """The node states and the states at ``phi*`` of one evaluation (module docstring):
-    what :func:`jump_means` and :func:`jump_summary` read. ``ends``: ``valid`` only where
-    the state ends too (:func:`~impactsym.engines.drake.stepping.end_state`'s)."""
+    what :func:`jump_means` and :func:`jump_summary` read. ``summary``: ``valid`` where no
+    state before the node's ended and it ends
+    (:func:`~impactsym.engines.drake.stepping.end_state`'s ``ends``); else not tracked
+    (:func:`jump_means` reads none: its states a tenth faster)."""
     n = k.size
     base, phi = _split(q)
     phases_in, weights, step = _layout(phi, base, nodes)
@@ -250,7 +252,7 @@ def _evaluate(k, d, m, g, v, h, q, nodes, *, ends=False):
     steps = np.concatenate([step.ravel(), base, base])
     rows = np.concatenate([np.repeat(np.arange(n), width), np.tile(np.arange(n), 2)])
     x, u, valid, flat = end_state(*(a[rows] for a in (k, d, m, g, v)), h, phases, steps,
-                                  ends=ends)  # fmt: skip
+                                  ends=summary, checked=summary)  # fmt: skip
     e = -u / flat[4]
     inner = n * width
     fixed = np.einsum("ij,ij->i", weights, e[:inner].reshape(n, width))
@@ -395,7 +397,7 @@ def jump_summary(
     (:func:`last_overlap`). ``nodes``: Gauss nodes of the shorter piece (as
     :func:`jump_means`)."""
     n = k.size
-    ev = _evaluate(k, d, m, g, v, h, q, nodes, ends=True)
+    ev = _evaluate(k, d, m, g, v, h, q, nodes, summary=True)
     means = _means(ev)
     # the change's estimate; at phi* = 0 one below it means every phase ends at B
     change = np.where((ev.phi == 0.0) & (ev.offset < 0.0), 0.0, ev.phi + ev.offset)
@@ -407,7 +409,7 @@ def jump_summary(
     held &= (ev.valid & _leaves(ev) | empty).all(axis=1) & (change >= 0.0) & (change < 1.0)
     # the two sides at the change's estimate (those at phi* are off it by the design's
     # tolerance: 3e-11 in the range, under gravity)
-    x, u, _, flat = end_state(k, d, m, g, v, h, change, ev.base)
+    x, u, _, flat = end_state(k, d, m, g, v, h, change, ev.base, checked=False)
     x_before, u_before = _next_state(x, u, *flat)  # (state B + 1: one update on)
     sides = np.stack([-u_before / v, -u / v]), np.stack([x_before, x])
     held &= ~_hidden(ev, r, sides)

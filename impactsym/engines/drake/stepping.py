@@ -221,8 +221,9 @@ def end_margin(
 
 
 def end_state(
-    k: Any, d: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, step: Any, *, ends: bool = False
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
+    k: Any, d: Any, m: Any, g: Any, v: Any, h: Any, phase: Any, step: Any, *,
+    ends: bool = False, checked: bool = True,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:  # fmt: skip
     """The state ``step`` (0 the first detecting state) of a
     ``"tamsi"``/``"similar"``/``"lagged"`` contact at touch phase ``phase``, stepped by
     the update of :func:`~impactsym.engines.drake.update.hunt_crossley_velocity` whatever
@@ -233,7 +234,8 @@ def end_state(
     that state, whether no state before it ended (no contact, or no impulse above the
     floor) or turned back, and the flat broadcast ``(k, d, m, g, v, h)``. ``ends``: and
     ``valid`` only where that state ends too (:func:`contact_ends`' end test there, that
-    of :func:`margin_at`; one update more per state).
+    of :func:`margin_at`; one update more per state). ``checked=False``: ``valid`` not
+    tracked (all True; ``ends`` ignored), the same states about a tenth faster.
     """
     k, d, m, g, v, h, phase = np.broadcast_arrays(
         *(np.asarray(a, float) for a in (k, d, m, g, v, h, phase))
@@ -241,14 +243,15 @@ def end_state(
     k, d, m, g, v, h, phase = (a.ravel() for a in (k, d, m, g, v, h, phase))
     step = np.broadcast_to(np.asarray(step, np.int64), k.shape).ravel()
     x, u, valid = np.empty(k.size), np.empty(k.size), np.ones(k.size, bool)
-    end = np.empty(k.size, bool) if ends else None
+    end = np.empty(k.size, bool) if ends and checked else None
     buffers = new_buffers(min(k.size, _BLOCK))
     for lo in range(0, k.size, _BLOCK):  # blocks that stay in the cache while stepped
         block = slice(lo, min(lo + _BLOCK, k.size))
         _, x[block], u[block] = _touch(v[block], g[block], h[block], phase[block])
-        rows = (a[block] for a in (k, d, m, g, v, h, x, u, step, valid))
-        _margin_states(*rows, buffers=buffers, ended=None if end is None else (end[block],))
-    if ends:
+        rows = (a[block] for a in (k, d, m, g, v, h, x, u, step))
+        _margin_states(*rows, valid[block] if checked else None, buffers=buffers,
+                       ended=None if end is None else (end[block],))  # fmt: skip
+    if end is not None:
         valid &= end
     return x, u, valid, (k, d, m, g, v, h)
 
@@ -387,8 +390,9 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid, *, buffers, ended=None):
     ``ended``: ``(ends,)`` (:func:`end_state`) or ``(ends, x_max, leaves)``
     (:func:`ended_at`) views, filled with the state's end test (:func:`contact_ends`'),
     the largest penetration before it and whether it or the next state is out of the
-    overlap: one update more per contact."""
-    more = ended is not None
+    overlap: one update more per contact. ``valid`` ``None``: not tracked (nor the end
+    tests: the same states, about a tenth less per update)."""
+    more, checked = ended is not None, valid is not None
     peaks = more and len(ended) > 1
     live = np.flatnonzero(step > 0) if not more else np.arange(step.size)
     live = live[np.argsort(step[live])]  # (any order among equal steps: they are apart)
@@ -406,9 +410,10 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid, *, buffers, ended=None):
         arrivals = np.bincount(step.take(live) + more)  # how many reach it at each count
         for count in range(1, arrivals.size):
             impulse, new = _update(xl, ul, consts, (*work, spare), contact=False)
-            impulse -= new  # u* - new
-            if scaled:
-                impulse *= consts[1]
+            if checked:
+                impulse -= new  # u* - new
+                if scaled:
+                    impulse *= consts[1]
             n = arrivals[count]
             if more and n:  # the state (count - 1), its end test (and the largest x before)
                 i, floor = live[:n], consts[8] if consts[8].ndim == 0 else consts[8][:n]
@@ -418,9 +423,10 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid, *, buffers, ended=None):
                     ended[1][i] = deepest[:n]
             if peaks:
                 np.maximum(deepest, xl, out=deepest)
-            bad |= np.less_equal(impulse, consts[8], out=one)  # an end state: no impulse,
-            bad |= np.less(xl, _NIL, out=one)  # no contact, or turned back
-            if turns:
+            if checked:  # an end state: no impulse, no contact, or turned back
+                bad |= np.less_equal(impulse, consts[8], out=one)
+                bad |= np.less(xl, _NIL, out=one)
+            if checked and turns:
                 np.less(ul, _NIL, out=one)
                 one &= np.greater(new, _NIL, out=two)
                 bad |= one
@@ -431,7 +437,9 @@ def _margin_states(k, d, m, g, v, h, x, u, step, valid, *, buffers, ended=None):
                 if peaks:
                     ended[2][i] = (x[i] < 0.0) | (xl[:n] < 0.0)
                 elif not more:
-                    x[i], u[i], valid[i] = xl[:n], ul[:n], ~bad[:n]
+                    x[i], u[i] = xl[:n], ul[:n]
+                    if checked:
+                        valid[i] = ~bad[:n]
                 live, xl, ul, spare, bad, one, two = (
                     a[n:] for a in (live, xl, ul, spare, bad, one, two)
                 )
