@@ -78,10 +78,11 @@ gives :func:`~impactsym.engines.drake.stepping.contact_ends`' numbers bit for bi
 the contact ends there and leaves the overlap; a phase that ends there inside the
 overlap (it coasts: it may stick) or, within ``1e-9`` of the change, not there is run
 in full; one that does not end there fails the structure, as the full run would
-(:func:`_runs_hold`; measured on the 10^5 designs of the change tables by largest
-overlap under gravity: the grid 0.31 -> 0.26 s of CPU, their summaries 0.90 -> 0.84 s;
-every field and ``held`` bit for bit the same on the benchmark's four lagged cases and
-on 3.6*10^4 random contacts of 2-70 steps, about 1 % of whose runs coast).
+(:func:`_runs_hold`; on the 10^5 designs of the change tables of the benchmark's four
+lagged cases, old and new interleaved in one process: the grid 0.23-0.31 -> 0.20-0.27 s
+of CPU, with the nodes' end test in their runs (:class:`_Evaluation`) the summaries
+0.63-0.83 -> 0.57-0.77 s; every field and ``held`` bit for bit the same there and on
+3.6*10^4 random contacts of 2-70 steps, about 1 % of whose runs coast).
 
 *The summary.* :func:`jump_summary` gives the whole
 :class:`~impactsym.engines.drake.phases.PhaseSummary` of the structure from one
@@ -213,7 +214,7 @@ class _Evaluation(NamedTuple):
     (:func:`~impactsym.engines.drake.stepping.end_state`, of the same shape; for the
     summary ``valid`` where the state ends too: one update more per node, instead of
     :func:`~impactsym.engines.drake.stepping.margin_at` on each, bit for bit the same
-    verdicts; 0.027 -> ~0.01 s of CPU per 10^5 summaries), the
+    verdicts: 0.024 s of CPU per 10^5 summaries, the update about half that), the
     parameters ``flat`` of those rows, the restitution
     ``before`` (state ``B + 1``) and ``after`` (``B``) at ``phi*`` and their
     ``slopes`` in the phase there (``2 x n``, differences over :data:`_DPHASE`), the
