@@ -249,9 +249,9 @@ def test_designs_of_short_contacts_by_largest_overlap_step_no_far_states(monkeyp
     deepest = [0]
     states = jump_means_module.end_state
 
-    def spy(*args):
+    def spy(*args, **options):
         deepest[0] = max(deepest[0], int(np.max(args[-1])))
-        return states(*args)
+        return states(*args, **options)
 
     monkeypatch.setattr(jump_means_module, "end_state", spy)
     e, x = p.restitution[keep], p.max_penetration[keep]

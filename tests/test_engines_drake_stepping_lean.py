@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from impactsym.contact.lawtable import chebyshev_points
-from impactsym.engines.drake import change_table, stepping
+from impactsym.engines.drake import change_table, step_buffers, stepping
 from impactsym.engines.drake.chebyshev_tables import fit
 from impactsym.engines.drake.phases import GRID_PHASES
 from impactsym.engines.drake.settling import stuck_early
@@ -140,10 +140,10 @@ def test_one_member_per_call_is_the_frozen_loop_bit_for_bit(g, scaled, monkeypat
     """``m``, ``g``, ``v``, ``h`` the same for every contact (a call's member; then their
     constants are 0-d arrays) and a first block of undamped contacts (its damping terms
     0-d too): the same numbers. ``scaled``: with the impulses' floor where the floor of
-    ``u* - u'`` is not exact (``stepping._floor``)."""
+    ``u* - u'`` is not exact (``step_buffers.impulse_bound``)."""
     monkeypatch.setattr(stepping, "_BLOCK", 1500)
     if scaled:
-        monkeypatch.setattr(stepping, "_floor", lambda m, v: (_ZERO * m * v, True))
+        monkeypatch.setattr(step_buffers, "impulse_bound", lambda m, v: (_ZERO * m * v, True))
     k, d, _, _, _, _, p, steps = _designs(6000, 11)
     m, v, h = 0.1, 0.5, 1e-3
     k = m * (np.pi / (steps * h)) ** 2
@@ -162,14 +162,14 @@ def test_one_member_per_call_is_the_frozen_loop_bit_for_bit(g, scaled, monkeypat
 
 
 def test_the_floor_of_u_star_less_u_is_that_of_the_impulse():
-    """``stepping._floor``: ``u* - u' <= T`` exactly where ``m (u* - u') <= 1e-12 m v``
+    """``step_buffers.impulse_bound``: ``u* - u' <= T`` exactly where ``m (u* - u') <= 1e-12 m v``
     (rounded), checked by the products at and around ``T`` (to 3 floats either side),
     at random differences, zeros, infinities and nan; where ``T`` is not exact for
     every contact, the floor itself, to be compared with the products."""
     rng = np.random.default_rng(14)
     m = np.concatenate([rng.uniform(0.05, 2.0, 3000), 10 ** rng.uniform(-200, 200, 1000)])
     v = 10 ** rng.uniform(-3.0, 3.0, m.size)
-    t, scaled = stepping._floor(m, v)
+    t, scaled = step_buffers.impulse_bound(m, v)
     assert not scaled
     floor = _ZERO * m * v
     near = [t]
@@ -184,8 +184,8 @@ def test_the_floor_of_u_star_less_u_is_that_of_the_impulse():
     # search: the floor itself, for every contact (m = 0.3: 1 up, found)
     m, v = np.array([0.3, 0.1, 1.0]), np.array([0.0, 0.0, 1.0])
     with np.errstate(all="ignore"):
-        assert stepping._floor(m[::2], v[::2])[1:] == (False,)
-        t, scaled = stepping._floor(m, v)
+        assert step_buffers.impulse_bound(m[::2], v[::2])[1:] == (False,)
+        t, scaled = step_buffers.impulse_bound(m, v)
     assert scaled
     np.testing.assert_array_equal(t, _ZERO * m * v)
 

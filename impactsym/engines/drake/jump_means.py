@@ -69,10 +69,20 @@ before the first force, and over 12000 random contacts, steps ``1e-3`` and ``1e-
 gravity 0 to ``50`` m/s^2, no other sample was deeper).
 
 The structure is an assumption until checked: :func:`jump_holds` runs the full contact
-(:func:`~impactsym.engines.drake.stepping.contact_ends`) at the phase grid of
-:func:`~impactsym.engines.drake.phases.phase_summary` and at the nodes next to
-:math:`\varphi^*`, and confirms the end states ``B + 1`` before it and ``B`` after,
-nothing sticking.
+at the phase grid of :func:`~impactsym.engines.drake.phases.phase_summary` and at the
+nodes next to :math:`\varphi^*`, and confirms the end states ``B + 1`` before it and
+``B`` after, nothing sticking. Those end states known, each phase is run to its state
+and one update on (:func:`~impactsym.engines.drake.stepping.ended_at`: the loop of
+:func:`~impactsym.engines.drake.stepping.end_state` and the largest overlap), which
+gives :func:`~impactsym.engines.drake.stepping.contact_ends`' numbers bit for bit where
+the contact ends there and leaves the overlap; a phase that ends there inside the
+overlap (it coasts: it may stick) or, within ``1e-9`` of the change, not there is run
+in full; one that does not end there fails the structure, as the full run would
+(:func:`_runs_hold`; on the 10^5 designs of the change tables of the benchmark's four
+lagged cases, old and new interleaved in one process: the grid 0.23-0.31 -> 0.20-0.27 s
+of CPU, with the nodes' end test in their runs (:class:`_Evaluation`) the summaries
+0.63-0.83 -> 0.57-0.77 s; every field and ``held`` bit for bit the same there and on
+3.6*10^4 random contacts of 2-70 steps, about 1 % of whose runs coast).
 
 *The summary.* :func:`jump_summary` gives the whole
 :class:`~impactsym.engines.drake.phases.PhaseSummary` of the structure from one
@@ -92,7 +102,7 @@ at :math:`\hat\varphi_j`, one more run and an update: those at :math:`\varphi^*`
 off the change by the design's tolerance, which moved a design's range by ``3e-11``
 under gravity; the grid) and, where a sample between two others of its piece is
 extreme, the search of :func:`~impactsym.engines.drake.extremes.interior_extreme` there:
-:data:`_STEPS` steps of successive parabolic interpolation from the samples
+six steps of successive parabolic interpolation from the samples
 themselves, which lie at most 0.125 of a phase apart with the grid (figures of three
 panels of 5 nodes; one panel a piece moved no bound by ``2e-15`` over 4*10^5 designs
 of the benchmark but the one below; two zoom rounds first, as
@@ -119,7 +129,8 @@ restitution's range to ``1e-15`` since both search next to their pieces' ends to
 true one, an extreme about ``2e-5`` of a phase before the change can come out ``4e-13``
 short, found by review). An extreme within ``~1e-5`` of a phase of a side of the change
 is searched where the restitution's one-sided slope there, from the states of the
-change's equations, says it lies inside (:func:`_beside`): the quadratic through the
+change's equations, says it lies inside
+(:mod:`~impactsym.engines.drake.jump_range`): the quadratic through the
 three samples can put it just outside, ``4e-12`` short (one of 4*10^5 designs of the
 benchmark under gravity with the 12-node rule; with the 15-node rule none of them,
 luck: its samples put the vertex ``2e-6`` inside). Over those 4*10^5 designs and
@@ -138,13 +149,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from impactsym.engines.drake.extremes import interior_extreme
+from impactsym.engines.drake.jump_range import restitution_range
 from impactsym.engines.drake.phases import GRID_PHASES, PhaseSummary, hidden_changes
 from impactsym.engines.drake.stepping import (
     ContactEnds,
     contact_ends,
     end_state,
     end_steps,
+    ended_at,
     margin_at,
 )
 from impactsym.engines.drake.update import hunt_crossley_velocity
@@ -155,10 +167,7 @@ __all__ = ["JumpMeans", "jump_holds", "jump_means", "jump_summary", "last_overla
 _NODES = 10  # Gauss-Legendre nodes of the shorter piece (the longer: 2 more)
 _DPHASE = 2.0**-20  # the difference in the phase for the slopes at phi* (margin, sides)
 _CLEAR = 1e-9  # grid phases this close to the change are not checked (the nodes are)
-_STEPS = 6  # parabolic steps of an interior extreme's search from the samples (docstring)
-_BLOCK = 16_384  # node states tested together (:func:`_node_ends`)
-_ROWS = 4096  # contacts whose samples are sorted together (:func:`_extremes`)
-_APART = 1e-7  # phases closer than this are one place for the range's search (_extremes)
+_ROWS = 4096  # contacts whose samples are tested together (:func:`_hidden`)
 
 
 class JumpMeans(NamedTuple):
@@ -202,7 +211,10 @@ class _Evaluation(NamedTuple):
     ``base`` (``B``), ``phi`` (``phi*``), the node ``phases`` and their ``weights``
     (``n x (2 nodes + 2)``, in phase order: :func:`_layout`), the nodes' restitution
     ``e`` and end states ``x``, ``u``, ``valid``
-    (:func:`~impactsym.engines.drake.stepping.end_state`, of the same shape), the
+    (:func:`~impactsym.engines.drake.stepping.end_state`, of the same shape; for the
+    summary ``valid`` where the state ends too: one update more per node, instead of
+    :func:`~impactsym.engines.drake.stepping.margin_at` on each, bit for bit the same
+    verdicts: 0.024 s of CPU per 10^5 summaries, the update about half that), the
     parameters ``flat`` of those rows, the restitution
     ``before`` (state ``B + 1``) and ``after`` (``B``) at ``phi*`` and their
     ``slopes`` in the phase there (``2 x n``, differences over :data:`_DPHASE`), the
@@ -224,9 +236,12 @@ class _Evaluation(NamedTuple):
     fixed: np.ndarray
 
 
-def _evaluate(k, d, m, g, v, h, q, nodes):
+def _evaluate(k, d, m, g, v, h, q, nodes, *, summary=False):
     """The node states and the states at ``phi*`` of one evaluation (module docstring):
-    what :func:`jump_means` and :func:`jump_summary` read."""
+    what :func:`jump_means` and :func:`jump_summary` read. ``summary``: ``valid`` where no
+    state before the node's ended and it ends
+    (:func:`~impactsym.engines.drake.stepping.end_state`'s ``ends``); else not tracked
+    (:func:`jump_means` reads none: its states a tenth faster)."""
     n = k.size
     base, phi = _split(q)
     phases_in, weights, step = _layout(phi, base, nodes)
@@ -237,7 +252,8 @@ def _evaluate(k, d, m, g, v, h, q, nodes):
     phases = np.concatenate([phases_in.ravel(), phi, phi + toward])
     steps = np.concatenate([step.ravel(), base, base])
     rows = np.concatenate([np.repeat(np.arange(n), width), np.tile(np.arange(n), 2)])
-    x, u, valid, flat = end_state(*(a[rows] for a in (k, d, m, g, v)), h, phases, steps)
+    x, u, valid, flat = end_state(*(a[rows] for a in (k, d, m, g, v)), h, phases, steps,
+                                  ends=summary, checked=summary)  # fmt: skip
     e = -u / flat[4]
     inner = n * width
     fixed = np.einsum("ij,ij->i", weights, e[:inner].reshape(n, width))
@@ -298,15 +314,26 @@ def last_overlap(
 
 
 def _runs_hold(k, d, m, g, v, h, base, phi, phases, check):
-    """The full contacts at ``phases`` (``n x p``; :func:`contact_ends`, records
+    """The full contacts at ``phases`` (``n x p``; :func:`contact_ends`' numbers, records
     ``n x p``) and where their end states are ``B + 1`` before ``phi*`` and ``B`` after
-    wherever ``check``, none sticking."""
+    wherever ``check``, none sticking. Each is run to that state and one update on
+    (:func:`~impactsym.engines.drake.stepping.ended_at`, the same numbers where it ends
+    there and leaves the overlap); the full contact only where it ends there inside the
+    overlap (it coasts) or, unchecked, elsewhere; a checked one that does not end there
+    does not hold."""
+    want = np.where(phases < phi[:, None], base[:, None] + 1, base[:, None])
     rows = np.repeat(np.arange(k.size), phases.shape[1])
-    r = contact_ends(*(a[rows] for a in (k, d, m, g, v)), h, phases.ravel())
+    r, status = ended_at(*(a[rows] for a in (k, d, m, g, v)), h, phases.ravel(), want.ravel())
+    full = np.flatnonzero((status == 0) | (status < 0) & ~check.ravel())
+    if full.size:
+        ends = contact_ends(*(a[rows[full]] for a in (k, d, m, g, v)), h, phases.ravel()[full])
+        for a, b in zip(r, ends, strict=True):
+            a[full] = b
     r = ContactEnds(*(a.reshape(phases.shape) for a in r))
     ends = end_steps(r.contact_time, r.sticks, h, phases)
-    want = np.where(phases < phi[:, None], base[:, None] + 1, base[:, None])
-    return r, ((ends == want) | ~check).all(axis=1) & ~r.sticks.any(axis=1)
+    fails = (status.reshape(phases.shape) < 0) & check
+    held = ((ends == want) | ~check).all(axis=1) & ~r.sticks.any(axis=1) & ~fails.any(axis=1)
+    return r, held
 
 
 def _grid_checked(phi):
@@ -371,42 +398,37 @@ def jump_summary(
     (:func:`last_overlap`). ``nodes``: Gauss nodes of the shorter piece (as
     :func:`jump_means`)."""
     n = k.size
-    ev = _evaluate(k, d, m, g, v, h, q, nodes)
+    ev = _evaluate(k, d, m, g, v, h, q, nodes, summary=True)
     means = _means(ev)
     # the change's estimate; at phi* = 0 one below it means every phase ends at B
     change = np.where((ev.phi == 0.0) & (ev.offset < 0.0), 0.0, ev.phi + ev.offset)
+    # (a flat margin's infinite estimate, not held, as nan: its runs and samples quiet)
+    change[~np.isfinite(change)] = np.nan
     grid = np.tile(GRID_PHASES, (n, 1))
     r, held = _runs_hold(k, d, m, g, v, h, ev.base, ev.phi, grid, _grid_checked(ev.phi))
     empty = ev.weights == 0.0  # (the nodes of an empty first piece, at phi* = 0)
-    held &= (ev.valid & _node_ends(ev) | empty).all(axis=1) & (change >= 0.0) & (change < 1.0)
+    held &= (ev.valid & _leaves(ev) | empty).all(axis=1) & (change >= 0.0) & (change < 1.0)
     # the two sides at the change's estimate (those at phi* are off it by the design's
     # tolerance: 3e-11 in the range, under gravity)
-    x, u, _, flat = end_state(k, d, m, g, v, h, change, ev.base)
+    x, u, _, flat = end_state(k, d, m, g, v, h, change, ev.base, checked=False)
     x_before, u_before = _next_state(x, u, *flat)  # (state B + 1: one update on)
     sides = np.stack([-u_before / v, -u / v]), np.stack([x_before, x])
     held &= ~_hidden(ev, r, sides)
     depth = r.max_penetration.max(axis=1)
     if deepest_last:
         held &= depth <= r.max_penetration[:, -1]
-    e_lo, e_hi = _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change)
+    e_lo, e_hi = restitution_range(k, d, m, g, v, h, ev, r, held, sides, change)
     fields = (means.restitution, (ev.base + 0.5 + change) * h, e_lo, e_hi, (ev.base + change) * h,
               (ev.base + 1 + change) * h, depth, np.zeros(n))  # fmt: skip
     return PhaseSummary(*(np.where(held, f, np.nan) for f in fields)), held
 
 
-def _node_ends(ev):
-    """Where each node's state ends (:func:`~impactsym.engines.drake.stepping.margin_at`)
-    and the body is out of the overlap at the next update (it cannot coast and stick),
-    ``n x nodes``: in blocks of :data:`_BLOCK` states, whose temporaries stay in the
-    cache (all at once: 0.2 s of CPU per 10^5 contacts of 15 nodes, 0.035 s in
-    blocks)."""
-    x, u, flat = ev.x.ravel(), ev.u.ravel(), [a.ravel() for a in ev.flat]
-    ends = np.empty(x.size, bool)
-    for lo in range(0, x.size, _BLOCK):
-        block = slice(lo, lo + _BLOCK)
-        _, ends[block] = margin_at(x[block], u[block], *(a[block] for a in flat))
-    ends &= x + flat[5] * (u + flat[5] * flat[3]) < 0.0  # the next update's position
-    return ends.reshape(ev.x.shape)
+def _leaves(ev):
+    """Where the body is out of the overlap at the update after each node's state (a free
+    update: where the state ends, which ``ev.valid`` says, it cannot coast and stick),
+    ``n x nodes``."""
+    x, u, h, g = ev.x, ev.u, ev.flat[5], ev.flat[3]
+    return x + h * (u + h * g) < 0.0  # the next update's position
 
 
 def _hidden(ev, r, sides):
@@ -448,149 +470,3 @@ def _hidden_in(ev, r, sides, i, cut, positions, params):
         e, x = (np.ascontiguousarray(np.concatenate(a, axis=1).T) for a in (e, x))
         flag |= hidden_changes(e, x, *params, positions=positions[width]) & used
     return flag
-
-
-def _restitution_range(k, d, m, g, v, h, ev, r, held, sides, change):
-    """The least and largest restitution over every sample of the held contacts (the
-    nodes, both sides at the change's estimate ``change``, the grid) and inside the
-    pieces where a sample between two of the same piece is extreme, or one at an end of
-    a piece (of the phase interval, or a side of the change) is and the samples next to
-    it say the extreme lies just inside
-    (:func:`~impactsym.engines.drake.extremes.interior_extreme`, from those samples: they
-    lie 0.125 of a phase apart at most, :data:`_STEPS` parabolic steps reach the extreme
-    there), or next to a side where its slope says so (:func:`_beside`)."""
-    n = ev.phi.size
-    extreme, at, place, count, win_p, win_e = _extremes(ev, r, sides, change)
-
-    def run(i, phases):
-        return contact_ends(*(a[i] for a in (k, d, m, g, v)), h, phases)
-
-    bounds = []
-    for s, sign in enumerate((-1.0, 1.0)):
-        inner = np.full(n, np.nan)
-        # a node or grid sample: interior_extreme reads its neighbours, or at an end of
-        # the interval the next two, and searches where the samples say the extreme lies
-        # just inside (5e-7 short with three panels of 5 nodes before); at a side of the
-        # change: that piece's last (or first) three samples, the extreme may lie just
-        # inside it (4.8e-7 short before, under gravity)
-        for side, window in ((1, None), (0, np.arange(-2, 1)), (2, np.arange(3))):
-            i = np.flatnonzero(held & (at[s] == side))
-            if window is None:
-                pts, e = win_p[s, i], win_e[s, i]
-            else:  # (where the piece has three; their places among the five)
-                j = place[s, i]
-                i, j = (a[(j + window[0] >= 0) & (j + window[-1] < count[i])] for a in (i, j))
-                cols = (j - np.clip(j - 2, 0, count[i] - 5))[:, None] + window
-                pts, e = (np.take_along_axis(a[s, i], cols, axis=1) for a in (win_p, win_e))
-            if i.size:
-                inner[i] = interior_extreme(run, i, pts, e, sign, rounds=0, steps=_STEPS)
-            if i.size and window is not None:
-                inner[i] = _beside(run, i, pts, e, sign, inner[i], ev.slopes[side // 2, i], side)
-        bounds.append(sign * np.fmax(sign * extreme[s], sign * inner))
-    return bounds
-
-
-def _beside(run, i, pts, e, sign, found, slope, side):
-    """``found`` (the searches' extremes of the contacts ``i`` whose extreme sample is a
-    side of the change: the ``side`` before it, 0, last of the three ``pts``, or after
-    it, 2, first), and where none was searched but the restitution's one-sided slope at
-    the change (``slope``, :class:`_Evaluation`'s) says it goes on towards the extreme
-    inside the piece: one run at the vertex of the quadratic through the side's value,
-    that slope and the piece's next sample (or their middle), and the search from
-    those three. The quadratic through the three samples alone can put an extreme
-    that lies within ``~1e-5`` of a phase of the side just outside: ``4e-12`` short
-    (a design of the change tables under gravity, :func:`interior_extreme`'s test of
-    an end; its slope at the side ``2e-7`` per phase)."""
-    end, near, inward = (-1, -2, -1.0) if side == 0 else (0, 1, 1.0)
-    j = np.flatnonzero(np.isnan(found) & (sign * inward * slope > 0.0))
-    if j.size == 0:
-        return found
-    p0, f0, p1, f1, s0 = pts[j, end], e[j, end], pts[j, near], e[j, near], slope[j]
-    with np.errstate(all="ignore"):
-        at = p0 - 0.5 * s0 * (p1 - p0) ** 2 / (f1 - f0 - s0 * (p1 - p0))
-    at = np.where((at - p0) * (at - p1) < 0.0, at, 0.5 * (p0 + p1))  # (strictly between)
-    e_at = run(i[j], at).restitution
-    three = [p1, at, p0] if side == 0 else [p0, at, p1]
-    values = [f1, e_at, f0] if side == 0 else [f0, e_at, f1]
-    searched = interior_extreme(run, i[j], np.column_stack(three), np.column_stack(values), sign,
-                                rounds=0, steps=_STEPS)  # fmt: skip
-    out = found.copy()
-    out[j] = sign * np.fmax(sign * e_at, sign * searched)
-    return out
-
-
-def _extremes(ev, r, sides, change):
-    """Per sign (least, largest) and contact, over the samples of
-    :func:`_restitution_range`: the extreme restitution, whether the sample nearest it
-    among those apart (below) is the side of the change before it (0), after it (2) or
-    another sample (1), that sample's place in phase order among them, their count, and
-    the phases and restitutions of the five around it (from two before to two after it,
-    within the samples). Samples within :data:`_APART` of the next in phase are not
-    apart: of such a pair the one that is not a side of the change is left out (a Gauss
-    node or grid phase on another, at ``phi*`` near ``k/8``; the empty piece's side at
-    ``phi* = 0``): the search around the extreme needs its neighbours apart (two
-    samples 1e-12 apart made it search one side only, up to 1e-5 short; review).
-    Blocks of :data:`_ROWS` contacts (their temporaries stay in the cache: the samples
-    of all at once cost up to 0.15 s of CPU per 10^5 contacts to sort and gather)."""
-    n, width = ev.phi.size, ev.phases.shape[1] + GRID_PHASES.size + 2
-    extreme, at, place = np.empty((2, n)), np.empty((2, n), np.int8), np.empty((2, n), np.intp)
-    count = np.empty(n, np.intp)
-    win_p, win_e = np.empty((2, n, 5)), np.empty((2, n, 5))
-    for lo in range(0, n, _ROWS):
-        b = slice(lo, min(lo + _ROWS, n))
-        rows = width * np.arange(b.stop - lo)
-        # (an empty first piece, at phi* = 0, has no samples: its places take the other's)
-        after = sides[0][1, b]
-        before = np.where(ev.phi[b] > 0.0, sides[0][0, b], after)
-        nodes = np.where(ev.weights[b] > 0.0, ev.e[b], before[:, None])
-        # the samples in phase order, the change's sides apart: the side before it first
-        # and the side after it last among the samples at its phase (a stable sort)
-        e = np.concatenate([before[:, None], nodes, r.restitution[b], after[:, None]], axis=1)
-        grid = np.broadcast_to(GRID_PHASES, (rows.size, GRID_PHASES.size))
-        p = np.concatenate([change[b, None], ev.phases[b], grid, change[b, None]], axis=1)
-        order = np.argsort(p, axis=1, kind="stable")
-        side = (order == 0) | (order == width - 1)
-        order += rows[:, None]  # (flat indices)
-        e, p = e.ravel(), p.ravel()
-        e_sorted, p_sorted = e.take(order), p.take(order)
-        kept = _apart(p_sorted, side, ev.phi[b] == 0.0)
-        m = np.count_nonzero(kept, axis=1)
-        count[b] = m
-        kept_order, near = order, None
-        if not kept.all():  # each sample's nearest kept one: itself, the next or the last
-            rank = np.cumsum(kept, axis=1) - 1  # (the place of the last kept at or before)
-            nxt = np.minimum(rank + ~kept, m[:, None] - 1)
-            prev = np.maximum(rank, 0)
-            kept_order = np.take_along_axis(order, np.argsort(~kept, axis=1, kind="stable"),
-                                            axis=1)  # fmt: skip
-            kept_p = p.take(kept_order)
-            near = np.where(np.abs(np.take_along_axis(kept_p, nxt, axis=1) - p_sorted)
-                            <= np.abs(np.take_along_axis(kept_p, prev, axis=1) - p_sorted),
-                            nxt, prev).ravel()  # fmt: skip
-        for s in range(2):
-            j = np.argmin(e_sorted, axis=1) if s == 0 else np.argmax(e_sorted, axis=1)
-            extreme[s, b] = e_sorted.ravel().take(j + rows)
-            k = j if near is None else near.take(j + rows)
-            col = kept_order.ravel().take(k + rows) - rows
-            at[s, b] = np.where(col == 0, 0, np.where(col == width - 1, 2, 1))
-            place[s, b] = k
-            five = kept_order.ravel().take((np.clip(k - 2, 0, m - 5) + rows)[:, None]
-                                           + np.arange(5))  # fmt: skip
-            win_p[s, b], win_e[s, b] = p.take(five), e.take(five)
-    return extreme, at, place, count, win_p, win_e
-
-
-def _apart(p, side, empty):
-    """Which of the samples (rows in phase order ``p``; ``side``: the change's sides) are
-    kept apart: of two within :data:`_APART` in phase, the one that is not a side (the
-    first where neither is; the sides themselves, at one phase, both); and not the side
-    before the change where its piece is ``empty`` (at ``phi* = 0``: its place is the
-    other's)."""
-    close = p[:, 1:] - p[:, :-1] <= _APART
-    left, right = side[:, :-1], side[:, 1:]
-    drop = np.zeros(p.shape, bool)
-    drop[:, :-1] = close & ~left
-    drop[:, 1:] |= close & left & ~right
-    if empty.any():  # (the first side in phase order is the one before the change)
-        drop |= side & empty[:, None] & (np.cumsum(side, axis=1) == 1)
-    return ~drop

@@ -117,7 +117,9 @@ def _side(k, d, m, g, v, h, phase, state):
     toward = np.where(phase >= _DPHASE, -_DPHASE, _DPHASE)
     both = np.concatenate([phase, phase + toward])
     steps = np.concatenate([state, state])
-    x, u, _, flat = end_state(*(np.tile(a, 2) for a in (k, d, m, g, v)), h, both, steps)
+    x, u, _, flat = end_state(
+        *(np.tile(a, 2) for a in (k, d, m, g, v)), h, both, steps, checked=False
+    )
     margin, _ = margin_at(x, u, *flat)
     n = phase.size
     mu, mu_next = margin[:n], margin[n:]
@@ -153,7 +155,9 @@ def two_change_means(
     width = phases.shape[1]
     rows = np.repeat(np.arange(n), width)
     steps = (base[:, None] + above).ravel()
-    _, u, _, flat = end_state(*(q[rows] for q in (k, d, m, g, v)), h, phases.ravel(), steps)
+    _, u, _, flat = end_state(
+        *(q[rows] for q in (k, d, m, g, v)), h, phases.ravel(), steps, checked=False
+    )
     e = (-u / flat[4]).reshape(n, width)
     # (an empty piece's nodes weigh nothing: their states may not be finite)
     mean = np.einsum("ij,ij->i", weights, np.where(weights > 0.0, e, 0.0))
