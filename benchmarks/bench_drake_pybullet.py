@@ -185,17 +185,28 @@ table whose error is bounded without a per-design evaluation, or a compiled step
   evaluation's rule. CPU seconds per 10^5 (``_cases(100000)``, one case per process,
   quiet machine), main -> this: 1.57 -> 1.00, 2.97 -> 1.85 (g = 0, contact_time and
   max_penetration), 1.74 -> 1.46, 3.05-3.3 -> 2.13 (g = 9.81).
+* Drake lagged 1e-3 (stop 40): the targets whose end state changes twice (a change
+  next to each end of the phase interval; about 2 % under gravity, by overlap and by
+  contact time) designed on the equations of two changes (``drake.two_changes``:
+  three Gauss pieces at Newton estimates of the changes) instead of six exact phase
+  means each by overlap (0.40 -> 0.12 s) or the per-call table of means by contact time
+  (0.46 -> 0.05 s); the table's starts in one walk over its columns (0.08 -> 0.04 s);
+  the tables read in turns with one Newton for many tables (0.23 -> 0.17 s); the
+  summary's grid run to its known end states (``stepping.ended_at``, bit for bit:
+  0.31 -> 0.27 s). CPU seconds per 10^5 (``_cases(100000)``, one case per process,
+  quiet machine), main -> this: 1.01-1.02 -> 0.87-0.95, 1.83 -> 1.68-1.69 (g = 0,
+  contact_time and max_penetration), 1.42-1.45 -> 0.91-0.92, 2.08-2.11 -> 1.53-1.55
+  (g = 9.81).
 
-Where it stands (seconds per 10^5, this script, load ~2.5 with another job; this
-machine's run-to-run noise is up to 15 %): PyBullet 1.61 (g = 0, contact_time array),
-0.67 (g = 0, default), 1.33 and 1.44 (under gravity); Drake continuous 0.09-0.63; Drake
-lagged 1e-3 0.83, 1.78 (g = 0, contact_time and max_penetration), 1.38, 2.03 (g =
-9.81): every case under the target but Drake lagged by largest overlap under gravity,
-at it (2.0-2.15 s). Of that case's 2.1 s the one evaluation per design takes 0.85 s,
-the ~2 % of targets with a second change 0.4 s (six phase means each), the tables'
-nodes 0.23 s, the phases read off the tables 0.19 s, the leftovers of no table 0.16 s.
-Below it with a margin there would need fewer updates per design than that evaluation
-has, or equations of the two-change structure for those 2 %.
+Where it stands (seconds per 10^5, this script, quiet machine but for one read-only
+job): PyBullet 1.58 (g = 0, contact_time array), 0.66 (g = 0, default), 1.30 and 1.46
+(under gravity); Drake continuous 0.10-0.66; Drake lagged 1e-3 0.82, 1.68 (g = 0,
+contact_time and max_penetration), 0.96, 1.61 (g = 9.81): every case under the target,
+the slowest at 0.84 of it. Of Drake's by largest overlap without gravity (1.7 s) the one
+evaluation per design takes 0.8 s (about 24 runs of the contact: the update is at
+NumPy's limit, 5-6 ns per contact and update), the tables' nodes 0.27 s, the phases
+read off the tables 0.18 s, the plateaus 0.14 s, the targets no table serves 0.13 s
+(mostly the per-call tables of means).
 """
 
 from __future__ import annotations
