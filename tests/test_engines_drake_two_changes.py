@@ -156,3 +156,28 @@ def test_the_change_estimate_is_newtons_step_on_the_end_margin():
     x = change_estimate(*args, (a + 1e-3) * one, np.array([base + 1]))
     assert abs(x[0] - a) <= 1e-7
     assert abs(change_estimate(*args, x, np.array([base + 1]))[0] - a) <= 1e-12
+
+
+@pytest.mark.parametrize(("gravity", "h"), [(9.81, 1e-3), (30.0, 1e-3), (30.0, 1e-4)])
+def test_random_two_change_designs_agree_with_the_phase_summary(gravity, h):
+    """Random contacts of 10-70 steps, damping numbers up to 2: those the starts find
+    with two changes, once their estimates settle, have the phase summary's mean
+    restitution to ``1e-13`` and its mean contact time, ``B + 1/2 + a + b`` steps, to
+    ``1e-10`` steps (its changes are located to rounding bands of ``~1e-11``)."""
+    rng = np.random.default_rng(int(gravity * 10) + int(1 / h))
+    n = 6000 if h < 1e-3 else 3000
+    steps, d = rng.uniform(10.0, 70.0, n), rng.uniform(0.05, 2.0, n)
+    k, one = M * (np.pi / (steps * h)) ** 2, np.ones(n)
+    two, base, a, b = two_change_starts(k, d, M * one, gravity * one, V * one, h)
+    i = np.flatnonzero(two)
+    assert i.size >= 2
+    args = (k[i], d[i], M * one[i], gravity * one[i], V * one[i], h, base[i])
+    for _ in range(3):  # (the estimates move to Newton's)
+        a[i], b[i] = two_change_means(*args, a[i], b[i])[1:]
+    r = two_change_means(*args, a[i], b[i])
+    exact = phase_summary(*args[:2], 0.0, *args[2:6], approximation="lagged", bounds=False,
+                          stuck_peaks=False)  # fmt: skip
+    assert np.abs(r.restitution - exact.restitution).max() <= 1e-13
+    first = np.clip(r.first, 0.0, 1.0)
+    size = base[i] + 0.5 + first + np.clip(r.second, first, 1.0)
+    assert np.abs(size - exact.contact_time / h).max() <= 1e-10
