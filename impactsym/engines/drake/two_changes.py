@@ -34,7 +34,7 @@ once they hold still. Over the 2055 such designs of the benchmark's targets the 
 settled estimates agree with the exact phase means of
 :func:`~impactsym.engines.drake.phases.phase_summary` to ``3.4e-14`` (median
 ``1.9e-14``, that summary's own quadrature; against SciPy's ``quad`` over the pieces
-between changes bisected on the full contact: ``1e-15``, in the tests); over the 3101
+between changes bisected on the full contact: ``1e-15``, in the tests); over the 3100
 contacts with two changes among 1.6*10^5 random ones of 10-70 steps (``g`` 9.81 and
 30, steps ``1e-3`` and ``1e-4``, damping numbers up to 2) to ``4.3e-14``, and their
 mean contact times to ``6e-12`` steps.
