@@ -80,10 +80,10 @@ def _beside(run, i, pts, e, sign, found, slope, side):
     """``found`` (the searches' extremes of the contacts ``i`` whose extreme sample is a
     side of the change: the ``side`` before it, 0, last of the three ``pts``, or after
     it, 2, first), and where none was searched but the restitution's one-sided slope at
-    the change (``slope``, :class:`_Evaluation`'s) says it goes on towards the extreme
-    inside the piece: one run at the vertex of the quadratic through the side's value,
-    that slope and the piece's next sample (or their middle), and the search from
-    those three. The quadratic through the three samples alone can put an extreme
+    the change (``slope``, from the evaluation of ``jump_means``) says it goes on towards
+    the extreme inside the piece: one run at the vertex of the quadratic through the
+    side's value, that slope and the piece's next sample (or their middle), and the
+    search from those three. The quadratic through the three samples alone can put an extreme
     that lies within ``~1e-5`` of a phase of the side just outside: ``4e-12`` short
     (a design of the change tables under gravity, :func:`interior_extreme`'s test of
     an end; its slope at the side ``2e-7`` per phase)."""

@@ -117,6 +117,7 @@ from impactsym.engines.drake.phases import SUMMARY_FIELDS, phase_summary
 from impactsym.engines.drake.two_changes import two_change_rows, two_change_starts
 
 __all__ = [
+    "BEYOND",
     "COARSE",
     "EDGE_STEPS",
     "MARGIN",
@@ -162,6 +163,9 @@ NODE_TOL = (2e-14, 1e-11)
 NODE_SPAN = 4.0
 #: The box widened by this fraction of its width on each side.
 MARGIN = 0.25
+#: The share of a group's targets beyond its coarse table's means above which that table
+#: is built again on a wider box (:func:`_reaching`).
+BEYOND = 0.05
 #: Exact phase means per design at most (Broyden's steps).
 STEPS = 16
 #: Exact phase means at most from a change table's start (its evaluation did not keep it).
@@ -334,7 +338,10 @@ def _group(
     mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
     box = _wide_box(e, q, size_name, g[0] / v[0] * h)
     for nodes in (COARSE, fine):
-        s_nodes, w_nodes, T, s, w, jac = _table(mean_rows, box, nodes, e, q)
+        s_nodes, w_nodes, T, s, w, jac, E, Q = _table(mean_rows, box, nodes, e, q)
+        if nodes is COARSE and (wider := _reaching(box, E, Q, e, q)) is not None:
+            box = wider  # (once: the targets beyond the wide box's means)
+            s_nodes, w_nodes, T, s, w, jac, E, Q = _table(mean_rows, box, nodes, e, q)
         found = np.isfinite(s)
         if not found.any():
             return ok, k_out, d_out
@@ -409,7 +416,30 @@ def _table(mean_rows, box, nodes, e, q):
         for a in mean_rows(S.ravel(), W.ravel(), np.zeros(S.size, int), steps=True)
     )
     s, w, jac = _start(s_nodes, w_nodes, E, Q, e, q)
-    return s_nodes, w_nodes, T, s, w, jac
+    return s_nodes, w_nodes, T, s, w, jac, E, Q
+
+
+def _reaching(box, E, Q, e, q):
+    """The box ``((s_lo, s_hi), (w_lo, w_hi))`` widened where more than :data:`BEYOND` of
+    the targets ``(e, q)`` lie beyond the range of its table's means ``E``, ``Q`` (the
+    restitution falls with the damping, the size with the step): the damping down to a
+    quarter (under gravity the discrete designs of the larger restitutions damp far less
+    than the continuous ones: at ``e = 0.79``, 30 steps, ``v = 3`` m/s, ``s = 0.15``
+    against ``0.40``) or up to twice, the step down or up by half as much again; ``None``
+    where it holds them."""
+    (s_lo, s_hi), (w_lo, w_hi) = box
+    limit = BEYOND * e.size
+    moves = (
+        (np.count_nonzero(e > np.nanmax(E)), (0.25 * s_lo, s_hi), (w_lo, w_hi)),
+        (np.count_nonzero(e < np.nanmin(E)), (s_lo, 2.0 * s_hi), (w_lo, w_hi)),
+        (np.count_nonzero(q > np.nanmax(Q)), (s_lo, s_hi), (w_lo / 1.5, w_hi)),
+        (np.count_nonzero(q < np.nanmin(Q)), (s_lo, s_hi), (w_lo, 1.5 * w_hi)),
+    )
+    wider = [(a, b) for count, a, b in moves if count > limit]
+    if not wider:
+        return None
+    return ((min(a[0] for a, _ in wider), max(a[1] for a, _ in wider)),
+            (min(b[0] for _, b in wider), max(b[1] for _, b in wider)))  # fmt: skip
 
 
 def _likely_steps(e, v, m, g, q, h, approx, scales):
@@ -418,7 +448,7 @@ def _likely_steps(e, v, m, g, q, h, approx, scales):
     (``nan`` where it has none); ``scales``: ``free_scales(e)``."""
     mean_rows = _means_rows(m, v, g, h, approx, "max_penetration", v * h)
     box = _wide_box(e, q, "max_penetration", g[0] / v[0] * h, scales)
-    s_nodes, w_nodes, T, s, w, _ = _table(mean_rows, box, COARSE, e, q)
+    s_nodes, w_nodes, T, s, w, *_ = _table(mean_rows, box, COARSE, e, q)
     return _table_at(s_nodes, w_nodes, T, s, w)
 
 
