@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from impactsym.engines import drake
-from impactsym.engines.drake import design, step_table
+from impactsym.engines.drake import design, means_table
 from impactsym.engines.drake.step_table import MIN_CALL, MIN_TARGETS, stepped_designs
 
 H = 1e-3
@@ -215,7 +215,7 @@ def _scalar_start(s_nodes, w_nodes, E, Q, e, q):
 
 
 def test_a_tables_starts_follow_the_rule_written_out():
-    """:func:`step_table._start`, walking the columns for the targets not yet found,
+    """:func:`means_table.table_starts`, walking the columns for the targets not yet found,
     against the rule for one target at a time, on tables with noise, nan and inf nodes
     and targets off the table."""
     rng = np.random.default_rng(7)
@@ -228,7 +228,7 @@ def test_a_tables_starts_follow_the_rule_written_out():
             E[rng.random(E.shape) < 0.05] = np.nan
             Q[rng.random(Q.shape) < 0.05] = np.inf
         e, q = rng.uniform(0.0, 1.0, 300), rng.uniform(2.0, 25.0, 300)
-        s, w, _ = step_table._start(s_nodes, w_nodes, E, Q, e, q)
+        s, w, _ = means_table.table_starts(s_nodes, w_nodes, E, Q, e, q)
         with np.errstate(all="ignore"):
             want = np.array(
                 [_scalar_start(s_nodes, w_nodes, E, Q, *t) for t in zip(e, q, strict=True)]

@@ -27,9 +27,12 @@ and exact evaluations finish it:
 * **The tables** hold ``E`` and ``Q`` on equally spaced nodes, from one exact call of
   :func:`~impactsym.engines.drake.phases.phase_summary` (means only) each: a coarse one
   (:data:`COARSE` nodes) on a wide box, the continuous designs without gravity
-  (Lambert W and the free contact time or overlap) :data:`WIDE` times either way, then a
-  fine one (:data:`NODES_S` by :data:`NODES_W`) on the box of the starts the coarse one
-  gives, widened by one coarse cell and :data:`MARGIN` of its width on each side.
+  (Lambert W and the free contact time or overlap)
+  :data:`~impactsym.engines.drake.means_table.WIDE` times either way (built again wider
+  where many targets lie beyond its means), then a fine one (:data:`NODES_S` by
+  :data:`NODES_W`) on the box of the starts the coarse one gives, widened by one coarse
+  cell and :data:`~impactsym.engines.drake.means_table.MARGIN` of its width on each side
+  (:mod:`~impactsym.engines.drake.means_table`).
 * **The start**: on each column of the table (one ``w``) the restitution falls with the
   damping, so the contour ``E = e`` crosses it once (linear interpolation), and along the
   contour ``Q`` falls with ``w``; the first sign change of ``Q - q`` along it (linear
@@ -113,14 +116,19 @@ from impactsym.engines.drake.change_table import NODES, may_fill_a_table, table_
 from impactsym.engines.drake.continuous import free_scales, start_stiffness
 from impactsym.engines.drake.jump_means import jump_holds, jump_means, last_overlap
 from impactsym.engines.drake.mean_steps import broyden_steps, contour_steps
+from impactsym.engines.drake.means_table import (
+    means_table,
+    reaching,
+    table_at,
+    wide_box,
+    widened,
+)
 from impactsym.engines.drake.phases import SUMMARY_FIELDS, phase_summary
 from impactsym.engines.drake.two_changes import two_change_rows, two_change_starts
 
 __all__ = [
-    "BEYOND",
     "COARSE",
     "EDGE_STEPS",
-    "MARGIN",
     "MIN_CALL",
     "MIN_TARGETS",
     "NODES_S",
@@ -131,7 +139,6 @@ __all__ = [
     "SPAN",
     "STARTS_STEPS",
     "STEPS",
-    "WIDE",
     "stepped_designs",
 ]
 
@@ -146,8 +153,6 @@ MIN_TARGETS = 256
 SPAN = 2.0
 #: Nodes of the coarse table (in the damping number and in the step) on the wide box.
 COARSE = (16, 16)
-#: The wide box: the continuous designs without gravity, this factor either way.
-WIDE = 1.6
 #: Nodes of the fine table on the box of the starts the coarse one gives.
 NODES_S, NODES_W = 32, 48
 #: For the nodes of the change tables (:func:`_node_designs`): a coarser fine table and
@@ -161,11 +166,6 @@ NODE_TOL = (2e-14, 1e-11)
 #: converge from a coarser table as well (the benchmark's 7840 nodes of 24-73 steps in
 #: one chunk: 0.34 s of CPU, in two 0.39-0.42 s; all designed either way).
 NODE_SPAN = 4.0
-#: The box widened by this fraction of its width on each side.
-MARGIN = 0.25
-#: The share of a group's targets beyond its coarse table's means above which that table
-#: is built again on a wider box (:func:`_reaching`).
-BEYOND = 0.05
 #: Exact phase means per design at most (Broyden's steps).
 STEPS = 16
 #: Exact phase means at most from a change table's start (its evaluation did not keep it).
@@ -336,23 +336,23 @@ def _group(
     unit = np.full(n, h) if size_name == "contact_time" else v * h  # Q = size / unit
     q = target / unit
     mean_rows = _means_rows(m, v, g, h, approx, size_name, unit)
-    box = _wide_box(e, q, size_name, g[0] / v[0] * h)
+    box = wide_box(e, q, size_name, g[0] / v[0] * h)
     for nodes in (COARSE, fine):
-        s_nodes, w_nodes, T, s, w, jac, E, Q = _table(mean_rows, box, nodes, e, q)
-        if nodes is COARSE and (wider := _reaching(box, E, Q, e, q)) is not None:
+        s_nodes, w_nodes, T, s, w, jac, E, Q = means_table(mean_rows, box, nodes, e, q)
+        if nodes is COARSE and (wider := reaching(box, E, Q, e, q)) is not None:
             box = wider  # (once: the targets beyond the wide box's means)
-            s_nodes, w_nodes, T, s, w, jac, E, Q = _table(mean_rows, box, nodes, e, q)
+            s_nodes, w_nodes, T, s, w, jac, E, Q = means_table(mean_rows, box, nodes, e, q)
         found = np.isfinite(s)
         if not found.any():
             return ok, k_out, d_out
         # the next box: the starts found, widened by a cell and a margin
         cell = (s_nodes[1] - s_nodes[0], w_nodes[1] - w_nodes[0])
-        box = tuple(_widened(x[found], c) for x, c in zip((s, w), cell, strict=True))
+        box = tuple(widened(x[found], c) for x, c in zip((s, w), cell, strict=True))
     # first on the equations of the end state's change: where the target puts it (by
     # contact time), or where the design's estimate follows it (by largest overlap)
     timed = size_name == "contact_time"
     full = {} if rule is None else {"nodes": rule}
-    change = q.copy() if timed else _table_at(s_nodes, w_nodes, T, s, w)
+    change = q.copy() if timed else table_at(s_nodes, w_nodes, T, s, w)
     slopes = np.full((n, 2), np.nan)  # of the change's estimate in (s, w)
     rules = [_change_rows(m, v, g, h, change, unit, timed, slopes, r, cheap=r is _CHEAP)
              for r in (full, _CHEAP)]  # fmt: skip
@@ -388,76 +388,14 @@ def _group(
     return ok, k_out, d_out
 
 
-def _wide_box(e, q, size_name, pressing, scales=None):
-    """The box ``((s_lo, s_hi), (w_lo, w_hi))`` of the first table: the continuous designs
-    without gravity of the targets ``(e, q)``, :data:`WIDE` times either way, and under
-    gravity (``pressing = g h / v``) wider toward less damping and more stiffness by the
-    largest pressing number ``g T / v``, ``T = h / w`` (the designs lie there: at
-    ``e = 0.45``, 22 steps, ``g = 9.81``, ``s = 1.03`` against ``1.73`` without gravity,
-    where no box had a start). ``scales``: :func:`~impactsym.engines.drake.continuous.free_scales`
-    of ``e`` where the caller has them."""
-    s0, tau0, z0 = free_scales(e) if scales is None else scales
-    w0 = (tau0 if size_name == "contact_time" else z0) / q
-    s_lo, s_hi, w_lo, w_hi = s0.min() / WIDE, s0.max() * WIDE, w0.min() / WIDE, w0.max() * WIDE
-    wider = 1.0 + pressing / w_lo
-    return (s_lo / wider, s_hi), (w_lo, w_hi * wider)
-
-
-def _table(mean_rows, box, nodes, e, q):
-    """A table of the phase means on ``nodes`` equally spaced nodes of ``box``, and the
-    starts it gives the targets ``(e, q)``: ``(s_nodes, w_nodes, T, s, w, jac)`` with
-    ``T`` the table's contact times in steps (``nan`` starts where it does not hold
-    the target; :func:`_start`). The means of one member's mass, speed and gravity:
-    they depend on ``(s, w, g / v)`` alone."""
-    s_nodes, w_nodes = (np.linspace(*side, count) for side, count in zip(box, nodes, strict=True))
-    S, W = np.meshgrid(s_nodes, w_nodes, indexing="ij")
-    E, Q, T = (
-        a.reshape(S.shape)
-        for a in mean_rows(S.ravel(), W.ravel(), np.zeros(S.size, int), steps=True)
-    )
-    s, w, jac = _start(s_nodes, w_nodes, E, Q, e, q)
-    return s_nodes, w_nodes, T, s, w, jac, E, Q
-
-
-def _reaching(box, E, Q, e, q):
-    """The box ``((s_lo, s_hi), (w_lo, w_hi))`` widened where more than :data:`BEYOND` of
-    the targets ``(e, q)`` lie beyond the range of its table's means ``E``, ``Q`` (the
-    restitution falls with the damping, the size with the step): the damping down to a
-    quarter (under gravity the discrete designs of the larger restitutions damp far less
-    than the continuous ones: at ``e = 0.79``, 30 steps, ``v = 3`` m/s, ``s = 0.15``
-    against ``0.40``) or up to twice, the step down or up by half as much again; ``None``
-    where it holds them."""
-    (s_lo, s_hi), (w_lo, w_hi) = box
-    limit = BEYOND * e.size
-    moves = (
-        (np.count_nonzero(e > np.nanmax(E)), (0.25 * s_lo, s_hi), (w_lo, w_hi)),
-        (np.count_nonzero(e < np.nanmin(E)), (s_lo, 2.0 * s_hi), (w_lo, w_hi)),
-        (np.count_nonzero(q > np.nanmax(Q)), (s_lo, s_hi), (w_lo / 1.5, w_hi)),
-        (np.count_nonzero(q < np.nanmin(Q)), (s_lo, s_hi), (w_lo, 1.5 * w_hi)),
-    )
-    wider = [(a, b) for count, a, b in moves if count > limit]
-    if not wider:
-        return None
-    return ((min(a[0] for a, _ in wider), max(a[1] for a, _ in wider)),
-            (min(b[0] for _, b in wider), max(b[1] for _, b in wider)))  # fmt: skip
-
-
 def _likely_steps(e, v, m, g, q, h, approx, scales):
     """The contact times in steps of the designs by largest overlap ``q`` (over ``v h``)
     of the targets, about (a step or so): read off the coarse table at its starts
     (``nan`` where it has none); ``scales``: ``free_scales(e)``."""
     mean_rows = _means_rows(m, v, g, h, approx, "max_penetration", v * h)
-    box = _wide_box(e, q, "max_penetration", g[0] / v[0] * h, scales)
-    s_nodes, w_nodes, T, s, w, *_ = _table(mean_rows, box, COARSE, e, q)
-    return _table_at(s_nodes, w_nodes, T, s, w)
-
-
-def _widened(x, cell):
-    """``[lo, hi]`` around ``x``, one ``cell`` and :data:`MARGIN` of the width wider on
-    each side (and positive)."""
-    lo, hi = x.min(), x.max()
-    pad = cell + MARGIN * (hi - lo)
-    return (max(lo - pad, 0.5 * lo), hi + pad)
+    box = wide_box(e, q, "max_penetration", g[0] / v[0] * h, scales)
+    s_nodes, w_nodes, T, s, w, *_ = means_table(mean_rows, box, COARSE, e, q)
+    return table_at(s_nodes, w_nodes, T, s, w)
 
 
 def _change_rows(m, v, g, h, change, unit, timed, slopes, rule, *, cheap=False):
@@ -535,18 +473,6 @@ def _differences(mean, s, w, jac, slopes):
     return out
 
 
-def _table_at(s_nodes, w_nodes, F, s, w):
-    """The table ``F`` interpolated bilinearly at ``(s, w)`` (``nan`` where a start is
-    not finite or a corner of its cell is not)."""
-    i = np.clip(np.searchsorted(s_nodes, s) - 1, 0, s_nodes.size - 2)
-    j = np.clip(np.searchsorted(w_nodes, w) - 1, 0, w_nodes.size - 2)
-    with np.errstate(invalid="ignore"):
-        a = (s - s_nodes[i]) / (s_nodes[1] - s_nodes[0])
-        b = (w - w_nodes[j]) / (w_nodes[1] - w_nodes[0])
-        return ((1 - a) * (1 - b) * F[i, j] + a * (1 - b) * F[i + 1, j]
-                + (1 - a) * b * F[i, j + 1] + a * b * F[i + 1, j + 1])  # fmt: skip
-
-
 def _means_rows(m, v, g, h, approx, size_name, unit):
     """``mean(s, w, rows)``: the phase means ``(E, Q)`` of the designs ``rows`` (and
     the contact time in steps, ``steps=True``)."""
@@ -566,53 +492,3 @@ def _means_rows(m, v, g, h, approx, size_name, unit):
         return r.restitution, size
 
     return mean
-
-
-def _start(s_nodes, w_nodes, E, Q, e, q):
-    """Starts ``(s, w)`` and Jacobians ``(n, 2, 2)`` of ``(E, Q)`` from the table
-    (``nan`` starts where it does not hold the target)."""
-    n, nw = e.size, w_nodes.size
-    # column by column (one w), for the targets whose start is not yet found: the
-    # contour E = e crosses it once (the restitution falls with the damping), and along
-    # the contour Q falls with w: the start lies before the first column where Q is
-    # below the target
-    j = np.zeros(n, np.int64)  # (0: none found)
-    ends = np.full((4, n), np.nan)  # s and Q on the contour, the columns before and at j
-    live, before = np.arange(n), np.full((2, n), np.nan)
-    for col_j in range(nw):
-        col = np.where(np.isfinite(E[:, col_j]), E[:, col_j], -np.inf)
-        e_l = e[live]
-        # the first crossing: on the running minimum, col[i - 1] > e >= col[i]
-        i = np.searchsorted(-np.minimum.accumulate(col), -e_l)
-        inside = (i > 0) & (i < col.size)
-        i = np.clip(i, 1, col.size - 1)
-        with np.errstate(all="ignore"):  # (outside the crossing: masked just below)
-            t = (col[i - 1] - e_l) / (col[i - 1] - col[i])
-            s_c = np.where(inside, s_nodes[i - 1] + t * (s_nodes[i] - s_nodes[i - 1]), np.nan)
-            q_c = np.where(inside, Q[i - 1, col_j] + t * (Q[i, col_j] - Q[i - 1, col_j]), np.nan)
-        hit = q_c <= q[live]
-        rows = live[hit]
-        j[rows] = col_j
-        ends[:, rows] = before[0, hit], before[1, hit], s_c[hit], q_c[hit]
-        live, before = live[~hit], np.stack([s_c[~hit], q_c[~hit]])
-        if live.size == 0:
-            break
-    s_a, q_a, s_b, q_b = ends
-    found = (j > 0) & np.isfinite(q_a) & np.isfinite(q_b)
-    j = np.clip(j, 1, nw - 1)
-    with np.errstate(all="ignore"):
-        t = (q_a - q) / (q_a - q_b)
-    t = np.where(np.isfinite(t), t, 0.5)
-    w = w_nodes[j - 1] + t * (w_nodes[j] - w_nodes[j - 1])
-    s = s_a + t * (s_b - s_a)
-    # the Jacobian from the table's cell at the start
-    i = np.clip(np.searchsorted(s_nodes, s) - 1, 0, s_nodes.size - 2)
-    jw = j - 1
-    ds, dw = s_nodes[1] - s_nodes[0], w_nodes[1] - w_nodes[0]
-    jac = np.empty((n, 2, 2))
-    with np.errstate(invalid="ignore"):  # a sticking node: inf, the start is not there
-        for f, F in enumerate((E, Q)):
-            jac[:, f, 0] = 0.5 * (F[i + 1, jw] - F[i, jw] + F[i + 1, jw + 1] - F[i, jw + 1]) / ds
-            jac[:, f, 1] = 0.5 * (F[i, jw + 1] - F[i, jw] + F[i + 1, jw + 1] - F[i + 1, jw]) / dw
-    s, w = np.where(found, s, np.nan), np.where(found, w, np.nan)
-    return s, w, jac
