@@ -198,11 +198,11 @@ table whose error is bounded without a per-design evaluation, or a compiled step
   contact_time and max_penetration), 1.42-1.45 -> 0.91-0.92, 2.08-2.11 -> 1.53-1.55
   (g = 9.81).
 
-Where it stands (seconds per 10^5, this script, quiet machine but for one read-only
-job): PyBullet 1.58 (g = 0, contact_time array), 0.66 (g = 0, default), 1.30 and 1.46
-(under gravity); Drake continuous 0.10-0.66; Drake lagged 1e-3 0.82, 1.68 (g = 0,
-contact_time and max_penetration), 0.96, 1.61 (g = 9.81): every case under the target,
-the slowest at 0.84 of it. Of Drake's by largest overlap without gravity (1.7 s) the one
+Where it stands (seconds per 10^5, this script, quiet machine): PyBullet 1.60 (g = 0,
+contact_time array), 0.67 (g = 0, default), 1.26 and 1.38 (under gravity); Drake
+continuous 0.09-0.37; Drake lagged 1e-3 0.82, 1.60 (g = 0, contact_time and
+max_penetration), 0.90, 1.55 (g = 9.81): every case under the target, the slowest at
+0.80 of it. Of Drake's by largest overlap without gravity (1.6-1.7 s) the one
 evaluation per design takes 0.8 s (about 24 runs of the contact: the update is at
 NumPy's limit, 5-6 ns per contact and update), the tables' nodes 0.27 s, the phases
 read off the tables 0.18 s, the plateaus 0.14 s, the targets no table serves 0.13 s
