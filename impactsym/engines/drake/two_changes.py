@@ -132,6 +132,15 @@ def _side(k, d, m, g, v, h, phase, state):
     return -u[:n] / v, -new / v, estimate
 
 
+def _at_changes(k, d, m, g, v, h, base, a, b):
+    """:func:`_side` of state ``B + 1`` at the phases ``a`` and of state ``B`` at ``b``
+    (where each starts ending) in one run: each of its outputs as ``(at a, at b)``."""
+    n = a.size
+    out = _side(*(np.tile(x, 2) for x in (k, d, m, g, v)), h, np.concatenate([a, b]),
+                np.concatenate([base + 1, base]))  # fmt: skip
+    return [(o[:n], o[n:]) for o in out]
+
+
 def change_estimate(
     k: np.ndarray, d: np.ndarray, m: np.ndarray, g: np.ndarray, v: np.ndarray, h: float,
     phase: np.ndarray, state: np.ndarray,
@@ -165,8 +174,7 @@ def two_change_means(
     # (an empty piece's nodes weigh nothing: their states may not be finite)
     mean = np.einsum("ij,ij->i", weights, np.where(weights > 0.0, e, 0.0))
     # the changes: state B + 1 starts ending at a, state B at b
-    e_a, e_a_next, new_a = _side(k, d, m, g, v, h, a, base + 1)
-    e_b, e_b_next, new_b = _side(k, d, m, g, v, h, b, base)
+    (e_a, e_b), (e_a_next, e_b_next), (new_a, new_b) = _at_changes(k, d, m, g, v, h, base, a, b)
     moved_a = np.clip(new_a, 0.0, 1.0) - a
     moved_b = np.clip(new_b, 0.0, 1.0) - b
     mean = mean + (e_a_next - e_a) * moved_a + (e_b_next - e_b) * moved_b
@@ -193,11 +201,9 @@ def two_change_starts(
     second = np.where(two, GRID_PHASES[-1], np.nan)
     i = np.flatnonzero(two)
     for _ in range(newton):
-        params = (a[i] for a in (k, d, m, g, v))
-        both = change_estimate(*(np.tile(a, 2) for a in params), h,
-                               np.concatenate([first[i], second[i]]),
-                               np.concatenate([base[i] + 1, base[i]]))  # fmt: skip
-        first[i], second[i] = np.clip(both[: i.size], 0.0, 1.0), np.clip(both[i.size :], 0.0, 1.0)
+        *_, estimates = _at_changes(*(a[i] for a in (k, d, m, g, v)), h, base[i], first[i],
+                                    second[i])  # fmt: skip
+        first[i], second[i] = (np.clip(x, 0.0, 1.0) for x in estimates)
     return two, base, first, second
 
 
@@ -225,12 +231,8 @@ def two_change_rows(
         k, d = mr * (w / h) ** 2, s / vr
         a, b = first[rows], second[rows]
         if nodes is None:  # the estimates moved to the design first (Newton's step)
-            both = change_estimate(*(np.tile(x, 2) for x in (k, d, mr, gr, vr)), h,
-                                   np.concatenate([a, b]),
-                                   np.concatenate([base[rows] + 1, base[rows]]))  # fmt: skip
-            moved = np.isfinite(both)
-            both = np.where(moved, both, np.concatenate([a, b]))
-            a, b = both[: a.size], both[a.size :]
+            *_, (a_new, b_new) = _at_changes(k, d, mr, gr, vr, h, base[rows], a, b)
+            a, b = np.where(np.isfinite(a_new), a_new, a), np.where(np.isfinite(b_new), b_new, b)
         r = two_change_means(k, d, mr, gr, vr, h, base[rows], a, b,
                              nodes=NODES if nodes is None else nodes)  # fmt: skip
         if timed:
