@@ -61,9 +61,10 @@ gets its own tables.
   is within :data:`TOLERANCE` of the target and its size within its relative tolerance
   (by overlap: its largest overlap, and the change's estimate within :data:`SETTLED` of
   where the table put it); the summary is then the design's prediction. The others are
-  left to the caller, with the table's design and the Jacobian of the targets in it
-  (:class:`Starts`, by forward differences of the table: where a second change next to
-  the ends of the phase interval fails the evaluation, the design is still close).
+  left to the caller, with the table's design and, by overlap, the Jacobian of the
+  targets in it (:class:`Starts`, by forward differences of the table: where a second
+  change next to the ends of the phase interval fails the evaluation, the design is
+  still close).
 
 A box gets a table where it serves at least :data:`MIN_TARGETS` targets of contacts of
 :data:`MIN_STEPS` steps or more, and a call's boxes serve :data:`MIN_SERVED` together: a
@@ -235,9 +236,8 @@ def table_designs(
     held, summary = _confirmed(k_t, d_t, *rows, h, by_overlap)
     ok[live[held]], k[live[held]], d[live[held]] = True, k_t[held], d_t[held]
     summaries[:, live[held]] = summary[:, held]
-    refused = live[~held]
     starts = Starts(np.full(n, np.nan), np.full(n, np.nan), np.full((n, 2, 2), np.nan))
-    refused = refused[source[refused] >= 0]  # (the others: a plateau's start, no table's)
+    refused = live[~held & (source[live] >= 0)]  # (the others: a plateau's start, no table's)
     starts.s[refused], starts.w[refused] = s[refused], w[refused]
     if by_overlap:  # (by contact time the caller's differences give it)
         starts.jac[refused] = _target_slopes(keys, tables, source[refused], e[refused],

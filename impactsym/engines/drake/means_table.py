@@ -69,10 +69,10 @@ def means_table(
     e: np.ndarray, q: np.ndarray,
 ) -> tuple[np.ndarray, ...]:  # fmt: skip
     """A table of the phase means on ``nodes`` equally spaced nodes of ``box``, and the
-    starts it gives the targets ``(e, q)``: ``(s_nodes, w_nodes, T, s, w, jac)`` with
-    ``T`` the table's contact times in steps (``nan`` starts where it does not hold
-    the target; :func:`table_starts`). The means of one member's mass, speed and gravity:
-    they depend on ``(s, w, g / v)`` alone."""
+    starts it gives the targets ``(e, q)``: ``(s_nodes, w_nodes, T, s, w, jac, E, Q)``
+    with ``T`` the table's contact times in steps and ``E``, ``Q`` its means (``nan``
+    starts where it does not hold the target; :func:`table_starts`). The means of one
+    member's mass, speed and gravity: they depend on ``(s, w, g / v)`` alone."""
     s_nodes, w_nodes = (np.linspace(*side, count) for side, count in zip(box, nodes, strict=True))
     S, W = np.meshgrid(s_nodes, w_nodes, indexing="ij")
     E, Q, T = (

@@ -63,14 +63,17 @@ and exact evaluations finish it:
   ~19 margins with the table's Jacobian; 98-100 % of the targets kept. The others take the
   steps below from the table's start. The caller predicts every design and designs
   again, by its iteration, any that its prediction finds off the target.
-* **A change table's refusals** by largest overlap (under gravity a second change next
-  to the ends of the phase interval, about 2 % of the benchmark's targets) start these
-  steps from the change table's own design and Jacobian
-  (:class:`~impactsym.engines.drake.change_table.Starts`: the overlap met, the
-  restitution ~1e-4 off), at most :data:`STARTS_STEPS`: 0.86 s of CPU became 0.44 s for
-  the benchmark's 2055 such targets of 10^5 (g = 9.81; 6 phase means, against 9 and the
-  tables of means from this table's cells). By contact time such a target lies next to a
-  plateau's edge, where these steps stall (393 of 1567 done): it takes the path here.
+* **A change table's refusals** (under gravity a second change next to the ends of the
+  phase interval, about 2 % of the benchmark's targets by either size) start from the
+  change table's own design (:class:`~impactsym.engines.drake.change_table.Starts`):
+  where the start's end state changes twice, Broyden's steps on the equations of the
+  two changes (:mod:`~impactsym.engines.drake.two_changes`; the Jacobian by differences
+  of their cheap rule), at most :data:`STARTS_STEPS`, done within ``1e-13`` with the
+  changes settled (the caller's prediction checks each): 0.40 s of CPU became 0.12 s
+  for the benchmark's 2057 such targets by overlap, 0.46 s 0.05 s for its 1568 by
+  contact time (g = 9.81). The others by overlap take the steps below from the change
+  table's Jacobian, at most :data:`STARTS_STEPS` phase means; by contact time (next to
+  a plateau's edge, where those steps stall) the path here.
 * **The steps**: Broyden's method on the exact phase means
   (:func:`~impactsym.engines.drake.mean_steps.broyden_steps`, one
   :func:`~impactsym.engines.drake.phases.phase_summary` per step for all designs at
